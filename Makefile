@@ -1,0 +1,57 @@
+# MotionMap's two commands. Both install missing Debian packages first (scripts/install-deps.sh).
+#   make demo   build (Release) and run the main job on the built-in sample
+#   make test   build and run the whole test suite through ctest: Release, then ASan+UBSan,
+#               then every parser's libFuzzer target for FUZZ_SECONDS each
+JOBS ?= $(shell nproc)
+FUZZ_SECONDS ?= 60
+BUILD ?= build
+CMAKE_GEN := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
+
+.PHONY: all deps build demo test test-release test-sanitize test-fuzz bench format clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+$(BUILD)/CMakeCache.txt: | deps
+	cmake -S . -B $(BUILD) $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=Release
+
+build: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@mkdir -p out
+	$(BUILD)/apps/cli/motionmap sample --kind swing -o out/sample-swing.bvh
+	$(BUILD)/apps/cli/motionmap info out/sample-swing.bvh
+
+test: test-release test-sanitize test-fuzz
+
+test-release: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The same unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (no benchmarks).
+test-sanitize: deps
+	cmake -S . -B build-asan $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMOTIONMAP_SANITIZE=ON \
+	  -DMOTIONMAP_BUILD_BENCH=OFF
+	cmake --build build-asan -j $(JOBS)
+	cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer targets (clang, ASan+UBSan) seeded with the real files in ../shared/data; each runs
+# FUZZ_SECONDS as a ctest test.
+test-fuzz: deps
+	cmake -S . -B build-fuzz $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_COMPILER=clang++ -DMOTIONMAP_FUZZ=ON -DMOTIONMAP_FUZZ_SECONDS=$(FUZZ_SECONDS) \
+	  -DMOTIONMAP_BUILD_TESTS=OFF -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_CLI=OFF
+	cmake --build build-fuzz -j $(JOBS)
+	cd build-fuzz && ctest --output-on-failure
+
+bench: build
+	$(BUILD)/bench/motionmap_bench
+
+format:
+	find src apps tests bench fuzz -name '*.h' -o -name '*.cpp' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD) build-asan build-fuzz out

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs MotionMap's build and test dependencies from Debian's packages (Debian 12 "bookworm").
+# Idempotent: packages already present are left alone and apt is not touched at all when nothing
+# is missing, so `make test` on a prepared machine does not need the network.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev libspectra-dev libnanoflann-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  qt6-base-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri
+  clang libclang-rt-14-dev
+  python3 python3-numpy python3-scipy python3-sklearn
+  xvfb xauth
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,69 @@
+#include "motionmap/core/rotation.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace motionmap {
+
+Eigen::Quaterniond axis_rotation(Axis axis, double radians) {
+  const double h = 0.5 * radians;
+  const double s = std::sin(h);
+  switch (axis) {
+    case Axis::X: return {std::cos(h), s, 0.0, 0.0};
+    case Axis::Y: return {std::cos(h), 0.0, s, 0.0};
+    case Axis::Z: return {std::cos(h), 0.0, 0.0, s};
+  }
+  return Eigen::Quaterniond::Identity();
+}
+
+Eigen::Quaterniond euler_to_quat(std::span<const Axis> order, std::span<const double> radians) {
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  for (std::size_t i = 0; i < order.size() && i < radians.size(); ++i) {
+    q = q * axis_rotation(order[i], radians[i]);
+  }
+  return q.normalized();
+}
+
+namespace {
+// Wraps `a` by multiples of 2π to the value closest to `target`.
+double wrap_near(double a, double target) {
+  return a + 2.0 * kPi * std::round((target - a) / (2.0 * kPi));
+}
+}  // namespace
+
+Eigen::Vector3d quat_to_euler(const Eigen::Quaterniond& q, const std::array<Axis, 3>& order,
+                              const Eigen::Vector3d* near) {
+  const int i = static_cast<int>(order[0]);
+  const int j = static_cast<int>(order[1]);
+  const int k = static_cast<int>(order[2]);
+  // s = +1 for the cyclic orders (XYZ, YZX, ZXY), −1 for the others. For R = Ri(a)Rj(b)Rk(c):
+  //   R(i,k) = s·sin b,  tan a = −s·R(j,k) / R(k,k),  tan c = −s·R(i,j) / R(i,i).
+  const double s = ((j - i + 3) % 3 == 1) ? 1.0 : -1.0;
+  const Eigen::Matrix3d R = q.normalized().toRotationMatrix();
+  const double sb = std::clamp(s * R(i, k), -1.0, 1.0);
+  double a, b = std::asin(sb), c;
+  const double cb = std::sqrt(R(i, i) * R(i, i) + R(i, j) * R(i, j));
+  if (cb > 1e-9) {
+    a = std::atan2(-s * R(j, k), R(k, k));
+    c = std::atan2(-s * R(i, j), R(i, i));
+  } else {
+    // Gimbal lock: only a ± c is defined; put it all in a (c = 0). Column j of R is Ri(a)·e_j.
+    c = 0.0;
+    a = std::atan2(s * R(k, j), R(j, j));
+  }
+  Eigen::Vector3d first(a, b, c);
+  if (!near) return first;
+  // The other solution of the same rotation: (a + π, π − b, c + π).
+  Eigen::Vector3d second(a + kPi, kPi - b, c + kPi);
+  for (Eigen::Vector3d* v : {&first, &second}) {
+    for (int n = 0; n < 3; ++n) (*v)[n] = wrap_near((*v)[n], (*near)[n]);
+  }
+  return (first - *near).squaredNorm() <= (second - *near).squaredNorm() ? first : second;
+}
+
+double rotation_angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+  const double d = std::min(1.0, std::abs(a.dot(b)));
+  return 2.0 * std::acos(d);
+}
+
+}  // namespace motionmap

@@ -1,0 +1,77 @@
+#include "motionmap/io/load.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "motionmap/core/error.h"
+#include "motionmap/io/asf_amc.h"
+#include "motionmap/io/bvh.h"
+
+namespace motionmap::io {
+
+namespace fs = std::filesystem;
+
+std::string read_text_file(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(path + ": error: is a directory, expected a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": error: cannot open: " + std::strerror(errno));
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) throw Error(path + ": error: cannot read: " + std::strerror(errno));
+  return std::move(buffer).str();
+}
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// CMU names takes SUBJECT_TRIAL.amc next to SUBJECT.asf; otherwise accept a lone .asf.
+std::string find_asf_for(const std::string& amc_path) {
+  const fs::path amc(amc_path);
+  const fs::path dir = amc.has_parent_path() ? amc.parent_path() : fs::path(".");
+  const std::string stem = amc.stem().string();
+  if (const auto underscore = stem.find('_'); underscore != std::string::npos) {
+    const fs::path candidate = dir / (stem.substr(0, underscore) + ".asf");
+    if (fs::exists(candidate)) return candidate.string();
+  }
+  std::vector<fs::path> found;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (lower_extension(entry.path().string()) == ".asf") found.push_back(entry.path());
+  }
+  if (found.size() == 1) return found.front().string();
+  throw Error(amc_path + ": error: cannot tell which .asf skeleton belongs to this motion (" +
+              std::to_string(found.size()) + " .asf files beside it); pass it explicitly (--asf)");
+}
+
+}  // namespace
+
+Clip load_clip(const std::string& path, const LoadOptions& options) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".bvh") {
+    Clip clip = load_bvh(path);
+    if (options.fps > 0) clip.motion.frame_time = 1.0 / options.fps;
+    return clip;
+  }
+  if (ext == ".amc") {
+    const std::string asf = options.asf_path.empty() ? find_asf_for(path) : options.asf_path;
+    return load_asf_amc(asf, path, options.fps > 0 ? options.fps : 120.0);
+  }
+  if (ext == ".asf") {
+    throw Error(path + ": error: an .asf file holds only a skeleton; open the .amc motion (with "
+                       "--asf " + path + ")");
+  }
+  throw Error(path + ": error: unknown file type '" + ext + "', expected .bvh or .amc");
+}
+
+}  // namespace motionmap::io

@@ -1,0 +1,24 @@
+#pragma once
+// One entry point for every supported clip format, chosen by file extension.
+#include <string>
+
+#include "motionmap/skeleton/skeleton.h"
+
+namespace motionmap::io {
+
+struct LoadOptions {
+  /// Skeleton for an .amc file. Empty: the .asf beside it named like the take's subject
+  /// (CMU layout: 02_03.amc → 02.asf), or the only .asf in that folder.
+  std::string asf_path;
+  /// Frames per second; 0 keeps the file's (BVH) or uses 120 (AMC, which stores none).
+  double fps = 0.0;
+};
+
+/// Loads a .bvh, or an .amc with its .asf. @throws Error (unreadable, unknown extension, missing
+/// .asf) or ParseError (malformed file).
+Clip load_clip(const std::string& path, const LoadOptions& options = {});
+
+/// Reads a whole file into memory. @throws Error naming the path and the system's reason.
+std::string read_text_file(const std::string& path);
+
+}  // namespace motionmap::io

@@ -1,0 +1,164 @@
+#include "motionmap/io/text_cursor.h"
+
+#include <charconv>
+#include <cmath>
+
+#include "motionmap/core/error.h"
+
+namespace motionmap::io {
+
+namespace {
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+bool is_space(char c) { return is_blank(c) || c == '\n' || c == '\r'; }
+}  // namespace
+
+TextCursor::TextCursor(std::string_view text, std::string path)
+    : m_text(text), m_path(std::move(path)) {}
+
+bool TextCursor::consume_line_end() {
+  if (at_end()) return false;
+  if (m_text[m_pos] == '\r') {
+    ++m_pos;
+    if (m_pos < m_text.size() && m_text[m_pos] == '\n') ++m_pos;
+  } else if (m_text[m_pos] == '\n') {
+    ++m_pos;
+  } else {
+    return false;
+  }
+  ++m_line;
+  m_line_start = m_pos;
+  return true;
+}
+
+void TextCursor::skip_space() {
+  while (!at_end()) {
+    const char c = m_text[m_pos];
+    if (is_blank(c)) {
+      ++m_pos;
+    } else if (c == '\n' || c == '\r') {
+      consume_line_end();
+    } else {
+      break;
+    }
+  }
+}
+
+void TextCursor::skip_inline_space() {
+  while (!at_end()) {
+    const char c = m_text[m_pos];
+    if (is_blank(c)) {
+      ++m_pos;
+    } else if (c == '\r' && !(m_pos + 1 < m_text.size() && m_text[m_pos + 1] == '\n')) {
+      // A lone CR is a line end (classic Mac files); stop there.
+      break;
+    } else {
+      break;
+    }
+  }
+}
+
+bool TextCursor::at_line_end() const {
+  return at_end() || m_text[m_pos] == '\n' || m_text[m_pos] == '\r';
+}
+
+void TextCursor::skip_line() {
+  while (!at_end() && m_text[m_pos] != '\n' && m_text[m_pos] != '\r') ++m_pos;
+  consume_line_end();
+}
+
+std::string_view TextCursor::rest_of_line() {
+  const std::size_t begin = m_pos;
+  while (!at_end() && m_text[m_pos] != '\n' && m_text[m_pos] != '\r') ++m_pos;
+  return m_text.substr(begin, m_pos - begin);
+}
+
+std::string_view TextCursor::peek_token() {
+  skip_space();
+  std::size_t end = m_pos;
+  while (end < m_text.size() && !is_space(m_text[end])) ++end;
+  return m_text.substr(m_pos, end - m_pos);
+}
+
+std::string_view TextCursor::next_token() {
+  const std::string_view token = peek_token();
+  m_pos += token.size();
+  return token;
+}
+
+std::string_view TextCursor::next_token_on_line() {
+  skip_inline_space();
+  if (at_line_end()) return {};
+  const std::size_t begin = m_pos;
+  while (m_pos < m_text.size() && !is_space(m_text[m_pos])) ++m_pos;
+  return m_text.substr(begin, m_pos - begin);
+}
+
+std::string TextCursor::describe_next() {
+  skip_inline_space();
+  if (at_end()) return "end of file";
+  if (at_line_end()) return "end of line";
+  std::size_t end = m_pos;
+  while (end < m_text.size() && !is_space(m_text[end])) ++end;
+  return "'" + quote_token(m_text.substr(m_pos, end - m_pos)) + "'";
+}
+
+void TextCursor::fail_expected(std::string_view expected) {
+  const std::string found = describe_next();
+  fail_at(m_line, column(), "expected " + std::string(expected) + ", found " + found);
+}
+
+void TextCursor::fail_at(std::size_t line, std::size_t column, const std::string& message) const {
+  throw ParseError(m_path, line, column, message);
+}
+
+void TextCursor::expect(std::string_view keyword) {
+  skip_space();
+  if (peek_token() != keyword) fail_expected("'" + std::string(keyword) + "'");
+  m_pos += keyword.size();
+}
+
+double TextCursor::next_number(std::string_view what, bool same_line) {
+  if (same_line) {
+    skip_inline_space();
+    if (at_line_end()) fail_expected(what);
+  } else {
+    skip_space();
+  }
+  const char* begin = m_text.data() + m_pos;
+  const char* end = m_text.data() + m_text.size();
+  const char* start = begin;
+  if (start != end && *start == '+') ++start;  // from_chars rejects '+', strtod accepts it
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(start, end, value);
+  // The number must end at whitespace or the end of the text, and be finite.
+  if (ec == std::errc::result_out_of_range ||
+      (ec == std::errc() && (ptr == end || is_space(*ptr)) && !std::isfinite(value))) {
+    fail_expected(std::string(what) + " (a finite number)");
+  }
+  if (ec != std::errc() || (ptr != end && !is_space(*ptr))) fail_expected(what);
+  m_pos = static_cast<std::size_t>(ptr - m_text.data());
+  return value;
+}
+
+long long TextCursor::next_integer(std::string_view what, long long min, long long max,
+                                   bool same_line) {
+  if (same_line) {
+    skip_inline_space();
+    if (at_line_end()) fail_expected(what);
+  } else {
+    skip_space();
+  }
+  const char* begin = m_text.data() + m_pos;
+  const char* end = m_text.data() + m_text.size();
+  const char* start = begin;
+  if (start != end && *start == '+') ++start;
+  long long value = 0;
+  const auto [ptr, ec] = std::from_chars(start, end, value);
+  if (ec != std::errc() || (ptr != end && !is_space(*ptr)) || value < min || value > max) {
+    fail_expected(std::string(what));
+  }
+  m_pos = static_cast<std::size_t>(ptr - m_text.data());
+  return value;
+}
+
+}  // namespace motionmap::io

@@ -1,0 +1,70 @@
+#pragma once
+// A cursor over a whole text file for hand-written parsers: whitespace-separated tokens, numbers
+// through std::from_chars, and the 1-based line and column of everything it reads, so every
+// failure becomes `path:line:col: error: expected <what>, found '<token>'`.
+// Line ends may be LF, CRLF or lone CR; tabs count as one column.
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace motionmap::io {
+
+class TextCursor {
+ public:
+  TextCursor(std::string_view text, std::string path);
+
+  /// Skips spaces, tabs and line ends.
+  void skip_space();
+  /// Skips spaces and tabs (and a CR that is not followed by LF), but not line ends.
+  void skip_inline_space();
+  /// Consumes one line end (LF, CRLF or CR) if the cursor is on one; returns whether it did.
+  bool consume_line_end();
+  /// Skips the rest of the current line including its line end.
+  void skip_line();
+  /// The rest of the current line without its line end, consumed (the cursor ends on the line end).
+  std::string_view rest_of_line();
+
+  bool at_end() const { return m_pos >= m_text.size(); }
+  /// After skip_inline_space(): true at a line end or the end of the text.
+  bool at_line_end() const;
+
+  /// The next whitespace-delimited token after skipping whitespace (incl. line ends); not consumed.
+  std::string_view peek_token();
+  /// Consumes and returns the next token (after skipping whitespace incl. line ends). Empty at end.
+  std::string_view next_token();
+  /// Like next_token but never crosses a line end: empty if the line has no more tokens.
+  std::string_view next_token_on_line();
+
+  /// Consumes the next token, which must equal `keyword`. @throws ParseError otherwise.
+  void expect(std::string_view keyword);
+  /// Consumes a finite floating-point number (optionally on the current line only).
+  /// @throws ParseError naming `what` if the token is not a complete finite number.
+  double next_number(std::string_view what, bool same_line = false);
+  /// Consumes an integer token in [min, max]. @throws ParseError otherwise.
+  long long next_integer(std::string_view what, long long min, long long max, bool same_line = false);
+
+  /// Throws `path:line:col: error: expected <expected>, found '<found>'` at the start of the next
+  /// token (or the end of file / line end).
+  [[noreturn]] void fail_expected(std::string_view expected);
+  /// Throws `path:line:col: error: <message>` at the given position.
+  [[noreturn]] void fail_at(std::size_t line, std::size_t column, const std::string& message) const;
+
+  std::size_t line() const { return m_line; }
+  std::size_t column() const { return m_pos - m_line_start + 1; }
+  std::size_t position() const { return m_pos; }
+  std::size_t remaining() const { return m_text.size() - m_pos; }
+  const std::string& path() const { return m_path; }
+  std::string_view text() const { return m_text; }
+
+  /// Describes the upcoming token for a message: the token quoted, "end of line" or "end of file".
+  std::string describe_next();
+
+ private:
+  std::string_view m_text;
+  std::string m_path;
+  std::size_t m_pos = 0;
+  std::size_t m_line = 1;
+  std::size_t m_line_start = 0;
+};
+
+}  // namespace motionmap::io

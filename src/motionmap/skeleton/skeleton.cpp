@@ -1,0 +1,90 @@
+#include "motionmap/skeleton/skeleton.h"
+
+#include <array>
+#include <unordered_set>
+
+#include "motionmap/core/error.h"
+
+namespace motionmap {
+
+namespace {
+constexpr std::array<std::string_view, 6> kChannelNames = {
+    "Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+}
+
+std::string_view channel_name(ChannelType c) { return kChannelNames[static_cast<int>(c)]; }
+
+std::optional<ChannelType> parse_channel_name(std::string_view name) {
+  for (std::size_t i = 0; i < kChannelNames.size(); ++i) {
+    if (kChannelNames[i] == name) return static_cast<ChannelType>(i);
+  }
+  return std::nullopt;
+}
+
+int Skeleton::num_channels() const {
+  int n = 0;
+  for (const auto& j : joints) n += static_cast<int>(j.channels.size());
+  return n;
+}
+
+int Skeleton::num_end_sites() const {
+  int n = 0;
+  for (const auto& j : joints) n += static_cast<int>(j.end_sites.size());
+  return n;
+}
+
+std::vector<int> Skeleton::roots() const {
+  std::vector<int> r;
+  for (int i = 0; i < num_joints(); ++i) {
+    if (joints[i].parent < 0) r.push_back(i);
+  }
+  return r;
+}
+
+int Skeleton::find(std::string_view name) const {
+  for (int i = 0; i < num_joints(); ++i) {
+    if (joints[i].name == name) return i;
+  }
+  return -1;
+}
+
+bool Skeleton::same_hierarchy(const Skeleton& other) const {
+  if (joints.size() != other.joints.size()) return false;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    if (joints[i].name != other.joints[i].name || joints[i].parent != other.joints[i].parent) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void Skeleton::validate() const {
+  std::unordered_set<std::string_view> names;
+  for (int i = 0; i < num_joints(); ++i) {
+    const Joint& j = joints[i];
+    if (j.parent >= i || j.parent < -1) {
+      throw Error("joint '" + j.name + "' (index " + std::to_string(i) + ") has parent index " +
+                  std::to_string(j.parent) + ": parents must come before their children");
+    }
+    if (!names.insert(j.name).second) {
+      throw Error("joint name '" + j.name + "' is used twice");
+    }
+  }
+}
+
+void Motion::resize(int frames, int joints) {
+  num_frames = frames;
+  num_joints = joints;
+  const auto n = static_cast<std::size_t>(frames) * static_cast<std::size_t>(joints);
+  rotations.assign(n, Eigen::Quaterniond::Identity());
+  translations.assign(n, Eigen::Vector3d::Zero());
+}
+
+PoseView Motion::pose(int frame) const {
+  const std::size_t begin = index(frame, 0);
+  const auto n = static_cast<std::size_t>(num_joints);
+  return {std::span<const Eigen::Quaterniond>(rotations).subspan(begin, n),
+          std::span<const Eigen::Vector3d>(translations).subspan(begin, n)};
+}
+
+}  // namespace motionmap

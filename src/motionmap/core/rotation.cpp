@@ -62,8 +62,10 @@ Eigen::Vector3d quat_to_euler(const Eigen::Quaterniond& q, const std::array<Axis
 }
 
 double rotation_angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
-  const double d = std::min(1.0, std::abs(a.dot(b)));
-  return 2.0 * std::acos(d);
+  // 2·acos|a·b| loses half the digits near 0 (acos(1 − ε) ≈ √(2ε)); the atan2 form of the
+  // relative rotation a⁻¹·b is accurate at every angle.
+  const Eigen::Quaterniond d = a.conjugate() * b;
+  return 2.0 * std::atan2(d.vec().norm(), std::abs(d.w()));
 }
 
 }  // namespace motionmap

@@ -37,7 +37,8 @@ inline Eigen::Quaterniond align_hemisphere(const Eigen::Quaterniond& q,
   return q.dot(reference) < 0.0 ? Eigen::Quaterniond(-q.w(), -q.x(), -q.y(), -q.z()) : q;
 }
 
-/// Angle in radians of the rotation taking a to b: 2·acos|a·b| (unit quaternions), in [0, π].
+/// Angle in radians of the rotation taking a to b, in [0, π]: 2·acos|a·b| for unit quaternions,
+/// computed in a form that stays accurate for tiny angles.
 double rotation_angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b);
 
 }  // namespace motionmap

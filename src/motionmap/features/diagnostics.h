@@ -1,0 +1,40 @@
+#pragma once
+// Findings about a clip that users of real data need to know before mapping it: a leading bind
+// pose (CMU's BVH conversions start with a T-pose frame) and joints whose rotation flips between
+// consecutive frames (CMU's thumbs flip by ~180°).
+#include <string>
+#include <vector>
+
+#include "motionmap/features/point_cloud.h"
+
+namespace motionmap::features {
+
+struct BindPoseCheck {
+  bool detected = false;
+  double distance = 0.0;       ///< point-cloud distance between frames 0 and 1
+  double median_step = 0.0;    ///< median point-cloud distance between later consecutive frames
+  double ratio = 0.0;          ///< distance / median_step (infinite if the rest of the clip is still)
+};
+
+/// Frame 0 is a leading bind pose when its point-cloud distance to frame 1 exceeds `factor` × the
+/// median distance between the following consecutive frames (frames 1–2, 2–3, …). `points` is
+/// #frames by 3·#points, e.g. heading_local_points(). Needs ≥ 3 frames, else never detected.
+BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor = 10.0);
+
+struct RotationFlip {
+  int joint = -1;
+  std::vector<int> frames;  ///< f such that the joint's rotation changes by > threshold from f to f+1
+  double max_degrees = 0.0;
+};
+
+/// Joints whose local rotation changes by more than `threshold_degrees` between consecutive
+/// frames. Only meaningful at high frame rates (≥ 60 fps), where real motion never does that.
+std::vector<RotationFlip> find_rotation_flips(const Skeleton& skeleton, const Motion& motion,
+                                              double threshold_degrees = 90.0);
+
+/// Human-readable warnings for a clip: the bind pose check and, at ≥ 60 fps, rotation flips,
+/// each naming the frames (0-based, as in the file's motion rows).
+std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& motion,
+                                       Axis up = Axis::Y);
+
+}  // namespace motionmap::features

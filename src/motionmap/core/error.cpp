@@ -7,11 +7,7 @@ namespace motionmap {
 namespace {
 std::string format_location(const std::string& path, std::size_t line, std::size_t column,
                             const std::string& message) {
-  // Appended piecewise: g++ 12 warns (-Wrestrict, a known false positive) on the chained `+`.
-  std::string out = path;
-  out.append(":").append(std::to_string(line)).append(":").append(std::to_string(column));
-  out.append(": error: ").append(message);
-  return out;
+  return path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": error: " + message;
 }
 }  // namespace
 

@@ -1,0 +1,252 @@
+#include "motionmap/features/features.h"
+
+#include <cmath>
+#include <regex>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/parallel.h"
+#include "motionmap/features/diagnostics.h"
+
+namespace motionmap::features {
+
+std::string_view feature_kind_name(FeatureKind k) {
+  return k == FeatureKind::Quaternions ? "quat" : "positions";
+}
+
+std::string_view distance_kind_name(DistanceKind k) {
+  switch (k) {
+    case DistanceKind::PointCloud: return "pointcloud";
+    case DistanceKind::Geodesic: return "geodesic";
+    case DistanceKind::Features: return "features";
+  }
+  return "?";
+}
+
+void FeatureOptions::validate() const {
+  if (first_frame < 0) {
+    throw ParameterError("frames: first frame " + std::to_string(first_frame) + " is negative");
+  }
+  if (end_frame >= 0 && end_frame <= first_frame) {
+    throw ParameterError("frames: range " + std::to_string(first_frame) + ":" +
+                         std::to_string(end_frame) + " is empty (need A < B)");
+  }
+  if (stride < 1) {
+    throw ParameterError("stride: " + std::to_string(stride) + " is out of range (must be ≥ 1)");
+  }
+}
+
+Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> joints,
+                                    std::span<const int> frames) {
+  const auto cols = static_cast<Eigen::Index>(4 * joints.size());
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(frames.size()), cols);
+  for (std::size_t r = 0; r < frames.size(); ++r) {
+    for (std::size_t k = 0; k < joints.size(); ++k) {
+      const Eigen::Quaterniond& q = motion.rotation(frames[r], joints[k]);
+      Eigen::Vector4d v(q.w(), q.x(), q.y(), q.z());
+      const auto c = static_cast<Eigen::Index>(4 * k);
+      const bool flip = r == 0 ? v[0] < 0.0
+                               : v.dot(X.row(static_cast<Eigen::Index>(r) - 1).segment<4>(c).transpose()) < 0.0;
+      if (flip) v = -v;
+      X.row(static_cast<Eigen::Index>(r)).segment<4>(c) = v.transpose();
+    }
+  }
+  return X;
+}
+
+Eigen::MatrixXd pairwise_distances(const Eigen::Ref<const RowMatrix>& points,
+                                   const std::function<void(double)>& progress,
+                                   const std::function<bool()>& cancel) {
+  const auto n = points.rows();
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+  // Row i fills D(i, i+1…n−1); D is mirrored afterwards. Column-major D: write the upper part
+  // as column i (contiguous) and mirror into the rows.
+  parallel_for(
+      static_cast<int>(n),
+      [&](int i) {
+        for (Eigen::Index j = i + 1; j < n; ++j) D(j, i) = (points.row(i) - points.row(j)).norm();
+      },
+      {progress, cancel});
+  D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
+  return D;
+}
+
+Eigen::MatrixXd geodesic_distances(const Eigen::MatrixXd& quaternions,
+                                   const std::function<void(double)>& progress,
+                                   const std::function<bool()>& cancel) {
+  const auto n = quaternions.rows();
+  const auto joints = quaternions.cols() / 4;
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+  parallel_for(
+      static_cast<int>(n),
+      [&](int i) {
+        for (Eigen::Index j = i + 1; j < n; ++j) {
+          double sum = 0.0;
+          for (Eigen::Index k = 0; k < joints; ++k) {
+            const auto a = quaternions.row(i).segment<4>(4 * k);
+            const auto b = quaternions.row(j).segment<4>(4 * k);
+            const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]);
+            const Eigen::Quaterniond qb(b[0], b[1], b[2], b[3]);
+            const double theta = rotation_angle(qa, qb);
+            sum += theta * theta;
+          }
+          D(j, i) = std::sqrt(sum);
+        }
+      },
+      {progress, cancel});
+  D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
+  return D;
+}
+
+namespace {
+
+std::string base_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// Joints in X: every non-root joint whose name the exclude pattern does not match.
+std::vector<int> used_joints(const Skeleton& skeleton, const std::string& exclude) {
+  std::optional<std::regex> pattern;
+  if (!exclude.empty()) {
+    try {
+      pattern.emplace(exclude, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      throw ParameterError("exclude: '" + exclude + "' is not a valid regular expression (" + e.what() + ")");
+    }
+  }
+  std::vector<int> joints;
+  for (int j = 0; j < skeleton.num_joints(); ++j) {
+    if (skeleton.joints[j].parent < 0) continue;
+    if (pattern && std::regex_match(skeleton.joints[j].name, *pattern)) continue;
+    joints.push_back(j);
+  }
+  if (joints.empty()) {
+    throw ParameterError("exclude: '" + exclude + "' leaves no joint to map (the skeleton has " +
+                         std::to_string(skeleton.num_joints()) + " joints, roots are never used)");
+  }
+  return joints;
+}
+
+// Columns of heading_local_points() that belong to kept joints (the roots' too: the point cloud
+// holds the whole body) and their end sites.
+std::vector<Eigen::Index> kept_point_columns(const Skeleton& skeleton, const std::vector<int>& used) {
+  std::vector<bool> keep(static_cast<std::size_t>(skeleton.num_joints()), false);
+  for (int j : used) keep[static_cast<std::size_t>(j)] = true;
+  for (int r : skeleton.roots()) keep[static_cast<std::size_t>(r)] = true;
+  std::vector<Eigen::Index> cols;
+  const int joints = skeleton.num_joints();
+  for (int j = 0; j < joints; ++j) {
+    if (keep[static_cast<std::size_t>(j)]) {
+      for (int c = 0; c < 3; ++c) cols.push_back(3 * j + c);
+    }
+  }
+  int site = 0;
+  for (int j = 0; j < joints; ++j) {
+    for (std::size_t e = 0; e < skeleton.joints[j].end_sites.size(); ++e, ++site) {
+      if (keep[static_cast<std::size_t>(j)]) {
+        for (int c = 0; c < 3; ++c) cols.push_back(3 * (joints + site) + c);
+      }
+    }
+  }
+  return cols;
+}
+
+void check_finite(const Clip& clip) {
+  const Motion& m = clip.motion;
+  for (int f = 0; f < m.num_frames; ++f) {
+    for (int j = 0; j < m.num_joints; ++j) {
+      if (!m.rotation(f, j).coeffs().allFinite() || !m.translation(f, j).allFinite()) {
+        throw NumericalError(clip.path + ": frame " + std::to_string(f) + ", joint '" +
+                             clip.skeleton.joints[j].name + "' holds a NaN or infinite value");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options) {
+  options.validate();
+  if (clips.empty()) throw ParameterError("no clip given");
+  const Skeleton& skeleton = clips.front().skeleton;
+  for (const Clip& clip : clips) {
+    if (!clip.skeleton.same_hierarchy(skeleton)) {
+      throw ParameterError(clip.path + ": its joint hierarchy (names and parents) differs from " +
+                           clips.front().path + "'s; clips mapped together must share one");
+    }
+    if (clip.motion.num_frames == 0) throw ParameterError(clip.path + ": the clip has no frames");
+    check_finite(clip);
+  }
+
+  FeatureSet set;
+  set.joints = used_joints(skeleton, options.exclude);
+  const auto point_cols = kept_point_columns(skeleton, set.joints);
+
+  std::vector<Eigen::MatrixXd> x_blocks;
+  std::vector<RowMatrix> cloud_blocks;
+  for (std::size_t c = 0; c < clips.size(); ++c) {
+    const Clip& clip = clips[c];
+    const RowMatrix cloud = heading_local_points(clip.skeleton, clip.motion, options.up);
+    int first = options.first_frame;
+    if (first == 0 && !options.keep_first) {
+      const BindPoseCheck bind = check_leading_bind_pose(cloud);
+      if (bind.detected) {
+        first = 1;
+        set.notes.push_back(base_name(clip.path) + ": frame 0 looks like a bind pose (" +
+                            std::to_string(static_cast<long long>(std::min(bind.ratio, 1e9))) +
+                            "× the median step away from frame 1): left out (--keep-first keeps it)");
+      }
+    }
+    const int end = options.end_frame < 0 ? clip.motion.num_frames
+                                          : std::min(options.end_frame, clip.motion.num_frames);
+    std::vector<int> frames;
+    for (int f = first; f < end; f += options.stride) frames.push_back(f);
+    if (frames.empty()) {
+      throw ParameterError(clip.path + ": the frame selection " + std::to_string(options.first_frame) +
+                           ":" + (options.end_frame < 0 ? std::string() : std::to_string(options.end_frame)) +
+                           " with stride " + std::to_string(options.stride) + " holds no frame (the clip has " +
+                           std::to_string(clip.motion.num_frames) + ")");
+    }
+    set.segment_starts.push_back(set.num_samples());
+    for (int f : frames) {
+      set.clip_of.push_back(static_cast<int>(c));
+      set.frame_of.push_back(f);
+    }
+    if (options.features == FeatureKind::Quaternions || options.distance == DistanceKind::Geodesic) {
+      x_blocks.push_back(quaternion_features(clip.motion, set.joints, frames));
+    }
+    RowMatrix kept(static_cast<Eigen::Index>(frames.size()), static_cast<Eigen::Index>(point_cols.size()));
+    for (std::size_t r = 0; r < frames.size(); ++r) {
+      for (std::size_t k = 0; k < point_cols.size(); ++k) kept(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = cloud(frames[r], point_cols[k]);
+    }
+    cloud_blocks.push_back(std::move(kept));
+  }
+
+  const Eigen::Index n = set.num_samples();
+  auto stack = [n](const auto& blocks) {
+    Eigen::Index cols = blocks.front().cols(), row = 0;
+    RowMatrix out(n, cols);
+    for (const auto& b : blocks) {
+      out.middleRows(row, b.rows()) = b;
+      row += b.rows();
+    }
+    return out;
+  };
+  const RowMatrix cloud = stack(cloud_blocks);
+  RowMatrix quats;
+  if (!x_blocks.empty()) quats = stack(x_blocks);
+  set.X = options.features == FeatureKind::Quaternions ? Eigen::MatrixXd(quats) : Eigen::MatrixXd(cloud);
+
+  switch (options.distance) {
+    case DistanceKind::PointCloud: set.D = pairwise_distances(cloud, options.progress, options.cancel); break;
+    case DistanceKind::Geodesic: set.D = geodesic_distances(quats, options.progress, options.cancel); break;
+    case DistanceKind::Features: {
+      const RowMatrix x = set.X;
+      set.D = pairwise_distances(x, options.progress, options.cancel);
+      break;
+    }
+  }
+  return set;
+}
+
+}  // namespace motionmap::features

@@ -1,0 +1,91 @@
+#pragma once
+// The inputs of the maps, built from one or more clips:
+//  - X, the data matrix (#samples by 4·#joints used): every non-root joint's local rotation
+//    quaternion (w, x, y, z), sign-consistent over time; or, with FeatureKind::Positions, the
+//    heading-local point cloud;
+//  - D, the pose distance matrix (#samples by #samples): by default the point-cloud distance
+//    (Euclidean distance between heading-local joint and end-site positions).
+//
+//   motionmap::features::FeatureOptions opt;            // quaternions + point-cloud distance
+//   auto set = motionmap::features::build_features(clips, opt);
+//   // set.X, set.D, set.frame_of[i] = file frame of sample i, set.notes = what was left out
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motionmap/features/point_cloud.h"
+#include "motionmap/skeleton/skeleton.h"
+
+namespace motionmap::features {
+
+enum class FeatureKind { Quaternions, Positions };
+enum class DistanceKind { PointCloud, Geodesic, Features };
+
+std::string_view feature_kind_name(FeatureKind k);  ///< "quat" / "positions"
+std::string_view distance_kind_name(DistanceKind k);  ///< "pointcloud" / "geodesic" / "features"
+
+struct FeatureOptions {
+  FeatureKind features = FeatureKind::Quaternions;
+  DistanceKind distance = DistanceKind::PointCloud;
+  Axis up = Axis::Y;
+  /// ECMAScript regular expression; joints whose whole name matches are left out of X and D
+  /// (with their end sites), e.g. ".*(Thumb|Finger).*". Empty: keep every joint.
+  std::string exclude;
+  int first_frame = 0;   ///< first file frame used (per clip)
+  int end_frame = -1;    ///< one past the last file frame used; −1 = the clip's end
+  int stride = 1;        ///< use every stride-th frame from first_frame
+  /// Keep a leading bind pose (frame 0 farther from frame 1 than 10× the median step); by
+  /// default it is left out and a note says so.
+  bool keep_first = false;
+  /// Called with the fraction done (0…1) while D is computed; may be empty.
+  std::function<void(double)> progress;
+  /// Polled while D is computed; returning true throws motionmap::Cancelled.
+  std::function<bool()> cancel;
+
+  /// @throws ParameterError naming the option, its value and the valid range.
+  void validate() const;
+};
+
+/// The feature set of a map: matrices plus where every sample came from.
+struct FeatureSet {
+  Eigen::MatrixXd X;  ///< #samples by #features
+  Eigen::MatrixXd D;  ///< #samples by #samples, symmetric, zero diagonal
+  std::vector<int> clip_of;         ///< per sample: index of its clip
+  std::vector<int> frame_of;        ///< per sample: its frame index in the clip's file
+  std::vector<int> segment_starts;  ///< first sample of each clip
+  std::vector<int> joints;          ///< skeleton joints used in X (non-root, not excluded)
+  std::vector<std::string> notes;   ///< e.g. "64_08.bvh: frame 0 looks like a bind pose: left out"
+  int num_samples() const { return static_cast<int>(frame_of.size()); }
+};
+
+/// Builds X and D for `clips`, which must share one joint hierarchy (names and parents; offsets
+/// may differ: each clip uses its own for forward kinematics).
+/// @throws ParameterError for bad options, clips of different hierarchies, a selection with no
+///         frames, or an exclude pattern that is invalid or leaves no joint;
+///         NumericalError if a clip holds NaN or infinite values; Cancelled if cancel() says so.
+FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options);
+
+/// Sign-consistent local rotation quaternions: #frames by 4·#joints (w, x, y, z per joint) of
+/// the given frames; row 0 has w ≥ 0 per joint, every later row flips a joint's quaternion whose
+/// dot product with the previous row's is negative.
+Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> joints,
+                                    std::span<const int> frames);
+
+/// Euclidean distances between the rows of `points` (#rows by #rows), computed directly (no
+/// Gram-matrix shortcut, which loses accuracy for nearby poses) on all cores.
+Eigen::MatrixXd pairwise_distances(const Eigen::Ref<const RowMatrix>& points,
+                                   const std::function<void(double)>& progress = {},
+                                   const std::function<bool()>& cancel = {});
+
+/// Geodesic pose distance between rows of quaternion features (4 values per joint):
+/// sqrt(Σ_j θ_j²) with θ_j = 2·acos|q_a,j · q_b,j|.
+Eigen::MatrixXd geodesic_distances(const Eigen::MatrixXd& quaternions,
+                                   const std::function<void(double)>& progress = {},
+                                   const std::function<bool()>& cancel = {});
+
+}  // namespace motionmap::features

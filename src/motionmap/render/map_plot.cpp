@@ -1,0 +1,515 @@
+#include "motionmap/render/map_plot.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+
+#include <QCoreApplication>
+#include <QFile>
+#include <QFont>
+#include <QFontMetricsF>
+#include <QGuiApplication>
+#include <QImage>
+#include <QImageWriter>
+#include <QLinearGradient>
+#include <QPageSize>
+#include <QPdfWriter>
+#include <QPolygonF>
+#include <QSvgGenerator>
+
+#include "motionmap/core/error.h"
+
+namespace motionmap::render {
+namespace {
+
+// Runs of consecutive segments whose time falls in the same bin are stroked as one polyline:
+// fewer draw calls and clean joins on long clips, no visible banding with 256 bins.
+constexpr int kTimeBins = 256;
+
+// Similarity data → unit square: u = (p - centre) * scale + 0.5.
+struct UnitMapping {
+  double cx = 0.0;
+  double cy = 0.0;
+  double scale = 1.0;
+  QPointF map(double x, double y) const { return {(x - cx) * scale + 0.5, (y - cy) * scale + 0.5}; }
+};
+
+bool finite_row(const Eigen::MatrixXd& coords, Eigen::Index i) {
+  return std::isfinite(coords(i, 0)) && std::isfinite(coords(i, 1));
+}
+
+void check_columns(const Eigen::MatrixXd& coords) {
+  if (coords.cols() < 2) {
+    throw ParameterError("map plot: coords has " + std::to_string(coords.cols()) +
+                         " column(s); need at least 2 (x, y)");
+  }
+}
+
+// Row ranges of the clips: clip k is [bounds[k], bounds[k+1]). Validates segment_starts.
+std::vector<int> clip_bounds(const Eigen::MatrixXd& coords, const std::vector<int>& starts) {
+  check_columns(coords);
+  if (coords.rows() > std::numeric_limits<int>::max() - 1) {
+    throw ParameterError("map plot: too many samples (" + std::to_string(coords.rows()) + ")");
+  }
+  const int n = static_cast<int>(coords.rows());
+  std::vector<int> bounds{0};
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const int s = starts[k];
+    if (s < 0 || s >= n) {
+      throw ParameterError("map plot: segment_starts[" + std::to_string(k) + "] = " +
+                           std::to_string(s) + " is outside [0, " + std::to_string(n) + ")");
+    }
+    if (k > 0 && s <= starts[k - 1]) {
+      throw ParameterError("map plot: segment_starts must be strictly increasing, but [" +
+                           std::to_string(k) + "] = " + std::to_string(s) + " follows " +
+                           std::to_string(starts[k - 1]));
+    }
+    if (s > 0) bounds.push_back(s);
+  }
+  bounds.push_back(n);
+  return bounds;
+}
+
+UnitMapping unit_mapping(const Eigen::MatrixXd& coords) {
+  check_columns(coords);
+  double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin;
+  double ymin = xmin, ymax = -xmin;
+  for (Eigen::Index i = 0; i < coords.rows(); ++i) {
+    if (!finite_row(coords, i)) continue;
+    xmin = std::min(xmin, coords(i, 0));
+    xmax = std::max(xmax, coords(i, 0));
+    ymin = std::min(ymin, coords(i, 1));
+    ymax = std::max(ymax, coords(i, 1));
+  }
+  UnitMapping m;
+  if (!(xmin <= xmax)) return m;  // no finite sample
+  // Halves before subtracting so that ±1e308 does not overflow.
+  m.cx = xmin / 2 + xmax / 2;
+  m.cy = ymin / 2 + ymax / 2;
+  const double half = std::max(xmax / 2 - xmin / 2, ymax / 2 - ymin / 2);
+  // Zero (or denormal) extent: keep scale 1 so the single point lands at the centre.
+  m.scale = half > 1e-300 ? 0.5 / half : 1.0;
+  return m;
+}
+
+double clip_time(int i, int begin, int end) {
+  return end - begin > 1 ? double(i - begin) / double(end - begin - 1) : 0.0;
+}
+
+int time_bin(double t) {
+  return std::clamp(static_cast<int>(t * kTimeBins), 0, kTimeBins - 1);
+}
+
+// Where everything of one panel goes. Sizes scale with the panel so a figure and a single
+// image look alike.
+struct Layout {
+  QRectF title;
+  QRectF box;   // the frame
+  QRectF data;  // the unit square's image, inside the frame
+  QRectF legend;
+  QRectF notes;
+  double title_px = 0.0;
+  double notes_px = 0.0;
+};
+
+struct Metrics {
+  double pad, title_px, notes_px, title_h, legend_h, notes_h;
+};
+
+Metrics panel_metrics(double base, const MapPlotOptions& o) {
+  Metrics m{};
+  m.pad = base * 0.03;
+  // Text grows with the square root of the panel: legible when small, not shouting when big.
+  m.title_px = std::max(8.0, 0.9 * std::sqrt(base));
+  m.notes_px = std::max(7.0, 0.67 * std::sqrt(base));
+  m.title_h = o.title.isEmpty() ? 0.0 : m.title_px * 1.7;
+  m.legend_h = o.time_legend ? m.notes_px * 1.9 : 0.0;
+  m.notes_h = o.notes.isEmpty() ? 0.0 : (o.notes.size() + 0.4) * m.notes_px * 1.35;
+  return m;
+}
+
+Layout layout_panel(const QRectF& rect, const MapPlotOptions& o) {
+  const double base = std::max(1.0, std::min(rect.width(), rect.height()));
+  const Metrics m = panel_metrics(base, o);
+  Layout l;
+  l.title_px = m.title_px;
+  l.notes_px = m.notes_px;
+  const double extra = m.title_h + m.legend_h + m.notes_h;
+  const double side =
+      std::max(0.0, std::min(rect.width() - 2 * m.pad, rect.height() - 2 * m.pad - extra));
+  // The title, box, legend and notes form one block, centred in the rect.
+  const double top = rect.top() + (rect.height() - side - extra) / 2;
+  const double left = rect.left() + (rect.width() - side) / 2;
+  l.title = QRectF(rect.left(), top, rect.width(), m.title_h);
+  l.box = QRectF(left, top + m.title_h, side, side);
+  l.legend = QRectF(rect.left(), l.box.bottom(), rect.width(), m.legend_h);
+  l.notes = QRectF(rect.left() + m.pad, l.legend.bottom() + 0.4 * m.notes_px,
+                   rect.width() - 2 * m.pad, m.notes_h);
+  const double margin = side * 0.05;
+  // Never empty, so the transforms built on it stay invertible (Qt's test is det > 1e-12).
+  const double data_side = std::max(side - 2 * margin, 1e-3);
+  l.data = QRectF(left + margin, l.box.top() + margin, data_side, data_side);
+  return l;
+}
+
+// Height a panel needs to be `width` wide with a square box as wide as the layout allows.
+double panel_height_for_width(double width, const MapPlotOptions& o) {
+  const Metrics m = panel_metrics(std::max(1.0, width), o);
+  return width + m.title_h + m.legend_h + m.notes_h;
+}
+
+QTransform unit_to_rect(const QRectF& data) {
+  return QTransform(data.width(), 0, 0, -data.height(), data.left(), data.bottom());
+}
+
+QFont font_px(double px, bool bold = false) {
+  QFont f;
+  f.setPixelSize(std::max(1, static_cast<int>(std::lround(px))));
+  f.setBold(bold);
+  return f;
+}
+
+void draw_text_line(QPainter& p, const QRectF& r, const QString& text, const QFont& font,
+                    const QColor& color) {
+  p.setFont(font);
+  p.setPen(color);
+  const QString shown = QFontMetricsF(font).elidedText(text, Qt::ElideRight, r.width());
+  p.drawText(r, Qt::AlignCenter, shown);
+}
+
+// "start ▬▬▬ end": the time colours, centred in `area`.
+void draw_time_legend(QPainter& p, const QRectF& area, double px) {
+  const QFont font = font_px(px);
+  const QFontMetricsF fm(font);
+  const double bar_w = std::min(area.width() * 0.35, px * 12);
+  const double bar_h = px * 0.6;
+  const double gap = px * 0.5;
+  const QString left = QStringLiteral("start");
+  const QString right = QStringLiteral("end");
+  const double total = fm.horizontalAdvance(left) + gap + bar_w + gap + fm.horizontalAdvance(right);
+  double x = area.center().x() - total / 2;
+  const double cy = area.center().y();
+  p.setFont(font);
+  p.setPen(QColor(70, 70, 70));
+  p.drawText(QRectF(x, area.top(), fm.horizontalAdvance(left) + 1, area.height()),
+             Qt::AlignLeft | Qt::AlignVCenter, left);
+  x += fm.horizontalAdvance(left) + gap;
+  const QRectF bar(x, cy - bar_h / 2, bar_w, bar_h);
+  QLinearGradient g(bar.topLeft(), bar.topRight());
+  for (int k = 0; k <= 4; ++k) g.setColorAt(k / 4.0, time_color(k / 4.0));
+  p.setPen(Qt::NoPen);
+  p.setBrush(g);
+  p.drawRect(bar);
+  p.setBrush(Qt::NoBrush);
+  x += bar_w + gap;
+  p.setPen(QColor(70, 70, 70));
+  p.drawText(QRectF(x, area.top(), fm.horizontalAdvance(right) + 1, area.height()),
+             Qt::AlignLeft | Qt::AlignVCenter, right);
+}
+
+std::string lowercase_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+enum class Format { Png, Svg, Pdf };
+
+Error write_error(const std::string& path, const std::string& reason) {
+  return Error("cannot write '" + path + "': " + reason);
+}
+
+Format format_of(const std::string& path) {
+  const std::string ext = lowercase_extension(path);
+  if (ext == ".png") return Format::Png;
+  if (ext == ".svg") return Format::Svg;
+  if (ext == ".pdf") return Format::Pdf;
+  throw write_error(
+      path, (ext.empty() ? std::string("no file extension") : "unknown extension '" + ext + "'") +
+                " (expected .png, .svg or .pdf)");
+}
+
+// Opens the output, runs `draw` on a painter whose coordinates span QRectF(0, 0, size), closes.
+void render_file(const std::string& path, const QSize& size, const QString& title,
+                 const std::function<void(QPainter&, const QRectF&)>& draw) {
+  const Format format = format_of(path);  // before creating anything
+  ensure_gui_application();
+  const QString qpath = QString::fromStdString(path);
+  const QRectF area(QPointF(0, 0), QSizeF(size));
+
+  if (format == Format::Png) {
+    QImage image(size, QImage::Format_RGB32);
+    if (image.isNull()) throw write_error(path, "cannot allocate the image");
+    image.fill(Qt::white);
+    {
+      QPainter painter(&image);
+      draw(painter, area);
+    }
+    QImageWriter writer(qpath, "png");
+    if (!writer.write(image)) throw write_error(path, writer.errorString().toStdString());
+    return;
+  }
+
+  QFile file(qpath);
+  if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate)) {
+    throw write_error(path, file.errorString().toStdString());
+  }
+  if (format == Format::Svg) {
+    QSvgGenerator svg;
+    svg.setOutputDevice(&file);
+    svg.setSize(size);
+    svg.setViewBox(QRect(QPoint(0, 0), size));
+    svg.setResolution(96);  // the same physical size as the PDF
+    svg.setTitle(title);
+    svg.setDescription(QStringLiteral("MotionMap map plot"));
+    QPainter painter;
+    if (!painter.begin(&svg)) throw write_error(path, "cannot start the SVG painter");
+    draw(painter, area);
+    painter.end();
+  } else {
+    QPdfWriter pdf(&file);
+    pdf.setCreator(QStringLiteral("MotionMap"));
+    pdf.setTitle(title);
+    pdf.setResolution(96);
+    // One page exactly the figure's size: size px at 96 dpi = size · 72/96 pt.
+    pdf.setPageSize(QPageSize(QSizeF(size) * (72.0 / 96.0), QPageSize::Point, QString(),
+                              QPageSize::ExactMatch));
+    pdf.setPageMargins(QMarginsF(0, 0, 0, 0));
+    QPainter painter;
+    if (!painter.begin(&pdf)) throw write_error(path, "cannot start the PDF painter");
+    // The page in device pixels may differ from `size` by rounding; draw in `size` units.
+    painter.scale(painter.device()->width() / area.width(),
+                  painter.device()->height() / area.height());
+    draw(painter, area);
+    painter.end();
+  }
+  file.close();
+  if (file.error() != QFileDevice::NoError) {
+    throw write_error(path, file.errorString().toStdString());
+  }
+}
+
+}  // namespace
+
+QColor time_color(double t) {
+  if (std::isnan(t)) return QColor(128, 128, 128);
+  static constexpr int kStops[5][3] = {
+      {255, 0, 0}, {255, 255, 0}, {0, 255, 0}, {0, 255, 255}, {0, 0, 255}};
+  const double s = std::clamp(t, 0.0, 1.0) * 4.0;
+  const int k = std::min(3, static_cast<int>(s));
+  const double f = s - k;
+  int c[3];
+  for (int j = 0; j < 3; ++j) {
+    c[j] = static_cast<int>(std::lround(kStops[k][j] + f * (kStops[k + 1][j] - kStops[k][j])));
+  }
+  return QColor(c[0], c[1], c[2]);
+}
+
+QTransform data_to_unit(const Eigen::MatrixXd& coords) {
+  const UnitMapping m = unit_mapping(coords);
+  return QTransform(m.scale, 0, 0, m.scale, 0.5 - m.cx * m.scale, 0.5 - m.cy * m.scale);
+}
+
+std::vector<ColoredSegment> trajectory_segments(const Eigen::MatrixXd& coords,
+                                                const std::vector<int>& segment_starts) {
+  const std::vector<int> bounds = clip_bounds(coords, segment_starts);
+  const UnitMapping m = unit_mapping(coords);
+  std::vector<ColoredSegment> out;
+  out.reserve(coords.rows() > 0 ? static_cast<std::size_t>(coords.rows() - 1) : 0);
+  for (std::size_t k = 0; k + 1 < bounds.size(); ++k) {
+    const int begin = bounds[k], end = bounds[k + 1];
+    for (int i = begin; i + 1 < end; ++i) {
+      if (!finite_row(coords, i) || !finite_row(coords, i + 1)) continue;
+      ColoredSegment s;
+      s.from = m.map(coords(i, 0), coords(i, 1));
+      s.to = m.map(coords(i + 1, 0), coords(i + 1, 1));
+      s.sample = i;
+      s.time = (clip_time(i, begin, end) + clip_time(i + 1, begin, end)) / 2;
+      s.color = time_color(s.time);
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
+QRectF data_area(const QRectF& rect, const MapPlotOptions& options) {
+  return layout_panel(rect, options).data;
+}
+
+QTransform unit_transform(const QRectF& rect, const MapPlotOptions& options) {
+  return unit_to_rect(data_area(rect, options));
+}
+
+QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
+                         const MapPlotOptions& options) {
+  return data_to_unit(coords) * unit_transform(rect, options);
+}
+
+void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coords,
+               const std::vector<int>& segment_starts, const MapPlotOptions& options) {
+  const std::vector<int> bounds = clip_bounds(coords, segment_starts);  // validates first
+  const std::vector<ColoredSegment> segments = trajectory_segments(coords, segment_starts);
+  const UnitMapping unit = unit_mapping(coords);
+  const Layout l = layout_panel(rect, options);
+  const QTransform to_px = unit_to_rect(l.data);
+  const double lw =
+      std::isfinite(options.line_width) ? std::clamp(options.line_width, 0.0, 100.0) : 2.0;
+
+  painter.save();
+  painter.setRenderHints(QPainter::Antialiasing | QPainter::TextAntialiasing);
+  if (options.background.isValid()) painter.fillRect(rect, options.background);
+
+  if (!options.title.isEmpty()) {
+    draw_text_line(painter, l.title, options.title, font_px(l.title_px, true), QColor(25, 25, 25));
+  }
+
+  painter.setPen(QPen(QColor(150, 150, 150), 1.0));
+  painter.setBrush(Qt::NoBrush);
+  painter.drawRect(l.box);
+
+  // Trajectory: consecutive segments in the same time bin become one polyline.
+  QPolygonF run;
+  for (std::size_t k = 0; k < segments.size();) {
+    const int bin = time_bin(segments[k].time);
+    run.clear();
+    run << to_px.map(segments[k].from) << to_px.map(segments[k].to);
+    std::size_t j = k + 1;
+    while (j < segments.size() && segments[j].sample == segments[j - 1].sample + 1 &&
+           time_bin(segments[j].time) == bin) {
+      run << to_px.map(segments[j].to);
+      ++j;
+    }
+    painter.setPen(QPen(segments[k].color, lw, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+    painter.drawPolyline(run);
+    k = j;
+  }
+
+  bool any_finite = false;
+  const double dot_r = std::max(1.0, lw * 1.1);
+  const double marker_r = std::max(4.0, lw * 2.5);
+  for (std::size_t k = 0; k + 1 < bounds.size(); ++k) {
+    const int begin = bounds[k], end = bounds[k + 1];
+    int first = -1;
+    for (int i = begin; i < end; ++i) {
+      if (!finite_row(coords, i)) continue;
+      any_finite = true;
+      if (first < 0) first = i;
+      if (!options.draw_points) break;
+      painter.setPen(Qt::NoPen);
+      painter.setBrush(time_color(clip_time(i, begin, end)));
+      painter.drawEllipse(to_px.map(unit.map(coords(i, 0), coords(i, 1))), dot_r, dot_r);
+    }
+    if (options.start_marker && first >= 0) {
+      painter.setPen(QPen(Qt::black, std::max(1.2, lw * 0.6)));
+      painter.setBrush(Qt::white);
+      painter.drawEllipse(to_px.map(unit.map(coords(first, 0), coords(first, 1))), marker_r,
+                          marker_r);
+    }
+  }
+  painter.setBrush(Qt::NoBrush);
+  if (!any_finite) {
+    draw_text_line(painter, l.box, QStringLiteral("no data"), font_px(l.notes_px),
+                   QColor(140, 140, 140));
+  }
+
+  if (options.time_legend) draw_time_legend(painter, l.legend, l.notes_px);
+  const QFont notes_font = font_px(l.notes_px);
+  for (qsizetype k = 0; k < options.notes.size(); ++k) {
+    const QRectF line(l.notes.left(), l.notes.top() + k * l.notes_px * 1.35, l.notes.width(),
+                      l.notes_px * 1.35);
+    draw_text_line(painter, line, options.notes[k], notes_font, QColor(55, 55, 55));
+  }
+  painter.restore();
+}
+
+void save_map_plot(const std::string& path, const Eigen::MatrixXd& coords,
+                   const std::vector<int>& segment_starts, const MapPlotOptions& options,
+                   int size_px) {
+  if (size_px < 16 || size_px > 16384) {
+    throw ParameterError("save_map_plot: size_px = " + std::to_string(size_px) +
+                         " is outside [16, 16384]");
+  }
+  clip_bounds(coords, segment_starts);  // invalid data must not leave a half-written file
+  render_file(path, QSize(size_px, size_px), options.title,
+              [&](QPainter& painter, const QRectF& area) {
+                paint_map(painter, area, coords, segment_starts, options);
+              });
+}
+
+void save_figure(const std::string& path, const std::vector<FigurePanel>& panels, int columns,
+                 int panel_px, const QString& title) {
+  if (panels.empty()) throw ParameterError("save_figure: no panels");
+  if (columns < 1 || columns > 64) {
+    throw ParameterError("save_figure: columns = " + std::to_string(columns) +
+                         " is outside [1, 64]");
+  }
+  if (panel_px < 64 || panel_px > 4096) {
+    throw ParameterError("save_figure: panel_px = " + std::to_string(panel_px) +
+                         " is outside [64, 4096]");
+  }
+  for (const FigurePanel& p : panels) clip_bounds(p.coords, p.segment_starts);
+
+  const std::size_t n = panels.size();
+  const std::size_t cols = std::min<std::size_t>(columns, n);
+  const std::size_t rows = (n + cols - 1) / cols;
+  double cell_h = 0.0;
+  for (const FigurePanel& p : panels) {
+    cell_h = std::max(cell_h, panel_height_for_width(panel_px, p.options));
+  }
+  const double title_px = 1.1 * std::sqrt(double(panel_px));
+  const double legend_px = 0.67 * std::sqrt(double(panel_px));
+  const double header_h =
+      (title.isEmpty() ? 0.0 : title_px * 1.8) + legend_px * 2.2 + panel_px * 0.02;
+  const double width = double(cols) * panel_px;
+  const double height = header_h + rows * cell_h;
+  if (width * height > 1e8) {
+    throw ParameterError("save_figure: the figure would be " + std::to_string(int(width)) + "x" +
+                         std::to_string(static_cast<long long>(height)) +
+                         " pixels, more than 10^8");
+  }
+
+  render_file(path, QSize(int(width), int(std::ceil(height))), title,
+              [&](QPainter& painter, const QRectF& area) {
+                painter.fillRect(area, Qt::white);
+                painter.setRenderHints(QPainter::Antialiasing | QPainter::TextAntialiasing);
+                double y = area.top() + panel_px * 0.02;
+                if (!title.isEmpty()) {
+                  draw_text_line(painter, QRectF(0, y, width, title_px * 1.8), title,
+                                 font_px(title_px, true), QColor(20, 20, 20));
+                  y += title_px * 1.8;
+                }
+                draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
+                for (std::size_t i = 0; i < n; ++i) {
+                  const FigurePanel& p = panels[i];
+                  // Each panel exactly as tall as it needs, at the top of its cell, so the
+                  // boxes of a row line up even when the panels carry different notes.
+                  const QRectF cell((i % cols) * double(panel_px), header_h + (i / cols) * cell_h,
+                                    panel_px, panel_height_for_width(panel_px, p.options));
+                  paint_map(painter, cell, p.coords, p.segment_starts, p.options);
+                }
+              });
+}
+
+void ensure_gui_application() {
+  if (QCoreApplication* existing = QCoreApplication::instance()) {
+    if (qobject_cast<QGuiApplication*>(existing) == nullptr) {
+      throw Error(
+          "ensure_gui_application: a QCoreApplication exists; drawing text needs a "
+          "QGuiApplication (create one instead)");
+    }
+    return;
+  }
+  // Offscreen works with or without a display; keep whatever platform the user chose.
+  if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+  static int argc = 1;
+  static char name[] = "motionmap";
+  static char* argv[] = {name, nullptr};
+  // Destroyed with the other statics at exit; leaking it instead leaves fontconfig's caches
+  // unreachable, which LeakSanitizer reports.
+  static QGuiApplication app(argc, argv);
+}
+
+}  // namespace motionmap::render

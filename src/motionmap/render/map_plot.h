@@ -1,0 +1,122 @@
+#pragma once
+// Draws a map: every frame of a clip is a 2-D point, a clip is a trajectory coloured by time
+// (red → yellow → green → cyan → blue from its first to its last frame). One painter serves the
+// app (a widget's QPainter), the CLI (PNG/SVG/PDF files, no display needed) and figures (a grid
+// of panels, e.g. one per embedding method). QtGui only, no QtWidgets.
+//
+//   motionmap::render::MapPlotOptions options;
+//   options.title = "Isomap";
+//   options.notes = {"trustworthiness 0.93"};
+//   motionmap::render::save_map_plot("map.png", coords, {}, options);
+//
+// Coordinates are "#samples by ≥ 2" matrices; only columns 0 (x, to the right) and 1 (y, up)
+// are drawn. Rows with a non-finite x or y are gaps: no segment touches them.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <QColor>
+#include <QPainter>
+#include <QPointF>
+#include <QRectF>
+#include <QString>
+#include <QStringList>
+#include <QTransform>
+
+namespace motionmap::render {
+
+/// Colour of time t ∈ [0, 1]: piecewise linear through red (0), yellow (0.25), green (0.5),
+/// cyan (0.75) and blue (1), fully saturated. t outside [0, 1] is clamped; NaN gives gray.
+QColor time_color(double t);
+
+/// How paint_map() draws a panel. Sizes are in the painter's units (pixels for images).
+struct MapPlotOptions {
+  QString title;                  ///< printed above the panel (nothing when empty)
+  QStringList notes;              ///< lines printed under the panel, e.g. quality metrics
+  bool start_marker = true;       ///< black-outlined white circle on each clip's first frame
+  bool draw_points = false;       ///< a dot on every sample, in its time colour
+  bool time_legend = false;       ///< a red → blue "start … end" bar under the panel
+  double line_width = 2.0;        ///< trajectory pen width, clamped to [0, 100]; 0 is a hairline
+  QColor background = Qt::white;  ///< fills the whole rect; an invalid colour leaves it as is
+};
+
+/// One piece of a trajectory, from sample `sample` to sample `sample + 1` of the same clip, in
+/// unit-square coordinates (see data_to_unit()).
+struct ColoredSegment {
+  QPointF from;
+  QPointF to;
+  int sample = 0;     ///< row of `from` in the coordinate matrix
+  double time = 0.0;  ///< the segment's midpoint time within its clip, in [0, 1]
+  QColor color;       ///< time_color(time)
+};
+
+/// The similarity mapping from data (columns 0, 1 of `coords`) to the unit square [0,1]², y up:
+/// equal scale on both axes, the bounding box of the finite samples centred, its longer side
+/// spanning [0, 1]. With no finite sample or zero extent the scale is 1 (points land at 0.5).
+QTransform data_to_unit(const Eigen::MatrixXd& coords);
+
+/// The coloured polyline of `coords` (#samples by ≥ 2) as plain data, in unit-square
+/// coordinates: one segment per pair of consecutive finite samples of the same clip.
+/// `segment_starts` lists the row where each clip starts, strictly increasing, in
+/// [0, #samples); row 0 always starts a clip; empty means one clip. Linear in #samples.
+/// @throws ParameterError if coords has < 2 columns or segment_starts is invalid.
+std::vector<ColoredSegment> trajectory_segments(const Eigen::MatrixXd& coords,
+                                                const std::vector<int>& segment_starts);
+
+/// The square data area paint_map() uses inside `rect`: what is left after the title, notes and
+/// legend, centred, with a margin; the frame box surrounds it.
+QRectF data_area(const QRectF& rect, const MapPlotOptions& options = {});
+
+/// Unit square (y up) → painter coordinates for a panel drawn in `rect`: maps [0,1]² onto
+/// data_area(rect, options), flipping y. Use it to place cached trajectory_segments().
+QTransform unit_transform(const QRectF& rect, const MapPlotOptions& options = {});
+
+/// Data → painter coordinates exactly as paint_map(painter, rect, coords, …, options) draws:
+/// data_to_unit(coords) * unit_transform(rect, options). `map_transform(...).inverted().map(mouse)`
+/// gives the map coordinates under a mouse position (invertible as long as the data's extent is
+/// below 10⁶ × the data area's side in pixels: Qt's fuzzy determinant test).
+QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
+                         const MapPlotOptions& options = {});
+
+/// Draws one panel into `rect`: background, title on top, a square data area with a thin frame,
+/// the trajectory coloured by each clip's own time, start markers, notes at the bottom.
+/// Degenerate input (no/one sample, identical samples, NaN rows) draws what remains.
+/// Text needs a QGuiApplication (see ensure_gui_application()). Linear in #samples.
+/// @throws ParameterError if coords has < 2 columns or segment_starts is invalid.
+void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coords,
+               const std::vector<int>& segment_starts, const MapPlotOptions& options);
+
+/// Writes one panel to `path`, size_px × size_px, format from the extension (case-insensitive):
+/// .png (antialiased), .svg, .pdf (one square page, size_px at 96 dpi). Calls
+/// ensure_gui_application().
+/// @throws ParameterError if size_px is outside [16, 16384] or coords/segment_starts are invalid.
+/// @throws Error naming the path and the reason on an unknown extension or a write failure.
+void save_map_plot(const std::string& path, const Eigen::MatrixXd& coords,
+                   const std::vector<int>& segment_starts, const MapPlotOptions& options,
+                   int size_px = 800);
+
+/// One panel of a figure: the arguments of paint_map().
+struct FigurePanel {
+  Eigen::MatrixXd coords;
+  std::vector<int> segment_starts;
+  MapPlotOptions options;
+};
+
+/// Writes panels in a grid of `columns` columns (row by row), each panel_px wide with its title
+/// and notes, under a figure title and a time legend. Formats as save_map_plot().
+/// Calls ensure_gui_application().
+/// @throws ParameterError if panels is empty, columns is outside [1, 64], panel_px outside
+///         [64, 4096], the figure would exceed 10⁸ pixels, or a panel's data is invalid.
+/// @throws Error naming the path and the reason on an unknown extension or a write failure.
+void save_figure(const std::string& path, const std::vector<FigurePanel>& panels, int columns = 3,
+                 int panel_px = 500, const QString& title = {});
+
+/// Makes sure a QGuiApplication exists, which text rendering needs. If there is no
+/// QCoreApplication at all, sets QT_QPA_PLATFORM=offscreen (unless already set, so any display
+/// works and none is needed) and creates a QGuiApplication in static storage, which lives until
+/// the process exits.
+/// Does nothing when one exists (the app's QApplication). Call it from the main thread.
+/// @throws Error if a plain QCoreApplication (not a QGuiApplication) already exists.
+void ensure_gui_application();
+
+}  // namespace motionmap::render

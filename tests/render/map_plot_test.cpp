@@ -1,0 +1,555 @@
+#include "motionmap/render/map_plot.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <QCoreApplication>
+#include <QFile>
+#include <QGuiApplication>
+#include <QImage>
+#include <QXmlStreamReader>
+
+#include "motionmap/core/error.h"
+
+namespace motionmap::render {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string temp_file(const std::string& name) {
+  return (std::filesystem::path(::testing::TempDir()) / ("motionmap_render_" + name)).string();
+}
+
+// `n` samples on three quarters of a circle (angles 0 … 1.5π), so the start and end are apart.
+// With n - 1 divisible by 3 samples land on π/2 and π, and the bounding box is the full
+// circle's: x and y both span [cx - r, cx + r].
+Eigen::MatrixXd arc(int n, double r = 1.0, double cx = 0.0, double cy = 0.0) {
+  Eigen::MatrixXd c(n, 2);
+  for (int i = 0; i < n; ++i) {
+    const double a = 1.5 * std::numbers::pi * i / (n - 1);
+    c(i, 0) = cx + r * std::cos(a);
+    c(i, 1) = cy + r * std::sin(a);
+  }
+  return c;
+}
+
+// Samples evenly from (x0, y) to (x1, y).
+Eigen::MatrixXd line(int n, double x0, double x1, double y) {
+  Eigen::MatrixXd c(n, 2);
+  for (int i = 0; i < n; ++i) {
+    c(i, 0) = x0 + (x1 - x0) * i / (n - 1);
+    c(i, 1) = y;
+  }
+  return c;
+}
+
+bool is_white(const QColor& c) {
+  return c.red() > 245 && c.green() > 245 && c.blue() > 245;
+}
+bool is_dark(const QColor& c) {
+  return c.red() < 90 && c.green() < 90 && c.blue() < 90;
+}
+bool is_reddish(const QColor& c) {
+  return c.red() > 200 && c.green() < 120 && c.blue() < 70;
+}
+bool is_bluish(const QColor& c) {
+  return c.blue() > 200 && c.red() < 70 && c.green() < 120;
+}
+
+// Whether some pixel within `radius` of `p` satisfies `pred`.
+bool any_near(const QImage& img, QPointF p, int radius, const std::function<bool(QColor)>& pred) {
+  const int px = static_cast<int>(std::floor(p.x())), py = static_cast<int>(std::floor(p.y()));
+  for (int y = py - radius; y <= py + radius; ++y) {
+    for (int x = px - radius; x <= px + radius; ++x) {
+      if (img.valid(x, y) && pred(img.pixelColor(x, y))) return true;
+    }
+  }
+  return false;
+}
+
+bool all_near(const QImage& img, QPointF p, int radius, const std::function<bool(QColor)>& pred) {
+  return !any_near(img, p, radius, [&](QColor c) { return !pred(c); });
+}
+
+QColor pixel_at(const QImage& img, QPointF p) {
+  return img.pixelColor(static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())));
+}
+
+std::string read_all(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+template <class E, class F>
+std::string error_message(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "(no exception)";
+}
+
+class MapPlotTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { ensure_gui_application(); }
+};
+
+// --- colours ----------------------------------------------------------------------------------
+
+TEST(TimeColorTest, PassesThroughTheFiveHuesAtQuarterSteps) {
+  EXPECT_EQ(time_color(0.0), QColor(255, 0, 0));
+  EXPECT_EQ(time_color(0.25), QColor(255, 255, 0));
+  EXPECT_EQ(time_color(0.5), QColor(0, 255, 0));
+  EXPECT_EQ(time_color(0.75), QColor(0, 255, 255));
+  EXPECT_EQ(time_color(1.0), QColor(0, 0, 255));
+}
+
+TEST(TimeColorTest, IsLinearBetweenHuesAndClamped) {
+  EXPECT_EQ(time_color(0.125), QColor(255, 128, 0));  // halfway red → yellow
+  EXPECT_EQ(time_color(0.375), QColor(128, 255, 0));  // halfway yellow → green
+  EXPECT_EQ(time_color(0.625), QColor(0, 255, 128));  // halfway green → cyan
+  EXPECT_EQ(time_color(0.875), QColor(0, 128, 255));  // halfway cyan → blue
+  EXPECT_EQ(time_color(0.05), QColor(255, 51, 0));
+  EXPECT_EQ(time_color(-3.0), QColor(255, 0, 0));
+  EXPECT_EQ(time_color(7.0), QColor(0, 0, 255));
+  EXPECT_EQ(time_color(kNaN), QColor(128, 128, 128));
+  for (int k = 0; k <= 100; ++k) {  // fully saturated: one channel at 255, one at 0
+    const QColor c = time_color(k / 100.0);
+    EXPECT_EQ(std::max({c.red(), c.green(), c.blue()}), 255) << k;
+    EXPECT_EQ(std::min({c.red(), c.green(), c.blue()}), 0) << k;
+  }
+}
+
+// --- plain-data geometry ----------------------------------------------------------------------
+
+TEST(TrajectorySegmentsTest, OneClipGivesColouredUnitSquareSegments) {
+  const Eigen::MatrixXd c = arc(121, 3.0, 10.0, -5.0);
+  const auto segs = trajectory_segments(c, {});
+  ASSERT_EQ(segs.size(), 120u);
+  for (std::size_t k = 0; k < segs.size(); ++k) {
+    EXPECT_EQ(segs[k].sample, static_cast<int>(k));
+    EXPECT_NEAR(segs[k].time, (k + 0.5) / 120.0, 1e-12);
+    EXPECT_EQ(segs[k].color, time_color(segs[k].time));
+    if (k > 0) {
+      EXPECT_EQ(segs[k].from, segs[k - 1].to);
+    }
+    // The circle of radius 3 around (10, -5) becomes the circle of radius 0.5 around (0.5, 0.5).
+    EXPECT_NEAR(std::hypot(segs[k].from.x() - 0.5, segs[k].from.y() - 0.5), 0.5, 1e-9);
+  }
+  EXPECT_NEAR(segs.front().from.x(), 1.0, 1e-12);  // angle 0: rightmost
+  EXPECT_NEAR(segs.front().from.y(), 0.5, 1e-12);
+  EXPECT_NEAR(segs[40].from.y(), 1.0, 1e-9);  // angle π/2: the top, so y points up
+}
+
+TEST(TrajectorySegmentsTest, EqualScaleOnBothAxes) {
+  Eigen::MatrixXd c(3, 2);
+  c << 0, 0, 4, 0, 4, 1;  // 4 wide, 1 tall
+  const auto segs = trajectory_segments(c, {});
+  ASSERT_EQ(segs.size(), 2u);
+  EXPECT_NEAR(segs[0].from.x(), 0.0, 1e-12);
+  EXPECT_NEAR(segs[0].to.x(), 1.0, 1e-12);
+  EXPECT_NEAR(segs[0].from.y(), 0.5 - 0.125, 1e-12);  // the short side is centred
+  EXPECT_NEAR(segs[1].to.y(), 0.5 + 0.125, 1e-12);
+}
+
+TEST(TrajectorySegmentsTest, ClipsAreNotJoinedAndEachHasItsOwnTime) {
+  Eigen::MatrixXd c(30, 2);
+  c << line(10, 0, 1, 0), line(20, 0, 1, 1);
+  const auto segs = trajectory_segments(c, {0, 10});
+  ASSERT_EQ(segs.size(), 9u + 19u);
+  for (const auto& s : segs) EXPECT_NE(s.sample, 9) << "segment across the clip boundary";
+  EXPECT_NEAR(segs[0].time, 0.5 / 9, 1e-12);
+  EXPECT_NEAR(segs[8].time, 1 - 0.5 / 9, 1e-12);
+  EXPECT_EQ(segs[9].sample, 10);
+  EXPECT_NEAR(segs[9].time, 0.5 / 19, 1e-12);
+  EXPECT_NEAR(segs.back().time, 1 - 0.5 / 19, 1e-12);
+  // Without 0 in the list, row 0 still starts a clip: same result.
+  EXPECT_EQ(trajectory_segments(c, {10}).size(), segs.size());
+}
+
+TEST(TrajectorySegmentsTest, NonFiniteRowsAreGaps) {
+  Eigen::MatrixXd c = line(10, 0, 9, 0);
+  c(4, 1) = kNaN;
+  c(7, 0) = std::numeric_limits<double>::infinity();
+  const auto segs = trajectory_segments(c, {});
+  ASSERT_EQ(segs.size(), 9u - 4u);  // 3-4, 4-5, 6-7, 7-8 dropped
+  for (const auto& s : segs) {
+    EXPECT_TRUE(s.sample != 3 && s.sample != 4 && s.sample != 6 && s.sample != 7) << s.sample;
+    EXPECT_TRUE(std::isfinite(s.from.x()) && std::isfinite(s.to.y()));
+  }
+  // The bounding box ignores the infinite row: x spans 0 … 9 → 0 … 1.
+  EXPECT_NEAR(segs.front().from.x(), 0.0, 1e-12);
+  EXPECT_NEAR(segs.back().to.x(), 1.0, 1e-12);
+}
+
+TEST(TrajectorySegmentsTest, DegenerateInputsGiveFiniteOrNoSegments) {
+  EXPECT_TRUE(trajectory_segments(Eigen::MatrixXd(0, 2), {}).empty());
+  EXPECT_TRUE(trajectory_segments(Eigen::MatrixXd::Constant(1, 2, 3.0), {}).empty());
+  const auto same = trajectory_segments(Eigen::MatrixXd::Constant(5, 3, 7.0), {});
+  ASSERT_EQ(same.size(), 4u);
+  for (const auto& s : same) EXPECT_EQ(s.from, QPointF(0.5, 0.5));
+  EXPECT_TRUE(trajectory_segments(Eigen::MatrixXd::Constant(5, 2, kNaN), {}).empty());
+  // Huge and tiny extents stay finite.
+  Eigen::MatrixXd huge(2, 2);
+  huge << -1e308, -1e308, 1e308, 1e308;
+  const auto h = trajectory_segments(huge, {});
+  ASSERT_EQ(h.size(), 1u);
+  EXPECT_NEAR(h[0].from.x(), 0.0, 1e-12);
+  EXPECT_NEAR(h[0].to.y(), 1.0, 1e-12);
+  Eigen::MatrixXd tiny(2, 2);
+  tiny << 1.0, 1.0, 1.0 + 1e-310, 1.0;
+  for (const auto& s : trajectory_segments(tiny, {})) {
+    EXPECT_TRUE(std::isfinite(s.from.x()) && std::isfinite(s.to.x()));
+  }
+}
+
+TEST(TrajectorySegmentsTest, InvalidInputIsAParameterError) {
+  EXPECT_EQ(error_message<ParameterError>([] { trajectory_segments(Eigen::MatrixXd(4, 1), {}); }),
+            "map plot: coords has 1 column(s); need at least 2 (x, y)");
+  const Eigen::MatrixXd c = line(5, 0, 1, 0);
+  EXPECT_EQ(error_message<ParameterError>([&] {
+              trajectory_segments(c, {0, 5});
+            }),
+            "map plot: segment_starts[1] = 5 is outside [0, 5)");
+  EXPECT_EQ(error_message<ParameterError>([&] { trajectory_segments(c, {-1}); }),
+            "map plot: segment_starts[0] = -1 is outside [0, 5)");
+  EXPECT_EQ(error_message<ParameterError>([&] {
+              trajectory_segments(c, {0, 3, 2});
+            }),
+            "map plot: segment_starts must be strictly increasing, but [2] = 2 follows 3");
+  EXPECT_EQ(error_message<ParameterError>([&] {
+              trajectory_segments(c, {3, 3});
+            }),
+            "map plot: segment_starts must be strictly increasing, but [1] = 3 follows 3");
+}
+
+TEST(MapTransformTest, DataAreaIsASquareInsideTheRect) {
+  MapPlotOptions o;
+  o.title = "title";
+  o.notes = {"one", "two", "three"};
+  o.time_legend = true;
+  for (const QRectF rect :
+       {QRectF(0, 0, 800, 800), QRectF(10, 20, 900, 400), QRectF(0, 0, 300, 1000)}) {
+    const QRectF d = data_area(rect, o);
+    EXPECT_NEAR(d.width(), d.height(), 1e-9);
+    EXPECT_GT(d.width(), 0.5 * std::min(rect.width(), rect.height()));
+    EXPECT_TRUE(rect.contains(d));
+    EXPECT_NEAR(d.center().x(), rect.center().x(), 1e-9);
+  }
+  // A zero-size rect still gives an invertible transform.
+  EXPECT_TRUE(unit_transform(QRectF(0, 0, 0, 0)).isInvertible());
+}
+
+TEST(MapTransformTest, MapsDataToPixelsAndBack) {
+  const Eigen::MatrixXd c = arc(49, 2.0, 1.0, 1.0);
+  const QRectF rect(0, 0, 640, 480);
+  const MapPlotOptions o;
+  const QTransform t = map_transform(c, rect, o);
+  ASSERT_TRUE(t.isInvertible());
+  const QRectF d = data_area(rect, o);
+  // The circle's bounding box (-1 … 3 on both axes) fills the data area; y points up.
+  EXPECT_NEAR(t.map(QPointF(-1, 3)).x(), d.left(), 1e-9);
+  EXPECT_NEAR(t.map(QPointF(-1, 3)).y(), d.top(), 1e-9);
+  EXPECT_NEAR(t.map(QPointF(3, -1)).x(), d.right(), 1e-9);
+  EXPECT_NEAR(t.map(QPointF(3, -1)).y(), d.bottom(), 1e-9);
+  const QPointF back = t.inverted().map(t.map(QPointF(0.3, 2.2)));
+  EXPECT_NEAR(back.x(), 0.3, 1e-9);
+  EXPECT_NEAR(back.y(), 2.2, 1e-9);
+  // Same placement as the cached segments: data_to_unit then unit_transform.
+  const auto segs = trajectory_segments(c, {});
+  const QPointF via_unit = unit_transform(rect, o).map(segs[7].from);
+  const QPointF direct = t.map(QPointF(c(7, 0), c(7, 1)));
+  EXPECT_NEAR(via_unit.x(), direct.x(), 1e-9);
+  EXPECT_NEAR(via_unit.y(), direct.y(), 1e-9);
+  // Identical samples: still invertible, the point in the middle.
+  const Eigen::MatrixXd same = Eigen::MatrixXd::Constant(3, 2, 5.0);
+  const QTransform ts = map_transform(same, rect, o);
+  ASSERT_TRUE(ts.isInvertible());
+  EXPECT_NEAR(ts.map(QPointF(5, 5)).x(), d.center().x(), 1e-9);
+  EXPECT_NEAR(ts.map(QPointF(5, 5)).y(), d.center().y(), 1e-9);
+}
+
+// --- images -----------------------------------------------------------------------------------
+
+TEST_F(MapPlotTest, PngOfAnArcShowsTimeColoursStartMarkerAndSquarePanel) {
+  const Eigen::MatrixXd c = arc(199);
+  MapPlotOptions o;
+  o.title = "Circle";
+  o.notes = {"trustworthiness 0.99", "continuity 0.98"};
+  o.line_width = 3.0;
+  const std::string path = temp_file("arc.png");
+  save_map_plot(path, c, {}, o, 400);
+  QImage img(QString::fromStdString(path));
+  ASSERT_FALSE(img.isNull());
+  ASSERT_EQ(img.size(), QSize(400, 400));
+
+  for (QPoint corner : {QPoint(0, 0), QPoint(399, 0), QPoint(0, 399), QPoint(399, 399)}) {
+    EXPECT_TRUE(is_white(img.pixelColor(corner))) << corner.x() << "," << corner.y();
+  }
+  const QTransform t = map_transform(c, QRectF(0, 0, 400, 400), o);
+  const QPointF start = t.map(QPointF(c(0, 0), c(0, 1)));
+  EXPECT_TRUE(is_white(pixel_at(img, start))) << "marker fill";
+  EXPECT_TRUE(any_near(img, start, 8, is_dark)) << "marker outline";
+  EXPECT_FALSE(any_near(img, start, 2, is_reddish)) << "the marker covers the line's start";
+  EXPECT_TRUE(any_near(img, t.map(QPointF(c(10, 0), c(10, 1))), 1, is_reddish));
+  EXPECT_TRUE(any_near(img, t.map(QPointF(c(190, 0), c(190, 1))), 1, is_bluish));
+  EXPECT_FALSE(any_near(img, t.map(QPointF(c(190, 0), c(190, 1))), 1, is_reddish));
+  EXPECT_TRUE(all_near(img, t.map(QPointF(0, 0)), 20, is_white)) << "the circle's centre";
+
+  // Equal scale: the coloured pixels (the full circle's bounding box) form a square centred in
+  // the data area.
+  int x0 = 400, x1 = -1, y0 = 400, y1 = -1;
+  for (int y = 0; y < 400; ++y) {
+    for (int x = 0; x < 400; ++x) {
+      const QColor p = img.pixelColor(x, y);
+      if (std::max({p.red(), p.green(), p.blue()}) - std::min({p.red(), p.green(), p.blue()}) < 150)
+        continue;  // not saturated: background, frame, text or marker
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  }
+  ASSERT_GT(x1, x0);
+  EXPECT_NEAR(x1 - x0, y1 - y0, 2);
+  const QRectF d = data_area(QRectF(0, 0, 400, 400), o);
+  EXPECT_NEAR((x0 + x1 + 1) / 2.0, d.center().x(), 2);
+  EXPECT_NEAR((y0 + y1 + 1) / 2.0, d.center().y(), 2);
+  EXPECT_NEAR(x1 - x0, d.width(), 5);
+  // The title sits above the data area and the notes below it: dark text pixels there.
+  bool title = false, notes = false;
+  for (int y = 0; y < 400; ++y) {
+    for (int x = 0; x < 400; ++x) {
+      if (!is_dark(img.pixelColor(x, y))) continue;
+      title |= y < d.top() - 10;
+      notes |= y > d.bottom() + 10;
+    }
+  }
+  EXPECT_TRUE(title);
+  EXPECT_TRUE(notes);
+}
+
+TEST_F(MapPlotTest, ClipsAreDrawnSeparatelyEachFromRedToBlue) {
+  Eigen::MatrixXd c(100, 2);
+  c << line(50, 0, 1, 0), line(50, 0, 1, 1);
+  MapPlotOptions o;
+  o.line_width = 3.0;
+  const std::string path = temp_file("clips.png");
+  save_map_plot(path, c, {0, 50}, o, 300);
+  QImage img(QString::fromStdString(path));
+  ASSERT_EQ(img.size(), QSize(300, 300));
+  const QTransform t = map_transform(c, QRectF(0, 0, 300, 300), o);
+  // Between the end of clip 1 (1, 0) and the start of clip 2 (0, 1): background.
+  EXPECT_TRUE(all_near(img, t.map(QPointF(0.5, 0.5)), 3, is_white));
+  EXPECT_TRUE(all_near(img, t.map(QPointF(0.25, 0.75)), 3, is_white));
+  EXPECT_TRUE(all_near(img, t.map(QPointF(0.75, 0.25)), 3, is_white));
+  for (const double y : {0.0, 1.0}) {
+    EXPECT_TRUE(is_white(pixel_at(img, t.map(QPointF(0, y))))) << "start marker of clip y=" << y;
+    EXPECT_TRUE(any_near(img, t.map(QPointF(0.1, y)), 1, is_reddish)) << y;
+    EXPECT_TRUE(any_near(img, t.map(QPointF(0.95, y)), 1, is_bluish)) << y;
+  }
+  // Joined clips would draw the diagonal: check that drawing them as one clip does.
+  save_map_plot(path, c, {}, o, 300);
+  QImage joined(QString::fromStdString(path));
+  EXPECT_FALSE(all_near(joined, t.map(QPointF(0.5, 0.5)), 3, is_white));
+}
+
+TEST_F(MapPlotTest, DegenerateInputsStillProduceAnImage) {
+  const QRectF rect(0, 0, 200, 200);
+  MapPlotOptions o;
+  o.title = "degenerate";
+  o.draw_points = true;
+  Eigen::MatrixXd nan_middle = arc(20);
+  nan_middle.row(7).setConstant(kNaN);
+  const std::vector<Eigen::MatrixXd> inputs = {
+      Eigen::MatrixXd(0, 2), Eigen::MatrixXd::Constant(1, 2, 3.0),
+      Eigen::MatrixXd::Constant(10, 2, -2.5), Eigen::MatrixXd::Constant(10, 2, kNaN), nan_middle};
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    const std::string path = temp_file("degenerate" + std::to_string(k) + ".png");
+    ASSERT_NO_THROW(save_map_plot(path, inputs[k], {}, o, 200)) << k;
+    QImage img(QString::fromStdString(path));
+    ASSERT_EQ(img.size(), QSize(200, 200)) << k;
+    const QRectF d = data_area(rect, o);
+    // The frame is drawn in every case.
+    EXPECT_FALSE(all_near(img, QPointF(d.center().x(), d.top() - d.width() * 0.05), 1, is_white))
+        << k;
+    if (k == 1 || k == 2) {  // one point: the marker in the middle of the data area
+      EXPECT_TRUE(is_white(pixel_at(img, d.center()))) << k;
+      EXPECT_TRUE(any_near(img, d.center(), 7, is_dark)) << k;
+    }
+  }
+  // The NaN row splits the arc but the rest is drawn.
+  const QTransform t = map_transform(nan_middle, rect, o);
+  QImage img(QString::fromStdString(temp_file("degenerate4.png")));
+  EXPECT_FALSE(all_near(img, t.map(QPointF(nan_middle(3, 0), nan_middle(3, 1))), 1, is_white));
+}
+
+TEST_F(MapPlotTest, PaintMapDrawsIntoAnyPainterInItsRect) {
+  QImage img(300, 200, QImage::Format_RGB32);
+  img.fill(Qt::black);
+  {
+    QPainter p(&img);
+    paint_map(p, QRectF(100, 0, 200, 200), arc(40), {}, MapPlotOptions{});
+  }
+  EXPECT_EQ(img.pixelColor(50, 100), QColor(Qt::black)) << "outside the rect: untouched";
+  EXPECT_TRUE(is_white(img.pixelColor(101, 1))) << "inside: background";
+}
+
+TEST_F(MapPlotTest, SvgAndPdfAreWritten) {
+  MapPlotOptions o;
+  o.title = "Circle";
+  o.notes = {"a note"};
+  o.time_legend = true;
+  const std::string svg = temp_file("arc.svg");
+  save_map_plot(svg, arc(100), {}, o, 300);
+  const std::string text = read_all(svg);
+  ASSERT_FALSE(text.empty());
+  QXmlStreamReader xml(QByteArray::fromStdString(text));
+  bool stroke = false, found_title = false;
+  while (!xml.atEnd()) {
+    xml.readNext();
+    if (xml.isStartElement()) {
+      stroke |= xml.name() == QStringLiteral("path") || xml.name() == QStringLiteral("polyline");
+    }
+    if (xml.isCharacters()) found_title |= xml.text().contains(QStringLiteral("Circle"));
+  }
+  EXPECT_FALSE(xml.hasError()) << xml.errorString().toStdString();
+  EXPECT_TRUE(stroke);
+  EXPECT_TRUE(found_title);
+
+  const std::string pdf = temp_file("ARC.PDF");  // the extension is case-insensitive
+  save_map_plot(pdf, arc(100), {}, o, 300);
+  const std::string bytes = read_all(pdf);
+  ASSERT_GT(bytes.size(), 500u);
+  EXPECT_EQ(bytes.substr(0, 5), "%PDF-");
+  // One square page, 300 px at 96 dpi = 225 pt.
+  EXPECT_NE(bytes.find("/MediaBox [0 0 225.000000 225.000000]"), std::string::npos);
+  EXPECT_NE(bytes.find("/Count 1"), std::string::npos);
+}
+
+TEST_F(MapPlotTest, FigureIsAGridOfPanels) {
+  std::vector<FigurePanel> panels;
+  for (int k = 0; k < 5; ++k) {
+    FigurePanel p;
+    p.coords = arc(60 + 10 * k, 1.0 + k);
+    p.options.title = QString("method %1").arg(k);
+    p.options.notes = {QString("metric %1").arg(k)};
+    if (k == 2) p.options.notes.append("second line");
+    panels.push_back(p);
+  }
+  const std::string path = temp_file("figure.png");
+  save_figure(path, panels, 3, 200, "Six methods");
+  QImage img(QString::fromStdString(path));
+  ASSERT_FALSE(img.isNull());
+  EXPECT_EQ(img.width(), 600);
+  EXPECT_GT(img.height(), 400);
+  EXPECT_LT(img.height(), 700);
+  // Every panel drew its trajectory (saturated pixels) in its cell; the sixth cell is empty.
+  const int cell_h = img.height() / 2;  // header is small; the rows split near the middle
+  auto saturated_in = [&](int col, int row) {
+    for (int y = row * cell_h + 40; y < (row + 1) * cell_h; ++y) {
+      for (int x = col * 200; x < (col + 1) * 200; ++x) {
+        const QColor p = img.pixelColor(x, y);
+        if (std::max({p.red(), p.green(), p.blue()}) - std::min({p.red(), p.green(), p.blue()}) >
+            200)
+          return true;
+      }
+    }
+    return false;
+  };
+  for (int k = 0; k < 5; ++k) EXPECT_TRUE(saturated_in(k % 3, k / 3)) << k;
+  EXPECT_FALSE(saturated_in(2, 1));
+
+  const std::string svg = temp_file("figure.svg");
+  save_figure(svg, panels, 2, 150);
+  EXPECT_NE(read_all(svg).find("<svg"), std::string::npos);
+}
+
+// --- errors -----------------------------------------------------------------------------------
+
+TEST_F(MapPlotTest, UnknownExtensionNamesThePath) {
+  const std::string bmp = temp_file("plot.bmp");
+  EXPECT_EQ(error_message<Error>([&] { save_map_plot(bmp, arc(10), {}, {}); }),
+            "cannot write '" + bmp + "': unknown extension '.bmp' (expected .png, .svg or .pdf)");
+  EXPECT_FALSE(std::filesystem::exists(bmp));
+  const std::string none = temp_file("plot");
+  EXPECT_EQ(error_message<Error>([&] {
+              save_figure(none, {FigurePanel{arc(10), {}, {}}});
+            }),
+            "cannot write '" + none + "': no file extension (expected .png, .svg or .pdf)");
+}
+
+TEST_F(MapPlotTest, WriteFailureNamesThePath) {
+  for (const std::string ext : {".png", ".svg", ".pdf"}) {
+    const std::string path = "/nonexistent-motionmap-dir/plot" + ext;
+    const std::string msg = error_message<Error>([&] { save_map_plot(path, arc(10), {}, {}); });
+    EXPECT_EQ(msg.rfind("cannot write '" + path + "': ", 0), 0u) << msg;
+    EXPECT_GT(msg.size(), ("cannot write '" + path + "': ").size()) << "a reason follows";
+  }
+}
+
+TEST_F(MapPlotTest, BadSizesAndDataAreParameterErrors) {
+  const std::string png = temp_file("bad.png");
+  EXPECT_EQ(error_message<ParameterError>([&] { save_map_plot(png, arc(10), {}, {}, 8); }),
+            "save_map_plot: size_px = 8 is outside [16, 16384]");
+  EXPECT_EQ(error_message<ParameterError>([&] { save_map_plot(png, arc(10), {20}, {}); }),
+            "map plot: segment_starts[0] = 20 is outside [0, 10)");
+  EXPECT_FALSE(std::filesystem::exists(png)) << "nothing written for invalid input";
+  EXPECT_EQ(error_message<ParameterError>([&] { save_figure(png, {}); }), "save_figure: no panels");
+  const std::vector<FigurePanel> one{FigurePanel{arc(10), {}, {}}};
+  EXPECT_EQ(error_message<ParameterError>([&] { save_figure(png, one, 0); }),
+            "save_figure: columns = 0 is outside [1, 64]");
+  EXPECT_EQ(error_message<ParameterError>([&] { save_figure(png, one, 3, 10); }),
+            "save_figure: panel_px = 10 is outside [64, 4096]");
+  const std::vector<FigurePanel> many(400, one[0]);
+  EXPECT_EQ(error_message<ParameterError>([&] {
+              save_figure(png, many, 1, 4096);
+            }).rfind("save_figure: the figure would be 4096x", 0),
+            0u);
+  const std::vector<FigurePanel> bad{FigurePanel{Eigen::MatrixXd(3, 1), {}, {}}};
+  EXPECT_EQ(error_message<ParameterError>([&] { save_figure(png, bad); }),
+            "map plot: coords has 1 column(s); need at least 2 (x, y)");
+  EXPECT_FALSE(std::filesystem::exists(png));
+}
+
+TEST_F(MapPlotTest, EnsureGuiApplicationIsIdempotent) {
+  ensure_gui_application();
+  QCoreApplication* first = QCoreApplication::instance();
+  ASSERT_NE(qobject_cast<QGuiApplication*>(first), nullptr);
+  ensure_gui_application();
+  EXPECT_EQ(QCoreApplication::instance(), first);
+  EXPECT_FALSE(qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM"));
+}
+
+// Creates a plain QCoreApplication, then asks for a GUI one: exits 3 with the error message.
+[[noreturn]] void ensure_gui_after_core_application() {
+  static int argc = 1;
+  static char name[] = "render_test";
+  static char* argv[] = {name, nullptr};
+  QCoreApplication app(argc, argv);
+  try {
+    ensure_gui_application();
+  } catch (const Error& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    std::exit(3);
+  }
+  std::exit(0);
+}
+
+TEST(RenderDeathTest, PlainCoreApplicationIsReported) {
+  // Re-executed in a fresh process, where no application exists yet.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(ensure_gui_after_core_application(), ::testing::ExitedWithCode(3),
+              "ensure_gui_application: a QCoreApplication exists; drawing text needs a "
+              "QGuiApplication");
+}
+
+}  // namespace
+}  // namespace motionmap::render

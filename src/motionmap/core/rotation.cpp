@@ -1,6 +1,5 @@
 #include "motionmap/core/rotation.h"
 
-#include <algorithm>
 #include <cmath>
 
 namespace motionmap {
@@ -40,9 +39,10 @@ Eigen::Vector3d quat_to_euler(const Eigen::Quaterniond& q, const std::array<Axis
   //   R(i,k) = s·sin b,  tan a = −s·R(j,k) / R(k,k),  tan c = −s·R(i,j) / R(i,i).
   const double s = ((j - i + 3) % 3 == 1) ? 1.0 : -1.0;
   const Eigen::Matrix3d R = q.normalized().toRotationMatrix();
-  const double sb = std::clamp(s * R(i, k), -1.0, 1.0);
-  double a, b = std::asin(sb), c;
+  // cos b from the other two entries of row i, and b by atan2: asin(s·R(i,k)) alone loses
+  // precision near ±90°.
   const double cb = std::sqrt(R(i, i) * R(i, i) + R(i, j) * R(i, j));
+  double a, b = std::atan2(s * R(i, k), cb), c;
   if (cb > 1e-9) {
     a = std::atan2(-s * R(j, k), R(k, k));
     c = std::atan2(-s * R(i, j), R(i, i));

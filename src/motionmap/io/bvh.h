@@ -18,6 +18,10 @@
 
 namespace motionmap::io {
 
+/// Deepest joint nesting read or written (real skeletons are < 30 deep); deeper files are rejected
+/// so that nothing recurses or indents without bound.
+constexpr int kBvhMaxDepth = 1000;
+
 struct BvhDocument {
   /// Joints in file order (parents before children), with channels and End Sites as written.
   Skeleton skeleton;
@@ -25,7 +29,8 @@ struct BvhDocument {
   int num_frames = 0;
   /// #frames by #channels raw values, frames-major, channels in file order.
   std::vector<double> values;
-  /// Non-fatal findings, e.g. `path:line: warning: 3 rows after the declared 100 frames ignored`.
+  /// Non-fatal findings, e.g. `path:line: warning: 3 extra motion rows after the declared 100
+  /// frames ignored`.
   std::vector<std::string> warnings;
 
   int num_channels() const { return skeleton.num_channels(); }
@@ -37,28 +42,53 @@ struct BvhDocument {
 /// Parses BVH text. `path` is only used in messages.
 /// Accepts any channel order, any rotation order, position channels on any joint, several ROOTs,
 /// End Sites, tabs, CRLF/LF/CR, blank lines, scientific notation. More motion rows than `Frames:`
-/// declares give a warning and are ignored.
+/// declares give a warning and are ignored. Line-based parts: a joint name is the rest of its
+/// ROOT/JOINT line (so it may contain ':' or spaces; a trailing ` {` opens the block), OFFSET's
+/// three numbers and CHANNELS' count and names are on one line, and each motion row is one line of
+/// exactly #channels values. `Frames: 0` (a skeleton without motion) is valid. A skeleton without
+/// channels has no motion rows: its `Frames:` lines are empty.
 /// @throws ParseError `path:line:col: error: expected <what>, found '<token>'` on any malformed
-///         input, before allocating memory the file could not fill.
+///         input (also duplicate joint names, nesting deeper than kBvhMaxDepth, a frame time
+///         that is not > 0), before allocating memory the file could not fill: `Frames:` may not
+///         exceed what the rest of the file can hold at 2 bytes per value, nor, beyond 4M
+///         frame·joint transforms (the size of to_motion's result), 1 byte per transform.
 BvhDocument parse_bvh(std::string_view text, const std::string& path = "<memory>");
 
 /// Reads and parses a BVH file. @throws Error if it cannot be read, ParseError if malformed.
 BvhDocument read_bvh(const std::string& path);
 
-/// Writes `doc` as BVH text (tabs, LF, the original channel order, shortest round-trip numbers).
+/// Writes `doc` as BVH text (tabs, LF, the original channel order, shortest round-trip numbers),
+/// which parse_bvh reads back to the same skeleton and bit-identical values. Joints are written
+/// depth-first, children in index order (the order parse_bvh produces); a skeleton in another
+/// parent-before-child order is written in that depth-first order, its value columns moved along.
+/// @throws ParameterError if `doc` cannot be written as valid BVH: values.size() is not
+///         num_frames·num_channels, a value, offset or the frame time is not finite (frame time
+///         not > 0), the skeleton fails Skeleton::validate, a joint name is empty, has leading or
+///         trailing blanks, a line end, or ends in " {", or nesting exceeds kBvhMaxDepth.
 void write_bvh(const BvhDocument& doc, std::ostream& out);
-/// @throws Error if the file cannot be written.
+/// @throws Error if the file cannot be written; ParameterError as above.
 void write_bvh(const BvhDocument& doc, const std::string& path);
 
 /// Converts raw channel values to local rotations (composed in the order written: channels
-/// `Zrotation Yrotation Xrotation` give R = Rz·Ry·Rx) and local translations (position channels
-/// replace the offset's components; joints without them keep the offset).
+/// `Zrotation Yrotation Xrotation` give R = Rz·Ry·Rx, degrees → radians; any number of rotation
+/// channels, repeats allowed) and local translations (position channels replace the offset's
+/// components, a later channel of the same axis winning; joints without them keep the offset).
+/// Result: #frames by #joints rotations and translations.
 Motion to_motion(const BvhDocument& doc);
 
-/// The inverse: a document with `skeleton`'s channel layout holding `motion` (which must have
-/// skeleton.num_joints() joints). Rotations are decomposed into each joint's rotation channels,
-/// each frame's angles chosen closest to the previous frame's, so exported clips have no ±360°
-/// wraps. @throws ParameterError if the motion does not fit the skeleton.
+/// The inverse: a document with `skeleton`'s channel layout holding `motion` (#frames by
+/// skeleton.num_joints()). Rotations are decomposed into each joint's rotation channels, each
+/// frame's angles chosen closest to the previous frame's, so exported clips have no ±360° wraps:
+///  - 0 rotation axes: the rotation is not stored;
+///  - 1 axis: the twist about it (exact for rotations about that axis);
+///  - 3 distinct axes: exact Euler angles (middle angle first in [-90°, 90°], then continuous);
+///  - 2 distinct axes (i, j): the angles of the decomposition in order (i, j, k), the angle about
+///    the missing axis k dropped (exact only for rotations that have none);
+/// with repeated axes the first channel of each axis carries the angle, later repeats are 0.
+/// Position channels get the translation's components; translations of joints (or axes) without
+/// position channels are not stored (the file's OFFSET is the skeleton's).
+/// @throws ParameterError if the motion does not fit the skeleton (joint count, array sizes) or
+///         its frame time is not > 0.
 BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion);
 
 /// read_bvh + to_motion, as a Clip carrying the document's warnings.

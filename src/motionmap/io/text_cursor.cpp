@@ -7,11 +7,6 @@
 
 namespace motionmap::io {
 
-namespace {
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
-bool is_space(char c) { return is_blank(c) || c == '\n' || c == '\r'; }
-}  // namespace
-
 TextCursor::TextCursor(std::string_view text, std::string path)
     : m_text(text), m_path(std::move(path)) {}
 
@@ -44,17 +39,8 @@ void TextCursor::skip_space() {
 }
 
 void TextCursor::skip_inline_space() {
-  while (!at_end()) {
-    const char c = m_text[m_pos];
-    if (is_blank(c)) {
-      ++m_pos;
-    } else if (c == '\r' && !(m_pos + 1 < m_text.size() && m_text[m_pos + 1] == '\n')) {
-      // A lone CR is a line end (classic Mac files); stop there.
-      break;
-    } else {
-      break;
-    }
-  }
+  // A CR, lone (classic Mac files) or before LF, is a line end: stop there.
+  while (!at_end() && is_blank(m_text[m_pos])) ++m_pos;
 }
 
 bool TextCursor::at_line_end() const {
@@ -124,19 +110,14 @@ double TextCursor::next_number(std::string_view what, bool same_line) {
   } else {
     skip_space();
   }
-  const char* begin = m_text.data() + m_pos;
-  const char* end = m_text.data() + m_text.size();
-  const char* start = begin;
-  if (start != end && *start == '+') ++start;  // from_chars rejects '+', strtod accepts it
+  const char* first = m_text.data() + m_pos;
   double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(start, end, value);
-  // The number must end at whitespace or the end of the text, and be finite.
-  if (ec == std::errc::result_out_of_range ||
-      (ec == std::errc() && (ptr == end || is_space(*ptr)) && !std::isfinite(value))) {
-    fail_expected(std::string(what) + " (a finite number)");
+  switch (parse_number(first, m_text.data() + m_text.size(), value)) {
+    case NumberStatus::Ok: break;
+    case NumberStatus::NotANumber: fail_expected(what);
+    case NumberStatus::NotFinite: fail_expected(std::string(what) + " (a finite number)");
   }
-  if (ec != std::errc() || (ptr != end && !is_space(*ptr))) fail_expected(what);
-  m_pos = static_cast<std::size_t>(ptr - m_text.data());
+  m_pos = static_cast<std::size_t>(first - m_text.data());
   return value;
 }
 
@@ -151,7 +132,7 @@ long long TextCursor::next_integer(std::string_view what, long long min, long lo
   const char* begin = m_text.data() + m_pos;
   const char* end = m_text.data() + m_text.size();
   const char* start = begin;
-  if (start != end && *start == '+') ++start;
+  if (start != end && *start == '+' && !(end - start > 1 && start[1] == '-')) ++start;
   long long value = 0;
   const auto [ptr, ec] = std::from_chars(start, end, value);
   if (ec != std::errc() || (ptr != end && !is_space(*ptr)) || value < min || value > max) {

@@ -3,9 +3,12 @@
 // through std::from_chars, and the 1-based line and column of everything it reads, so every
 // failure becomes `path:line:col: error: expected <what>, found '<token>'`.
 // Line ends may be LF, CRLF or lone CR; tabs count as one column.
+#include <charconv>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <system_error>
 
 namespace motionmap::io {
 
@@ -15,7 +18,7 @@ class TextCursor {
 
   /// Skips spaces, tabs and line ends.
   void skip_space();
-  /// Skips spaces and tabs (and a CR that is not followed by LF), but not line ends.
+  /// Skips spaces, tabs, \v and \f, but not line ends (LF, CR).
   void skip_inline_space();
   /// Consumes one line end (LF, CRLF or CR) if the cursor is on one; returns whether it did.
   bool consume_line_end();
@@ -59,6 +62,21 @@ class TextCursor {
   /// Describes the upcoming token for a message: the token quoted, "end of line" or "end of file".
   std::string describe_next();
 
+  /// A saved position, to come back to (e.g. to report an error at a token already consumed).
+  struct Mark {
+    std::size_t pos = 0;
+    std::size_t line = 1;
+    std::size_t line_start = 0;
+  };
+  Mark mark() const { return {m_pos, m_line, m_line_start}; }
+  /// Moves to `m`, a mark of this cursor (fast parsers that scan text() themselves report their
+  /// position back this way).
+  void reset(const Mark& m) {
+    m_pos = m.pos;
+    m_line = m.line;
+    m_line_start = m.line_start;
+  }
+
  private:
   std::string_view m_text;
   std::string m_path;
@@ -66,5 +84,40 @@ class TextCursor {
   std::size_t m_line = 1;
   std::size_t m_line_start = 0;
 };
+
+/// Space, tab, \v or \f (not a line end).
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+/// A blank or a line end.
+inline bool is_space(char c) { return is_blank(c) || c == '\n' || c == '\r'; }
+
+enum class NumberStatus { Ok, NotANumber, NotFinite };
+
+/// Parses the number starting at `first` (strtod syntax plus a leading '+', '.5' and '5.' forms;
+/// no leading whitespace), which must end at whitespace or `last`. On Ok, `value` is set and
+/// `first` moves past the number; otherwise `first` is unchanged. Values that underflow are read as
+/// the nearest double (0 or subnormal); nan, inf and values beyond the double range are NotFinite.
+/// Inline because the motion-block loops of the readers call it once per value.
+inline NumberStatus parse_number(const char*& first, const char* last, double& value) {
+  const char* start = first;
+  if (start != last && *start == '+') {
+    ++start;  // from_chars rejects '+', strtod accepts it; but not "+-1"
+    if (start != last && (*start == '-' || *start == '+')) return NumberStatus::NotANumber;
+  }
+  auto [ptr, ec] = std::from_chars(start, last, value);
+  if (ec == std::errc::result_out_of_range) {
+    // Retry in the wider type to tell underflow (a valid, tiny number) from overflow.
+    long double wide = 0.0L;
+    const auto r = std::from_chars(start, last, wide);
+    ptr = r.ptr;
+    ec = r.ec;
+    value = static_cast<double>(wide);
+  } else if (ec != std::errc()) {
+    return NumberStatus::NotANumber;
+  }
+  if (ptr != last && !is_space(*ptr)) return NumberStatus::NotANumber;
+  if (ec != std::errc() || !std::isfinite(value)) return NumberStatus::NotFinite;
+  first = ptr;
+  return NumberStatus::Ok;
+}
 
 }  // namespace motionmap::io

@@ -80,6 +80,30 @@ void Motion::resize(int frames, int joints) {
   translations.assign(n, Eigen::Vector3d::Zero());
 }
 
+int motion_root(const Skeleton& skeleton, const Motion& motion) {
+  const auto roots = skeleton.roots();
+  int joint = roots.empty() ? 0 : roots.front();
+  for (;;) {
+    int child = -1, children = 0;
+    for (int j = joint + 1; j < skeleton.num_joints(); ++j) {
+      if (skeleton.joints[j].parent == joint) {
+        child = j;
+        ++children;
+      }
+    }
+    if (children != 1 || motion.num_frames == 0) return joint;
+    const Eigen::Quaterniond q0 = motion.rotation(0, joint);
+    const Eigen::Vector3d t0 = motion.translation(0, joint);
+    for (int f = 1; f < motion.num_frames; ++f) {
+      if (rotation_angle(motion.rotation(f, joint), q0) > 1e-12 ||
+          (motion.translation(f, joint) - t0).norm() > 1e-12 * (1.0 + t0.norm())) {
+        return joint;
+      }
+    }
+    joint = child;
+  }
+}
+
 PoseView Motion::pose(int frame) const {
   const std::size_t begin = index(frame, 0);
   const auto n = static_cast<std::size_t>(num_joints);

@@ -91,6 +91,12 @@ struct Motion {
   }
 };
 
+/// The joint that carries the body's motion: the first root, or — where exporters put a static
+/// joint above the hips (Bandai Namco's joint_Root) — the first joint down the chain of single
+/// children whose local transform changes during `motion`. Heading and floor position are read
+/// from it.
+int motion_root(const Skeleton& skeleton, const Motion& motion);
+
 /// A loaded clip: what it is called, its skeleton and motion, and the loader's warnings.
 struct Clip {
   std::string path;

@@ -1,0 +1,651 @@
+#include "motionmap/io/bvh.h"
+
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <ostream>
+#include <unordered_map>
+
+#include "motionmap/core/error.h"
+#include "motionmap/io/load.h"
+#include "motionmap/io/text_cursor.h"
+
+namespace motionmap::io {
+
+namespace {
+
+// #frames·#joints a file may declare without one byte of motion text per transform (~235 MB of
+// Motion); real files have ~20 bytes per transform.
+constexpr unsigned long long kFreeTransforms = 1ull << 22;
+
+constexpr std::string_view kChannelNames =
+    "a channel name (Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)";
+
+std::string_view trim_trailing_blanks(std::string_view s) {
+  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// Reads one BVH text. The hierarchy is parsed iteratively (a stack of open joints, capped at
+// kBvhMaxDepth) so hostile nesting cannot overflow the call stack; the motion block is scanned
+// row by row with from_chars straight from the text, which is where nearly all the time goes.
+class BvhParser {
+ public:
+  BvhParser(std::string_view text, const std::string& path) : m_cur(text, path) {}
+
+  BvhDocument parse() {
+    parse_hierarchy();
+    parse_motion();
+    return std::move(m_doc);
+  }
+
+ private:
+  void parse_hierarchy() {
+    m_cur.expect("HIERARCHY");
+    for (;;) {
+      const std::string_view token = m_cur.peek_token();
+      if (token == "ROOT") {
+        const TextCursor::Mark keyword = m_cur.mark();
+        m_cur.next_token();
+        begin_joint(-1, keyword);
+        parse_joint_bodies();
+      } else if (token == "MOTION" && !m_doc.skeleton.joints.empty()) {
+        return;
+      } else {
+        m_cur.fail_expected(m_doc.skeleton.joints.empty() ? "'ROOT'" : "'ROOT' or 'MOTION'");
+      }
+    }
+  }
+
+  // Children, End Sites and closing braces until the root just opened is closed.
+  void parse_joint_bodies() {
+    while (!m_open.empty()) {
+      const std::string_view token = m_cur.peek_token();
+      const TextCursor::Mark at = m_cur.mark();
+      if (token == "JOINT") {
+        m_cur.next_token();
+        begin_joint(m_open.back(), at);
+      } else if (token == "End") {
+        m_cur.next_token();
+        m_cur.expect("Site");
+        m_cur.expect("{");
+        if (m_cur.peek_token() != "OFFSET") m_cur.fail_expected("'OFFSET'");
+        const Eigen::Vector3d offset = read_offset();
+        m_cur.expect("}");
+        m_doc.skeleton.joints[m_open.back()].end_sites.push_back(offset);
+      } else if (token == "}") {
+        m_cur.next_token();
+        m_open.pop_back();
+      } else {
+        m_cur.fail_expected("'JOINT', 'End Site' or '}'");
+      }
+    }
+  }
+
+  // After ROOT/JOINT: the name, '{', OFFSET and CHANNELS (either order, CHANNELS optional).
+  void begin_joint(int parent, const TextCursor::Mark& keyword) {
+    if (m_open.size() >= static_cast<std::size_t>(kBvhMaxDepth)) {
+      m_cur.reset(keyword);
+      m_cur.fail_expected("at most " + std::to_string(kBvhMaxDepth) + " nested joints");
+    }
+    Joint joint;
+    joint.parent = parent;
+    joint.name = read_name();
+    m_cur.expect("{");
+    bool have_offset = false;
+    bool have_channels = false;
+    for (;;) {
+      const std::string_view token = m_cur.peek_token();
+      if (token == "OFFSET" && !have_offset) {
+        joint.offset = read_offset();
+        have_offset = true;
+      } else if (token == "CHANNELS" && !have_channels) {
+        read_channels(joint);
+        have_channels = true;
+      } else {
+        break;
+      }
+    }
+    if (!have_offset) m_cur.fail_expected("'OFFSET'");
+    m_open.push_back(m_doc.skeleton.num_joints());
+    m_doc.skeleton.joints.push_back(std::move(joint));
+  }
+
+  // The rest of the line, so names may hold ':' or spaces; a trailing " {" is left for expect().
+  std::string read_name() {
+    m_cur.skip_inline_space();
+    const TextCursor::Mark at = m_cur.mark();
+    std::string_view name = trim_trailing_blanks(m_cur.rest_of_line());
+    if (!name.empty() && name.back() == '{') {
+      const std::string_view head = trim_trailing_blanks(name.substr(0, name.size() - 1));
+      if (head.size() + 1 < name.size() || head.empty()) {
+        m_cur.reset({at.pos + name.size() - 1, at.line, at.line_start});
+        name = head;
+      }
+    }
+    if (name.empty()) {
+      m_cur.reset(at);
+      m_cur.fail_expected("a joint name");
+    }
+    const auto [it, inserted] = m_name_lines.emplace(std::string(name), at.line);
+    if (!inserted) {
+      m_cur.reset(at);
+      m_cur.fail_expected("a joint name not used before (line " + std::to_string(it->second) +
+                          ")");
+    }
+    return std::string(name);
+  }
+
+  Eigen::Vector3d read_offset() {
+    m_cur.next_token();  // OFFSET
+    Eigen::Vector3d offset;
+    offset.x() = m_cur.next_number("OFFSET x", true);
+    offset.y() = m_cur.next_number("OFFSET y", true);
+    offset.z() = m_cur.next_number("OFFSET z", true);
+    check_no_more_numbers("only 3 OFFSET values");
+    return offset;
+  }
+
+  void read_channels(Joint& joint) {
+    m_cur.next_token();  // CHANNELS
+    m_cur.skip_inline_space();
+    const TextCursor::Mark count_at = m_cur.mark();
+    const long long count = m_cur.next_integer("a channel count", 0, INT_MAX, true);
+    if (m_total_channels + count > INT_MAX) {
+      m_cur.reset(count_at);
+      m_cur.fail_expected("a channel count (at most " + std::to_string(INT_MAX) + " in all)");
+    }
+    m_total_channels += count;
+    // Names are read one by one, so a huge count cannot allocate more than the line holds.
+    for (long long i = 0; i < count; ++i) {
+      m_cur.skip_inline_space();
+      const TextCursor::Mark at = m_cur.mark();
+      const auto channel = parse_channel_name(m_cur.next_token_on_line());
+      if (!channel) {
+        m_cur.reset(at);
+        if (m_cur.at_line_end()) {
+          m_cur.fail_expected(std::to_string(count) + " channel names as CHANNELS declares");
+        }
+        m_cur.fail_expected(kChannelNames);
+      }
+      joint.channels.push_back(*channel);
+    }
+    m_cur.skip_inline_space();
+    const TextCursor::Mark after = m_cur.mark();
+    if (parse_channel_name(m_cur.next_token_on_line())) {
+      m_cur.reset(after);
+      m_cur.fail_expected("only " + std::to_string(count) + " channel names as CHANNELS declares");
+    }
+    m_cur.reset(after);
+  }
+
+  // A number left on the line is an error; anything else is for the caller to judge.
+  void check_no_more_numbers(const std::string& expected) {
+    m_cur.skip_inline_space();
+    const char* first = m_cur.text().data() + m_cur.position();
+    const char* last = m_cur.text().data() + m_cur.text().size();
+    double ignored = 0.0;
+    if (!m_cur.at_line_end() && parse_number(first, last, ignored) != NumberStatus::NotANumber) {
+      m_cur.fail_expected(expected);
+    }
+  }
+
+  void parse_motion() {
+    m_cur.expect("MOTION");
+    m_cur.expect("Frames:");
+    m_cur.skip_inline_space();
+    const TextCursor::Mark frames_at = m_cur.mark();
+    const long long frames = m_cur.next_integer("a frame count", 0, INT_MAX, true);
+    m_cur.expect("Frame");
+    m_cur.expect("Time:");
+    m_cur.skip_inline_space();
+    const TextCursor::Mark time_at = m_cur.mark();
+    const double frame_time = m_cur.next_number("a frame time", true);
+    if (!(frame_time > 0.0)) {
+      m_cur.reset(time_at);
+      m_cur.fail_expected("a frame time > 0");
+    }
+    m_cur.skip_inline_space();
+    if (!m_cur.at_line_end()) m_cur.fail_expected("end of line after the frame time");
+    m_cur.consume_line_end();
+
+    // Before allocating: every value takes at least 2 bytes (a digit and a separator, the last
+    // one maybe none), every row of a skeleton without channels at least its line end. Both
+    // factors are < 2^31, so the products cannot overflow 64 bits.
+    const auto channels = static_cast<unsigned long long>(m_doc.skeleton.num_channels());
+    const auto count = static_cast<unsigned long long>(frames) * channels;
+    const unsigned long long remaining = m_cur.remaining();
+    const unsigned long long least =
+        channels == 0 ? static_cast<unsigned long long>(frames) : (count == 0 ? 0 : 2 * count - 1);
+    if (least > remaining) {
+      m_cur.reset(frames_at);
+      m_cur.fail_expected("a frame count the rest of the file can hold (" +
+                          std::to_string(frames) + " frames of " + std::to_string(channels) +
+                          " values need at least " + std::to_string(least) + " bytes, " +
+                          std::to_string(remaining) + " remain)");
+    }
+    // to_motion() makes #frames·#joints transforms: many joints without channels would let a
+    // small file ask for gigabytes. Beyond kFreeTransforms, a byte per transform is required.
+    const auto joints = static_cast<unsigned long long>(m_doc.skeleton.num_joints());
+    const auto transforms = static_cast<unsigned long long>(frames) * joints;
+    if (transforms > kFreeTransforms && transforms > remaining) {
+      m_cur.reset(frames_at);
+      m_cur.fail_expected("a frame count the rest of the file can hold (" +
+                          std::to_string(frames) + " frames of " + std::to_string(joints) +
+                          " joints need at least " + std::to_string(transforms) + " bytes, " +
+                          std::to_string(remaining) + " remain)");
+    }
+    m_doc.frame_time = frame_time;
+    m_doc.num_frames = static_cast<int>(frames);
+    m_doc.values.resize(count);
+    if (channels > 0) parse_rows(static_cast<int>(frames), static_cast<int>(channels));
+    warn_extra_rows();
+  }
+
+  [[noreturn]] void fail_in_rows(const char* p, std::size_t line, const char* line_start,
+                                 const std::string& expected) {
+    const char* data = m_cur.text().data();
+    m_cur.reset({static_cast<std::size_t>(p - data), line,
+                 static_cast<std::size_t>(line_start - data)});
+    m_cur.fail_expected(expected);
+  }
+
+  // The hot loop: plain pointers, one from_chars per value, line counting by hand.
+  void parse_rows(int frames, int channels) {
+    const TextCursor::Mark start = m_cur.mark();
+    const char* const data = m_cur.text().data();
+    const char* const end = data + m_cur.text().size();
+    const char* p = data + start.pos;
+    const char* line_start = data + start.line_start;
+    std::size_t line = start.line;
+    double* out = m_doc.values.data();
+    for (int f = 0; f < frames; ++f) {
+      for (;;) {  // skip blank lines
+        while (p != end && is_blank(*p)) ++p;
+        if (p == end) {
+          fail_in_rows(p, line, line_start,
+                       "motion row " + std::to_string(f + 1) + " of the " +
+                           std::to_string(frames) + " that Frames: declares");
+        }
+        if (*p != '\n' && *p != '\r') break;
+        p += (*p == '\r' && p + 1 != end && p[1] == '\n') ? 2 : 1;
+        ++line;
+        line_start = p;
+      }
+      for (int c = 0; c < channels; ++c) {
+        while (p != end && is_blank(*p)) ++p;
+        if (p == end || *p == '\n' || *p == '\r') {
+          fail_in_rows(p, line, line_start,
+                       std::to_string(channels) + " values on motion row " + std::to_string(f + 1) +
+                           " (one per channel), not " + std::to_string(c));
+        }
+        switch (parse_number(p, end, *out)) {
+          case NumberStatus::Ok: break;
+          case NumberStatus::NotANumber:
+            fail_in_rows(p, line, line_start,
+                         "a number (value " + std::to_string(c + 1) + " of motion row " +
+                             std::to_string(f + 1) + ")");
+          case NumberStatus::NotFinite:
+            fail_in_rows(p, line, line_start,
+                         "a finite number (value " + std::to_string(c + 1) + " of motion row " +
+                             std::to_string(f + 1) + ")");
+        }
+        ++out;
+      }
+      while (p != end && is_blank(*p)) ++p;
+      if (p != end && *p != '\n' && *p != '\r') {
+        fail_in_rows(p, line, line_start,
+                     "end of motion row " + std::to_string(f + 1) + " after its " +
+                         std::to_string(channels) + " values");
+      }
+    }
+    m_cur.reset({static_cast<std::size_t>(p - data), line,
+                 static_cast<std::size_t>(line_start - data)});
+  }
+
+  // Rows beyond the declared count (a common exporter slip) are counted and dropped.
+  void warn_extra_rows() {
+    std::size_t extra = 0;
+    std::size_t first_line = 0;
+    m_cur.skip_inline_space();
+    m_cur.consume_line_end();
+    while (!m_cur.at_end()) {
+      m_cur.skip_inline_space();
+      if (!m_cur.at_line_end()) {
+        if (extra++ == 0) first_line = m_cur.line();
+      }
+      m_cur.skip_line();
+    }
+    if (extra == 0) return;
+    m_doc.warnings.push_back(m_cur.path() + ":" + std::to_string(first_line) + ": warning: " +
+                             std::to_string(extra) + " extra motion row" +
+                             (extra == 1 ? "" : "s") + " after the declared " +
+                             std::to_string(m_doc.num_frames) + " frames ignored");
+  }
+
+  TextCursor m_cur;
+  BvhDocument m_doc;
+  std::vector<int> m_open;  // joints whose block is open, innermost last
+  std::unordered_map<std::string, std::size_t> m_name_lines;  // name → line it was defined on
+  long long m_total_channels = 0;
+};
+
+// --- writing ---------------------------------------------------------------------------------
+
+class BvhWriter {
+ public:
+  explicit BvhWriter(std::ostream& out) : m_out(out) { m_buf.reserve(kFlushAt + 4096); }
+
+  void text(std::string_view s) {
+    m_buf.append(s);
+    if (m_buf.size() >= kFlushAt) flush();
+  }
+  void indent(int depth) { m_buf.append(static_cast<std::size_t>(depth), '\t'); }
+  void number(double v) {
+    char tmp[32];
+    const auto r = std::to_chars(tmp, tmp + sizeof tmp, v);  // shortest round-trip form
+    m_buf.append(tmp, r.ptr);
+  }
+  void vector_line(int depth, const Eigen::Vector3d& v) {
+    indent(depth);
+    text("OFFSET ");
+    number(v.x());
+    text(" ");
+    number(v.y());
+    text(" ");
+    number(v.z());
+    text("\n");
+  }
+  void flush() {
+    m_out.write(m_buf.data(), static_cast<std::streamsize>(m_buf.size()));
+    m_buf.clear();
+  }
+
+ private:
+  static constexpr std::size_t kFlushAt = 1 << 16;
+  std::ostream& m_out;
+  std::string m_buf;
+};
+
+bool writable_name(std::string_view name) {
+  if (name.empty() || is_blank(name.front()) || is_blank(name.back())) return false;
+  if (name.find_first_of("\r\n") != std::string_view::npos) return false;
+  // read_name() would take a trailing " {" (or a lone "{") for the block's brace.
+  if (name.back() == '{' && (name.size() == 1 || is_blank(name[name.size() - 2]))) return false;
+  return true;
+}
+
+// Checks everything parse_bvh would reject; returns each joint's depth.
+std::vector<int> check_writable(const BvhDocument& doc) {
+  const Skeleton& skel = doc.skeleton;
+  try {
+    skel.validate();
+  } catch (const Error& e) {
+    throw ParameterError(std::string("write_bvh: ") + e.what());
+  }
+  if (!(doc.frame_time > 0.0) || !std::isfinite(doc.frame_time)) {
+    throw ParameterError("write_bvh: frame time " + std::to_string(doc.frame_time) +
+                         " is not a finite number > 0");
+  }
+  const auto expected = static_cast<std::size_t>(std::max(doc.num_frames, 0)) *
+                        static_cast<std::size_t>(doc.num_channels());
+  if (doc.num_frames < 0 || doc.values.size() != expected) {
+    throw ParameterError("write_bvh: " + std::to_string(doc.values.size()) + " values for " +
+                         std::to_string(doc.num_frames) + " frames of " +
+                         std::to_string(doc.num_channels()) + " channels");
+  }
+  std::vector<int> depth(skel.joints.size(), 0);
+  for (int j = 0; j < skel.num_joints(); ++j) {
+    const Joint& joint = skel.joints[j];
+    if (!writable_name(joint.name)) {
+      throw ParameterError("write_bvh: joint " + std::to_string(j) + " has the name '" +
+                           quote_token(joint.name) +
+                           "', which BVH cannot hold (empty, leading/trailing blanks, a line end "
+                           "or a trailing ' {')");
+    }
+    depth[j] = joint.parent < 0 ? 0 : depth[joint.parent] + 1;
+    if (depth[j] >= kBvhMaxDepth) {
+      throw ParameterError("write_bvh: joint '" + joint.name + "' is nested deeper than " +
+                           std::to_string(kBvhMaxDepth) + " joints");
+    }
+    bool ok = joint.offset.allFinite();
+    for (const auto& site : joint.end_sites) ok = ok && site.allFinite();
+    if (!ok) throw ParameterError("write_bvh: joint '" + joint.name + "' has a non-finite offset");
+  }
+  for (std::size_t i = 0; i < doc.values.size(); ++i) {
+    if (!std::isfinite(doc.values[i])) {
+      throw ParameterError("write_bvh: value " + std::to_string(i) + " is not finite");
+    }
+  }
+  return depth;
+}
+
+// Angle `a` shifted by a multiple of 2π to lie closest to `near`.
+double wrap_near(double a, double near) {
+  return a + 2.0 * kPi * std::round((near - a) / (2.0 * kPi));
+}
+
+}  // namespace
+
+BvhDocument parse_bvh(std::string_view text, const std::string& path) {
+  // A UTF-8 byte order mark (some Windows tools write one) is not part of the text.
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  return BvhParser(text, path).parse();
+}
+
+BvhDocument read_bvh(const std::string& path) { return parse_bvh(read_text_file(path), path); }
+
+void write_bvh(const BvhDocument& doc, std::ostream& out) {
+  const std::vector<int> depth = check_writable(doc);
+  const Skeleton& skel = doc.skeleton;
+  const int n = skel.num_joints();
+  std::vector<std::vector<int>> children(n);
+  std::vector<int> first_column(n, 0);
+  for (int j = 0, column = 0; j < n; ++j) {
+    if (skel.joints[j].parent >= 0) children[skel.joints[j].parent].push_back(j);
+    first_column[j] = column;
+    column += static_cast<int>(skel.joints[j].channels.size());
+  }
+
+  BvhWriter w(out);
+  w.text("HIERARCHY\n");
+  // Depth-first without recursion: a joint is pushed as ~j to close its block after its children.
+  std::vector<int> stack;
+  std::vector<int> columns;  // file column → document column
+  for (auto it = skel.joints.rbegin(); it != skel.joints.rend(); ++it) {
+    if (it->parent < 0) stack.push_back(static_cast<int>(skel.joints.rend() - it) - 1);
+  }
+  while (!stack.empty()) {
+    const int item = stack.back();
+    stack.pop_back();
+    if (item < 0) {
+      const int j = ~item;
+      for (const auto& site : skel.joints[j].end_sites) {
+        w.indent(depth[j] + 1);
+        w.text("End Site\n");
+        w.indent(depth[j] + 1);
+        w.text("{\n");
+        w.vector_line(depth[j] + 2, site);
+        w.indent(depth[j] + 1);
+        w.text("}\n");
+      }
+      w.indent(depth[j]);
+      w.text("}\n");
+      continue;
+    }
+    const Joint& joint = skel.joints[item];
+    w.indent(depth[item]);
+    w.text(joint.parent < 0 ? "ROOT " : "JOINT ");
+    w.text(joint.name);
+    w.text("\n");
+    w.indent(depth[item]);
+    w.text("{\n");
+    w.vector_line(depth[item] + 1, joint.offset);
+    w.indent(depth[item] + 1);
+    w.text("CHANNELS ");
+    w.text(std::to_string(joint.channels.size()));
+    for (const ChannelType c : joint.channels) {
+      w.text(" ");
+      w.text(channel_name(c));
+    }
+    w.text("\n");
+    for (std::size_t c = 0; c < joint.channels.size(); ++c) {
+      columns.push_back(first_column[item] + static_cast<int>(c));
+    }
+    stack.push_back(~item);
+    for (auto it = children[item].rbegin(); it != children[item].rend(); ++it) stack.push_back(*it);
+  }
+
+  w.text("MOTION\nFrames: ");
+  w.text(std::to_string(doc.num_frames));
+  w.text("\nFrame Time: ");
+  w.number(doc.frame_time);
+  w.text("\n");
+  const std::size_t channels = columns.size();
+  for (int f = 0; f < doc.num_frames; ++f) {
+    const double* row = doc.values.data() + static_cast<std::size_t>(f) * channels;
+    for (std::size_t c = 0; c < channels; ++c) {
+      if (c > 0) w.text(" ");
+      w.number(row[columns[c]]);
+    }
+    w.text("\n");
+  }
+  w.flush();
+}
+
+void write_bvh(const BvhDocument& doc, const std::string& path) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw Error(path + ": error: cannot open for writing: " + std::strerror(errno));
+  write_bvh(doc, out);
+  out.flush();
+  if (!out) throw Error(path + ": error: cannot write: " + std::strerror(errno));
+}
+
+Motion to_motion(const BvhDocument& doc) {
+  const Skeleton& skel = doc.skeleton;
+  const int joints = skel.num_joints();
+  const auto channels = static_cast<std::size_t>(doc.num_channels());
+  Motion motion;
+  motion.frame_time = doc.frame_time;
+  motion.resize(doc.num_frames, joints);
+  std::vector<Axis> axes;
+  std::vector<double> angles;
+  for (int f = 0; f < doc.num_frames; ++f) {
+    const double* value = doc.values.data() + static_cast<std::size_t>(f) * channels;
+    for (int j = 0; j < joints; ++j) {
+      const Joint& joint = skel.joints[j];
+      Eigen::Vector3d translation = joint.offset;
+      axes.clear();
+      angles.clear();
+      for (const ChannelType c : joint.channels) {
+        const int axis = static_cast<int>(channel_axis(c));
+        if (is_rotation(c)) {
+          axes.push_back(static_cast<Axis>(axis));
+          angles.push_back(deg_to_rad(*value));
+        } else {
+          translation[axis] = *value;
+        }
+        ++value;
+      }
+      motion.rotation(f, j) = euler_to_quat(axes, angles);
+      motion.translation(f, j) = translation;
+    }
+  }
+  return motion;
+}
+
+BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion) {
+  const int joints = skeleton.num_joints();
+  const auto entries = static_cast<std::size_t>(std::max(motion.num_frames, 0)) *
+                       static_cast<std::size_t>(std::max(motion.num_joints, 0));
+  if (motion.num_joints != joints || motion.num_frames < 0 ||
+      motion.rotations.size() != entries || motion.translations.size() != entries) {
+    throw ParameterError("from_motion: the motion (" + std::to_string(motion.num_frames) +
+                         " frames of " + std::to_string(motion.num_joints) + " joints, " +
+                         std::to_string(motion.rotations.size()) + " rotations, " +
+                         std::to_string(motion.translations.size()) +
+                         " translations) does not fit the skeleton of " + std::to_string(joints) +
+                         " joints");
+  }
+  if (!(motion.frame_time > 0.0) || !std::isfinite(motion.frame_time)) {
+    throw ParameterError("from_motion: frame time " + std::to_string(motion.frame_time) +
+                         " is not a finite number > 0");
+  }
+
+  // Per joint: the channel carrying each distinct rotation axis (first occurrence, file order).
+  struct Plan {
+    std::array<Axis, 3> order{Axis::X, Axis::Y, Axis::Z};
+    std::array<int, 3> column{-1, -1, -1};
+    int axes = 0;
+  };
+  std::vector<Plan> plans(joints);
+  for (int j = 0, column = 0; j < joints; ++j) {
+    Plan& plan = plans[j];
+    std::array<bool, 3> seen{false, false, false};
+    for (const ChannelType c : skeleton.joints[j].channels) {
+      const int axis = static_cast<int>(channel_axis(c));
+      if (is_rotation(c) && !seen[axis]) {
+        seen[axis] = true;
+        plan.order[plan.axes] = static_cast<Axis>(axis);
+        plan.column[plan.axes] = column;
+        ++plan.axes;
+      }
+      ++column;
+    }
+    if (plan.axes == 2) {  // decompose in (i, j, k) with k the missing axis, then drop k
+      for (int a = 0; a < 3; ++a) {
+        if (!seen[a]) plan.order[2] = static_cast<Axis>(a);
+      }
+    }
+  }
+
+  BvhDocument doc;
+  doc.skeleton = skeleton;
+  doc.frame_time = motion.frame_time;
+  doc.num_frames = motion.num_frames;
+  const auto channels = static_cast<std::size_t>(skeleton.num_channels());
+  doc.values.assign(static_cast<std::size_t>(motion.num_frames) * channels, 0.0);
+  std::vector<Eigen::Vector3d> previous(joints, Eigen::Vector3d::Zero());
+  for (int f = 0; f < motion.num_frames; ++f) {
+    double* row = doc.values.data() + static_cast<std::size_t>(f) * channels;
+    double* value = row;
+    for (int j = 0; j < joints; ++j) {
+      const Plan& plan = plans[j];
+      const Eigen::Vector3d& t = motion.translation(f, j);
+      for (const ChannelType c : skeleton.joints[j].channels) {
+        if (!is_rotation(c)) *value = t[static_cast<int>(channel_axis(c))];
+        ++value;
+      }
+      if (plan.axes == 0) continue;
+      const Eigen::Quaterniond q = motion.rotation(f, j).normalized();
+      Eigen::Vector3d angles = Eigen::Vector3d::Zero();
+      if (plan.axes == 1) {
+        // The twist about the axis: exact when q rotates about it only.
+        const double s = q.vec()[static_cast<int>(plan.order[0])];
+        const double a = 2.0 * std::atan2(q.w() < 0 ? -s : s, std::abs(q.w()));
+        angles[0] = f == 0 ? a : wrap_near(a, previous[j][0]);
+      } else {
+        angles = quat_to_euler(q, plan.order, f == 0 ? nullptr : &previous[j]);
+      }
+      previous[j] = angles;
+      for (int a = 0; a < plan.axes; ++a) row[plan.column[a]] = rad_to_deg(angles[a]);
+    }
+  }
+  return doc;
+}
+
+Clip load_bvh(const std::string& path) {
+  BvhDocument doc = read_bvh(path);
+  Clip clip;
+  clip.path = path;
+  clip.motion = to_motion(doc);
+  clip.skeleton = std::move(doc.skeleton);
+  clip.warnings = std::move(doc.warnings);
+  return clip;
+}
+
+}  // namespace motionmap::io

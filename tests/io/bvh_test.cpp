@@ -1,0 +1,658 @@
+#include "motionmap/io/bvh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/skeleton/forward_kinematics.h"
+
+namespace motionmap::io {
+namespace {
+
+// Two joints and an End Site, one frame per row; used (with edits) by most tests below.
+constexpr const char* kSmall =
+    "HIERARCHY\n"
+    "ROOT Hips\n"
+    "{\n"
+    "\tOFFSET 0 0 0\n"
+    "\tCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n"
+    "\tJOINT Spine\n"
+    "\t{\n"
+    "\t\tOFFSET 0 5 0\n"
+    "\t\tCHANNELS 3 Zrotation Xrotation Yrotation\n"
+    "\t\tEnd Site\n"
+    "\t\t{\n"
+    "\t\t\tOFFSET 0 2 0\n"
+    "\t\t}\n"
+    "\t}\n"
+    "}\n"
+    "MOTION\n"
+    "Frames: 2\n"
+    "Frame Time: 0.0333333\n"
+    "1 2 3 10 20 30 40 50 60\n"
+    "4 5 6 -10 -20 -30 -40 -50 -60\n";
+
+ParseError parse_error(std::string_view text) {
+  try {
+    parse_bvh(text, "t.bvh");
+  } catch (const ParseError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no ParseError for:\n" << text;
+  return ParseError("", 0, 0, "");
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+std::string written(const BvhDocument& doc) {
+  std::ostringstream out;
+  write_bvh(doc, out);
+  return out.str();
+}
+
+// Same skeleton (names, parents, offsets, channels, end sites) and bit-identical values.
+void expect_same_document(const BvhDocument& a, const BvhDocument& b) {
+  ASSERT_EQ(a.skeleton.num_joints(), b.skeleton.num_joints());
+  for (int j = 0; j < a.skeleton.num_joints(); ++j) {
+    const Joint& x = a.skeleton.joints[j];
+    const Joint& y = b.skeleton.joints[j];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.parent, y.parent);
+    EXPECT_EQ(x.offset, y.offset) << x.name;
+    EXPECT_EQ(x.channels, y.channels) << x.name;
+    EXPECT_EQ(x.end_sites, y.end_sites) << x.name;
+  }
+  EXPECT_EQ(a.num_frames, b.num_frames);
+  EXPECT_EQ(a.frame_time, b.frame_time);
+  ASSERT_EQ(a.values.size(), b.values.size());
+  // memcmp: bit-exact, so −0 and 0 differ (and no null pointers reach it for empty values).
+  EXPECT_TRUE(a.values.empty() ||
+              std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(double)) == 0);
+}
+
+Eigen::Quaterniond about(const Eigen::Vector3d& axis, double degrees) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(deg_to_rad(degrees), axis));
+}
+
+// --- reading ---------------------------------------------------------------------------------
+
+TEST(BvhParse, ReadsHierarchyChannelsAndValues) {
+  const BvhDocument doc = parse_bvh(kSmall);
+  ASSERT_EQ(doc.skeleton.num_joints(), 2);
+  const Joint& hips = doc.skeleton.joints[0];
+  const Joint& spine = doc.skeleton.joints[1];
+  EXPECT_EQ(hips.name, "Hips");
+  EXPECT_EQ(hips.parent, -1);
+  EXPECT_EQ(spine.name, "Spine");
+  EXPECT_EQ(spine.parent, 0);
+  EXPECT_EQ(spine.offset, Eigen::Vector3d(0, 5, 0));
+  EXPECT_EQ(hips.channels,
+            (std::vector<ChannelType>{ChannelType::Xposition, ChannelType::Yposition,
+                                      ChannelType::Zposition, ChannelType::Zrotation,
+                                      ChannelType::Yrotation, ChannelType::Xrotation}));
+  EXPECT_EQ(spine.channels, (std::vector<ChannelType>{ChannelType::Zrotation,
+                                                       ChannelType::Xrotation,
+                                                       ChannelType::Yrotation}));
+  ASSERT_EQ(spine.end_sites.size(), 1u);
+  EXPECT_EQ(spine.end_sites[0], Eigen::Vector3d(0, 2, 0));
+  EXPECT_TRUE(hips.end_sites.empty());
+  EXPECT_EQ(doc.num_frames, 2);
+  EXPECT_EQ(doc.num_channels(), 9);
+  EXPECT_EQ(doc.frame_time, 0.0333333);
+  EXPECT_EQ(doc.value(0, 0), 1.0);
+  EXPECT_EQ(doc.value(0, 8), 60.0);
+  EXPECT_EQ(doc.value(1, 3), -10.0);
+  EXPECT_TRUE(doc.warnings.empty());
+}
+
+TEST(BvhParse, WhitespaceVariantsGiveTheSameDocument) {
+  const BvhDocument reference = parse_bvh(kSmall);
+  std::string crlf, cr, spaced;
+  for (const char c : std::string(kSmall)) {
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    cr += c == '\n' ? '\r' : c;
+    spaced += c == ' ' ? std::string(" \t  ") : c == '\n' ? std::string("  \n\n") : std::string(1, c);
+  }
+  // Mixed line ends as in the CMU conversions (CRLF with a few LF lines), a BOM, no final newline.
+  std::string mixed = "\xEF\xBB\xBF" + crlf;
+  mixed = replace(mixed, "Frames: 2\r\n", "Frames:\t2\n");
+  mixed.resize(mixed.size() - 2);
+  for (const std::string& text : {crlf, cr, spaced, mixed}) {
+    expect_same_document(parse_bvh(text), reference);
+  }
+}
+
+TEST(BvhParse, NumberFormatsOfRealExporters) {
+  std::string text = replace(kSmall, "1 2 3 10 20 30 40 50 60",
+                             "\t-0.0000 .0083333 1.5e-07 +2 -3.25E+01 0 0 0 0   ");
+  text = replace(text, "Frame Time: 0.0333333", "Frame Time:\t0.016666666666666666");
+  const BvhDocument doc = parse_bvh(text);
+  EXPECT_EQ(doc.value(0, 0), 0.0);
+  EXPECT_TRUE(std::signbit(doc.value(0, 0)));
+  EXPECT_EQ(doc.value(0, 1), 0.0083333);
+  EXPECT_EQ(doc.value(0, 2), 1.5e-07);
+  EXPECT_EQ(doc.value(0, 3), 2.0);
+  EXPECT_EQ(doc.value(0, 4), -32.5);
+  EXPECT_EQ(doc.frame_time, 0.016666666666666666);
+}
+
+TEST(BvhParse, NamesWithColonsSpacesAndBraceOnTheSameLine) {
+  std::string text = replace(kSmall, "ROOT Hips\n{", "ROOT mixamorig:Hips {");
+  text = replace(text, "JOINT Spine", "JOINT Left Up Leg  ");
+  const BvhDocument doc = parse_bvh(text);
+  EXPECT_EQ(doc.skeleton.joints[0].name, "mixamorig:Hips");
+  EXPECT_EQ(doc.skeleton.joints[1].name, "Left Up Leg");
+  expect_same_document(parse_bvh(written(doc)), doc);
+}
+
+TEST(BvhParse, SeveralRootsLeafJointWithoutEndSiteAndChannelsBeforeOffset) {
+  const BvhDocument doc = parse_bvh(
+      "HIERARCHY\n"
+      "ROOT A\n{\n OFFSET 1 0 0\n CHANNELS 3 Xposition Yposition Zposition\n"
+      " JOINT A1\n {\n  CHANNELS 1 Yrotation\n  OFFSET 0 1 0\n }\n}\n"
+      "ROOT B\n{\n OFFSET 0 0 1\n CHANNELS 0\n End Site\n {\n OFFSET 0 0 1\n }\n"
+      " End Site\n {\n OFFSET 0 1 1\n }\n}\n"
+      "ROOT C\n{\n OFFSET 0 0 2\n}\n"
+      "MOTION\nFrames: 1\nFrame Time: 1\n1 2 3 45\n");
+  ASSERT_EQ(doc.skeleton.num_joints(), 4);
+  EXPECT_EQ(doc.skeleton.roots(), (std::vector<int>{0, 2, 3}));
+  EXPECT_EQ(doc.skeleton.joints[1].parent, 0);
+  EXPECT_EQ(doc.skeleton.joints[1].offset, Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(doc.skeleton.joints[2].end_sites.size(), 2u);
+  EXPECT_TRUE(doc.skeleton.joints[3].channels.empty());
+  EXPECT_EQ(doc.num_channels(), 4);
+  expect_same_document(parse_bvh(written(doc)), doc);
+}
+
+TEST(BvhParse, ZeroFramesIsASkeletonWithoutMotion) {
+  BvhDocument doc = parse_bvh(replace(kSmall, "Frames: 2", "Frames: 0").substr(0, 
+      std::string(kSmall).find("1 2 3")));
+  EXPECT_EQ(doc.num_frames, 0);
+  EXPECT_TRUE(doc.values.empty());
+  EXPECT_TRUE(doc.warnings.empty());
+  const Motion m = to_motion(doc);
+  EXPECT_EQ(m.num_frames, 0);
+  EXPECT_EQ(m.num_joints, 2);
+  expect_same_document(parse_bvh(written(doc)), doc);
+}
+
+TEST(BvhParse, SkeletonWithoutChannelsHasEmptyRows) {
+  const char* text = "HIERARCHY\nROOT A\n{\nOFFSET 1 2 3\n}\nMOTION\nFrames: 3\nFrame Time: 0.5\n\n\n\n";
+  const BvhDocument doc = parse_bvh(text);
+  EXPECT_EQ(doc.num_frames, 3);
+  EXPECT_EQ(doc.num_channels(), 0);
+  const Motion m = to_motion(doc);
+  ASSERT_EQ(m.num_frames, 3);
+  EXPECT_EQ(m.translation(2, 0), Eigen::Vector3d(1, 2, 3));
+  expect_same_document(parse_bvh(written(doc)), doc);
+}
+
+TEST(BvhParse, ExtraRowsAreIgnoredWithAWarningNamingTheirLine) {
+  const std::string text = std::string(kSmall) + "7 8 9 1 1 1 1 1 1\n\n  \n7 8 9 1 1 1 1 1 1\r\n";
+  const BvhDocument doc = parse_bvh(text, "walk.bvh");
+  EXPECT_EQ(doc.num_frames, 2);
+  EXPECT_EQ(doc.values.size(), 18u);
+  ASSERT_EQ(doc.warnings.size(), 1u);
+  EXPECT_EQ(doc.warnings[0],
+            "walk.bvh:21: warning: 2 extra motion rows after the declared 2 frames ignored");
+  const BvhDocument one = parse_bvh(std::string(kSmall) + "1", "w.bvh");
+  ASSERT_EQ(one.warnings.size(), 1u);
+  EXPECT_EQ(one.warnings[0], "w.bvh:21: warning: 1 extra motion row after the declared 2 frames ignored");
+}
+
+TEST(BvhParse, BlankLinesBetweenRowsAreSkipped) {
+  const BvhDocument doc = parse_bvh(replace(kSmall, "60\n4", "60\n\n \t\n4"));
+  EXPECT_EQ(doc.value(1, 0), 4.0);
+  EXPECT_TRUE(doc.warnings.empty());
+}
+
+// --- errors ----------------------------------------------------------------------------------
+
+struct ErrorCase {
+  const char* name;
+  std::string text;
+  std::size_t line;
+  std::size_t column;
+  std::string message;
+};
+
+void PrintTo(const ErrorCase& c, std::ostream* os) { *os << c.name; }
+
+class BvhParseError : public ::testing::TestWithParam<ErrorCase> {};
+
+TEST_P(BvhParseError, ReportsLineColumnAndMessage) {
+  const ErrorCase& c = GetParam();
+  const ParseError e = parse_error(c.text);
+  EXPECT_EQ(e.message(), c.message);
+  EXPECT_EQ(e.line(), c.line);
+  EXPECT_EQ(e.column(), c.column);
+  EXPECT_EQ(e.path(), "t.bvh");
+  EXPECT_EQ(std::string(e.what()), "t.bvh:" + std::to_string(c.line) + ":" +
+                                       std::to_string(c.column) + ": error: " + c.message);
+}
+
+std::vector<ErrorCase> error_cases() {
+  const std::string s = kSmall;
+  const std::string hierarchy_only = s.substr(0, s.find("MOTION"));
+  std::string deep = "HIERARCHY\n";
+  for (int i = 0; i <= kBvhMaxDepth; ++i) deep += (i ? "JOINT j" : "ROOT j") + std::to_string(i) + "\n{\nOFFSET 0 0 0\n";
+  return {
+      {"EmptyFile", "", 1, 1, "expected 'HIERARCHY', found end of file"},
+      {"OnlyWhitespace", " \r\n\t\n", 3, 1, "expected 'HIERARCHY', found end of file"},
+      {"BinaryGarbage", std::string("\x7f" "ELF\x02\x01\x01\x00\x00", 9), 1, 1,
+       "expected 'HIERARCHY', found '\\x7FELF\\x02\\x01\\x01\\x00\\x00'"},
+      {"NoRoot", "HIERARCHY\nMOTION\nFrames: 0\nFrame Time: 1\n", 2, 1,
+       "expected 'ROOT', found 'MOTION'"},
+      {"RootWithoutName", replace(s, "ROOT Hips", "ROOT  "), 2, 7,
+       "expected a joint name, found end of line"},
+      {"RootNameOnlyBrace", replace(s, "ROOT Hips\n{", "ROOT {"), 2, 6,
+       "expected a joint name, found '{'"},
+      {"MissingOpeningBrace", replace(s, "\t{\n\t\tOFFSET 0 5", "\t\tOFFSET 0 5"), 7, 3,
+       "expected '{', found 'OFFSET'"},
+      {"MissingClosingBrace", replace(s, "\t}\n}\n", "\t}\n"), 15, 1,
+       "expected 'JOINT', 'End Site' or '}', found 'MOTION'"},
+      {"ExtraClosingBrace", replace(s, "\t}\n}\n", "\t}\n}\n}\n"), 16, 1,
+       "expected 'ROOT' or 'MOTION', found '}'"},
+      {"UnknownKeyword", replace(s, "\tJOINT Spine", "\tJOINTS Spine"), 6, 2,
+       "expected 'JOINT', 'End Site' or '}', found 'JOINTS'"},
+      {"EndWithoutSite", replace(s, "End Site", "End Sight"), 10, 7,
+       "expected 'Site', found 'Sight'"},
+      {"MissingOffset", replace(s, "\t\tOFFSET 0 5 0\n", ""), 9, 3,
+       "expected 'OFFSET', found 'End'"},
+      {"OffsetMissingNumber", replace(s, "OFFSET 0 5 0", "OFFSET 0 5"), 8, 13,
+       "expected OFFSET z, found end of line"},
+      {"OffsetNotANumber", replace(s, "OFFSET 0 5 0", "OFFSET 0 five 0"), 8, 12,
+       "expected OFFSET y, found 'five'"},
+      {"OffsetTooManyNumbers", replace(s, "OFFSET 0 5 0", "OFFSET 0 5 0 1"), 8, 16,
+       "expected only 3 OFFSET values, found '1'"},
+      {"OffsetNan", replace(s, "OFFSET 0 2 0", "OFFSET 0 nan 0"), 12, 13,
+       "expected OFFSET y (a finite number), found 'nan'"},
+      {"EndSiteWithoutOffset", replace(s, "\t\t\tOFFSET 0 2 0\n", ""), 12, 3,
+       "expected 'OFFSET', found '}'"},
+      {"ChannelsCountAboveNames", replace(s, "CHANNELS 3 Zrotation", "CHANNELS 4 Zrotation"), 9,
+       43, "expected 4 channel names as CHANNELS declares, found end of line"},
+      {"ChannelsCountBelowNames", replace(s, "CHANNELS 3 Zrotation", "CHANNELS 2 Zrotation"), 9,
+       34, "expected only 2 channel names as CHANNELS declares, found 'Yrotation'"},
+      {"ChannelsCountNotANumber", replace(s, "CHANNELS 3 Z", "CHANNELS three Z"), 9, 12,
+       "expected a channel count, found 'three'"},
+      {"ChannelsCountNegative", replace(s, "CHANNELS 3 Z", "CHANNELS -3 Z"), 9, 12,
+       "expected a channel count, found '-3'"},
+      {"BadChannelName", replace(s, "Xrotation Yrotation\n", "Xrotation yrotation\n"), 9, 34,
+       "expected a channel name (Xposition, Yposition, Zposition, Xrotation, Yrotation or "
+       "Zrotation), found 'yrotation'"},
+      {"DuplicateJointName", replace(s, "JOINT Spine", "JOINT Hips"), 6, 8,
+       "expected a joint name not used before (line 2), found 'Hips'"},
+      {"MissingMotion", hierarchy_only, 16, 1, "expected 'ROOT' or 'MOTION', found end of file"},
+      {"MissingFrames", replace(s, "Frames: 2\n", ""), 17, 1,
+       "expected 'Frames:', found 'Frame'"},
+      {"FramesNotANumber", replace(s, "Frames: 2", "Frames: two"), 17, 9,
+       "expected a frame count, found 'two'"},
+      {"FramesNegative", replace(s, "Frames: 2", "Frames: -2"), 17, 9,
+       "expected a frame count, found '-2'"},
+      {"MissingFrameTime", replace(s, "Frame Time: 0.0333333\n", ""), 18, 1,
+       "expected 'Frame', found '1'"},
+      {"FrameTimeZero", replace(s, "0.0333333", "0"), 18, 13, "expected a frame time > 0, found '0'"},
+      {"FrameTimeNegative", replace(s, "0.0333333", "-0.01"), 18, 13,
+       "expected a frame time > 0, found '-0.01'"},
+      {"FrameTimeInf", replace(s, "0.0333333", "inf"), 18, 13,
+       "expected a frame time (a finite number), found 'inf'"},
+      {"FrameTimeTrailingJunk", replace(s, "0.0333333", "0.0333333 s"), 18, 23,
+       "expected end of line after the frame time, found 's'"},
+      {"FramesBeyondFileSize", replace(s, "Frames: 2", "Frames: 1000000000"), 17, 9,
+       "expected a frame count the rest of the file can hold (1000000000 frames of 9 values need "
+       "at least 17999999999 bytes, 54 remain), found '1000000000'"},
+      {"FramesTimesChannelsHuge", replace(s, "Frames: 2", "Frames: 2147483647"), 17, 9,
+       "expected a frame count the rest of the file can hold (2147483647 frames of 9 values need "
+       "at least 38654705645 bytes, 54 remain), found '2147483647'"},
+      {"FramesBeyondInt", replace(s, "Frames: 2", "Frames: 2147483648"), 17, 9,
+       "expected a frame count, found '2147483648'"},
+      {"FewerRowsThanFrames", replace(s, "Frames: 2", "Frames: 3"), 21, 1,
+       "expected motion row 3 of the 3 that Frames: declares, found end of file"},
+      {"RowTooShort", replace(s, "4 5 6 -10 -20 -30 -40 -50 -60", "4 5 6 -10 -20 -30 -40 -50"),
+       20, 26, "expected 9 values on motion row 2 (one per channel), not 8, found end of line"},
+      {"RowTooLong", replace(s, "40 50 60", "40 50 60 70"), 19, 25,
+       "expected end of motion row 1 after its 9 values, found '70'"},
+      {"RowSplitOverTwoLines", replace(s, "30 40 50 60", "30\n40 50 60"), 19, 15,
+       "expected 9 values on motion row 1 (one per channel), not 6, found end of line"},
+      {"RowNotANumber", replace(s, "-20 -30", "-20 abc"), 20, 15,
+       "expected a number (value 6 of motion row 2), found 'abc'"},
+      {"RowNumberWithJunk", replace(s, "-20 -30", "-20 -30x"), 20, 15,
+       "expected a number (value 6 of motion row 2), found '-30x'"},
+      {"RowNan", replace(s, "-20 -30", "-20 nan"), 20, 15,
+       "expected a finite number (value 6 of motion row 2), found 'nan'"},
+      {"RowInf", replace(s, "-20 -30", "-20 -inf"), 20, 15,
+       "expected a finite number (value 6 of motion row 2), found '-inf'"},
+      {"RowOverflow", replace(s, "-20 -30", "-20 1e999"), 20, 15,
+       "expected a finite number (value 6 of motion row 2), found '1e999'"},
+      {"RowWithCrlfReportsRightLine", replace(s, "\n4 5 6", "\r\n\r\n4 5 x"), 21, 5,
+       "expected a number (value 3 of motion row 2), found 'x'"},
+      {"TooDeep", deep, static_cast<std::size_t>(2 + 3 * kBvhMaxDepth), 1,
+       "expected at most 1000 nested joints, found 'JOINT'"},
+  };
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BvhParseError, ::testing::ValuesIn(error_cases()),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(BvhParse, FramesTimesJointsBeyondTheFileIsRejectedBeforeAllocating) {
+  // One channel but 100 joints: 50000 rows of "0" (100 kB) would be 5M transforms in to_motion.
+  std::string text = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n";
+  for (int i = 1; i < 100; ++i) text += "JOINT j" + std::to_string(i) + "\n{\nOFFSET 0 1 0\n}\n";
+  text += "}\nMOTION\n";
+  const auto line = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  text += "Frames: 50000\nFrame Time: 1\n";
+  for (int f = 0; f < 50000; ++f) text += "0\n";
+  const ParseError e = parse_error(text);
+  EXPECT_EQ(e.line(), line);
+  EXPECT_EQ(e.column(), 9u);
+  EXPECT_EQ(e.message(),
+            "expected a frame count the rest of the file can hold (50000 frames of 100 joints "
+            "need at least 5000000 bytes, 100000 remain), found '50000'");
+  // The same with fewer frames (below 4M transforms) is fine.
+  const std::string small = replace(text, "Frames: 50000", "Frames: 40000");
+  EXPECT_EQ(parse_bvh(small, "t.bvh").num_frames, 40000);
+}
+
+TEST(BvhParse, NestingUpToTheLimitIsAccepted) {
+  std::string text = "HIERARCHY\n";
+  for (int i = 0; i < kBvhMaxDepth; ++i) {
+    text += (i ? "JOINT j" : "ROOT j") + std::to_string(i) + "\n{\nOFFSET 0 1 0\nCHANNELS 1 Xrotation\n";
+  }
+  for (int i = 0; i < kBvhMaxDepth; ++i) text += "}\n";
+  text += "MOTION\nFrames: 1\nFrame Time: 1\n";
+  for (int i = 0; i < kBvhMaxDepth; ++i) text += "1 ";
+  const BvhDocument doc = parse_bvh(text);
+  EXPECT_EQ(doc.skeleton.num_joints(), kBvhMaxDepth);
+  EXPECT_EQ(doc.skeleton.joints.back().parent, kBvhMaxDepth - 2);
+  expect_same_document(parse_bvh(written(doc)), doc);
+}
+
+TEST(BvhParse, ReadBvhNamesThePathInErrors) {
+  const auto path = std::filesystem::temp_directory_path() / "motionmap_bvh_test_bad.bvh";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << replace(kSmall, "-20 -30", "-20 ?");
+  }
+  try {
+    read_bvh(path.string());
+    ADD_FAILURE() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(std::string(e.what()), path.string() +
+                                         ":20:15: error: expected a number (value 6 of motion "
+                                         "row 2), found '?'");
+  }
+  std::filesystem::remove(path);
+  EXPECT_THROW(read_bvh(path.string()), Error);
+}
+
+// --- writing ---------------------------------------------------------------------------------
+
+TEST(BvhWrite, WritesTabsLfOriginalChannelOrderAndShortestNumbers) {
+  BvhDocument doc = parse_bvh(kSmall);
+  doc.values[0] = 0.1;
+  doc.values[1] = -0.0;
+  doc.values[2] = 1.0 / 3.0;
+  doc.values[3] = 1e-300;
+  EXPECT_EQ(written(doc),
+            "HIERARCHY\n"
+            "ROOT Hips\n"
+            "{\n"
+            "\tOFFSET 0 0 0\n"
+            "\tCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n"
+            "\tJOINT Spine\n"
+            "\t{\n"
+            "\t\tOFFSET 0 5 0\n"
+            "\t\tCHANNELS 3 Zrotation Xrotation Yrotation\n"
+            "\t\tEnd Site\n"
+            "\t\t{\n"
+            "\t\t\tOFFSET 0 2 0\n"
+            "\t\t}\n"
+            "\t}\n"
+            "}\n"
+            "MOTION\n"
+            "Frames: 2\n"
+            "Frame Time: 0.0333333\n"
+            "0.1 -0 0.3333333333333333 1e-300 20 30 40 50 60\n"
+            "4 5 6 -10 -20 -30 -40 -50 -60\n");
+  expect_same_document(parse_bvh(written(doc)), doc);
+}
+
+TEST(BvhWrite, NonDepthFirstJointOrderIsWrittenDepthFirstWithItsColumns) {
+  // Breadth-first: A, B (child of A), C (child of A), D (child of B). File order: A B D C.
+  Skeleton skel;
+  skel.joints = {Joint{"A", -1, {0, 0, 0}, {ChannelType::Xposition}, {}},
+                 Joint{"B", 0, {1, 0, 0}, {ChannelType::Xrotation}, {}},
+                 Joint{"C", 0, {2, 0, 0}, {ChannelType::Yrotation}, {}},
+                 Joint{"D", 1, {3, 0, 0}, {ChannelType::Zrotation}, {{0, 1, 0}}}};
+  BvhDocument doc;
+  doc.skeleton = skel;
+  doc.frame_time = 0.5;
+  doc.num_frames = 1;
+  doc.values = {10, 20, 30, 40};  // A B C D
+  const BvhDocument back = parse_bvh(written(doc));
+  ASSERT_EQ(back.skeleton.num_joints(), 4);
+  EXPECT_EQ(back.skeleton.joints[2].name, "D");
+  EXPECT_EQ(back.skeleton.joints[2].parent, 1);
+  EXPECT_EQ(back.skeleton.joints[3].name, "C");
+  EXPECT_EQ(back.skeleton.joints[3].parent, 0);
+  EXPECT_EQ(back.values, (std::vector<double>{10, 20, 40, 30}));
+}
+
+TEST(BvhWrite, RejectsDocumentsThatCannotBeValidBvh) {
+  const BvhDocument good = parse_bvh(kSmall);
+  const auto message_of = [&](auto edit) {
+    BvhDocument doc = good;
+    edit(doc);
+    try {
+      written(doc);
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message_of([](BvhDocument& d) { d.values.pop_back(); }),
+            "write_bvh: 17 values for 2 frames of 9 channels");
+  EXPECT_EQ(message_of([](BvhDocument& d) { d.values[4] = NAN; }),
+            "write_bvh: value 4 is not finite");
+  EXPECT_EQ(message_of([](BvhDocument& d) { d.frame_time = 0; }),
+            "write_bvh: frame time 0.000000 is not a finite number > 0");
+  EXPECT_EQ(message_of([](BvhDocument& d) { d.skeleton.joints[1].offset.x() = INFINITY; }),
+            "write_bvh: joint 'Spine' has a non-finite offset");
+  EXPECT_EQ(message_of([](BvhDocument& d) { d.skeleton.joints[1].name = "Hips"; }),
+            "write_bvh: joint name 'Hips' is used twice");
+  for (const char* bad : {"", " a", "a\t", "a\nb", "a {", "{"}) {
+    EXPECT_EQ(message_of([&](BvhDocument& d) { d.skeleton.joints[1].name = bad; }),
+              "write_bvh: joint 1 has the name '" + quote_token(bad) +
+                  "', which BVH cannot hold (empty, leading/trailing blanks, a line end or a "
+                  "trailing ' {')")
+        << bad;
+  }
+  EXPECT_EQ(message_of([](BvhDocument& d) { d.skeleton.joints[1].name = "a{"; }), "no error");
+}
+
+TEST(BvhWrite, ToFileAndUnwritablePath) {
+  const BvhDocument doc = parse_bvh(kSmall);
+  const auto path = std::filesystem::temp_directory_path() / "motionmap_bvh_test_out.bvh";
+  write_bvh(doc, path.string());
+  expect_same_document(read_bvh(path.string()), doc);
+  std::filesystem::remove(path);
+  EXPECT_THROW(write_bvh(doc, "/nonexistent-dir/x.bvh"), Error);
+}
+
+// --- conversion ------------------------------------------------------------------------------
+
+TEST(BvhToMotion, RotationsComposeInTheWrittenOrderForAllSixOrders) {
+  const char* names[] = {"X", "Y", "Z"};
+  const Eigen::Vector3d axes[] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+                                  Eigen::Vector3d::UnitZ()};
+  const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (const auto& o : orders) {
+    const std::string text = std::string("HIERARCHY\nROOT r\n{\nOFFSET 1 2 3\nCHANNELS 3 ") +
+                             names[o[0]] + "rotation " + names[o[1]] + "rotation " +
+                             names[o[2]] + "rotation\n}\nMOTION\nFrames: 1\nFrame Time: 1\n"
+                             "30 -50 70\n";
+    const Motion m = to_motion(parse_bvh(text));
+    const Eigen::Quaterniond expected =
+        about(axes[o[0]], 30) * about(axes[o[1]], -50) * about(axes[o[2]], 70);
+    EXPECT_LT(rotation_angle(m.rotation(0, 0), expected), 1e-12) << text;
+    EXPECT_EQ(m.translation(0, 0), Eigen::Vector3d(1, 2, 3));
+  }
+}
+
+TEST(BvhToMotion, PositionChannelsReplaceOffsetComponentsOnAnyJoint) {
+  // Like Bandai Namco's files: a child with position channels, the offset's y (93.9) replaced.
+  const BvhDocument doc = parse_bvh(
+      "HIERARCHY\nROOT root\n{\nOFFSET 0 0 0\nCHANNELS 0\n"
+      "JOINT Hips\n{\nOFFSET 1 93.9 -3\nCHANNELS 4 Yposition Zrotation Xposition Xrotation\n"
+      "End Site\n{\nOFFSET 0 1 0\n}\n}\n}\n"
+      "MOTION\nFrames: 1\nFrame Time: 1\n90 90 7 0\n");
+  const Motion m = to_motion(doc);
+  EXPECT_EQ(m.translation(0, 1), Eigen::Vector3d(7, 90, -3));
+  EXPECT_EQ(m.translation(0, 0), Eigen::Vector3d(0, 0, 0));
+  EXPECT_LT(rotation_angle(m.rotation(0, 1), about(Eigen::Vector3d::UnitZ(), 90)), 1e-12);
+  EXPECT_EQ(m.frame_time, 1.0);
+}
+
+TEST(BvhToMotion, RepeatedAndSingleAxes) {
+  const Motion m = to_motion(parse_bvh(
+      "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 4 Zrotation Xrotation Zrotation Xposition\n"
+      "JOINT c\n{\nOFFSET 0 1 0\nCHANNELS 1 Yrotation\n}\n}\n"
+      "MOTION\nFrames: 1\nFrame Time: 1\n10 20 30 5 -40\n"));
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), z = Eigen::Vector3d::UnitZ();
+  EXPECT_LT(rotation_angle(m.rotation(0, 0), about(z, 10) * about(x, 20) * about(z, 30)), 1e-12);
+  EXPECT_LT(rotation_angle(m.rotation(0, 1), about(Eigen::Vector3d::UnitY(), -40)), 1e-12);
+  EXPECT_EQ(m.translation(0, 0), Eigen::Vector3d(5, 0, 0));
+}
+
+// A skeleton exercising every from_motion case: 3 distinct axes (+ a repeat), 2 axes, 1 axis, none.
+Skeleton layout_skeleton() {
+  using C = ChannelType;
+  Skeleton s;
+  s.joints = {
+      Joint{"root", -1, {0, 0, 0}, {C::Xposition, C::Yposition, C::Zposition, C::Yrotation,
+                                    C::Xrotation, C::Zrotation}, {}},
+      Joint{"three_repeat", 0, {0, 1, 0}, {C::Zrotation, C::Xrotation, C::Zrotation,
+                                           C::Yrotation}, {}},
+      Joint{"two", 1, {0, 1, 0}, {C::Zrotation, C::Xrotation}, {}},
+      Joint{"one", 2, {0, 1, 0}, {C::Yrotation}, {}},
+      Joint{"none", 3, {0, 1, 0}, {}, {{0, 1, 0}}},
+  };
+  return s;
+}
+
+TEST(BvhFromMotion, ExactForZeroOneAndThreeAxesAndDropsOnlyTheMissingAxis) {
+  const Skeleton skel = layout_skeleton();
+  Motion m;
+  m.frame_time = 0.01;
+  m.resize(2, skel.num_joints());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  for (int f = 0; f < 2; ++f) {
+    for (int j = 0; j < 5; ++j) m.translation(f, j) = skel.joints[j].offset;
+    m.translation(f, 0) = Eigen::Vector3d(1, 2 + f, 3);
+    m.rotation(f, 0) = about(y, 100 + f) * about(x, -80) * about(z, 170);
+    m.rotation(f, 1) = about(x, 10) * about(y, 20) * about(z, 30 - f);
+    m.rotation(f, 2) = about(z, 25 + f) * about(x, -35);  // representable: no Y part
+    m.rotation(f, 3) = about(y, -120 - f);
+  }
+  const BvhDocument doc = from_motion(skel, m);
+  EXPECT_EQ(doc.num_frames, 2);
+  EXPECT_EQ(doc.frame_time, 0.01);
+  EXPECT_EQ(doc.value(1, 0), 1.0);
+  EXPECT_EQ(doc.value(1, 1), 3.0);
+  EXPECT_EQ(doc.value(0, 8), 0.0);  // the repeated Zrotation of three_repeat carries nothing
+  EXPECT_NEAR(doc.value(1, 10), 26.0, 1e-9);  // "two": Z then X
+  EXPECT_NEAR(doc.value(1, 11), -35.0, 1e-9);
+  EXPECT_NEAR(doc.value(1, 12), -121.0, 1e-9);  // "one"
+  const Motion back = to_motion(doc);
+  for (int f = 0; f < 2; ++f) {
+    for (int j = 0; j < 4; ++j) {
+      EXPECT_LT(rotation_angle(back.rotation(f, j), m.rotation(f, j)), 1e-12) << f << " " << j;
+      EXPECT_EQ(back.translation(f, j), m.translation(f, j));
+    }
+  }
+  // Two axes cannot hold a rotation about the third: that part is dropped, the rest kept.
+  m.rotation(0, 2) = about(z, 25) * about(x, -35) * about(y, 15);
+  const Motion lossy = to_motion(from_motion(skel, m));
+  EXPECT_LT(rotation_angle(lossy.rotation(0, 2), about(z, 25) * about(x, -35)), 1e-12);
+}
+
+TEST(BvhFromMotion, AnglesStayContinuousAcrossTheAntimeridian) {
+  const Skeleton skel = layout_skeleton();
+  Motion m;
+  m.frame_time = 0.01;
+  const int frames = 50;
+  m.resize(frames, skel.num_joints());
+  for (int f = 0; f < frames; ++f) {
+    const double a = 150.0 + 3.0 * f;  // sweeps through 180° and on to 297°
+    m.rotation(f, 0) = about(Eigen::Vector3d::UnitY(), a);
+    m.rotation(f, 1) = about(Eigen::Vector3d::UnitZ(), a) * about(Eigen::Vector3d::UnitX(), 20);
+    m.rotation(f, 3) = about(Eigen::Vector3d::UnitY(), -a);
+  }
+  const BvhDocument doc = from_motion(skel, m);
+  for (int f = 1; f < frames; ++f) {
+    for (int c = 0; c < doc.num_channels(); ++c) {
+      EXPECT_LT(std::abs(doc.value(f, c) - doc.value(f - 1, c)), 10.0) << f << " " << c;
+    }
+  }
+  EXPECT_NEAR(doc.value(frames - 1, 3), 297.0, 1e-9);    // root Yrotation
+  EXPECT_NEAR(doc.value(frames - 1, 12), -297.0, 1e-9);  // "one"
+}
+
+TEST(BvhFromMotion, RejectsAMotionThatDoesNotFit) {
+  const Skeleton skel = layout_skeleton();
+  Motion m;
+  m.resize(3, 4);
+  try {
+    from_motion(skel, m);
+    ADD_FAILURE();
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "from_motion: the motion (3 frames of 4 joints, 12 rotations, 12 translations) does "
+              "not fit the skeleton of 5 joints");
+  }
+  m.resize(3, 5);
+  m.rotations.pop_back();
+  EXPECT_THROW(from_motion(skel, m), ParameterError);
+  m.resize(3, 5);
+  m.frame_time = 0.0;
+  try {
+    from_motion(skel, m);
+    ADD_FAILURE();
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(std::string(e.what()), "from_motion: frame time 0.000000 is not a finite number > 0");
+  }
+}
+
+TEST(BvhLoad, LoadBvhIsReadPlusToMotionWithWarnings) {
+  const auto path = std::filesystem::temp_directory_path() / "motionmap_bvh_test_load.bvh";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << kSmall << "1 2 3 4 5 6 7 8 9\n";
+  }
+  const Clip clip = load_bvh(path.string());
+  EXPECT_EQ(clip.path, path.string());
+  EXPECT_EQ(clip.skeleton.num_joints(), 2);
+  EXPECT_EQ(clip.motion.num_frames, 2);
+  EXPECT_EQ(clip.motion.frame_time, 0.0333333);
+  EXPECT_EQ(clip.motion.translation(1, 0), Eigen::Vector3d(4, 5, 6));
+  ASSERT_EQ(clip.warnings.size(), 1u);
+  EXPECT_EQ(clip.warnings[0], path.string() + ":21: warning: 1 extra motion row after the "
+                                              "declared 2 frames ignored");
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace motionmap::io

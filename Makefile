@@ -20,10 +20,13 @@ $(BUILD)/CMakeCache.txt: | deps
 build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
+# The main job on the built-in sample: the six maps of a golf-like swing, as a figure.
 demo: build
 	@mkdir -p out
 	$(BUILD)/apps/cli/motionmap sample --kind swing -o out/sample-swing.bvh
 	$(BUILD)/apps/cli/motionmap info out/sample-swing.bvh
+	$(BUILD)/apps/cli/motionmap figure out/sample-swing.bvh -o out/sample-swing-maps.png
+	@echo "wrote out/sample-swing-maps.png"
 
 test: test-release test-sanitize test-fuzz
 
@@ -43,7 +46,8 @@ test-sanitize: deps
 test-fuzz: deps
 	cmake -S . -B build-fuzz $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_COMPILER=clang++ -DMOTIONMAP_FUZZ=ON -DMOTIONMAP_FUZZ_SECONDS=$(FUZZ_SECONDS) \
-	  -DMOTIONMAP_BUILD_TESTS=OFF -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_CLI=OFF
+	  -DMOTIONMAP_BUILD_TESTS=OFF -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_CLI=OFF \
+	  -DMOTIONMAP_BUILD_GUI=OFF -DMOTIONMAP_BUILD_RENDER=OFF
 	cmake --build build-fuzz -j $(JOBS)
 	cd build-fuzz && ctest --output-on-failure
 

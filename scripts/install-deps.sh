@@ -8,7 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libspectra-dev libnanoflann-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  qt6-base-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
+  qt6-base-dev libqt6opengl6-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
   clang libclang-rt-14-dev
   python3 python3-numpy python3-scipy python3-sklearn
   xvfb xauth

@@ -12,6 +12,8 @@ namespace motionmap::cli {
 void setup_info(CLI::App& app);
 void setup_convert(CLI::App& app);
 void setup_sample(CLI::App& app);
+void setup_map(CLI::App& app);
+void setup_figure(CLI::App& app);
 
 /// Escapes a string for a JSON string literal (without the quotes).
 std::string json_escape(const std::string& s);

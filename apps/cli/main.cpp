@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   motionmap::cli::setup_info(app);
   motionmap::cli::setup_convert(app);
   motionmap::cli::setup_sample(app);
+  motionmap::cli::setup_map(app);
+  motionmap::cli::setup_figure(app);
 
   try {
     app.parse(argc, argv);

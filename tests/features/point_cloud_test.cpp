@@ -95,5 +95,20 @@ TEST(Diagnostics, FindsRotationFlipsWithFrames) {
   EXPECT_TRUE(clip_warnings(s, m).empty());
 }
 
+TEST(Diagnostics, JumpOutOfABindPoseIsNotAFlip) {
+  const Skeleton s = tiny_skeleton();
+  Motion m;
+  m.resize(20, 3);
+  m.frame_time = 1.0 / 120;
+  for (int j = 0; j < 3; ++j) {
+    for (int f = 0; f < 20; ++f) m.translation(f, j) = s.joints[j].offset;
+  }
+  for (int f = 1; f < 20; ++f) m.rotation(f, 1) = axis_rotation(Axis::X, 2.0 + 0.01 * f);
+  const auto warnings = clip_warnings(s, m);
+  ASSERT_EQ(warnings.size(), 1u) << warnings.back();
+  EXPECT_NE(warnings[0].find("bind pose"), std::string::npos);
+  EXPECT_EQ(find_rotation_flips(s, m).size(), 1u);  // the raw finder still sees it
+}
+
 }  // namespace
 }  // namespace motionmap::features

@@ -28,13 +28,13 @@ BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor) {
 }
 
 std::vector<RotationFlip> find_rotation_flips(const Skeleton& skeleton, const Motion& motion,
-                                              double threshold_degrees) {
+                                              double threshold_degrees, int first_frame) {
   std::vector<RotationFlip> flips;
   const double threshold = deg_to_rad(threshold_degrees);
   for (int j = 0; j < skeleton.num_joints(); ++j) {
     RotationFlip flip;
     flip.joint = j;
-    for (int f = 0; f + 1 < motion.num_frames; ++f) {
+    for (int f = std::max(first_frame, 0); f + 1 < motion.num_frames; ++f) {
       const double angle = rotation_angle(motion.rotation(f, j), motion.rotation(f + 1, j));
       if (angle > threshold) {
         flip.frames.push_back(f);
@@ -66,9 +66,11 @@ std::string frame_pairs(const std::vector<int>& frames, std::size_t shown) {
 
 std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& motion, Axis up) {
   std::vector<std::string> warnings;
+  int first_flip_frame = 0;
   if (motion.num_frames >= 3) {
     const BindPoseCheck bind = check_leading_bind_pose(heading_local_points(skeleton, motion, up));
     if (bind.detected) {
+      first_flip_frame = 1;
       warnings.push_back(
           "frame 0 looks like a bind pose (T-pose): it is " +
           (std::isfinite(bind.ratio) ? format_double(bind.ratio, 0) + "×" : std::string("infinitely")) +
@@ -77,7 +79,7 @@ std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& m
     }
   }
   if (motion.fps() >= 60.0) {
-    for (const RotationFlip& flip : find_rotation_flips(skeleton, motion)) {
+    for (const RotationFlip& flip : find_rotation_flips(skeleton, motion, 90.0, first_flip_frame)) {
       warnings.push_back("joint '" + skeleton.joints[flip.joint].name + "' rotates by up to " +
                          format_double(flip.max_degrees, 0) + "° between consecutive frames (" +
                          frame_pairs(flip.frames, 5) + "), more than a body can at " +

@@ -31,8 +31,7 @@ double heading_angle(const Eigen::Quaterniond& world_rotation, Axis up) {
 RowMatrix heading_local_points(const Skeleton& skeleton, const Motion& motion, Axis up) {
   const int joints = skeleton.num_joints();
   const int points = joints + skeleton.num_end_sites();
-  const auto roots = skeleton.roots();
-  const int root = roots.empty() ? 0 : roots.front();
+  const int root = motion_root(skeleton, motion);
   const auto [a, b] = floor_axes(up);
   RowMatrix out(motion.num_frames, 3 * points);
   WorldPose world;

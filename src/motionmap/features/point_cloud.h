@@ -18,7 +18,8 @@ using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 double heading_angle(const Eigen::Quaterniond& world_rotation, Axis up = Axis::Y);
 
 /// #frames by 3·(#joints + #end sites): row f holds frame f's joint then end-site positions with
-/// the first root's floor position moved to the origin and its heading turned to zero. Height
+/// the motion root's (see motion_root()) floor position moved to the origin and its heading
+/// turned to zero. Height
 /// along `up` is kept.
 RowMatrix heading_local_points(const Skeleton& skeleton, const Motion& motion, Axis up = Axis::Y);
 

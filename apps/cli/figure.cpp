@@ -1,0 +1,118 @@
+// `motionmap figure FILE… -o fig.png`: the reference evaluation — all six methods side by side.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "map_options.h"
+#include "motionmap/core/error.h"
+#include "motionmap/render/map_plot.h"
+
+namespace motionmap::cli {
+
+namespace {
+
+struct FigureCommand {
+  MapCliOptions map;
+  std::string output;
+  int panel_px = 500;
+};
+
+const char* long_name(embed::Method m) {
+  switch (m) {
+    case embed::Method::Pca: return "PCA";
+    case embed::Method::Svd: return "SVD";
+    case embed::Method::Mds: return "Classical MDS";
+    case embed::Method::Isomap: return "Isomap";
+    case embed::Method::LaplacianEigenmap: return "Laplacian eigenmap";
+    case embed::Method::Lle: return "LLE";
+  }
+  return "?";
+}
+
+QString format(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return QString::fromLatin1(buf);
+}
+
+}  // namespace
+
+void setup_figure(CLI::App& app) {
+  auto cmd = std::make_shared<FigureCommand>();
+  auto* sub = app.add_subcommand(
+      "figure",
+      "Map the clips with all six methods (PCA, SVD, MDS / Isomap, LE, LLE) and draw them in a\n"
+      "2×3 grid with each map's quality metrics under it (trustworthiness T and continuity C at\n"
+      "k = 10, stress for MDS/Isomap, jump score). Also prints the metrics as a table.");
+  add_map_options(sub, cmd->map, /*with_method=*/false);
+  sub->add_option("-o,--output", cmd->output, "Figure to write: .png, .svg or .pdf")->required();
+  sub->add_option("--panel-size", cmd->panel_px, "Pixels per panel (default 500)")->check(CLI::Range(64, 4096));
+  sub->callback([cmd] {
+    const std::vector<Clip> clips = load_inputs(cmd->map);
+    const auto& methods = embed::all_methods();
+    embed::ClipMapOptions options = clip_map_options(cmd->map, methods.front(), /*metrics=*/true);
+    const auto overall = options.progress;
+    const double n = static_cast<double>(methods.size()) + 1.0;
+    auto start = std::chrono::steady_clock::now();
+
+    // D is shared by every method: build the features once.
+    features::FeatureOptions fopt = options.features;
+    if (overall) fopt.progress = [&](double f) { overall(f / n, "pose distances"); };
+    const features::FeatureSet set = features::build_features(clips, fopt);
+    for (const auto& note : set.notes) std::cerr << "note: " << note << '\n';
+
+    std::vector<render::FigurePanel> panels;
+    int failures = 0;
+    std::printf("%-7s %16s %11s %8s %7s %9s\n", "method", "trustworthiness", "continuity", "stress", "jump", "seconds");
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+      render::FigurePanel panel;
+      panel.options.title = long_name(methods[i]);
+      panel.segment_starts = set.segment_starts;
+      embed::EmbedOptions eopt = options.embed;
+      eopt.method = methods[i];
+      if (overall) eopt.progress = [&, i](double f, std::string_view stage) { overall((i + 1 + f) / n, stage); };
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        const embed::Embedding e = embed::embed({&set.X, &set.D}, eopt);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const embed::MapMetrics m = embed::map_metrics(set, e, 10);
+        for (const auto& w : e.warnings) std::cerr << "warning: " << embed::method_name(methods[i]) << ": " << w << '\n';
+        panel.coords = e.coordinates;
+        QString line = "T " + format("%.3f", m.neighborhood.trustworthiness) + "   C " +
+                       format("%.3f", m.neighborhood.continuity);
+        if (m.stress) line += "   stress " + format("%.3f", *m.stress);
+        line += "   jump " + format("%.1f", m.jump);
+        panel.options.notes << line;
+        if (e.method == embed::Method::LaplacianEigenmap) {
+          panel.options.notes << "k = " + QString::number(e.k_used) + ", heat " + format("%.3g", e.heat_used);
+        } else if (e.k_used > 0) {
+          panel.options.notes << "k = " + QString::number(e.k_used);
+        }
+        std::printf("%-7s %16.4f %11.4f %8s %7.2f %9.3f\n", std::string(embed::method_name(methods[i])).c_str(),
+                    m.neighborhood.trustworthiness, m.neighborhood.continuity,
+                    m.stress ? format("%.4f", *m.stress).toStdString().c_str() : "-", m.jump, seconds);
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const Error& e) {
+        ++failures;
+        std::cerr << "motionmap: " << embed::method_name(methods[i]) << ": " << e.what() << '\n';
+        panel.coords.resize(0, 2);
+        panel.options.notes << QString("failed: ") + QString::fromStdString(e.what()).left(80);
+      }
+      panels.push_back(std::move(panel));
+    }
+    std::string files;
+    for (const auto& f : cmd->map.files) files += (files.empty() ? "" : ", ") + f.substr(f.find_last_of('/') + 1);
+    const QString title = QString::fromStdString(files) + " — " + QString::number(set.num_samples()) +
+                          " frames, features " + QString::fromStdString(std::string(features::feature_kind_name(options.features.features))) +
+                          ", distance " + QString::fromStdString(std::string(features::distance_kind_name(options.features.distance)));
+    render::save_figure(cmd->output, panels, 3, cmd->panel_px, title);
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cerr << "wrote " << cmd->output << " (" << total << " s)\n";
+    if (failures > 0) throw Error(std::to_string(failures) + " of the six maps failed (shown as empty panels)");
+  });
+}
+
+}  // namespace motionmap::cli

@@ -1,0 +1,111 @@
+// `motionmap map FILE… --method M -o map.csv [--plot map.png] [--metrics]`: one map of the clips.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "map_options.h"
+#include "motionmap/core/error.h"
+#include "motionmap/render/map_plot.h"
+
+namespace motionmap::cli {
+
+namespace {
+
+struct MapCommand {
+  MapCliOptions map;
+  std::string output;
+  std::string plot;
+  bool metrics = false;
+};
+
+std::string base_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+void write_csv(std::ostream& out, const embed::ClipMap& map, const embed::ClipMapOptions& options,
+               const MapCliOptions& cli) {
+  out << "# motionmap map " << embed::describe_parameters(map.embedding, options);
+  out << " files=";
+  for (std::size_t i = 0; i < cli.files.size(); ++i) out << (i ? "," : "") << base_name(cli.files[i]);
+  out << '\n';
+  for (const auto& note : map.features.notes) out << "# note: " << note << '\n';
+  for (const auto& w : map.embedding.warnings) out << "# warning: " << w << '\n';
+  if (map.metrics) out << "# metrics " << embed::describe_metrics(*map.metrics) << '\n';
+  const bool several = cli.files.size() > 1;
+  const auto& Y = map.embedding.coordinates;
+  out << (several ? "clip,frame,x,y" : "frame,x,y") << (Y.cols() == 3 ? ",z\n" : "\n");
+  char buf[32];
+  for (Eigen::Index i = 0; i < Y.rows(); ++i) {
+    if (several) out << map.features.clip_of[i] << ',';
+    out << map.features.frame_of[i];
+    for (Eigen::Index c = 0; c < Y.cols(); ++c) {
+      std::snprintf(buf, sizeof buf, ",%.17g", Y(i, c));
+      out << buf;
+    }
+    out << '\n';
+  }
+}
+
+void print_metrics_table(std::ostream& out, const embed::ClipMap& map, int k) {
+  const auto& m = *map.metrics;
+  char line[160];
+  std::snprintf(line, sizeof line, "%-8s %16s %12s %8s %6s\n", "method", "trustworthiness", "continuity", "stress", "jump");
+  out << line;
+  std::snprintf(line, sizeof line, "%-8s %16.4f %12.4f %8s %6.2f\n",
+                std::string(embed::method_name(map.embedding.method)).c_str(), m.neighborhood.trustworthiness,
+                m.neighborhood.continuity, m.stress ? std::to_string(*m.stress).substr(0, 6).c_str() : "-", m.jump);
+  out << line << "(trustworthiness and continuity at k = " << k << " against the pose distance D)\n";
+}
+
+}  // namespace
+
+void setup_map(CLI::App& app) {
+  auto cmd = std::make_shared<MapCommand>();
+  auto* sub = app.add_subcommand(
+      "map",
+      "Map every frame of the clips to a point (PCA, SVD, classical MDS, Isomap, Laplacian\n"
+      "eigenmap, LLE) and write frame,x,y as CSV, with the effective parameters in a # comment.\n"
+      "A leading bind/T-pose frame is left out unless --keep-first.");
+  add_map_options(sub, cmd->map, /*with_method=*/true);
+  sub->add_option("-o,--output", cmd->output, "CSV file to write (default: standard output)");
+  sub->add_option("--plot", cmd->plot, "Also draw the map: .png, .svg or .pdf");
+  sub->add_flag("--metrics", cmd->metrics,
+                "Compute trustworthiness and continuity (k = 10), stress (mds, isomap) and the jump "
+                "score; printed as a table and in the CSV comment");
+  sub->callback([cmd] {
+    const std::vector<Clip> clips = load_inputs(cmd->map);
+    const embed::ClipMapOptions options = clip_map_options(cmd->map, cmd->map.method, cmd->metrics);
+    const embed::ClipMap map = embed::map_clips(clips, options);
+    print_diagnostics(map);
+    if (map.embedding.method == embed::Method::LaplacianEigenmap) {
+      std::cerr << "heat " << map.embedding.heat_used << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
+    }
+    if (cmd->output.empty() || cmd->output == "-") {
+      write_csv(std::cout, map, options, cmd->map);
+    } else {
+      std::ofstream out(cmd->output);
+      if (!out) throw Error(cmd->output + ": error: cannot open for writing");
+      write_csv(out, map, options, cmd->map);
+      if (!out.flush()) throw Error(cmd->output + ": error: write failed");
+    }
+    if (map.metrics) {
+      const bool csv_on_stdout = cmd->output.empty() || cmd->output == "-";
+      print_metrics_table(csv_on_stdout ? std::cerr : std::cout, map, options.metrics_k);
+    }
+    if (!cmd->plot.empty()) {
+      render::MapPlotOptions plot;
+      std::string files;
+      for (const auto& f : cmd->map.files) files += (files.empty() ? "" : ", ") + base_name(f);
+      plot.title = QString::fromStdString(files + " — " + std::string(embed::method_name(map.embedding.method)));
+      plot.notes << QString::fromStdString(embed::describe_parameters(map.embedding, options));
+      if (map.metrics) plot.notes << QString::fromStdString(embed::describe_metrics(*map.metrics));
+      plot.time_legend = true;
+      render::save_map_plot(cmd->plot, map.embedding.coordinates, map.features.segment_starts, plot);
+    }
+  });
+}
+
+}  // namespace motionmap::cli

@@ -1,0 +1,147 @@
+#include "map_options.h"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include "motionmap/core/error.h"
+#include "motionmap/io/load.h"
+
+namespace motionmap::cli {
+
+void add_map_options(CLI::App* sub, MapCliOptions& opt, bool with_method, bool with_files) {
+  if (with_files) {
+    sub->add_option("files", opt.files,
+                    "Clips (.bvh, or .amc with its .asf); several clips of one skeleton make one map")
+        ->required()
+        ->check(CLI::ExistingFile);
+  }
+  sub->add_option("--asf", opt.asf, "ASF skeleton for .amc inputs (default: the .asf beside them)")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--fps", opt.fps, "Frame rate of .amc inputs (default 120)")->check(CLI::PositiveNumber);
+  if (with_method) {
+    std::map<std::string, embed::Method> methods;
+    for (embed::Method m : embed::all_methods()) methods[std::string(embed::method_name(m))] = m;
+    sub->add_option("-m,--method", opt.method, "pca, svd, mds, isomap, le or lle (default isomap)")
+        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case));
+  }
+  sub->add_option("--dims", opt.dims, "Map dimensions, 2 or 3 (default 2)")->check(CLI::IsMember({2, 3}));
+  sub->add_option("-k,--neighbors", opt.k, "Neighbours per frame for isomap, le, lle (default 20)");
+  sub->add_option("--heat", opt.heat,
+                  "Laplacian eigenmap heat-kernel width: 'auto' (median squared k-NN distance, "
+                  "printed) or a number; ≤ 0 makes every weight 1 (default auto)");
+  sub->add_option("--reg", opt.reg, "LLE regularisation (default 1e-3)");
+  sub->add_flag("--standardize", opt.standardize, "PCA on standardised columns (correlation PCA)");
+  sub->add_flag("--strict", opt.strict,
+                "Fail on a disconnected neighbour graph instead of joining its components");
+  const std::map<std::string, features::FeatureKind> feature_kinds{
+      {"quat", features::FeatureKind::Quaternions}, {"positions", features::FeatureKind::Positions}};
+  sub->add_option("--features", opt.features,
+                  "Data matrix X for pca, svd and lle: quat (joint rotation quaternions, default) or "
+                  "positions (heading-local joint positions)")
+      ->transform(CLI::CheckedTransformer(feature_kinds, CLI::ignore_case));
+  const std::map<std::string, features::DistanceKind> distance_kinds{
+      {"pointcloud", features::DistanceKind::PointCloud},
+      {"geodesic", features::DistanceKind::Geodesic},
+      {"features", features::DistanceKind::Features}};
+  sub->add_option("--distance", opt.distance,
+                  "Pose distance D for mds, isomap, le and lle's neighbours: pointcloud (default), "
+                  "geodesic (joint rotation angles) or features (Euclidean on X)")
+      ->transform(CLI::CheckedTransformer(distance_kinds, CLI::ignore_case));
+  sub->add_option("--exclude", opt.exclude,
+                  "Regular expression: joints whose name matches are left out, e.g. '.*(Thumb|Finger).*'");
+  sub->add_option("--frames", opt.frames, "Frame range A:B of each file (B exclusive; either may be empty)");
+  sub->add_option("--stride", opt.stride, "Use every S-th frame (default 1)")->check(CLI::PositiveNumber);
+  sub->add_flag("--keep-first", opt.keep_first,
+                "Keep a leading bind/T-pose frame (left out by default, with a note)");
+  sub->add_option("--up", opt.up, "Up axis of the files: y (default) or z")->check(CLI::IsMember({"y", "z", "Y", "Z"}));
+  sub->add_flag("-q,--quiet", opt.quiet, "No progress line");
+}
+
+std::vector<Clip> load_inputs(const MapCliOptions& opt) {
+  std::vector<Clip> clips;
+  io::LoadOptions load;
+  load.asf_path = opt.asf;
+  load.fps = opt.fps;
+  for (const auto& file : opt.files) {
+    clips.push_back(io::load_clip(file, load));
+    for (const auto& w : clips.back().warnings) std::cerr << w << '\n';
+  }
+  return clips;
+}
+
+namespace {
+
+int parse_frame_bound(const std::string& text, const std::string& whole) {
+  int value = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || ptr != text.data() + text.size() || value < 0) {
+    throw ParameterError("--frames: '" + whole + "' is not a range A:B of non-negative frame numbers");
+  }
+  return value;
+}
+
+}  // namespace
+
+embed::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics) {
+  embed::ClipMapOptions out;
+  features::FeatureOptions& f = out.features;
+  f.features = opt.features;
+  f.distance = opt.distance;
+  f.up = (opt.up == "z" || opt.up == "Z") ? Axis::Z : Axis::Y;
+  f.exclude = opt.exclude;
+  f.stride = opt.stride;
+  f.keep_first = opt.keep_first;
+  if (!opt.frames.empty()) {
+    const auto colon = opt.frames.find(':');
+    if (colon == std::string::npos) {
+      throw ParameterError("--frames: '" + opt.frames + "' is not a range A:B (e.g. 100:400, 100:, :400)");
+    }
+    const std::string a = opt.frames.substr(0, colon), b = opt.frames.substr(colon + 1);
+    if (!a.empty()) f.first_frame = parse_frame_bound(a, opt.frames);
+    if (!b.empty()) f.end_frame = parse_frame_bound(b, opt.frames);
+  }
+
+  embed::EmbedOptions& e = out.embed;
+  e.method = method;
+  e.dimensions = opt.dims;
+  e.k = opt.k;
+  e.reg = opt.reg;
+  e.standardize = opt.standardize;
+  e.strict = opt.strict;
+  if (opt.heat != "auto") {
+    double heat = 0.0;
+    const auto [ptr, ec] = std::from_chars(opt.heat.data(), opt.heat.data() + opt.heat.size(), heat);
+    if (ec != std::errc() || ptr != opt.heat.data() + opt.heat.size() || !std::isfinite(heat)) {
+      throw ParameterError("--heat: '" + opt.heat + "' is neither 'auto' nor a number");
+    }
+    e.heat = heat;
+  }
+  out.metrics = metrics;
+
+  // A progress line for people watching a terminal; scripts and logs get none.
+  if (!opt.quiet && isatty(STDERR_FILENO)) {
+    auto last = std::make_shared<int>(-1);
+    const std::string name(embed::method_name(method));
+    out.progress = [last, name](double fraction, std::string_view stage) {
+      const int percent = static_cast<int>(fraction * 100.0);
+      if (percent == *last) return;
+      *last = percent;
+      std::fprintf(stderr, "\r%-6s %3d%%  %-24.*s", name.c_str(), percent,
+                   static_cast<int>(stage.size()), stage.data());
+      if (percent >= 100) std::fprintf(stderr, "\r%60s\r", "");
+      std::fflush(stderr);
+    };
+  }
+  return out;
+}
+
+void print_diagnostics(const embed::ClipMap& map) {
+  for (const auto& n : map.features.notes) std::cerr << "note: " << n << '\n';
+  for (const auto& w : map.embedding.warnings) std::cerr << "warning: " << w << '\n';
+}
+
+}  // namespace motionmap::cli

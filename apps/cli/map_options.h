@@ -1,0 +1,49 @@
+#pragma once
+// Options shared by the commands that compute a map (map, figure, pose, synth), and the code
+// that turns them into library calls.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "motionmap/embed/clip_map.h"
+
+namespace motionmap::cli {
+
+struct MapCliOptions {
+  std::vector<std::string> files;
+  std::string asf;
+  double fps = 0.0;
+  embed::Method method = embed::Method::Isomap;
+  int dims = 2;
+  int k = 20;
+  std::string heat = "auto";
+  double reg = 1e-3;
+  bool standardize = false;
+  bool strict = false;
+  features::FeatureKind features = features::FeatureKind::Quaternions;
+  features::DistanceKind distance = features::DistanceKind::PointCloud;
+  std::string exclude;
+  std::string frames;
+  int stride = 1;
+  bool keep_first = false;
+  std::string up = "y";
+  bool quiet = false;
+};
+
+/// Adds the input, feature and method options to `sub` (the method option only if `with_method`;
+/// the input files option only if `with_files`).
+void add_map_options(CLI::App* sub, MapCliOptions& opt, bool with_method, bool with_files = true);
+
+/// Loads every input file. @throws Error / ParseError.
+std::vector<Clip> load_inputs(const MapCliOptions& opt);
+
+/// The library options for `method`, with a progress line on stderr when it is a terminal.
+/// @throws ParameterError for malformed --frames or --heat values.
+embed::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics);
+
+/// Prints the notes and warnings of a map to stderr ("note: …", "warning: …").
+void print_diagnostics(const embed::ClipMap& map);
+
+}  // namespace motionmap::cli

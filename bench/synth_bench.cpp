@@ -1,0 +1,146 @@
+// Synthesis: map-point queries (weights + blend of a 31-joint pose), the blenders' set-up (local
+// neighbourhood systems, the kriging LU) and a whole path. Synthetic data: a random-walk map of N
+// samples over N frames of the built-in 31-joint walk.
+//
+//   build/bench/motionmap_bench --benchmark_filter='Synth'
+//   build/bench/motionmap_bench --benchmark_filter='SynthKrigingFactor/10000'   # ~800 MB, minutes
+#include <cmath>
+#include <map>
+#include <memory>
+#include <random>
+#include <utility>
+
+#include <benchmark/benchmark.h>
+
+#include "motionmap/sample/sample_clip.h"
+#include "motionmap/synth/synthesize.h"
+
+namespace {
+
+using motionmap::synth::BlendMode;
+using motionmap::synth::MapBlender;
+
+struct Data {
+  motionmap::Clip clip;
+  motionmap::features::FeatureSet set;
+  Eigen::MatrixXd map;
+};
+
+// Built once per N and kept.
+const Data& data(int n) {
+  static std::map<int, std::unique_ptr<Data>> cache;
+  auto& slot = cache[n];
+  if (!slot) {
+    slot = std::make_unique<Data>();
+    motionmap::sample::SampleOptions so;
+    so.seconds = n / so.fps;
+    slot->clip = motionmap::sample::make_sample_clip(motionmap::sample::SampleKind::Walk, so);
+    slot->set.segment_starts = {0};
+    for (int f = 0; f < n; ++f) {
+      slot->set.clip_of.push_back(0);
+      slot->set.frame_of.push_back(f);
+    }
+    std::mt19937 rng(42);
+    std::normal_distribution<double> step(0.0, 1.0);
+    slot->map.resize(n, 2);
+    slot->map.row(0).setZero();
+    for (int i = 1; i < n; ++i) slot->map.row(i) = slot->map.row(i - 1) + Eigen::RowVector2d(step(rng), step(rng));
+  }
+  return *slot;
+}
+
+MapBlender make(int n, BlendMode mode) {
+  const Data& d = data(n);
+  motionmap::synth::BlendOptions opt;
+  opt.mode = mode;
+  return MapBlender(std::span<const motionmap::Clip>(&d.clip, 1), d.set, d.map, opt);
+}
+
+const MapBlender& blender(int n, BlendMode mode) {
+  static std::map<std::pair<int, BlendMode>, std::unique_ptr<MapBlender>> cache;
+  auto& slot = cache[{n, mode}];
+  if (!slot) slot = std::make_unique<MapBlender>(make(n, mode));
+  return *slot;
+}
+
+// Query points inside the data: a random sample's map point plus up to half a step.
+std::vector<Eigen::Vector2d> queries(int n, int count) {
+  const Data& d = data(n);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  std::uniform_real_distribution<double> jitter(-0.5, 0.5);
+  std::vector<Eigen::Vector2d> out;
+  for (int i = 0; i < count; ++i) out.emplace_back(d.map.row(pick(rng)).transpose() + Eigen::Vector2d(jitter(rng), jitter(rng)));
+  return out;
+}
+
+void run_pose_query(benchmark::State& state, BlendMode mode) {
+  const int n = static_cast<int>(state.range(0));
+  const MapBlender& b = blender(n, mode);
+  const auto pts = queries(n, 1024);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    motionmap::Motion pose = b.pose_at(pts[i++ % pts.size()]);
+    benchmark::DoNotOptimize(pose.rotations.data());
+  }
+  state.counters["joints"] = b.skeleton().num_joints();
+}
+
+// One pose query: weights at a map point + blend of the 31-joint pose (target: < 50 µs at 10 000).
+void BM_SynthPoseLocal(benchmark::State& state) { run_pose_query(state, BlendMode::Local); }
+void BM_SynthPoseIdw(benchmark::State& state) { run_pose_query(state, BlendMode::Idw); }
+void BM_SynthPoseKriging(benchmark::State& state) { run_pose_query(state, BlendMode::Kriging); }
+BENCHMARK(BM_SynthPoseLocal)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SynthPoseIdw)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SynthPoseKriging)->Arg(1000)->Arg(2000)->Unit(benchmark::kMicrosecond);
+
+// Weights only, and the O(#samples) clamp of a point outside the data.
+void BM_SynthLocateLocal(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const MapBlender& b = blender(n, BlendMode::Local);
+  const auto pts = queries(n, 1024);
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(b.locate(pts[i++ % pts.size()]).weights.data());
+}
+BENCHMARK(BM_SynthLocateLocal)->Arg(10000)->Unit(benchmark::kMicrosecond);
+
+void BM_SynthLocateOutside(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const MapBlender& b = blender(n, BlendMode::Local);
+  for (auto _ : state) benchmark::DoNotOptimize(b.locate(Eigen::Vector2d(1e4, -1e4)).weights.data());
+}
+BENCHMARK(BM_SynthLocateOutside)->Arg(10000)->Unit(benchmark::kMicrosecond);
+
+// Set-up: per-sample data, merging, k-d tree and every local system (local mode).
+void BM_SynthBuildLocal(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  data(n);
+  for (auto _ : state) benchmark::DoNotOptimize(make(n, BlendMode::Local).num_points());
+}
+BENCHMARK(BM_SynthBuildLocal)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// Kriging set-up: dominated by the in-place LU of the dense (N+1)² system, (2/3)·N³ flops.
+void BM_SynthKrigingFactor(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  data(n);
+  for (auto _ : state) benchmark::DoNotOptimize(make(n, BlendMode::Kriging).num_points());
+  state.counters["GFlop"] = 2.0 / 3.0 * std::pow(n + 1.0, 3) * 1e-9;
+}
+BENCHMARK(BM_SynthKrigingFactor)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SynthKrigingFactor)->Arg(10000)->Iterations(1)->Unit(benchmark::kSecond);
+
+// A 10 s path (1201 frames at 120 fps) through 100 samples spread over the map, local mode.
+void BM_SynthPath(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const MapBlender& b = blender(n, BlendMode::Local);
+  motionmap::synth::MapPath path;
+  const Data& d = data(n);
+  for (int i = 0; i < 100; ++i) {
+    path.points.push_back(d.map.row(i * (n / 100)).transpose());
+    path.times.push_back(i * 10.0 / 99.0);
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(motionmap::synth::synthesize(b, path).motion.num_frames);
+}
+BENCHMARK(BM_SynthPath)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+}  // namespace

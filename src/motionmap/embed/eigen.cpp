@@ -1,0 +1,274 @@
+#include "motionmap/embed/eigen.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <Spectra/SymEigsSolver.h>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+
+#include "motionmap/core/error.h"
+#include "motionmap/embed/parallel.h"
+#include "motionmap/embed/progress.h"
+
+namespace motionmap::embed {
+
+namespace {
+
+constexpr int kMaxRestarts = 1000;
+// Row chunks of top_singular_scores' Gram matrix.
+constexpr int kGramChunks = 8;
+// Gram matrices above this size use Lanczos: 2 eigenpairs of a 120 by 120 Gram matrix take
+// 0.07 ms by Lanczos, 1.3 ms by the dense solver (which computes all 120).
+constexpr int kDenseGramLimit = 32;
+
+// Spectra's operator concept over a std::function product.
+class ProductOp {
+ public:
+  using Scalar = double;
+  ProductOp(Eigen::Index n, const Product& product) : m_n(n), m_product(product) {}
+  Eigen::Index rows() const { return m_n; }
+  Eigen::Index cols() const { return m_n; }
+  void perform_op(const double* x, double* y) const { m_product(x, y); }
+
+ private:
+  Eigen::Index m_n;
+  const Product& m_product;
+};
+
+std::string format_double(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+void check_count(Eigen::Index n, int count, int max_count, std::string_view what) {
+  if (count < 1 || count > max_count) {
+    throw ParameterError(std::string(what) + ": cannot compute " + std::to_string(count) +
+                         " eigenpairs of a " + std::to_string(n) + " by " + std::to_string(n) +
+                         " matrix (at most " + std::to_string(std::max(0, max_count)) + ")");
+  }
+}
+
+// Spectra's solver, also keeping the smallest Ritz value of the final Krylov subspace (the hook
+// runs once, at the end of compute(), while all ncv Ritz values are still there).
+class RitzSolver : public Spectra::SymEigsSolver<ProductOp> {
+ public:
+  RitzSolver(ProductOp& op, Eigen::Index nev, Eigen::Index ncv)
+      : Spectra::SymEigsSolver<ProductOp>(op, nev, ncv) {}
+  double smallest_ritz = std::numeric_limits<double>::quiet_NaN();
+
+ protected:
+  void sort_ritzpair(Spectra::SortRule rule) override {
+    smallest_ritz = this->m_ritz_val.minCoeff();
+    Spectra::SymEigsSolver<ProductOp>::sort_ritzpair(rule);
+  }
+};
+
+// Runs Lanczos for the `count` eigenpairs at the end `rule` selects; vectors sorted as `rule`.
+EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::SortRule rule,
+                   std::string_view what, double tolerance) {
+  ProductOp op(n, product);
+  const Eigen::Index ncv = std::min<Eigen::Index>(n, std::max(2 * count + 1, 20));
+  EigenPairs out;
+  Eigen::Index nconv = 0;
+  Spectra::CompInfo info = Spectra::CompInfo::NotComputed;
+  try {
+    RitzSolver solver(op, count, ncv);
+    solver.init();
+    nconv = solver.compute(rule, kMaxRestarts, tolerance, rule);
+    info = solver.info();
+    out.restarts = static_cast<int>(solver.num_iterations());
+    out.products = static_cast<int>(solver.num_operations());
+    if (info == Spectra::CompInfo::Successful) {
+      out.values = solver.eigenvalues();
+      out.vectors = solver.eigenvectors();
+      out.smallest_ritz = solver.smallest_ritz;
+    }
+  } catch (const motionmap::Error&) {
+    throw;  // Cancelled from inside the product
+  } catch (const std::exception& e) {
+    throw NumericalError(std::string(what) + ": the Lanczos eigen solver failed: " + e.what());
+  }
+  if (info != Spectra::CompInfo::Successful) {
+    throw NumericalError(
+        std::string(what) +
+        ": the Lanczos eigen solver did not converge: " + std::to_string(nconv) + " of " +
+        std::to_string(count) + " eigenpairs converged in " + std::to_string(out.restarts) +
+        " Lanczos iterations (" + std::to_string(out.products) + " products, tolerance " +
+        format_double(tolerance) + ", " + std::to_string(ncv) + " Lanczos vectors)");
+  }
+  return out;
+}
+
+}  // namespace
+
+EigenPairs largest_eigenpairs(Eigen::Index n, const Product& product, int count,
+                              std::string_view what, double tolerance) {
+  check_count(n, count, static_cast<int>(n) - 1, what);
+  return lanczos(n, product, count, Spectra::SortRule::LargestAlge, what, tolerance);
+}
+
+EigenPairs largest_eigenpairs(const Eigen::MatrixXd& A, int count, std::string_view what,
+                              int dense_limit) {
+  const Eigen::Index n = A.rows();
+  if (n <= dense_limit) {
+    check_count(n, count, static_cast<int>(n), what);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(A);
+    if (solver.info() != Eigen::Success) {
+      throw NumericalError(std::string(what) + ": the dense eigen solver did not converge");
+    }
+    EigenPairs out;
+    out.values = solver.eigenvalues().reverse().head(count);
+    out.vectors = solver.eigenvectors().rowwise().reverse().leftCols(count);
+    out.smallest_ritz = solver.eigenvalues()[0];
+    return out;
+  }
+  const Product product = [&A](const double* x, double* y) {
+    Eigen::Map<Eigen::VectorXd>(y, A.rows()).noalias() =
+        A.selfadjointView<Eigen::Lower>() * Eigen::Map<const Eigen::VectorXd>(x, A.rows());
+  };
+  return largest_eigenpairs(n, product, count, what);
+}
+
+EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
+                                         const Eigen::VectorXd& null_vector, int count,
+                                         std::string_view what, Progress* progress,
+                                         int dense_limit) {
+  const Eigen::Index n = A.rows();
+  check_count(n, count, static_cast<int>(n) - 2, what);
+  const Eigen::VectorXd& q = null_vector;
+  // ‖A‖∞ bounds A's spectrum.
+  double norm_inf = 0.0;
+  {
+    Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(n);
+    for (int c = 0; c < A.outerSize(); ++c) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
+        row_sums[it.row()] += std::abs(it.value());
+      }
+    }
+    norm_inf = row_sums.maxCoeff();
+  }
+
+  EigenPairs out;
+  if (n <= dense_limit) {
+    // Lift q's eigenvalue 0 above the whole spectrum; the rest is unchanged since A·q = 0.
+    Eigen::MatrixXd dense = Eigen::MatrixXd(A);
+    dense.noalias() += (2.0 * norm_inf + 1.0) * q * q.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(dense);
+    if (solver.info() != Eigen::Success) {
+      throw NumericalError(std::string(what) + ": the dense eigen solver did not converge");
+    }
+    out.vectors = solver.eigenvectors().leftCols(count);
+  } else {
+    // Shift-invert: A + εI is positive definite, so LDLᵀ needs no pivoting; ε only has to be
+    // small next to the wanted eigenvalues' gaps, the solve itself is backward stable.
+    const double eps = 1e-12 * std::max(norm_inf, 1e-300);
+    Eigen::SparseMatrix<double> shifted = A;
+    for (Eigen::Index i = 0; i < n; ++i) shifted.coeffRef(i, i) += eps;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(shifted);
+    if (ldlt.info() != Eigen::Success) {
+      throw NumericalError(std::string(what) + ": the sparse LDLT factorization failed (" +
+                           std::to_string(n) + " by " + std::to_string(n) + ", shift " +
+                           format_double(eps) + ")");
+    }
+    Eigen::VectorXd tmp(n);
+    const Product product = [&](const double* x, double* y) {
+      if (progress) progress->check_cancel();
+      Eigen::Map<const Eigen::VectorXd> xv(x, n);
+      Eigen::Map<Eigen::VectorXd> yv(y, n);
+      tmp = xv - q * q.dot(xv);
+      yv = ldlt.solve(tmp);
+      yv -= q * q.dot(yv);
+    };
+    out = lanczos(n, product, count, Spectra::SortRule::LargestAlge, what, kEigenTolerance);
+  }
+  // Rayleigh quotients are more accurate than 1/θ − ε, and sort the pairs ascending.
+  out.values.resize(count);
+  for (int c = 0; c < count; ++c) {
+    out.vectors.col(c).normalize();
+    out.values[c] = out.vectors.col(c).dot(A * out.vectors.col(c));
+  }
+  std::vector<int> order(static_cast<std::size_t>(count));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return out.values[a] < out.values[b]; });
+  EigenPairs sorted = out;
+  for (int c = 0; c < count; ++c) {
+    sorted.values[c] = out.values[order[c]];
+    sorted.vectors.col(c) = out.vectors.col(order[c]);
+  }
+  return sorted;
+}
+
+Eigen::MatrixXd top_singular_scores(const Eigen::MatrixXd& A, const Eigen::RowVectorXd& shift,
+                                    const Eigen::RowVectorXd& scale, int count,
+                                    std::string_view what,
+                                    Eigen::VectorXd& squared_singular_values) {
+  const Eigen::Index m = A.rows(), p = A.cols();
+  auto transform = [&](Eigen::MatrixXd& block) {
+    if (shift.size() > 0) block.rowwise() -= shift;
+    if (scale.size() > 0) block.array().rowwise() /= scale.array();
+  };
+  if (p > m) {
+    // Few frames, many features: Z·Zᵀ is the small one; Z itself is small too.
+    Eigen::MatrixXd Z = A;
+    transform(Z);
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(m, m);
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(Z);
+    EigenPairs top = largest_eigenpairs(gram, count, what, kDenseGramLimit);
+    squared_singular_values = top.values;
+    return top.vectors * top.values.cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  }
+  // ZᵀZ (lower triangle) over row chunks; a fixed chunk count keeps the summation order, and so
+  // the result, independent of the number of threads. The Gram matrix squares the condition
+  // number, which costs accuracy only on the small singular values; the maps use the largest.
+  const int chunks = m >= 1024 ? kGramChunks : 1;
+  const Eigen::Index rows_per_chunk = (m + chunks - 1) / chunks;
+  std::vector<Eigen::MatrixXd> partial(static_cast<std::size_t>(chunks));
+  auto rows_of = [&](int c, Eigen::MatrixXd& block) {
+    const Eigen::Index r0 = std::min(m, c * rows_per_chunk);
+    block = A.middleRows(r0, std::min(m, r0 + rows_per_chunk) - r0);
+    transform(block);
+  };
+  parallel_chunks(chunks, [&](int c, int) {
+    Eigen::MatrixXd block;
+    rows_of(c, block);
+    partial[c] = Eigen::MatrixXd::Zero(p, p);
+    partial[c].selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
+  });
+  Eigen::MatrixXd gram = partial[0];
+  for (int c = 1; c < chunks; ++c) gram += partial[c];
+  EigenPairs top = largest_eigenpairs(gram, count, what, kDenseGramLimit);
+  squared_singular_values = top.values;
+  Eigen::MatrixXd scores(m, count);
+  parallel_chunks(chunks, [&](int c, int) {
+    Eigen::MatrixXd block;
+    rows_of(c, block);
+    scores.middleRows(std::min(m, c * rows_per_chunk), block.rows()).noalias() =
+        block * top.vectors;
+  });
+  return scores;
+}
+
+void normalize_signs(Eigen::MatrixXd& M) {
+  for (Eigen::Index c = 0; c < M.cols(); ++c) {
+    Eigen::Index arg = 0;
+    double best = -1.0;
+    for (Eigen::Index r = 0; r < M.rows(); ++r) {
+      if (std::abs(M(r, c)) > best) {
+        best = std::abs(M(r, c));
+        arg = r;
+      }
+    }
+    // (+ 0.0 turns the −0 of a flipped zero back into +0, for byte-identical text output.)
+    if (M.rows() > 0 && M(arg, c) < 0.0) M.col(c) = (-M.col(c)).array() + 0.0;
+  }
+}
+
+}  // namespace motionmap::embed

@@ -1,0 +1,253 @@
+#include "motionmap/embed/embed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "motionmap/core/error.h"
+#include "motionmap/embed/eigen.h"
+#include "motionmap/embed/methods.h"
+#include "motionmap/embed/parallel.h"
+#include "motionmap/embed/progress.h"
+
+namespace motionmap::embed {
+
+namespace {
+
+struct MethodInfo {
+  Method method;
+  std::string_view name;
+  bool needs_features;
+  bool needs_distances;
+  bool uses_graph;
+};
+
+constexpr MethodInfo kMethods[] = {
+    {Method::Pca, "pca", true, false, false},
+    {Method::Svd, "svd", true, false, false},
+    {Method::Mds, "mds", false, true, false},
+    {Method::Isomap, "isomap", false, true, true},
+    {Method::LaplacianEigenmap, "le", false, true, true},
+    {Method::Lle, "lle", true, true, true},
+};
+
+const MethodInfo& info(Method method) {
+  for (const MethodInfo& m : kMethods) {
+    if (m.method == method) return m;
+  }
+  throw ParameterError("method: unknown value " + std::to_string(static_cast<int>(method)));
+}
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string cell(const char* name, Eigen::Index r, Eigen::Index c) {
+  return std::string(name) + "(" + std::to_string(r) + ", " + std::to_string(c) + ")";
+}
+
+void check_features(const Eigen::MatrixXd& X, std::string_view method) {
+  if (X.rows() == 0 || X.cols() == 0) {
+    throw ParameterError(std::string(method) + ": the feature matrix X is empty (" +
+                         std::to_string(X.rows()) + " by " + std::to_string(X.cols()) +
+                         "); expected #frames by #features with both ≥ 1");
+  }
+  if (!X.allFinite()) {
+    for (Eigen::Index c = 0; c < X.cols(); ++c) {
+      for (Eigen::Index r = 0; r < X.rows(); ++r) {
+        if (!std::isfinite(X(r, c))) {
+          throw ParameterError(std::string(method) + ": " + cell("X", r, c) + " is " +
+                               number(X(r, c)) + "; every feature must be finite");
+        }
+      }
+    }
+  }
+}
+
+// D must be a distance matrix: square, finite, ≥ 0, zero diagonal, symmetric (to 1e-10 of its
+// largest entry).
+void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress& progress) {
+  const std::string who = std::string(method) + ": ";
+  if (D.rows() == 0 || D.rows() != D.cols()) {
+    throw ParameterError(who + "the distance matrix D is " + std::to_string(D.rows()) + " by " +
+                         std::to_string(D.cols()) + "; expected #frames by #frames with ≥ 1 frame");
+  }
+  const Eigen::Index n = D.rows();
+  // One pass over 64 by 64 tiles of the lower triangle and their mirrors (both fit in cache),
+  // reduced without branches per tile: finiteness, smallest entry, largest magnitude, largest
+  // asymmetry, non-zero diagonal.
+  constexpr int kTile = 64;
+  const int tiles = static_cast<int>((n + kTile - 1) / kTile);
+  struct TileStats {
+    bool finite = true;
+    double smallest = 0.0, largest = 0.0, asymmetry = 0.0;
+    bool diagonal = false;
+  };
+  std::vector<TileStats> stats(static_cast<std::size_t>(tiles));
+  parallel_chunks(
+      tiles,
+      [&](int t, int) {
+        TileStats& s = stats[t];
+        const Eigen::Index c0 = Eigen::Index(t) * kTile, w = std::min<Eigen::Index>(kTile, n - c0);
+        for (Eigen::Index r0 = c0; r0 < n; r0 += kTile) {
+          const Eigen::Index h = std::min<Eigen::Index>(kTile, n - r0);
+          const auto lower = D.block(r0, c0, h, w);
+          const auto upper = D.block(c0, r0, w, h).transpose();
+          s.finite = s.finite && lower.allFinite() && upper.allFinite();
+          s.smallest = std::min({s.smallest, lower.minCoeff(), upper.minCoeff()});
+          s.largest = std::max(s.largest, lower.cwiseAbs().maxCoeff());
+          s.asymmetry = std::max(s.asymmetry, (lower - upper).cwiseAbs().maxCoeff());
+        }
+        s.diagonal = D.diagonal().segment(c0, w).cwiseAbs().maxCoeff() != 0.0;
+      },
+      [&](int done) { progress.update(double(done) / tiles); });
+  TileStats all;
+  for (const TileStats& s : stats) {
+    all.finite = all.finite && s.finite;
+    all.smallest = std::min(all.smallest, s.smallest);
+    all.largest = std::max(all.largest, s.largest);
+    all.asymmetry = std::max(all.asymmetry, s.asymmetry);
+    all.diagonal = all.diagonal || s.diagonal;
+  }
+  if (!all.finite) {
+    for (Eigen::Index c = 0; c < n; ++c) {
+      for (Eigen::Index r = 0; r < n; ++r) {
+        if (!std::isfinite(D(r, c))) {
+          throw ParameterError(who + cell("D", r, c) + " is " + number(D(r, c)) +
+                               "; every distance must be finite");
+        }
+      }
+    }
+  }
+  const double tolerance = 1e-10 * all.largest;
+  if (all.smallest >= 0.0 && all.asymmetry <= tolerance && !all.diagonal) return;
+  // Something is wrong: a serial rescan names the first offending entry.
+  for (Eigen::Index c = 0; c < n; ++c) {
+    for (Eigen::Index r = 0; r < n; ++r) {
+      if (D(r, c) < 0.0) {
+        throw ParameterError(who + cell("D", r, c) + " = " + number(D(r, c)) +
+                             " is negative; distances must be ≥ 0");
+      }
+      if (r == c && D(r, c) != 0.0) {
+        throw ParameterError(who + cell("D", r, c) + " = " + number(D(r, c)) +
+                             "; the diagonal of a distance matrix must be 0");
+      }
+      if (std::abs(D(r, c) - D(c, r)) > tolerance) {
+        throw ParameterError(who + "D is not symmetric: " + cell("D", r, c) + " = " +
+                             number(D(r, c)) + " but " + cell("D", c, r) + " = " + number(D(c, r)));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::string_view method_name(Method method) {
+  return info(method).name;
+}
+
+std::optional<Method> parse_method(std::string_view name) {
+  for (const MethodInfo& m : kMethods) {
+    if (m.name == name) return m.method;
+  }
+  return std::nullopt;
+}
+
+const std::vector<Method>& all_methods() {
+  static const std::vector<Method> methods = {
+      Method::Pca, Method::Svd, Method::Mds, Method::Isomap, Method::LaplacianEigenmap,
+      Method::Lle};
+  return methods;
+}
+
+void EmbedOptions::validate(int num_frames) const {
+  const MethodInfo& m = info(method);
+  const std::string who = std::string(m.name) + ": ";
+  if (dimensions != 2 && dimensions != 3) {
+    throw ParameterError(who + "dimensions = " + std::to_string(dimensions) +
+                         " is out of range; valid values are 2 and 3");
+  }
+  if (num_frames < dimensions + 2) {
+    throw ParameterError(who + "the clip has " + std::to_string(num_frames) + " frame(s); a " +
+                         std::to_string(dimensions) + "-D map needs at least " +
+                         std::to_string(dimensions + 2));
+  }
+  if (m.uses_graph && (k < 1 || k > num_frames - 1)) {
+    throw ParameterError(who + "k = " + std::to_string(k) + " is out of range: with " +
+                         std::to_string(num_frames) + " frames it must be in [1, " +
+                         std::to_string(num_frames - 1) + "]");
+  }
+  if (method == Method::LaplacianEigenmap && heat && !std::isfinite(*heat)) {
+    throw ParameterError(who + "heat = " + number(*heat) +
+                         " is not finite; give a number (≤ 0: all weights 1) or leave it unset "
+                         "for the automatic width");
+  }
+  if (method == Method::Lle && !(reg > 0.0 && std::isfinite(reg))) {
+    throw ParameterError(who + "reg = " + number(reg) +
+                         " is out of range; it must be a finite number > 0 (default 1e-3)");
+  }
+}
+
+Embedding embed(const EmbedInput& input, const EmbedOptions& options) {
+  const MethodInfo& m = info(options.method);
+  Embedding out;
+  out.method = options.method;
+  Progress progress(options, &out.timings);
+  progress.stage("validate", 0.0, 0.02);
+
+  const std::string who = std::string(m.name) + ": ";
+  if (m.needs_features && input.features == nullptr) {
+    throw ParameterError(who +
+                         "this method needs the feature matrix X (#frames by #features); "
+                         "none was given");
+  }
+  if (m.needs_distances && input.distances == nullptr) {
+    throw ParameterError(who +
+                         "this method needs the distance matrix D (#frames by #frames); "
+                         "none was given");
+  }
+  if (m.needs_features) check_features(*input.features, m.name);
+  if (m.needs_distances) check_distances(*input.distances, m.name, progress);
+  if (m.needs_features && m.needs_distances && input.features->rows() != input.distances->rows()) {
+    throw ParameterError(who + "X has " + std::to_string(input.features->rows()) +
+                         " rows but D has " + std::to_string(input.distances->rows()) +
+                         "; both need one per frame");
+  }
+  const int frames =
+      static_cast<int>(m.needs_features ? input.features->rows() : input.distances->rows());
+  options.validate(frames);
+  if (!m.needs_distances && input.features->cols() < options.dimensions) {
+    throw ParameterError(who + "X has " + std::to_string(input.features->cols()) +
+                         " column(s); a " + std::to_string(options.dimensions) +
+                         "-D map needs at least " + std::to_string(options.dimensions));
+  }
+
+  switch (options.method) {
+    case Method::Pca:
+      run_pca(*input.features, options, out, progress);
+      break;
+    case Method::Svd:
+      run_svd(*input.features, options, out, progress);
+      break;
+    case Method::Mds:
+      run_mds(*input.distances, options, out, progress);
+      break;
+    case Method::Isomap:
+      run_isomap(*input.distances, options, out, progress);
+      break;
+    case Method::LaplacianEigenmap:
+      run_laplacian_eigenmap(*input.distances, options, out, progress);
+      break;
+    case Method::Lle:
+      run_lle(*input.features, *input.distances, options, out, progress);
+      break;
+  }
+  normalize_signs(out.coordinates);
+  progress.finish();
+  return out;
+}
+
+}  // namespace motionmap::embed

@@ -1,0 +1,120 @@
+#pragma once
+// Maps every frame of a clip to a point on a 2-D (or 3-D) map: PCA, SVD, classical MDS, Isomap,
+// Laplacian eigenmap and LLE over a feature matrix X and/or a pose-distance matrix D.
+//
+//   motionmap::embed::EmbedOptions options;
+//   options.method = motionmap::embed::Method::Isomap;
+//   options.k = 15;
+//   motionmap::embed::Embedding map = motionmap::embed::embed({.distances = &D}, options);
+//   // map.coordinates: #frames by 2; map.warnings: anything the caller should show
+//
+// Rows are frames everywhere. Which input each method reads:
+//   pca, svd  X only;   mds, isomap, le  D only;   lle  X (weights) and D (neighbours).
+// Every output axis is flipped so that its entry of largest magnitude is positive, so the same
+// input always gives the same picture (and byte-identical numbers on one machine).
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace motionmap::embed {
+
+enum class Method { Pca, Svd, Mds, Isomap, LaplacianEigenmap, Lle };
+
+/// "pca", "svd", "mds", "isomap", "le", "lle".
+std::string_view method_name(Method method);
+
+/// The method named by `name` (the names of method_name); nullopt for anything else.
+std::optional<Method> parse_method(std::string_view name);
+
+/// Every method, in the order of the enum (for menus and loops).
+const std::vector<Method>& all_methods();
+
+/// What an embedding needs from its caller. Defaults are the documented ones (docs/methods/).
+struct EmbedOptions {
+  Method method = Method::Pca;
+  int dimensions = 2;  ///< 2 or 3
+  /// Neighbours per frame (isomap, le, lle); must satisfy 1 ≤ k ≤ #frames − 1.
+  int k = 20;
+  /// Laplacian eigenmap heat-kernel width t in exp(−d²/t): nullopt = the median squared k-NN
+  /// distance (reported in Embedding::heat_used); ≤ 0 = every edge weight 1.
+  std::optional<double> heat;
+  /// LLE regularisation: C += reg·trace(C)·I before solving for the weights; must be > 0.
+  double reg = 1e-3;
+  /// PCA only: divide every column by its standard deviation first (correlation PCA).
+  bool standardize = false;
+  /// Disconnected neighbour graph: false joins the components through their closest pairs and
+  /// warns; true throws NumericalError instead.
+  bool strict = false;
+  /// Called from the calling thread with the overall fraction done (non-decreasing, 0 … 1) and
+  /// the current stage's name, at stage boundaries and periodically inside long loops.
+  std::function<void(double fraction, std::string_view stage)> progress;
+  /// Polled from the calling thread as often as progress; returning true stops the computation
+  /// with motionmap::Cancelled.
+  std::function<bool()> cancel;
+
+  /// Checks every field for a clip of `num_frames` frames. @throws ParameterError naming the
+  /// parameter, its value and the valid range.
+  void validate(int num_frames) const;
+};
+
+/// The inputs. Pointers, so a caller passes only what its method needs (nullptr = absent).
+struct EmbedInput {
+  const Eigen::MatrixXd* features = nullptr;  ///< X: #frames by #features
+  const Eigen::MatrixXd* distances =
+      nullptr;  ///< D: #frames by #frames, symmetric, ≥ 0, 0 diagonal
+};
+
+/// What classical MDS (and Isomap's MDS step) learns about the spectrum of B = −½·J·D²·J that the
+/// map leaves out. Negative eigenvalues mean the distances are not Euclidean; they are reported
+/// here, never folded into the coordinates.
+struct NegativeSpectrum {
+  /// Most negative eigenvalue of B (0 when B has none). Exact for #frames ≤ kDenseEigenLimit
+  /// (eigen.h); above, a free by-product of the Lanczos solve (its smallest Ritz value), which
+  /// is never more negative than the truth and usually close to it, but only an estimate.
+  double most_negative = 0.0;
+  /// |most_negative| ÷ the largest eigenvalue: ≈0 for Euclidean distances; large values mean
+  /// the map distorts D strongly.
+  double relative = 0.0;
+  /// Number of eigenvalues < −1e-9·largest. Known only when the whole spectrum was computed
+  /// (#frames ≤ kDenseEigenLimit, see eigen.h); nullopt otherwise.
+  std::optional<int> count;
+};
+
+/// Wall time of one stage.
+struct StageTime {
+  std::string stage;
+  double seconds = 0.0;
+};
+
+/// A map of the frames, with what was used to make it and anything worth telling the user.
+struct Embedding {
+  Method method = Method::Pca;
+  /// #frames by dimensions: row f = the map position of frame f.
+  Eigen::MatrixXd coordinates;
+  /// dimensions eigenvalues, one per axis, of the matrix the method decomposes: PCA the
+  /// covariance (1/(F−1)), SVD XᵀX, MDS/Isomap B, LE the generalised L·y = λ·Deg·y, LLE M.
+  Eigen::VectorXd eigenvalues;
+  NegativeSpectrum negative;  ///< MDS and Isomap only
+  /// MDS and Isomap: normalised stress against D, resp. the geodesic distances (metrics.h).
+  std::optional<double> stress;
+  int k_used = 0;            ///< graph methods: neighbours per frame (0 otherwise)
+  double heat_used = 0.0;    ///< LE: the heat-kernel width used (0 = all weights 1)
+  int graph_components = 0;  ///< graph methods: components of the k-NN graph before joining
+  int connecting_edges = 0;  ///< edges added to join them (0 when connected)
+  std::vector<std::string> warnings;
+  std::vector<StageTime> timings;  ///< in execution order
+};
+
+/// Computes the map of options.method. X and/or D per the method (see the top of this file);
+/// when both are given they must have the same number of rows.
+/// @throws ParameterError for a missing or malformed input (empty, non-finite, D not square,
+///   not symmetric, negative or with a non-zero diagonal, row counts that differ) or a bad option;
+///   NumericalError for a disconnected graph in strict mode, heat-kernel weights that underflow,
+///   or an eigen solver that does not converge; Cancelled when options.cancel returns true.
+Embedding embed(const EmbedInput& input, const EmbedOptions& options);
+
+}  // namespace motionmap::embed

@@ -1,0 +1,39 @@
+#pragma once
+// The six methods behind embed(). Each checks what only it needs, composes the shared routines
+// (neighbors, graph, eigen) and fills `out` (coordinates before the sign convention, eigenvalues,
+// diagnostics). embed() has already validated the options and the inputs it reads.
+#include <Eigen/Core>
+
+#include "motionmap/embed/embed.h"
+
+namespace motionmap::embed {
+
+class Progress;
+
+/// PCA of X (#frames by #features): scores on the top principal axes.
+void run_pca(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
+             Progress& progress);
+/// Truncated SVD of X, not centred: X times its top right-singular vectors.
+void run_svd(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
+             Progress& progress);
+/// Classical MDS of D (#frames by #frames).
+void run_mds(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& out,
+             Progress& progress);
+/// Isomap: classical MDS of the geodesic distances along D's k-NN graph.
+void run_isomap(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& out,
+                Progress& progress);
+/// Laplacian eigenmap of D's heat-kernel k-NN graph.
+void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& out,
+                            Progress& progress);
+/// LLE: reconstruction weights from X over neighbours from D.
+void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOptions& options,
+             Embedding& out, Progress& progress);
+
+/// Classical (Torgerson) MDS shared by mds and isomap: B = −½·J·S·J with S_ij = T_ij² (T's lower
+/// triangle read; T: #frames by #frames distances), coordinates U·√max(λ, 0) of B's top
+/// eigenpairs; fills coordinates, eigenvalues, negative and stress (against T), and warns about
+/// axes with λ ≤ 0. Reports the stages "eigen" and "stress" over [begin, end].
+void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedding& out,
+                   Progress& progress, double begin, double end);
+
+}  // namespace motionmap::embed

@@ -1,0 +1,180 @@
+#include "motionmap/embed/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "motionmap/core/error.h"
+#include "motionmap/embed/neighbors.h"
+#include "motionmap/embed/parallel.h"
+
+namespace motionmap::embed {
+
+namespace {
+
+constexpr int kRowsPerChunk = 64;
+
+void check_pair(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y, const char* what) {
+  if (T.rows() != T.cols() || T.rows() != Y.rows()) {
+    throw ParameterError(std::string(what) + ": the distance matrix is " +
+                         std::to_string(T.rows()) + " by " + std::to_string(T.cols()) +
+                         " and the map has " + std::to_string(Y.rows()) +
+                         " rows; expected #frames by #frames and #frames rows");
+  }
+  if (!T.allFinite() || !Y.allFinite()) {
+    throw ParameterError(std::string(what) + ": the distances and the map must be finite");
+  }
+}
+
+// Rank (1 = nearest) of j among i's neighbours by the values v, ties by index.
+long rank_of(const double* v, int n, int i, int j) {
+  const double dj = v[j];
+  long rank = 1;
+  for (int l = 0; l < n; ++l) {
+    if (l == i) continue;
+    rank += (v[l] < dj) || (v[l] == dj && l < j);
+  }
+  return rank;
+}
+
+double percentile(std::vector<double> values, double q) {
+  // numpy's default ("linear"): position q·(n − 1) between the sorted values.
+  std::sort(values.begin(), values.end());
+  const double pos = q * double(values.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  return values[lo] + (pos - double(lo)) * (values[hi] - values[lo]);
+}
+
+}  // namespace
+
+NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y,
+                                         int k) {
+  check_pair(D, Y, "trustworthiness");
+  const int n = static_cast<int>(D.rows());
+  if (k < 1 || 2 * k >= n) {
+    throw ParameterError("trustworthiness: k = " + std::to_string(k) + " is out of range: with " +
+                         std::to_string(n) + " frames it must satisfy 1 ≤ k < " +
+                         std::to_string(n) + "/2");
+  }
+  const int chunks = (n + kRowsPerChunk - 1) / kRowsPerChunk;
+  const int workers = worker_count(chunks);
+  std::vector<Eigen::ArrayXd> scratch(static_cast<std::size_t>(workers));
+  // Per-frame penalties, summed in frame order afterwards so the result is thread-independent.
+  std::vector<long> trust_penalty(std::size_t(n), 0);
+  std::vector<long> cont_penalty(std::size_t(n), 0);
+  parallel_chunks(chunks, [&](int c, int w) {
+    Eigen::ArrayXd& e = scratch[w];
+    const auto kk = static_cast<std::size_t>(k);
+    std::vector<int> nd(kk), ne(kk);
+    std::vector<double> dd(kk), de(kk);
+    const int end = std::min(n, (c + 1) * kRowsPerChunk);
+    for (int i = c * kRowsPerChunk; i < end; ++i) {
+      e.setZero(n);
+      for (Eigen::Index a = 0; a < Y.cols(); ++a) e += (Y.col(a).array() - Y(i, a)).square();
+      e = e.sqrt();
+      const double* d = D.col(i).data();
+      k_nearest(d, n, i, k, nd.data(), dd.data());
+      k_nearest(e.data(), n, i, k, ne.data(), de.data());
+      std::vector<int> sd(nd), se(ne);
+      std::sort(sd.begin(), sd.end());
+      std::sort(se.begin(), se.end());
+      for (int j : ne) {
+        if (!std::binary_search(sd.begin(), sd.end(), j))
+          trust_penalty[i] += rank_of(d, n, i, j) - k;
+      }
+      for (int j : nd) {
+        if (!std::binary_search(se.begin(), se.end(), j))
+          cont_penalty[i] += rank_of(e.data(), n, i, j) - k;
+      }
+    }
+  });
+  double trust_sum = 0.0, cont_sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    trust_sum += double(trust_penalty[i]);
+    cont_sum += double(cont_penalty[i]);
+  }
+  const double norm = 2.0 / (double(n) * k * (2.0 * n - 3.0 * k - 1.0));
+  return {1.0 - norm * trust_sum, 1.0 - norm * cont_sum};
+}
+
+double trustworthiness(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k) {
+  return neighborhood_quality(D, Y, k).trustworthiness;
+}
+
+double continuity(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k) {
+  return neighborhood_quality(D, Y, k).continuity;
+}
+
+double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y) {
+  if (T.rows() != T.cols() || T.rows() != Y.rows()) {
+    throw ParameterError("normalized_stress: the target distances are " + std::to_string(T.rows()) +
+                         " by " + std::to_string(T.cols()) + " and the map has " +
+                         std::to_string(Y.rows()) +
+                         " rows; expected #frames by #frames and #frames rows");
+  }
+  const int n = static_cast<int>(T.rows());
+  const int chunks = (n + kRowsPerChunk - 1) / kRowsPerChunk;
+  // Pairs i > j, a column j of T at a time (contiguous), with the map distances of the same
+  // pairs computed column-wise too; partial sums per chunk, combined in chunk order.
+  std::vector<double> tt(std::size_t(chunks), 0.0), te(std::size_t(chunks), 0.0),
+      ee(std::size_t(chunks), 0.0), rr(std::size_t(chunks), 0.0);
+  auto pass = [&](bool residual, double s) {
+    parallel_chunks(chunks, [&](int c, int) {
+      Eigen::ArrayXd e;
+      const int end = std::min(n, (c + 1) * kRowsPerChunk);
+      for (int j = c * kRowsPerChunk; j < end; ++j) {
+        const Eigen::Index m = n - 1 - j;
+        if (m == 0) continue;
+        e.setZero(m);
+        for (Eigen::Index a = 0; a < Y.cols(); ++a) {
+          e += (Y.col(a).tail(m).array() - Y(j, a)).square();
+        }
+        e = e.sqrt();
+        const auto t = T.col(j).tail(m).array();
+        if (residual) {
+          rr[c] += (t - s * e).square().sum();
+        } else {
+          tt[c] += t.square().sum();
+          te[c] += (t * e).sum();
+          ee[c] += e.square().sum();
+        }
+      }
+    });
+  };
+  pass(false, 0.0);
+  double stt = 0.0, ste = 0.0, see = 0.0;
+  for (int c = 0; c < chunks; ++c) {
+    stt += tt[c];
+    ste += te[c];
+    see += ee[c];
+  }
+  if (stt == 0.0) return 0.0;
+  if (see == 0.0) return 1.0;
+  // stress² = 1 − (Σte)²/(Σt²·Σe²): the sums carry ~1e-14 relative error, so this is good to
+  // ~1e-4 relative down to stress² = 1e-10; below, 1 − ratio has cancelled and a second pass
+  // sums the residuals directly.
+  const double ratio = (ste / stt) * (ste / see);
+  if (1.0 - ratio > 1e-10) return std::sqrt(1.0 - ratio);
+  pass(true, ste / see);
+  double srr = 0.0;
+  for (double r : rr) srr += r;
+  return std::sqrt(srr / stt);
+}
+
+double jump_score(const Eigen::MatrixXd& Y) {
+  if (Y.rows() < 2) {
+    throw ParameterError("jump_score: the map has " + std::to_string(Y.rows()) +
+                         " frames; it needs at least 2");
+  }
+  std::vector<double> steps(static_cast<std::size_t>(Y.rows() - 1));
+  for (Eigen::Index f = 0; f + 1 < Y.rows(); ++f) steps[f] = (Y.row(f + 1) - Y.row(f)).norm();
+  const double median = percentile(steps, 0.5);
+  const double p95 = percentile(steps, 0.95);
+  if (median == 0.0) return p95 == 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
+  return p95 / median;
+}
+
+}  // namespace motionmap::embed

@@ -1,0 +1,51 @@
+#pragma once
+// How faithful a map is: neighbourhood preservation (trustworthiness and continuity, Venna &
+// Kaski 2001), distance preservation (normalised stress) and smoothness in time (jump score).
+//
+//   auto q = neighborhood_quality(D, map.coordinates);  // q.trustworthiness, q.continuity ∈ [0, 1]
+//   double jumps = jump_score(map.coordinates);         // ≈1 smooth; ≫1 the map tears the motion
+#include <Eigen/Core>
+
+namespace motionmap::embed {
+
+/// Neighbourhood preservation at k neighbours, both in [0, 1] (1 = perfect).
+struct NeighborhoodQuality {
+  double trustworthiness = 0.0;  ///< are the map's neighbours true neighbours?
+  double continuity = 0.0;       ///< are the true neighbours still neighbours on the map?
+};
+
+/// Trustworthiness exactly as sklearn.manifold.trustworthiness(D, Y, n_neighbors=k,
+/// metric="precomputed"):
+///   T = 1 − 2/(n·k·(2n − 3k − 1)) · Σ_i Σ_{j ∈ U_i} (r(i, j) − k),
+/// U_i = frame i's k nearest on the map that are not among its k nearest by D, r(i, j) = the rank
+/// of j among i's neighbours by D (1 = nearest). Continuity is the same with the roles of D and
+/// the map swapped (true neighbours missing on the map, ranked by map distance). Ties in either
+/// space go to the smaller frame index. D: #frames by #frames (column i = distances from i);
+/// Y: #frames by #dims map. O(#frames²), parallel.
+/// @throws ParameterError unless 1 ≤ k < #frames / 2, D is square with Y's row count, and both
+///   are finite.
+NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y,
+                                         int k = 10);
+
+/// neighborhood_quality(D, Y, k).trustworthiness. @throws as neighborhood_quality.
+double trustworthiness(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k = 10);
+
+/// neighborhood_quality(D, Y, k).continuity. @throws as neighborhood_quality.
+double continuity(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k = 10);
+
+/// Normalised stress of map Y against target distances T (#frames by #frames, lower triangle
+/// read) over the pairs i < j, after the optimal scale s of the map distances e_ij:
+///   stress = sqrt(Σ (t_ij − s·e_ij)² / Σ t_ij²),   s = Σ t_ij·e_ij / Σ e_ij²  (the minimiser),
+/// i.e. sqrt(1 − (Σ t·e)² / (Σ t²·Σ e²)). 0 = distances preserved up to scale; 1 when the map
+/// is a single point. 0 when every target distance is 0.
+/// @throws ParameterError unless T is square with Y's row count.
+double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y);
+
+/// Jump score: the 95th percentile of the steps ‖Y(f+1) − Y(f)‖ between consecutive frames
+/// divided by their median (percentiles interpolated linearly, like numpy). ≈1 when the map
+/// moves evenly; large when a few steps jump across the map. 1 when every step is 0, +inf when
+/// the median is 0 but not the 95th percentile.
+/// @throws ParameterError for fewer than 2 frames.
+double jump_score(const Eigen::MatrixXd& Y);
+
+}  // namespace motionmap::embed

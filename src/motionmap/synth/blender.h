@@ -1,0 +1,179 @@
+#pragma once
+// Map point → pose: the weights a point of a 2-D motion map gives every sample (frame) of the
+// clips the map was built from, and the pose blended from the samples with those weights.
+//
+//   motionmap::synth::BlendOptions opt;                    // local kriging, K = 12, reach 3
+//   motionmap::synth::MapBlender blender(clips, set, coords, opt);
+//   motionmap::Motion pose = blender.pose_at({0.3, -1.2});  // one frame, at the origin, facing +Z
+//   auto w = blender.locate({0.3, -1.2});                   // weights and validity of that point
+//   if (w.validity.clamped) { /* the point was outside the data and moved to its edge */ }
+//
+// Weights (see docs/synthesis.md for the maths):
+//  - Kriging: ordinary kriging with a linear variogram over all samples. With A_ij = ‖c_i − c_j‖
+//    and a_i = ‖c_i − p‖ it solves [A 1; 1ᵀ 0]·[w; μ] = [a; 1]; the (N+1)² matrix is LU-factored
+//    once, in the constructor, so a query is O(N²).
+//  - Local (default): kriging on small neighbourhoods, made continuous. Every sample i has its
+//    own system on K mutually separated map neighbours (itself included), factored once; a
+//    query blends the predictions of the 4 map-nearest samples' systems with partition-of-unity
+//    weights (Franke–Little: ((R − d)/(R·d))², R = distance of the 5th nearest) that are 1 at a
+//    sample and fall to 0 before a sample leaves the 4 nearest.
+//  - Idw: Franke–Little inverse-distance weights on the K nearest samples (R = distance of the
+//    (K+1)-th): non-negative, continuous, the robust fallback.
+// All three are exact at samples (the weights at a sample's own map point are 1 on it) and
+// continuous in p. Samples closer to each other than 1e-9 × the map's extent share a map point
+// and are merged: such a point gives each of them an equal share of the weight.
+//
+// Outside the data: a point farther from every sample than reach × the median step between
+// consecutive samples is moved, and reported: to the nearest point q of the trajectory (the
+// polyline through consecutive samples of each clip), then back towards the point by
+// √(r² − e²), r = reach × step and e = the distance from q to the nearer end of its segment, so
+// it lands within r of that sample. This is continuous in p except where two stretches of
+// trajectory are equally near (the nearest point of the union of reach disks would jump at
+// every boundary between two samples' cells), and costs O(#samples), for outside points only.
+//
+// Blending: joint rotations per joint, every sample's quaternion aligned to the hemisphere of the
+// largest-weight sample, weighted sum, normalised (negative weights allowed). The root (the
+// "motion root", see motion_root()) is split into heading (yaw about the up axis, from
+// features::heading_angle), floor position, height and tilt (rotation with the heading
+// removed); a blended pose keeps height and tilt and stands at the origin facing the heading-0
+// direction (+Z for the usual Y-up BVH). Its heading-local velocity and yaw rate are blended too,
+// for synthesize() to integrate.
+//
+// A MapBlender copies what it needs from the clips; its const member functions are thread-safe.
+#include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "motionmap/core/rotation.h"
+#include "motionmap/features/features.h"
+#include "motionmap/skeleton/skeleton.h"
+
+namespace motionmap::synth {
+
+enum class BlendMode { Kriging, Local, Idw };
+
+/// "kriging" / "local" / "idw".
+std::string_view blend_mode_name(BlendMode mode);
+/// The mode called `name` (exact, lower case as blend_mode_name writes it), or nothing.
+std::optional<BlendMode> parse_blend_mode(std::string_view name);
+
+/// Most merged map points the kriging mode factors: a (N+1)² dense matrix, 800 MB at 10 000.
+inline constexpr int kMaxKrigingSamples = 10000;
+/// Number of nearest samples whose local systems the local mode blends per query.
+inline constexpr int kLocalPartitionSize = 4;
+
+struct BlendOptions {
+  BlendMode mode = BlendMode::Local;
+  /// K: samples per local system (local) or samples blended (idw), in [1, #samples]; unused by
+  /// kriging.
+  int neighbors = 12;
+  /// A point is inside the data when a sample lies within reach × median step; > 0.
+  double reach = 3.0;
+  /// The up axis, as for the features (heading and height are about / along it).
+  Axis up = Axis::Y;
+
+  /// @throws ParameterError naming `neighbors` or `reach`, its value and the valid range
+  ///         (neighbors is only checked in the local and idw modes).
+  void validate(int num_samples) const;
+};
+
+/// How far a map point is from the data, and where it was actually evaluated.
+struct PointValidity {
+  Eigen::Vector2d query = Eigen::Vector2d::Zero();  ///< the point asked for
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();  ///< the point evaluated (== query unless clamped)
+  bool clamped = false;         ///< query was outside the data and moved (see the top of the file)
+  double distance = 0.0;        ///< from query to the nearest sample (map units)
+  int nearest_sample = 0;       ///< the sample at that distance (the first of merged ones)
+  /// Kriging variance at `point` (map units: the linear variogram's), 0 at samples, growing away
+  /// from them: w·a + μ (kriging), the partition-weighted local variances (local); NaN (idw).
+  double variance = 0.0;
+};
+
+/// Weights of a map point over the samples: sparse, sample indices increasing, summing to 1.
+/// Local and idw weights touch a few dozen samples, kriging weights every sample.
+struct MapWeights {
+  std::vector<int> samples;     ///< sample indices (rows of the map), strictly increasing
+  std::vector<double> weights;  ///< one per entry of samples; may be negative (kriging, local)
+  PointValidity validity;
+};
+
+/// One blended frame before root motion is applied.
+struct BlendedFrame {
+  /// #joints local rotations; the motion root's is its tilt (rotation with the heading removed).
+  std::vector<Eigen::Quaterniond> rotations;
+  /// #joints local translations; the motion root's has floor components 0 and the blended height
+  /// along the up axis.
+  std::vector<Eigen::Vector3d> translations;
+  /// Blended root floor velocity in the heading frame (units per second, up component 0).
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  double yaw_rate = 0.0;  ///< blended heading change, radians per second about the up axis
+};
+
+class MapBlender {
+ public:
+  /// Prepares blending for a map of `samples` (the features the map was built from: their
+  /// clip_of and frame_of say which clip and frame each map row is; X and D are not used).
+  /// `coords` is #samples by ≥ 2 map coordinates; only the first two columns are used. `clips`
+  /// are the clips of build_features, in the same order, sharing one joint hierarchy; the first
+  /// one's skeleton and frame time are the blender's. Kriging factors its system here: about
+  /// (2/3)·N³ flops on one core (0.05 s at N = 1 000, 0.4 s at 2 000, about a minute and 800 MB
+  /// at 10 000); the local mode's set-up is O(N·K·log N) (0.1 s at 10 000).
+  /// @throws ParameterError for bad options, a map that does not belong to the clips (row count
+  ///         ≠ #samples, a clip or frame index out of range, clips of different hierarchies),
+  ///         fewer than 2 columns, or kriging with more than kMaxKrigingSamples merged points;
+  ///         NumericalError for non-finite coordinates or motion values or a singular system.
+  MapBlender(std::span<const Clip> clips, const features::FeatureSet& samples,
+             const Eigen::MatrixXd& coords, const BlendOptions& options = {});
+  ~MapBlender();
+  MapBlender(MapBlender&&) noexcept;
+  MapBlender& operator=(MapBlender&&) noexcept;
+
+  /// Weights and validity of map point p (clamped into the data's reach first when outside).
+  /// @throws ParameterError if p is not finite.
+  MapWeights locate(const Eigen::Vector2d& p) const;
+  /// locate() for many points at once (kriging solves them together, much faster than one by
+  /// one). @throws ParameterError naming the first non-finite point.
+  std::vector<MapWeights> locate(std::span<const Eigen::Vector2d> points) const;
+
+  /// The blend of the samples with `weights` (as from locate(), or smoothed: any sparse weights
+  /// over valid sample indices, summing to about 1).
+  /// @throws ParameterError if sizes differ or a sample index is out of range.
+  BlendedFrame blend(const MapWeights& weights) const;
+
+  /// The pose at map point p as a one-frame Motion of skeleton(): blended joint rotations and
+  /// translations, the motion root at floor position 0 (blended height) with heading 0.
+  /// @throws ParameterError if p is not finite.
+  Motion pose_at(const Eigen::Vector2d& p) const;
+
+  const Skeleton& skeleton() const;
+  const BlendOptions& options() const;
+  int num_samples() const;
+  /// Distinct map points (samples after merging those that share a point).
+  int num_points() const;
+  /// Frame time of the first clip (seconds).
+  double frame_time() const;
+  /// The joint whose translation and heading carry the root motion: the first root, or below it
+  /// while a joint is constant over the clips and has exactly one child (a static "joint_Root"
+  /// above the hips).
+  int motion_root() const;
+  /// Median of the non-zero map distances between consecutive samples of a clip (0 if none).
+  double median_step() const;
+  /// reach × median_step(): how far from every sample a point may be before it is clamped.
+  double reach_distance() const;
+  /// Median of the non-zero map speeds between consecutive samples of a clip (map units per
+  /// second: step / time between the two frames); 0 if none.
+  double median_speed() const;
+  /// Map point of sample i (first two columns of its coords row).
+  Eigen::Vector2d sample_point(int i) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m;
+};
+
+}  // namespace motionmap::synth

@@ -1,0 +1,171 @@
+#include "motionmap/synth/synthesize.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+
+namespace motionmap::synth {
+
+
+namespace {
+
+// Frames blended per block (between progress reports and cancel polls), and path points
+// located per parallel item (kriging solves them together).
+constexpr int kBlockFrames = 256;
+constexpr int kLocateBatch = 64;
+// Most kriging weights the smoothing window may hold (each a dense vector over the samples).
+constexpr long long kMaxWindowWeights = 50'000'000;
+
+// Σ g_j·w_{k+j} / Σ g_j over the frames of the window that exist.
+MapWeights smoothed(const std::deque<MapWeights>& raw, long long raw_first, long long k, long long frames,
+                    const std::vector<double>& kernel, int num_samples) {
+  const auto half = static_cast<long long>(kernel.size() / 2);
+  std::vector<double> acc(static_cast<std::size_t>(num_samples), 0.0);
+  std::vector<char> seen(static_cast<std::size_t>(num_samples), 0);
+  std::vector<int> touched;
+  double gsum = 0.0;
+  for (long long j = -half; j <= half; ++j) {
+    const long long f = k + j;
+    if (f < 0 || f >= frames) continue;
+    const double g = kernel[static_cast<std::size_t>(j + half)];
+    gsum += g;
+    const MapWeights& w = raw[static_cast<std::size_t>(f - raw_first)];
+    for (std::size_t e = 0; e < w.samples.size(); ++e) {
+      const int s = w.samples[e];
+      if (!seen[s]) {
+        seen[s] = 1;
+        touched.push_back(s);
+      }
+      acc[s] += g * w.weights[e];
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  MapWeights out;
+  out.validity = raw[static_cast<std::size_t>(k - raw_first)].validity;
+  out.samples = touched;
+  out.weights.reserve(touched.size());
+  for (int s : touched) out.weights.push_back(acc[s] / gsum);
+  return out;
+}
+
+}  // namespace
+
+void SynthOptions::validate() const {
+  if (!(speed >= 0.0) || !std::isfinite(speed)) {
+    throw ParameterError("speed: " + format_number(speed) + " is out of range (map units per second, ≥ 0; 0 = the clip's)");
+  }
+  if (!(fps >= 0.0 && fps <= 1000.0)) {
+    throw ParameterError("fps: " + format_number(fps) + " is out of range (must be in (0, 1000]; 0 = the clip's)");
+  }
+  if (!(smooth >= 0.0 && smooth <= kMaxSmoothSeconds)) {
+    throw ParameterError("smooth: " + format_number(smooth) + " s is out of range (must be in [0, " +
+                         format_number(kMaxSmoothSeconds) + "])");
+  }
+}
+
+SynthResult synthesize(const MapBlender& blender, const MapPath& path, const SynthOptions& options,
+                       const LoopControl& control) {
+  options.validate();
+  path.validate();
+  double speed = options.speed;
+  if (!path.timed() && speed == 0.0) {
+    speed = blender.median_speed();
+    if (!(speed > 0.0)) {
+      throw ParameterError("speed: the map has no motion to take a default speed from; give one (map units per second)");
+    }
+  }
+  // 0 fps keeps the clip's exact frame time, so a path timed like the clip hits its samples.
+  const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
+  const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
+  const auto frames = static_cast<long long>(points.size());
+
+  // The Gaussian kernel over ±3σ frames.
+  std::vector<double> kernel{1.0};
+  if (options.smooth > 0.0) {
+    const double sigma = options.smooth / dt;
+    const auto half = static_cast<long long>(std::min<double>(std::ceil(3.0 * sigma), static_cast<double>(frames)));
+    kernel.assign(static_cast<std::size_t>(2 * half + 1), 0.0);
+    for (long long j = -half; j <= half; ++j) {
+      kernel[static_cast<std::size_t>(j + half)] = std::exp(-0.5 * (j / sigma) * (j / sigma));
+    }
+  }
+  const auto half = static_cast<long long>(kernel.size() / 2);
+  if (blender.options().mode == BlendMode::Kriging && half > 0 &&
+      (2 * half + 1 + kBlockFrames) * blender.num_samples() > kMaxWindowWeights) {
+    throw ParameterError("smooth: " + format_number(options.smooth) + " s spans " + std::to_string(2 * half + 1) +
+                         " frames of dense kriging weights over " + std::to_string(blender.num_samples()) +
+                         " samples, more than the limit of " + std::to_string(kMaxWindowWeights) +
+                         " weights; use less smoothing or the local mode");
+  }
+
+  const Skeleton& skeleton = blender.skeleton();
+  const int J = skeleton.num_joints();
+  SynthResult result;
+  result.motion.frame_time = dt;
+  result.motion.resize(static_cast<int>(frames), J);
+  result.validity.resize(static_cast<std::size_t>(frames));
+  std::vector<Eigen::Vector3d> velocity(static_cast<std::size_t>(frames));
+  std::vector<double> yaw_rate(static_cast<std::size_t>(frames));
+
+  // Raw weights of frames [raw_first, raw_first + raw.size()), computed ahead as the window needs.
+  std::deque<MapWeights> raw;
+  long long raw_first = 0;
+  for (long long k0 = 0; k0 < frames; k0 += kBlockFrames) {
+    if (control.cancel && control.cancel()) throw Cancelled();
+    const long long k1 = std::min(frames, k0 + kBlockFrames);
+    const long long need_first = std::max(0LL, k0 - half), need_end = std::min(frames, k1 + half);
+    while (raw_first < need_first && !raw.empty()) {
+      raw.pop_front();
+      ++raw_first;
+    }
+    const long long have_end = raw_first + static_cast<long long>(raw.size());
+    if (have_end < need_end) {
+      const long long count = need_end - have_end;
+      std::vector<MapWeights> fresh(static_cast<std::size_t>(count));
+      const int batches = static_cast<int>((count + kLocateBatch - 1) / kLocateBatch);
+      parallel_for(batches, [&](int b) {
+        const long long first = static_cast<long long>(b) * kLocateBatch;
+        const long long last = std::min(count, first + kLocateBatch);
+        auto located = blender.locate(std::span<const Eigen::Vector2d>(points).subspan(
+            static_cast<std::size_t>(have_end + first), static_cast<std::size_t>(last - first)));
+        std::move(located.begin(), located.end(), fresh.begin() + first);
+      });
+      for (auto& w : fresh) raw.push_back(std::move(w));
+    }
+    parallel_for(static_cast<int>(k1 - k0), [&](int i) {
+      const long long k = k0 + i;
+      const MapWeights& own = raw[static_cast<std::size_t>(k - raw_first)];
+      const BlendedFrame b =
+          half == 0 ? blender.blend(own) : blender.blend(smoothed(raw, raw_first, k, frames, kernel, blender.num_samples()));
+      for (int j = 0; j < J; ++j) {
+        result.motion.rotation(static_cast<int>(k), j) = b.rotations[j];
+        result.motion.translation(static_cast<int>(k), j) = b.translations[j];
+      }
+      velocity[static_cast<std::size_t>(k)] = b.velocity;
+      yaw_rate[static_cast<std::size_t>(k)] = b.yaw_rate;
+      result.validity[static_cast<std::size_t>(k)] = own.validity;
+    });
+    if (control.progress) control.progress(static_cast<double>(k1) / static_cast<double>(frames));
+  }
+
+  // Root motion: integrate the heading-local velocity and yaw rate from the origin, heading 0.
+  const int root = blender.motion_root();
+  const Axis up = blender.options().up;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double heading = 0.0;
+  for (long long k = 0; k < frames; ++k) {
+    const Eigen::Quaterniond yaw = axis_rotation(up, heading);
+    Eigen::Quaterniond& q = result.motion.rotation(static_cast<int>(k), root);
+    q = (yaw * q).normalized();
+    result.motion.translation(static_cast<int>(k), root) += position;
+    position += yaw * velocity[static_cast<std::size_t>(k)] * dt;
+    heading += yaw_rate[static_cast<std::size_t>(k)] * dt;
+  }
+  for (const PointValidity& v : result.validity) result.clamped_frames += v.clamped ? 1 : 0;
+  return result;
+}
+
+}  // namespace motionmap::synth

@@ -1,0 +1,60 @@
+#pragma once
+// Path → motion: a new clip whose every frame is the blend at a point of a path on the map,
+// with root motion integrated from the samples' own heading-local velocities, so a sketched walk
+// walks.
+//
+//   motionmap::synth::MapBlender blender(clips, set, coords);
+//   auto path = motionmap::synth::read_path_csv("sketch.csv");
+//   auto result = motionmap::synth::synthesize(blender, path);
+//   motionmap::io::write_bvh(motionmap::io::from_motion(blender.skeleton(), result.motion), "new.bvh");
+//
+// Per output frame k (at t0 + k/fps along the path): weights at the path point (optionally
+// smoothed over time with a Gaussian), joint rotations and root height and tilt blended with
+// them (MapBlender::blend), and the blended heading-local root velocity v_k and yaw rate ω_k
+// integrated forward from the origin, heading 0:
+//   position_{k+1} = position_k + yaw(θ_k)·v_k·Δt,   θ_{k+1} = θ_k + ω_k·Δt.
+// The samples' velocities are forward differences, so a path that retraces the clip's own map
+// trajectory at its own timing reproduces the clip (up to the start's position and heading).
+#include <vector>
+
+#include "motionmap/core/parallel.h"
+#include "motionmap/skeleton/skeleton.h"
+#include "motionmap/synth/blender.h"
+#include "motionmap/synth/path.h"
+
+namespace motionmap::synth {
+
+/// Longest synthesized clip, in frames (50 minutes at 120 fps).
+inline constexpr long long kMaxSynthFrames = 360000;
+/// Longest temporal smoothing (Gaussian σ), in seconds.
+inline constexpr double kMaxSmoothSeconds = 10.0;
+
+struct SynthOptions {
+  /// Untimed paths: map units per second; 0 = the clip's median map speed
+  /// (MapBlender::median_speed()).
+  double speed = 0.0;
+  /// Output frames per second in (0, 1000]; 0 = the source clip's frame rate.
+  double fps = 0.0;
+  /// σ in seconds of a Gaussian smoothing of the weights over time, in [0, kMaxSmoothSeconds];
+  /// 0 = none (a retraced trajectory then reproduces the clip).
+  double smooth = 0.0;
+
+  /// @throws ParameterError naming `speed`, `fps` or `smooth`, its value and the valid range.
+  void validate() const;
+};
+
+struct SynthResult {
+  Motion motion;  ///< #frames by #joints of MapBlender::skeleton(), at the output frame rate
+  std::vector<PointValidity> validity;  ///< per frame: where it was evaluated, distance, variance
+  int clamped_frames = 0;               ///< frames whose path point was outside the data
+};
+
+/// Synthesizes the motion along `path` (see above).
+/// @throws ParameterError for bad options or an invalid path (MapPath::validate, resample_path),
+///         an untimed path with speed 0 on a map without motion, more than kMaxSynthFrames
+///         frames, or smoothing whose window would hold more than 5e7 kriging weights;
+///         Cancelled if control.cancel() says so (polled between blocks of frames).
+SynthResult synthesize(const MapBlender& blender, const MapPath& path, const SynthOptions& options = {},
+                       const LoopControl& control = {});
+
+}  // namespace motionmap::synth

@@ -1,0 +1,524 @@
+#include "motionmap/synth/blender.h"
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/features/point_cloud.h"
+#include "synth/synth_fixtures.h"
+
+namespace motionmap::synth {
+namespace {
+
+using test::all_frames;
+using test::curve_map;
+using test::walking_clip;
+using ::testing::HasSubstr;
+
+constexpr BlendMode kModes[] = {BlendMode::Kriging, BlendMode::Local, BlendMode::Idw};
+
+MapBlender make_blender(const Clip& clip, const Eigen::MatrixXd& map, BlendMode mode, int k = 12) {
+  BlendOptions opt;
+  opt.mode = mode;
+  opt.neighbors = k;
+  return MapBlender(std::span<const Clip>(&clip, 1), all_frames(clip.motion.num_frames), map, opt);
+}
+
+// The pose sample f should blend to: its joints, its root tilt and height at the origin.
+void expect_pose_of_frame(const Motion& pose, const Clip& clip, int f, double tol, double height_tol = 1e-9) {
+  const Eigen::Quaterniond q = clip.motion.rotation(f, 0);
+  const Eigen::Quaterniond tilt = axis_rotation(Axis::Y, -features::heading_angle(q)) * q;
+  EXPECT_LE(rotation_angle(pose.rotation(0, 0), tilt), tol) << "root, frame " << f;
+  for (int j = 1; j < clip.motion.num_joints; ++j) {
+    EXPECT_LE(rotation_angle(pose.rotation(0, j), clip.motion.rotation(f, j)), tol) << "joint " << j << ", frame " << f;
+  }
+  EXPECT_NEAR(pose.translation(0, 0).y(), clip.motion.translation(f, 0).y(), height_tol);
+  EXPECT_EQ(pose.translation(0, 0).x(), 0.0);
+  EXPECT_EQ(pose.translation(0, 0).z(), 0.0);
+}
+
+TEST(SynthBlender, ModeNamesRoundTrip) {
+  for (BlendMode m : kModes) EXPECT_EQ(parse_blend_mode(blend_mode_name(m)), m);
+  EXPECT_EQ(blend_mode_name(BlendMode::Local), "local");
+  EXPECT_FALSE(parse_blend_mode("Kriging").has_value());
+  EXPECT_FALSE(parse_blend_mode("").has_value());
+}
+
+TEST(SynthBlender, ExactAtEverySampleInEveryMode) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  for (BlendMode mode : kModes) {
+    SCOPED_TRACE(std::string(blend_mode_name(mode)));
+    const MapBlender blender = make_blender(clip, map, mode);
+    EXPECT_EQ(blender.num_points(), clip.motion.num_frames);
+    for (int f = 0; f < clip.motion.num_frames; ++f) {
+      expect_pose_of_frame(blender.pose_at(map.row(f).transpose()), clip, f, 1e-9);
+      const MapWeights w = blender.locate(map.row(f).transpose());
+      EXPECT_FALSE(w.validity.clamped);
+      EXPECT_EQ(w.validity.distance, 0.0);
+      EXPECT_EQ(w.validity.nearest_sample, f);
+      if (mode != BlendMode::Idw) EXPECT_NEAR(w.validity.variance, 0.0, 1e-9);
+    }
+  }
+}
+
+TEST(SynthBlender, WeightsAreSortedAndSumToOne) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ux(0.0, 8.0), uy(-1.0, 1.0);
+  for (BlendMode mode : kModes) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    for (int r = 0; r < 50; ++r) {
+      const MapWeights w = blender.locate(Eigen::Vector2d(ux(rng), uy(rng)));
+      ASSERT_EQ(w.samples.size(), w.weights.size());
+      EXPECT_TRUE(std::is_sorted(w.samples.begin(), w.samples.end()));
+      EXPECT_EQ(std::adjacent_find(w.samples.begin(), w.samples.end()), w.samples.end());
+      EXPECT_NEAR(std::accumulate(w.weights.begin(), w.weights.end(), 0.0), 1.0, 1e-9);
+      if (mode == BlendMode::Idw) {
+        for (double x : w.weights) EXPECT_GE(x, 0.0);
+        EXPECT_LE(static_cast<int>(w.samples.size()), 12);
+      }
+    }
+  }
+}
+
+TEST(SynthBlender, BatchLocateMatchesSingle) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  std::vector<Eigen::Vector2d> pts;
+  for (int i = 0; i < 150; ++i) pts.emplace_back(0.05 * i, 0.3 * std::cos(0.1 * i));
+  for (BlendMode mode : kModes) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    const auto batch = blender.locate(pts);
+    ASSERT_EQ(batch.size(), pts.size());
+    for (std::size_t i = 0; i < pts.size(); i += 7) {
+      const MapWeights one = blender.locate(pts[i]);
+      ASSERT_EQ(one.samples, batch[i].samples);
+      for (std::size_t e = 0; e < one.weights.size(); ++e) EXPECT_NEAR(one.weights[e], batch[i].weights[e], 1e-12);
+    }
+  }
+}
+
+// Largest pose change between consecutive points of a polyline sampled with `steps` steps.
+template <class Curve>
+double max_jump(const MapBlender& blender, const Curve& curve, int steps) {
+  double worst = 0.0;
+  Motion prev = blender.pose_at(curve(0.0));
+  for (int i = 1; i <= steps; ++i) {
+    const Motion cur = blender.pose_at(curve(static_cast<double>(i) / steps));
+    worst = std::max(worst, test::max_joint_angle(prev, 0, cur, 0));
+    prev = cur;
+  }
+  return worst;
+}
+
+// Continuity: along a curve inside the data that crosses many neighbourhood changes, the largest
+// pose change between consecutive points shrinks with the step. A jump (a sample entering or
+// leaving a neighbourhood with non-zero weight) would not shrink.
+TEST(SynthBlender, PoseIsContinuousInsideTheData) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  // Alongside the trajectory, 0.12 off it (reach: 0.3), and across it.
+  auto along = [](double s) {
+    const double x = 0.1 + 7.7 * s;
+    return Eigen::Vector2d(x, 0.8 * std::sin(1.5 * x) + 0.12);
+  };
+  auto across = [](double s) { return Eigen::Vector2d(3.0 + 0.1 * s, 0.8 * std::sin(4.5) - 0.25 + 0.5 * s); };
+  for (BlendMode mode : kModes) {
+    SCOPED_TRACE(std::string(blend_mode_name(mode)));
+    const MapBlender blender = make_blender(clip, map, mode, 6);
+    for (int i = 0; i <= 100; ++i) ASSERT_FALSE(blender.locate(along(i / 100.0)).validity.clamped);
+    const double coarse = max_jump(blender, along, 2000);
+    const double fine = max_jump(blender, along, 16000);
+    EXPECT_LT(fine, coarse / 4.0) << "coarse " << coarse << " fine " << fine;
+    EXPECT_LT(coarse, 0.02);
+    const double coarse2 = max_jump(blender, across, 500);
+    const double fine2 = max_jump(blender, across, 4000);
+    EXPECT_LT(fine2, coarse2 / 4.0) << "coarse " << coarse2 << " fine " << fine2;
+  }
+}
+
+TEST(SynthBlender, SmallMovesGiveSmallChanges) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> ux(0.0, 8.0), uy(-1.0, 1.0), ua(0.0, 2 * kPi);
+  for (BlendMode mode : kModes) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    for (int r = 0; r < 200; ++r) {
+      const Eigen::Vector2d p(ux(rng), uy(rng));
+      const double angle = ua(rng);
+      const Eigen::Vector2d q = p + 1e-7 * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      EXPECT_LT(test::max_joint_angle(blender.pose_at(p), 0, blender.pose_at(q), 0), 1e-4);
+    }
+  }
+}
+
+TEST(SynthBlender, NearSamplesBlendNearTheirPose) {
+  // Just off a sample, the pose is within a small angle of the sample's.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  for (BlendMode mode : kModes) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    for (int f = 0; f < clip.motion.num_frames; f += 5) {
+      const Eigen::Vector2d p = map.row(f).transpose() + Eigen::Vector2d(1e-6, -1e-6);
+      expect_pose_of_frame(blender.pose_at(p), clip, f, 1e-3, 1e-3);
+    }
+  }
+}
+
+TEST(SynthBlender, ClampsPointsOutsideTheData) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  for (BlendMode mode : kModes) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    EXPECT_NEAR(blender.median_step(), 0.1, 0.03);
+    EXPECT_DOUBLE_EQ(blender.reach_distance(), 3.0 * blender.median_step());
+    for (const Eigen::Vector2d far : {Eigen::Vector2d(1e6, -3e5), Eigen::Vector2d(-50, 0), Eigen::Vector2d(4, 40)}) {
+      const MapWeights w = blender.locate(far);
+      EXPECT_TRUE(w.validity.clamped);
+      EXPECT_EQ(w.validity.query, far);
+      const Eigen::Vector2d nearest = blender.sample_point(w.validity.nearest_sample);
+      EXPECT_NEAR(w.validity.distance, (far - nearest).norm(), 1e-9 * (far - nearest).norm());
+      // The evaluated point lies within reach of the data.
+      const MapWeights at = blender.locate(w.validity.point);
+      EXPECT_LE(at.validity.distance, blender.reach_distance() * (1 + 1e-9));
+      const Motion pose = blender.pose_at(far);
+      EXPECT_LE(test::max_joint_angle(pose, 0, blender.pose_at(w.validity.point), 0), 1e-9);
+      for (int j = 0; j < pose.num_joints; ++j) {
+        EXPECT_TRUE(pose.rotation(0, j).coeffs().allFinite());
+        EXPECT_NEAR(pose.rotation(0, j).norm(), 1.0, 1e-12);
+      }
+    }
+    // Just inside the reach: not clamped.
+    const Eigen::Vector2d inside = map.row(0).transpose() - Eigen::Vector2d(0.9 * blender.reach_distance(), 0);
+    EXPECT_FALSE(blender.locate(inside).validity.clamped);
+  }
+}
+
+TEST(SynthBlender, ClampsOntoTheTrajectoryContinuously) {
+  // A straight trajectory along x, step 0.1, reach 0.3.
+  const Clip clip = walking_clip(60);
+  Eigen::MatrixXd map(60, 2);
+  for (int f = 0; f < 60; ++f) map.row(f) << 0.1 * f, 0.0;
+  for (BlendMode mode : kModes) {
+    SCOPED_TRACE(std::string(blend_mode_name(mode)));
+    const MapBlender blender = make_blender(clip, map, mode, 6);
+    // Above the middle of a segment: its foot, raised by √(0.3² − 0.05²) (0.3 from both ends).
+    const MapWeights w = blender.locate(Eigen::Vector2d(2.05, 5.0));
+    EXPECT_TRUE(w.validity.clamped);
+    EXPECT_NEAR((w.validity.point - Eigen::Vector2d(2.05, std::sqrt(0.09 - 0.0025))).norm(), 0.0, 1e-12);
+    // Above a sample: the sample, raised by the reach; beyond the end: towards the end sample.
+    EXPECT_NEAR((blender.locate(Eigen::Vector2d(3.0, -7.0)).validity.point - Eigen::Vector2d(3.0, -0.3)).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((blender.locate(Eigen::Vector2d(-4.0, 3.0)).validity.point - Eigen::Vector2d(-0.24, 0.18)).norm(), 0.0, 1e-12);
+    // Sliding along far outside moves the pose continuously.
+    auto line = [](double s) { return Eigen::Vector2d(0.5 + 4.0 * s, 2.0); };
+    const double coarse = max_jump(blender, line, 1000);
+    const double fine = max_jump(blender, line, 8000);
+    EXPECT_LT(fine, coarse / 4.0) << "coarse " << coarse << " fine " << fine;
+  }
+}
+
+TEST(SynthBlender, VarianceGrowsAwayFromTheData) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  for (BlendMode mode : {BlendMode::Kriging, BlendMode::Local}) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    const Eigen::Vector2d s = map.row(40).transpose();
+    const double v_mid = blender.locate(0.5 * (s + map.row(41).transpose())).validity.variance;
+    const double v_off = blender.locate(s + Eigen::Vector2d(0, 0.2)).validity.variance;
+    EXPECT_GT(v_mid, 0.0);
+    EXPECT_GT(v_off, v_mid);
+  }
+  const MapBlender idw = make_blender(clip, map, BlendMode::Idw);
+  EXPECT_TRUE(std::isnan(idw.locate(Eigen::Vector2d(1, 0)).validity.variance));
+}
+
+TEST(SynthBlender, SinglePoseStandsAtTheOriginFacingHeadingZero) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map, BlendMode::Local);
+  for (double x : {0.35, 2.0, 5.55}) {
+    const Motion pose = blender.pose_at(Eigen::Vector2d(x, 0.1));
+    ASSERT_EQ(pose.num_frames, 1);
+    ASSERT_EQ(pose.num_joints, 5);
+    EXPECT_NEAR(features::heading_angle(pose.rotation(0, 0)), 0.0, 1e-9);
+    EXPECT_EQ(pose.translation(0, 0).x(), 0.0);
+    EXPECT_EQ(pose.translation(0, 0).z(), 0.0);
+    EXPECT_NEAR(pose.translation(0, 0).y(), 90.0, 2.1);
+    EXPECT_EQ(pose.translation(0, 3), clip.skeleton.joints[3].offset);  // not animated: kept as is
+    EXPECT_EQ(pose.frame_time, clip.motion.frame_time);
+  }
+}
+
+TEST(SynthBlender, OppositeQuaternionSignsBlendTheSame) {
+  Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender plain = make_blender(clip, map, BlendMode::Local);
+  for (int f = 1; f < clip.motion.num_frames; f += 2) {
+    for (int j = 0; j < 5; ++j) clip.motion.rotation(f, j).coeffs() *= -1.0;
+  }
+  const MapBlender flipped = make_blender(clip, map, BlendMode::Local);
+  for (double x = 0.02; x < 7.9; x += 0.37) {
+    const Eigen::Vector2d p(x, 0.8 * std::sin(1.5 * x) + 0.05);
+    EXPECT_LE(test::max_joint_angle(plain.pose_at(p), 0, flipped.pose_at(p), 0), 1e-12);
+  }
+}
+
+TEST(SynthBlender, BlendHandlesNegativeWeights) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map, BlendMode::Local);
+  MapWeights w;
+  w.samples = {10, 11, 12};
+  w.weights = {-0.5, 1.0, 0.5};
+  const BlendedFrame b = blender.blend(w);
+  for (const auto& q : b.rotations) EXPECT_NEAR(q.norm(), 1.0, 1e-12);
+  // Translations and height are the weighted sums.
+  const double h = -0.5 * clip.motion.translation(10, 0).y() + clip.motion.translation(11, 0).y() +
+                   0.5 * clip.motion.translation(12, 0).y();
+  EXPECT_NEAR(b.translations[0].y(), h, 1e-9);
+  // Heading-local velocity: 30 units/s straight ahead, turning at 0.4 rad/s.
+  EXPECT_NEAR(b.velocity.z(), 30.0, 0.1);
+  EXPECT_NEAR(b.velocity.x(), 0.0, 0.5);
+  EXPECT_NEAR(b.yaw_rate, 0.4, 0.05);
+}
+
+TEST(SynthBlender, MergesSamplesThatShareAMapPoint) {
+  const Clip clip = walking_clip();
+  Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  map.row(21) = map.row(20);
+  for (BlendMode mode : kModes) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    EXPECT_EQ(blender.num_points(), clip.motion.num_frames - 1);
+    const MapWeights w = blender.locate(map.row(20).transpose());
+    double w20 = 0, w21 = 0;
+    for (std::size_t e = 0; e < w.samples.size(); ++e) {
+      if (w.samples[e] == 20) w20 = w.weights[e];
+      if (w.samples[e] == 21) w21 = w.weights[e];
+    }
+    EXPECT_NEAR(w20, 0.5, 1e-9);
+    EXPECT_NEAR(w21, 0.5, 1e-9);
+    // Other samples are still exact.
+    expect_pose_of_frame(blender.pose_at(map.row(30).transpose()), clip, 30, 1e-9);
+  }
+}
+
+TEST(SynthBlender, LocalModeStaysExactWhereSamplesCrowd) {
+  // A stretch where consecutive samples are 1e-6 of the step apart (1e-8 of the map's extent).
+  const Clip clip = walking_clip(120);
+  Eigen::MatrixXd map = curve_map(120);
+  for (int f = 50; f < 70; ++f) map.row(f) = map.row(49) + Eigen::RowVector2d(1e-7 * (f - 49), 3e-8 * (f - 49));
+  for (BlendMode mode : {BlendMode::Local, BlendMode::Idw}) {
+    const MapBlender blender = make_blender(clip, map, mode);
+    EXPECT_EQ(blender.num_points(), 120);
+    for (int f = 40; f < 80; ++f) expect_pose_of_frame(blender.pose_at(map.row(f).transpose()), clip, f, 1e-9);
+  }
+}
+
+TEST(SynthBlender, UsesOnlyTheFirstTwoColumns) {
+  const Clip clip = walking_clip();
+  Eigen::MatrixXd map3(clip.motion.num_frames, 3);
+  map3.leftCols(2) = curve_map(clip.motion.num_frames);
+  map3.col(2).setRandom();
+  const MapBlender a = make_blender(clip, map3, BlendMode::Local);
+  const MapBlender b = make_blender(clip, curve_map(clip.motion.num_frames), BlendMode::Local);
+  const Eigen::Vector2d p(3.3, 0.2);
+  EXPECT_EQ(a.locate(p).weights, b.locate(p).weights);
+}
+
+TEST(SynthBlender, MotionRootSkipsAStaticRootAboveTheHips) {
+  // Like the Bandai Namco files: a constant joint_Root with one child carrying the motion.
+  const Clip walk = walking_clip();
+  Clip clip;
+  clip.path = "rooted.bvh";
+  clip.skeleton.joints.push_back({"joint_Root", -1, {0, 0, 0}, {}, {}});
+  for (Joint j : walk.skeleton.joints) {
+    j.parent += 1;
+    clip.skeleton.joints.push_back(j);
+  }
+  clip.motion.frame_time = walk.motion.frame_time;
+  clip.motion.resize(walk.motion.num_frames, 6);
+  for (int f = 0; f < walk.motion.num_frames; ++f) {
+    for (int j = 0; j < 5; ++j) {
+      clip.motion.rotation(f, j + 1) = walk.motion.rotation(f, j);
+      clip.motion.translation(f, j + 1) = walk.motion.translation(f, j);
+    }
+  }
+  const Eigen::MatrixXd map = curve_map(walk.motion.num_frames);
+  const MapBlender rooted = make_blender(clip, map, BlendMode::Local);
+  const MapBlender plain = make_blender(walk, map, BlendMode::Local);
+  EXPECT_EQ(rooted.motion_root(), 1);
+  EXPECT_EQ(plain.motion_root(), 0);
+  const Motion a = rooted.pose_at(Eigen::Vector2d(2.2, 0.3));
+  const Motion b = plain.pose_at(Eigen::Vector2d(2.2, 0.3));
+  for (int j = 0; j < 5; ++j) {
+    EXPECT_LE(rotation_angle(a.rotation(0, j + 1), b.rotation(0, j)), 1e-12);
+    EXPECT_LE((a.translation(0, j + 1) - b.translation(0, j)).norm(), 1e-9);
+  }
+}
+
+TEST(SynthBlender, SeveralClipsShareOneMap) {
+  const Clip a = walking_clip(40), b = walking_clip(60);
+  const std::vector<Clip> clips{a, b};
+  features::FeatureSet set;
+  for (int f = 0; f < 40; ++f) set.clip_of.push_back(0), set.frame_of.push_back(f);
+  for (int f = 10; f < 60; f += 2) set.clip_of.push_back(1), set.frame_of.push_back(f);
+  set.segment_starts = {0, 40};
+  Eigen::MatrixXd map(set.num_samples(), 2);
+  for (int i = 0; i < set.num_samples(); ++i) map.row(i) << 0.1 * i, 0.5 * set.clip_of[i];
+  const MapBlender blender(clips, set, map);
+  for (int i = 0; i < set.num_samples(); i += 3) {
+    const Clip& c = clips[set.clip_of[i]];
+    expect_pose_of_frame(blender.pose_at(map.row(i).transpose()), c, set.frame_of[i], 1e-9);
+  }
+  // Median speed: steps of 0.1 per frame in clip 0 (30 fps) and per two frames in clip 1.
+  EXPECT_NEAR(blender.median_speed(), 3.0, 1e-9);
+}
+
+TEST(SynthBlender, RejectsBadOptions) {
+  const Clip clip = walking_clip(20);
+  const Eigen::MatrixXd map = curve_map(20);
+  auto build = [&](BlendMode mode, int k, double reach) {
+    BlendOptions opt;
+    opt.mode = mode;
+    opt.neighbors = k;
+    opt.reach = reach;
+    MapBlender(std::span<const Clip>(&clip, 1), all_frames(20), map, opt);
+  };
+  auto message = [&](BlendMode mode, int k, double reach) -> std::string {
+    try {
+      build(mode, k, reach);
+    } catch (const ParameterError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message(BlendMode::Local, 0, 3.0), "neighbors: 0 is out of range (must be in [1, 20], the map's sample count)");
+  EXPECT_EQ(message(BlendMode::Idw, 21, 3.0), "neighbors: 21 is out of range (must be in [1, 20], the map's sample count)");
+  EXPECT_EQ(message(BlendMode::Local, 12, 0.0), "reach: 0 is out of range (must be a finite number > 0)");
+  EXPECT_EQ(message(BlendMode::Local, 12, -1.0), "reach: -1 is out of range (must be a finite number > 0)");
+  EXPECT_THAT(message(BlendMode::Local, 12, std::nan("")), HasSubstr("reach: nan is out of range"));
+  EXPECT_THAT(message(BlendMode::Local, 12, INFINITY), HasSubstr("reach: inf is out of range"));
+  EXPECT_NO_THROW(build(BlendMode::Kriging, 50, 3.0));  // K is not used by kriging
+  EXPECT_NO_THROW(build(BlendMode::Local, 20, 3.0));
+  EXPECT_NO_THROW(build(BlendMode::Idw, 1, 3.0));
+}
+
+TEST(SynthBlender, RejectsAMapOfOtherClips) {
+  const Clip clip = walking_clip(20);
+  const std::span<const Clip> clips(&clip, 1);
+  auto message = [](const auto& f) -> std::string {
+    try {
+      f();
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), curve_map(19)); }),
+            "map: it has 19 rows but the features have 20 samples; the map does not belong to these clips");
+  EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), Eigen::MatrixXd::Zero(20, 1)); }),
+            "map: it has 1 column(s); at least 2 are needed");
+  EXPECT_EQ(message([&] { MapBlender(clips, all_frames(25), curve_map(25)); }),
+            "map: sample 20 is frame 20 of walking.bvh, which has 20 frames; the map does not belong to these clips");
+  features::FeatureSet two_clips = all_frames(20);
+  two_clips.clip_of[5] = 1;
+  EXPECT_EQ(message([&] { MapBlender(clips, two_clips, curve_map(20)); }),
+            "map: sample 5 belongs to clip 1 but only 1 clip(s) were given");
+  EXPECT_EQ(message([&] { MapBlender(clips, features::FeatureSet{}, Eigen::MatrixXd(0, 2)); }),
+            "map: the feature set has no samples");
+  EXPECT_EQ(message([&] { MapBlender(std::span<const Clip>(), all_frames(20), curve_map(20)); }), "map: no clip given");
+  Eigen::MatrixXd nan_map = curve_map(20);
+  nan_map(7, 1) = std::nan("");
+  EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), nan_map); }),
+            "map: row 7 holds a NaN or infinite coordinate");
+  Clip bad = clip;
+  bad.motion.translation(3, 0).x() = INFINITY;
+  EXPECT_EQ(message([&] { MapBlender(std::span<const Clip>(&bad, 1), all_frames(20), curve_map(20)); }),
+            "walking.bvh: frame 3 holds a NaN, infinite or zero value");
+  Clip other = clip;
+  other.path = "other.bvh";
+  other.skeleton.joints[4].name = "RightHand";
+  const std::vector<Clip> mixed{clip, other};
+  features::FeatureSet both = all_frames(20);
+  both.clip_of[19] = 1;
+  EXPECT_EQ(message([&] { MapBlender(mixed, both, curve_map(20)); }),
+            "other.bvh: its joint hierarchy differs from walking.bvh's; clips blended together must share one");
+}
+
+TEST(SynthBlender, RejectsKrigingBeyondItsLimit) {
+  // Checked before the (N+1)² matrix is allocated.
+  Clip clip = walking_clip(1);
+  const int n = kMaxKrigingSamples + 1;
+  features::FeatureSet set;
+  set.clip_of.assign(n, 0);
+  set.frame_of.assign(n, 0);
+  Eigen::MatrixXd map(n, 2);
+  for (int i = 0; i < n; ++i) map.row(i) << i, 0.0;
+  BlendOptions opt;
+  opt.mode = BlendMode::Kriging;
+  try {
+    MapBlender(std::span<const Clip>(&clip, 1), set, map, opt);
+    FAIL() << "no error";
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(),
+                 "blend: kriging over 10001 distinct map points exceeds the limit of 10000 (a dense (N+1)² system); "
+                 "use the local mode or a frame stride");
+  }
+}
+
+TEST(SynthBlender, RejectsBadQueriesAndWeights) {
+  const Clip clip = walking_clip(20);
+  const MapBlender blender = make_blender(clip, curve_map(20), BlendMode::Local);
+  try {
+    blender.pose_at(Eigen::Vector2d(std::nan(""), 1.0));
+    FAIL() << "no error";
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(), "map point (nan, 1) is not finite");
+  }
+  MapWeights w;
+  EXPECT_THROW(blender.blend(w), ParameterError);
+  w.samples = {3, 20};
+  w.weights = {0.5, 0.5};
+  try {
+    blender.blend(w);
+    FAIL() << "no error";
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(), "blend: sample index 20 is out of range [0, 20)");
+  }
+  w.samples = {3, 4};
+  w.weights = {0.5, -0.5};
+  try {
+    blender.blend(w);
+    FAIL() << "no error";
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(), "blend: the weights sum to 0, not about 1");
+  }
+  EXPECT_THROW(blender.sample_point(20), ParameterError);
+}
+
+TEST(SynthBlender, DegenerateMapsStillAnswer) {
+  // Every sample at one map point: one merged point, any query is clamped onto it.
+  const Clip clip = walking_clip(10);
+  const Eigen::MatrixXd map = Eigen::MatrixXd::Constant(10, 2, 0.5);
+  for (BlendMode mode : kModes) {
+    const MapBlender blender = make_blender(clip, map, mode, 3);
+    EXPECT_EQ(blender.num_points(), 1);
+    EXPECT_EQ(blender.median_step(), 0.0);
+    const MapWeights w = blender.locate(Eigen::Vector2d(3, 4));
+    EXPECT_TRUE(w.validity.clamped);
+    EXPECT_EQ(w.validity.point, Eigen::Vector2d(0.5, 0.5));
+    EXPECT_EQ(w.samples.size(), 10u);
+    for (double x : w.weights) EXPECT_NEAR(x, 0.1, 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace motionmap::synth

@@ -1,0 +1,260 @@
+#include "motionmap/synth/synthesize.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/features/point_cloud.h"
+#include "synth/synth_fixtures.h"
+
+namespace motionmap::synth {
+namespace {
+
+using test::all_frames;
+using test::curve_map;
+using test::walking_clip;
+
+constexpr BlendMode kModes[] = {BlendMode::Kriging, BlendMode::Local, BlendMode::Idw};
+
+MapBlender make_blender(const Clip& clip, const Eigen::MatrixXd& map, BlendMode mode = BlendMode::Local, int k = 12) {
+  BlendOptions opt;
+  opt.mode = mode;
+  opt.neighbors = k;
+  return MapBlender(std::span<const Clip>(&clip, 1), all_frames(clip.motion.num_frames), map, opt);
+}
+
+// The map trajectory of frames [first, end) at the clip's own timing.
+MapPath own_trajectory(const Eigen::MatrixXd& map, double frame_time, int first = 0, int end = -1) {
+  if (end < 0) end = static_cast<int>(map.rows());
+  MapPath path;
+  for (int f = first; f < end; ++f) {
+    path.points.emplace_back(map(f, 0), map(f, 1));
+    path.times.push_back((f - first) * frame_time);
+  }
+  return path;
+}
+
+std::string parameter_message(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ParameterError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const Motion& orig = clip.motion;
+  // The synthesized clip starts at the origin with heading 0: compare with the original moved
+  // there (translation by −p0, rotation by −θ0 about Y).
+  const double h0 = features::heading_angle(orig.rotation(0, 0));
+  const Eigen::Quaterniond unturn = axis_rotation(Axis::Y, -h0);
+  Eigen::Vector3d p0 = orig.translation(0, 0);
+  p0.y() = 0;
+  for (BlendMode mode : kModes) {
+    SCOPED_TRACE(std::string(blend_mode_name(mode)));
+    const MapBlender blender = make_blender(clip, map, mode);
+    const SynthResult r = synthesize(blender, own_trajectory(map, orig.frame_time));
+    ASSERT_EQ(r.motion.num_frames, orig.num_frames);
+    EXPECT_EQ(r.motion.frame_time, orig.frame_time);
+    EXPECT_EQ(r.clamped_frames, 0);
+    for (int f = 0; f < orig.num_frames; ++f) {
+      EXPECT_LE(rotation_angle(r.motion.rotation(f, 0), unturn * orig.rotation(f, 0)), 1e-9) << f;
+      for (int j = 1; j < 5; ++j) EXPECT_LE(rotation_angle(r.motion.rotation(f, j), orig.rotation(f, j)), 1e-9) << f;
+      const Eigen::Vector3d expected = unturn * (orig.translation(f, 0) - p0);
+      EXPECT_LE((r.motion.translation(f, 0) - expected).norm(), 1e-9) << f;
+      EXPECT_EQ(r.validity[f].distance, 0.0);
+    }
+  }
+}
+
+TEST(SynthSynthesize, ASketchedWalkWalksEvenWhenThePathTurnsBack) {
+  // Forward along the map then back: the blended heading-local velocity is always ≈ 30 units/s
+  // forward, so the body keeps walking (and turning at 0.4 rad/s), whatever the map direction.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  MapPath path;
+  for (int f = 5; f < 75; f += 5) path.points.emplace_back(map(f, 0), map(f, 1));
+  for (int f = 70; f > 5; f -= 5) path.points.emplace_back(map(f, 0), map(f, 1));
+  const SynthResult r = synthesize(blender, path);
+  const Motion& m = r.motion;
+  ASSERT_GT(m.num_frames, 100);
+  EXPECT_DOUBLE_EQ(blender.median_speed(), blender.median_step() * 30.0);
+  double travelled = 0.0, turned = 0.0;
+  for (int f = 1; f < m.num_frames; ++f) {
+    Eigen::Vector3d d = m.translation(f, 0) - m.translation(f - 1, 0);
+    d.y() = 0;
+    travelled += d.norm();
+    turned += features::heading_angle(m.rotation(f - 1, 0).conjugate() * m.rotation(f, 0));
+  }
+  const double seconds = (m.num_frames - 1) * m.frame_time;
+  EXPECT_NEAR(travelled / seconds, 30.0, 1.0);
+  EXPECT_NEAR(turned / seconds, 0.4, 0.05);
+}
+
+TEST(SynthSynthesize, UntimedPathsUseTheMedianMapSpeed) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  MapPath path;
+  path.points = {{1.0, 0.0}, {4.0, 0.0}};
+  const SynthResult r = synthesize(blender, path);
+  const double seconds = 3.0 / blender.median_speed();
+  EXPECT_EQ(r.motion.num_frames, static_cast<int>(std::floor(seconds * 30.0 + 1e-9)) + 1);
+  SynthOptions opt;
+  opt.speed = 1.5;  // 2 s
+  opt.fps = 60.0;
+  const SynthResult s = synthesize(blender, path, opt);
+  EXPECT_EQ(s.motion.num_frames, 121);
+  EXPECT_DOUBLE_EQ(s.motion.frame_time, 1.0 / 60.0);
+}
+
+TEST(SynthSynthesize, HigherFrameRatesInterpolateBetweenSamples) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  SynthOptions opt;
+  opt.fps = 90.0;  // 3 output frames per source frame
+  const SynthResult r = synthesize(blender, own_trajectory(map, clip.motion.frame_time), opt);
+  ASSERT_EQ(r.motion.num_frames, 3 * (clip.motion.num_frames - 1) + 1);
+  for (int f = 0; f < clip.motion.num_frames; f += 7) {
+    for (int j = 1; j < 5; ++j) {
+      EXPECT_LE(rotation_angle(r.motion.rotation(3 * f, j), clip.motion.rotation(f, j)), 1e-9) << f;
+    }
+  }
+  // The walking speed is kept: 30 units/s.
+  const Eigen::Vector3d d = r.motion.translation(r.motion.num_frames - 1, 0) - r.motion.translation(0, 0);
+  EXPECT_GT(Eigen::Vector2d(d.x(), d.z()).norm() / ((r.motion.num_frames - 1) / 90.0), 20.0);
+}
+
+TEST(SynthSynthesize, SmoothingSoftensJumpsAlongThePath) {
+  // Hold one end of the map, jump to the other in 1/30 s, hold it.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  for (BlendMode mode : kModes) {
+    SCOPED_TRACE(std::string(blend_mode_name(mode)));
+    const MapBlender blender = make_blender(clip, map, mode);
+    MapPath path;
+    path.points = {{1.0, 0.3}, {1.0, 0.3}, {6.0, -0.5}, {6.0, -0.5}};
+    path.times = {0.0, 1.0, 1.0 + 1.0 / 30, 2.0};
+    auto max_step = [&](double smooth) {
+      SynthOptions opt;
+      opt.smooth = smooth;
+      const SynthResult r = synthesize(blender, path, opt);
+      double worst = 0.0;
+      for (int f = 1; f < r.motion.num_frames; ++f) {
+        worst = std::max(worst, rotation_angle(r.motion.rotation(f - 1, 3), r.motion.rotation(f, 3)));
+      }
+      return worst;
+    };
+    const double sharp = max_step(0.0), soft = max_step(0.2);
+    EXPECT_GT(sharp, 0.3);
+    EXPECT_LT(soft, sharp / 4.0);
+  }
+}
+
+TEST(SynthSynthesize, ReportsFramesOutsideTheData) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  MapPath path;
+  path.points = {{2.0, 0.0}, {2.0, 30.0}};
+  path.times = {0.0, 1.0};
+  const SynthResult r = synthesize(blender, path);
+  ASSERT_EQ(r.motion.num_frames, 31);
+  EXPECT_FALSE(r.validity.front().clamped);
+  EXPECT_TRUE(r.validity.back().clamped);
+  EXPECT_GT(r.clamped_frames, 25);
+  EXPECT_LT(r.clamped_frames, 31);
+  for (int f = 0; f < r.motion.num_frames; ++f) {
+    for (int j = 0; j < 5; ++j) EXPECT_NEAR(r.motion.rotation(f, j).norm(), 1.0, 1e-12);
+    EXPECT_TRUE(r.motion.translation(f, 0).allFinite());
+  }
+}
+
+TEST(SynthSynthesize, ReportsProgressAndCancels) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  MapPath path;
+  path.points = {{0.5, 0.0}, {7.5, 0.0}};
+  path.times = {0.0, 40.0};  // 1201 frames: five blocks
+  std::vector<double> seen;
+  LoopControl control;
+  control.progress = [&](double x) { seen.push_back(x); };
+  synthesize(blender, path, {}, control);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_EQ(seen.back(), 1.0);
+  int polls = 0;
+  control.cancel = [&] { return ++polls > 2; };
+  EXPECT_THROW(synthesize(blender, path, {}, control), Cancelled);
+}
+
+TEST(SynthSynthesize, RejectsBadOptions) {
+  const Clip clip = walking_clip(20);
+  const MapBlender blender = make_blender(clip, curve_map(20));
+  MapPath path;
+  path.points = {{0, 0}, {1, 0}};
+  auto run = [&](double speed, double fps, double smooth) {
+    SynthOptions opt;
+    opt.speed = speed;
+    opt.fps = fps;
+    opt.smooth = smooth;
+    return parameter_message([&] { synthesize(blender, path, opt); });
+  };
+  EXPECT_EQ(run(-1, 0, 0), "speed: -1 is out of range (map units per second, ≥ 0; 0 = the clip's)");
+  EXPECT_EQ(run(NAN, 0, 0), "speed: nan is out of range (map units per second, ≥ 0; 0 = the clip's)");
+  EXPECT_EQ(run(0, -30, 0), "fps: -30 is out of range (must be in (0, 1000]; 0 = the clip's)");
+  EXPECT_EQ(run(0, 1e4, 0), "fps: 10000 is out of range (must be in (0, 1000]; 0 = the clip's)");
+  EXPECT_EQ(run(0, 0, -0.1), "smooth: -0.1 s is out of range (must be in [0, 10])");
+  EXPECT_EQ(run(0, 0, 11), "smooth: 11 s is out of range (must be in [0, 10])");
+  EXPECT_EQ(run(0, 0, INFINITY), "smooth: inf s is out of range (must be in [0, 10])");
+  EXPECT_EQ(parameter_message([&] { synthesize(blender, MapPath{}); }), "path: 0 point(s); at least 2 are needed");
+}
+
+TEST(SynthSynthesize, RejectsADefaultSpeedOnAStillMap) {
+  const Clip clip = walking_clip(10);
+  const MapBlender blender = make_blender(clip, Eigen::MatrixXd::Zero(10, 2), BlendMode::Local, 4);
+  MapPath path;
+  path.points = {{0, 0}, {1, 0}};
+  EXPECT_EQ(parameter_message([&] { synthesize(blender, path); }),
+            "speed: the map has no motion to take a default speed from; give one (map units per second)");
+  SynthOptions opt;
+  opt.speed = 2.0;
+  EXPECT_EQ(synthesize(blender, path, opt).motion.num_frames, 16);  // 0.5 s at 30 fps
+}
+
+TEST(SynthSynthesize, RejectsOverlongPathsAndSmoothingWindows) {
+  const Clip clip = walking_clip(20);
+  const MapBlender blender = make_blender(clip, curve_map(20));
+  MapPath path;
+  path.points = {{0, 0}, {1, 0}};
+  path.times = {0, 1e5};
+  EXPECT_EQ(parameter_message([&] { synthesize(blender, path); }),
+            "path: 100000 s at 30 fps gives 3000001 frames, more than the limit of 360000");
+  // Kriging keeps dense weights (one per sample) for every frame of the smoothing window.
+  Clip still = walking_clip(1);
+  features::FeatureSet set;
+  set.clip_of.assign(1000, 0);
+  set.frame_of.assign(1000, 0);
+  Eigen::MatrixXd map(1000, 2);
+  for (int i = 0; i < 1000; ++i) map.row(i) << 0.01 * i, std::sin(0.01 * i);
+  BlendOptions bo;
+  bo.mode = BlendMode::Kriging;
+  const MapBlender kriging(std::span<const Clip>(&still, 1), set, map, bo);
+  SynthOptions so;
+  so.smooth = 10.0;
+  so.fps = 1000.0;
+  path.times = {0, 40};
+  EXPECT_EQ(parameter_message([&] { synthesize(kriging, path, so); }),
+            "smooth: 10 s spans 60001 frames of dense kriging weights over 1000 samples, more than the limit of "
+            "50000000 weights; use less smoothing or the local mode");
+}
+
+}  // namespace
+}  // namespace motionmap::synth

@@ -14,6 +14,8 @@ void setup_convert(CLI::App& app);
 void setup_sample(CLI::App& app);
 void setup_map(CLI::App& app);
 void setup_figure(CLI::App& app);
+void setup_pose(CLI::App& app);
+void setup_synth(CLI::App& app);
 
 /// Escapes a string for a JSON string literal (without the quotes).
 std::string json_escape(const std::string& s);

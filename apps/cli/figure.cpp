@@ -46,7 +46,7 @@ void setup_figure(CLI::App& app) {
       "Map the clips with all six methods (PCA, SVD, MDS / Isomap, LE, LLE) and draw them in a\n"
       "2×3 grid with each map's quality metrics under it (trustworthiness T and continuity C at\n"
       "k = 10, stress for MDS/Isomap, jump score). Also prints the metrics as a table.");
-  add_map_options(sub, cmd->map, /*with_method=*/false);
+  add_map_options(sub, cmd->map, MapOptionsFor::Figure);
   sub->add_option("-o,--output", cmd->output, "Figure to write: .png, .svg or .pdf")->required();
   sub->add_option("--panel-size", cmd->panel_px, "Pixels per panel (default 500)")->check(CLI::Range(64, 4096));
   sub->callback([cmd] {

@@ -7,7 +7,8 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "motionmap — inspect, convert and map motion-capture clips (BVH, Acclaim ASF/AMC).\n"
+      "motionmap — inspect, convert and map motion-capture clips (BVH, Acclaim ASF/AMC), and\n"
+      "synthesize new poses and motions from the maps.\n"
       "Run `motionmap COMMAND --help` for a command's options."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "motionmap 0.1.0");
@@ -16,6 +17,8 @@ int main(int argc, char** argv) {
   motionmap::cli::setup_sample(app);
   motionmap::cli::setup_map(app);
   motionmap::cli::setup_figure(app);
+  motionmap::cli::setup_pose(app);
+  motionmap::cli::setup_synth(app);
 
   try {
     app.parse(argc, argv);

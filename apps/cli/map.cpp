@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
+#include "motionmap/embed/map_csv.h"
 #include "motionmap/render/map_plot.h"
 
 namespace motionmap::cli {
@@ -23,30 +24,6 @@ struct MapCommand {
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-void write_csv(std::ostream& out, const embed::ClipMap& map, const embed::ClipMapOptions& options,
-               const MapCliOptions& cli) {
-  out << "# motionmap map " << embed::describe_parameters(map.embedding, options);
-  out << " files=";
-  for (std::size_t i = 0; i < cli.files.size(); ++i) out << (i ? "," : "") << base_name(cli.files[i]);
-  out << '\n';
-  for (const auto& note : map.features.notes) out << "# note: " << note << '\n';
-  for (const auto& w : map.embedding.warnings) out << "# warning: " << w << '\n';
-  if (map.metrics) out << "# metrics " << embed::describe_metrics(*map.metrics) << '\n';
-  const bool several = cli.files.size() > 1;
-  const auto& Y = map.embedding.coordinates;
-  out << (several ? "clip,frame,x,y" : "frame,x,y") << (Y.cols() == 3 ? ",z\n" : "\n");
-  char buf[32];
-  for (Eigen::Index i = 0; i < Y.rows(); ++i) {
-    if (several) out << map.features.clip_of[i] << ',';
-    out << map.features.frame_of[i];
-    for (Eigen::Index c = 0; c < Y.cols(); ++c) {
-      std::snprintf(buf, sizeof buf, ",%.17g", Y(i, c));
-      out << buf;
-    }
-    out << '\n';
-  }
 }
 
 void print_metrics_table(std::ostream& out, const embed::ClipMap& map, int k) {
@@ -69,7 +46,7 @@ void setup_map(CLI::App& app) {
       "Map every frame of the clips to a point (PCA, SVD, classical MDS, Isomap, Laplacian\n"
       "eigenmap, LLE) and write frame,x,y as CSV, with the effective parameters in a # comment.\n"
       "A leading bind/T-pose frame is left out unless --keep-first.");
-  add_map_options(sub, cmd->map, /*with_method=*/true);
+  add_map_options(sub, cmd->map, MapOptionsFor::Map);
   sub->add_option("-o,--output", cmd->output, "CSV file to write (default: standard output)");
   sub->add_option("--plot", cmd->plot, "Also draw the map: .png, .svg or .pdf");
   sub->add_flag("--metrics", cmd->metrics,
@@ -84,11 +61,11 @@ void setup_map(CLI::App& app) {
       std::cerr << "heat " << map.embedding.heat_used << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
     }
     if (cmd->output.empty() || cmd->output == "-") {
-      write_csv(std::cout, map, options, cmd->map);
+      embed::write_map_csv(std::cout, map, options, cmd->map.files);
     } else {
       std::ofstream out(cmd->output);
       if (!out) throw Error(cmd->output + ": error: cannot open for writing");
-      write_csv(out, map, options, cmd->map);
+      embed::write_map_csv(out, map, options, cmd->map.files);
       if (!out.flush()) throw Error(cmd->output + ": error: write failed");
     }
     if (map.metrics) {

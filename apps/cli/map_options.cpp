@@ -12,24 +12,25 @@
 
 namespace motionmap::cli {
 
-void add_map_options(CLI::App* sub, MapCliOptions& opt, bool with_method, bool with_files) {
-  if (with_files) {
-    sub->add_option("files", opt.files,
-                    "Clips (.bvh, or .amc with its .asf); several clips of one skeleton make one map")
-        ->required()
-        ->check(CLI::ExistingFile);
-  }
+void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
+  sub->add_option("files", opt.files,
+                  "Clips (.bvh, or .amc with its .asf); several clips of one skeleton make one map")
+      ->required()
+      ->check(CLI::ExistingFile);
   sub->add_option("--asf", opt.asf, "ASF skeleton for .amc inputs (default: the .asf beside them)")
       ->check(CLI::ExistingFile);
-  sub->add_option("--fps", opt.fps, "Frame rate of .amc inputs (default 120)")->check(CLI::PositiveNumber);
-  if (with_method) {
+  // pose/synth: --fps is the new motion's frame rate there.
+  sub->add_option(use == MapOptionsFor::Synthesis ? "--amc-fps" : "--fps", opt.fps, "Frame rate of .amc inputs (default 120)")
+      ->check(CLI::PositiveNumber);
+  if (use != MapOptionsFor::Figure) {
     std::map<std::string, embed::Method> methods;
     for (embed::Method m : embed::all_methods()) methods[std::string(embed::method_name(m))] = m;
     sub->add_option("-m,--method", opt.method, "pca, svd, mds, isomap, le or lle (default isomap)")
         ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case));
   }
   sub->add_option("--dims", opt.dims, "Map dimensions, 2 or 3 (default 2)")->check(CLI::IsMember({2, 3}));
-  sub->add_option("-k,--neighbors", opt.k, "Neighbours per frame for isomap, le, lle (default 20)");
+  sub->add_option(use == MapOptionsFor::Synthesis ? "-k" : "-k,--neighbors", opt.k,
+                  "Neighbours per frame in the map's graph for isomap, le, lle (default 20)");
   sub->add_option("--heat", opt.heat,
                   "Laplacian eigenmap heat-kernel width: 'auto' (median squared k-NN distance, "
                   "printed) or a number; ≤ 0 makes every weight 1 (default auto)");

@@ -32,9 +32,13 @@ struct MapCliOptions {
   bool quiet = false;
 };
 
-/// Adds the input, feature and method options to `sub` (the method option only if `with_method`;
-/// the input files option only if `with_files`).
-void add_map_options(CLI::App* sub, MapCliOptions& opt, bool with_method, bool with_files = true);
+/// Which command the map options are for: `map` (all of them), `figure` (no --method: it runs
+/// all six), `pose`/`synth` (where --neighbors is the blend's K and --fps the new motion's frame
+/// rate, so the graph's k is -k only and the AMC input rate --amc-fps).
+enum class MapOptionsFor { Map, Figure, Synthesis };
+
+/// Adds the input files and the feature and method options to `sub`.
+void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use);
 
 /// Loads every input file. @throws Error / ParseError.
 std::vector<Clip> load_inputs(const MapCliOptions& opt);

@@ -11,6 +11,11 @@ import sys
 import tempfile
 import traceback
 
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference"))
+import mocap  # noqa: E402  (independent numpy BVH reader)
+
 BIN = sys.argv[1]
 DATA = sys.argv[2]
 TMP = tempfile.mkdtemp(prefix="motionmap-cli-")
@@ -46,7 +51,7 @@ def test(fn):
 
 @test
 def help_everywhere_exits_zero():
-    for cmd in ([], ["info"], ["convert"], ["sample"]):
+    for cmd in ([], ["info"], ["convert"], ["sample"], ["map"], ["figure"], ["pose"], ["synth"]):
         code, out, _ = run(*cmd, "--help")
         assert code == 0, (cmd, code)
         assert "Usage" in out or "usage" in out.lower(), out
@@ -152,6 +157,219 @@ def convert_amc_to_bvh():
                          "--asf", data("asfamc/02.asf"))
     assert code == 0, err
     assert abs(json.loads(out)["frame_time"] - 1 / 60) < 1e-12
+
+
+GOLF = "cmu/64_08.bvh"
+
+
+def needs(rel):
+    if not have(rel):
+        print(f"  skipped: {rel} absent from the shared data")
+        return False
+    return True
+
+
+def read_map(path):
+    with open(path) as f:
+        lines = f.read().splitlines()
+    comments = [l for l in lines if l.startswith("#")]
+    rows = [l for l in lines if not l.startswith("#")]
+    header = rows[0].split(",")
+    values = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
+    return comments, header, values
+
+
+@test
+def map_writes_csv_with_parameters_and_is_deterministic():
+    if not needs(GOLF):
+        return
+    a, b = os.path.join(TMP, "a.csv"), os.path.join(TMP, "b.csv")
+    for out in (a, b):
+        code, _, err = run("map", data(GOLF), "--method", "le", "-o", out, "-q")
+        assert code == 0, err
+    assert "bind pose" in err and "heat" in err, err
+    with open(a, "rb") as fa, open(b, "rb") as fb:
+        assert fa.read() == fb.read(), "same input, different CSV"
+    comments, header, values = read_map(a)
+    assert comments[0].startswith("# motionmap map method=le") and "k=20" in comments[0], comments
+    assert "heat=" in comments[0] and "files=64_08.bvh" in comments[0], comments
+    assert any("bind pose" in c for c in comments), comments
+    assert header == ["frame", "x", "y"], header
+    assert values.shape == (364, 3) and values[0, 0] == 1 and values[-1, 0] == 364, values.shape
+    # LE's coordinates satisfy y'·Deg·y = 1, so they are not all tiny or huge
+    assert np.all(np.isfinite(values)) and 0 < np.abs(values[:, 1:]).max() < 1e3
+
+
+@test
+def map_options_frames_stride_dims_several_files_metrics_plot():
+    if not (needs(GOLF) and needs("cmu/64_09.bvh")):
+        return
+    out, png = os.path.join(TMP, "two.csv"), os.path.join(TMP, "two.png")
+    code, stdout, err = run("map", data(GOLF), data("cmu/64_09.bvh"), "--method", "isomap",
+                            "--frames", "10:210", "--stride", "2", "--dims", "3", "--metrics",
+                            "-o", out, "--plot", png)
+    assert code == 0, err
+    comments, header, values = read_map(out)
+    assert header == ["clip", "frame", "x", "y", "z"], header
+    assert values.shape == (200, 5), values.shape
+    assert set(values[:, 0]) == {0, 1} and values[0, 1] == 10 and values[1, 1] == 12, values[:3]
+    assert any(c.startswith("# metrics trustworthiness=") for c in comments), comments
+    assert "trustworthiness" in stdout and "continuity" in stdout, stdout
+    with open(png, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+@test
+def map_errors_name_the_problem():
+    if not needs(GOLF):
+        return
+    cases = [
+        (["--frames", "10-20"], "--frames", 1),
+        (["--frames", "a:20"], "--frames", 1),
+        (["--frames", "300:100"], "empty", 1),
+        (["--heat", "warm"], "--heat", 1),
+        (["-k", "0"], "k", 1),
+        (["-k", "5000"], "k", 1),
+        (["--exclude", "("], "exclude", 1),
+        (["--method", "tsne"], "tsne", 2),
+        (["--dims", "4"], "dims", 2),
+    ]
+    for extra, word, want in cases:
+        code, out, err = run("map", data(GOLF), "-q", "-o", os.path.join(TMP, "x.csv"), *extra)
+        assert code == want, (extra, code, err)
+        assert word in err, (extra, err)
+        assert out == "", (extra, out)
+
+
+@test
+def figure_draws_six_methods():
+    path = os.path.join(TMP, "swing-fig.bvh")
+    code, _, err = run("sample", "--kind", "swing", "-o", path)
+    assert code == 0, err
+    png = os.path.join(TMP, "fig.png")
+    code, out, err = run("figure", path, "-o", png, "-q")
+    assert code == 0, err
+    for method in ("pca", "svd", "mds", "isomap", "le", "lle"):
+        assert method in out, out
+    with open(png, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def rotation_errors_deg(path_a, frames_a, path_b):
+    """Per frame: the largest angle (degrees) between the non-root joints' local rotations of
+    `path_a` frames `frames_a` and `path_b` (same skeleton), via an independent reader."""
+    ja, va, _ = mocap.parse_bvh(path_a)
+    jb, vb, _ = mocap.parse_bvh(path_b)
+    assert [j["name"] for j in ja] == [j["name"] for j in jb]
+    assert [j["channels"] for j in ja] == [j["channels"] for j in jb], "channel order changed"
+    la, lb = mocap.local_transforms(ja, va[frames_a]), mocap.local_transforms(jb, vb)
+    worst = np.zeros(vb.shape[0])
+    for k, j in enumerate(ja):
+        if j["parent"] < 0:
+            continue
+        worst = np.maximum(worst, np.degrees((la[k][1].inv() * lb[k][1]).magnitude()))
+    return worst, (ja, va, jb, vb)
+
+
+@test
+def synth_retracing_the_map_reproduces_the_clip():
+    if not needs(GOLF):
+        return
+    csv, path, bvh = (os.path.join(TMP, n) for n in ("golf.csv", "golf-path.csv", "golf-synth.bvh"))
+    code, _, err = run("map", data(GOLF), "--method", "mds", "-o", csv, "-q")
+    assert code == 0, err
+    _, _, values = read_map(csv)
+    frame_time = mocap.parse_bvh(data(GOLF))[2]  # 0.0083333 s, as the file says (not 1/120)
+    with open(path, "w") as f:
+        f.write("t,x,y\n")
+        for frame, x, y in values:
+            f.write(f"{(frame - values[0, 0]) * frame_time!r},{x!r},{y!r}\n")
+    code, _, err = run("synth", data(GOLF), "--map", csv, "--path", path, "-o", bvh, "-q")
+    assert code == 0, err
+    assert "364 frames at 120 fps" in err, err
+    frames = values[:, 0].astype(int)
+    worst, (ja, va, jb, vb) = rotation_errors_deg(data(GOLF), frames, bvh)
+    assert len(worst) == 364 and worst.max() < 1e-6, worst.max()
+    # the root height follows the clip
+    assert np.abs(va[frames, 1] - vb[:, 1]).max() < 1e-3
+
+
+@test
+def synth_untimed_path_speed_fps_and_clamping():
+    if not needs(GOLF):
+        return
+    path, bvh = os.path.join(TMP, "line.csv"), os.path.join(TMP, "line.bvh")
+    with open(path, "w") as f:
+        f.write("x,y\n0,0\n1,0\n")
+    code, _, err = run("synth", data(GOLF), "--method", "isomap", "--path", path, "--speed", "2",
+                       "--fps", "30", "-o", bvh, "-q")
+    assert code == 0, err
+    assert "16 frames at 30 fps" in err, err  # 1 map unit at 2 units/s = 0.5 s → 15 steps + 1
+    _, values, frame_time = mocap.parse_bvh(bvh)
+    assert values.shape[0] == 16 and abs(frame_time - 1 / 30) < 1e-6
+    far = write("far.csv", "x,y\n1000,1000\n1001,1000\n")
+    code, _, err = run("synth", data(GOLF), "--path", far, "-o", bvh, "-q")
+    assert code == 0, err
+    assert "outside the data" in err, err
+    assert np.all(np.isfinite(mocap.parse_bvh(bvh)[1]))
+
+
+@test
+def pose_at_a_sample_is_that_frame():
+    if not needs(GOLF):
+        return
+    csv, bvh = os.path.join(TMP, "pose-map.csv"), os.path.join(TMP, "pose.bvh")
+    code, _, err = run("map", data(GOLF), "--method", "isomap", "-o", csv, "-q")
+    assert code == 0, err
+    _, _, values = read_map(csv)
+    row = 150
+    frame, x, y = values[row]
+    for blend in ("local", "kriging"):
+        code, _, err = run("pose", data(GOLF), "--map", csv, "--blend", blend, f"--at={x!r},{y!r}",
+                           "-o", bvh, "-q")
+        assert code == 0, err
+        assert f"frame {int(frame)} at 0" in err, err
+        worst, (_, _, _, vb) = rotation_errors_deg(data(GOLF), [int(frame)], bvh)
+        assert vb.shape[0] == 1 and worst.max() < 1e-6, (blend, worst.max())
+        assert vb[0, 0] == 0 and vb[0, 2] == 0, vb[0, :3]  # at the origin
+
+
+@test
+def pose_and_synth_errors():
+    if not needs(GOLF):
+        return
+    out = os.path.join(TMP, "x.bvh")
+    csv = os.path.join(TMP, "err-map.csv")
+    code, _, err = run("map", data(GOLF), "-o", csv, "-q")
+    assert code == 0, err
+    with open(csv) as f:
+        lines = f.read().splitlines()
+    short = write("short-map.csv", "\n".join(lines[:-5]) + "\n")
+    broken = write("broken-map.csv", "\n".join(lines[:6] + ["7,abc,1"] + lines[7:]) + "\n")
+    headless = write("headless-map.csv", "1,2,3\n")
+    cases = [
+        (["pose", "--at", "1"], "--at", 1),
+        (["pose", "--at", "1,nan"], "--at", 1),
+        (["pose", "--at=0,0", "--map", short], "359 map rows, but the clips give 364", 1),
+        (["pose", "--at=0,0", "--map", csv, "--stride", "2"], "364 map rows, but the clips give 182", 1),
+        (["pose", "--at=0,0", "--map", broken], broken + ":7:3: error: expected a finite coordinate", 1),
+        (["pose", "--at=0,0", "--map", headless], headless + ":1:1: error: expected the header", 1),
+        (["pose", "--at=0,0", "--neighbors", "0"], "neighbors", 1),
+        (["pose", "--at=0,0", "--reach", "-1"], "reach", 1),
+        (["pose", "--at=0,0", "--blend", "magic"], "magic", 2),
+        (["synth", "--path", write("one.csv", "t,x,y\n0,1,1\n")], "one.csv:2:1: error: expected at least 2", 1),
+        (["synth", "--path", write("empty.csv", "")], "empty.csv:1:1: error: expected at least 2", 1),
+        (["synth", "--path", write("nan.csv", "0,1\n1,nan\n")], "nan.csv:2:3: error: expected a finite number", 1),
+        (["synth", "--path", write("text.csv", "0,1\n1,one\n")], "text.csv:2:3: error: expected a number", 1),
+        (["synth", "--path", write("back.csv", "0,0,0\n1,1,1\n0.5,2,2\n")], "back.csv:3:1: error: time 0.5", 1),
+        (["synth", "--path", write("ok.csv", "0,0\n1,1\n"), "--smooth", "-1"], "smooth", 1),
+        (["synth", "--path", write("ok2.csv", "0,0\n1,1\n"), "--fps", "-5"], "fps", 1),
+    ]
+    for args, word, want in cases:
+        code, stdout, err = run(args[0], data(GOLF), "-q", "-o", out, *args[1:])
+        assert code == want, (args, code, err)
+        assert word in err, (args, err)
+        assert stdout == "", (args, stdout)
 
 
 def main():

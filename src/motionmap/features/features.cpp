@@ -163,9 +163,15 @@ void check_finite(const Clip& clip) {
   }
 }
 
-}  // namespace
+/// The samples of `clips` (clip_of, frame_of, segment_starts, joints, notes; no X or D) and, per
+/// clip, its heading-local point cloud (all frames) and the frames selected.
+struct Selection {
+  FeatureSet set;
+  std::vector<RowMatrix> clouds;
+  std::vector<std::vector<int>> frames;
+};
 
-FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options) {
+Selection select(std::span<const Clip> clips, const FeatureOptions& options) {
   options.validate();
   if (clips.empty()) throw ParameterError("no clip given");
   const Skeleton& skeleton = clips.front().skeleton;
@@ -178,15 +184,11 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
     check_finite(clip);
   }
 
-  FeatureSet set;
+  Selection out;
+  FeatureSet& set = out.set;
   set.joints = used_joints(skeleton, options.exclude);
-  const auto point_cols = kept_point_columns(skeleton, set.joints);
-
-  std::vector<Eigen::MatrixXd> x_blocks;
-  std::vector<RowMatrix> cloud_blocks;
-  for (std::size_t c = 0; c < clips.size(); ++c) {
-    const Clip& clip = clips[c];
-    const RowMatrix cloud = heading_local_points(clip.skeleton, clip.motion, options.up);
+  for (const Clip& clip : clips) {
+    RowMatrix cloud = heading_local_points(clip.skeleton, clip.motion, options.up);
     int first = options.first_frame;
     if (first == 0 && !options.keep_first) {
       const BindPoseCheck bind = check_leading_bind_pose(cloud);
@@ -208,12 +210,36 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
                            std::to_string(clip.motion.num_frames) + ")");
     }
     set.segment_starts.push_back(set.num_samples());
+    const int c = static_cast<int>(out.frames.size());
     for (int f : frames) {
-      set.clip_of.push_back(static_cast<int>(c));
+      set.clip_of.push_back(c);
       set.frame_of.push_back(f);
     }
+    out.clouds.push_back(std::move(cloud));
+    out.frames.push_back(std::move(frames));
+  }
+  return out;
+}
+
+}  // namespace
+
+FeatureSet select_samples(std::span<const Clip> clips, const FeatureOptions& options) {
+  return select(clips, options).set;
+}
+
+FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options) {
+  Selection selection = select(clips, options);
+  FeatureSet set = std::move(selection.set);
+  const Skeleton& skeleton = clips.front().skeleton;
+  const auto point_cols = kept_point_columns(skeleton, set.joints);
+
+  std::vector<Eigen::MatrixXd> x_blocks;
+  std::vector<RowMatrix> cloud_blocks;
+  for (std::size_t c = 0; c < clips.size(); ++c) {
+    const std::vector<int>& frames = selection.frames[c];
+    const RowMatrix& cloud = selection.clouds[c];
     if (options.features == FeatureKind::Quaternions || options.distance == DistanceKind::Geodesic) {
-      x_blocks.push_back(quaternion_features(clip.motion, set.joints, frames));
+      x_blocks.push_back(quaternion_features(clips[c].motion, set.joints, frames));
     }
     RowMatrix kept(static_cast<Eigen::Index>(frames.size()), static_cast<Eigen::Index>(point_cols.size()));
     for (std::size_t r = 0; r < frames.size(); ++r) {

@@ -70,6 +70,11 @@ struct FeatureSet {
 ///         NumericalError if a clip holds NaN or infinite values; Cancelled if cancel() says so.
 FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options);
 
+/// The samples build_features() would use — clip_of, frame_of, segment_starts, joints and notes,
+/// with X and D left empty — at the cost of forward kinematics only. For checking that a map
+/// computed earlier (a CSV) belongs to the clips. @throws as build_features().
+FeatureSet select_samples(std::span<const Clip> clips, const FeatureOptions& options);
+
 /// Sign-consistent local rotation quaternions: #frames by 4·#joints (w, x, y, z per joint) of
 /// the given frames; row 0 has w ≥ 0 per joint, every later row flips a joint's quaternion whose
 /// dot product with the previous row's is negative.

@@ -142,4 +142,20 @@ long long TextCursor::next_integer(std::string_view what, long long min, long lo
   return value;
 }
 
+std::vector<CsvField> split_csv_fields(std::string_view row) {
+  std::vector<CsvField> fields;
+  std::size_t begin = 0;
+  for (;;) {
+    std::size_t end = row.find(',', begin);
+    if (end == std::string_view::npos) end = row.size();
+    std::size_t b = begin, e = end;
+    while (b < e && is_blank(row[b])) ++b;
+    while (e > b && is_blank(row[e - 1])) --e;
+    fields.push_back({row.substr(b, e - b), b + 1});
+    if (end == row.size()) break;
+    begin = end + 1;
+  }
+  return fields;
+}
+
 }  // namespace motionmap::io

@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 namespace motionmap::io {
 
@@ -89,6 +90,16 @@ class TextCursor {
 inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
 /// A blank or a line end.
 inline bool is_space(char c) { return is_blank(c) || c == '\n' || c == '\r'; }
+
+/// A comma-separated field of a CSV line: its text without surrounding blanks, and the 1-based
+/// column where that text starts.
+struct CsvField {
+  std::string_view text;
+  std::size_t column = 1;
+};
+
+/// The fields of one CSV line (no quoting: the files MotionMap reads hold numbers and names).
+std::vector<CsvField> split_csv_fields(std::string_view row);
 
 enum class NumberStatus { Ok, NotANumber, NotFinite };
 

@@ -11,30 +11,7 @@
 
 namespace motionmap::synth {
 
-
 namespace {
-
-// A comma-separated field of a line: trimmed text and its 1-based column.
-struct Field {
-  std::string_view text;
-  std::size_t column = 1;
-};
-
-std::vector<Field> split_fields(std::string_view row) {
-  std::vector<Field> fields;
-  std::size_t begin = 0;
-  for (;;) {
-    std::size_t end = row.find(',', begin);
-    if (end == std::string_view::npos) end = row.size();
-    std::size_t b = begin, e = end;
-    while (b < e && io::is_blank(row[b])) ++b;
-    while (e > b && io::is_blank(row[e - 1])) --e;
-    fields.push_back({row.substr(b, e - b), b + 1});
-    if (end == row.size()) break;
-    begin = end + 1;
-  }
-  return fields;
-}
 
 std::string lower(std::string_view s) {
   std::string out(s);
@@ -82,7 +59,7 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
     std::size_t lead = 0;
     while (lead < row.size() && io::is_blank(row[lead])) ++lead;
     if (lead == row.size() || row[lead] == '#') continue;
-    const std::vector<Field> fields = split_fields(row);
+    const std::vector<io::CsvField> fields = io::split_csv_fields(row);
 
     if (!any_content) {
       any_content = true;
@@ -104,7 +81,7 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
           }
         }
         for (std::size_t k = 0; k < 2; ++k) {
-          const Field& f = fields[offset + k];
+          const io::CsvField& f = fields[offset + k];
           if (lower(f.text) != (k == 0 ? "x" : "y")) {
             cur.fail_at(line, f.column, std::string("expected '") + (k == 0 ? "x" : "y") +
                                             "' in the header, found '" + quote_token(f.text) + "'");
@@ -130,7 +107,7 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
     }
     double v[3] = {0.0, 0.0, 0.0};
     for (std::size_t k = 0; k < columns; ++k) {
-      const Field& f = fields[k];
+      const io::CsvField& f = fields[k];
       if (f.text.empty()) cur.fail_at(line, f.column, "expected a number, found an empty field");
       const char* first = f.text.data();
       switch (io::parse_number(first, first + f.text.size(), v[k])) {

@@ -1,0 +1,143 @@
+#include "motionmap/embed/map_csv.h"
+
+#include <cctype>
+#include <charconv>
+#include <cstdio>
+#include <limits>
+
+#include "motionmap/core/error.h"
+#include "motionmap/io/load.h"
+#include "motionmap/io/text_cursor.h"
+
+namespace motionmap::embed {
+
+namespace {
+
+std::string base_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+}  // namespace
+
+void MapTable::check_matches(const features::FeatureSet& samples) const {
+  if (num_rows() != samples.num_samples()) {
+    throw ParameterError(path + ": " + std::to_string(num_rows()) + " map rows, but the clips give " +
+                         std::to_string(samples.num_samples()) +
+                         " samples with these options (frames, stride, bind pose, files): not a map of "
+                         "these clips; compute it with the same options, or leave out --map");
+  }
+  for (int i = 0; i < num_rows(); ++i) {
+    if (clip_of[i] != samples.clip_of[i] || frame_of[i] != samples.frame_of[i]) {
+      throw ParameterError(path + ":" + std::to_string(lines[i]) + ": row " + std::to_string(i + 1) + " is clip " +
+                           std::to_string(clip_of[i]) + " frame " + std::to_string(frame_of[i]) +
+                           ", but the clips' sample " + std::to_string(i + 1) + " is clip " +
+                           std::to_string(samples.clip_of[i]) + " frame " + std::to_string(samples.frame_of[i]) +
+                           ": not a map of these clips with these options");
+    }
+  }
+}
+
+void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& options,
+                   std::span<const std::string> files) {
+  out << "# motionmap map " << describe_parameters(map.embedding, options);
+  out << " files=";
+  for (std::size_t i = 0; i < files.size(); ++i) out << (i ? "," : "") << base_name(files[i]);
+  out << '\n';
+  for (const auto& note : map.features.notes) out << "# note: " << note << '\n';
+  for (const auto& w : map.embedding.warnings) out << "# warning: " << w << '\n';
+  if (map.metrics) out << "# metrics " << describe_metrics(*map.metrics) << '\n';
+  const bool several = map.features.segment_starts.size() > 1;
+  const auto& Y = map.embedding.coordinates;
+  out << (several ? "clip,frame,x,y" : "frame,x,y") << (Y.cols() == 3 ? ",z\n" : "\n");
+  char buf[32];
+  for (Eigen::Index i = 0; i < Y.rows(); ++i) {
+    if (several) out << map.features.clip_of[i] << ',';
+    out << map.features.frame_of[i];
+    for (Eigen::Index c = 0; c < Y.cols(); ++c) {
+      std::snprintf(buf, sizeof buf, ",%.17g", Y(i, c));
+      out << buf;
+    }
+    out << '\n';
+  }
+}
+
+MapTable parse_map_csv(std::string_view text, const std::string& path) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  io::TextCursor cur(text, path);
+  MapTable table;
+  table.path = path;
+  bool has_clip = false;
+  std::size_t columns = 0;  // set by the header
+  std::vector<double> values;
+  while (!cur.at_end()) {
+    const std::size_t line = cur.line();
+    const std::string_view row = cur.rest_of_line();
+    cur.consume_line_end();
+    std::size_t lead = 0;
+    while (lead < row.size() && io::is_blank(row[lead])) ++lead;
+    if (lead == row.size() || row[lead] == '#') continue;
+    const std::vector<io::CsvField> fields = io::split_csv_fields(row);
+
+    if (columns == 0) {
+      std::string header;
+      for (const auto& f : fields) header += (header.empty() ? "" : ",") + lower(f.text);
+      if (header == "frame,x,y" || header == "frame,x,y,z") {
+        has_clip = false;
+      } else if (header == "clip,frame,x,y" || header == "clip,frame,x,y,z") {
+        has_clip = true;
+      } else {
+        cur.fail_at(line, 1, "expected the header of a map (frame,x,y or clip,frame,x,y, with ,z in 3-D), found '" +
+                                 quote_token(row) + "'");
+      }
+      columns = fields.size();
+      continue;
+    }
+    if (fields.size() != columns) {
+      const std::size_t col = fields.size() > columns ? fields[columns].column : row.size() + 1;
+      cur.fail_at(line, col, "expected " + std::to_string(columns) + " fields as in the header, found " +
+                                 std::to_string(fields.size()));
+    }
+    const std::size_t ids = has_clip ? 2 : 1;
+    int id[2] = {0, 0};
+    for (std::size_t k = 0; k < ids; ++k) {
+      const io::CsvField& f = fields[k];
+      const char* end = f.text.data() + f.text.size();
+      const auto [ptr, ec] = std::from_chars(f.text.data(), end, id[k]);
+      if (f.text.empty() || ec != std::errc() || ptr != end || id[k] < 0) {
+        cur.fail_at(line, f.column, std::string("expected a ") + (k + 1 == ids ? "frame" : "clip") +
+                                        " number (an integer ≥ 0), found '" + quote_token(f.text) + "'");
+      }
+    }
+    for (std::size_t k = ids; k < columns; ++k) {
+      const io::CsvField& f = fields[k];
+      double v = 0.0;
+      const char* first = f.text.data();
+      const auto status = f.text.empty() ? io::NumberStatus::NotANumber
+                                         : io::parse_number(first, first + f.text.size(), v);
+      if (status != io::NumberStatus::Ok) {
+        cur.fail_at(line, f.column, "expected a finite coordinate, found '" + quote_token(f.text) + "'");
+      }
+      values.push_back(v);
+    }
+    table.clip_of.push_back(has_clip ? id[0] : 0);
+    table.frame_of.push_back(id[ids - 1]);
+    table.lines.push_back(line);
+  }
+  if (columns == 0) cur.fail_at(cur.line(), 1, "expected the header of a map (frame,x,y or clip,frame,x,y), found none");
+  if (table.frame_of.empty()) cur.fail_at(cur.line(), 1, "expected map rows after the header, found none");
+  const auto dims = static_cast<Eigen::Index>(columns - (has_clip ? 2 : 1));
+  table.coords = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      values.data(), table.num_rows(), dims);
+  return table;
+}
+
+MapTable read_map_csv(const std::string& path) { return parse_map_csv(io::read_text_file(path), path); }
+
+}  // namespace motionmap::embed

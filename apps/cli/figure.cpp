@@ -17,6 +17,7 @@ struct FigureCommand {
   MapCliOptions map;
   std::string output;
   int panel_px = 500;
+  std::string axes = "fill";
 };
 
 const char* long_name(embed::Method m) {
@@ -49,6 +50,10 @@ void setup_figure(CLI::App& app) {
   add_map_options(sub, cmd->map, MapOptionsFor::Figure);
   sub->add_option("-o,--output", cmd->output, "Figure to write: .png, .svg or .pdf")->required();
   sub->add_option("--panel-size", cmd->panel_px, "Pixels per panel (default 500)")->check(CLI::Range(64, 4096));
+  sub->add_option("--axes", cmd->axes,
+                  "fill: each panel's axes scaled to fill it, as the reference system draws (default); "
+                  "equal: one scale for both axes, so distances are to scale")
+      ->check(CLI::IsMember({"fill", "equal"}));
   sub->callback([cmd] {
     const std::vector<Clip> clips = load_inputs(cmd->map);
     const auto& methods = embed::all_methods();
@@ -79,7 +84,7 @@ void setup_figure(CLI::App& app) {
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const embed::MapMetrics m = embed::map_metrics(set, e, 10);
         for (const auto& w : e.warnings) std::cerr << "warning: " << embed::method_name(methods[i]) << ": " << w << '\n';
-        panel.coords = e.coordinates;
+        panel.coords = cmd->axes == "fill" ? render::fill_axes(e.coordinates) : e.coordinates;
         QString line = "T " + format("%.3f", m.neighborhood.trustworthiness) + "   C " +
                        format("%.3f", m.neighborhood.continuity);
         if (m.stress) line += "   stress " + format("%.3f", *m.stress);
@@ -107,7 +112,8 @@ void setup_figure(CLI::App& app) {
     for (const auto& f : cmd->map.files) files += (files.empty() ? "" : ", ") + f.substr(f.find_last_of('/') + 1);
     const QString title = QString::fromStdString(files) + " — " + QString::number(set.num_samples()) +
                           " frames, features " + QString::fromStdString(std::string(features::feature_kind_name(options.features.features))) +
-                          ", distance " + QString::fromStdString(std::string(features::distance_kind_name(options.features.distance)));
+                          ", distance " + QString::fromStdString(std::string(features::distance_kind_name(options.features.distance))) +
+                          (cmd->axes == "fill" ? ", axes scaled to fill each panel" : "");
     render::save_figure(cmd->output, panels, 3, cmd->panel_px, title);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "wrote " << cmd->output << " (" << total << " s)\n";

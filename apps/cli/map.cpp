@@ -19,6 +19,7 @@ struct MapCommand {
   std::string output;
   std::string plot;
   bool metrics = false;
+  std::string axes = "equal";
 };
 
 std::string base_name(const std::string& path) {
@@ -49,6 +50,10 @@ void setup_map(CLI::App& app) {
   add_map_options(sub, cmd->map, MapOptionsFor::Map);
   sub->add_option("-o,--output", cmd->output, "CSV file to write (default: standard output)");
   sub->add_option("--plot", cmd->plot, "Also draw the map: .png, .svg or .pdf");
+  sub->add_option("--axes", cmd->axes,
+                  "For --plot: equal (one scale for both axes, distances to scale; default) or fill "
+                  "(each axis scaled to fill the square panel)")
+      ->check(CLI::IsMember({"fill", "equal"}));
   sub->add_flag("--metrics", cmd->metrics,
                 "Compute trustworthiness and continuity (k = 10), stress (mds, isomap) and the jump "
                 "score; printed as a table and in the CSV comment");
@@ -80,7 +85,10 @@ void setup_map(CLI::App& app) {
       plot.notes << QString::fromStdString(embed::describe_parameters(map.embedding, options));
       if (map.metrics) plot.notes << QString::fromStdString(embed::describe_metrics(*map.metrics));
       plot.time_legend = true;
-      render::save_map_plot(cmd->plot, map.embedding.coordinates, map.features.segment_starts, plot);
+      if (cmd->axes == "fill") plot.notes << "axes scaled to fill the panel";
+      render::save_map_plot(cmd->plot, cmd->axes == "fill" ? render::fill_axes(map.embedding.coordinates)
+                                                           : map.embedding.coordinates,
+                            map.features.segment_starts, plot);
     }
   });
 }

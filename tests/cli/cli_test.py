@@ -206,7 +206,7 @@ def map_options_frames_stride_dims_several_files_metrics_plot():
         return
     out, png = os.path.join(TMP, "two.csv"), os.path.join(TMP, "two.png")
     code, stdout, err = run("map", data(GOLF), data("cmu/64_09.bvh"), "--method", "isomap",
-                            "--frames", "10:210", "--stride", "2", "--dims", "3", "--metrics",
+                            "--frames", "10:210", "--stride", "2", "--dims", "3", "--metrics", "--axes", "fill",
                             "-o", out, "--plot", png)
     assert code == 0, err
     comments, header, values = read_map(out)
@@ -247,7 +247,7 @@ def figure_draws_six_methods():
     code, _, err = run("sample", "--kind", "swing", "-o", path)
     assert code == 0, err
     png = os.path.join(TMP, "fig.png")
-    code, out, err = run("figure", path, "-o", png, "-q")
+    code, out, err = run("figure", path, "-o", png, "-q", "--axes", "equal")
     assert code == 0, err
     for method in ("pca", "svd", "mds", "isomap", "le", "lle"):
         assert method in out, out

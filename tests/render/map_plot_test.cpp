@@ -162,6 +162,24 @@ TEST(TrajectorySegmentsTest, EqualScaleOnBothAxes) {
   EXPECT_NEAR(segs[1].to.y(), 0.5 + 0.125, 1e-12);
 }
 
+TEST(FillAxesTest, ScalesTheShorterAxisToTheLongerAboutItsCentre) {
+  Eigen::MatrixXd coords(4, 3);
+  coords << 0, 5, 7,  //
+      10, 6, 8,       //
+      std::nan(""), 100, 9, 5, 5.5, 1;
+  const Eigen::MatrixXd filled = fill_axes(coords);
+  EXPECT_EQ(filled.col(0).head(2), coords.col(0).head(2));  // the longer axis is kept
+  EXPECT_DOUBLE_EQ(filled(0, 1), 0.5);                       // y: [5, 6] → [0.5, 10.5]
+  EXPECT_DOUBLE_EQ(filled(1, 1), 10.5);
+  EXPECT_DOUBLE_EQ(filled(3, 1), 5.5);
+  EXPECT_EQ(filled.col(2), coords.col(2));  // a third column is left alone
+  EXPECT_TRUE(std::isnan(filled(2, 0)));    // a gap stays a gap, and did not count for y
+  // Zero extent: unchanged, finite.
+  Eigen::MatrixXd flat(3, 2);
+  flat << 0, 1, 1, 1, 2, 1;
+  EXPECT_EQ(fill_axes(flat), flat);
+}
+
 TEST(TrajectorySegmentsTest, ClipsAreNotJoinedAndEachHasItsOwnTime) {
   Eigen::MatrixXd c(30, 2);
   c << line(10, 0, 1, 0), line(20, 0, 1, 1);

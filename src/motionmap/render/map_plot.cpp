@@ -313,6 +313,30 @@ QTransform data_to_unit(const Eigen::MatrixXd& coords) {
   return QTransform(m.scale, 0, 0, m.scale, 0.5 - m.cx * m.scale, 0.5 - m.cy * m.scale);
 }
 
+Eigen::MatrixXd fill_axes(const Eigen::MatrixXd& coords) {
+  check_columns(coords);
+  Eigen::MatrixXd out = coords;
+  double extent[2] = {0.0, 0.0}, centre[2] = {0.0, 0.0};
+  for (int c = 0; c < 2; ++c) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (Eigen::Index i = 0; i < coords.rows(); ++i) {
+      if (!finite_row(coords, i)) continue;
+      lo = std::min(lo, coords(i, c));
+      hi = std::max(hi, coords(i, c));
+    }
+    if (lo <= hi) {
+      extent[c] = hi / 2 - lo / 2;
+      centre[c] = lo / 2 + hi / 2;
+    }
+  }
+  const double target = std::max(extent[0], extent[1]);
+  for (int c = 0; c < 2; ++c) {
+    if (!(extent[c] > 1e-300) || !std::isfinite(target / extent[c])) continue;
+    out.col(c) = (coords.col(c).array() - centre[c]) * (target / extent[c]) + centre[c];
+  }
+  return out;
+}
+
 std::vector<ColoredSegment> trajectory_segments(const Eigen::MatrixXd& coords,
                                                 const std::vector<int>& segment_starts) {
   const std::vector<int> bounds = clip_bounds(coords, segment_starts);

@@ -55,6 +55,12 @@ struct ColoredSegment {
 /// spanning [0, 1]. With no finite sample or zero extent the scale is 1 (points land at 0.5).
 QTransform data_to_unit(const Eigen::MatrixXd& coords);
 
+/// `coords` with its first two columns scaled (about their centres) to the same extent, so a plot
+/// fills its square panel on both axes, as the reference system draws its maps. Distances are no
+/// longer to scale, but a map whose second axis is much shorter than its first (SVD, whose first
+/// axis is the mean pose) shows its shape. Columns of zero extent are left as they are.
+Eigen::MatrixXd fill_axes(const Eigen::MatrixXd& coords);
+
 /// The coloured polyline of `coords` (#samples by ≥ 2) as plain data, in unit-square
 /// coordinates: one segment per pair of consecutive finite samples of the same clip.
 /// `segment_starts` lists the row where each clip starts, strictly increasing, in

@@ -1,6 +1,5 @@
 #include "motionmap/embed/map_csv.h"
 
-#include <cctype>
 #include <charconv>
 #include <cstdio>
 #include <limits>
@@ -16,12 +15,6 @@ namespace {
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
 }
 
 }  // namespace
@@ -69,25 +62,21 @@ void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& 
 }
 
 MapTable parse_map_csv(std::string_view text, const std::string& path) {
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-  io::TextCursor cur(text, path);
+  io::TextCursor cur(io::skip_utf8_bom(text), path);
   MapTable table;
   table.path = path;
   bool has_clip = false;
   std::size_t columns = 0;  // set by the header
   std::vector<double> values;
-  while (!cur.at_end()) {
-    const std::size_t line = cur.line();
-    const std::string_view row = cur.rest_of_line();
-    cur.consume_line_end();
-    std::size_t lead = 0;
-    while (lead < row.size() && io::is_blank(row[lead])) ++lead;
-    if (lead == row.size() || row[lead] == '#') continue;
-    const std::vector<io::CsvField> fields = io::split_csv_fields(row);
+  io::CsvRow csv;
+  while (io::next_csv_row(cur, csv)) {
+    const std::size_t line = csv.line;
+    const std::string_view row = csv.text;
+    const std::vector<io::CsvField>& fields = csv.fields;
 
     if (columns == 0) {
       std::string header;
-      for (const auto& f : fields) header += (header.empty() ? "" : ",") + lower(f.text);
+      for (const auto& f : fields) header += (header.empty() ? "" : ",") + io::ascii_lower(f.text);
       if (header == "frame,x,y" || header == "frame,x,y,z") {
         has_clip = false;
       } else if (header == "clip,frame,x,y" || header == "clip,frame,x,y,z") {

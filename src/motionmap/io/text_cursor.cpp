@@ -158,4 +158,26 @@ std::vector<CsvField> split_csv_fields(std::string_view row) {
   return fields;
 }
 
+bool next_csv_row(TextCursor& cur, CsvRow& row) {
+  while (!cur.at_end()) {
+    row.line = cur.line();
+    row.text = cur.rest_of_line();
+    cur.consume_line_end();
+    std::size_t lead = 0;
+    while (lead < row.text.size() && is_blank(row.text[lead])) ++lead;
+    if (lead == row.text.size() || row.text[lead] == '#') continue;
+    row.fields = split_csv_fields(row.text);
+    return true;
+  }
+  return false;
+}
+
+std::string ascii_lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return out;
+}
+
 }  // namespace motionmap::io

@@ -101,6 +101,25 @@ struct CsvField {
 /// The fields of one CSV line (no quoting: the files MotionMap reads hold numbers and names).
 std::vector<CsvField> split_csv_fields(std::string_view row);
 
+/// A CSV row: its 1-based line, its text without the line end, and its fields.
+struct CsvRow {
+  std::size_t line = 0;
+  std::string_view text;
+  std::vector<CsvField> fields;
+};
+
+/// Moves `cur` past the next row that is neither blank nor a '#' comment (and its line end) and
+/// returns it in `row`; false at the end of the text.
+bool next_csv_row(TextCursor& cur, CsvRow& row);
+
+/// `text` without a leading UTF-8 byte-order mark (spreadsheets write one).
+inline std::string_view skip_utf8_bom(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? text.substr(3) : text;
+}
+
+/// ASCII lower case, for case-insensitive header names.
+std::string ascii_lower(std::string_view s);
+
 enum class NumberStatus { Ok, NotANumber, NotFinite };
 
 /// Parses the number starting at `first` (strtod syntax plus a leading '+', '.5' and '5.' forms;

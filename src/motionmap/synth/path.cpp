@@ -1,7 +1,6 @@
 #include "motionmap/synth/path.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 
 #include "motionmap/core/error.h"
@@ -12,12 +11,6 @@
 namespace motionmap::synth {
 
 namespace {
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 std::string row_kind(std::size_t columns) { return columns == 3 ? "3 values (t,x,y)" : "2 values (x,y)"; }
 
@@ -44,22 +37,17 @@ void MapPath::validate() const {
 }
 
 MapPath parse_path_csv(std::string_view text, const std::string& path) {
-  // Spreadsheets often save CSV with a UTF-8 byte-order mark.
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-  io::TextCursor cur(text, path);
+  io::TextCursor cur(io::skip_utf8_bom(text), path);
   MapPath out;
   std::size_t columns = 0;       // 2 or 3 once the header or first row says so
   std::size_t shape_line = 0;    // the line that fixed `columns`
   std::size_t first_point_line = 0;
   bool any_content = false;
-  while (!cur.at_end()) {
-    const std::size_t line = cur.line();
-    const std::string_view row = cur.rest_of_line();
-    cur.consume_line_end();
-    std::size_t lead = 0;
-    while (lead < row.size() && io::is_blank(row[lead])) ++lead;
-    if (lead == row.size() || row[lead] == '#') continue;
-    const std::vector<io::CsvField> fields = io::split_csv_fields(row);
+  io::CsvRow csv;
+  while (io::next_csv_row(cur, csv)) {
+    const std::size_t line = csv.line;
+    const std::string_view row = csv.text;
+    const std::vector<io::CsvField>& fields = csv.fields;
 
     if (!any_content) {
       any_content = true;
@@ -74,7 +62,7 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
         }
         const std::size_t offset = fields.size() == 3 ? 1 : 0;
         if (offset == 1) {
-          const std::string t = lower(fields[0].text);
+          const std::string t = io::ascii_lower(fields[0].text);
           if (t != "t" && t != "time") {
             cur.fail_at(line, fields[0].column, "expected 't' or 'time' as the first header field, found '" +
                                                     quote_token(fields[0].text) + "'");
@@ -82,7 +70,7 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
         }
         for (std::size_t k = 0; k < 2; ++k) {
           const io::CsvField& f = fields[offset + k];
-          if (lower(f.text) != (k == 0 ? "x" : "y")) {
+          if (io::ascii_lower(f.text) != (k == 0 ? "x" : "y")) {
             cur.fail_at(line, f.column, std::string("expected '") + (k == 0 ? "x" : "y") +
                                             "' in the header, found '" + quote_token(f.text) + "'");
           }

@@ -13,26 +13,14 @@
 #include "embed/embed_test_util.h"
 #include "motionmap/core/error.h"
 #include "motionmap/embed/embed.h"
+#include "support/error_message.h"
 
 namespace motionmap::embed {
 namespace {
 
 using ::testing::HasSubstr;
 
-// Runs `fn` and returns the message of the exception of type E it must throw.
-template <typename E, typename Fn>
-std::string message_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const E& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "wrong exception type: " << e.what();
-    return "";
-  }
-  ADD_FAILURE() << "no exception thrown";
-  return "";
-}
+using testing::error_message;
 
 EmbedOptions with(Method method, int k = 10) {
   EmbedOptions o;
@@ -77,15 +65,15 @@ TEST(EmbedNames, RoundTripEveryMethod) {
 
 TEST(EmbedValidation, MissingInputs) {
   const Data d = trajectory(20);
-  EXPECT_THAT(message_of<ParameterError>([&] { embed({.distances = &d.D}, with(Method::Pca)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &d.D}, with(Method::Pca)); }),
               HasSubstr("pca: this method needs the feature matrix X (#frames by #features); "
                         "none was given"));
-  EXPECT_THAT(message_of<ParameterError>([&] { embed({.features = &d.X}, with(Method::Isomap)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { embed({.features = &d.X}, with(Method::Isomap)); }),
               HasSubstr("isomap: this method needs the distance matrix D (#frames by #frames); "
                         "none was given"));
-  EXPECT_THAT(message_of<ParameterError>([&] { embed({.features = &d.X}, with(Method::Lle)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { embed({.features = &d.X}, with(Method::Lle)); }),
               HasSubstr("lle: this method needs the distance matrix D"));
-  EXPECT_THAT(message_of<ParameterError>([&] { embed({.distances = &d.D}, with(Method::Lle)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &d.D}, with(Method::Lle)); }),
               HasSubstr("lle: this method needs the feature matrix X"));
   // A method reads only what it needs.
   EXPECT_NO_THROW(embed({.features = &d.X}, with(Method::Svd)));
@@ -94,45 +82,45 @@ TEST(EmbedValidation, MissingInputs) {
 
 TEST(EmbedValidation, EmptyInputs) {
   const Eigen::MatrixXd empty;
-  EXPECT_THAT(message_of<ParameterError>([&] { embed({.features = &empty}, with(Method::Pca)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { embed({.features = &empty}, with(Method::Pca)); }),
               HasSubstr("pca: the feature matrix X is empty (0 by 0); expected #frames by "
                         "#features with both ≥ 1"));
-  EXPECT_THAT(message_of<ParameterError>([&] { embed({.distances = &empty}, with(Method::Mds)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &empty}, with(Method::Mds)); }),
               HasSubstr("mds: the distance matrix D is 0 by 0; expected #frames by #frames"));
 }
 
 TEST(EmbedValidation, NonFiniteValues) {
   Data d = trajectory(20);
   d.X(3, 1) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, with(Method::Pca)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, with(Method::Pca)); }),
               HasSubstr("pca: X(3, 1) is nan; every feature must be finite"));
   d = trajectory(20);
   d.D(2, 5) = d.D(5, 2) = std::numeric_limits<double>::infinity();
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, with(Method::Mds)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, with(Method::Mds)); }),
               HasSubstr("mds: D(5, 2) is inf; every distance must be finite"));
 }
 
 TEST(EmbedValidation, MalformedDistanceMatrix) {
   Data d = trajectory(20);
   const Eigen::MatrixXd rect = d.D.leftCols(19);
-  EXPECT_THAT(message_of<ParameterError>([&] { embed({.distances = &rect}, with(Method::Mds)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &rect}, with(Method::Mds)); }),
               HasSubstr("mds: the distance matrix D is 20 by 19; expected #frames by #frames"));
 
   Data asym = d;
   asym.D(7, 4) += 0.5;
-  EXPECT_THAT(message_of<ParameterError>([&] { run(asym, with(Method::Isomap)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(asym, with(Method::Isomap)); }),
               HasSubstr("isomap: D is not symmetric: D(7, 4) = "));
-  EXPECT_THAT(message_of<ParameterError>([&] { run(asym, with(Method::Isomap)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(asym, with(Method::Isomap)); }),
               HasSubstr(" but D(4, 7) = "));
 
   Data negative = d;
   negative.D(1, 6) = negative.D(6, 1) = -1.0;
-  EXPECT_THAT(message_of<ParameterError>([&] { run(negative, with(Method::LaplacianEigenmap)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(negative, with(Method::LaplacianEigenmap)); }),
               HasSubstr("le: D(6, 1) = -1 is negative; distances must be ≥ 0"));
 
   Data diagonal = d;
   diagonal.D(9, 9) = 0.25;
-  EXPECT_THAT(message_of<ParameterError>([&] { run(diagonal, with(Method::Mds)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(diagonal, with(Method::Mds)); }),
               HasSubstr("mds: D(9, 9) = 0.25; the diagonal of a distance matrix must be 0"));
 
   // Rounding-level asymmetry is accepted.
@@ -144,18 +132,18 @@ TEST(EmbedValidation, MalformedDistanceMatrix) {
 TEST(EmbedValidation, RowCountsMustAgree) {
   const Data d = trajectory(20);
   const Eigen::MatrixXd X = d.X.topRows(18);
-  EXPECT_THAT(message_of<ParameterError>(
+  EXPECT_THAT(error_message<ParameterError>(
                   [&] { embed({.features = &X, .distances = &d.D}, with(Method::Lle, 5)); }),
               HasSubstr("lle: X has 18 rows but D has 20; both need one per frame"));
 }
 
 TEST(EmbedValidation, NeighbourCount) {
   const Data d = trajectory(10);
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, with(Method::Isomap, 10)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, with(Method::Isomap, 10)); }),
               HasSubstr("isomap: k = 10 is out of range: with 10 frames it must be in [1, 9]"));
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, with(Method::LaplacianEigenmap, 0)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, with(Method::LaplacianEigenmap, 0)); }),
               HasSubstr("le: k = 0 is out of range: with 10 frames it must be in [1, 9]"));
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, with(Method::Lle, -3)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, with(Method::Lle, -3)); }),
               HasSubstr("lle: k = -3 is out of range"));
   // k is not used by the other methods, so the default 20 is fine on 10 frames.
   EXPECT_NO_THROW(run(d, with(Method::Pca, 20)));
@@ -166,16 +154,16 @@ TEST(EmbedValidation, DimensionsAndFrameCount) {
   const Data d = trajectory(10);
   EmbedOptions o = with(Method::Pca);
   o.dimensions = 4;
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, o); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, o); }),
               HasSubstr("pca: dimensions = 4 is out of range; valid values are 2 and 3"));
   o.dimensions = 1;
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, o); }), HasSubstr("dimensions = 1"));
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, o); }), HasSubstr("dimensions = 1"));
   const Data tiny = trajectory(3);
-  EXPECT_THAT(message_of<ParameterError>([&] { run(tiny, with(Method::Mds)); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(tiny, with(Method::Mds)); }),
               HasSubstr("mds: the clip has 3 frame(s); a 2-D map needs at least 4"));
   const Eigen::MatrixXd one_column = d.X.leftCols(1);
   EXPECT_THAT(
-      message_of<ParameterError>([&] { embed({.features = &one_column}, with(Method::Svd)); }),
+      error_message<ParameterError>([&] { embed({.features = &one_column}, with(Method::Svd)); }),
       HasSubstr("svd: X has 1 column(s); a 2-D map needs at least 2"));
 }
 
@@ -183,19 +171,19 @@ TEST(EmbedValidation, HeatAndRegularisation) {
   const Data d = trajectory(20);
   EmbedOptions le = with(Method::LaplacianEigenmap, 5);
   le.heat = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, le); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, le); }),
               HasSubstr("le: heat = nan is not finite"));
   EmbedOptions lle = with(Method::Lle, 5);
   lle.reg = 0.0;
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, lle); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, lle); }),
               HasSubstr("lle: reg = 0 is out of range; it must be a finite number > 0"));
   lle.reg = -1e-3;
-  EXPECT_THAT(message_of<ParameterError>([&] { run(d, lle); }), HasSubstr("reg = -0.001"));
+  EXPECT_THAT(error_message<ParameterError>([&] { run(d, lle); }), HasSubstr("reg = -0.001"));
 }
 
 TEST(EmbedValidation, ValidateAloneChecksOptions) {
   EmbedOptions o = with(Method::Isomap, 25);
-  EXPECT_THAT(message_of<ParameterError>([&] { o.validate(20); }),
+  EXPECT_THAT(error_message<ParameterError>([&] { o.validate(20); }),
               HasSubstr("k = 25 is out of range: with 20 frames it must be in [1, 19]"));
   EXPECT_NO_THROW(o.validate(26));
 }
@@ -427,7 +415,7 @@ TEST(EmbedDisconnected, StrictModeThrows) {
   for (Method m : {Method::Isomap, Method::LaplacianEigenmap, Method::Lle}) {
     EmbedOptions o = with(m, 4);
     o.strict = true;
-    EXPECT_THAT(message_of<NumericalError>([&] { run(d, o); }),
+    EXPECT_THAT(error_message<NumericalError>([&] { run(d, o); }),
                 HasSubstr(std::string(method_name(m)) +
                           ": the k-NN graph (k = 4) has 2 connected components; use a larger k"));
   }
@@ -444,13 +432,13 @@ TEST(EmbedHeat, FrameWhoseWeightsAllUnderflow) {
   const Eigen::MatrixXd D = test::euclidean_distances(X);
   EmbedOptions o = with(Method::LaplacianEigenmap, 3);
   o.heat = 1.0;
-  const std::string msg = message_of<NumericalError>([&] { embed({.distances = &D}, o); });
+  const std::string msg = error_message<NumericalError>([&] { embed({.distances = &D}, o); });
   EXPECT_THAT(msg, HasSubstr("le: every heat-kernel weight exp(−d²/heat) of frame 20 underflows "
                              "to 0 (nearest neighbour at distance 100, heat = 1); use heat auto"));
   EXPECT_THAT(msg, HasSubstr("a larger heat, or drop the frame"));
   // The automatic heat (the median squared k-NN distance, here 1) is no better.
   o.heat.reset();
-  EXPECT_THAT(message_of<NumericalError>([&] { embed({.distances = &D}, o); }),
+  EXPECT_THAT(error_message<NumericalError>([&] { embed({.distances = &D}, o); }),
               HasSubstr("of frame 20 underflows to 0 (nearest neighbour at distance 100, heat "
                         "auto = 1); use a larger heat, or drop the frame"));
   o.heat = 1e4;
@@ -466,7 +454,7 @@ TEST(EmbedHeat, UnderflowThatSplitsTheGraph) {
   const Eigen::MatrixXd D = test::euclidean_distances(X);
   EmbedOptions o = with(Method::LaplacianEigenmap, 5);
   o.heat = 1.0;
-  EXPECT_THAT(message_of<NumericalError>([&] { embed({.distances = &D}, o); }),
+  EXPECT_THAT(error_message<NumericalError>([&] { embed({.distances = &D}, o); }),
               HasSubstr("le: heat-kernel weights that underflow to 0 split the k-NN graph into 2 "
                         "components (heat = 1); use heat auto"));
 }

@@ -6,17 +6,13 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/sample/sample_clip.h"
+#include "support/error_message.h"
 
 namespace motionmap::embed {
 namespace {
 
 std::string parse_message(const std::string& text) {
-  try {
-    parse_map_csv(text, "m.csv");
-  } catch (const ParseError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::error_message<ParseError>([&] { parse_map_csv(text, "m.csv"); });
 }
 
 ClipMap sample_map(std::span<const Clip> clips, const ClipMapOptions& options) {

@@ -19,6 +19,7 @@
 #include <QXmlStreamReader>
 
 #include "motionmap/core/error.h"
+#include "support/error_message.h"
 
 namespace motionmap::render {
 namespace {
@@ -89,15 +90,7 @@ std::string read_all(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-template <class E, class F>
-std::string error_message(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "(no exception)";
-}
+using testing::error_message;
 
 class MapPlotTest : public ::testing::Test {
  protected:

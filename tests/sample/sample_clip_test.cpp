@@ -14,6 +14,7 @@
 #include "motionmap/io/bvh.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 #include "support/test_data.h"
+#include "support/error_message.h"
 
 namespace motionmap::sample {
 namespace {
@@ -61,12 +62,7 @@ Smoothness smoothness(const Motion& m) {
 }
 
 std::string parameter_error(SampleKind kind, double fps, double seconds) {
-  try {
-    make_sample_clip(kind, {fps, seconds});
-  } catch (const ParameterError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::error_message<ParameterError>([&] { make_sample_clip(kind, {fps, seconds}); });
 }
 
 // The 31 joints of CMU's BVH conversions (64_08.bvh), in file order, with their parents.

@@ -11,6 +11,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/features/point_cloud.h"
 #include "synth/synth_fixtures.h"
+#include "support/error_message.h"
 
 namespace motionmap::synth {
 namespace {
@@ -392,13 +393,8 @@ TEST(SynthBlender, RejectsBadOptions) {
     opt.reach = reach;
     MapBlender(std::span<const Clip>(&clip, 1), all_frames(20), map, opt);
   };
-  auto message = [&](BlendMode mode, int k, double reach) -> std::string {
-    try {
-      build(mode, k, reach);
-    } catch (const ParameterError& e) {
-      return e.what();
-    }
-    return "no error";
+  auto message = [&](BlendMode mode, int k, double reach) {
+    return testing::error_message<ParameterError>([&] { build(mode, k, reach); });
   };
   EXPECT_EQ(message(BlendMode::Local, 0, 3.0), "neighbors: 0 is out of range (must be in [1, 20], the map's sample count)");
   EXPECT_EQ(message(BlendMode::Idw, 21, 3.0), "neighbors: 21 is out of range (must be in [1, 20], the map's sample count)");
@@ -414,14 +410,7 @@ TEST(SynthBlender, RejectsBadOptions) {
 TEST(SynthBlender, RejectsAMapOfOtherClips) {
   const Clip clip = walking_clip(20);
   const std::span<const Clip> clips(&clip, 1);
-  auto message = [](const auto& f) -> std::string {
-    try {
-      f();
-    } catch (const Error& e) {
-      return e.what();
-    }
-    return "no error";
-  };
+  auto message = [](const auto& f) { return testing::error_message(f); };
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), curve_map(19)); }),
             "map: it has 19 rows but the features have 20 samples; the map does not belong to these clips");
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), Eigen::MatrixXd::Zero(20, 1)); }),

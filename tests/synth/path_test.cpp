@@ -7,28 +7,17 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "support/error_message.h"
 
 namespace motionmap::synth {
 namespace {
 
 // The ParseError message of parsing `text`, or "no error".
 std::string parse_message(const std::string& text) {
-  try {
-    parse_path_csv(text, "p.csv");
-  } catch (const ParseError& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::error_message<ParseError>([&] { parse_path_csv(text, "p.csv"); });
 }
 
-std::string parameter_message(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ParameterError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string parameter_message(const std::function<void()>& f) { return testing::error_message<ParameterError>(f); }
 
 TEST(SynthPath, ParsesTimedRowsWithHeader) {
   const MapPath p = parse_path_csv("t,x,y\n0,1.5,-2\n0.25, 2 ,-1e-1\n1,+3,.5\n");

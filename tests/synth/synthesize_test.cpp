@@ -7,6 +7,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/features/point_cloud.h"
 #include "synth/synth_fixtures.h"
+#include "support/error_message.h"
 
 namespace motionmap::synth {
 namespace {
@@ -35,14 +36,7 @@ MapPath own_trajectory(const Eigen::MatrixXd& map, double frame_time, int first 
   return path;
 }
 
-std::string parameter_message(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ParameterError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string parameter_message(const std::function<void()>& f) { return testing::error_message<ParameterError>(f); }
 
 TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
   const Clip clip = walking_clip();

@@ -123,21 +123,23 @@ embed::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method m
   }
   out.metrics = metrics;
 
-  // A progress line for people watching a terminal; scripts and logs get none.
-  if (!opt.quiet && isatty(STDERR_FILENO)) {
-    auto last = std::make_shared<int>(-1);
-    const std::string name(embed::method_name(method));
-    out.progress = [last, name](double fraction, std::string_view stage) {
-      const int percent = static_cast<int>(fraction * 100.0);
-      if (percent == *last) return;
-      *last = percent;
-      std::fprintf(stderr, "\r%-6s %3d%%  %-24.*s", name.c_str(), percent,
-                   static_cast<int>(stage.size()), stage.data());
-      if (percent >= 100) std::fprintf(stderr, "\r%60s\r", "");
-      std::fflush(stderr);
-    };
-  }
+  out.progress = progress_line(opt, embed::method_name(method));
   return out;
+}
+
+std::function<void(double, std::string_view)> progress_line(const MapCliOptions& opt, std::string_view label) {
+  // For people watching a terminal; scripts and logs get none.
+  if (opt.quiet || !isatty(STDERR_FILENO)) return {};
+  auto last = std::make_shared<int>(-1);
+  return [last, name = std::string(label)](double fraction, std::string_view stage) {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (percent == *last) return;
+    *last = percent;
+    std::fprintf(stderr, "\r%-6s %3d%%  %-24.*s", name.c_str(), percent, static_cast<int>(stage.size()),
+                 stage.data());
+    if (percent >= 100) std::fprintf(stderr, "\r%60s\r", "");
+    std::fflush(stderr);
+  };
 }
 
 void print_diagnostics(const embed::ClipMap& map) {

@@ -1,6 +1,7 @@
 #pragma once
 // Options shared by the commands that compute a map (map, figure, pose, synth), and the code
 // that turns them into library calls.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,6 +47,11 @@ std::vector<Clip> load_inputs(const MapCliOptions& opt);
 /// The library options for `method`, with a progress line on stderr when it is a terminal.
 /// @throws ParameterError for malformed --frames or --heat values.
 embed::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics);
+
+/// A progress line on stderr ("isomap  42%  shortest paths"), or nothing when --quiet or stderr
+/// is not a terminal.
+std::function<void(double fraction, std::string_view stage)> progress_line(const MapCliOptions& opt,
+                                                                           std::string_view label);
 
 /// Prints the notes and warnings of a map to stderr ("note: …", "warning: …").
 void print_diagnostics(const embed::ClipMap& map);

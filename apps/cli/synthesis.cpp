@@ -77,6 +77,10 @@ synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips, fea
   blend.neighbors = cmd.neighbors;
   blend.reach = cmd.reach;
   blend.up = options.features.up;
+  if (blend.mode == synth::BlendMode::Kriging && samples.num_samples() > 2000 && !cmd.map.quiet) {
+    std::cerr << "note: factoring the kriging system of " << samples.num_samples()
+              << " samples (O(N³): about a minute at 10 000; --blend local is instant)\n";
+  }
   return synth::MapBlender(clips, samples, coords, blend);
 }
 
@@ -165,7 +169,9 @@ void setup_synth(CLI::App& app) {
     std::vector<Clip> clips;
     features::FeatureSet samples;
     const synth::MapBlender blender = prepare(*cmd, clips, samples);
-    const synth::SynthResult result = synth::synthesize(blender, path, options);
+    LoopControl control;
+    if (auto line = progress_line(cmd->map, "synth")) control.progress = [line](double f) { line(f, "blending frames"); };
+    const synth::SynthResult result = synth::synthesize(blender, path, options, control);
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
                 << " frames lie outside the data (beyond the reach " << approx(blender.reach_distance())

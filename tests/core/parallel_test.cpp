@@ -1,0 +1,98 @@
+#include "motionmap/core/parallel.h"
+
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+
+namespace motionmap {
+namespace {
+
+TEST(ParallelFor, RunsEveryItemOnceAndReportsProgressUpToOne) {
+  const int n = 1000;
+  std::vector<std::atomic<int>> hits(n);
+  std::vector<double> reports;
+  const std::thread::id caller = std::this_thread::get_id();
+  bool progress_off_caller = false;
+  LoopControl control;
+  control.progress = [&](double f) {
+    progress_off_caller |= std::this_thread::get_id() != caller;
+    reports.push_back(f);
+  };
+  parallel_for(n, [&](int i) { hits[i].fetch_add(1); }, control);
+  for (int i = 0; i < n; ++i) ASSERT_EQ(hits[i].load(), 1) << i;
+  EXPECT_FALSE(progress_off_caller);
+  ASSERT_FALSE(reports.empty());
+  EXPECT_LE(reports.size(), 102u);  // about a hundred, not one per item
+  EXPECT_EQ(reports.back(), 1.0);
+  for (std::size_t k = 1; k < reports.size(); ++k) EXPECT_LE(reports[k - 1], reports[k]);
+}
+
+TEST(ParallelFor, CancelStopsTheLoopWithCancelled) {
+  std::atomic<int> ran{0};
+  int polls = 0;
+  LoopControl control;
+  control.cancel = [&] { return ++polls > 3; };
+  EXPECT_THROW(parallel_for(100000, [&](int) { ran.fetch_add(1); }, control), Cancelled);
+  EXPECT_LT(ran.load(), 100000);
+  control.cancel = [] { return true; };  // cancelled before it starts: nothing runs
+  ran = 0;
+  EXPECT_THROW(parallel_for(10, [&](int) { ran.fetch_add(1); }, control), Cancelled);
+  EXPECT_EQ(ran.load(), 0);
+}
+
+TEST(ParallelFor, RethrowsTheBodysException) {
+  EXPECT_THROW(parallel_for(1000, [](int i) {
+                 if (i == 500) throw std::runtime_error("item 500");
+               }),
+               std::runtime_error);
+  EXPECT_NO_THROW(parallel_for(0, [](int) { throw std::runtime_error("never"); }));
+}
+
+TEST(ParallelChunks, WorkerIndicesIndexPerThreadScratch) {
+  const int chunks = 64;
+  const int workers = worker_count(chunks);
+  EXPECT_GE(workers, 1);
+  EXPECT_LE(workers, worker_count());
+  std::vector<std::atomic<int>> per_worker(workers);
+  std::atomic<int> bad{0};
+  parallel_chunks(chunks, [&](int, int w) {
+    if (w < 0 || w >= workers) {
+      bad.fetch_add(1);
+    } else {
+      per_worker[w].fetch_add(1);
+    }
+  });
+  EXPECT_EQ(bad.load(), 0);
+  int total = 0;
+  for (auto& c : per_worker) total += c.load();
+  EXPECT_EQ(total, chunks);
+
+  // serial: everything on the caller, as worker 0, ticking after every chunk
+  std::vector<int> ticks;
+  const std::thread::id caller = std::this_thread::get_id();
+  bool elsewhere = false;
+  parallel_chunks(5, [&](int, int w) { elsewhere |= w != 0 || std::this_thread::get_id() != caller; },
+                  [&](int done) { ticks.push_back(done); }, /*serial=*/true);
+  EXPECT_FALSE(elsewhere);
+  EXPECT_EQ(ticks, (std::vector<int>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(worker_count(5, /*serial=*/true), 1);
+}
+
+TEST(ParallelChunks, AThrowingTickStopsTheOtherThreads) {
+  std::atomic<int> ran{0};
+  EXPECT_THROW(parallel_chunks(
+                   100000, [&](int, int) { ran.fetch_add(1); },
+                   [](int done) {
+                     if (done >= 10) throw Cancelled();
+                   }),
+               Cancelled);
+  EXPECT_LT(ran.load(), 100000);
+}
+
+}  // namespace
+}  // namespace motionmap

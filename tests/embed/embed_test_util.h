@@ -100,7 +100,7 @@ inline double procrustes_disparity(const Eigen::MatrixXd& A, const Eigen::Matrix
   return (a - svd.singularValues().sum() * b * R).squaredNorm();
 }
 
-/// F frames of a smooth, roughly periodic trajectory in d dimensions (the bench's input).
+/// F frames of a smooth, roughly periodic trajectory in d dimensions.
 inline Eigen::MatrixXd smooth_trajectory(int frames, int dims) {
   Eigen::MatrixXd X(frames, dims);
   const double two_pi = 2.0 * M_PI;

@@ -22,10 +22,12 @@ int worker_count(int num_chunks, bool serial = false);
 
 /// Runs body(c, w) for every chunk c in [0, num_chunks) on up to worker_count() threads, the
 /// calling thread included (w = 0; helpers are w = 1, 2, …, so per-thread scratch space can be
-/// indexed by w). Between two of its chunks the calling thread runs tick(chunks finished so
-/// far), which may throw (Cancelled): the other threads then stop claiming chunks, and the
-/// exception is rethrown after all have joined. An exception from body is rethrown the same way.
-/// With `serial`, everything runs on the caller.
+/// indexed by w). Between two of its chunks, and once at the end, the calling thread runs
+/// tick(chunks finished so far), which may throw (Cancelled): the other threads then stop
+/// claiming chunks, and the exception is rethrown once every chunk they claimed is over. An
+/// exception from body is rethrown the same way. Returns as soon as every chunk is done: a helper
+/// thread the system has not started by then is left to exit by itself (it runs nothing). With
+/// `serial`, everything runs on the caller.
 void parallel_chunks(int num_chunks, const std::function<void(int chunk, int worker)>& body,
                      const std::function<void(int)>& tick = {}, bool serial = false);
 

@@ -13,7 +13,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "motionmap/core/error.h"
-#include "motionmap/embed/parallel.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/progress.h"
 
 namespace motionmap::embed {
@@ -72,9 +72,10 @@ class RitzSolver : public Spectra::SymEigsSolver<ProductOp> {
 
 // Runs Lanczos for the `count` eigenpairs at the end `rule` selects; vectors sorted as `rule`.
 EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::SortRule rule,
-                   std::string_view what, double tolerance) {
+                   std::string_view what, double tolerance, int lanczos_vectors = 0) {
   ProductOp op(n, product);
-  const Eigen::Index ncv = std::min<Eigen::Index>(n, std::max(2 * count + 1, 20));
+  const Eigen::Index ncv = std::min<Eigen::Index>(
+      n, lanczos_vectors > 0 ? std::max(lanczos_vectors, count + 2) : std::max(2 * count + 1, 20));
   EigenPairs out;
   Eigen::Index nconv = 0;
   Spectra::CompInfo info = Spectra::CompInfo::NotComputed;
@@ -109,9 +110,10 @@ EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::S
 }  // namespace
 
 EigenPairs largest_eigenpairs(Eigen::Index n, const Product& product, int count,
-                              std::string_view what, double tolerance) {
+                              std::string_view what, double tolerance, int lanczos_vectors) {
   check_count(n, count, static_cast<int>(n) - 1, what);
-  return lanczos(n, product, count, Spectra::SortRule::LargestAlge, what, tolerance);
+  return lanczos(n, product, count, Spectra::SortRule::LargestAlge, what, tolerance,
+                 lanczos_vectors);
 }
 
 EigenPairs largest_eigenpairs(const Eigen::MatrixXd& A, int count, std::string_view what,

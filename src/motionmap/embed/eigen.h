@@ -39,11 +39,15 @@ struct EigenPairs {
 using Product = std::function<void(const double* x, double* y)>;
 
 /// The `count` algebraically largest eigenpairs of the symmetric n by n operator `product`,
-/// largest first, by Lanczos. `what` names the caller in error messages.
+/// largest first, by Lanczos. `what` names the caller in error messages. `lanczos_vectors` is
+/// the Krylov subspace size per restart (0: max(2·count + 1, 20), clamped to n); convergence is
+/// checked once per restart, so a smaller one suits costly products on well-separated spectra
+/// (classical MDS: converged after ~10 products) at the risk of more restarts on hard ones.
 /// @throws NumericalError when Lanczos does not converge within 1000 restarts (names nconv,
 ///   iterations, products and the tolerance); ParameterError unless 1 ≤ count < n.
 EigenPairs largest_eigenpairs(Eigen::Index n, const Product& product, int count,
-                              std::string_view what, double tolerance = kEigenTolerance);
+                              std::string_view what, double tolerance = kEigenTolerance,
+                              int lanczos_vectors = 0);
 
 /// The `count` algebraically largest eigenpairs of the dense symmetric matrix A (its lower
 /// triangle is read), largest first: dense solver when A.rows() ≤ dense_limit, else Lanczos.

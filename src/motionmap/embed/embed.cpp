@@ -8,7 +8,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/methods.h"
-#include "motionmap/embed/parallel.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/progress.h"
 
 namespace motionmap::embed {
@@ -87,19 +87,43 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
     bool diagonal = false;
   };
   std::vector<TileStats> stats(static_cast<std::size_t>(tiles));
+  // The per-entry work is one fused loop over the lower tile and a transposed copy of its mirror
+  // (both contiguous), with kLanes independent partial results per statistic; x − x is 0 for a
+  // finite x and NaN otherwise, so `poison` stays 0 exactly when every entry is finite.
+  constexpr int kLanes = 4;
   parallel_chunks(
       tiles,
       [&](int t, int) {
         TileStats& s = stats[t];
         const Eigen::Index c0 = Eigen::Index(t) * kTile, w = std::min<Eigen::Index>(kTile, n - c0);
+        Eigen::Matrix<double, kTile, kTile> mirror;
+        double poison[kLanes] = {}, smallest[kLanes] = {}, largest[kLanes] = {},
+               asymmetry[kLanes] = {};
+        auto visit = [&](int l, double x, double y) {
+          poison[l] += (x - x) + (y - y);
+          smallest[l] = std::min(smallest[l], std::min(x, y));
+          largest[l] = std::max(largest[l], std::abs(x));
+          asymmetry[l] = std::max(asymmetry[l], std::abs(x - y));
+        };
         for (Eigen::Index r0 = c0; r0 < n; r0 += kTile) {
           const Eigen::Index h = std::min<Eigen::Index>(kTile, n - r0);
-          const auto lower = D.block(r0, c0, h, w);
-          const auto upper = D.block(c0, r0, w, h).transpose();
-          s.finite = s.finite && lower.allFinite() && upper.allFinite();
-          s.smallest = std::min({s.smallest, lower.minCoeff(), upper.minCoeff()});
-          s.largest = std::max(s.largest, lower.cwiseAbs().maxCoeff());
-          s.asymmetry = std::max(s.asymmetry, (lower - upper).cwiseAbs().maxCoeff());
+          mirror.topLeftCorner(h, w) = D.block(c0, r0, w, h).transpose();
+          for (Eigen::Index c = 0; c < w; ++c) {
+            const double* x = D.col(c0 + c).data() + r0;
+            const double* y = mirror.col(c).data();
+            Eigen::Index r = 0;
+            for (; r + kLanes <= h; r += kLanes) {
+              for (int l = 0; l < kLanes; ++l) visit(l, x[r + l], y[r + l]);
+            }
+            for (; r < h; ++r) visit(0, x[r], y[r]);
+          }
+        }
+        s.finite = true;
+        for (int l = 0; l < kLanes; ++l) {
+          s.finite = s.finite && poison[l] == 0.0;
+          s.smallest = std::min(s.smallest, smallest[l]);
+          s.largest = std::max(s.largest, largest[l]);
+          s.asymmetry = std::max(s.asymmetry, asymmetry[l]);
         }
         s.diagonal = D.diagonal().segment(c0, w).cwiseAbs().maxCoeff() != 0.0;
       },

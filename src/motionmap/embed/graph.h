@@ -11,9 +11,10 @@ namespace motionmap::embed {
 class Progress;
 
 /// Shortest-path length between every pair of frames along the graph's edges (weights =
-/// lengths ≥ 0): Dijkstra with a binary heap from every frame, in parallel. Returns #frames by
-/// #frames, symmetric (+inf between components). Progress (optional) gets the fraction of
-/// sources done and may throw Cancelled.
+/// lengths ≥ 0): a label-correcting search (binary heap) from blocks of consecutive frames at
+/// once, which gives Dijkstra's sums, in parallel. Returns #frames by #frames, symmetric (+inf
+/// between components). Progress (optional) gets the fraction of sources done and may throw
+/// Cancelled.
 Eigen::MatrixXd shortest_paths(const Graph& graph, Progress* progress = nullptr);
 
 /// The symmetric normalised Laplacian of a graph whose weights are edge weights w_ij > 0:

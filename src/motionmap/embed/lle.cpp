@@ -10,7 +10,7 @@
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/methods.h"
 #include "motionmap/embed/neighbors.h"
-#include "motionmap/embed/parallel.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/progress.h"
 
 namespace motionmap::embed {
@@ -55,7 +55,9 @@ void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOpti
           // e.g. duplicate frames);  3. C·w = 1;  4. w /= Σw.
           Z.resize(m, X.cols());
           for (int a = 0; a < m; ++a) Z.row(a) = rows.row(nb[a]) - rows.row(i);
-          C.noalias() = Z * Z.transpose();
+          // (C is symmetric: only its lower triangle is computed, and read by LLT.)
+          C.setZero(m, m);
+          C.selfadjointView<Eigen::Lower>().rankUpdate(Z);
           const double trace = C.trace();
           C.diagonal().array() += trace > 0.0 ? options.reg * trace : options.reg;
           Eigen::VectorXd w = C.llt().solve(Eigen::VectorXd::Ones(m));

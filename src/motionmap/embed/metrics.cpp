@@ -8,7 +8,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/embed/neighbors.h"
-#include "motionmap/embed/parallel.h"
+#include "motionmap/core/parallel.h"
 
 namespace motionmap::embed {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "motionmap/core/error.h"
-#include "motionmap/embed/parallel.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/progress.h"
 
 namespace motionmap::embed {
@@ -15,23 +15,31 @@ constexpr int kFramesPerChunk = 64;
 }  // namespace
 
 void k_nearest(const double* values, int n, int self, int k, int* index, double* nearest) {
-  // A sorted array of the k best so far. Candidates arrive in index order, so "strictly smaller
-  // than the current k-th" is exactly "ties go to the smaller index"; most candidates are
-  // rejected by that one comparison.
+  // A sorted array of the k best so far, ordered by (value, index), so the result does not
+  // depend on the order candidates arrive in: of equal values the smaller index wins. Most
+  // candidates are rejected by the first comparison with the current k-th.
   int size = 0;
-  for (int j = 0; j < n; ++j) {
-    if (j == self) continue;
+  auto offer = [&](int j) {
     const double d = values[j];
-    if (size == k && !(d < nearest[k - 1])) continue;
+    if (size == k && !(d < nearest[k - 1] || (d == nearest[k - 1] && j < index[k - 1]))) return;
     int p = size == k ? k - 1 : size++;
-    while (p > 0 && nearest[p - 1] > d) {
+    while (p > 0 && (nearest[p - 1] > d || (nearest[p - 1] == d && index[p - 1] > j))) {
       nearest[p] = nearest[p - 1];
       index[p] = index[p - 1];
       --p;
     }
     nearest[p] = d;
     index[p] = j;
+  };
+  // The frames around `self` first: along a clip they are usually among the nearest, so the k-th
+  // best drops at once. (In index order, a column of a clip's D falls towards `self`, and every
+  // frame approaching it would be inserted, O(n·k).)
+  const int lo = std::clamp(self - k, 0, n), hi = std::clamp(self + k + 1, lo, n);
+  for (int j = lo; j < hi; ++j) {
+    if (j != self) offer(j);
   }
+  for (int j = 0; j < lo; ++j) offer(j);
+  for (int j = hi; j < n; ++j) offer(j);
 }
 
 NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, Progress* progress) {

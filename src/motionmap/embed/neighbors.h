@@ -38,7 +38,8 @@ struct NeighborLists {
 };
 
 /// The k smallest of values[0 … n) other than values[self], as indices (nearest first) and
-/// values; of equal values the smaller index wins. One pass, O(n) for small k.
+/// values; of equal values the smaller index wins. One pass, O(n) for small k (entries next to
+/// `self` are looked at first, which along a clip finds the nearest early).
 void k_nearest(const double* values, int n, int self, int k, int* index, double* nearest);
 
 /// The k nearest neighbours of every frame by D (column i of D; the frame itself excluded; of

@@ -20,13 +20,23 @@ $(BUILD)/CMakeCache.txt: | deps
 build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
-# The main job on the built-in sample: the six maps of a golf-like swing, as a figure.
+# The main job on the built-in sample: the six maps of a golf-like swing, as a figure; then, when
+# a display is there ($$DISPLAY or $$WAYLAND_DISPLAY set), MotionMap Studio opened on the same clip.
+STUDIO := $(BUILD)/apps/gui/motionmap-studio
 demo: build
 	@mkdir -p out
 	$(BUILD)/apps/cli/motionmap sample --kind swing -o out/sample-swing.bvh
 	$(BUILD)/apps/cli/motionmap info out/sample-swing.bvh
 	$(BUILD)/apps/cli/motionmap figure out/sample-swing.bvh -o out/sample-swing-maps.png
 	@echo "wrote out/sample-swing-maps.png"
+	@if [ -z "$$DISPLAY$$WAYLAND_DISPLAY" ]; then \
+	  echo "no display (DISPLAY and WAYLAND_DISPLAY unset): MotionMap Studio not opened"; \
+	elif [ ! -x $(STUDIO) ]; then \
+	  echo "$(STUDIO) was not built (Qt 6 Widgets missing?): MotionMap Studio not opened"; \
+	else \
+	  echo "opening MotionMap Studio on out/sample-swing.bvh (close the window to finish)"; \
+	  $(STUDIO) out/sample-swing.bvh; \
+	fi
 
 test: test-release test-sanitize test-fuzz
 

@@ -1,10 +1,10 @@
-// motionmap-studio [FILE] [--method M] [--frame N] [--screenshot out.png]
-// Opens FILE (a .bvh, or an .amc with its .asf) and shows its map; with --screenshot, renders the
-// window once to a PNG and exits (1 with a message on any error).
+// motionmap-studio [FILE [MORE…]] [--method M] [--frame N] [--screenshot out.png]
+// Opens FILE (a .bvh, or an .amc with its .asf) and shows its map (MORE: clips of the same
+// skeleton added to that map); with --screenshot, renders the window once to a PNG and exits (1
+// with a message on any error).
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QEventLoop>
-#include <QSurfaceFormat>
 #include <QTimer>
 #include <cstdio>
 
@@ -15,22 +15,22 @@ using motionmap::studio::MainWindow;
 
 int main(int argc, char** argv) {
   // The 3-D view needs OpenGL 3.3 core; the default format must be set before any widget exists.
-  QSurfaceFormat format;
-  format.setVersion(3, 3);
-  format.setProfile(QSurfaceFormat::CoreProfile);
-  format.setDepthBufferSize(24);
-  format.setSamples(4);
-  QSurfaceFormat::setDefaultFormat(format);
+  motionmap::studio::SkeletonView::installSurfaceFormat();
 
   QApplication app(argc, argv);
   QApplication::setOrganizationName("MotionMap");
   QApplication::setApplicationName("MotionMap Studio");
 
   QCommandLineParser parser;
-  parser.setApplicationDescription("MotionMap Studio: every frame of a motion-capture clip as a point on a map");
+  parser.setApplicationDescription(
+      "MotionMap Studio: every frame of a motion-capture clip as a point on a map");
   parser.addHelpOption();
-  parser.addPositionalArgument("file", "Clip to open (.bvh, or .amc with its .asf)");
-  QCommandLineOption methodOption("method", "Embedding method: pca, svd, mds, isomap, le, lle", "M");
+  parser.addPositionalArgument(
+      "file",
+      "Clip to open (.bvh, or .amc with its .asf); more files of the same skeleton join its map",
+      "[FILE [MORE…]]");
+  QCommandLineOption methodOption("method", "Embedding method: pca, svd, mds, isomap, le, lle",
+                                  "M");
   QCommandLineOption frameOption("frame", "Frame to show", "N");
   QCommandLineOption shotOption("screenshot", "Render the window to a PNG and exit", "PNG");
   parser.addOptions({methodOption, frameOption, shotOption});
@@ -50,15 +50,19 @@ int main(int argc, char** argv) {
     window.resize(1280, 720);      // the same picture whatever the saved geometry
   }
   if (parser.isSet(methodOption)) {
-    const auto method = motionmap::embed::parse_method(parser.value(methodOption).toLower().toStdString());
-    if (!method) return fail("unknown method '" + parser.value(methodOption) + "' (pca, svd, mds, isomap, le, lle)");
+    const auto method =
+        motionmap::embed::parse_method(parser.value(methodOption).toLower().toStdString());
+    if (!method)
+      return fail("unknown method '" + parser.value(methodOption) +
+                  "' (pca, svd, mds, isomap, le, lle)");
     window.setMethod(*method);
   }
   int frame = 0;
   if (parser.isSet(frameOption)) {
     bool ok = false;
     frame = parser.value(frameOption).toInt(&ok);
-    if (!ok || frame < 0) return fail("--frame: '" + parser.value(frameOption) + "' is not a frame number");
+    if (!ok || frame < 0)
+      return fail("--frame: '" + parser.value(frameOption) + "' is not a frame number");
   }
   window.show();
 
@@ -69,24 +73,35 @@ int main(int argc, char** argv) {
       ok = success;
       loop.quit();
     });
-    if (!window.openFile(files.front())) {
+    bool opened = window.openFile(files.front());
+    // More files join the first one's map (same skeleton).
+    for (qsizetype i = 1; opened && i < files.size(); ++i) {
+      if (!window.addFile(files[i]) && screenshot) return fail(window.lastError());
+    }
+    if (!opened) {
       if (screenshot) return fail(window.lastError());
     } else if (screenshot) {
       if (window.isComputing()) loop.exec();
-      if (!ok) return fail(window.lastError().isEmpty() ? QStringLiteral("the map could not be computed") : window.lastError());
+      if (!ok)
+        return fail(window.lastError().isEmpty() ? QStringLiteral("the map could not be computed")
+                                                 : window.lastError());
       if (frame >= window.clip()->motion.num_frames) {
-        return fail(QString("--frame %1: the clip has %2 frames").arg(frame).arg(window.clip()->motion.num_frames));
+        return fail(QString("--frame %1: the clip has %2 frames")
+                        .arg(frame)
+                        .arg(window.clip()->motion.num_frames));
       }
       window.setFrame(frame);
       // Let both views paint once before grabbing.
       QTimer::singleShot(200, &loop, &QEventLoop::quit);
       loop.exec();
       const QImage image = window.screenshot();
-      if (!image.save(parser.value(shotOption))) return fail("cannot write " + parser.value(shotOption));
+      if (!image.save(parser.value(shotOption)))
+        return fail("cannot write " + parser.value(shotOption));
       return 0;
     } else if (parser.isSet(frameOption)) {
-      QObject::connect(&window, &MainWindow::mapReady, &window, [&window, frame] { window.setFrame(frame); },
-                       Qt::SingleShotConnection);
+      QObject::connect(
+          &window, &MainWindow::mapReady, &window, [&window, frame] { window.setFrame(frame); },
+          Qt::SingleShotConnection);
     }
   }
   return app.exec();

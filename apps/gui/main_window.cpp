@@ -1,16 +1,25 @@
 #include "main_window.h"
 
+#include <cmath>
+#include <fstream>
+
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
+#include <QCheckBox>
 #include <QCloseEvent>
+#include <QComboBox>
+#include <QDialog>
+#include <QDialogButtonBox>
 #include <QDragEnterEvent>
 #include <QElapsedTimer>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QFormLayout>
 #include <QHBoxLayout>
 #include <QKeyEvent>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
@@ -19,12 +28,14 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSlider>
+#include <QSpinBox>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QVBoxLayout>
 
 #include "map_view.h"
 #include "motionmap/core/error.h"
+#include "motionmap/embed/map_csv.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
@@ -37,61 +48,102 @@ constexpr int kMaxRecent = 8;
 constexpr double kNearPixels = 12.0;
 /// Metrics are O(#frames²) on top of the map; beyond this the status bar shows none.
 constexpr int kMaxMetricsFrames = 5000;
+/// Playback ticks at least this often (ms), so a 30 fps clip at 1× still repaints at 60 Hz
+/// when sped up, and frames are chosen by the clock, never by counting ticks.
+constexpr int kMaxTickMs = 16;
+constexpr double kSpeeds[] = {0.25, 0.5, 1.0, 2.0, 4.0};
 }  // namespace
 
 QString methodLabel(embed::Method method) {
   switch (method) {
-    case embed::Method::Pca: return QStringLiteral("PCA");
-    case embed::Method::Svd: return QStringLiteral("SVD");
-    case embed::Method::Mds: return QStringLiteral("MDS");
-    case embed::Method::Isomap: return QStringLiteral("Isomap");
-    case embed::Method::LaplacianEigenmap: return QStringLiteral("LE");
-    case embed::Method::Lle: return QStringLiteral("LLE");
+    case embed::Method::Pca:
+      return QStringLiteral("PCA");
+    case embed::Method::Svd:
+      return QStringLiteral("SVD");
+    case embed::Method::Mds:
+      return QStringLiteral("MDS");
+    case embed::Method::Isomap:
+      return QStringLiteral("Isomap");
+    case embed::Method::LaplacianEigenmap:
+      return QStringLiteral("LE");
+    case embed::Method::Lle:
+      return QStringLiteral("LLE");
   }
   return {};
+}
+
+embed::ClipMapOptions MapParameters::options(embed::Method method) const {
+  embed::ClipMapOptions o;
+  o.embed.method = method;
+  o.embed.k = k;
+  o.embed.heat = heat;
+  o.features.features = features;
+  o.features.distance = distance;
+  o.features.exclude = exclude;
+  return o;
 }
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   if (qEnvironmentVariableIntValue("MOTIONMAP_STUDIO_NO_CONFIRM") != 0) m_interactive = false;
   QSettings settings;
   m_lastDir = settings.value("lastDir").toString();
-  if (const auto m = embed::parse_method(settings.value("method", "isomap").toString().toStdString())) m_method = *m;
+  if (const auto m =
+          embed::parse_method(settings.value("method", "isomap").toString().toStdString()))
+    m_method = *m;
   buildUi();
   restoreGeometry(settings.value("geometry").toByteArray());
+  m_splitter->restoreState(settings.value("splitter").toByteArray());
   setAcceptDrops(true);
+  m_timer.setTimerType(Qt::PreciseTimer);
   connect(&m_timer, &QTimer::timeout, this, &MainWindow::onTick);
 }
 
-MainWindow::~MainWindow() { stopWorker(); }
+MainWindow::~MainWindow() {
+  stopSynthWorker();
+  stopWorker();
+}
 
 void MainWindow::buildUi() {
   setWindowTitle(tr("MotionMap Studio"));
   resize(1280, 720);
   m_skeletonView = new SkeletonView;
   m_mapView = new MapView;
-  auto* splitter = new QSplitter(Qt::Horizontal);
-  splitter->addWidget(m_skeletonView);
-  splitter->addWidget(m_mapView);
-  splitter->setSizes({640, 640});
+  m_splitter = new QSplitter(Qt::Horizontal);
+  m_splitter->addWidget(m_skeletonView);
+  m_splitter->addWidget(m_mapView);
+  m_splitter->setSizes({640, 640});
 
   m_playButton = new QPushButton(tr("Play"));
   m_playButton->setFocusPolicy(Qt::NoFocus);
   m_slider = new QSlider(Qt::Horizontal);
   m_slider->setEnabled(false);
   m_slider->setFocusPolicy(Qt::NoFocus);
+  m_speedBox = new QComboBox;
+  m_speedBox->setFocusPolicy(Qt::NoFocus);
+  m_speedBox->setToolTip(tr("Playback speed"));
+  for (double s : kSpeeds) m_speedBox->addItem(QString("%1×").arg(s), s);
+  m_speedBox->setCurrentIndex(2);
+  m_loopBox = new QCheckBox(tr("Loop"));
+  m_loopBox->setFocusPolicy(Qt::NoFocus);
+  m_loopBox->setChecked(m_loop);
   auto* transport = new QHBoxLayout;
   transport->addWidget(m_playButton);
   transport->addWidget(m_slider, 1);
+  transport->addWidget(m_speedBox);
+  transport->addWidget(m_loopBox);
   auto* central = new QWidget;
   auto* layout = new QVBoxLayout(central);
   layout->setContentsMargins(4, 4, 4, 4);
-  layout->addWidget(splitter, 1);
+  layout->addWidget(m_splitter, 1);
   layout->addLayout(transport);
   setCentralWidget(central);
   connect(m_playButton, &QPushButton::clicked, this, [this] { isPlaying() ? pause() : play(); });
   connect(m_slider, &QSlider::valueChanged, this, [this](int v) {
     if (v != m_frame) setFrame(v);
   });
+  connect(m_speedBox, &QComboBox::currentIndexChanged, this,
+          [this](int i) { setPlaybackSpeed(m_speedBox->itemData(i).toDouble()); });
+  connect(m_loopBox, &QCheckBox::toggled, this, &MainWindow::setLoop);
 
   QMenu* file = menuBar()->addMenu(tr("&File"));
   file->addAction(tr("&Open…"), QKeySequence::Open, this, &MainWindow::openDialog);
@@ -99,8 +151,14 @@ void MainWindow::buildUi() {
     if (confirmDiscard()) openClip(sample::make_sample_clip(sample::SampleKind::Swing));
   });
   m_recentMenu = file->addMenu(tr("Open &recent"));
-  m_exportAction = file->addAction(tr("&Export motion…"), QKeySequence(tr("Ctrl+E")), this, &MainWindow::exportDialog);
+  file->addAction(tr("&Add clip to the map…"), QKeySequence(tr("Ctrl+Shift+O")), this,
+                  &MainWindow::addDialog);
+  m_exportAction = file->addAction(tr("&Export motion…"), QKeySequence(tr("Ctrl+E")), this,
+                                   &MainWindow::exportDialog);
   m_exportAction->setEnabled(false);
+  m_exportMapAction = file->addAction(tr("Export &map…"), QKeySequence(tr("Ctrl+Shift+E")), this,
+                                      &MainWindow::exportMapDialog);
+  m_exportMapAction->setEnabled(false);
   file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
   updateRecentMenu();
@@ -116,7 +174,28 @@ void MainWindow::buildUi() {
     connect(action, &QAction::triggered, this, [this, m] { setMethod(m); });
   }
   motion->addSeparator();
+  motion->addAction(tr("&Parameters…"), this, &MainWindow::parametersDialog);
   motion->addAction(tr("Show &clip"), this, &MainWindow::showClipMotion);
+
+  QMenu* view = menuBar()->addMenu(tr("&View"));
+  QAction* follow = view->addAction(tr("&Follow root"));
+  follow->setCheckable(true);
+  follow->setChecked(true);
+  connect(follow, &QAction::toggled, m_skeletonView, &SkeletonView::setFollowRoot);
+  QAction* sketch = view->addAction(tr("&Sketch mode (drag draws a path)"));
+  sketch->setCheckable(true);
+  sketch->setShortcut(QKeySequence(tr("S")));
+  connect(sketch, &QAction::toggled, m_mapView, &MapView::setSketchMode);
+  QAction* lens = view->addAction(tr("&Magnifier (wheel: power)"));
+  lens->setCheckable(true);
+  lens->setShortcut(QKeySequence(tr("M")));
+  connect(lens, &QAction::toggled, m_mapView, &MapView::setLensEnabled);
+  QAction* shading = view->addAction(tr("Shade &trustworthy blends"));
+  shading->setCheckable(true);
+  shading->setToolTip(
+      tr("Green where a dragged or sketched point is within the blender's reach of the data; "
+         "outside, the blend is taken at the data's edge"));
+  connect(shading, &QAction::toggled, m_mapView, &MapView::setShadingVisible);
 
   m_status = new QLabel(tr("No clip"));
   m_progress = new QProgressBar;
@@ -126,9 +205,19 @@ void MainWindow::buildUi() {
   m_cancelButton = new QPushButton(tr("Cancel"));
   m_cancelButton->hide();
   connect(m_cancelButton, &QPushButton::clicked, this, &MainWindow::cancelComputation);
+  m_synthProgress = new QProgressBar;
+  m_synthProgress->setRange(0, 1000);
+  m_synthProgress->setMaximumWidth(200);
+  m_synthProgress->setFormat(tr("Synthesizing %p%"));
+  m_synthProgress->hide();
+  m_synthCancelButton = new QPushButton(tr("Cancel synthesis"));
+  m_synthCancelButton->hide();
+  connect(m_synthCancelButton, &QPushButton::clicked, this, &MainWindow::cancelSynthesis);
   statusBar()->addWidget(m_status, 1);
   statusBar()->addPermanentWidget(m_progress);
   statusBar()->addPermanentWidget(m_cancelButton);
+  statusBar()->addPermanentWidget(m_synthProgress);
+  statusBar()->addPermanentWidget(m_synthCancelButton);
 
   connect(m_mapView, &MapView::hovered, this, &MainWindow::onHover);
   connect(m_mapView, &MapView::clicked, this, &MainWindow::onClick);
@@ -151,31 +240,97 @@ bool MainWindow::openFile(const QString& path) {
 }
 
 void MainWindow::openClip(Clip clip) {
+  stopSynthWorker();
   stopWorker();
   pause();
-  m_maps.clear();
   m_synth.reset();
+  m_synthMap.reset();
   m_unsaved = false;
   m_playingSynth = false;
   m_exportAction->setEnabled(false);
-  m_clip = std::make_shared<const Clip>(std::move(clip));
-  setWindowTitle(tr("MotionMap Studio — %1").arg(QFileInfo(QString::fromStdString(m_clip->path)).fileName()));
-  m_skeletonView->setSkeleton(m_clip->skeleton);
+  auto clips = std::make_shared<std::vector<Clip>>();
+  clips->push_back(std::move(clip));
+  m_clips = std::move(clips);
+  m_clipIndex = 0;
   m_frame = 0;
-  m_slider->setRange(0, std::max(0, m_clip->motion.num_frames - 1));
-  m_slider->setEnabled(m_clip->motion.num_frames > 0);
-  m_timer.setInterval(std::max(1, int(std::lround(m_clip->motion.frame_time * 1000.0))));
-  if (m_clip->motion.num_frames > 0) m_skeletonView->setPose(m_clip->motion, 0);
+  m_skeletonView->setSkeleton(this->clip()->skeleton);
+  clipsChanged();
+}
+
+bool MainWindow::addFile(const QString& path) {
+  try {
+    Clip clip = io::load_clip(path.toStdString());
+    m_lastDir = QFileInfo(path).absolutePath();
+    addRecentFile(QFileInfo(path).absoluteFilePath());
+    return addClip(std::move(clip));
+  } catch (const std::exception& e) {
+    showError(QString::fromStdString(e.what()));
+    return false;
+  }
+}
+
+bool MainWindow::addClip(Clip clip) {
+  if (!m_clips) {
+    showError(tr("Open a clip first: added clips join its map"));
+    return false;
+  }
+  if (!clip.skeleton.same_hierarchy(m_clips->front().skeleton)) {
+    showError(
+        tr("%1 has another skeleton than %2 (joint names or parents differ): it cannot join the "
+           "map")
+            .arg(QString::fromStdString(clip.path), QString::fromStdString(m_clips->front().path)));
+    return false;
+  }
+  // A new set: the worker may still read the old one, so it is copied, never changed in place.
+  stopWorker();
+  auto clips = std::make_shared<std::vector<Clip>>(*m_clips);
+  clips->push_back(std::move(clip));
+  m_clips = std::move(clips);
+  clipsChanged();
+  return true;
+}
+
+void MainWindow::clipsChanged() {
+  m_maps.clear();  // maps (and blenders) belong to one set of clips
+  QString title = QFileInfo(QString::fromStdString(m_clips->front().path)).fileName();
+  if (m_clips->size() > 1) title += tr(" + %n more", nullptr, int(m_clips->size()) - 1);
+  setWindowTitle(tr("MotionMap Studio — %1").arg(title));
+  if (!m_playingSynth) setCurrentClip(m_clipIndex, m_frame);
   m_mapView->clearMap(tr("Computing the map…"));
   setMethod(m_method);
+}
+
+void MainWindow::setCurrentClip(int index, int frame) {
+  if (!m_clips || index < 0 || index >= clipCount()) return;
+  if (index != m_clipIndex) {
+    m_clipIndex = index;
+    m_skeletonView->setSkeleton(clip()->skeleton, /*keepCamera=*/true);  // its own bone lengths
+  }
+  m_playingSynth = false;
+  m_slider->setRange(0, std::max(0, clip()->motion.num_frames - 1));
+  m_slider->setEnabled(clip()->motion.num_frames > 0);
+  setFrame(frame);
+  updateStatus();
+}
+
+std::string MainWindow::cacheKey(embed::Method method) const {
+  // Appends only: g++ 12 warns (-Wrestrict, a false positive) on "literal" + std::string&&.
+  std::string key(embed::method_name(method));
+  key.append("|k=").append(std::to_string(m_parameters.k));
+  key.append("|heat=").append(
+      m_parameters.heat ? QString::number(*m_parameters.heat, 'g', 17).toStdString() : "auto");
+  key.append("|").append(features::feature_kind_name(m_parameters.features));
+  key.append("|").append(features::distance_kind_name(m_parameters.distance));
+  key.append("|exclude=").append(m_parameters.exclude);
+  return key;
 }
 
 void MainWindow::setMethod(embed::Method method) {
   m_method = method;
   for (QAction* a : m_methodGroup->actions()) a->setChecked(a->data().toInt() == int(method));
   QSettings().setValue("method", QString::fromUtf8(embed::method_name(method).data()));
-  if (!m_clip) return;
-  if (m_maps.count(method)) {
+  if (!m_clips) return;
+  if (m_maps.count(cacheKey(method))) {
     if (isComputing()) stopWorker();
     showMap();
     emit mapReady(method);
@@ -184,9 +339,15 @@ void MainWindow::setMethod(embed::Method method) {
   startComputation(method);
 }
 
+void MainWindow::setParameters(const MapParameters& parameters) {
+  m_parameters = parameters;
+  setMethod(m_method);
+}
+
 const MapResult* MainWindow::currentMap() const {
-  const auto it = m_maps.find(m_method);
-  return it == m_maps.end() || isComputing() ? nullptr : it->second.get();
+  if (isComputing()) return nullptr;
+  const auto it = m_maps.find(cacheKey(m_method));
+  return it == m_maps.end() ? nullptr : it->second.get();
 }
 
 void MainWindow::startComputation(embed::Method method) {
@@ -198,16 +359,20 @@ void MainWindow::startComputation(embed::Method method) {
   m_progress->setValue(0);
   m_progress->show();
   m_cancelButton->show();
+  m_exportMapAction->setEnabled(false);
   updateStatus();
-  std::shared_ptr<const Clip> clip = m_clip;
-  m_worker = std::thread([this, clip, cancel, method, generation] {
+  std::shared_ptr<const std::vector<Clip>> clips = m_clips;
+  const embed::ClipMapOptions base = m_parameters.options(method);
+  const std::string key = cacheKey(method);
+  m_worker = std::thread([this, clips, cancel, method, generation, base, key] {
     auto result = std::make_shared<MapResult>();
     QString error;
     bool cancelled = false;
     try {
-      embed::ClipMapOptions options;
-      options.embed.method = method;
-      options.metrics = clip->motion.num_frames <= kMaxMetricsFrames;
+      embed::ClipMapOptions options = base;
+      int frames = 0;
+      for (const Clip& c : *clips) frames += c.motion.num_frames;
+      options.metrics = frames <= kMaxMetricsFrames;
       // Callbacks run on this thread: hand progress to the GUI thread, read cancel atomically.
       options.progress = [this, generation](double fraction, std::string_view stage) {
         const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
@@ -224,19 +389,32 @@ void MainWindow::startComputation(embed::Method method) {
       options.cancel = [cancel] { return cancel->load(); };
       QElapsedTimer clock;
       clock.start();
-      result->map = embed::map_clips(std::span<const Clip>(clip.get(), 1), options);
-      result->seconds = double(clock.nsecsElapsed()) * 1e-9;
+      result->map = embed::map_clips(*clips, options);
       if (cancel->load()) throw Cancelled();
       result->parameters = embed::describe_parameters(result->map.embedding, options);
-      result->blender = std::make_unique<synth::MapBlender>(std::span<const Clip>(clip.get(), 1),
-                                                            result->map.features, result->map.embedding.coordinates);
-      // Frames left out of the map (a bind pose) show the row of the nearest earlier frame.
-      const auto& frames = result->map.features.frame_of;
-      result->rowOfFrame.assign(std::size_t(std::max(0, clip->motion.num_frames)), 0);
-      std::size_t row = 0;
-      for (int f = 0; f < clip->motion.num_frames; ++f) {
-        while (row + 1 < frames.size() && frames[row + 1] <= f) ++row;
-        result->rowOfFrame[std::size_t(f)] = int(row);
+      // The blender's set-up (local kriging systems; minutes for the kriging mode on a big map)
+      // stays on this thread too.
+      result->blender = std::make_unique<synth::MapBlender>(*clips, result->map.features,
+                                                            result->map.embedding.coordinates);
+      result->seconds = double(clock.nsecsElapsed()) * 1e-9;
+      options.progress = nullptr;
+      options.cancel = nullptr;
+      result->options = options;
+      // Frames left out of the map (a bind pose) show the row of the nearest earlier frame of
+      // their clip (or its first row).
+      const features::FeatureSet& set = result->map.features;
+      result->rowOfFrame.resize(clips->size());
+      for (std::size_t c = 0; c < clips->size(); ++c) {
+        const int first = set.segment_starts[c];
+        const int end =
+            c + 1 < set.segment_starts.size() ? set.segment_starts[c + 1] : set.num_samples();
+        std::vector<int>& rows = result->rowOfFrame[c];
+        rows.assign(std::size_t(std::max(0, (*clips)[c].motion.num_frames)), first);
+        int row = first;
+        for (int f = 0; f < int(rows.size()); ++f) {
+          while (row + 1 < end && set.frame_of[std::size_t(row + 1)] <= f) ++row;
+          rows[std::size_t(f)] = row;
+        }
       }
     } catch (const Cancelled&) {
       cancelled = true;
@@ -244,7 +422,10 @@ void MainWindow::startComputation(embed::Method method) {
       error = QString::fromStdString(e.what());
     }
     QMetaObject::invokeMethod(
-        this, [this, generation, method, result, error, cancelled] { onComputed(generation, method, result, error, cancelled); },
+        this,
+        [this, generation, method, key, result, error, cancelled] {
+          onComputed(generation, method, key, result, error, cancelled);
+        },
         Qt::QueuedConnection);
   });
 }
@@ -266,8 +447,8 @@ void MainWindow::cancelComputation() {
   emit computationFinished(false);
 }
 
-void MainWindow::onComputed(int generation, embed::Method method, std::shared_ptr<MapResult> result,
-                            QString error, bool cancelled) {
+void MainWindow::onComputed(int generation, embed::Method method, std::string key,
+                            std::shared_ptr<MapResult> result, QString error, bool cancelled) {
   if (generation != m_generation) return;
   if (m_worker.joinable()) m_worker.join();
   m_progress->hide();
@@ -279,45 +460,66 @@ void MainWindow::onComputed(int generation, embed::Method method, std::shared_pt
     emit computationFinished(false);
     return;
   }
-  m_maps[method] = std::move(result);
+  m_maps[key] = std::move(result);
   if (method == m_method) showMap();
   emit computationFinished(true);
   emit mapReady(method);
 }
 
+render::MapPlotOptions MainWindow::plotOptions(const MapResult& map) const {
+  render::MapPlotOptions options;
+  options.title = methodLabel(map.map.embedding.method);
+  options.time_legend = true;
+  if (m_clips && m_clips->size() > 1) {  // several clips: colour by clip, named in the legend
+    for (const Clip& clip : *m_clips) options.clip_names << QFileInfo(QString::fromStdString(clip.path)).fileName();
+  }
+  // What the library wants the user to know (a bind pose left out, a joined graph) under the map.
+  for (const auto& note : map.map.features.notes) options.notes << QString::fromStdString(note);
+  for (const auto& warning : map.map.embedding.warnings)
+    options.notes << QString::fromStdString(warning);
+  return options;
+}
+
 void MainWindow::showMap() {
   const MapResult* map = currentMap();
   if (!map) return;
-  render::MapPlotOptions options;
-  options.title = methodLabel(m_method);
-  options.time_legend = true;
-  // What the library wants the user to know (a bind pose left out, a joined graph) under the map.
-  for (const auto& note : map->map.features.notes) options.notes << QString::fromStdString(note);
-  for (const auto& warning : map->map.embedding.warnings) options.notes << QString::fromStdString(warning);
-  m_mapView->setMap(map->map.embedding.coordinates, map->map.features.segment_starts, options);
+  m_mapView->setMap(map->map.embedding.coordinates, map->map.features.segment_starts,
+                    plotOptions(*map));
+  // A blend is computed from the data where a sample lies within the blender's reach; farther
+  // out, MapBlender::locate moves the point to the data's edge (PointValidity::clamped).
+  m_mapView->setShadingReach(map->blender->reach_distance());
+  m_exportMapAction->setEnabled(true);
   updatePointer();
   updateStatus();
 }
 
 void MainWindow::updateStatus() {
-  if (!m_clip) return;
+  if (!m_clips) return;
   QStringList parts;
-  parts << tr("%1 frames").arg(m_clip->motion.num_frames) << tr("%1 fps").arg(m_clip->motion.fps(), 0, 'g', 4);
+  if (clipCount() > 1) parts << tr("clip %1 of %2").arg(m_clipIndex + 1).arg(clipCount());
+  parts << tr("%1 frames").arg(clip()->motion.num_frames)
+        << tr("%1 fps").arg(clip()->motion.fps(), 0, 'g', 4);
   if (const MapResult* map = currentMap()) {
     parts << QString::fromStdString(map->parameters) << tr("%1 s").arg(map->seconds, 0, 'f', 2);
     if (map->map.metrics) {
-      parts << tr("trustworthiness %1").arg(map->map.metrics->neighborhood.trustworthiness, 0, 'f', 3);
+      parts << tr("trustworthiness %1")
+                   .arg(map->map.metrics->neighborhood.trustworthiness, 0, 'f', 3);
     }
   } else if (isComputing()) {
     parts << tr("computing %1…").arg(methodLabel(m_method));
   }
   if (m_playingSynth && m_synth) {
-    parts << tr("synthesized: %1 frames, %2 outside the data").arg(m_synth->motion.num_frames).arg(m_synth->clamped_frames);
+    parts << tr("synthesized: %1 frames, %2 outside the data")
+                 .arg(m_synth->motion.num_frames)
+                 .arg(m_synth->clamped_frames);
   }
+  if (isSynthesizing()) parts << tr("synthesizing…");
   m_status->setText(parts.join(QStringLiteral(" · ")));
 }
 
-QString MainWindow::statusText() const { return m_status->text(); }
+QString MainWindow::statusText() const {
+  return m_status->text();
+}
 
 void MainWindow::showError(const QString& message) {
   m_lastError = message;
@@ -327,17 +529,18 @@ void MainWindow::showError(const QString& message) {
 
 bool MainWindow::confirmDiscard() {
   if (!hasUnsavedMotion() || !m_interactive) return true;
-  return QMessageBox::question(this, tr("MotionMap Studio"),
-                               tr("The synthesized motion has not been exported. Discard it?")) ==
-         QMessageBox::Yes;
+  return QMessageBox::question(
+             this, tr("MotionMap Studio"),
+             tr("The synthesized motion (%1 frames) has not been exported. Discard it?")
+                 .arg(m_synth->motion.num_frames)) == QMessageBox::Yes;
 }
 
 const Motion* MainWindow::playingMotion() const {
   if (m_playingSynth && m_synth) return &m_synth->motion;
-  return m_clip ? &m_clip->motion : nullptr;
+  return m_clips ? &clip()->motion : nullptr;
 }
 
-void MainWindow::setFrame(int frame) {
+void MainWindow::showFrame(int frame) {
   const Motion* motion = playingMotion();
   if (!motion || motion->num_frames <= 0) return;
   m_frame = std::clamp(frame, 0, motion->num_frames - 1);
@@ -350,24 +553,38 @@ void MainWindow::setFrame(int frame) {
   emit frameChanged(m_frame);
 }
 
+void MainWindow::setFrame(int frame) {
+  showFrame(frame);
+  // A jump while playing goes on from there.
+  m_playStartFrame = m_frame;
+  m_playClock.start();
+}
+
 void MainWindow::updatePointer() {
   const MapResult* map = currentMap();
   if (!map) return m_mapView->setPointer(std::nullopt);
   if (m_playingSynth && m_synth) {
     // Its map points belong to the map it was sketched on.
-    const bool sameMap = m_synthMethod == m_method && m_frame < int(m_synth->validity.size());
-    m_mapView->setPointer(sameMap ? std::optional(m_synth->validity[std::size_t(m_frame)].point) : std::nullopt);
+    const bool sameMap = m_synthMap.get() == map && m_frame < int(m_synth->validity.size());
+    m_mapView->setPointer(sameMap ? std::optional(m_synth->validity[std::size_t(m_frame)].point)
+                                  : std::nullopt);
     return;
   }
-  if (m_frame < int(map->rowOfFrame.size())) {
-    m_mapView->setPointer(map->blender->sample_point(map->rowOfFrame[std::size_t(m_frame)]));
+  if (m_clipIndex < int(map->rowOfFrame.size()) &&
+      m_frame < int(map->rowOfFrame[std::size_t(m_clipIndex)].size())) {
+    m_mapView->setPointer(map->blender->sample_point(
+        map->rowOfFrame[std::size_t(m_clipIndex)][std::size_t(m_frame)]));
   }
 }
 
 void MainWindow::play() {
   const Motion* motion = playingMotion();
   if (!motion || motion->num_frames < 2) return;
-  m_timer.setInterval(std::max(1, int(std::lround(motion->frame_time * 1000.0))));
+  if (!m_loop && m_frame >= motion->num_frames - 1) showFrame(0);  // play again from the start
+  m_playStartFrame = m_frame;
+  m_playClock.start();
+  m_timer.setInterval(
+      std::clamp(int(std::lround(motion->frame_time * 1000.0 / m_speed)), 1, kMaxTickMs));
   m_timer.start();
   m_playButton->setText(tr("Pause"));
 }
@@ -377,18 +594,45 @@ void MainWindow::pause() {
   m_playButton->setText(tr("Play"));
 }
 
+void MainWindow::setPlaybackSpeed(double speed) {
+  m_speed = std::clamp(std::isfinite(speed) ? speed : 1.0, 0.05, 8.0);
+  for (int i = 0; i < m_speedBox->count(); ++i) {
+    if (m_speedBox->itemData(i).toDouble() == m_speed && m_speedBox->currentIndex() != i) {
+      const QSignalBlocker block(m_speedBox);
+      m_speedBox->setCurrentIndex(i);
+    }
+  }
+  if (isPlaying()) play();  // re-anchors the clock at the current frame
+}
+
+void MainWindow::setLoop(bool loop) {
+  m_loop = loop;
+  if (m_loopBox->isChecked() != loop) {
+    const QSignalBlocker block(m_loopBox);
+    m_loopBox->setChecked(loop);
+  }
+}
+
 void MainWindow::onTick() {
   const Motion* motion = playingMotion();
   if (!motion || motion->num_frames == 0) return pause();
-  setFrame(m_frame + 1 >= motion->num_frames ? 0 : m_frame + 1);  // loop
+  // The frame is the clock's, so playback keeps the clip's rate whatever the tick rate.
+  const double elapsed = double(m_playClock.nsecsElapsed()) * 1e-9;
+  const long long target =
+      m_playStartFrame + (long long)std::floor(elapsed * m_speed / motion->frame_time);
+  if (target < motion->num_frames) {
+    if (target != m_frame) showFrame(int(target));
+  } else if (m_loop) {
+    showFrame(int(target % motion->num_frames));
+  } else {
+    showFrame(motion->num_frames - 1);
+    pause();
+  }
 }
 
 void MainWindow::showClipMotion() {
   if (!m_playingSynth) return;
-  m_playingSynth = false;
-  m_slider->setRange(0, std::max(0, m_clip->motion.num_frames - 1));
-  setFrame(0);
-  updateStatus();
+  setCurrentClip(m_clipIndex, 0);
 }
 
 int MainWindow::sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const {
@@ -403,14 +647,19 @@ int MainWindow::sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) c
 void MainWindow::onHover(const Eigen::Vector2d& point, const QPointF& pixel) {
   const int sample = sampleNear(point, pixel);
   const MapResult* map = currentMap();
-  m_mapView->setHoverText(sample < 0 ? QString() : tr("frame %1").arg(map->map.features.frame_of[std::size_t(sample)]));
+  if (sample < 0) return m_mapView->setHoverText({});
+  const features::FeatureSet& set = map->map.features;
+  const int clip = set.clip_of[std::size_t(sample)];
+  m_mapView->setHoverText(
+      clipCount() > 1 ? tr("clip %1, frame %2").arg(clip + 1).arg(set.frame_of[std::size_t(sample)])
+                      : tr("frame %1").arg(set.frame_of[std::size_t(sample)]));
 }
 
 void MainWindow::onClick(const Eigen::Vector2d& point, const QPointF& pixel) {
   const int sample = sampleNear(point, pixel);
   if (sample < 0) return;
-  if (m_playingSynth) showClipMotion();
-  setFrame(currentMap()->map.features.frame_of[std::size_t(sample)]);
+  const features::FeatureSet& set = currentMap()->map.features;
+  setCurrentClip(set.clip_of[std::size_t(sample)], set.frame_of[std::size_t(sample)]);
 }
 
 void MainWindow::onDrag(const Eigen::Vector2d& point) {
@@ -421,38 +670,137 @@ void MainWindow::onDrag(const Eigen::Vector2d& point) {
     m_skeletonView->setPose(pose, 0);
     const synth::PointValidity validity = map->blender->locate(point).validity;
     m_mapView->setPointer(validity.point);
-    m_mapView->setHoverText(validity.clamped ? tr("blend (outside the data: moved to its edge)") : tr("blend"));
+    m_mapView->setHoverText(validity.clamped ? tr("blend (outside the data: moved to its edge)")
+                                             : tr("blend"));
   } catch (const std::exception& e) {
     showError(QString::fromStdString(e.what()));
   }
 }
 
-void MainWindow::synthesizeAlong(const synth::MapPath& path) {
-  const MapResult* map = currentMap();
-  if (!map || !confirmDiscard()) return;
-  try {
-    synth::SynthResult result = synth::synthesize(*map->blender, path);
-    pause();
-    m_synth = std::move(result);
-    m_synthMethod = m_method;
-    m_unsaved = true;
-    m_playingSynth = true;
-    m_exportAction->setEnabled(true);
-    m_slider->setRange(0, std::max(0, m_synth->motion.num_frames - 1));
-    setFrame(0);
+bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
+  const auto it = m_maps.find(cacheKey(m_method));
+  if (isComputing() || it == m_maps.end() || !confirmDiscard()) return false;
+  stopSynthWorker();  // a newer sketch replaces one still being synthesized
+  std::shared_ptr<const MapResult> map = it->second;
+  auto cancel = std::make_shared<std::atomic<bool>>(false);
+  m_synthCancel = cancel;
+  const int generation = ++m_synthGeneration;
+  m_synthProgress->setValue(0);
+  m_synthProgress->show();
+  m_synthCancelButton->show();
+  m_synthWorker = std::thread([this, map, path, cancel, generation] {
+    auto result = std::make_shared<synth::SynthResult>();
+    QString error;
+    bool cancelled = false;
+    try {
+      LoopControl control;
+      control.progress = [this, generation](double fraction) {
+        QMetaObject::invokeMethod(
+            this,
+            [this, generation, fraction] {
+              if (generation != m_synthGeneration) return;
+              m_synthProgress->setValue(int(fraction * 1000));
+              emit synthesisProgress(fraction);
+            },
+            Qt::QueuedConnection);
+      };
+      control.cancel = [cancel] { return cancel->load(); };
+      *result = synth::synthesize(*map->blender, path, {}, control);
+      if (cancel->load()) throw Cancelled();
+    } catch (const Cancelled&) {
+      cancelled = true;
+    } catch (const std::exception& e) {
+      error = QString::fromStdString(e.what());
+    }
+    QMetaObject::invokeMethod(
+        this,
+        [this, generation, map, result, error, cancelled] {
+          onSynthesized(generation, map, result, error, cancelled);
+        },
+        Qt::QueuedConnection);
+  });
+  updateStatus();
+  return true;
+}
+
+void MainWindow::stopSynthWorker() {
+  if (!m_synthWorker.joinable()) return;
+  if (m_synthCancel) m_synthCancel->store(true);
+  m_synthWorker.join();
+  ++m_synthGeneration;  // a result still queued from that worker is ignored
+  m_synthProgress->hide();
+  m_synthCancelButton->hide();
+}
+
+void MainWindow::cancelSynthesis() {
+  if (!isSynthesizing()) return;
+  stopSynthWorker();
+  updateStatus();
+  m_status->setText(tr("Synthesis cancelled"));
+  emit synthesisFinished(false);
+}
+
+void MainWindow::onSynthesized(int generation, std::shared_ptr<const MapResult> map,
+                               std::shared_ptr<synth::SynthResult> result, QString error,
+                               bool cancelled) {
+  if (generation != m_synthGeneration) return;
+  if (m_synthWorker.joinable()) m_synthWorker.join();
+  m_synthProgress->hide();
+  m_synthCancelButton->hide();
+  if (cancelled || !error.isEmpty()) {
     updateStatus();
-    emit motionSynthesized();
-    play();
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
+    if (!error.isEmpty()) showError(error);
+    emit synthesisFinished(false);
+    return;
   }
+  // The user agreed to replace an unexported motion when the sketch ended (synthesizeAlong).
+  pause();
+  m_synth = std::move(*result);
+  m_synthMap = std::move(map);
+  m_unsaved = true;
+  m_playingSynth = true;
+  m_exportAction->setEnabled(true);
+  m_slider->setRange(0, std::max(0, m_synth->motion.num_frames - 1));
+  setFrame(0);
+  updateStatus();
+  emit motionSynthesized();
+  emit synthesisFinished(true);
+  play();
 }
 
 bool MainWindow::exportMotion(const QString& path) {
-  if (!m_synth || !m_clip) return false;
+  if (!m_synth || !m_synthMap) return false;
   try {
-    io::write_bvh(io::from_motion(m_clip->skeleton, m_synth->motion), path.toStdString());
+    io::write_bvh(io::from_motion(m_synthMap->blender->skeleton(), m_synth->motion),
+                  path.toStdString());
     m_unsaved = false;
+    m_status->setText(tr("Wrote %1").arg(path));
+    return true;
+  } catch (const std::exception& e) {
+    showError(QString::fromStdString(e.what()));
+    return false;
+  }
+}
+
+bool MainWindow::exportMap(const QString& path) {
+  const MapResult* map = currentMap();
+  if (!map || !m_clips) return false;
+  try {
+    if (QFileInfo(path).suffix().compare("csv", Qt::CaseInsensitive) == 0) {
+      std::ofstream out(path.toStdString());
+      if (!out) throw Error("cannot write " + path.toStdString());
+      std::vector<std::string> files;
+      for (const Clip& c : *m_clips)
+        files.push_back(QFileInfo(QString::fromStdString(c.path)).fileName().toStdString());
+      embed::write_map_csv(out, map->map, map->options, files);
+      if (!out.flush()) throw Error("cannot write " + path.toStdString());
+    } else {
+      render::MapPlotOptions options = plotOptions(*map);
+      options.notes << QString::fromStdString(map->parameters);
+      render::save_map_plot(path.toStdString(), map->map.embedding.coordinates,
+                            map->map.features.segment_starts, options);
+    }
+    m_status->setText(tr("Wrote %1").arg(path));
     return true;
   } catch (const std::exception& e) {
     showError(QString::fromStdString(e.what()));
@@ -461,14 +809,80 @@ bool MainWindow::exportMotion(const QString& path) {
 }
 
 void MainWindow::openDialog() {
-  const QString path = QFileDialog::getOpenFileName(this, tr("Open clip"), m_lastDir,
-                                                    tr("Motion capture (*.bvh *.amc);;All files (*)"));
+  const QString path = QFileDialog::getOpenFileName(
+      this, tr("Open clip"), m_lastDir, tr("Motion capture (*.bvh *.amc);;All files (*)"));
   if (!path.isEmpty()) openFile(path);
 }
 
+void MainWindow::addDialog() {
+  const QStringList paths =
+      QFileDialog::getOpenFileNames(this, tr("Add clips of the same skeleton"), m_lastDir,
+                                    tr("Motion capture (*.bvh *.amc);;All files (*)"));
+  for (const QString& path : paths) {
+    if (!addFile(path)) break;
+  }
+}
+
 void MainWindow::exportDialog() {
-  const QString path = QFileDialog::getSaveFileName(this, tr("Export motion"), m_lastDir, tr("BVH (*.bvh)"));
+  const QString path =
+      QFileDialog::getSaveFileName(this, tr("Export motion"), m_lastDir, tr("BVH (*.bvh)"));
   if (!path.isEmpty()) exportMotion(path);
+}
+
+void MainWindow::exportMapDialog() {
+  const QString path =
+      QFileDialog::getSaveFileName(this, tr("Export map"), m_lastDir,
+                                   tr("PNG image (*.png);;SVG drawing (*.svg);;CSV table (*.csv)"));
+  if (!path.isEmpty()) exportMap(path);
+}
+
+void MainWindow::parametersDialog() {
+  QDialog dialog(this);
+  dialog.setWindowTitle(tr("Map parameters"));
+  auto* form = new QFormLayout(&dialog);
+  auto* k = new QSpinBox;
+  k->setRange(1, 1000);
+  k->setValue(m_parameters.k);
+  form->addRow(tr("Neighbours k (Isomap, LE, LLE)"), k);
+  auto* heat =
+      new QLineEdit(m_parameters.heat ? QString::number(*m_parameters.heat, 'g', 17) : QString());
+  heat->setPlaceholderText(tr("auto"));
+  form->addRow(tr("Heat t (LE; ≤ 0: unit weights)"), heat);
+  auto* featureBox = new QComboBox;
+  for (auto f : {features::FeatureKind::Quaternions, features::FeatureKind::Positions}) {
+    featureBox->addItem(QString::fromUtf8(features::feature_kind_name(f).data()), int(f));
+  }
+  featureBox->setCurrentIndex(featureBox->findData(int(m_parameters.features)));
+  form->addRow(tr("Features (PCA, SVD, LLE)"), featureBox);
+  auto* distanceBox = new QComboBox;
+  for (auto d : {features::DistanceKind::PointCloud, features::DistanceKind::Geodesic,
+                 features::DistanceKind::Features}) {
+    distanceBox->addItem(QString::fromUtf8(features::distance_kind_name(d).data()), int(d));
+  }
+  distanceBox->setCurrentIndex(distanceBox->findData(int(m_parameters.distance)));
+  form->addRow(tr("Distance (MDS, Isomap, LE)"), distanceBox);
+  auto* exclude = new QLineEdit(QString::fromStdString(m_parameters.exclude));
+  exclude->setPlaceholderText(tr("e.g. .*(Thumb|Finger).*"));
+  form->addRow(tr("Excluded joints (regex)"), exclude);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  form->addRow(buttons);
+  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  if (dialog.exec() != QDialog::Accepted) return;
+  MapParameters p;
+  p.k = k->value();
+  const QString heatText = heat->text().trimmed();
+  if (!heatText.isEmpty() && heatText.compare("auto", Qt::CaseInsensitive) != 0) {
+    bool ok = false;
+    const double value = heatText.toDouble(&ok);
+    if (!ok || !std::isfinite(value))
+      return showError(tr("heat: '%1' is not a number (leave it empty for auto)").arg(heatText));
+    p.heat = value;
+  }
+  p.features = features::FeatureKind(featureBox->currentData().toInt());
+  p.distance = features::DistanceKind(distanceBox->currentData().toInt());
+  p.exclude = exclude->text().toStdString();
+  setParameters(p);  // the library validates: a bad value comes back as its error message
 }
 
 void MainWindow::addRecentFile(const QString& path) {
@@ -486,7 +900,8 @@ void MainWindow::updateRecentMenu() {
   m_recentMenu->clear();
   const QStringList recent = QSettings().value("recentFiles").toStringList();
   for (const QString& path : recent) {
-    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openFile(path); })->setToolTip(path);
+    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openFile(path); })
+        ->setToolTip(path);
   }
   m_recentMenu->setEnabled(!recent.isEmpty());
 }
@@ -497,16 +912,19 @@ QImage MainWindow::screenshot() {
   const QImage view = m_skeletonView->renderImage();
   if (!view.isNull()) {
     QPainter painter(&image);
-    painter.drawImage(QRect(m_skeletonView->mapTo(this, QPoint(0, 0)), m_skeletonView->size()), view);
+    painter.drawImage(QRect(m_skeletonView->mapTo(this, QPoint(0, 0)), m_skeletonView->size()),
+                      view);
   }
   return image;
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
   if (!confirmDiscard()) return event->ignore();
+  stopSynthWorker();
   stopWorker();
   QSettings settings;
   settings.setValue("geometry", saveGeometry());
+  settings.setValue("splitter", m_splitter->saveState());
   settings.setValue("lastDir", m_lastDir);
   event->accept();
 }
@@ -516,16 +934,32 @@ void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
 }
 
 void MainWindow::dropEvent(QDropEvent* event) {
+  // The first file opens (replacing the clip), more files dropped together join its map;
+  // with Ctrl held every file joins the open map.
   const auto urls = event->mimeData()->urls();
-  if (!urls.isEmpty() && urls.front().isLocalFile()) openFile(urls.front().toLocalFile());
+  bool add = m_clips && (event->modifiers() & Qt::ControlModifier);
+  for (const QUrl& url : urls) {
+    if (!url.isLocalFile()) continue;
+    if (!(add ? addFile(url.toLocalFile()) : openFile(url.toLocalFile()))) break;
+    add = true;
+  }
 }
 
 void MainWindow::keyPressEvent(QKeyEvent* event) {
   switch (event->key()) {
-    case Qt::Key_Space: isPlaying() ? pause() : play(); break;
-    case Qt::Key_Left: pause(); setFrame(m_frame - 1); break;
-    case Qt::Key_Right: pause(); setFrame(m_frame + 1); break;
-    default: QMainWindow::keyPressEvent(event);
+    case Qt::Key_Space:
+      isPlaying() ? pause() : play();
+      break;
+    case Qt::Key_Left:
+      pause();
+      setFrame(m_frame - 1);
+      break;
+    case Qt::Key_Right:
+      pause();
+      setFrame(m_frame + 1);
+      break;
+    default:
+      QMainWindow::keyPressEvent(event);
   }
 }
 

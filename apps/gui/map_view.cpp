@@ -1,10 +1,19 @@
 #include "map_view.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <QMouseEvent>
 #include <QPainter>
 #include <QPainterPath>
+#include <QWheelEvent>
 
 namespace motionmap::studio {
+
+namespace {
+/// Longest straight piece (pixels) of a trajectory segment bent by the lens.
+constexpr double kLensStepPixels = 3.0;
+}  // namespace
 
 MapView::MapView(QWidget* parent) : QWidget(parent) {
   setMouseTracking(true);
@@ -12,12 +21,17 @@ MapView::MapView(QWidget* parent) : QWidget(parent) {
   m_hint = tr("Open a clip (File → Open, or drop a .bvh/.amc here)");
 }
 
+void MapView::invalidate() {
+  m_cache = QPixmap();
+  m_transformValid = false;
+}
+
 void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segmentStarts,
                      const render::MapPlotOptions& options) {
   m_coords = coords.leftCols(std::min<Eigen::Index>(2, coords.cols()));
   m_segmentStarts = segmentStarts;
   m_options = options;
-  m_cache = QPixmap();
+  invalidate();
   update();
 }
 
@@ -26,7 +40,7 @@ void MapView::clearMap(const QString& hint) {
   m_segmentStarts.clear();
   m_pointer.reset();
   if (!hint.isEmpty()) m_hint = hint;
-  m_cache = QPixmap();
+  invalidate();
   update();
 }
 
@@ -41,14 +55,96 @@ void MapView::setHoverText(const QString& text) {
   update();
 }
 
+void MapView::setSketchMode(bool on) {
+  m_sketchMode = on;
+}
+
+void MapView::setShadingReach(double reach) {
+  m_shadingReach = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
+  m_cache = QPixmap();
+  update();
+}
+
+void MapView::setShadingVisible(bool on) {
+  m_shadingVisible = on;
+  m_cache = QPixmap();
+  update();
+}
+
+void MapView::setLensEnabled(bool on) {
+  m_lensEnabled = on;
+  if (on && !m_lensVisible) {
+    // Until the mouse moves: where it is if over the view, else the middle.
+    const QPoint mouse = mapFromGlobal(QCursor::pos());
+    m_lensCenter = rect().contains(mouse) ? QPointF(mouse) : QRectF(rect()).center();
+    m_lensVisible = true;
+  }
+  update();
+}
+
+void MapView::setLensCenter(const QPointF& center) {
+  m_lensCenter = center;
+  m_lensVisible = true;
+  update();
+}
+
+void MapView::setLensPower(double power) {
+  m_lensPower = std::clamp(std::isfinite(power) ? power : 3.0, 0.5, 30.0);
+  update();
+}
+
+double MapView::lensRadius() const {
+  return std::max(40.0, 0.2 * std::min(width(), height()));
+}
+
+QPointF MapView::lens(const QPointF& pixel) const {
+  if (!lensShown()) return pixel;
+  const QPointF v = pixel - m_lensCenter;
+  const double R = lensRadius(), r = std::hypot(v.x(), v.y());
+  if (r >= R || r == 0.0) return pixel;
+  const double x = r / R, d = m_lensPower;
+  const double g = (d + 1.0) * x / (d * x + 1.0);
+  return m_lensCenter + v * (g / x);
+}
+
+QPointF MapView::unlens(const QPointF& pixel) const {
+  if (!lensShown()) return pixel;
+  const QPointF v = pixel - m_lensCenter;
+  const double R = lensRadius(), r = std::hypot(v.x(), v.y());
+  if (r >= R || r == 0.0) return pixel;
+  const double y = r / R, d = m_lensPower;
+  const double x = y / (d + 1.0 - d * y);
+  return m_lensCenter + v * (x / y);
+}
+
+void MapView::ensureTransform() const {
+  if (m_transformValid && m_transformSize == size()) return;
+  const QRectF area(rect());
+  m_toWidget = render::map_transform(m_coords, area, m_options);
+  bool invertible = false;
+  m_toMap = m_toWidget.inverted(&invertible);
+  if (!invertible) m_toMap = QTransform(0, 0, 0, 0, 0, 0);  // every pixel → (0, 0)
+  m_pixelSegments.clear();
+  if (hasMap()) {
+    const QTransform unit = render::unit_transform(area, m_options);
+    m_pixelSegments = render::trajectory_segments(m_coords, m_segmentStarts);
+    for (auto& s : m_pixelSegments) {
+      s.from = unit.map(s.from);
+      s.to = unit.map(s.to);
+    }
+  }
+  m_transformSize = size();
+  m_transformValid = true;
+}
+
 QPointF MapView::toWidget(const Eigen::Vector2d& point) const {
-  return render::map_transform(m_coords, QRectF(rect()), m_options).map(QPointF(point.x(), point.y()));
+  ensureTransform();
+  return lens(m_toWidget.map(QPointF(point.x(), point.y())));
 }
 
 Eigen::Vector2d MapView::toMap(const QPointF& pixel) const {
-  bool invertible = false;
-  const QTransform inverse = render::map_transform(m_coords, QRectF(rect()), m_options).inverted(&invertible);
-  const QPointF p = invertible ? inverse.map(pixel) : QPointF();
+  ensureTransform();
+  const QPointF p = m_toMap.map(unlens(pixel));
   return {p.x(), p.y()};
 }
 
@@ -67,13 +163,40 @@ void MapView::paintEvent(QPaintEvent*) {
     QPainter cachePainter(&m_cache);
     cachePainter.setRenderHint(QPainter::Antialiasing);
     render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, m_options);
+    if (m_shadingVisible && m_shadingReach > 0.0) {
+      // The union of the samples' reach discs, opaque in a layer, laid over at one alpha.
+      ensureTransform();
+      QImage layer(m_cache.size(), QImage::Format_ARGB32_Premultiplied);
+      layer.setDevicePixelRatio(dpr);
+      layer.fill(Qt::transparent);
+      QPainter discs(&layer);
+      discs.setRenderHint(QPainter::Antialiasing);
+      discs.setPen(Qt::NoPen);
+      discs.setBrush(QColor(30, 170, 70));
+      const double radius =
+          m_shadingReach * std::hypot(m_toWidget.m11(), m_toWidget.m12());  // pixels
+      for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
+        const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
+        if (std::isfinite(p.x()) && std::isfinite(p.y())) discs.drawEllipse(p, radius, radius);
+      }
+      discs.end();
+      cachePainter.setOpacity(0.3);
+      cachePainter.drawImage(QPointF(0, 0), layer);
+      cachePainter.setOpacity(1.0);
+      // The trajectory stays on top, in its own colours.
+      render::MapPlotOptions over = m_options;
+      over.background = QColor();
+      render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, over);
+    }
   }
   painter.drawPixmap(0, 0, m_cache);
   painter.setRenderHint(QPainter::Antialiasing);
+  if (lensShown()) paintLens(painter);
   if (m_sketch.points.size() >= 2) {
     QPainterPath path(toWidget(m_sketch.points.front()));
     for (const auto& p : m_sketch.points) path.lineTo(toWidget(p));
     painter.setPen(QPen(Qt::black, 2, Qt::DashLine));
+    painter.setBrush(Qt::NoBrush);
     painter.drawPath(path);
   }
   if (m_pointer) {
@@ -83,11 +206,48 @@ void MapView::paintEvent(QPaintEvent*) {
   }
   if (!m_hoverText.isEmpty()) {
     painter.setPen(Qt::black);
-    painter.drawText(QRectF(rect()).adjusted(8, 4, -8, -4), Qt::AlignTop | Qt::AlignRight, m_hoverText);
+    painter.drawText(QRectF(rect()).adjusted(8, 4, -8, -4), Qt::AlignTop | Qt::AlignRight,
+                     m_hoverText);
   }
 }
 
-void MapView::resizeEvent(QResizeEvent*) { m_cache = QPixmap(); }
+void MapView::paintLens(QPainter& painter) const {
+  ensureTransform();
+  const double R = lensRadius();
+  const QRectF bounds(m_lensCenter - QPointF(R, R), QSizeF(2 * R, 2 * R));
+  painter.save();
+  QPainterPath circle;
+  circle.addEllipse(bounds);
+  painter.setClipPath(circle);
+  painter.fillPath(circle,
+                   m_options.background.isValid() ? m_options.background : QColor(Qt::white));
+  // The segments near the lens, bent: only those whose box meets the lens's box are looked at.
+  const double width = m_options.line_width * std::sqrt(m_lensPower + 1.0);
+  for (const auto& s : m_pixelSegments) {
+    if (std::max(s.from.x(), s.to.x()) < bounds.left() ||
+        std::min(s.from.x(), s.to.x()) > bounds.right() ||
+        std::max(s.from.y(), s.to.y()) < bounds.top() ||
+        std::min(s.from.y(), s.to.y()) > bounds.bottom()) {
+      continue;
+    }
+    const int pieces =
+        std::clamp(int(std::ceil(QLineF(s.from, s.to).length() / kLensStepPixels)), 1, 200);
+    QPainterPath path(lens(s.from));
+    for (int i = 1; i <= pieces; ++i)
+      path.lineTo(lens(s.from + (s.to - s.from) * (double(i) / pieces)));
+    const QColor color = m_options.clip_names.isEmpty() ? s.color : render::clip_color(s.clip);
+    painter.setPen(QPen(color, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+    painter.drawPath(path);
+  }
+  painter.restore();
+  painter.setPen(QPen(QColor(90, 90, 90), 1.5));
+  painter.setBrush(Qt::NoBrush);
+  painter.drawEllipse(bounds);
+}
+
+void MapView::resizeEvent(QResizeEvent*) {
+  invalidate();
+}
 
 void MapView::addSketchPoint(const QPointF& pixel) {
   // Times must increase strictly: events within one clock tick are merged into the last point.
@@ -103,7 +263,7 @@ void MapView::addSketchPoint(const QPointF& pixel) {
 void MapView::mousePressEvent(QMouseEvent* event) {
   if (!hasMap() || event->button() != Qt::LeftButton) return;
   m_pressPixel = event->position();
-  if (event->modifiers() & Qt::ShiftModifier) {
+  if ((event->modifiers() & Qt::ShiftModifier) || m_sketchMode) {
     m_gesture = Gesture::Sketch;
     m_sketch = {};
     m_sketchClock.start();
@@ -129,6 +289,7 @@ void MapView::mouseMoveEvent(QMouseEvent* event) {
       emit dragged(toMap(pixel));
       break;
     case Gesture::None:
+      if (m_lensEnabled) setLensCenter(pixel);  // the lens follows the mouse until a press
       emit hovered(toMap(pixel), pixel);
       break;
   }
@@ -151,6 +312,18 @@ void MapView::mouseReleaseEvent(QMouseEvent* event) {
   }
 }
 
-void MapView::leaveEvent(QEvent*) { setHoverText({}); }
+void MapView::wheelEvent(QWheelEvent* event) {
+  if (!m_lensEnabled) return event->ignore();
+  setLensPower(m_lensPower * std::pow(1.25, event->angleDelta().y() / 120.0));
+  event->accept();
+}
+
+void MapView::leaveEvent(QEvent*) {
+  setHoverText({});
+  if (m_gesture == Gesture::None && m_lensVisible) {
+    m_lensVisible = false;
+    update();
+  }
+}
 
 }  // namespace motionmap::studio

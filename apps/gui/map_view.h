@@ -1,16 +1,25 @@
 #pragma once
-// The map view: the trajectory drawn by render::paint_map (cached as a pixmap, so a frame's
-// repaint costs one blit plus the pointer), a white pointer at the current frame, a hover text,
-// and the mouse gestures the main window turns into library calls:
-//  - left click             → clicked(map point)
-//  - left drag              → dragged(map point) while the mouse moves
-//  - Shift + left drag      → a sketch path, sketchFinished(path) on release (times in seconds)
+// The map view: the trajectory drawn by render::paint_map (cached as a pixmap at the widget's
+// size, with the data → pixel transform, so a frame's repaint costs one blit plus the pointer,
+// whatever the trajectory's length), a white pointer at the current frame, a hover text, a
+// magnifying lens, and the mouse gestures the main window turns into library calls:
+//  - left click                          → clicked(map point)
+//  - left drag                           → dragged(map point) while the mouse moves
+//  - Shift + left drag, or any left drag
+//    in sketch mode                      → a sketch path, sketchFinished(path) on release
+//                                          (times in seconds, from the gesture's own clock)
+// The magnifier is a fisheye lens (Sarkar & Brown's g(x) = (d + 1)·x / (d·x + 1) on the distance
+// to its centre, within its radius) that follows the mouse while no button is down and stays put
+// during a press, so frames that overlap at the map's scale can be told apart and dragged over
+// slowly; the wheel changes its power d. Every map ↔ pixel conversion (toWidget, toMap) goes
+// through the lens, so hover, click, drag and sketch work inside it.
 #include <optional>
 #include <vector>
 
 #include <Eigen/Core>
 #include <QElapsedTimer>
 #include <QPixmap>
+#include <QTransform>
 #include <QWidget>
 
 #include "motionmap/render/map_plot.h"
@@ -32,16 +41,41 @@ class MapView : public QWidget {
   /// The pointer's map position (nothing hides it).
   void setPointer(const std::optional<Eigen::Vector2d>& point);
   std::optional<Eigen::Vector2d> pointer() const { return m_pointer; }
-  /// Text drawn in the top-left corner (e.g. "frame 120" under the mouse).
+  /// Text drawn in the top-right corner (e.g. "frame 120" under the mouse).
   void setHoverText(const QString& text);
   QString hoverText() const { return m_hoverText; }
 
-  /// Map coordinates → widget pixels, exactly as the map is painted (render::map_transform).
+  /// Map coordinates → widget pixels, exactly as the map is painted (render::map_transform, then
+  /// the lens when it is shown).
   QPointF toWidget(const Eigen::Vector2d& point) const;
-  /// Widget pixels → map coordinates.
+  /// Widget pixels → map coordinates (the inverse of toWidget).
   Eigen::Vector2d toMap(const QPointF& pixel) const;
   /// The sketch being drawn (empty when none).
   const synth::MapPath& sketch() const { return m_sketch; }
+  const render::MapPlotOptions& plotOptions() const { return m_options; }
+
+  /// Sketch mode: a plain left drag sketches (as Shift-drag always does).
+  void setSketchMode(bool on);
+  bool sketchMode() const { return m_sketchMode; }
+
+  /// Trustworthy-blend shading: a translucent green over every map point within `reach` (map
+  /// units; synth::MapBlender::reach_distance) of a sample, i.e. where MapBlender::locate does not
+  /// clamp. Drawn into the cached trajectory; 0 = none.
+  void setShadingReach(double reach);
+  void setShadingVisible(bool on);
+  bool shadingVisible() const { return m_shadingVisible; }
+
+  /// The magnifier: on/off, its centre (widget pixels; the mouse moves it), power d ∈ [0.5, 30]
+  /// (magnification d + 1 at the centre) and radius in pixels.
+  void setLensEnabled(bool on);
+  bool lensEnabled() const { return m_lensEnabled; }
+  void setLensCenter(const QPointF& center);
+  QPointF lensCenter() const { return m_lensCenter; }
+  void setLensPower(double power);
+  double lensPower() const { return m_lensPower; }
+  double lensRadius() const;
+  /// Whether the lens is drawn (enabled, over the widget, with a map).
+  bool lensShown() const { return m_lensEnabled && m_lensVisible && hasMap(); }
 
  signals:
   void hovered(const Eigen::Vector2d& point, const QPointF& pixel);
@@ -56,23 +90,42 @@ class MapView : public QWidget {
   void mousePressEvent(QMouseEvent* event) override;
   void mouseMoveEvent(QMouseEvent* event) override;
   void mouseReleaseEvent(QMouseEvent* event) override;
+  void wheelEvent(QWheelEvent* event) override;
   void leaveEvent(QEvent* event) override;
 
  private:
   enum class Gesture { None, Press, Drag, Sketch };
   void addSketchPoint(const QPointF& pixel);
+  /// Recomputes the data ↔ pixel transforms (and the trajectory in pixels) when stale.
+  void ensureTransform() const;
+  void invalidate();
+  QPointF lens(const QPointF& pixel) const;    ///< undistorted → shown
+  QPointF unlens(const QPointF& pixel) const;  ///< shown → undistorted
+  void paintLens(QPainter& painter) const;
 
   Eigen::MatrixXd m_coords;
   std::vector<int> m_segmentStarts;
   render::MapPlotOptions m_options;
   QString m_hint;
   QPixmap m_cache;  ///< the painted trajectory at the current size; null when stale
+  // Cached with the size they were computed for (mutable: filled lazily by const conversions).
+  mutable QSize m_transformSize;
+  mutable bool m_transformValid = false;
+  mutable QTransform m_toWidget, m_toMap;
+  mutable std::vector<render::ColoredSegment> m_pixelSegments;  ///< the trajectory in pixels
   std::optional<Eigen::Vector2d> m_pointer;
   QString m_hoverText;
   Gesture m_gesture = Gesture::None;
   QPointF m_pressPixel;
   synth::MapPath m_sketch;
   QElapsedTimer m_sketchClock;
+  bool m_sketchMode = false;
+  double m_shadingReach = 0.0;
+  bool m_shadingVisible = false;
+  bool m_lensEnabled = false;
+  bool m_lensVisible = false;
+  QPointF m_lensCenter;
+  double m_lensPower = 3.0;
 };
 
 }  // namespace motionmap::studio

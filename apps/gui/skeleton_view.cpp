@@ -13,6 +13,7 @@
 #include <QOpenGLVertexArrayObject>
 #include <QOpenGLWidget>
 #include <QPainter>
+#include <QSurfaceFormat>
 #include <QVBoxLayout>
 #include <QWheelEvent>
 
@@ -56,7 +57,9 @@ bool openGlAvailable() {
   return probe.create() && probe.isValid();
 }
 
-double gridStep(double extent) { return std::pow(10.0, std::floor(std::log10(extent * 0.5))); }
+double gridStep(double extent) {
+  return std::pow(10.0, std::floor(std::log10(extent * 0.5)));
+}
 
 }  // namespace
 
@@ -70,6 +73,7 @@ class SkeletonCanvas : public QOpenGLWidget, protected QOpenGLExtraFunctions {
     if (context()) disconnect(context(), nullptr, this, nullptr);
   }
   bool ready() const { return m_ready; }
+  QString description() const { return m_description; }
 
  protected:
   void initializeGL() override;
@@ -81,6 +85,7 @@ class SkeletonCanvas : public QOpenGLWidget, protected QOpenGLExtraFunctions {
 
   SkeletonView* m_view;
   bool m_ready = false;
+  QString m_description;
   std::unique_ptr<QOpenGLShaderProgram> m_program;
   QOpenGLVertexArrayObject m_vao;
   QOpenGLBuffer m_vbo{QOpenGLBuffer::VertexBuffer};
@@ -88,10 +93,19 @@ class SkeletonCanvas : public QOpenGLWidget, protected QOpenGLExtraFunctions {
 
 void SkeletonCanvas::initializeGL() {
   initializeOpenGLFunctions();
+  const QSurfaceFormat format = context()->format();
+  m_description =
+      QString("OpenGL %1.%2 %3 · %4 · %5")
+          .arg(format.majorVersion())
+          .arg(format.minorVersion())
+          .arg(format.profile() == QSurfaceFormat::CoreProfile ? "core" : "compatibility")
+          .arg(reinterpret_cast<const char*>(glGetString(GL_RENDERER)))
+          .arg(reinterpret_cast<const char*>(glGetString(GL_VERSION)));
   connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &SkeletonCanvas::cleanupGL);
   m_program = std::make_unique<QOpenGLShaderProgram>();
   if (!m_program->addShaderFromSourceCode(QOpenGLShader::Vertex, kVertexShader) ||
-      !m_program->addShaderFromSourceCode(QOpenGLShader::Fragment, kFragmentShader) || !m_program->link()) {
+      !m_program->addShaderFromSourceCode(QOpenGLShader::Fragment, kFragmentShader) ||
+      !m_program->link()) {
     qWarning("SkeletonView: shader error: %s", qPrintable(m_program->log()));
     m_program.reset();
     return;
@@ -103,11 +117,14 @@ void SkeletonCanvas::initializeGL() {
   m_vbo.bind();
   const auto stride = GLsizei(sizeof(MeshVertex));
   glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offsetof(MeshVertex, position)));
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<void*>(offsetof(MeshVertex, position)));
   glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offsetof(MeshVertex, normal)));
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<void*>(offsetof(MeshVertex, normal)));
   glEnableVertexAttribArray(2);
-  glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offsetof(MeshVertex, color)));
+  glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<void*>(offsetof(MeshVertex, color)));
   m_vao.release();
   m_ready = true;
 }
@@ -142,12 +159,21 @@ void SkeletonCanvas::paintGL() {
   drawVertices(gridLines(camera.target, gridStep(m_view->extent())), GL_LINES, false);
   const WorldPose& world = m_view->worldPose();
   if (!world.positions.empty()) {
-    drawVertices(skeletonMesh(boneSegments(m_view->skeleton(), world), world, m_view->extent()), GL_TRIANGLES, true);
+    drawVertices(skeletonMesh(boneSegments(m_view->skeleton(), world), world, m_view->extent()),
+                 GL_TRIANGLES, true);
   }
   m_vao.release();
   m_program->release();
 }
 
+void SkeletonView::installSurfaceFormat() {
+  QSurfaceFormat format;
+  format.setVersion(3, 3);
+  format.setProfile(QSurfaceFormat::CoreProfile);
+  format.setDepthBufferSize(24);
+  format.setSamples(4);
+  QSurfaceFormat::setDefaultFormat(format);
+}
 
 SkeletonView::SkeletonView(QWidget* parent) : QWidget(parent) {
   setMinimumSize(200, 200);
@@ -163,30 +189,43 @@ SkeletonView::SkeletonView(QWidget* parent) : QWidget(parent) {
 
 SkeletonView::~SkeletonView() = default;
 
-bool SkeletonView::glReady() const { return m_canvas && m_canvas->ready(); }
+bool SkeletonView::glReady() const {
+  return m_canvas && m_canvas->ready();
+}
 
-QImage SkeletonView::renderImage() { return m_canvas ? m_canvas->grabFramebuffer() : grab().toImage(); }
+QString SkeletonView::glDescription() const {
+  return m_canvas ? m_canvas->description() : QString();
+}
+
+QImage SkeletonView::renderImage() {
+  return m_canvas ? m_canvas->grabFramebuffer() : grab().toImage();
+}
 
 void SkeletonView::refresh() {
   if (m_canvas) m_canvas->update();
   update();
 }
 
-void SkeletonView::setSkeleton(const Skeleton& skeleton) {
+void SkeletonView::setSkeleton(const Skeleton& skeleton, bool keepCamera) {
   m_skeleton = skeleton;
   m_pose = Motion{};
   m_world = WorldPose{};
   Motion rest;
   rest.resize(1, skeleton.num_joints());
-  for (int j = 0; j < skeleton.num_joints(); ++j) rest.translation(0, j) = skeleton.joints[std::size_t(j)].offset;
+  for (int j = 0; j < skeleton.num_joints(); ++j)
+    rest.translation(0, j) = skeleton.joints[std::size_t(j)].offset;
   m_extent = poseExtent(forward_kinematics(skeleton, rest, 0));
-  m_camera = OrbitCamera{};
-  m_camera.distance = 1.7 * m_extent;
+  if (!keepCamera) {
+    m_camera = OrbitCamera{};
+    m_camera.distance = 1.7 * m_extent;
+    m_hasTarget = false;
+  }
   refresh();
 }
 
 void SkeletonView::setPose(const Motion& motion, int frame) {
-  if (motion.num_joints != m_skeleton.num_joints() || frame < 0 || frame >= motion.num_frames) return;
+  if (motion.num_joints != m_skeleton.num_joints() || frame < 0 || frame >= motion.num_frames)
+    return;
   m_pose.frame_time = motion.frame_time;
   m_pose.resize(1, motion.num_joints);
   const PoseView pose = motion.pose(frame);
@@ -194,9 +233,17 @@ void SkeletonView::setPose(const Motion& motion, int frame) {
   std::copy(pose.translations.begin(), pose.translations.end(), m_pose.translations.begin());
   forward_kinematics(m_skeleton, m_pose.pose(0), m_world);
   // Follow the root horizontally, keep the look-at height at the body's middle.
-  const Eigen::Vector3d root = m_world.positions[std::size_t(motion_root(m_skeleton, motion))];
-  m_camera.target = Eigen::Vector3d(root.x(), 0.45 * m_extent, root.z());
+  if (m_followRoot || !m_hasTarget) {
+    const Eigen::Vector3d root = m_world.positions[std::size_t(motion_root(m_skeleton, motion))];
+    m_camera.target = Eigen::Vector3d(root.x(), 0.45 * m_extent, root.z());
+    m_hasTarget = true;
+  }
   emit poseChanged();
+  refresh();
+}
+
+void SkeletonView::setFollowRoot(bool follow) {
+  m_followRoot = follow;
   refresh();
 }
 
@@ -216,22 +263,28 @@ void SkeletonView::paintEvent(QPaintEvent*) {
   painter.setPen(QPen(QColor(150, 150, 150), 1));
   for (std::size_t i = 0; i + 1 < grid.size(); i += 2) {
     const auto p = [&](const MeshVertex& v) {
-      return projectToPixels(m_camera, size(), Eigen::Vector3d(v.position[0], v.position[1], v.position[2]));
+      return projectToPixels(m_camera, size(),
+                             Eigen::Vector3d(v.position[0], v.position[1], v.position[2]));
     };
     painter.drawLine(p(grid[i]), p(grid[i + 1]));
   }
   painter.setPen(QPen(QColor(200, 180, 140), 5, Qt::SolidLine, Qt::RoundCap));
   for (const auto& bone : boneSegments(m_skeleton, m_world)) {
-    painter.drawLine(projectToPixels(m_camera, size(), bone.from), projectToPixels(m_camera, size(), bone.to));
+    painter.drawLine(projectToPixels(m_camera, size(), bone.from),
+                     projectToPixels(m_camera, size(), bone.to));
   }
   painter.setPen(Qt::NoPen);
   painter.setBrush(QColor(64, 115, 217));
   for (const QPointF& p : jointPixels()) painter.drawEllipse(p, 3.5, 3.5);
 }
 
-void SkeletonView::resizeEvent(QResizeEvent*) { refresh(); }
+void SkeletonView::resizeEvent(QResizeEvent*) {
+  refresh();
+}
 
-void SkeletonView::mousePressEvent(QMouseEvent* event) { m_lastMouse = event->position().toPoint(); }
+void SkeletonView::mousePressEvent(QMouseEvent* event) {
+  m_lastMouse = event->position().toPoint();
+}
 
 void SkeletonView::mouseMoveEvent(QMouseEvent* event) {
   const QPoint p = event->position().toPoint();

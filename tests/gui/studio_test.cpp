@@ -3,14 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
-#include <QMimeData>
 #include <QFileInfo>
+#include <QMimeData>
 #include <QProcess>
 #include <QSettings>
-#include <QUrl>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QUrl>
 #include <fstream>
 
 #include "main_window.h"
@@ -40,7 +40,8 @@ std::unique_ptr<MainWindow> windowWithMap(embed::Method method = embed::Method::
   w->show();
   w->setMethod(method);
   w->openClip(swing());
-  EXPECT_TRUE(QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
+  EXPECT_TRUE(
+      QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
   EXPECT_NE(w->currentMap(), nullptr) << w->lastError().toStdString();
   return w;
 }
@@ -61,7 +62,8 @@ TEST(StudioScene, BonesOfTheSampleSkeletonJoinEveryJointToItsParent) {
   for (const Joint& j : clip.skeleton.joints) {
     expected += int(j.end_sites.size());
     if (j.parent >= 0 && (pose.positions[std::size_t(&j - clip.skeleton.joints.data())] -
-                          pose.positions[std::size_t(j.parent)]).squaredNorm() > 0) {
+                          pose.positions[std::size_t(j.parent)])
+                                 .squaredNorm() > 0) {
       ++expected;
     }
   }
@@ -116,7 +118,7 @@ TEST(Studio, ComputesTheMapOnAWorkerAndReportsItInTheStatusBar) {
   EXPECT_TRUE(status.contains("trustworthiness 0.")) << status.toStdString();
   // The pointer sits on frame 0's map point.
   ASSERT_TRUE(w->mapView()->pointer().has_value());
-  EXPECT_EQ(*w->mapView()->pointer(), map->blender->sample_point(map->rowOfFrame[0]));
+  EXPECT_EQ(*w->mapView()->pointer(), map->blender->sample_point(map->rowOfFrame[0][0]));
 }
 
 TEST(Studio, SwitchingBackToAComputedMethodIsInstant) {
@@ -149,14 +151,17 @@ TEST(Studio, DraggingOnTheMapShowsTheBlendedPoseUnderTheMouse) {
   const Motion expected = map->blender->pose_at(view->toMap(QPointF(mid)));
   EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(), expected));
   // The text says whether the library moved the point into the data's reach.
-  EXPECT_EQ(view->hoverText().contains("outside"), map->blender->locate(view->toMap(QPointF(mid))).validity.clamped);
+  EXPECT_EQ(view->hoverText().contains("outside"),
+            map->blender->locate(view->toMap(QPointF(mid))).validity.clamped);
   const QPoint onSample = view->toWidget(map->blender->sample_point(60)).toPoint();
   QTest::mouseMove(view, onSample);
   EXPECT_EQ(view->hoverText(), "blend");  // within half a pixel of a sample: inside the data
-  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(), map->blender->pose_at(view->toMap(QPointF(onSample)))));
+  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(),
+                            map->blender->pose_at(view->toMap(QPointF(onSample)))));
   QTest::mouseMove(view, b);
   QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, b);
-  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(), map->blender->pose_at(view->toMap(QPointF(b)))));
+  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(),
+                            map->blender->pose_at(view->toMap(QPointF(b)))));
 }
 
 TEST(Studio, HoveringTheTrajectoryShowsTheFrameNumber) {
@@ -170,7 +175,7 @@ TEST(Studio, HoveringTheTrajectoryShowsTheFrameNumber) {
   ASSERT_TRUE(text.startsWith("frame ")) << text.toStdString();
   // The frame named is one whose map point is under the mouse (within a pixel).
   const int frame = text.mid(6).toInt();
-  EXPECT_LE((view->toWidget(map->blender->sample_point(map->rowOfFrame[std::size_t(frame)])) -
+  EXPECT_LE((view->toWidget(map->blender->sample_point(map->rowOfFrame[0][std::size_t(frame)])) -
              view->toWidget(map->blender->sample_point(row)))
                 .manhattanLength(),
             2.0);
@@ -187,9 +192,11 @@ TEST(Studio, ClickNearTheTrajectoryJumpsToThatFrame) {
   QTest::mouseClick(w->mapView(), Qt::LeftButton, Qt::NoModifier, p);
   // The nearest sample to the click is `row` or one drawn within a pixel of it.
   const int frame = w->currentFrame();
-  EXPECT_LE((w->mapView()->toWidget(map->blender->sample_point(map->rowOfFrame[std::size_t(frame)])) - QPointF(p))
-                .manhattanLength(),
-            2.0);
+  EXPECT_LE(
+      (w->mapView()->toWidget(map->blender->sample_point(map->rowOfFrame[0][std::size_t(frame)])) -
+       QPointF(p))
+          .manhattanLength(),
+      2.0);
   EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(), [&] {
     Motion m;
     m.resize(1, w->clip()->motion.num_joints);
@@ -208,14 +215,20 @@ TEST(Studio, SketchSynthesizesAMotionAsLongAsTheGestureAndExportsIt) {
   MapView* view = w->mapView();
   synth::MapPath sketched;
   QObject::connect(view, &MapView::sketchFinished, [&](const synth::MapPath& p) { sketched = p; });
-  QTest::mousePress(view, Qt::LeftButton, Qt::ShiftModifier, view->toWidget(map->blender->sample_point(20)).toPoint());
+  QTest::mousePress(view, Qt::LeftButton, Qt::ShiftModifier,
+                    view->toWidget(map->blender->sample_point(20)).toPoint());
   for (int row = 30; row <= 200; row += 10) {
     QTest::qWait(15);
     QTest::mouseMove(view, view->toWidget(map->blender->sample_point(row)).toPoint());
   }
   QTest::qWait(15);
-  QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, view->toWidget(map->blender->sample_point(200)).toPoint());
+  QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier,
+                      view->toWidget(map->blender->sample_point(200)).toPoint());
   ASSERT_GE(sketched.points.size(), 2u);
+  // The release only starts the synthesis: the worker's result comes back through the event loop.
+  EXPECT_TRUE(w->isSynthesizing());
+  EXPECT_EQ(w->synthesized(), nullptr);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !w->isSynthesizing(); }, kTimeoutMs));
   ASSERT_NE(w->synthesized(), nullptr) << w->lastError().toStdString();
   const double duration = sketched.times.back() - sketched.times.front();
   EXPECT_GT(duration, 0.2);
@@ -231,7 +244,8 @@ TEST(Studio, SketchSynthesizesAMotionAsLongAsTheGestureAndExportsIt) {
   const Motion* synthesized = &w->synthesized()->motion;
   EXPECT_EQ(w->playingMotion(), synthesized);
   EXPECT_TRUE(w->hasUnsavedMotion());
-  EXPECT_TRUE(w->statusText().contains(QString("synthesized: %1 frames").arg(w->synthesized()->motion.num_frames)))
+  EXPECT_TRUE(w->statusText().contains(
+      QString("synthesized: %1 frames").arg(w->synthesized()->motion.num_frames)))
       << w->statusText().toStdString();
 
   QTemporaryDir dir;
@@ -251,7 +265,8 @@ TEST(Studio, PlaybackAdvancesTheFrameAndMovesThePointer) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return w->currentFrame() >= 20; }, kTimeoutMs));
   w->pause();
   const int frame = w->currentFrame();
-  EXPECT_EQ(*w->mapView()->pointer(), map->blender->sample_point(map->rowOfFrame[std::size_t(frame)]));
+  EXPECT_EQ(*w->mapView()->pointer(),
+            map->blender->sample_point(map->rowOfFrame[0][std::size_t(frame)]));
   EXPECT_NE(*w->mapView()->pointer(), start);
   // → steps one frame, ← back, Space toggles play.
   QTest::keyClick(w.get(), Qt::Key_Right);
@@ -301,7 +316,8 @@ TEST(Studio, ChangingMethodOrClosingDuringAComputationIsSafe) {
     w.openClip(swing());
     ASSERT_TRUE(QTest::qWaitFor([&] { return w.currentMap() != nullptr; }, kTimeoutMs));
     EXPECT_EQ(w.currentMap()->map.embedding.method, embed::Method::Pca);
-    EXPECT_EQ(w.currentMap()->map.embedding.coordinates.rows(), w.currentMap()->map.features.num_samples());
+    EXPECT_EQ(w.currentMap()->map.embedding.coordinates.rows(),
+              w.currentMap()->map.features.num_samples());
   }
   {
     MainWindow w;  // destroyed while computing: the destructor cancels and joins the worker
@@ -372,9 +388,10 @@ TEST(Studio, OpensARealClip) {
   w.setInteractive(false);
   w.setMethod(embed::Method::Pca);
   ASSERT_TRUE(w.openFile(QString::fromStdString(test::shared_file("cmu/64_08.bvh"))));
-  ASSERT_TRUE(QTest::qWaitFor([&] { return w.currentMap() != nullptr; }, kTimeoutMs)) << w.lastError().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return w.currentMap() != nullptr; }, kTimeoutMs))
+      << w.lastError().toStdString();
   EXPECT_TRUE(w.statusText().contains("365 frames")) << w.statusText().toStdString();
-  EXPECT_EQ(w.currentMap()->rowOfFrame.size(), 365u);
+  EXPECT_EQ(w.currentMap()->rowOfFrame[0].size(), 365u);
   EXPECT_EQ(w.skeletonView()->currentPose().num_joints, w.clip()->skeleton.num_joints());
 }
 
@@ -405,7 +422,8 @@ TEST(StudioExecutable, ScreenshotModeWritesAPngAndFailsCleanly) {
   QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
   env.insert("XDG_CONFIG_HOME", dir.filePath("config"));  // keep the user's settings untouched
   studio.setProcessEnvironment(env);
-  studio.start(MOTIONMAP_STUDIO_EXE, {clip, "--method", "pca", "--frame", "60", "--screenshot", png});
+  studio.start(MOTIONMAP_STUDIO_EXE,
+               {clip, "--method", "pca", "--frame", "60", "--screenshot", png});
   ASSERT_TRUE(studio.waitForFinished(kTimeoutMs));
   EXPECT_EQ(studio.exitCode(), 0) << studio.readAllStandardError().toStdString();
   const QImage image(png);

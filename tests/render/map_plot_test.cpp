@@ -372,6 +372,45 @@ TEST_F(MapPlotTest, ClipsAreDrawnSeparatelyEachFromRedToBlue) {
   EXPECT_FALSE(all_near(joined, t.map(QPointF(0.5, 0.5)), 3, is_white));
 }
 
+TEST_F(MapPlotTest, ColourByClipDrawsEachClipInItsOwnColourWithANamedLegend) {
+  Eigen::MatrixXd c(100, 2);
+  c << line(50, 0, 1, 0), line(50, 0, 1, 1);
+  MapPlotOptions o;
+  o.line_width = 3.0;
+  o.clip_names = {"first.bvh", "second.bvh"};
+  o.time_legend = true;
+  const std::string path = temp_file("by-clip.png");
+  save_map_plot(path, c, {0, 50}, o, 300);
+  QImage img(QString::fromStdString(path));
+  const QTransform t = map_transform(c, QRectF(0, 0, 300, 300), o);
+  auto near_colour = [](QColor want) {
+    return [want](QColor p) {
+      return std::abs(p.red() - want.red()) + std::abs(p.green() - want.green()) + std::abs(p.blue() - want.blue()) < 30;
+    };
+  };
+  EXPECT_NE(clip_color(0), clip_color(1));
+  for (const double x : {0.1, 0.5, 0.95}) {  // the whole clip, not a time ramp
+    EXPECT_TRUE(any_near(img, t.map(QPointF(x, 0)), 1, near_colour(clip_color(0)))) << x;
+    EXPECT_FALSE(any_near(img, t.map(QPointF(x, 0)), 1, near_colour(clip_color(1)))) << x;
+    EXPECT_TRUE(any_near(img, t.map(QPointF(x, 1)), 1, near_colour(clip_color(1)))) << x;
+    EXPECT_FALSE(any_near(img, t.map(QPointF(x, 1)), 1, is_reddish)) << x;
+  }
+  // The legend under the box: swatches of both colours, no time bar.
+  const QRectF d = data_area(QRectF(0, 0, 300, 300), o);
+  bool swatch[2] = {false, false}, ramp_green = false;
+  for (int y = static_cast<int>(d.bottom()) + 3; y < 300; ++y) {
+    for (int x = 0; x < 300; ++x) {
+      const QColor p = img.pixelColor(x, y);
+      for (int k = 0; k < 2; ++k) swatch[k] |= near_colour(clip_color(k))(p);
+      ramp_green |= near_colour(QColor(0, 255, 0))(p);
+    }
+  }
+  EXPECT_TRUE(swatch[0] && swatch[1]);
+  EXPECT_FALSE(ramp_green);
+  EXPECT_EQ(clip_color(10), clip_color(0));  // the palette cycles
+  EXPECT_EQ(clip_color(-1), QColor(128, 128, 128));
+}
+
 TEST_F(MapPlotTest, DegenerateInputsStillProduceAnImage) {
   const QRectF rect(0, 0, 200, 200);
   MapPlotOptions o;

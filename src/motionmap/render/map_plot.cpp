@@ -180,6 +180,34 @@ void draw_text_line(QPainter& p, const QRectF& r, const QString& text, const QFo
   p.drawText(r, Qt::AlignCenter, shown);
 }
 
+// "▬ name  ▬ name …": the clip colours, centred in `area` (names elided to fit).
+void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringList& names) {
+  const QFont font = font_px(px);
+  const QFontMetricsF fm(font);
+  const double swatch = px * 1.2, gap = px * 0.4, spacing = px * 1.2;
+  const double max_name = std::max(px * 3, area.width() / std::max<qsizetype>(1, names.size()) - swatch - gap - spacing);
+  QStringList shown;
+  double total = 0.0;
+  for (const QString& name : names) {
+    shown << fm.elidedText(name, Qt::ElideMiddle, max_name);
+    total += swatch + gap + fm.horizontalAdvance(shown.back()) + spacing;
+  }
+  double x = area.center().x() - (total - spacing) / 2;
+  const double cy = area.center().y();
+  p.setFont(font);
+  for (qsizetype c = 0; c < shown.size(); ++c) {
+    p.setPen(Qt::NoPen);
+    p.setBrush(clip_color(static_cast<int>(c)));
+    p.drawRect(QRectF(x, cy - px * 0.3, swatch, px * 0.6));
+    x += swatch + gap;
+    p.setPen(QColor(70, 70, 70));
+    const double w = fm.horizontalAdvance(shown[c]) + 1;
+    p.drawText(QRectF(x, area.top(), w, area.height()), Qt::AlignLeft | Qt::AlignVCenter, shown[c]);
+    x += w + spacing;
+  }
+  p.setBrush(Qt::NoBrush);
+}
+
 // "start ▬▬▬ end": the time colours, centred in `area`.
 void draw_time_legend(QPainter& p, const QRectF& area, double px) {
   const QFont font = font_px(px);
@@ -294,6 +322,15 @@ void render_file(const std::string& path, const QSize& size, const QString& titl
 
 }  // namespace
 
+QColor clip_color(int clip) {
+  static constexpr int kPalette[10][3] = {{78, 121, 167},  {242, 142, 43}, {225, 87, 89},  {118, 183, 178},
+                                          {89, 161, 79},   {237, 201, 72}, {176, 122, 161}, {255, 157, 167},
+                                          {156, 117, 95},  {186, 176, 172}};
+  if (clip < 0) return QColor(128, 128, 128);
+  const int* c = kPalette[clip % 10];
+  return QColor(c[0], c[1], c[2]);
+}
+
 QColor time_color(double t) {
   if (std::isnan(t)) return QColor(128, 128, 128);
   static constexpr int kStops[5][3] = {
@@ -351,6 +388,7 @@ std::vector<ColoredSegment> trajectory_segments(const Eigen::MatrixXd& coords,
       s.from = m.map(coords(i, 0), coords(i, 1));
       s.to = m.map(coords(i + 1, 0), coords(i + 1, 1));
       s.sample = i;
+      s.clip = static_cast<int>(k);
       s.time = (clip_time(i, begin, end) + clip_time(i + 1, begin, end)) / 2;
       s.color = time_color(s.time);
       out.push_back(s);
@@ -381,6 +419,7 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   const QTransform to_px = unit_to_rect(l.data);
   const double lw =
       std::isfinite(options.line_width) ? std::clamp(options.line_width, 0.0, 100.0) : 2.0;
+  const bool by_clip = !options.clip_names.isEmpty();
 
   painter.save();
   painter.setRenderHints(QPainter::Antialiasing | QPainter::TextAntialiasing);
@@ -406,7 +445,8 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
       run << to_px.map(segments[j].to);
       ++j;
     }
-    painter.setPen(QPen(segments[k].color, lw, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+    const QColor color = by_clip ? clip_color(segments[k].clip) : segments[k].color;
+    painter.setPen(QPen(color, lw, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     painter.drawPolyline(run);
     k = j;
   }
@@ -423,7 +463,7 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
       if (first < 0) first = i;
       if (!options.draw_points) break;
       painter.setPen(Qt::NoPen);
-      painter.setBrush(time_color(clip_time(i, begin, end)));
+      painter.setBrush(by_clip ? clip_color(static_cast<int>(k)) : time_color(clip_time(i, begin, end)));
       painter.drawEllipse(to_px.map(unit.map(coords(i, 0), coords(i, 1))), dot_r, dot_r);
     }
     if (options.start_marker && first >= 0) {
@@ -439,7 +479,13 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
                    QColor(140, 140, 140));
   }
 
-  if (options.time_legend) draw_time_legend(painter, l.legend, l.notes_px);
+  if (options.time_legend) {
+    if (by_clip) {
+      draw_clip_legend(painter, l.legend, l.notes_px, options.clip_names);
+    } else {
+      draw_time_legend(painter, l.legend, l.notes_px);
+    }
+  }
   const QFont notes_font = font_px(l.notes_px);
   for (qsizetype k = 0; k < options.notes.size(); ++k) {
     const QRectF line(l.notes.left(), l.notes.top() + k * l.notes_px * 1.35, l.notes.width(),

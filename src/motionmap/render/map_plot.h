@@ -29,6 +29,10 @@ namespace motionmap::render {
 /// cyan (0.75) and blue (1), fully saturated. t outside [0, 1] is clamped; NaN gives gray.
 QColor time_color(double t);
 
+/// A distinct colour for clip `clip` of a map of several clips (Tableau 10, cycling; gray for a
+/// negative index).
+QColor clip_color(int clip);
+
 /// How paint_map() draws a panel. Sizes are in the painter's units (pixels for images).
 struct MapPlotOptions {
   QString title;                  ///< printed above the panel (nothing when empty)
@@ -36,6 +40,9 @@ struct MapPlotOptions {
   bool start_marker = true;       ///< black-outlined white circle on each clip's first frame
   bool draw_points = false;       ///< a dot on every sample, in its time colour
   bool time_legend = false;       ///< a red → blue "start … end" bar under the panel
+  /// Non-empty: colour by clip — clip c's trajectory and dots in clip_color(c), and the legend
+  /// (when time_legend is set) names the clips with their colours instead of the time bar.
+  QStringList clip_names;
   double line_width = 2.0;        ///< trajectory pen width, clamped to [0, 100]; 0 is a hairline
   QColor background = Qt::white;  ///< fills the whole rect; an invalid colour leaves it as is
 };
@@ -46,6 +53,7 @@ struct ColoredSegment {
   QPointF from;
   QPointF to;
   int sample = 0;     ///< row of `from` in the coordinate matrix
+  int clip = 0;       ///< index of its clip (of segment_starts)
   double time = 0.0;  ///< the segment's midpoint time within its clip, in [0, 1]
   QColor color;       ///< time_color(time)
 };

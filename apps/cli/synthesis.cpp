@@ -79,7 +79,7 @@ synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips, fea
   blend.up = options.features.up;
   if (blend.mode == synth::BlendMode::Kriging && samples.num_samples() > 2000 && !cmd.map.quiet) {
     std::cerr << "note: factoring the kriging system of " << samples.num_samples()
-              << " samples (O(N³): about a minute at 10 000; --blend local is instant)\n";
+              << " samples (O(N³): about 30 s at 10 000; --blend local takes a fraction of a second)\n";
   }
   return synth::MapBlender(clips, samples, coords, blend);
 }

@@ -121,7 +121,7 @@ class MapBlender {
   /// `coords` is #samples by ≥ 2 map coordinates; only the first two columns are used. `clips`
   /// are the clips of build_features, in the same order, sharing one joint hierarchy; the first
   /// one's skeleton and frame time are the blender's. Kriging factors its system here: about
-  /// (2/3)·N³ flops on one core (0.05 s at N = 1 000, 0.4 s at 2 000, about a minute and 800 MB
+  /// (2/3)·N³ flops on one core (0.03 s at N = 1 000, 0.26 s at 2 000, about 30 s and 800 MB
   /// at 10 000); the local mode's set-up is O(N·K·log N) (0.1 s at 10 000).
   /// @throws ParameterError for bad options, a map that does not belong to the clips (row count
   ///         ≠ #samples, a clip or frame index out of range, clips of different hierarchies),

@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "main_window.h"
+#include "studio_test_util.h"
 #include "map_view.h"
 #include "motionmap/embed/map_csv.h"
 #include "motionmap/io/bvh.h"
@@ -27,26 +28,9 @@
 namespace motionmap::studio {
 namespace {
 
-constexpr int kTimeoutMs = 120000;
-
-Clip swing(double seconds = 2.0) {
-  sample::SampleOptions options;
-  options.seconds = seconds;
-  return sample::make_sample_clip(sample::SampleKind::Swing, options);
-}
-
-std::unique_ptr<MainWindow> windowWithMap(embed::Method method = embed::Method::Isomap) {
-  auto w = std::make_unique<MainWindow>();
-  w->setInteractive(false);
-  w->resize(1000, 600);
-  w->show();
-  w->setMethod(method);
-  w->openClip(swing());
-  EXPECT_TRUE(
-      QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
-  EXPECT_NE(w->currentMap(), nullptr) << w->lastError().toStdString();
-  return w;
-}
+using testing::kTimeoutMs;
+using testing::swing;
+using testing::windowWithMap;
 
 /// A timed path along the trajectory from map row `from` to `to`, `seconds` long.
 synth::MapPath pathAlong(const MapResult& map, int from, int to, double seconds) {

@@ -14,6 +14,7 @@
 #include <fstream>
 
 #include "main_window.h"
+#include "studio_test_util.h"
 #include "map_view.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/sample/sample_clip.h"
@@ -24,27 +25,9 @@
 namespace motionmap::studio {
 namespace {
 
-constexpr int kTimeoutMs = 120000;
-
-Clip swing(double seconds = 2.0) {
-  sample::SampleOptions options;
-  options.seconds = seconds;
-  return sample::make_sample_clip(sample::SampleKind::Swing, options);
-}
-
-/// A shown window with the sample's map computed for `method`.
-std::unique_ptr<MainWindow> windowWithMap(embed::Method method = embed::Method::Isomap) {
-  auto w = std::make_unique<MainWindow>();
-  w->setInteractive(false);
-  w->resize(1000, 600);
-  w->show();
-  w->setMethod(method);
-  w->openClip(swing());
-  EXPECT_TRUE(
-      QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
-  EXPECT_NE(w->currentMap(), nullptr) << w->lastError().toStdString();
-  return w;
-}
+using testing::kTimeoutMs;
+using testing::swing;
+using testing::windowWithMap;
 
 bool sameRotations(const Motion& a, const Motion& b) {
   if (a.num_joints != b.num_joints || a.num_frames < 1 || b.num_frames < 1) return false;

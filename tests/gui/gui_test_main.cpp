@@ -1,9 +1,12 @@
 // GoogleTest main for the app's tests: one QApplication (offscreen under ctest) for all of them,
-// settings isolated from the user's (QStandardPaths test mode).
+// settings isolated from the user's and from the other test processes that ctest runs at the same
+// time (each process keeps its QSettings in a temporary folder of its own).
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QSettings>
 #include <QStandardPaths>
+#include <QTemporaryDir>
 
 int main(int argc, char** argv) {
   if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
@@ -12,6 +15,10 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setOrganizationName("MotionMapTests");
   QApplication::setApplicationName("MotionMap Studio Tests");
+  const QTemporaryDir settings_dir;
+  if (!settings_dir.isValid()) return 2;
+  QSettings::setDefaultFormat(QSettings::IniFormat);
+  QSettings::setPath(QSettings::IniFormat, QSettings::UserScope, settings_dir.path());
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -20,7 +20,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-using testing::error_message;
+using test::error_message;
 
 EmbedOptions with(Method method, int k = 10) {
   EmbedOptions o;

@@ -12,7 +12,7 @@ namespace motionmap::embed {
 namespace {
 
 std::string parse_message(const std::string& text) {
-  return testing::error_message<ParseError>([&] { parse_map_csv(text, "m.csv"); });
+  return test::error_message<ParseError>([&] { parse_map_csv(text, "m.csv"); });
 }
 
 ClipMap sample_map(std::span<const Clip> clips, const ClipMapOptions& options) {

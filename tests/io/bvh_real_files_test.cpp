@@ -19,14 +19,7 @@ namespace motionmap::io {
 namespace {
 
 std::vector<std::string> real_bvh_files() { return test::shared_files_with_extension(".bvh"); }
-
-std::string file_test_name(const ::testing::TestParamInfo<std::string>& info) {
-  std::string name = std::filesystem::path(info.param).stem().string();
-  for (char& c : name) {
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  }
-  return name;
-}
+using test::file_test_name;
 
 class BvhRealFile : public ::testing::TestWithParam<std::string> {};
 

@@ -90,7 +90,7 @@ std::string read_all(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-using testing::error_message;
+using test::error_message;
 
 class MapPlotTest : public ::testing::Test {
  protected:

@@ -62,7 +62,7 @@ Smoothness smoothness(const Motion& m) {
 }
 
 std::string parameter_error(SampleKind kind, double fps, double seconds) {
-  return testing::error_message<ParameterError>([&] { make_sample_clip(kind, {fps, seconds}); });
+  return test::error_message<ParameterError>([&] { make_sample_clip(kind, {fps, seconds}); });
 }
 
 // The 31 joints of CMU's BVH conversions (64_08.bvh), in file order, with their parents.

@@ -139,14 +139,7 @@ TEST_P(ForwardKinematicsRealFile, BoneLengthsAreConstant) {
 }
 
 std::vector<std::string> real_bvh_files() { return test::shared_files_with_extension(".bvh"); }
-
-std::string file_test_name(const ::testing::TestParamInfo<std::string>& info) {
-  std::string name = std::filesystem::path(info.param).stem().string();
-  for (char& c : name) {
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  }
-  return name;
-}
+using test::file_test_name;
 
 INSTANTIATE_TEST_SUITE_P(SharedData, ForwardKinematicsRealFile,
                          ::testing::ValuesIn(real_bvh_files()), file_test_name);

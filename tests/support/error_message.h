@@ -13,7 +13,7 @@
 
 #include "motionmap/core/error.h"
 
-namespace motionmap::testing {
+namespace motionmap::test {
 
 template <class E = Error, class F>
 std::string error_message(F&& f) {
@@ -28,4 +28,4 @@ std::string error_message(F&& f) {
   return "no error";
 }
 
-}  // namespace motionmap::testing
+}  // namespace motionmap::test

@@ -1,6 +1,7 @@
 #pragma once
 // Where the tests find real third-party clips (../shared/data beside the repository).
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,6 +27,16 @@ inline std::vector<std::string> shared_files_with_extension(const std::string& e
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+/// A GoogleTest name for a test parameterised by a file path: the file's stem, with every
+/// character that is not a letter or digit replaced by '_' ("64_08", "Bandai_walk_01").
+inline std::string file_test_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = std::filesystem::path(info.param).stem().string();
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return name;
 }
 
 }  // namespace motionmap::test

@@ -394,7 +394,7 @@ TEST(SynthBlender, RejectsBadOptions) {
     MapBlender(std::span<const Clip>(&clip, 1), all_frames(20), map, opt);
   };
   auto message = [&](BlendMode mode, int k, double reach) {
-    return testing::error_message<ParameterError>([&] { build(mode, k, reach); });
+    return motionmap::test::error_message<ParameterError>([&] { build(mode, k, reach); });
   };
   EXPECT_EQ(message(BlendMode::Local, 0, 3.0), "neighbors: 0 is out of range (must be in [1, 20], the map's sample count)");
   EXPECT_EQ(message(BlendMode::Idw, 21, 3.0), "neighbors: 21 is out of range (must be in [1, 20], the map's sample count)");
@@ -410,7 +410,7 @@ TEST(SynthBlender, RejectsBadOptions) {
 TEST(SynthBlender, RejectsAMapOfOtherClips) {
   const Clip clip = walking_clip(20);
   const std::span<const Clip> clips(&clip, 1);
-  auto message = [](const auto& f) { return testing::error_message(f); };
+  auto message = [](const auto& f) { return motionmap::test::error_message(f); };
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), curve_map(19)); }),
             "map: it has 19 rows but the features have 20 samples; the map does not belong to these clips");
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), Eigen::MatrixXd::Zero(20, 1)); }),

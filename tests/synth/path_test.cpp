@@ -14,10 +14,10 @@ namespace {
 
 // The ParseError message of parsing `text`, or "no error".
 std::string parse_message(const std::string& text) {
-  return testing::error_message<ParseError>([&] { parse_path_csv(text, "p.csv"); });
+  return motionmap::test::error_message<ParseError>([&] { parse_path_csv(text, "p.csv"); });
 }
 
-std::string parameter_message(const std::function<void()>& f) { return testing::error_message<ParameterError>(f); }
+std::string parameter_message(const std::function<void()>& f) { return motionmap::test::error_message<ParameterError>(f); }
 
 TEST(SynthPath, ParsesTimedRowsWithHeader) {
   const MapPath p = parse_path_csv("t,x,y\n0,1.5,-2\n0.25, 2 ,-1e-1\n1,+3,.5\n");

@@ -36,7 +36,7 @@ MapPath own_trajectory(const Eigen::MatrixXd& map, double frame_time, int first 
   return path;
 }
 
-std::string parameter_message(const std::function<void()>& f) { return testing::error_message<ParameterError>(f); }
+std::string parameter_message(const std::function<void()>& f) { return motionmap::test::error_message<ParameterError>(f); }
 
 TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
   const Clip clip = walking_clip();

@@ -133,7 +133,7 @@ void setup_pose(CLI::App& app) {
                 << " map units from the nearest sample, beyond the reach " << approx(blender.reach_distance())
                 << ": the pose is taken at " << point_text(v.point) << ", the nearest edge of the data\n";
     }
-    write_motion(blender, blender.pose_at(p), cmd->output);
+    write_motion(blender, blender.pose(weights), cmd->output);
     const int nearest = v.nearest_sample;
     std::cerr << "wrote " << cmd->output << ": 1 frame blended from " << weights.samples.size()
               << " samples (" << synth::blend_mode_name(blender.options().mode) << "); nearest sample: "

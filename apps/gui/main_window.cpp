@@ -666,9 +666,9 @@ void MainWindow::onDrag(const Eigen::Vector2d& point) {
   const MapResult* map = currentMap();
   if (!map || isPlaying() || !point.allFinite()) return;
   try {
-    const Motion pose = map->blender->pose_at(point);
-    m_skeletonView->setPose(pose, 0);
-    const synth::PointValidity validity = map->blender->locate(point).validity;
+    const synth::MapWeights weights = map->blender->locate(point);
+    m_skeletonView->setPose(map->blender->pose(weights), 0);
+    const synth::PointValidity& validity = weights.validity;
     m_mapView->setPointer(validity.point);
     m_mapView->setHoverText(validity.clamped ? tr("blend (outside the data: moved to its edge)")
                                              : tr("blend"));

@@ -68,6 +68,20 @@ TEST(SynthBlender, ExactAtEverySampleInEveryMode) {
   }
 }
 
+TEST(SynthBlender, PoseOfLocatedWeightsIsPoseAt) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map, BlendMode::Local);
+  // Between samples, and far outside the data (clamped).
+  for (const Eigen::Vector2d p : {Eigen::Vector2d((map.row(3) + map.row(4)).transpose() / 2), Eigen::Vector2d(1e3, -1e3)}) {
+    const Motion a = blender.pose_at(p), b = blender.pose(blender.locate(p));
+    ASSERT_EQ(a.num_frames, 1);
+    EXPECT_EQ(a.rotations, b.rotations);
+    EXPECT_EQ(a.translations, b.translations);
+    EXPECT_EQ(a.frame_time, b.frame_time);
+  }
+}
+
 TEST(SynthBlender, WeightsAreSortedAndSumToOne) {
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);

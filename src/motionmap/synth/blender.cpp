@@ -692,8 +692,10 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   return out;
 }
 
-Motion MapBlender::pose_at(const Eigen::Vector2d& p) const {
-  const BlendedFrame b = blend(locate(p));
+Motion MapBlender::pose_at(const Eigen::Vector2d& p) const { return pose(locate(p)); }
+
+Motion MapBlender::pose(const MapWeights& weights) const {
+  const BlendedFrame b = blend(weights);
   Motion pose;
   pose.frame_time = m->frame_time;
   pose.resize(1, m->joints);

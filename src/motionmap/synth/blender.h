@@ -147,8 +147,11 @@ class MapBlender {
 
   /// The pose at map point p as a one-frame Motion of skeleton(): blended joint rotations and
   /// translations, the motion root at floor position 0 (blended height) with heading 0.
-  /// @throws ParameterError if p is not finite.
+  /// Equals pose(locate(p)). @throws ParameterError if p is not finite.
   Motion pose_at(const Eigen::Vector2d& p) const;
+  /// The one-frame pose blended with `weights` (from locate(), whose validity a caller may want
+  /// too: then locate once and call this). @throws as blend().
+  Motion pose(const MapWeights& weights) const;
 
   const Skeleton& skeleton() const;
   const BlendOptions& options() const;

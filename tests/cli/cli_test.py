@@ -233,6 +233,7 @@ def map_errors_name_the_problem():
         (["--exclude", "("], "exclude", 1),
         (["--method", "tsne"], "tsne", 2),
         (["--dims", "4"], "dims", 2),
+        (["--axes", "stretched", "--plot", os.path.join(TMP, "x.png")], "axes", 2),
     ]
     for extra, word, want in cases:
         code, out, err = run("map", data(GOLF), "-q", "-o", os.path.join(TMP, "x.csv"), *extra)
@@ -364,6 +365,8 @@ def pose_and_synth_errors():
         (["synth", "--path", write("back.csv", "0,0,0\n1,1,1\n0.5,2,2\n")], "back.csv:3:1: error: time 0.5", 1),
         (["synth", "--path", write("ok.csv", "0,0\n1,1\n"), "--smooth", "-1"], "smooth", 1),
         (["synth", "--path", write("ok2.csv", "0,0\n1,1\n"), "--fps", "-5"], "fps", 1),
+        (["synth", "--path", write("ok3.csv", "0,0\n1,1\n"), "--speed", "-1"], "speed", 1),
+        (["synth", "--path", write("ok4.csv", "0,0\n1,1\n"), "--amc-fps", "0"], "amc-fps", 2),
     ]
     for args, word, want in cases:
         code, stdout, err = run(args[0], data(GOLF), "-q", "-o", out, *args[1:])

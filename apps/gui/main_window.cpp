@@ -353,9 +353,6 @@ const MapResult* MainWindow::currentMap() const {
 void MainWindow::startComputation(embed::Method method) {
   stopWorker();
   m_mapView->clearMap(tr("Computing the %1 map…").arg(methodLabel(method)));
-  auto cancel = std::make_shared<std::atomic<bool>>(false);
-  m_cancel = cancel;
-  const int generation = ++m_generation;
   m_progress->setValue(0);
   m_progress->show();
   m_cancelButton->show();
@@ -364,7 +361,8 @@ void MainWindow::startComputation(embed::Method method) {
   std::shared_ptr<const std::vector<Clip>> clips = m_clips;
   const embed::ClipMapOptions base = m_parameters.options(method);
   const std::string key = cacheKey(method);
-  m_worker = std::thread([this, clips, cancel, method, generation, base, key] {
+  m_mapJob.start([this, clips, method, base, key](const BackgroundJob::Ticket& ticket) {
+    const int generation = ticket.generation;
     auto result = std::make_shared<MapResult>();
     QString error;
     bool cancelled = false;
@@ -379,18 +377,18 @@ void MainWindow::startComputation(embed::Method method) {
         QMetaObject::invokeMethod(
             this,
             [this, generation, fraction, text] {
-              if (generation != m_generation) return;
+              if (!m_mapJob.current(generation)) return;
               m_progress->setValue(int(fraction * 1000));
               m_progress->setFormat(text + " %p%");
               emit progressChanged(fraction);
             },
             Qt::QueuedConnection);
       };
-      options.cancel = [cancel] { return cancel->load(); };
+      options.cancel = [ticket] { return ticket.cancelled(); };
       QElapsedTimer clock;
       clock.start();
       result->map = embed::map_clips(*clips, options);
-      if (cancel->load()) throw Cancelled();
+      if (ticket.cancelled()) throw Cancelled();
       result->parameters = embed::describe_parameters(result->map.embedding, options);
       // The blender's set-up (local kriging systems; minutes for the kriging mode on a big map)
       // stays on this thread too.
@@ -431,10 +429,7 @@ void MainWindow::startComputation(embed::Method method) {
 }
 
 void MainWindow::stopWorker() {
-  if (!m_worker.joinable()) return;
-  if (m_cancel) m_cancel->store(true);
-  m_worker.join();
-  ++m_generation;  // results still queued from that worker are ignored
+  if (!m_mapJob.stop()) return;  // results still queued from it are ignored from now on
   m_progress->hide();
   m_cancelButton->hide();
 }
@@ -449,8 +444,8 @@ void MainWindow::cancelComputation() {
 
 void MainWindow::onComputed(int generation, embed::Method method, std::string key,
                             std::shared_ptr<MapResult> result, QString error, bool cancelled) {
-  if (generation != m_generation) return;
-  if (m_worker.joinable()) m_worker.join();
+  if (!m_mapJob.current(generation)) return;
+  m_mapJob.finish();
   m_progress->hide();
   m_cancelButton->hide();
   if (cancelled || !error.isEmpty()) {
@@ -682,13 +677,11 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
   if (isComputing() || it == m_maps.end() || !confirmDiscard()) return false;
   stopSynthWorker();  // a newer sketch replaces one still being synthesized
   std::shared_ptr<const MapResult> map = it->second;
-  auto cancel = std::make_shared<std::atomic<bool>>(false);
-  m_synthCancel = cancel;
-  const int generation = ++m_synthGeneration;
   m_synthProgress->setValue(0);
   m_synthProgress->show();
   m_synthCancelButton->show();
-  m_synthWorker = std::thread([this, map, path, cancel, generation] {
+  m_synthJob.start([this, map, path](const BackgroundJob::Ticket& ticket) {
+    const int generation = ticket.generation;
     auto result = std::make_shared<synth::SynthResult>();
     QString error;
     bool cancelled = false;
@@ -698,15 +691,15 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
         QMetaObject::invokeMethod(
             this,
             [this, generation, fraction] {
-              if (generation != m_synthGeneration) return;
+              if (!m_synthJob.current(generation)) return;
               m_synthProgress->setValue(int(fraction * 1000));
               emit synthesisProgress(fraction);
             },
             Qt::QueuedConnection);
       };
-      control.cancel = [cancel] { return cancel->load(); };
+      control.cancel = [ticket] { return ticket.cancelled(); };
       *result = synth::synthesize(*map->blender, path, {}, control);
-      if (cancel->load()) throw Cancelled();
+      if (ticket.cancelled()) throw Cancelled();
     } catch (const Cancelled&) {
       cancelled = true;
     } catch (const std::exception& e) {
@@ -724,10 +717,7 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
 }
 
 void MainWindow::stopSynthWorker() {
-  if (!m_synthWorker.joinable()) return;
-  if (m_synthCancel) m_synthCancel->store(true);
-  m_synthWorker.join();
-  ++m_synthGeneration;  // a result still queued from that worker is ignored
+  if (!m_synthJob.stop()) return;  // a result still queued from it is ignored from now on
   m_synthProgress->hide();
   m_synthCancelButton->hide();
 }
@@ -743,8 +733,8 @@ void MainWindow::cancelSynthesis() {
 void MainWindow::onSynthesized(int generation, std::shared_ptr<const MapResult> map,
                                std::shared_ptr<synth::SynthResult> result, QString error,
                                bool cancelled) {
-  if (generation != m_synthGeneration) return;
-  if (m_synthWorker.joinable()) m_synthWorker.join();
+  if (!m_synthJob.current(generation)) return;
+  m_synthJob.finish();
   m_synthProgress->hide();
   m_synthCancelButton->hide();
   if (cancelled || !error.isEmpty()) {

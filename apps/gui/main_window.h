@@ -17,6 +17,7 @@
 #include <QMainWindow>
 #include <QTimer>
 
+#include "background_job.h"
 #include "motionmap/embed/clip_map.h"
 #include "motionmap/render/map_plot.h"
 #include "motionmap/synth/blender.h"
@@ -96,7 +97,7 @@ class MainWindow : public QMainWindow {
   const MapParameters& parameters() const { return m_parameters; }
   /// The map shown (nullptr while computing or without a clip).
   const MapResult* currentMap() const;
-  bool isComputing() const { return m_worker.joinable(); }
+  bool isComputing() const { return m_mapJob.running(); }
   void cancelComputation();
 
   /// Frame of the motion playing (the clip, or a synthesized motion).
@@ -122,7 +123,7 @@ class MainWindow : public QMainWindow {
   /// Starts synthesizing the motion along `path` (synth::synthesize) on a worker; when done it
   /// replaces the last one (asked first, see confirmDiscard) and plays. False if nothing started.
   bool synthesizeAlong(const synth::MapPath& path);
-  bool isSynthesizing() const { return m_synthWorker.joinable(); }
+  bool isSynthesizing() const { return m_synthJob.running(); }
   /// Stops a running synthesis; the previous synthesized motion (if any) stays.
   void cancelSynthesis();
   /// Writes the synthesized motion as BVH. False (error shown) on failure.
@@ -196,15 +197,11 @@ class MainWindow : public QMainWindow {
   embed::Method m_method = embed::Method::Isomap;
   MapParameters m_parameters;
   std::map<std::string, std::shared_ptr<MapResult>> m_maps;  ///< by cacheKey
-  std::thread m_worker;
-  std::shared_ptr<std::atomic<bool>> m_cancel;
-  int m_generation = 0;
+  BackgroundJob m_mapJob;  ///< the map (and its blender) being computed
 
   std::optional<synth::SynthResult> m_synth;
   std::shared_ptr<const MapResult> m_synthMap;  ///< the map m_synth was sketched on
-  std::thread m_synthWorker;
-  std::shared_ptr<std::atomic<bool>> m_synthCancel;
-  int m_synthGeneration = 0;
+  BackgroundJob m_synthJob;  ///< the motion being synthesized
   bool m_playingSynth = false;
   bool m_unsaved = false;
 

@@ -1,6 +1,7 @@
 #include "motionmap/core/parallel.h"
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -33,11 +34,28 @@ TEST(ParallelFor, RunsEveryItemOnceAndReportsProgressUpToOne) {
 }
 
 TEST(ParallelFor, CancelStopsTheLoopWithCancelled) {
+  // Only the calling thread polls, between its own items. Helpers wait in their first item until
+  // cancel has said yes and then take a millisecond per item, so that on a machine with many
+  // cores they can neither finish the loop before the caller has polled three times nor in the
+  // moment between that answer and the loop's stop.
   std::atomic<int> ran{0};
+  std::atomic<bool> cancelled{false};
+  const std::thread::id caller = std::this_thread::get_id();
   int polls = 0;
   LoopControl control;
-  control.cancel = [&] { return ++polls > 3; };
-  EXPECT_THROW(parallel_for(100000, [&](int) { ran.fetch_add(1); }, control), Cancelled);
+  control.cancel = [&] {
+    cancelled = ++polls > 3;
+    return cancelled.load();
+  };
+  auto body = [&](int) {
+    if (std::this_thread::get_id() != caller) {
+      while (!cancelled) std::this_thread::yield();
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ran.fetch_add(1);
+  };
+  EXPECT_THROW(parallel_for(100000, body, control), Cancelled);
+  EXPECT_EQ(polls, 4);  // before the loop, then after each of the caller's first three items
   EXPECT_LT(ran.load(), 100000);
   control.cancel = [] { return true; };  // cancelled before it starts: nothing runs
   ran = 0;
@@ -84,11 +102,25 @@ TEST(ParallelChunks, WorkerIndicesIndexPerThreadScratch) {
 }
 
 TEST(ParallelChunks, AThrowingTickStopsTheOtherThreads) {
+  // Helpers (worker ≥ 1) wait in their first chunk until the tick throws and then take a
+  // millisecond per chunk, so that on a machine with many cores they cannot run every chunk
+  // before the caller's tenth tick, nor in the moment between the throw and the stop.
   std::atomic<int> ran{0};
+  std::atomic<bool> thrown{false};
   EXPECT_THROW(parallel_chunks(
-                   100000, [&](int, int) { ran.fetch_add(1); },
-                   [](int done) {
-                     if (done >= 10) throw Cancelled();
+                   100000,
+                   [&](int, int worker) {
+                     if (worker != 0) {
+                       while (!thrown) std::this_thread::yield();
+                       std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                     }
+                     ran.fetch_add(1);
+                   },
+                   [&](int done) {
+                     if (done >= 10) {
+                       thrown = true;
+                       throw Cancelled();
+                     }
                    }),
                Cancelled);
   EXPECT_LT(ran.load(), 100000);

@@ -59,11 +59,11 @@ bool is_white(const QColor& c) {
 bool is_dark(const QColor& c) {
   return c.red() < 90 && c.green() < 90 && c.blue() < 90;
 }
-bool is_reddish(const QColor& c) {
-  return c.red() > 200 && c.green() < 120 && c.blue() < 70;
+bool is_reddish(const QColor& c) {  // dark red, red or orange-red: the start of the ramp
+  return c.red() > 150 && c.green() < 120 && c.blue() < 70;
 }
-bool is_bluish(const QColor& c) {
-  return c.blue() > 200 && c.red() < 70 && c.green() < 120;
+bool is_bluish(const QColor& c) {  // blue or dark blue: its end
+  return c.blue() > 150 && c.red() < 70 && c.green() < 120;
 }
 
 // Whether some pixel within `radius` of `p` satisfies `pred`.
@@ -99,27 +99,31 @@ class MapPlotTest : public ::testing::Test {
 
 // --- colours ----------------------------------------------------------------------------------
 
-TEST(TimeColorTest, PassesThroughTheFiveHuesAtQuarterSteps) {
-  EXPECT_EQ(time_color(0.0), QColor(255, 0, 0));
-  EXPECT_EQ(time_color(0.25), QColor(255, 255, 0));
-  EXPECT_EQ(time_color(0.5), QColor(0, 255, 0));
-  EXPECT_EQ(time_color(0.75), QColor(0, 255, 255));
-  EXPECT_EQ(time_color(1.0), QColor(0, 0, 255));
+TEST(TimeColorTest, RunsJetBackwardsThroughItsKnots) {
+  EXPECT_EQ(time_color(0.0), QColor(128, 0, 0));      // dark red
+  EXPECT_EQ(time_color(0.125), QColor(255, 0, 0));    // red
+  EXPECT_EQ(time_color(0.375), QColor(255, 255, 0));  // yellow
+  EXPECT_EQ(time_color(0.5), QColor(128, 255, 128));  // green, halfway yellow → cyan
+  EXPECT_EQ(time_color(0.625), QColor(0, 255, 255));  // cyan
+  EXPECT_EQ(time_color(0.875), QColor(0, 0, 255));    // blue
+  EXPECT_EQ(time_color(1.0), QColor(0, 0, 128));      // dark blue
 }
 
-TEST(TimeColorTest, IsLinearBetweenHuesAndClamped) {
-  EXPECT_EQ(time_color(0.125), QColor(255, 128, 0));  // halfway red → yellow
-  EXPECT_EQ(time_color(0.375), QColor(128, 255, 0));  // halfway yellow → green
-  EXPECT_EQ(time_color(0.625), QColor(0, 255, 128));  // halfway green → cyan
-  EXPECT_EQ(time_color(0.875), QColor(0, 128, 255));  // halfway cyan → blue
-  EXPECT_EQ(time_color(0.05), QColor(255, 51, 0));
-  EXPECT_EQ(time_color(-3.0), QColor(255, 0, 0));
-  EXPECT_EQ(time_color(7.0), QColor(0, 0, 255));
+TEST(TimeColorTest, IsLinearBetweenKnotsAndClamped) {
+  EXPECT_EQ(time_color(0.0625), QColor(192, 0, 0));    // halfway dark red → red
+  EXPECT_EQ(time_color(0.25), QColor(255, 128, 0));    // orange, halfway red → yellow
+  EXPECT_EQ(time_color(0.75), QColor(0, 128, 255));    // halfway cyan → blue
+  EXPECT_EQ(time_color(0.9375), QColor(0, 0, 192));    // halfway blue → dark blue
+  EXPECT_EQ(time_color(-3.0), QColor(128, 0, 0));
+  EXPECT_EQ(time_color(7.0), QColor(0, 0, 128));
   EXPECT_EQ(time_color(kNaN), QColor(128, 128, 128));
-  for (int k = 0; k <= 100; ++k) {  // fully saturated: one channel at 255, one at 0
+  // Hue order: red before yellow before green before cyan before blue, never back.
+  double last_hue = -1.0;
+  for (int k = 13; k <= 87; ++k) {
     const QColor c = time_color(k / 100.0);
-    EXPECT_EQ(std::max({c.red(), c.green(), c.blue()}), 255) << k;
-    EXPECT_EQ(std::min({c.red(), c.green(), c.blue()}), 0) << k;
+    const double hue = c.hsvHueF();
+    EXPECT_GE(hue, last_hue - 1e-9) << k;
+    last_hue = hue;
   }
 }
 
@@ -323,8 +327,8 @@ TEST_F(MapPlotTest, PngOfAnArcShowsTimeColoursStartMarkerAndSquarePanel) {
   for (int y = 0; y < 400; ++y) {
     for (int x = 0; x < 400; ++x) {
       const QColor p = img.pixelColor(x, y);
-      if (std::max({p.red(), p.green(), p.blue()}) - std::min({p.red(), p.green(), p.blue()}) < 150)
-        continue;  // not saturated: background, frame, text or marker
+      if (std::max({p.red(), p.green(), p.blue()}) - std::min({p.red(), p.green(), p.blue()}) < 100)
+        continue;  // not saturated (the ramp's dark ends are 128): background, frame, text, marker
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
   }

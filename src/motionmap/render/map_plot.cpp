@@ -25,6 +25,13 @@
 namespace motionmap::render {
 namespace {
 
+// The classic "jet" ramp run backwards, as the reference system draws time: dark red, red,
+// yellow, cyan, blue, dark blue at t = 0, 1/8, 3/8, 5/8, 7/8, 1 (green lies halfway).
+constexpr int kTimeStops = 6;
+constexpr double kTimeKnots[kTimeStops] = {0.0, 0.125, 0.375, 0.625, 0.875, 1.0};
+constexpr int kTimeRgb[kTimeStops][3] = {{128, 0, 0},   {255, 0, 0},   {255, 255, 0},
+                                         {0, 255, 255}, {0, 0, 255}, {0, 0, 128}};
+
 // Runs of consecutive segments whose time falls in the same bin are stroked as one polyline:
 // fewer draw calls and clean joins on long clips, no visible banding with 256 bins.
 constexpr int kTimeBins = 256;
@@ -227,7 +234,7 @@ void draw_time_legend(QPainter& p, const QRectF& area, double px) {
   x += fm.horizontalAdvance(left) + gap;
   const QRectF bar(x, cy - bar_h / 2, bar_w, bar_h);
   QLinearGradient g(bar.topLeft(), bar.topRight());
-  for (int k = 0; k <= 4; ++k) g.setColorAt(k / 4.0, time_color(k / 4.0));
+  for (const double t : kTimeKnots) g.setColorAt(t, time_color(t));
   p.setPen(Qt::NoPen);
   p.setBrush(g);
   p.drawRect(bar);
@@ -333,14 +340,13 @@ QColor clip_color(int clip) {
 
 QColor time_color(double t) {
   if (std::isnan(t)) return QColor(128, 128, 128);
-  static constexpr int kStops[5][3] = {
-      {255, 0, 0}, {255, 255, 0}, {0, 255, 0}, {0, 255, 255}, {0, 0, 255}};
-  const double s = std::clamp(t, 0.0, 1.0) * 4.0;
-  const int k = std::min(3, static_cast<int>(s));
-  const double f = s - k;
+  t = std::clamp(t, 0.0, 1.0);
+  int k = 0;
+  while (k < kTimeStops - 2 && t > kTimeKnots[k + 1]) ++k;
+  const double f = (t - kTimeKnots[k]) / (kTimeKnots[k + 1] - kTimeKnots[k]);
   int c[3];
   for (int j = 0; j < 3; ++j) {
-    c[j] = static_cast<int>(std::lround(kStops[k][j] + f * (kStops[k + 1][j] - kStops[k][j])));
+    c[j] = static_cast<int>(std::lround(kTimeRgb[k][j] + f * (kTimeRgb[k + 1][j] - kTimeRgb[k][j])));
   }
   return QColor(c[0], c[1], c[2]);
 }

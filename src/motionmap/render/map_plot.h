@@ -25,8 +25,9 @@
 
 namespace motionmap::render {
 
-/// Colour of time t ∈ [0, 1]: piecewise linear through red (0), yellow (0.25), green (0.5),
-/// cyan (0.75) and blue (1), fully saturated. t outside [0, 1] is clamped; NaN gives gray.
+/// Colour of time t ∈ [0, 1], the reference system's red → yellow → green → cyan → blue: the
+/// "jet" ramp backwards, piecewise linear through dark red (0), red (1/8), yellow (3/8), cyan
+/// (5/8), blue (7/8) and dark blue (1); green at 1/2. t outside [0, 1] is clamped; NaN gives gray.
 QColor time_color(double t);
 
 /// A distinct colour for clip `clip` of a map of several clips (Tableau 10, cycling; gray for a

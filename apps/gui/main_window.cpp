@@ -28,6 +28,7 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSlider>
+#include <QDoubleSpinBox>
 #include <QSpinBox>
 #include <QSplitter>
 #include <QStatusBar>
@@ -90,6 +91,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   if (const auto m =
           embed::parse_method(settings.value("method", "isomap").toString().toStdString()))
     m_method = *m;
+  loadParameters();
   buildUi();
   restoreGeometry(settings.value("geometry").toByteArray());
   m_splitter->restoreState(settings.value("splitter").toByteArray());
@@ -175,6 +177,7 @@ void MainWindow::buildUi() {
   }
   motion->addSeparator();
   motion->addAction(tr("&Parameters…"), this, &MainWindow::parametersDialog);
+  motion->addAction(tr("S&ynthesis…"), this, &MainWindow::synthesisDialog);
   motion->addAction(tr("Show &clip"), this, &MainWindow::showClipMotion);
 
   QMenu* view = menuBar()->addMenu(tr("&View"));
@@ -322,6 +325,11 @@ std::string MainWindow::cacheKey(embed::Method method) const {
   key.append("|").append(features::feature_kind_name(m_parameters.features));
   key.append("|").append(features::distance_kind_name(m_parameters.distance));
   key.append("|exclude=").append(m_parameters.exclude);
+  // The blender is part of a cached map.
+  const synth::BlendOptions& blend = m_synthParameters.blend;
+  key.append("|blend=").append(synth::blend_mode_name(blend.mode));
+  key.append(",").append(std::to_string(blend.neighbors));
+  key.append(",").append(QString::number(blend.reach, 'g', 17).toStdString());
   return key;
 }
 
@@ -332,6 +340,7 @@ void MainWindow::setMethod(embed::Method method) {
   if (!m_clips) return;
   if (m_maps.count(cacheKey(method))) {
     if (isComputing()) stopWorker();
+    saveParameters();
     showMap();
     emit mapReady(method);
     return;
@@ -342,6 +351,27 @@ void MainWindow::setMethod(embed::Method method) {
 void MainWindow::setParameters(const MapParameters& parameters) {
   m_parameters = parameters;
   setMethod(m_method);
+}
+
+bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
+  try {
+    parameters.motion.validate();
+    // K is checked against the samples of the map shown; a new clip's map checks it again.
+    const MapResult* map = currentMap();
+    parameters.blend.validate(map ? map->map.features.num_samples()
+                                  : std::numeric_limits<int>::max());
+  } catch (const std::exception& e) {
+    showError(QString::fromStdString(e.what()));
+    return false;
+  }
+  const std::string before = cacheKey(m_method);
+  m_synthParameters = parameters;
+  if (cacheKey(m_method) != before) {
+    setMethod(m_method);  // a blender with the new options: computed, or from the cache
+  } else {
+    saveParameters();
+  }
+  return true;
 }
 
 const MapResult* MainWindow::currentMap() const {
@@ -360,8 +390,10 @@ void MainWindow::startComputation(embed::Method method) {
   updateStatus();
   std::shared_ptr<const std::vector<Clip>> clips = m_clips;
   const embed::ClipMapOptions base = m_parameters.options(method);
+  synth::BlendOptions blend = m_synthParameters.blend;
+  blend.up = base.features.up;
   const std::string key = cacheKey(method);
-  m_mapJob.start([this, clips, method, base, key](const BackgroundJob::Ticket& ticket) {
+  m_mapJob.start([this, clips, method, base, blend, key](const BackgroundJob::Ticket& ticket) {
     const int generation = ticket.generation;
     auto result = std::make_shared<MapResult>();
     QString error;
@@ -392,8 +424,8 @@ void MainWindow::startComputation(embed::Method method) {
       result->parameters = embed::describe_parameters(result->map.embedding, options);
       // The blender's set-up (local kriging systems; minutes for the kriging mode on a big map)
       // stays on this thread too.
-      result->blender = std::make_unique<synth::MapBlender>(*clips, result->map.features,
-                                                            result->map.embedding.coordinates);
+      result->blender = std::make_unique<synth::MapBlender>(
+          *clips, result->map.features, result->map.embedding.coordinates, blend);
       result->seconds = double(clock.nsecsElapsed()) * 1e-9;
       options.progress = nullptr;
       options.cancel = nullptr;
@@ -456,6 +488,7 @@ void MainWindow::onComputed(int generation, embed::Method method, std::string ke
     return;
   }
   m_maps[key] = std::move(result);
+  if (key == cacheKey(m_method)) saveParameters();
   if (method == m_method) showMap();
   emit computationFinished(true);
   emit mapReady(method);
@@ -680,7 +713,10 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
   m_synthProgress->setValue(0);
   m_synthProgress->show();
   m_synthCancelButton->show();
-  m_synthJob.start([this, map, path](const BackgroundJob::Ticket& ticket) {
+  const synth::SynthOptions options = m_synthParameters.motion;
+  synth::MapPath followed = path;
+  if (!m_synthParameters.timedAsDrawn) followed.times.clear();
+  m_synthJob.start([this, map, path = std::move(followed), options](const BackgroundJob::Ticket& ticket) {
     const int generation = ticket.generation;
     auto result = std::make_shared<synth::SynthResult>();
     QString error;
@@ -698,7 +734,7 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
             Qt::QueuedConnection);
       };
       control.cancel = [ticket] { return ticket.cancelled(); };
-      *result = synth::synthesize(*map->blender, path, {}, control);
+      *result = synth::synthesize(*map->blender, path, options, control);
       if (ticket.cancelled()) throw Cancelled();
     } catch (const Cancelled&) {
       cancelled = true;
@@ -873,6 +909,137 @@ void MainWindow::parametersDialog() {
   p.distance = features::DistanceKind(distanceBox->currentData().toInt());
   p.exclude = exclude->text().toStdString();
   setParameters(p);  // the library validates: a bad value comes back as its error message
+}
+
+void MainWindow::synthesisDialog() {
+  QDialog dialog(this);
+  dialog.setWindowTitle(tr("Synthesis"));
+  auto* form = new QFormLayout(&dialog);
+  const SynthParameters& now = m_synthParameters;
+  auto* mode = new QComboBox;
+  for (auto m : {synth::BlendMode::Local, synth::BlendMode::Kriging, synth::BlendMode::Idw}) {
+    mode->addItem(QString::fromUtf8(synth::blend_mode_name(m).data()), int(m));
+  }
+  mode->setCurrentIndex(mode->findData(int(now.blend.mode)));
+  mode->setToolTip(
+      tr("local: kriging on the K map-nearest samples (default); kriging: the reference system's "
+         "rule over all samples (its set-up grows as N³: seconds at a few thousand frames, about "
+         "half a minute at 10 000); idw: inverse-distance weights on the K nearest"));
+  form->addRow(tr("Blend"), mode);
+  auto* neighbors = new QSpinBox;
+  neighbors->setRange(1, 10000);
+  neighbors->setValue(now.blend.neighbors);
+  form->addRow(tr("Neighbours K (local, idw)"), neighbors);
+  auto* reach = new QDoubleSpinBox;
+  reach->setRange(0.01, 1000.0);
+  reach->setDecimals(2);
+  reach->setValue(now.blend.reach);
+  reach->setToolTip(tr("A point farther from every sample than reach × the median step between "
+                       "consecutive samples is moved to the data's edge"));
+  form->addRow(tr("Reach (× median step)"), reach);
+  auto* timing = new QComboBox;
+  timing->addItem(tr("as drawn"), true);
+  timing->addItem(tr("at a steady speed"), false);
+  timing->setCurrentIndex(timing->findData(now.timedAsDrawn));
+  form->addRow(tr("Sketch timing"), timing);
+  auto* speed = new QDoubleSpinBox;
+  speed->setRange(0.0, 1e9);
+  speed->setDecimals(4);
+  speed->setSpecialValueText(tr("the clip's"));
+  speed->setValue(now.motion.speed);
+  speed->setToolTip(tr("Map units per second along a sketch at a steady speed; the clip's own "
+                       "median speed at 0"));
+  form->addRow(tr("Steady speed"), speed);
+  const auto enableSpeed = [timing, speed] { speed->setEnabled(!timing->currentData().toBool()); };
+  enableSpeed();
+  connect(timing, &QComboBox::currentIndexChanged, speed, enableSpeed);
+  auto* fps = new QDoubleSpinBox;
+  fps->setRange(0.0, 1000.0);
+  fps->setDecimals(2);
+  fps->setSpecialValueText(tr("the clip's"));
+  fps->setValue(now.motion.fps);
+  form->addRow(tr("Frames per second of the motion"), fps);
+  auto* smooth = new QDoubleSpinBox;
+  smooth->setRange(0.0, synth::kMaxSmoothSeconds);
+  smooth->setDecimals(3);
+  smooth->setSuffix(tr(" s"));
+  smooth->setSpecialValueText(tr("none"));
+  smooth->setValue(now.motion.smooth);
+  smooth->setToolTip(tr("σ of a Gaussian smoothing of the blend weights over time"));
+  form->addRow(tr("Smoothing"), smooth);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  form->addRow(buttons);
+  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  if (dialog.exec() != QDialog::Accepted) return;
+  SynthParameters p = now;
+  p.blend.mode = synth::BlendMode(mode->currentData().toInt());
+  p.blend.neighbors = neighbors->value();
+  p.blend.reach = reach->value();
+  p.timedAsDrawn = timing->currentData().toBool();
+  p.motion.speed = speed->value();
+  p.motion.fps = fps->value();
+  p.motion.smooth = smooth->value();
+  setSynthParameters(p);
+}
+
+void MainWindow::loadParameters() {
+  // A value from an older version or edited by hand that the library would reject is dropped
+  // (its default stays) rather than breaking every map of the session.
+  const QSettings settings;
+  const auto number = [&](const char* key, auto& value, auto valid) {
+    bool ok = false;
+    const double v = settings.value(key).toDouble(&ok);
+    if (ok && std::isfinite(v) && valid(v)) value = static_cast<std::remove_reference_t<decltype(value)>>(v);
+  };
+  MapParameters& m = m_parameters;
+  number("map/k", m.k, [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); });
+  const QString heat = settings.value("map/heat").toString();
+  bool heatOk = false;
+  const double heatValue = heat.toDouble(&heatOk);
+  if (heatOk && std::isfinite(heatValue)) m.heat = heatValue;
+  const auto name = [&](const char* key) { return settings.value(key).toString().toStdString(); };
+  for (auto f : {features::FeatureKind::Quaternions, features::FeatureKind::Positions}) {
+    if (name("map/features") == features::feature_kind_name(f)) m.features = f;
+  }
+  for (auto d : {features::DistanceKind::PointCloud, features::DistanceKind::Geodesic,
+                 features::DistanceKind::Features}) {
+    if (name("map/distance") == features::distance_kind_name(d)) m.distance = d;
+  }
+  m.exclude = name("map/exclude");
+  SynthParameters& s = m_synthParameters;
+  if (const auto b = synth::parse_blend_mode(name("synth/blend"))) s.blend.mode = *b;
+  number("synth/neighbors", s.blend.neighbors,
+         [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); });
+  number("synth/reach", s.blend.reach, [](double v) { return v > 0; });
+  synth::SynthOptions motion = s.motion;
+  number("synth/speed", motion.speed, [](double v) { return v >= 0; });
+  s.timedAsDrawn = settings.value("synth/timedAsDrawn", true).toBool();
+  number("synth/fps", motion.fps, [](double v) { return v >= 0; });
+  number("synth/smooth", motion.smooth, [](double v) { return v >= 0; });
+  try {
+    motion.validate();
+    s.motion = motion;
+  } catch (const std::exception&) {
+  }
+}
+
+void MainWindow::saveParameters() const {
+  QSettings settings;
+  const MapParameters& m = m_parameters;
+  settings.setValue("map/k", m.k);
+  settings.setValue("map/heat", m.heat ? QString::number(*m.heat, 'g', 17) : QStringLiteral("auto"));
+  settings.setValue("map/features", QString::fromUtf8(features::feature_kind_name(m.features).data()));
+  settings.setValue("map/distance", QString::fromUtf8(features::distance_kind_name(m.distance).data()));
+  settings.setValue("map/exclude", QString::fromStdString(m.exclude));
+  const SynthParameters& s = m_synthParameters;
+  settings.setValue("synth/blend", QString::fromUtf8(synth::blend_mode_name(s.blend.mode).data()));
+  settings.setValue("synth/neighbors", s.blend.neighbors);
+  settings.setValue("synth/reach", s.blend.reach);
+  settings.setValue("synth/timedAsDrawn", s.timedAsDrawn);
+  settings.setValue("synth/speed", s.motion.speed);
+  settings.setValue("synth/fps", s.motion.fps);
+  settings.setValue("synth/smooth", s.motion.smooth);
 }
 
 void MainWindow::addRecentFile(const QString& path) {

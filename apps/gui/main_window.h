@@ -51,6 +51,18 @@ struct MapParameters {
   bool operator==(const MapParameters&) const = default;
 };
 
+/// How a drag blends and a sketch becomes a motion (Motion → Synthesis…): the library's options
+/// and defaults, as `motionmap pose` / `synth` take them. The blend part goes into each map's
+/// blender (changing it recomputes the map, or takes it from the cache); the motion part applies
+/// to the next sketch.
+struct SynthParameters {
+  synth::BlendOptions blend;   ///< mode, K, reach (the up axis is the map's)
+  synth::SynthOptions motion;  ///< speed (of a sketch not timed as drawn), output fps, smoothing
+  /// A sketch keeps the timing of the gesture; false: it is followed at motion.speed (0: the
+  /// clip's own median map speed).
+  bool timedAsDrawn = true;
+};
+
 /// A computed map of the open clip, with what the app needs to use it.
 struct MapResult {
   embed::ClipMap map;
@@ -95,6 +107,11 @@ class MainWindow : public QMainWindow {
   /// method's map with them.
   void setParameters(const MapParameters& parameters);
   const MapParameters& parameters() const { return m_parameters; }
+  /// Changes how drags blend and sketches are synthesized. A value the library rejects is shown
+  /// as its error (the motion options at once, the blend options when the map's blender is
+  /// built) and false returned; the previous parameters then stay.
+  bool setSynthParameters(const SynthParameters& parameters);
+  const SynthParameters& synthParameters() const { return m_synthParameters; }
   /// The map shown (nullptr while computing or without a clip).
   const MapResult* currentMap() const;
   bool isComputing() const { return m_mapJob.running(); }
@@ -120,7 +137,8 @@ class MainWindow : public QMainWindow {
   /// Asks before a synthesized motion that was not exported is replaced or dropped; true to go
   /// on (always when there is none, or when not interactive).
   bool confirmDiscard();
-  /// Starts synthesizing the motion along `path` (synth::synthesize) on a worker; when done it
+  /// Starts synthesizing the motion along `path` (synth::synthesize with the synthesis
+  /// parameters; without its times unless timedAsDrawn) on a worker; when done it
   /// replaces the last one (asked first, see confirmDiscard) and plays. False if nothing started.
   bool synthesizeAlong(const synth::MapPath& path);
   bool isSynthesizing() const { return m_synthJob.running(); }
@@ -185,6 +203,11 @@ class MainWindow : public QMainWindow {
   void exportDialog();
   void exportMapDialog();
   void parametersDialog();
+  void synthesisDialog();
+  /// Map and synthesis parameters to and from QSettings: the ones of the last map computed
+  /// without error are the next session's.
+  void loadParameters();
+  void saveParameters() const;
   void addDialog();
   void clipsChanged();
   void addRecentFile(const QString& path);
@@ -196,6 +219,7 @@ class MainWindow : public QMainWindow {
   int m_clipIndex = 0;
   embed::Method m_method = embed::Method::Isomap;
   MapParameters m_parameters;
+  SynthParameters m_synthParameters;
   std::map<std::string, std::shared_ptr<MapResult>> m_maps;  ///< by cacheKey
   BackgroundJob m_mapJob;  ///< the map (and its blender) being computed
 

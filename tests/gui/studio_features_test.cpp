@@ -1,15 +1,23 @@
 // MotionMap Studio beyond the basic gestures (offscreen): synthesis on a worker (progress, cancel,
 // the GUI thread stays free), never losing an unexported motion, playback speed and loop, map
-// parameters and their cache, map export, sketch mode, the magnifier and the camera's follow mode.
+// parameters and their cache, synthesis parameters, parameters kept across sessions, map export,
+// sketch mode, the magnifier and the camera's follow mode.
 #include <gtest/gtest.h>
 
 #include <QAbstractButton>
 #include <QApplication>
+#include <QComboBox>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDoubleSpinBox>
+#include <QPushButton>
+#include <QSpinBox>
 #include <QDragEnterEvent>
 #include <QElapsedTimer>
 #include <QImage>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QSettings>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QTest>
@@ -185,6 +193,173 @@ TEST(StudioSynthesis, AsksBeforeDiscardingAnUnexportedMotion) {
   }
   w->pause();
   w->setInteractive(false);
+}
+
+TEST(StudioSynthesis, ItsParametersReachTheLibrary) {
+  auto w = windowWithMap();
+  const MapResult* local = w->currentMap();
+  ASSERT_NE(local, nullptr);
+  EXPECT_EQ(local->blender->options().mode, synth::BlendMode::Local);
+  // Motion options: no new map, the next sketch uses them.
+  SynthParameters p = w->synthParameters();
+  p.motion.fps = 30.0;  // the swing is 120 fps
+  p.motion.smooth = 0.05;
+  ASSERT_TRUE(w->setSynthParameters(p)) << w->lastError().toStdString();
+  EXPECT_FALSE(w->isComputing());
+  EXPECT_EQ(w->currentMap(), local);
+  QSignalSpy finished(w.get(), &MainWindow::synthesisFinished);
+  const synth::MapPath path = pathAlong(*local, 10, 100, 2.0);
+  ASSERT_TRUE(w->synthesizeAlong(path));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return finished.count() > 0; }, kTimeoutMs));
+  ASSERT_NE(w->synthesized(), nullptr) << w->lastError().toStdString();
+  EXPECT_EQ(w->synthesized()->motion.num_frames, 61);  // 2 s at 30 fps
+  const synth::SynthResult direct = synth::synthesize(*local->blender, path, p.motion);
+  ASSERT_EQ(direct.motion.num_frames, 61);
+  for (int f : {0, 30, 60}) {
+    EXPECT_TRUE(direct.motion.rotation(f, 3).isApprox(w->synthesized()->motion.rotation(f, 3), 1e-12));
+  }
+  w->pause();
+  // Not timed as drawn: the same gesture followed at a steady speed of the clip's own pace.
+  p.timedAsDrawn = false;
+  ASSERT_TRUE(w->setSynthParameters(p));
+  ASSERT_TRUE(w->synthesizeAlong(path));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return finished.count() > 1; }, kTimeoutMs));
+  synth::MapPath untimed = path;
+  untimed.times.clear();
+  const synth::SynthResult steady = synth::synthesize(*local->blender, untimed, p.motion);
+  EXPECT_EQ(w->synthesized()->motion.num_frames, steady.motion.num_frames);
+  EXPECT_NE(steady.motion.num_frames, 61);
+  w->pause();
+
+  // Blend options: a map whose blender has them (the embedding's cache key includes them).
+  p.blend.mode = synth::BlendMode::Kriging;
+  ASSERT_TRUE(w->setSynthParameters(p));
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
+  const MapResult* kriging = w->currentMap();
+  ASSERT_NE(kriging, nullptr) << w->lastError().toStdString();
+  EXPECT_NE(kriging, local);
+  EXPECT_EQ(kriging->blender->options().mode, synth::BlendMode::Kriging);
+  const Eigen::Vector2d between =
+      0.5 * (kriging->blender->sample_point(40) + kriging->blender->sample_point(41));
+  EXPECT_EQ(int(kriging->blender->locate(between).samples.size()), kriging->blender->num_points());
+  p.blend.mode = synth::BlendMode::Local;
+  ASSERT_TRUE(w->setSynthParameters(p));
+  EXPECT_FALSE(w->isComputing());
+  EXPECT_EQ(w->currentMap(), local);  // cached: back at once
+
+  // Values the library rejects: its message, and the parameters stay.
+  SynthParameters bad = p;
+  bad.motion.fps = -1.0;
+  EXPECT_FALSE(w->setSynthParameters(bad));
+  EXPECT_TRUE(w->lastError().contains("fps")) << w->lastError().toStdString();
+  bad = p;
+  bad.blend.neighbors = local->blender->num_samples() + 1;
+  EXPECT_FALSE(w->setSynthParameters(bad));
+  EXPECT_TRUE(w->lastError().contains("neighbors")) << w->lastError().toStdString();
+  EXPECT_EQ(w->synthParameters().motion.fps, 30.0);
+  EXPECT_EQ(w->synthParameters().blend.neighbors, 12);
+  EXPECT_EQ(w->currentMap(), local);
+}
+
+TEST(StudioSynthesis, TheDialogEditsEveryParameter) {
+  auto w = windowWithMap();
+  QAction* action = nullptr;
+  for (QAction* a : w->findChildren<QAction*>()) {
+    if (a->text() == "S&ynthesis…") action = a;
+  }
+  ASSERT_NE(action, nullptr);
+  // Fill the modal dialog as a user would, then press OK.
+  bool filled = false;
+  QTimer::singleShot(50, [&] {
+    auto* dialog = qobject_cast<QDialog*>(QApplication::activeModalWidget());
+    if (!dialog) return;
+    const auto combos = dialog->findChildren<QComboBox*>();
+    const auto ints = dialog->findChildren<QSpinBox*>();
+    const auto reals = dialog->findChildren<QDoubleSpinBox*>();
+    if (combos.size() != 2 || ints.size() != 1 || reals.size() != 4) return dialog->reject();
+    combos[0]->setCurrentText("idw");
+    combos[1]->setCurrentText("at a steady speed");
+    ints[0]->setValue(5);
+    reals[0]->setValue(2.5);   // reach
+    reals[1]->setValue(0.75);  // speed
+    reals[2]->setValue(60.0);  // fps
+    reals[3]->setValue(0.02);  // smoothing
+    filled = true;
+    dialog->findChild<QDialogButtonBox*>()->button(QDialogButtonBox::Ok)->click();
+  });
+  action->trigger();
+  ASSERT_TRUE(filled);
+  const SynthParameters& p = w->synthParameters();
+  EXPECT_EQ(p.blend.mode, synth::BlendMode::Idw);
+  EXPECT_EQ(p.blend.neighbors, 5);
+  EXPECT_EQ(p.blend.reach, 2.5);
+  EXPECT_FALSE(p.timedAsDrawn);
+  EXPECT_EQ(p.motion.speed, 0.75);
+  EXPECT_EQ(p.motion.fps, 60.0);
+  EXPECT_EQ(p.motion.smooth, 0.02);
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
+  ASSERT_NE(w->currentMap(), nullptr) << w->lastError().toStdString();
+  EXPECT_EQ(w->currentMap()->blender->options().mode, synth::BlendMode::Idw);
+  EXPECT_EQ(w->currentMap()->blender->options().neighbors, 5);
+}
+
+TEST(StudioSettings, TheLastGoodParametersComeBackNextSession) {
+  {
+    auto w = windowWithMap();
+    MapParameters m = w->parameters();
+    m.k = 8;
+    m.heat = 2.5;
+    m.distance = features::DistanceKind::Geodesic;
+    m.exclude = ".*Thumb.*";
+    SynthParameters s = w->synthParameters();
+    s.blend.mode = synth::BlendMode::Idw;
+    s.blend.neighbors = 6;
+    s.motion.fps = 30.0;
+    s.motion.smooth = 0.1;
+    s.timedAsDrawn = false;
+    ASSERT_TRUE(w->setSynthParameters(s));
+    w->setParameters(m);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); },
+                                kTimeoutMs));
+    ASSERT_NE(w->currentMap(), nullptr) << w->lastError().toStdString();
+    // A map that fails (a bad regular expression) is not remembered.
+    m.exclude = "(";
+    QSignalSpy finished(w.get(), &MainWindow::computationFinished);
+    w->setParameters(m);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return finished.count() > 0; }, kTimeoutMs));
+    EXPECT_FALSE(finished.front().front().toBool());
+  }
+  MainWindow next;
+  EXPECT_EQ(next.parameters().k, 8);
+  EXPECT_EQ(next.parameters().heat, 2.5);
+  EXPECT_EQ(next.parameters().distance, features::DistanceKind::Geodesic);
+  EXPECT_EQ(next.parameters().features, features::FeatureKind::Quaternions);
+  EXPECT_EQ(next.parameters().exclude, ".*Thumb.*");
+  EXPECT_EQ(next.synthParameters().blend.mode, synth::BlendMode::Idw);
+  EXPECT_EQ(next.synthParameters().blend.neighbors, 6);
+  EXPECT_EQ(next.synthParameters().motion.fps, 30.0);
+  EXPECT_EQ(next.synthParameters().motion.smooth, 0.1);
+  EXPECT_FALSE(next.synthParameters().timedAsDrawn);
+
+  // Values edited by hand that the library would reject fall back to the defaults.
+  QSettings settings;
+  settings.setValue("map/k", "many");
+  settings.setValue("map/heat", "auto");
+  settings.setValue("map/distance", "manhattan");
+  settings.setValue("synth/blend", "spline");
+  settings.setValue("synth/neighbors", 0);
+  settings.setValue("synth/fps", -5);
+  settings.sync();
+  MainWindow reset;
+  EXPECT_EQ(reset.parameters().k, 20);
+  EXPECT_FALSE(reset.parameters().heat.has_value());
+  EXPECT_EQ(reset.parameters().distance, features::DistanceKind::PointCloud);
+  EXPECT_EQ(reset.synthParameters().blend.mode, synth::BlendMode::Local);
+  EXPECT_EQ(reset.synthParameters().blend.neighbors, 12);
+  EXPECT_EQ(reset.synthParameters().motion.fps, 0.0);
+  EXPECT_EQ(reset.synthParameters().motion.smooth, 0.1);  // valid, kept
 }
 
 TEST(StudioPlayback, SpeedScalesTheClockAndLoopOffStopsAtTheEnd) {

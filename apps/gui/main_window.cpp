@@ -422,10 +422,14 @@ void MainWindow::startComputation(embed::Method method) {
       result->map = embed::map_clips(*clips, options);
       if (ticket.cancelled()) throw Cancelled();
       result->parameters = embed::describe_parameters(result->map.embedding, options);
-      // The blender's set-up (local kriging systems; minutes for the kriging mode on a big map)
-      // stays on this thread too.
-      result->blender = std::make_unique<synth::MapBlender>(
-          *clips, result->map.features, result->map.embedding.coordinates, blend);
+      // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system at
+      // once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it behind.
+      const std::shared_ptr<const MapResult> computed = result;
+      result->blender = runUninterruptible<std::unique_ptr<synth::MapBlender>>(
+          ticket, [clips, computed, blend] {
+            return std::make_unique<synth::MapBlender>(
+                *clips, computed->map.features, computed->map.embedding.coordinates, blend);
+          });
       result->seconds = double(clock.nsecsElapsed()) * 1e-9;
       options.progress = nullptr;
       options.cancel = nullptr;

@@ -256,6 +256,30 @@ def figure_draws_six_methods():
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
 
 
+@test
+def a_static_clip_maps_to_one_point_with_a_note():
+    # A hierarchy file whose 60 frames are one pose: the centred data are zero (Spectra's
+    # Lanczos used to throw on PCA and return garbage for SVD's second axis).
+    static = "other/facebookresearch_pfnn_hierarchy.bvh"
+    if not needs(static):
+        return
+    code, out, err = run("figure", data(static), "-q", "-o", os.path.join(TMP, "static.png"))
+    assert code == 0, err
+    assert "every frame has the same pose" in err, err
+    for method in ("pca", "svd", "mds", "isomap", "le", "lle"):
+        assert method in out, out
+    for method in ("pca", "svd", "mds", "isomap"):
+        csv = os.path.join(TMP, "static-" + method + ".csv")
+        code, _, err = run("map", data(static), "--method", method, "-q", "-o", csv)
+        assert code == 0, (method, err)
+        _, _, values = read_map(csv)
+        xy = values[:, 1:]
+        assert np.all(np.isfinite(xy)), method
+        # one point: every frame at the first frame's place (SVD: the mean pose's projection)
+        assert np.abs(xy - xy[0]).max() <= 1e-9 * (1 + np.abs(xy).max()), (method, xy[:3])
+        assert np.all(xy[:, 1] == 0), (method, "the second axis is flat")
+
+
 def rotation_errors_deg(path_a, frames_a, path_b):
     """Per frame: the largest angle (degrees) between the non-root joints' local rotations of
     `path_a` frames `frames_a` and `path_b` (same skeleton), via an independent reader."""

@@ -148,6 +148,60 @@ TEST(EmbedEigen, TopSingularScores) {
   }
 }
 
+TEST(EmbedEigen, RankBelowTheLanczosBasisGivesExactPairs) {
+  // Spectra 1.0's Lanczos breaks down when the operator's rank is below its basis (a rank-one
+  // Gram matrix came back with λ = 2e25, a zero one threw): a static clip, a clip of two poses.
+  // Such operators are solved exactly; the missing eigenvalues are 0, with vectors orthogonal to
+  // the range.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  const int n = 60;  // above the dense limit: Lanczos
+  for (int rank : {0, 1, 2}) {
+    Eigen::MatrixXd V(n, rank);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < rank; ++j) V(i, j) = g(rng) * (3.0 - j);
+    }
+    const Eigen::MatrixXd A = V * V.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(A);
+    const Product product = [&](const double* x, double* y) {
+      Eigen::Map<Eigen::VectorXd>(y, n).noalias() = A * Eigen::Map<const Eigen::VectorXd>(x, n);
+    };
+    for (const EigenPairs& e :
+         {largest_eigenpairs(A, 3, "test", 32), largest_eigenpairs(n, product, 3, "test")}) {
+      ASSERT_EQ(e.values.size(), 3);
+      for (int a = 0; a < 3; ++a) {
+        const double want = dense.eigenvalues()[n - 1 - a];
+        EXPECT_NEAR(e.values[a], want, 1e-10 * (1.0 + std::abs(dense.eigenvalues()[n - 1])))
+            << "rank " << rank << " pair " << a;
+        const Eigen::VectorXd v = e.vectors.col(a);
+        EXPECT_NEAR(v.norm(), 1.0, 1e-12);
+        EXPECT_LE((A * v - e.values[a] * v).norm(), 1e-9 * (1.0 + A.norm())) << "rank " << rank;
+      }
+      EXPECT_LE((e.vectors.transpose() * e.vectors - Eigen::MatrixXd::Identity(3, 3)).norm(),
+                1e-12);
+    }
+  }
+  // Scores of data with fewer dimensions than asked: the flat axes are exactly 0.
+  for (const auto& [rows, cols] : {std::pair{60, 120}, std::pair{3000, 40}}) {
+    Eigen::MatrixXd X(rows, cols);
+    for (int i = 0; i < rows; ++i) {
+      for (int j = 0; j < cols; ++j) X(i, j) = (i % 2 == 0 ? 1.0 : -1.0) * (j + 1) + 5.0;
+    }
+    const Eigen::RowVectorXd mean = X.colwise().mean();
+    Eigen::VectorXd s2;
+    const Eigen::MatrixXd centred = top_singular_scores(X, mean, {}, 2, "test", s2);  // rank 1
+    EXPECT_GT(s2[0], 0.0);
+    EXPECT_EQ(s2[1], 0.0);
+    EXPECT_TRUE(centred.col(1).isZero(0.0));
+    EXPECT_NEAR(centred.col(0).cwiseAbs().minCoeff(), (X.row(0) - mean).norm(), 1e-9 * s2[0]);
+    const Eigen::MatrixXd constant =
+        top_singular_scores(Eigen::MatrixXd::Constant(rows, cols, 2.0),
+                            Eigen::RowVectorXd::Constant(cols, 2.0), {}, 2, "test", s2);  // rank 0
+    EXPECT_EQ(s2[0], 0.0);
+    EXPECT_TRUE(constant.isZero(0.0));
+  }
+}
+
 TEST(EmbedEigen, NormalizeSigns) {
   Eigen::MatrixXd M(4, 3);
   M << 1, -5, 0,  //

@@ -91,7 +91,8 @@ TEST(Features, BuildsXAndPointCloudDistance) {
 
 TEST(Features, LeavesOutALeadingBindPoseUnlessAsked) {
   Clip clip = smooth_clip();
-  for (int j = 1; j < 4; ++j) clip.motion.rotation(0, j) = axis_rotation(Axis::Z, 1.5);  // a far pose
+  for (int j = 1; j < 4; ++j)
+    clip.motion.rotation(0, j) = axis_rotation(Axis::Z, 1.5);  // a far pose
   FeatureOptions opt;
   const FeatureSet set = build_features(std::span<const Clip>(&clip, 1), opt);
   EXPECT_EQ(set.num_samples(), 49);
@@ -100,6 +101,30 @@ TEST(Features, LeavesOutALeadingBindPoseUnlessAsked) {
   EXPECT_NE(set.notes[0].find("bind pose"), std::string::npos);
   opt.keep_first = true;
   EXPECT_EQ(build_features(std::span<const Clip>(&clip, 1), opt).num_samples(), 50);
+}
+
+TEST(Features, ANoteSaysWhenEveryFrameHasTheSamePose) {
+  Clip clip = smooth_clip();
+  for (int f = 1; f < clip.motion.num_frames; ++f) {
+    for (int j = 0; j < clip.motion.num_joints; ++j) {
+      clip.motion.rotation(f, j) = clip.motion.rotation(0, j);
+      clip.motion.translation(f, j) = clip.motion.translation(0, j);
+    }
+    clip.motion.translation(f, 0) += Eigen::Vector3d(0.1 * f, 0, 0.05 * f);  // it slides along
+  }
+  FeatureOptions opt;
+  for (DistanceKind d :
+       {DistanceKind::PointCloud, DistanceKind::Geodesic, DistanceKind::Features}) {
+    opt.distance = d;
+    const FeatureSet set = build_features(std::span<const Clip>(&clip, 1), opt);
+    ASSERT_EQ(set.notes.size(), 1u) << distance_kind_name(d);
+    EXPECT_NE(set.notes[0].find("every frame has the same pose"), std::string::npos)
+        << set.notes[0];
+  }
+  // A single frame more that differs: no note.
+  clip.motion.rotation(20, 1) = axis_rotation(Axis::X, 0.3);
+  opt.distance = DistanceKind::PointCloud;
+  EXPECT_TRUE(build_features(std::span<const Clip>(&clip, 1), opt).notes.empty());
 }
 
 TEST(Features, FramesStrideAndExclude) {

@@ -110,10 +110,10 @@ TEST(TimeColorTest, RunsJetBackwardsThroughItsKnots) {
 }
 
 TEST(TimeColorTest, IsLinearBetweenKnotsAndClamped) {
-  EXPECT_EQ(time_color(0.0625), QColor(192, 0, 0));    // halfway dark red → red
-  EXPECT_EQ(time_color(0.25), QColor(255, 128, 0));    // orange, halfway red → yellow
-  EXPECT_EQ(time_color(0.75), QColor(0, 128, 255));    // halfway cyan → blue
-  EXPECT_EQ(time_color(0.9375), QColor(0, 0, 192));    // halfway blue → dark blue
+  EXPECT_EQ(time_color(0.0625), QColor(192, 0, 0));  // halfway dark red → red
+  EXPECT_EQ(time_color(0.25), QColor(255, 128, 0));  // orange, halfway red → yellow
+  EXPECT_EQ(time_color(0.75), QColor(0, 128, 255));  // halfway cyan → blue
+  EXPECT_EQ(time_color(0.9375), QColor(0, 0, 192));  // halfway blue → dark blue
   EXPECT_EQ(time_color(-3.0), QColor(128, 0, 0));
   EXPECT_EQ(time_color(7.0), QColor(0, 0, 128));
   EXPECT_EQ(time_color(kNaN), QColor(128, 128, 128));
@@ -166,7 +166,7 @@ TEST(FillAxesTest, ScalesTheShorterAxisToTheLongerAboutItsCentre) {
       std::nan(""), 100, 9, 5, 5.5, 1;
   const Eigen::MatrixXd filled = fill_axes(coords);
   EXPECT_EQ(filled.col(0).head(2), coords.col(0).head(2));  // the longer axis is kept
-  EXPECT_DOUBLE_EQ(filled(0, 1), 0.5);                       // y: [5, 6] → [0.5, 10.5]
+  EXPECT_DOUBLE_EQ(filled(0, 1), 0.5);                      // y: [5, 6] → [0.5, 10.5]
   EXPECT_DOUBLE_EQ(filled(1, 1), 10.5);
   EXPECT_DOUBLE_EQ(filled(3, 1), 5.5);
   EXPECT_EQ(filled.col(2), coords.col(2));  // a third column is left alone
@@ -175,6 +175,10 @@ TEST(FillAxesTest, ScalesTheShorterAxisToTheLongerAboutItsCentre) {
   Eigen::MatrixXd flat(3, 2);
   flat << 0, 1, 1, 1, 2, 1;
   EXPECT_EQ(fill_axes(flat), flat);
+  // Rounding noise around a value (a static clip's flat axis) is not stretched either.
+  Eigen::MatrixXd noise(10, 2);
+  for (int i = 0; i < 10; ++i) noise.row(i) << 5.0 + i * 1e-15, 0.0;
+  EXPECT_EQ(fill_axes(noise), noise);
 }
 
 TEST(TrajectorySegmentsTest, ClipsAreNotJoinedAndEachHasItsOwnTime) {
@@ -389,7 +393,9 @@ TEST_F(MapPlotTest, ColourByClipDrawsEachClipInItsOwnColourWithANamedLegend) {
   const QTransform t = map_transform(c, QRectF(0, 0, 300, 300), o);
   auto near_colour = [](QColor want) {
     return [want](QColor p) {
-      return std::abs(p.red() - want.red()) + std::abs(p.green() - want.green()) + std::abs(p.blue() - want.blue()) < 30;
+      return std::abs(p.red() - want.red()) + std::abs(p.green() - want.green()) +
+                 std::abs(p.blue() - want.blue()) <
+             30;
     };
   };
   EXPECT_NE(clip_color(0), clip_color(1));
@@ -422,9 +428,14 @@ TEST_F(MapPlotTest, DegenerateInputsStillProduceAnImage) {
   o.draw_points = true;
   Eigen::MatrixXd nan_middle = arc(20);
   nan_middle.row(7).setConstant(kNaN);
-  const std::vector<Eigen::MatrixXd> inputs = {
-      Eigen::MatrixXd(0, 2), Eigen::MatrixXd::Constant(1, 2, 3.0),
-      Eigen::MatrixXd::Constant(10, 2, -2.5), Eigen::MatrixXd::Constant(10, 2, kNaN), nan_middle};
+  Eigen::MatrixXd noise(10, 2);  // one pose up to rounding: a point, not a stretched line
+  for (int i = 0; i < 10; ++i) noise.row(i) << 5.0 + i * 1e-15, 0.0;
+  const std::vector<Eigen::MatrixXd> inputs = {Eigen::MatrixXd(0, 2),
+                                               Eigen::MatrixXd::Constant(1, 2, 3.0),
+                                               Eigen::MatrixXd::Constant(10, 2, -2.5),
+                                               Eigen::MatrixXd::Constant(10, 2, kNaN),
+                                               nan_middle,
+                                               noise};
   for (std::size_t k = 0; k < inputs.size(); ++k) {
     const std::string path = temp_file("degenerate" + std::to_string(k) + ".png");
     ASSERT_NO_THROW(save_map_plot(path, inputs[k], {}, o, 200)) << k;
@@ -434,9 +445,13 @@ TEST_F(MapPlotTest, DegenerateInputsStillProduceAnImage) {
     // The frame is drawn in every case.
     EXPECT_FALSE(all_near(img, QPointF(d.center().x(), d.top() - d.width() * 0.05), 1, is_white))
         << k;
-    if (k == 1 || k == 2) {  // one point: the marker in the middle of the data area
+    if (k == 1 || k == 2 || k == 5) {  // one point: the marker in the middle of the data area
       EXPECT_TRUE(is_white(pixel_at(img, d.center()))) << k;
       EXPECT_TRUE(any_near(img, d.center(), 7, is_dark)) << k;
+    }
+    if (k == 5) {  // and no trajectory out to the sides
+      EXPECT_TRUE(all_near(img, QPointF(d.left() + 10, d.center().y()), 3, is_white));
+      EXPECT_TRUE(all_near(img, QPointF(d.right() - 10, d.center().y()), 3, is_white));
     }
   }
   // The NaN row splits the arc but the rest is drawn.

@@ -1,9 +1,11 @@
 #pragma once
 // Numbers in messages: whole numbers below 1e15 in full ("100000", not "1e+05"), others in their
-// shortest round-trip form, so a message shows exactly the value that was rejected.
+// shortest round-trip form, so a message shows exactly the value that was rejected; or rounded to
+// a few digits where the value is a measurement.
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace motionmap {
@@ -15,6 +17,14 @@ inline std::string format_number(double v) {
   std::array<char, 64> buf{};
   const auto result = std::to_chars(buf.data(), buf.data() + buf.size(), v);
   return std::string(buf.data(), result.ptr);
+}
+
+/// v with `significant` significant digits (printf's %g), for figures in notes and warnings
+/// where the exact value is noise; −0 is written 0.
+inline std::string format_number(double v, int significant) {
+  std::array<char, 64> buf{};
+  std::snprintf(buf.data(), buf.size(), "%.*g", significant, v == 0.0 ? 0.0 : v);
+  return buf.data();
 }
 
 }  // namespace motionmap

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <numeric>
@@ -13,6 +14,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/progress.h"
 
@@ -41,12 +43,6 @@ class ProductOp {
   const Product& m_product;
 };
 
-std::string format_double(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 void check_count(Eigen::Index n, int count, int max_count, std::string_view what) {
   if (count < 1 || count > max_count) {
     throw ParameterError(std::string(what) + ": cannot compute " + std::to_string(count) +
@@ -69,6 +65,91 @@ class RitzSolver : public Spectra::SymEigsSolver<ProductOp> {
     Spectra::SymEigsSolver<ProductOp>::sort_ritzpair(rule);
   }
 };
+
+// `count` orthonormal columns: those of `basis`, then unit vectors made orthogonal to every
+// column before them (Gram–Schmidt, twice).
+Eigen::MatrixXd extend_orthonormal(const Eigen::MatrixXd& basis, Eigen::Index count) {
+  const Eigen::Index n = basis.rows();
+  Eigen::MatrixXd v(n, count);
+  Eigen::Index have = std::min(basis.cols(), count);
+  v.leftCols(have) = basis.leftCols(have);
+  for (Eigen::Index e = 0; e < n && have < count; ++e) {
+    Eigen::VectorXd u = Eigen::VectorXd::Unit(n, e);
+    for (int pass = 0; pass < 2; ++pass) u -= v.leftCols(have) * (v.leftCols(have).transpose() * u);
+    if (u.norm() > 0.5) v.col(have++) = u.normalized();
+  }
+  return v;
+}
+
+// Whether every pair satisfies A·v = λ·v, checked with one product (they can cost as much as a
+// tenth of the solve): for w = Σ cᵢ·vᵢ with unequal weights, ‖A·w − Σ cᵢ·λᵢ·vᵢ‖ ≤ 1e-6 · ‖A·w‖.
+bool pairs_hold(Eigen::Index n, const Product& product, const EigenPairs& pairs) {
+  if (!pairs.values.allFinite()) return false;
+  const Eigen::Index count = pairs.values.size();
+  const Eigen::VectorXd c = Eigen::VectorXd::LinSpaced(count, 1.0, 2.0);
+  const Eigen::VectorXd w = pairs.vectors * c;
+  Eigen::VectorXd aw(n);
+  product(w.data(), aw.data());
+  const double residual = (aw - pairs.vectors * c.cwiseProduct(pairs.values)).norm();
+  return residual <= 1e-6 * aw.norm();
+}
+
+// The eigenpairs of an operator of rank below `block`, exactly: Rayleigh–Ritz on the range of
+// A·Ω for `block` probe vectors Ω, which is A's whole range; the other eigenvalues are 0, with
+// any vectors orthogonal to it. Spectra 1.0's Lanczos breaks down on such operators (the Krylov
+// space runs out; a rank-one 60 × 60 Gram matrix came back with λ = 2e25 for 33, and a zero one
+// threw; yixuan/spectra#159): the centred data of a static clip, a clip of two poses.
+EigenPairs low_rank_eigenpairs(Eigen::Index n, const Product& product, int count,
+                               Spectra::SortRule rule, Eigen::Index block) {
+  block = std::min(block, n);
+  Eigen::MatrixXd omega(n, block), y(n, block);
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;  // deterministic, structureless probes
+  for (Eigen::Index j = 0; j < block; ++j) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      omega(i, j) = static_cast<double>(state >> 11) * 0x1.0p-53 - 0.5;
+    }
+    product(omega.col(j).data(), y.col(j).data());
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(y);
+  const double largest = qr.matrixQR().diagonal().cwiseAbs().maxCoeff();
+  Eigen::Index rank = 0;
+  while (rank < block && std::abs(qr.matrixQR()(rank, rank)) > 1e-10 * largest) ++rank;
+  const Eigen::MatrixXd q =
+      (qr.householderQ() * Eigen::MatrixXd::Identity(n, block)).leftCols(rank);
+  Eigen::MatrixXd aq(n, rank);
+  for (Eigen::Index j = 0; j < rank; ++j) product(q.col(j).data(), aq.col(j).data());
+  const Eigen::MatrixXd t = q.transpose() * aq;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
+  if (rank > 0) ritz.compute(0.5 * (t + t.transpose()));
+  // Candidates: the Ritz pairs, and 0 for the rest of the space (if any), in the rule's order.
+  struct Candidate {
+    double value;
+    Eigen::Index ritz;  // column of the Ritz vectors, or -1 for a null vector
+  };
+  std::vector<Candidate> all;
+  for (Eigen::Index j = 0; j < rank; ++j) all.push_back({ritz.eigenvalues()[j], j});
+  for (Eigen::Index z = rank; z < n && z < rank + count; ++z) all.push_back({0.0, -1});
+  const bool largest_first = rule == Spectra::SortRule::LargestAlge;
+  std::stable_sort(all.begin(), all.end(), [&](const Candidate& a, const Candidate& b) {
+    return largest_first ? a.value > b.value : a.value < b.value;
+  });
+  const Eigen::MatrixXd ritz_vectors = rank > 0 ? Eigen::MatrixXd(q * ritz.eigenvectors()) : q;
+  const Eigen::Index nulls = std::min<Eigen::Index>(count, n - rank);
+  const Eigen::MatrixXd null_vectors = extend_orthonormal(q, rank + nulls).rightCols(nulls);
+  EigenPairs out;
+  out.values.resize(count);
+  out.vectors.resize(n, count);
+  int next_null = 0;
+  for (int a = 0; a < count; ++a) {
+    out.values[a] = all[a].value;
+    out.vectors.col(a) =
+        all[a].ritz >= 0 ? ritz_vectors.col(all[a].ritz) : null_vectors.col(next_null++);
+  }
+  out.products = static_cast<int>(block + rank);
+  out.smallest_ritz = largest_first ? all.back().value : all.front().value;  // exact here
+  return out;
+}
 
 // Runs Lanczos for the `count` eigenpairs at the end `rule` selects; vectors sorted as `rule`.
 EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::SortRule rule,
@@ -94,6 +175,9 @@ EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::S
   } catch (const motionmap::Error&) {
     throw;  // Cancelled from inside the product
   } catch (const std::exception& e) {
+    // Spectra throws on a zero operator; a low-rank one is solved exactly without it.
+    EigenPairs exact = low_rank_eigenpairs(n, product, count, rule, ncv + 4);
+    if (pairs_hold(n, product, exact)) return exact;
     throw NumericalError(std::string(what) + ": the Lanczos eigen solver failed: " + e.what());
   }
   if (info != Spectra::CompInfo::Successful) {
@@ -102,9 +186,16 @@ EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::S
         ": the Lanczos eigen solver did not converge: " + std::to_string(nconv) + " of " +
         std::to_string(count) + " eigenpairs converged in " + std::to_string(out.restarts) +
         " Lanczos iterations (" + std::to_string(out.products) + " products, tolerance " +
-        format_double(tolerance) + ", " + std::to_string(ncv) + " Lanczos vectors)");
+        format_number(tolerance, 6) + ", " + std::to_string(ncv) + " Lanczos vectors)");
   }
-  return out;
+  // Every pair is checked against the operator: Spectra 1.0 reports converged pairs that are
+  // not eigenpairs when the operator's rank is below the Lanczos basis (see
+  // low_rank_eigenpairs), which then gives the exact answer.
+  if (pairs_hold(n, product, out)) return out;
+  EigenPairs exact = low_rank_eigenpairs(n, product, count, rule, ncv + 4);
+  if (pairs_hold(n, product, exact)) return exact;
+  throw NumericalError(std::string(what) + ": the Lanczos eigen solver returned eigenpairs " +
+                       "with A·v far from λ·v (λ₁ = " + format_number(out.values[0], 6) + ")");
 }
 
 }  // namespace
@@ -177,7 +268,7 @@ EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
     if (ldlt.info() != Eigen::Success) {
       throw NumericalError(std::string(what) + ": the sparse LDLT factorization failed (" +
                            std::to_string(n) + " by " + std::to_string(n) + ", shift " +
-                           format_double(eps) + ")");
+                           format_number(eps, 6) + ")");
     }
     Eigen::VectorXd tmp(n);
     const Product product = [&](const double* x, double* y) {
@@ -255,6 +346,10 @@ Eigen::MatrixXd top_singular_scores(const Eigen::MatrixXd& A, const Eigen::RowVe
     scores.middleRows(std::min(m, c * rows_per_chunk), block.rows()).noalias() =
         block * top.vectors;
   });
+  // An axis without variance is 0, not the rounding noise of a product with a null vector.
+  for (int a = 0; a < count; ++a) {
+    if (!(top.values[a] > 0.0)) scores.col(a).setZero();
+  }
   return scores;
 }
 

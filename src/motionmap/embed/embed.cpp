@@ -6,9 +6,10 @@
 #include <string>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/methods.h"
-#include "motionmap/core/parallel.h"
 #include "motionmap/embed/progress.h"
 
 namespace motionmap::embed {
@@ -39,12 +40,6 @@ const MethodInfo& info(Method method) {
   throw ParameterError("method: unknown value " + std::to_string(static_cast<int>(method)));
 }
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::string cell(const char* name, Eigen::Index r, Eigen::Index c) {
   return std::string(name) + "(" + std::to_string(r) + ", " + std::to_string(c) + ")";
 }
@@ -60,7 +55,7 @@ void check_features(const Eigen::MatrixXd& X, std::string_view method) {
       for (Eigen::Index r = 0; r < X.rows(); ++r) {
         if (!std::isfinite(X(r, c))) {
           throw ParameterError(std::string(method) + ": " + cell("X", r, c) + " is " +
-                               number(X(r, c)) + "; every feature must be finite");
+                               format_number(X(r, c)) + "; every feature must be finite");
         }
       }
     }
@@ -140,7 +135,7 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
     for (Eigen::Index c = 0; c < n; ++c) {
       for (Eigen::Index r = 0; r < n; ++r) {
         if (!std::isfinite(D(r, c))) {
-          throw ParameterError(who + cell("D", r, c) + " is " + number(D(r, c)) +
+          throw ParameterError(who + cell("D", r, c) + " is " + format_number(D(r, c)) +
                                "; every distance must be finite");
         }
       }
@@ -152,16 +147,17 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
   for (Eigen::Index c = 0; c < n; ++c) {
     for (Eigen::Index r = 0; r < n; ++r) {
       if (D(r, c) < 0.0) {
-        throw ParameterError(who + cell("D", r, c) + " = " + number(D(r, c)) +
+        throw ParameterError(who + cell("D", r, c) + " = " + format_number(D(r, c)) +
                              " is negative; distances must be ≥ 0");
       }
       if (r == c && D(r, c) != 0.0) {
-        throw ParameterError(who + cell("D", r, c) + " = " + number(D(r, c)) +
+        throw ParameterError(who + cell("D", r, c) + " = " + format_number(D(r, c)) +
                              "; the diagonal of a distance matrix must be 0");
       }
       if (std::abs(D(r, c) - D(c, r)) > tolerance) {
         throw ParameterError(who + "D is not symmetric: " + cell("D", r, c) + " = " +
-                             number(D(r, c)) + " but " + cell("D", c, r) + " = " + number(D(c, r)));
+                             format_number(D(r, c)) + " but " + cell("D", c, r) + " = " +
+                             format_number(D(c, r)));
       }
     }
   }
@@ -205,12 +201,12 @@ void EmbedOptions::validate(int num_frames) const {
                          std::to_string(num_frames - 1) + "]");
   }
   if (method == Method::LaplacianEigenmap && heat && !std::isfinite(*heat)) {
-    throw ParameterError(who + "heat = " + number(*heat) +
+    throw ParameterError(who + "heat = " + format_number(*heat) +
                          " is not finite; give a number (≤ 0: all weights 1) or leave it unset "
                          "for the automatic width");
   }
   if (method == Method::Lle && !(reg > 0.0 && std::isfinite(reg))) {
-    throw ParameterError(who + "reg = " + number(reg) +
+    throw ParameterError(who + "reg = " + format_number(reg) +
                          " is out of range; it must be a finite number > 0 (default 1e-3)");
   }
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/graph.h"
 #include "motionmap/embed/methods.h"
@@ -20,12 +21,6 @@
 namespace motionmap::embed {
 
 namespace {
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 // numpy.median of the values (mean of the two middle ones for an even count).
 double median(std::vector<double> v) {
@@ -88,10 +83,10 @@ void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& option
     }
   }
   // What to suggest: heat auto unless it is what failed.
-  const std::string heat_text = (options.heat ? "= " : "auto = ") + number(heat);
-  const std::string hint = options.heat
-                               ? "use heat auto (here " + number(auto_heat) + "), a larger heat"
-                               : "use a larger heat";
+  const std::string heat_text = (options.heat ? "= " : "auto = ") + format_number(heat, 6);
+  const std::string hint =
+      options.heat ? "use heat auto (here " + format_number(auto_heat, 6) + "), a larger heat"
+                   : "use a larger heat";
   for (int i = 0; i < n; ++i) {
     bool any = false;
     double nearest = std::numeric_limits<double>::infinity();
@@ -102,7 +97,7 @@ void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& option
     if (!any) {
       throw NumericalError("le: every heat-kernel weight exp(−d²/heat) of frame " +
                            std::to_string(i) + " underflows to 0 (nearest neighbour at distance " +
-                           number(nearest) + ", heat " + heat_text + "); " + hint +
+                           format_number(nearest, 6) + ", heat " + heat_text + "); " + hint +
                            ", or drop the frame");
     }
   }

@@ -9,10 +9,11 @@
 #include <Eigen/Eigenvalues>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/methods.h"
 #include "motionmap/embed/metrics.h"
-#include "motionmap/core/parallel.h"
 #include "motionmap/embed/progress.h"
 
 namespace motionmap::embed {
@@ -76,12 +77,6 @@ class DoubleCentredProduct {
   Eigen::VectorXd m_u;
 };
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
 }  // namespace
 
 void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedding& out,
@@ -132,7 +127,7 @@ void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedd
   for (int a = 0; a < dims; ++a) {
     if (!(top.values[a] > 1e-12 * largest)) {
       out.warnings.push_back("axis " + std::to_string(a + 1) + " has eigenvalue " +
-                             number(top.values[a]) + " ≤ 0, so it is flat (all 0): the " +
+                             format_number(top.values[a], 3) + " ≤ 0, so it is flat (all 0): the " +
                              "distances have fewer than " + std::to_string(dims) +
                              " positive dimensions");
     }

@@ -15,9 +15,12 @@ std::string_view feature_kind_name(FeatureKind k) {
 
 std::string_view distance_kind_name(DistanceKind k) {
   switch (k) {
-    case DistanceKind::PointCloud: return "pointcloud";
-    case DistanceKind::Geodesic: return "geodesic";
-    case DistanceKind::Features: return "features";
+    case DistanceKind::PointCloud:
+      return "pointcloud";
+    case DistanceKind::Geodesic:
+      return "geodesic";
+    case DistanceKind::Features:
+      return "features";
   }
   return "?";
 }
@@ -44,8 +47,9 @@ Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> j
       const Eigen::Quaterniond& q = motion.rotation(frames[r], joints[k]);
       Eigen::Vector4d v(q.w(), q.x(), q.y(), q.z());
       const auto c = static_cast<Eigen::Index>(4 * k);
-      const bool flip = r == 0 ? v[0] < 0.0
-                               : v.dot(X.row(static_cast<Eigen::Index>(r) - 1).segment<4>(c).transpose()) < 0.0;
+      const bool flip =
+          r == 0 ? v[0] < 0.0
+                 : v.dot(X.row(static_cast<Eigen::Index>(r) - 1).segment<4>(c).transpose()) < 0.0;
       if (flip) v = -v;
       X.row(static_cast<Eigen::Index>(r)).segment<4>(c) = v.transpose();
     }
@@ -60,12 +64,12 @@ Eigen::MatrixXd pairwise_distances(const Eigen::Ref<const RowMatrix>& points,
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
   // Row i fills D(i, i+1…n−1); D is mirrored afterwards. Column-major D: write the upper part
   // as column i (contiguous) and mirror into the rows.
-  parallel_for(
-      static_cast<int>(n),
-      [&](int i) {
-        for (Eigen::Index j = i + 1; j < n; ++j) D(j, i) = (points.row(i) - points.row(j)).norm();
-      },
-      {progress, cancel});
+  parallel_for(static_cast<int>(n),
+               [&](int i) {
+                 for (Eigen::Index j = i + 1; j < n; ++j)
+                   D(j, i) = (points.row(i) - points.row(j)).norm();
+               },
+               {progress, cancel});
   D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
   return D;
 }
@@ -76,23 +80,22 @@ Eigen::MatrixXd geodesic_distances(const Eigen::MatrixXd& quaternions,
   const auto n = quaternions.rows();
   const auto joints = quaternions.cols() / 4;
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
-  parallel_for(
-      static_cast<int>(n),
-      [&](int i) {
-        for (Eigen::Index j = i + 1; j < n; ++j) {
-          double sum = 0.0;
-          for (Eigen::Index k = 0; k < joints; ++k) {
-            const auto a = quaternions.row(i).segment<4>(4 * k);
-            const auto b = quaternions.row(j).segment<4>(4 * k);
-            const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]);
-            const Eigen::Quaterniond qb(b[0], b[1], b[2], b[3]);
-            const double theta = rotation_angle(qa, qb);
-            sum += theta * theta;
-          }
-          D(j, i) = std::sqrt(sum);
-        }
-      },
-      {progress, cancel});
+  parallel_for(static_cast<int>(n),
+               [&](int i) {
+                 for (Eigen::Index j = i + 1; j < n; ++j) {
+                   double sum = 0.0;
+                   for (Eigen::Index k = 0; k < joints; ++k) {
+                     const auto a = quaternions.row(i).segment<4>(4 * k);
+                     const auto b = quaternions.row(j).segment<4>(4 * k);
+                     const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]);
+                     const Eigen::Quaterniond qb(b[0], b[1], b[2], b[3]);
+                     const double theta = rotation_angle(qa, qb);
+                     sum += theta * theta;
+                   }
+                   D(j, i) = std::sqrt(sum);
+                 }
+               },
+               {progress, cancel});
   D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
   return D;
 }
@@ -111,7 +114,8 @@ std::vector<int> used_joints(const Skeleton& skeleton, const std::string& exclud
     try {
       pattern.emplace(exclude, std::regex::ECMAScript);
     } catch (const std::regex_error& e) {
-      throw ParameterError("exclude: '" + exclude + "' is not a valid regular expression (" + e.what() + ")");
+      throw ParameterError("exclude: '" + exclude + "' is not a valid regular expression (" +
+                           e.what() + ")");
     }
   }
   std::vector<int> joints;
@@ -129,7 +133,8 @@ std::vector<int> used_joints(const Skeleton& skeleton, const std::string& exclud
 
 // Columns of heading_local_points() that belong to kept joints (the roots' too: the point cloud
 // holds the whole body) and their end sites.
-std::vector<Eigen::Index> kept_point_columns(const Skeleton& skeleton, const std::vector<int>& used) {
+std::vector<Eigen::Index> kept_point_columns(const Skeleton& skeleton,
+                                             const std::vector<int>& used) {
   std::vector<bool> keep(static_cast<std::size_t>(skeleton.num_joints()), false);
   for (int j : used) keep[static_cast<std::size_t>(j)] = true;
   for (int r : skeleton.roots()) keep[static_cast<std::size_t>(r)] = true;
@@ -194,9 +199,10 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options) {
       const BindPoseCheck bind = check_leading_bind_pose(cloud);
       if (bind.detected) {
         first = 1;
-        set.notes.push_back(base_name(clip.path) + ": frame 0 looks like a bind pose (" +
-                            std::to_string(static_cast<long long>(std::min(bind.ratio, 1e9))) +
-                            "× the median step away from frame 1): left out (--keep-first keeps it)");
+        set.notes.push_back(
+            base_name(clip.path) + ": frame 0 looks like a bind pose (" +
+            std::to_string(static_cast<long long>(std::min(bind.ratio, 1e9))) +
+            "× the median step away from frame 1): left out (--keep-first keeps it)");
       }
     }
     const int end = options.end_frame < 0 ? clip.motion.num_frames
@@ -204,10 +210,11 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options) {
     std::vector<int> frames;
     for (int f = first; f < end; f += options.stride) frames.push_back(f);
     if (frames.empty()) {
-      throw ParameterError(clip.path + ": the frame selection " + std::to_string(options.first_frame) +
-                           ":" + (options.end_frame < 0 ? std::string() : std::to_string(options.end_frame)) +
-                           " with stride " + std::to_string(options.stride) + " holds no frame (the clip has " +
-                           std::to_string(clip.motion.num_frames) + ")");
+      throw ParameterError(
+          clip.path + ": the frame selection " + std::to_string(options.first_frame) + ":" +
+          (options.end_frame < 0 ? std::string() : std::to_string(options.end_frame)) +
+          " with stride " + std::to_string(options.stride) + " holds no frame (the clip has " +
+          std::to_string(clip.motion.num_frames) + ")");
     }
     set.segment_starts.push_back(set.num_samples());
     const int c = static_cast<int>(out.frames.size());
@@ -238,12 +245,16 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
   for (std::size_t c = 0; c < clips.size(); ++c) {
     const std::vector<int>& frames = selection.frames[c];
     const RowMatrix& cloud = selection.clouds[c];
-    if (options.features == FeatureKind::Quaternions || options.distance == DistanceKind::Geodesic) {
+    if (options.features == FeatureKind::Quaternions ||
+        options.distance == DistanceKind::Geodesic) {
       x_blocks.push_back(quaternion_features(clips[c].motion, set.joints, frames));
     }
-    RowMatrix kept(static_cast<Eigen::Index>(frames.size()), static_cast<Eigen::Index>(point_cols.size()));
+    RowMatrix kept(static_cast<Eigen::Index>(frames.size()),
+                   static_cast<Eigen::Index>(point_cols.size()));
     for (std::size_t r = 0; r < frames.size(); ++r) {
-      for (std::size_t k = 0; k < point_cols.size(); ++k) kept(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = cloud(frames[r], point_cols[k]);
+      for (std::size_t k = 0; k < point_cols.size(); ++k)
+        kept(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) =
+            cloud(frames[r], point_cols[k]);
     }
     cloud_blocks.push_back(std::move(kept));
   }
@@ -261,16 +272,31 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
   const RowMatrix cloud = stack(cloud_blocks);
   RowMatrix quats;
   if (!x_blocks.empty()) quats = stack(x_blocks);
-  set.X = options.features == FeatureKind::Quaternions ? Eigen::MatrixXd(quats) : Eigen::MatrixXd(cloud);
+  set.X = options.features == FeatureKind::Quaternions ? Eigen::MatrixXd(quats)
+                                                       : Eigen::MatrixXd(cloud);
 
   switch (options.distance) {
-    case DistanceKind::PointCloud: set.D = pairwise_distances(cloud, options.progress, options.cancel); break;
-    case DistanceKind::Geodesic: set.D = geodesic_distances(quats, options.progress, options.cancel); break;
+    case DistanceKind::PointCloud:
+      set.D = pairwise_distances(cloud, options.progress, options.cancel);
+      break;
+    case DistanceKind::Geodesic:
+      set.D = geodesic_distances(quats, options.progress, options.cancel);
+      break;
     case DistanceKind::Features: {
       const RowMatrix x = set.X;
       set.D = pairwise_distances(x, options.progress, options.cancel);
       break;
     }
+  }
+  // Every frame as far from the first as rounding goes (point clouds: relative to their size,
+  // since removing a moving root's floor translation is not exact in floating point).
+  const double same =
+      1e-9 *
+      (options.distance == DistanceKind::PointCloud ? 1.0 + cloud.cwiseAbs().maxCoeff() : 1.0);
+  if (n > 1 && set.D.row(0).maxCoeff() <= same) {
+    set.notes.push_back("every frame has the same pose (distance " +
+                        std::string(distance_kind_name(options.distance)) +
+                        " 0 between all of them): a map can only show one point");
   }
   return set;
 }

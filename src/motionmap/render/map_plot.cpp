@@ -29,7 +29,7 @@ namespace {
 // yellow, cyan, blue, dark blue at t = 0, 1/8, 3/8, 5/8, 7/8, 1 (green lies halfway).
 constexpr int kTimeStops = 6;
 constexpr double kTimeKnots[kTimeStops] = {0.0, 0.125, 0.375, 0.625, 0.875, 1.0};
-constexpr int kTimeRgb[kTimeStops][3] = {{128, 0, 0},   {255, 0, 0},   {255, 255, 0},
+constexpr int kTimeRgb[kTimeStops][3] = {{128, 0, 0},   {255, 0, 0}, {255, 255, 0},
                                          {0, 255, 255}, {0, 0, 255}, {0, 0, 128}};
 
 // Runs of consecutive segments whose time falls in the same bin are stroked as one polyline:
@@ -80,6 +80,12 @@ std::vector<int> clip_bounds(const Eigen::MatrixXd& coords, const std::vector<in
   return bounds;
 }
 
+// A spread of coordinates this small next to their magnitude is rounding noise (the flat axis of
+// a static clip: the same value up to the last bits), not a shape to blow up to the panel.
+bool negligible_extent(double half_extent, double lo, double hi) {
+  return !(half_extent > 1e-300) || half_extent <= 1e-12 * std::max(std::abs(lo), std::abs(hi));
+}
+
 UnitMapping unit_mapping(const Eigen::MatrixXd& coords) {
   check_columns(coords);
   double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin;
@@ -97,8 +103,10 @@ UnitMapping unit_mapping(const Eigen::MatrixXd& coords) {
   m.cx = xmin / 2 + xmax / 2;
   m.cy = ymin / 2 + ymax / 2;
   const double half = std::max(xmax / 2 - xmin / 2, ymax / 2 - ymin / 2);
-  // Zero (or denormal) extent: keep scale 1 so the single point lands at the centre.
-  m.scale = half > 1e-300 ? 0.5 / half : 1.0;
+  const double magnitude =
+      std::max({std::abs(xmin), std::abs(xmax), std::abs(ymin), std::abs(ymax)});
+  // No extent to speak of: keep scale 1 so the single point lands at the centre.
+  m.scale = negligible_extent(half, 0.0, magnitude) ? 1.0 : 0.5 / half;
   return m;
 }
 
@@ -192,7 +200,8 @@ void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringL
   const QFont font = font_px(px);
   const QFontMetricsF fm(font);
   const double swatch = px * 1.2, gap = px * 0.4, spacing = px * 1.2;
-  const double max_name = std::max(px * 3, area.width() / std::max<qsizetype>(1, names.size()) - swatch - gap - spacing);
+  const double max_name = std::max(
+      px * 3, area.width() / std::max<qsizetype>(1, names.size()) - swatch - gap - spacing);
   QStringList shown;
   double total = 0.0;
   for (const QString& name : names) {
@@ -330,9 +339,9 @@ void render_file(const std::string& path, const QSize& size, const QString& titl
 }  // namespace
 
 QColor clip_color(int clip) {
-  static constexpr int kPalette[10][3] = {{78, 121, 167},  {242, 142, 43}, {225, 87, 89},  {118, 183, 178},
-                                          {89, 161, 79},   {237, 201, 72}, {176, 122, 161}, {255, 157, 167},
-                                          {156, 117, 95},  {186, 176, 172}};
+  static constexpr int kPalette[10][3] = {
+      {78, 121, 167}, {242, 142, 43},  {225, 87, 89},   {118, 183, 178}, {89, 161, 79},
+      {237, 201, 72}, {176, 122, 161}, {255, 157, 167}, {156, 117, 95},  {186, 176, 172}};
   if (clip < 0) return QColor(128, 128, 128);
   const int* c = kPalette[clip % 10];
   return QColor(c[0], c[1], c[2]);
@@ -346,7 +355,8 @@ QColor time_color(double t) {
   const double f = (t - kTimeKnots[k]) / (kTimeKnots[k + 1] - kTimeKnots[k]);
   int c[3];
   for (int j = 0; j < 3; ++j) {
-    c[j] = static_cast<int>(std::lround(kTimeRgb[k][j] + f * (kTimeRgb[k + 1][j] - kTimeRgb[k][j])));
+    c[j] =
+        static_cast<int>(std::lround(kTimeRgb[k][j] + f * (kTimeRgb[k + 1][j] - kTimeRgb[k][j])));
   }
   return QColor(c[0], c[1], c[2]);
 }
@@ -367,14 +377,14 @@ Eigen::MatrixXd fill_axes(const Eigen::MatrixXd& coords) {
       lo = std::min(lo, coords(i, c));
       hi = std::max(hi, coords(i, c));
     }
-    if (lo <= hi) {
+    if (lo <= hi && !negligible_extent(hi / 2 - lo / 2, lo, hi)) {
       extent[c] = hi / 2 - lo / 2;
       centre[c] = lo / 2 + hi / 2;
     }
   }
   const double target = std::max(extent[0], extent[1]);
   for (int c = 0; c < 2; ++c) {
-    if (!(extent[c] > 1e-300) || !std::isfinite(target / extent[c])) continue;
+    if (extent[c] == 0.0 || !std::isfinite(target / extent[c])) continue;  // flat: left alone
     out.col(c) = (coords.col(c).array() - centre[c]) * (target / extent[c]) + centre[c];
   }
   return out;
@@ -469,7 +479,8 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
       if (first < 0) first = i;
       if (!options.draw_points) break;
       painter.setPen(Qt::NoPen);
-      painter.setBrush(by_clip ? clip_color(static_cast<int>(k)) : time_color(clip_time(i, begin, end)));
+      painter.setBrush(by_clip ? clip_color(static_cast<int>(k))
+                               : time_color(clip_time(i, begin, end)));
       painter.drawEllipse(to_px.map(unit.map(coords(i, 0), coords(i, 1))), dot_r, dot_r);
     }
     if (options.start_marker && first >= 0) {

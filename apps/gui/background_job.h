@@ -101,7 +101,8 @@ T runUninterruptible(const BackgroundJob::Ticket& ticket, std::function<T()> wor
     shared->done.notify_all();
   }).detach();
   std::unique_lock<std::mutex> lock(shared->mutex);
-  while (!shared->done.wait_for(lock, std::chrono::milliseconds(10), [&] { return shared->finished; })) {
+  while (!shared->done.wait_for(lock, std::chrono::milliseconds(10),
+                                [&] { return shared->finished; })) {
     if (ticket.cancelled()) throw Cancelled();
   }
   if (shared->error) std::rethrow_exception(shared->error);

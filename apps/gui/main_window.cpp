@@ -11,6 +11,7 @@
 #include <QComboBox>
 #include <QDialog>
 #include <QDialogButtonBox>
+#include <QDoubleSpinBox>
 #include <QDragEnterEvent>
 #include <QElapsedTimer>
 #include <QFileDialog>
@@ -28,7 +29,6 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSlider>
-#include <QDoubleSpinBox>
 #include <QSpinBox>
 #include <QSplitter>
 #include <QStatusBar>
@@ -425,10 +425,10 @@ void MainWindow::startComputation(embed::Method method) {
       // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system at
       // once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it behind.
       const std::shared_ptr<const MapResult> computed = result;
-      result->blender = runUninterruptible<std::unique_ptr<synth::MapBlender>>(
-          ticket, [clips, computed, blend] {
-            return std::make_unique<synth::MapBlender>(
-                *clips, computed->map.features, computed->map.embedding.coordinates, blend);
+      result->blender =
+          runUninterruptible<std::unique_ptr<synth::MapBlender>>(ticket, [clips, computed, blend] {
+            return std::make_unique<synth::MapBlender>(*clips, computed->map.features,
+                                                       computed->map.embedding.coordinates, blend);
           });
       result->seconds = double(clock.nsecsElapsed()) * 1e-9;
       options.progress = nullptr;
@@ -503,7 +503,8 @@ render::MapPlotOptions MainWindow::plotOptions(const MapResult& map) const {
   options.title = methodLabel(map.map.embedding.method);
   options.time_legend = true;
   if (m_clips && m_clips->size() > 1) {  // several clips: colour by clip, named in the legend
-    for (const Clip& clip : *m_clips) options.clip_names << QFileInfo(QString::fromStdString(clip.path)).fileName();
+    for (const Clip& clip : *m_clips)
+      options.clip_names << QFileInfo(QString::fromStdString(clip.path)).fileName();
   }
   // What the library wants the user to know (a bind pose left out, a joined graph) under the map.
   for (const auto& note : map.map.features.notes) options.notes << QString::fromStdString(note);
@@ -720,38 +721,39 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
   const synth::SynthOptions options = m_synthParameters.motion;
   synth::MapPath followed = path;
   if (!m_synthParameters.timedAsDrawn) followed.times.clear();
-  m_synthJob.start([this, map, path = std::move(followed), options](const BackgroundJob::Ticket& ticket) {
-    const int generation = ticket.generation;
-    auto result = std::make_shared<synth::SynthResult>();
-    QString error;
-    bool cancelled = false;
-    try {
-      LoopControl control;
-      control.progress = [this, generation](double fraction) {
+  m_synthJob.start(
+      [this, map, path = std::move(followed), options](const BackgroundJob::Ticket& ticket) {
+        const int generation = ticket.generation;
+        auto result = std::make_shared<synth::SynthResult>();
+        QString error;
+        bool cancelled = false;
+        try {
+          LoopControl control;
+          control.progress = [this, generation](double fraction) {
+            QMetaObject::invokeMethod(
+                this,
+                [this, generation, fraction] {
+                  if (!m_synthJob.current(generation)) return;
+                  m_synthProgress->setValue(int(fraction * 1000));
+                  emit synthesisProgress(fraction);
+                },
+                Qt::QueuedConnection);
+          };
+          control.cancel = [ticket] { return ticket.cancelled(); };
+          *result = synth::synthesize(*map->blender, path, options, control);
+          if (ticket.cancelled()) throw Cancelled();
+        } catch (const Cancelled&) {
+          cancelled = true;
+        } catch (const std::exception& e) {
+          error = QString::fromStdString(e.what());
+        }
         QMetaObject::invokeMethod(
             this,
-            [this, generation, fraction] {
-              if (!m_synthJob.current(generation)) return;
-              m_synthProgress->setValue(int(fraction * 1000));
-              emit synthesisProgress(fraction);
+            [this, generation, map, result, error, cancelled] {
+              onSynthesized(generation, map, result, error, cancelled);
             },
             Qt::QueuedConnection);
-      };
-      control.cancel = [ticket] { return ticket.cancelled(); };
-      *result = synth::synthesize(*map->blender, path, options, control);
-      if (ticket.cancelled()) throw Cancelled();
-    } catch (const Cancelled&) {
-      cancelled = true;
-    } catch (const std::exception& e) {
-      error = QString::fromStdString(e.what());
-    }
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, map, result, error, cancelled] {
-          onSynthesized(generation, map, result, error, cancelled);
-        },
-        Qt::QueuedConnection);
-  });
+      });
   updateStatus();
   return true;
 }
@@ -938,8 +940,9 @@ void MainWindow::synthesisDialog() {
   reach->setRange(0.01, 1000.0);
   reach->setDecimals(2);
   reach->setValue(now.blend.reach);
-  reach->setToolTip(tr("A point farther from every sample than reach × the median step between "
-                       "consecutive samples is moved to the data's edge"));
+  reach->setToolTip(
+      tr("A point farther from every sample than reach × the median step between "
+         "consecutive samples is moved to the data's edge"));
   form->addRow(tr("Reach (× median step)"), reach);
   auto* timing = new QComboBox;
   timing->addItem(tr("as drawn"), true);
@@ -951,8 +954,9 @@ void MainWindow::synthesisDialog() {
   speed->setDecimals(4);
   speed->setSpecialValueText(tr("the clip's"));
   speed->setValue(now.motion.speed);
-  speed->setToolTip(tr("Map units per second along a sketch at a steady speed; the clip's own "
-                       "median speed at 0"));
+  speed->setToolTip(
+      tr("Map units per second along a sketch at a steady speed; the clip's own "
+         "median speed at 0"));
   form->addRow(tr("Steady speed"), speed);
   const auto enableSpeed = [timing, speed] { speed->setEnabled(!timing->currentData().toBool()); };
   enableSpeed();
@@ -994,7 +998,8 @@ void MainWindow::loadParameters() {
   const auto number = [&](const char* key, auto& value, auto valid) {
     bool ok = false;
     const double v = settings.value(key).toDouble(&ok);
-    if (ok && std::isfinite(v) && valid(v)) value = static_cast<std::remove_reference_t<decltype(value)>>(v);
+    if (ok && std::isfinite(v) && valid(v))
+      value = static_cast<std::remove_reference_t<decltype(value)>>(v);
   };
   MapParameters& m = m_parameters;
   number("map/k", m.k, [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); });
@@ -1017,8 +1022,8 @@ void MainWindow::loadParameters() {
          [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); });
   number("synth/reach", s.blend.reach, [](double v) { return v > 0; });
   synth::SynthOptions motion = s.motion;
-  number("synth/speed", motion.speed, [](double v) { return v >= 0; });
   s.timedAsDrawn = settings.value("synth/timedAsDrawn", true).toBool();
+  number("synth/speed", motion.speed, [](double v) { return v >= 0; });
   number("synth/fps", motion.fps, [](double v) { return v >= 0; });
   number("synth/smooth", motion.smooth, [](double v) { return v >= 0; });
   try {
@@ -1032,9 +1037,12 @@ void MainWindow::saveParameters() const {
   QSettings settings;
   const MapParameters& m = m_parameters;
   settings.setValue("map/k", m.k);
-  settings.setValue("map/heat", m.heat ? QString::number(*m.heat, 'g', 17) : QStringLiteral("auto"));
-  settings.setValue("map/features", QString::fromUtf8(features::feature_kind_name(m.features).data()));
-  settings.setValue("map/distance", QString::fromUtf8(features::distance_kind_name(m.distance).data()));
+  settings.setValue("map/heat",
+                    m.heat ? QString::number(*m.heat, 'g', 17) : QStringLiteral("auto"));
+  settings.setValue("map/features",
+                    QString::fromUtf8(features::feature_kind_name(m.features).data()));
+  settings.setValue("map/distance",
+                    QString::fromUtf8(features::distance_kind_name(m.distance).data()));
   settings.setValue("map/exclude", QString::fromStdString(m.exclude));
   const SynthParameters& s = m_synthParameters;
   settings.setValue("synth/blend", QString::fromUtf8(synth::blend_mode_name(s.blend.mode).data()));

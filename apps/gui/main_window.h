@@ -107,9 +107,9 @@ class MainWindow : public QMainWindow {
   /// method's map with them.
   void setParameters(const MapParameters& parameters);
   const MapParameters& parameters() const { return m_parameters; }
-  /// Changes how drags blend and sketches are synthesized. A value the library rejects is shown
-  /// as its error (the motion options at once, the blend options when the map's blender is
-  /// built) and false returned; the previous parameters then stay.
+  /// Changes how drags blend and sketches are synthesized. A value the library rejects (K
+  /// checked against the map shown) is shown as its error and false returned; the previous
+  /// parameters then stay. A new blend recomputes the map, or takes it from the cache.
   bool setSynthParameters(const SynthParameters& parameters);
   const SynthParameters& synthParameters() const { return m_synthParameters; }
   /// The map shown (nullptr while computing or without a clip).
@@ -225,7 +225,7 @@ class MainWindow : public QMainWindow {
 
   std::optional<synth::SynthResult> m_synth;
   std::shared_ptr<const MapResult> m_synthMap;  ///< the map m_synth was sketched on
-  BackgroundJob m_synthJob;  ///< the motion being synthesized
+  BackgroundJob m_synthJob;                     ///< the motion being synthesized
   bool m_playingSynth = false;
   bool m_unsaved = false;
 

@@ -24,7 +24,8 @@ TEST(ParallelFor, RunsEveryItemOnceAndReportsProgressUpToOne) {
     progress_off_caller |= std::this_thread::get_id() != caller;
     reports.push_back(f);
   };
-  parallel_for(n, [&](int i) { hits[i].fetch_add(1); }, control);
+  parallel_for(
+      n, [&](int i) { hits[i].fetch_add(1); }, control);
   for (int i = 0; i < n; ++i) ASSERT_EQ(hits[i].load(), 1) << i;
   EXPECT_FALSE(progress_off_caller);
   ASSERT_FALSE(reports.empty());
@@ -59,14 +60,17 @@ TEST(ParallelFor, CancelStopsTheLoopWithCancelled) {
   EXPECT_LT(ran.load(), 100000);
   control.cancel = [] { return true; };  // cancelled before it starts: nothing runs
   ran = 0;
-  EXPECT_THROW(parallel_for(10, [&](int) { ran.fetch_add(1); }, control), Cancelled);
+  EXPECT_THROW(parallel_for(
+                   10, [&](int) { ran.fetch_add(1); }, control),
+               Cancelled);
   EXPECT_EQ(ran.load(), 0);
 }
 
 TEST(ParallelFor, RethrowsTheBodysException) {
-  EXPECT_THROW(parallel_for(1000, [](int i) {
-                 if (i == 500) throw std::runtime_error("item 500");
-               }),
+  EXPECT_THROW(parallel_for(1000,
+                            [](int i) {
+                              if (i == 500) throw std::runtime_error("item 500");
+                            }),
                std::runtime_error);
   EXPECT_NO_THROW(parallel_for(0, [](int) { throw std::runtime_error("never"); }));
 }
@@ -94,8 +98,9 @@ TEST(ParallelChunks, WorkerIndicesIndexPerThreadScratch) {
   std::vector<int> ticks;
   const std::thread::id caller = std::this_thread::get_id();
   bool elsewhere = false;
-  parallel_chunks(5, [&](int, int w) { elsewhere |= w != 0 || std::this_thread::get_id() != caller; },
-                  [&](int done) { ticks.push_back(done); }, /*serial=*/true);
+  parallel_chunks(
+      5, [&](int, int w) { elsewhere |= w != 0 || std::this_thread::get_id() != caller; },
+      [&](int done) { ticks.push_back(done); }, /*serial=*/true);
   EXPECT_FALSE(elsewhere);
   EXPECT_EQ(ticks, (std::vector<int>{1, 2, 3, 4, 5, 5}));  // and once more at the end
   EXPECT_EQ(worker_count(5, /*serial=*/true), 1);

@@ -77,7 +77,8 @@ TEST(RunUninterruptible, ACancelledJobStopsAtOnceAndLeavesTheWorkToFinish) {
   EXPECT_TRUE(cancelled.load());
   EXPECT_FALSE(finished->load());
   *release = true;  // the abandoned work ends by itself, on what it owns
-  for (int i = 0; i < 5000 && !*finished; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  for (int i = 0; i < 5000 && !*finished; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   EXPECT_TRUE(finished->load());
 }
 

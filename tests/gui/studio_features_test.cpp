@@ -10,15 +10,15 @@
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QDoubleSpinBox>
-#include <QPushButton>
-#include <QSpinBox>
 #include <QDragEnterEvent>
 #include <QElapsedTimer>
 #include <QImage>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
+#include <QSpinBox>
 #include <QTemporaryDir>
 #include <QTest>
 #include <QTimer>
@@ -26,12 +26,12 @@
 #include <cmath>
 
 #include "main_window.h"
-#include "studio_test_util.h"
 #include "map_view.h"
 #include "motionmap/embed/map_csv.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/sample/sample_clip.h"
 #include "skeleton_view.h"
+#include "studio_test_util.h"
 
 namespace motionmap::studio {
 namespace {
@@ -216,7 +216,8 @@ TEST(StudioSynthesis, ItsParametersReachTheLibrary) {
   const synth::SynthResult direct = synth::synthesize(*local->blender, path, p.motion);
   ASSERT_EQ(direct.motion.num_frames, 61);
   for (int f : {0, 30, 60}) {
-    EXPECT_TRUE(direct.motion.rotation(f, 3).isApprox(w->synthesized()->motion.rotation(f, 3), 1e-12));
+    EXPECT_TRUE(
+        direct.motion.rotation(f, 3).isApprox(w->synthesized()->motion.rotation(f, 3), 1e-12));
   }
   w->pause();
   // Not timed as drawn: the same gesture followed at a steady speed of the clip's own pace.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -580,6 +581,20 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
               });
 }
 
+namespace {
+QtMessageHandler g_qt_handler = nullptr;
+
+// Qt warns on every headless run where XDG_RUNTIME_DIR is unset (root in a container, CI):
+// noise on a batch tool's stderr, since drawing into images never uses that folder.
+void quiet_runtime_dir_warning(QtMsgType type, const QMessageLogContext& context,
+                               const QString& message) {
+  if (type == QtWarningMsg && message.startsWith(QLatin1String("QStandardPaths: XDG_RUNTIME_DIR")))
+    return;
+  if (g_qt_handler) return g_qt_handler(type, context, message);
+  std::fprintf(stderr, "%s\n", qPrintable(qFormatLogMessage(type, context, message)));
+}
+}  // namespace
+
 void ensure_gui_application() {
   if (QCoreApplication* existing = QCoreApplication::instance()) {
     if (qobject_cast<QGuiApplication*>(existing) == nullptr) {
@@ -591,6 +606,7 @@ void ensure_gui_application() {
   }
   // Offscreen works with or without a display; keep whatever platform the user chose.
   if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+  g_qt_handler = qInstallMessageHandler(quiet_runtime_dir_warning);
   static int argc = 1;
   static char name[] = "motionmap";
   static char* argv[] = {name, nullptr};

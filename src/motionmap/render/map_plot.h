@@ -129,7 +129,8 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
 /// Makes sure a QGuiApplication exists, which text rendering needs. If there is no
 /// QCoreApplication at all, sets QT_QPA_PLATFORM=offscreen (unless already set, so any display
 /// works and none is needed) and creates a QGuiApplication in static storage, which lives until
-/// the process exits.
+/// the process exits; Qt's warning that XDG_RUNTIME_DIR is unset is then dropped (other messages
+/// pass).
 /// Does nothing when one exists (the app's QApplication). Call it from the main thread.
 /// @throws Error if a plain QCoreApplication (not a QGuiApplication) already exists.
 void ensure_gui_application();

@@ -1001,8 +1001,9 @@ void MainWindow::loadParameters() {
     if (ok && std::isfinite(v) && valid(v))
       value = static_cast<std::remove_reference_t<decltype(value)>>(v);
   };
+  const auto count = [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); };
   MapParameters& m = m_parameters;
-  number("map/k", m.k, [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); });
+  number("map/k", m.k, count);
   const QString heat = settings.value("map/heat").toString();
   bool heatOk = false;
   const double heatValue = heat.toDouble(&heatOk);
@@ -1018,8 +1019,7 @@ void MainWindow::loadParameters() {
   m.exclude = name("map/exclude");
   SynthParameters& s = m_synthParameters;
   if (const auto b = synth::parse_blend_mode(name("synth/blend"))) s.blend.mode = *b;
-  number("synth/neighbors", s.blend.neighbors,
-         [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); });
+  number("synth/neighbors", s.blend.neighbors, count);
   number("synth/reach", s.blend.reach, [](double v) { return v > 0; });
   synth::SynthOptions motion = s.motion;
   s.timedAsDrawn = settings.value("synth/timedAsDrawn", true).toBool();

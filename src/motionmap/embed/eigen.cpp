@@ -160,6 +160,7 @@ EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::S
   EigenPairs out;
   Eigen::Index nconv = 0;
   Spectra::CompInfo info = Spectra::CompInfo::NotComputed;
+  std::string failure;  // why Spectra's answer cannot be used
   try {
     RitzSolver solver(op, count, ncv);
     solver.init();
@@ -175,12 +176,9 @@ EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::S
   } catch (const motionmap::Error&) {
     throw;  // Cancelled from inside the product
   } catch (const std::exception& e) {
-    // Spectra throws on a zero operator; a low-rank one is solved exactly without it.
-    EigenPairs exact = low_rank_eigenpairs(n, product, count, rule, ncv + 4);
-    if (pairs_hold(n, product, exact)) return exact;
-    throw NumericalError(std::string(what) + ": the Lanczos eigen solver failed: " + e.what());
+    failure = std::string(": the Lanczos eigen solver failed: ") + e.what();
   }
-  if (info != Spectra::CompInfo::Successful) {
+  if (failure.empty() && info != Spectra::CompInfo::Successful) {
     throw NumericalError(
         std::string(what) +
         ": the Lanczos eigen solver did not converge: " + std::to_string(nconv) + " of " +
@@ -188,14 +186,17 @@ EigenPairs lanczos(Eigen::Index n, const Product& product, int count, Spectra::S
         " Lanczos iterations (" + std::to_string(out.products) + " products, tolerance " +
         format_number(tolerance, 6) + ", " + std::to_string(ncv) + " Lanczos vectors)");
   }
-  // Every pair is checked against the operator: Spectra 1.0 reports converged pairs that are
-  // not eigenpairs when the operator's rank is below the Lanczos basis (see
-  // low_rank_eigenpairs), which then gives the exact answer.
-  if (pairs_hold(n, product, out)) return out;
+  // Every pair is checked against the operator: Spectra 1.0 throws on a zero operator and
+  // reports converged pairs that are not eigenpairs when the operator's rank is below the
+  // Lanczos basis; low_rank_eigenpairs then gives the exact answer.
+  if (failure.empty()) {
+    if (pairs_hold(n, product, out)) return out;
+    failure = ": the Lanczos eigen solver returned eigenpairs with A·v far from λ·v (λ₁ = " +
+              format_number(out.values[0], 6) + ")";
+  }
   EigenPairs exact = low_rank_eigenpairs(n, product, count, rule, ncv + 4);
   if (pairs_hold(n, product, exact)) return exact;
-  throw NumericalError(std::string(what) + ": the Lanczos eigen solver returned eigenpairs " +
-                       "with A·v far from λ·v (λ₁ = " + format_number(out.values[0], 6) + ")");
+  throw NumericalError(std::string(what) + failure);
 }
 
 }  // namespace

@@ -83,8 +83,8 @@ std::vector<int> clip_bounds(const Eigen::MatrixXd& coords, const std::vector<in
 
 // A spread of coordinates this small next to their magnitude is rounding noise (the flat axis of
 // a static clip: the same value up to the last bits), not a shape to blow up to the panel.
-bool negligible_extent(double half_extent, double lo, double hi) {
-  return !(half_extent > 1e-300) || half_extent <= 1e-12 * std::max(std::abs(lo), std::abs(hi));
+bool negligible_extent(double half_extent, double magnitude) {
+  return !(half_extent > 1e-300) || half_extent <= 1e-12 * magnitude;
 }
 
 UnitMapping unit_mapping(const Eigen::MatrixXd& coords) {
@@ -107,7 +107,7 @@ UnitMapping unit_mapping(const Eigen::MatrixXd& coords) {
   const double magnitude =
       std::max({std::abs(xmin), std::abs(xmax), std::abs(ymin), std::abs(ymax)});
   // No extent to speak of: keep scale 1 so the single point lands at the centre.
-  m.scale = negligible_extent(half, 0.0, magnitude) ? 1.0 : 0.5 / half;
+  m.scale = negligible_extent(half, magnitude) ? 1.0 : 0.5 / half;
   return m;
 }
 
@@ -378,7 +378,7 @@ Eigen::MatrixXd fill_axes(const Eigen::MatrixXd& coords) {
       lo = std::min(lo, coords(i, c));
       hi = std::max(hi, coords(i, c));
     }
-    if (lo <= hi && !negligible_extent(hi / 2 - lo / 2, lo, hi)) {
+    if (lo <= hi && !negligible_extent(hi / 2 - lo / 2, std::max(std::abs(lo), std::abs(hi)))) {
       extent[c] = hi / 2 - lo / 2;
       centre[c] = lo / 2 + hi / 2;
     }

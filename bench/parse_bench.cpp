@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "motionmap/core/files.h"
 #include "motionmap/core/error.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
@@ -29,7 +30,7 @@ const std::vector<TextFile>& real_files() {
     for (const auto& e : std::filesystem::recursive_directory_iterator(dir, ec)) {
       if (e.is_regular_file() && e.path().extension() == ".bvh") {
         out.push_back({e.path().lexically_relative(dir).string(),
-                       motionmap::io::read_text_file(e.path().string())});
+                       motionmap::read_text_file(e.path().string())});
       }
     }
     std::sort(out.begin(), out.end(),

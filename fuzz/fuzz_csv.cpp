@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "motionmap/core/error.h"
-#include "motionmap/embed/map_csv.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/synth/path.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const motionmap::Error&) {
   }
   try {
-    motionmap::embed::parse_map_csv(text, "fuzz.csv");
+    motionmap::pipeline::parse_map_csv(text, "fuzz.csv");
   } catch (const motionmap::Error&) {
   }
   return 0;

@@ -57,15 +57,14 @@ void setup_figure(CLI::App& app) {
   sub->callback([cmd] {
     const std::vector<Clip> clips = load_inputs(cmd->map);
     const auto& methods = embed::all_methods();
-    embed::ClipMapOptions options = clip_map_options(cmd->map, methods.front(), /*metrics=*/true);
-    const auto overall = options.progress;
+    pipeline::ClipMapOptions options = clip_map_options(cmd->map, methods.front(), /*metrics=*/true);
+    const Control overall = progress_line(cmd->map, "figure");
     const double n = static_cast<double>(methods.size()) + 1.0;
     auto start = std::chrono::steady_clock::now();
 
     // D is shared by every method: build the features once.
-    features::FeatureOptions fopt = options.features;
-    if (overall) fopt.progress = [&](double f) { overall(f / n, "pose distances"); };
-    const features::FeatureSet set = features::build_features(clips, fopt);
+    const features::FeatureSet set =
+        features::build_features(clips, options.features, overall.stage("pose distances", 0, 1 / n));
     for (const auto& note : set.notes) std::cerr << "note: " << note << '\n';
 
     std::vector<render::FigurePanel> panels;
@@ -77,12 +76,11 @@ void setup_figure(CLI::App& app) {
       panel.segment_starts = set.segment_starts;
       embed::EmbedOptions eopt = options.embed;
       eopt.method = methods[i];
-      if (overall) eopt.progress = [&, i](double f, std::string_view stage) { overall((i + 1 + f) / n, stage); };
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        const embed::Embedding e = embed::embed({&set.X, &set.D}, eopt);
+        const embed::Embedding e = embed::embed({&set.X, &set.D}, eopt, overall.part((i + 1) / n, (i + 2) / n));
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const embed::MapMetrics m = embed::map_metrics(set, e, 10);
+        const pipeline::MapMetrics m = pipeline::map_metrics(set, e, 10);
         for (const auto& w : e.warnings) std::cerr << "warning: " << embed::method_name(methods[i]) << ": " << w << '\n';
         panel.coords = cmd->axes == "fill" ? render::fill_axes(e.coordinates) : e.coordinates;
         QString line = "T " + format("%.3f", m.neighborhood.trustworthiness) + "   C " +

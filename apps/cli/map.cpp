@@ -7,7 +7,7 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
-#include "motionmap/embed/map_csv.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/render/map_plot.h"
 
 namespace motionmap::cli {
@@ -27,7 +27,7 @@ std::string base_name(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-void print_metrics_table(std::ostream& out, const embed::ClipMap& map, int k) {
+void print_metrics_table(std::ostream& out, const pipeline::ClipMap& map, int k) {
   const auto& m = *map.metrics;
   char line[160];
   std::snprintf(line, sizeof line, "%-8s %16s %12s %8s %6s\n", "method", "trustworthiness", "continuity", "stress", "jump");
@@ -59,18 +59,19 @@ void setup_map(CLI::App& app) {
                 "score; printed as a table and in the CSV comment");
   sub->callback([cmd] {
     const std::vector<Clip> clips = load_inputs(cmd->map);
-    const embed::ClipMapOptions options = clip_map_options(cmd->map, cmd->map.method, cmd->metrics);
-    const embed::ClipMap map = embed::map_clips(clips, options);
+    const pipeline::ClipMapOptions options = clip_map_options(cmd->map, cmd->map.method, cmd->metrics);
+    const pipeline::ClipMap map =
+        pipeline::map_clips(clips, options, progress_line(cmd->map, embed::method_name(cmd->map.method)));
     print_diagnostics(map);
     if (map.embedding.method == embed::Method::LaplacianEigenmap) {
       std::cerr << "heat " << map.embedding.heat_used << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
     }
     if (cmd->output.empty() || cmd->output == "-") {
-      embed::write_map_csv(std::cout, map, options, cmd->map.files);
+      pipeline::write_map_csv(std::cout, map, options, cmd->map.files);
     } else {
       std::ofstream out(cmd->output);
       if (!out) throw Error(cmd->output + ": error: cannot open for writing");
-      embed::write_map_csv(out, map, options, cmd->map.files);
+      pipeline::write_map_csv(out, map, options, cmd->map.files);
       if (!out.flush()) throw Error(cmd->output + ": error: write failed");
     }
     if (map.metrics) {
@@ -82,13 +83,13 @@ void setup_map(CLI::App& app) {
       std::string files;
       for (const auto& f : cmd->map.files) files += (files.empty() ? "" : ", ") + base_name(f);
       plot.title = QString::fromStdString(files + " — " + std::string(embed::method_name(map.embedding.method)));
-      plot.notes << QString::fromStdString(embed::describe_parameters(map.embedding, options));
-      if (map.metrics) plot.notes << QString::fromStdString(embed::describe_metrics(*map.metrics));
+      plot.notes << QString::fromStdString(pipeline::describe_parameters(map.embedding, options));
+      if (map.metrics) plot.notes << QString::fromStdString(pipeline::describe_metrics(*map.metrics));
       plot.time_legend = true;
       if (cmd->axes == "fill") plot.notes << "axes scaled to fill the panel";
       render::save_map_plot(cmd->plot, cmd->axes == "fill" ? render::fill_axes(map.embedding.coordinates)
                                                            : map.embedding.coordinates,
-                            map.features.segment_starts, plot);
+                            map.features->segment_starts, plot);
     }
   });
 }

@@ -87,8 +87,8 @@ int parse_frame_bound(const std::string& text, const std::string& whole) {
 
 }  // namespace
 
-embed::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics) {
-  embed::ClipMapOptions out;
+pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics) {
+  pipeline::ClipMapOptions out;
   features::FeatureOptions& f = out.features;
   f.features = opt.features;
   f.distance = opt.distance;
@@ -122,16 +122,14 @@ embed::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method m
     e.heat = heat;
   }
   out.metrics = metrics;
-
-  out.progress = progress_line(opt, embed::method_name(method));
   return out;
 }
 
-std::function<void(double, std::string_view)> progress_line(const MapCliOptions& opt, std::string_view label) {
+Control progress_line(const MapCliOptions& opt, std::string_view label) {
   // For people watching a terminal; scripts and logs get none.
   if (opt.quiet || !isatty(STDERR_FILENO)) return {};
   auto last = std::make_shared<int>(-1);
-  return [last, name = std::string(label)](double fraction, std::string_view stage) {
+  return Control([last, name = std::string(label)](double fraction, std::string_view stage) {
     const int percent = static_cast<int>(fraction * 100.0);
     if (percent == *last) return;
     *last = percent;
@@ -139,11 +137,11 @@ std::function<void(double, std::string_view)> progress_line(const MapCliOptions&
                  stage.data());
     if (percent >= 100) std::fprintf(stderr, "\r%60s\r", "");
     std::fflush(stderr);
-  };
+  });
 }
 
-void print_diagnostics(const embed::ClipMap& map) {
-  for (const auto& n : map.features.notes) std::cerr << "note: " << n << '\n';
+void print_diagnostics(const pipeline::ClipMap& map) {
+  for (const auto& n : map.features->notes) std::cerr << "note: " << n << '\n';
   for (const auto& w : map.embedding.warnings) std::cerr << "warning: " << w << '\n';
 }
 

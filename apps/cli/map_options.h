@@ -8,7 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "motionmap/embed/clip_map.h"
+#include "motionmap/core/control.h"
+#include "motionmap/pipeline/clip_map.h"
 
 namespace motionmap::cli {
 
@@ -44,16 +45,15 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use);
 /// Loads every input file. @throws Error / ParseError.
 std::vector<Clip> load_inputs(const MapCliOptions& opt);
 
-/// The library options for `method`, with a progress line on stderr when it is a terminal.
+/// The library options for `method`.
 /// @throws ParameterError for malformed --frames or --heat values.
-embed::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics);
+pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics);
 
-/// A progress line on stderr ("isomap  42%  shortest paths"), or nothing when --quiet or stderr
-/// is not a terminal.
-std::function<void(double fraction, std::string_view stage)> progress_line(const MapCliOptions& opt,
-                                                                           std::string_view label);
+/// A progress line on stderr ("isomap  42%  shortest paths"), or a silent Control when --quiet
+/// or stderr is not a terminal.
+Control progress_line(const MapCliOptions& opt, std::string_view label);
 
 /// Prints the notes and warnings of a map to stderr ("note: …", "warning: …").
-void print_diagnostics(const embed::ClipMap& map);
+void print_diagnostics(const pipeline::ClipMap& map);
 
 }  // namespace motionmap::cli

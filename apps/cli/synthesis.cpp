@@ -10,7 +10,7 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
-#include "motionmap/embed/map_csv.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/synth/synthesize.h"
 
@@ -58,18 +58,19 @@ void add_blend_options(CLI::App* sub, BlendCommand& cmd) {
 /// The clips, their map (recomputed, or read with --map and checked) and a blender over it.
 synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips, features::FeatureSet& samples) {
   clips = load_inputs(cmd.map);
-  const embed::ClipMapOptions options = clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
+  const pipeline::ClipMapOptions options = clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
   Eigen::MatrixXd coords;
   if (!cmd.map_csv.empty()) {
-    const embed::MapTable table = embed::read_map_csv(cmd.map_csv);
+    const pipeline::MapTable table = pipeline::read_map_csv(cmd.map_csv);
     samples = features::select_samples(clips, options.features);
     for (const auto& n : samples.notes) std::cerr << "note: " << n << '\n';
     table.check_matches(samples);
     coords = table.coords;
   } else {
-    embed::ClipMap map = embed::map_clips(clips, options);
+    pipeline::ClipMap map =
+        pipeline::map_clips(clips, options, progress_line(cmd.map, embed::method_name(cmd.map.method)));
     print_diagnostics(map);
-    samples = std::move(map.features);
+    samples = *map.features;
     coords = std::move(map.embedding.coordinates);
   }
   synth::BlendOptions blend;
@@ -169,9 +170,9 @@ void setup_synth(CLI::App& app) {
     std::vector<Clip> clips;
     features::FeatureSet samples;
     const synth::MapBlender blender = prepare(*cmd, clips, samples);
-    LoopControl control;
-    if (auto line = progress_line(cmd->map, "synth")) control.progress = [line](double f) { line(f, "blending frames"); };
-    const synth::SynthResult result = synth::synthesize(blender, path, options, control);
+    const Control line = progress_line(cmd->map, "synth");
+    const synth::SynthResult result =
+        synth::synthesize(blender, path, options, line.reports() ? line.stage("blending frames", 0, 1) : line);
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
                 << " frames lie outside the data (beyond the reach " << approx(blender.reach_distance())

@@ -36,7 +36,7 @@
 
 #include "map_view.h"
 #include "motionmap/core/error.h"
-#include "motionmap/embed/map_csv.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
@@ -73,8 +73,8 @@ QString methodLabel(embed::Method method) {
   return {};
 }
 
-embed::ClipMapOptions MapParameters::options(embed::Method method) const {
-  embed::ClipMapOptions o;
+pipeline::ClipMapOptions MapParameters::options(embed::Method method) const {
+  pipeline::ClipMapOptions o;
   o.embed.method = method;
   o.embed.k = k;
   o.embed.heat = heat;
@@ -295,6 +295,7 @@ bool MainWindow::addClip(Clip clip) {
 
 void MainWindow::clipsChanged() {
   m_maps.clear();  // maps (and blenders) belong to one set of clips
+  m_featureCache = std::make_shared<pipeline::FeatureCache>();
   QString title = QFileInfo(QString::fromStdString(m_clips->front().path)).fileName();
   if (m_clips->size() > 1) title += tr(" + %n more", nullptr, int(m_clips->size()) - 1);
   setWindowTitle(tr("MotionMap Studio — %1").arg(title));
@@ -358,7 +359,7 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
     parameters.motion.validate();
     // K is checked against the samples of the map shown; a new clip's map checks it again.
     const MapResult* map = currentMap();
-    parameters.blend.validate(map ? map->map.features.num_samples()
+    parameters.blend.validate(map ? map->map.features->num_samples()
                                   : std::numeric_limits<int>::max());
   } catch (const std::exception& e) {
     showError(QString::fromStdString(e.what()));
@@ -389,22 +390,23 @@ void MainWindow::startComputation(embed::Method method) {
   m_exportMapAction->setEnabled(false);
   updateStatus();
   std::shared_ptr<const std::vector<Clip>> clips = m_clips;
-  const embed::ClipMapOptions base = m_parameters.options(method);
+  const pipeline::ClipMapOptions base = m_parameters.options(method);
   synth::BlendOptions blend = m_synthParameters.blend;
   blend.up = base.features.up;
   const std::string key = cacheKey(method);
-  m_mapJob.start([this, clips, method, base, blend, key](const BackgroundJob::Ticket& ticket) {
+  std::shared_ptr<pipeline::FeatureCache> cache = m_featureCache;
+  m_mapJob.start([this, clips, cache, method, base, blend, key](const BackgroundJob::Ticket& ticket) {
     const int generation = ticket.generation;
     auto result = std::make_shared<MapResult>();
     QString error;
     bool cancelled = false;
     try {
-      embed::ClipMapOptions options = base;
+      pipeline::ClipMapOptions options = base;
       int frames = 0;
       for (const Clip& c : *clips) frames += c.motion.num_frames;
       options.metrics = frames <= kMaxMetricsFrames;
       // Callbacks run on this thread: hand progress to the GUI thread, read cancel atomically.
-      options.progress = [this, generation](double fraction, std::string_view stage) {
+      const Control control([this, generation](double fraction, std::string_view stage) {
         const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
         QMetaObject::invokeMethod(
             this,
@@ -415,28 +417,25 @@ void MainWindow::startComputation(embed::Method method) {
               emit progressChanged(fraction);
             },
             Qt::QueuedConnection);
-      };
-      options.cancel = [ticket] { return ticket.cancelled(); };
+      }, [ticket] { return ticket.cancelled(); });
       QElapsedTimer clock;
       clock.start();
-      result->map = embed::map_clips(*clips, options);
+      result->map = pipeline::map_clips(*clips, options, control, cache.get());
       if (ticket.cancelled()) throw Cancelled();
-      result->parameters = embed::describe_parameters(result->map.embedding, options);
+      result->parameters = pipeline::describe_parameters(result->map.embedding, options);
       // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system at
       // once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it behind.
       const std::shared_ptr<const MapResult> computed = result;
       result->blender =
           runUninterruptible<std::unique_ptr<synth::MapBlender>>(ticket, [clips, computed, blend] {
-            return std::make_unique<synth::MapBlender>(*clips, computed->map.features,
+            return std::make_unique<synth::MapBlender>(*clips, *computed->map.features,
                                                        computed->map.embedding.coordinates, blend);
           });
       result->seconds = double(clock.nsecsElapsed()) * 1e-9;
-      options.progress = nullptr;
-      options.cancel = nullptr;
       result->options = options;
       // Frames left out of the map (a bind pose) show the row of the nearest earlier frame of
       // their clip (or its first row).
-      const features::FeatureSet& set = result->map.features;
+      const features::FeatureSet& set = *result->map.features;
       result->rowOfFrame.resize(clips->size());
       for (std::size_t c = 0; c < clips->size(); ++c) {
         const int first = set.segment_starts[c];
@@ -507,7 +506,7 @@ render::MapPlotOptions MainWindow::plotOptions(const MapResult& map) const {
       options.clip_names << QFileInfo(QString::fromStdString(clip.path)).fileName();
   }
   // What the library wants the user to know (a bind pose left out, a joined graph) under the map.
-  for (const auto& note : map.map.features.notes) options.notes << QString::fromStdString(note);
+  for (const auto& note : map.map.features->notes) options.notes << QString::fromStdString(note);
   for (const auto& warning : map.map.embedding.warnings)
     options.notes << QString::fromStdString(warning);
   return options;
@@ -516,7 +515,7 @@ render::MapPlotOptions MainWindow::plotOptions(const MapResult& map) const {
 void MainWindow::showMap() {
   const MapResult* map = currentMap();
   if (!map) return;
-  m_mapView->setMap(map->map.embedding.coordinates, map->map.features.segment_starts,
+  m_mapView->setMap(map->map.embedding.coordinates, map->map.features->segment_starts,
                     plotOptions(*map));
   // A blend is computed from the data where a sample lies within the blender's reach; farther
   // out, MapBlender::locate moves the point to the data's edge (PointValidity::clamped).
@@ -681,7 +680,7 @@ void MainWindow::onHover(const Eigen::Vector2d& point, const QPointF& pixel) {
   const int sample = sampleNear(point, pixel);
   const MapResult* map = currentMap();
   if (sample < 0) return m_mapView->setHoverText({});
-  const features::FeatureSet& set = map->map.features;
+  const features::FeatureSet& set = *map->map.features;
   const int clip = set.clip_of[std::size_t(sample)];
   m_mapView->setHoverText(
       clipCount() > 1 ? tr("clip %1, frame %2").arg(clip + 1).arg(set.frame_of[std::size_t(sample)])
@@ -691,7 +690,7 @@ void MainWindow::onHover(const Eigen::Vector2d& point, const QPointF& pixel) {
 void MainWindow::onClick(const Eigen::Vector2d& point, const QPointF& pixel) {
   const int sample = sampleNear(point, pixel);
   if (sample < 0) return;
-  const features::FeatureSet& set = currentMap()->map.features;
+  const features::FeatureSet& set = *currentMap()->map.features;
   setCurrentClip(set.clip_of[std::size_t(sample)], set.frame_of[std::size_t(sample)]);
 }
 
@@ -728,8 +727,7 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
         QString error;
         bool cancelled = false;
         try {
-          LoopControl control;
-          control.progress = [this, generation](double fraction) {
+          const Control control([this, generation](double fraction, std::string_view) {
             QMetaObject::invokeMethod(
                 this,
                 [this, generation, fraction] {
@@ -738,8 +736,7 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
                   emit synthesisProgress(fraction);
                 },
                 Qt::QueuedConnection);
-          };
-          control.cancel = [ticket] { return ticket.cancelled(); };
+          }, [ticket] { return ticket.cancelled(); });
           *result = synth::synthesize(*map->blender, path, options, control);
           if (ticket.cancelled()) throw Cancelled();
         } catch (const Cancelled&) {
@@ -824,13 +821,13 @@ bool MainWindow::exportMap(const QString& path) {
       std::vector<std::string> files;
       for (const Clip& c : *m_clips)
         files.push_back(QFileInfo(QString::fromStdString(c.path)).fileName().toStdString());
-      embed::write_map_csv(out, map->map, map->options, files);
+      pipeline::write_map_csv(out, map->map, map->options, files);
       if (!out.flush()) throw Error("cannot write " + path.toStdString());
     } else {
       render::MapPlotOptions options = plotOptions(*map);
       options.notes << QString::fromStdString(map->parameters);
       render::save_map_plot(path.toStdString(), map->map.embedding.coordinates,
-                            map->map.features.segment_starts, options);
+                            map->map.features->segment_starts, options);
     }
     m_status->setText(tr("Wrote %1").arg(path));
     return true;

@@ -2,7 +2,7 @@
 // MotionMap Studio's main window: the 3-D view and the map side by side, a Motion menu choosing
 // the embedding method and its parameters, playback (timer, slider, speed, loop, Space, ←/→) and
 // the map gestures (click to jump, drag to blend a pose, Shift-drag or sketch mode to sketch a
-// new motion, a magnifying lens). Maps are computed by embed::map_clips on a worker thread and
+// new motion, a magnifying lens). Maps are computed by pipeline::map_clips on a worker thread and
 // cached per method and parameters, with their synth::MapBlender; a sketch is synthesized by
 // synth::synthesize on a second worker. Both show a progress bar and a Cancel button in the
 // status bar, so the GUI thread only ever runs short calls (a locate + blend per mouse move).
@@ -18,7 +18,7 @@
 #include <QTimer>
 
 #include "background_job.h"
-#include "motionmap/embed/clip_map.h"
+#include "motionmap/pipeline/clip_map.h"
 #include "motionmap/render/map_plot.h"
 #include "motionmap/synth/blender.h"
 #include "motionmap/synth/synthesize.h"
@@ -47,7 +47,7 @@ struct MapParameters {
   std::string exclude;  ///< regular expression of joints left out
 
   /// The library options for `method` (no callbacks).
-  embed::ClipMapOptions options(embed::Method method) const;
+  pipeline::ClipMapOptions options(embed::Method method) const;
   bool operator==(const MapParameters&) const = default;
 };
 
@@ -65,10 +65,10 @@ struct SynthParameters {
 
 /// A computed map of the open clip, with what the app needs to use it.
 struct MapResult {
-  embed::ClipMap map;
-  embed::ClipMapOptions options;  ///< as computed (callbacks cleared), for the CSV export
+  pipeline::ClipMap map;
+  pipeline::ClipMapOptions options;  ///< as computed (callbacks cleared), for the CSV export
   std::unique_ptr<synth::MapBlender> blender;
-  std::string parameters;                    ///< embed::describe_parameters
+  std::string parameters;                    ///< pipeline::describe_parameters
   double seconds = 0.0;                      ///< wall time of map_clips and the blender's set-up
   std::vector<std::vector<int>> rowOfFrame;  ///< [clip][frame]: the map row shown for that frame
 };
@@ -146,7 +146,7 @@ class MainWindow : public QMainWindow {
   void cancelSynthesis();
   /// Writes the synthesized motion as BVH. False (error shown) on failure.
   bool exportMotion(const QString& path);
-  /// Writes the map shown: .csv (embed::write_map_csv), .png, .svg or .pdf (render::save_map_plot).
+  /// Writes the map shown: .csv (pipeline::write_map_csv), .png, .svg or .pdf (render::save_map_plot).
   /// False (error shown) on failure.
   bool exportMap(const QString& path);
 
@@ -221,6 +221,8 @@ class MainWindow : public QMainWindow {
   MapParameters m_parameters;
   SynthParameters m_synthParameters;
   std::map<std::string, std::shared_ptr<MapResult>> m_maps;  ///< by cacheKey
+  /// The feature sets of m_clips, one per feature key, shared by the maps of every method.
+  std::shared_ptr<pipeline::FeatureCache> m_featureCache = std::make_shared<pipeline::FeatureCache>();
   BackgroundJob m_mapJob;  ///< the map (and its blender) being computed
 
   std::optional<synth::SynthResult> m_synth;

@@ -124,7 +124,7 @@ QImage canvas(const QWidget* widget) {
 
 void label(benchmark::State& state, MainWindow& w) {
   state.SetLabel(std::string(datasetName(int(state.range(0)))) + ", " +
-                 std::to_string(w.currentMap()->map.features.num_samples()) +
+                 std::to_string(w.currentMap()->map.features->num_samples()) +
                  " samples, 3-D view: " + (w.skeletonView()->glReady() ? "OpenGL" : "QPainter"));
 }
 
@@ -134,7 +134,7 @@ void MapViewFrame(benchmark::State& state) {
   MapView* view = w.mapView();
   QImage image = canvas(view);
   view->render(&image);  // fills the trajectory cache
-  const int n = map.map.features.num_samples();
+  const int n = map.map.features->num_samples();
   int i = 0;
   for (auto _ : state) {
     view->setPointer(map.blender->sample_point(i));
@@ -156,7 +156,7 @@ void MapViewFullRepaint(benchmark::State& state) {
     QPainter painter(&image);
     painter.setRenderHint(QPainter::Antialiasing);
     render::paint_map(painter, QRectF(image.rect()), map.map.embedding.coordinates,
-                      map.map.features.segment_starts, options);
+                      map.map.features->segment_starts, options);
     painter.end();
     benchmark::DoNotOptimize(image.constBits());
   }
@@ -175,7 +175,7 @@ void sendMouse(QWidget* view, QEvent::Type type, QPointF at) {
 std::vector<QPointF> dragPixels(MainWindow& w) {
   const MapResult& map = *w.currentMap();
   std::vector<QPointF> out;
-  const int n = map.map.features.num_samples();
+  const int n = map.map.features->num_samples();
   for (int i = 0; i + 1 < n; i += std::max(1, n / 512)) {
     out.push_back((w.mapView()->toWidget(map.blender->sample_point(i)) +
                    w.mapView()->toWidget(map.blender->sample_point(i + 1))) /

@@ -19,11 +19,10 @@ TEST(ParallelFor, RunsEveryItemOnceAndReportsProgressUpToOne) {
   std::vector<double> reports;
   const std::thread::id caller = std::this_thread::get_id();
   bool progress_off_caller = false;
-  LoopControl control;
-  control.progress = [&](double f) {
+  const Control control([&](double f, std::string_view) {
     progress_off_caller |= std::this_thread::get_id() != caller;
     reports.push_back(f);
-  };
+  });
   parallel_for(
       n, [&](int i) { hits[i].fetch_add(1); }, control);
   for (int i = 0; i < n; ++i) ASSERT_EQ(hits[i].load(), 1) << i;
@@ -43,11 +42,10 @@ TEST(ParallelFor, CancelStopsTheLoopWithCancelled) {
   std::atomic<bool> cancelled{false};
   const std::thread::id caller = std::this_thread::get_id();
   int polls = 0;
-  LoopControl control;
-  control.cancel = [&] {
+  const Control control({}, [&] {
     cancelled = ++polls > 3;
     return cancelled.load();
-  };
+  });
   auto body = [&](int) {
     if (std::this_thread::get_id() != caller) {
       while (!cancelled) std::this_thread::yield();
@@ -58,10 +56,9 @@ TEST(ParallelFor, CancelStopsTheLoopWithCancelled) {
   EXPECT_THROW(parallel_for(100000, body, control), Cancelled);
   EXPECT_EQ(polls, 4);  // before the loop, then after each of the caller's first three items
   EXPECT_LT(ran.load(), 100000);
-  control.cancel = [] { return true; };  // cancelled before it starts: nothing runs
-  ran = 0;
+  ran = 0;  // cancelled before it starts: nothing runs
   EXPECT_THROW(parallel_for(
-                   10, [&](int) { ran.fetch_add(1); }, control),
+                   10, [&](int) { ran.fetch_add(1); }, Control({}, [] { return true; })),
                Cancelled);
   EXPECT_EQ(ran.load(), 0);
 }

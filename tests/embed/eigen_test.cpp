@@ -90,8 +90,8 @@ TEST(EmbedEigen, SmallestExcludingTheNullVector) {
   const int n = 400;
   const Eigen::SparseMatrix<double> L = path_laplacian(n);
   const Eigen::VectorXd q = Eigen::VectorXd::Constant(n, 1.0 / std::sqrt(double(n)));
-  const EigenPairs sparse = smallest_eigenpairs_excluding(L, q, 3, "test", nullptr, 10);
-  const EigenPairs dense = smallest_eigenpairs_excluding(L, q, 3, "test", nullptr, 1000);
+  const EigenPairs sparse = smallest_eigenpairs_excluding(L, q, 3, "test", {}, 10);
+  const EigenPairs dense = smallest_eigenpairs_excluding(L, q, 3, "test", {}, 1000);
   const Eigen::MatrixXd Ld(L);
   for (int c = 0; c < 3; ++c) {
     const double want = 2.0 - 2.0 * std::cos(M_PI * (c + 1) / n);

@@ -41,8 +41,8 @@ Data trajectory(int frames = 120, int dims = 6) {
   return d;
 }
 
-Embedding run(const Data& d, const EmbedOptions& o) {
-  return embed({.features = &d.X, .distances = &d.D}, o);
+Embedding run(const Data& d, const EmbedOptions& o, const Control& control = {}) {
+  return embed({.features = &d.X, .distances = &d.D}, o, control);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -321,12 +321,11 @@ TEST(EmbedProgress, MonotonicFromZeroToOne) {
   for (Method m : all_methods()) {
     std::vector<double> fractions;
     std::vector<std::string> stages;
-    EmbedOptions o = with(m);
-    o.progress = [&](double f, std::string_view stage) {
+    const Control control([&](double f, std::string_view stage) {
       fractions.push_back(f);
       if (stages.empty() || stages.back() != stage) stages.emplace_back(stage);
-    };
-    const Embedding e = run(d, o);
+    });
+    const Embedding e = run(d, with(m), control);
     ASSERT_GE(fractions.size(), 3u) << method_name(m);
     EXPECT_EQ(fractions.front(), 0.0);
     EXPECT_EQ(fractions.back(), 1.0);
@@ -341,11 +340,10 @@ TEST(EmbedProgress, MonotonicFromZeroToOne) {
     for (const StageTime& t : e.timings) EXPECT_GE(t.seconds, 0.0);
   }
   std::vector<std::string> stages;
-  EmbedOptions o = with(Method::Isomap);
-  o.progress = [&](double, std::string_view stage) {
+  const Control control([&](double, std::string_view stage) {
     if (stages.empty() || stages.back() != stage) stages.emplace_back(stage);
-  };
-  run(d, o);
+  });
+  run(d, with(Method::Isomap), control);
   EXPECT_EQ(stages, (std::vector<std::string>{"validate", "neighbours", "shortest paths", "eigen",
                                               "stress"}));
 }
@@ -353,9 +351,8 @@ TEST(EmbedProgress, MonotonicFromZeroToOne) {
 TEST(EmbedCancel, EveryMethodStopsWhenAsked) {
   const Data d = trajectory(300, 8);
   for (Method m : all_methods()) {
-    EmbedOptions o = with(m);
-    o.cancel = [] { return true; };
-    EXPECT_THROW(run(d, o), Cancelled) << method_name(m);
+    const Control control({}, [] { return true; });
+    EXPECT_THROW(run(d, with(m), control), Cancelled) << method_name(m);
   }
 }
 
@@ -370,10 +367,9 @@ TEST(EmbedCancel, InsideLongStages) {
                                                    {Method::LaplacianEigenmap, "neighbours"}}) {
     std::string current;
     int polls_in_stage = 0;
-    EmbedOptions o = with(method);
-    o.progress = [&](double, std::string_view s) { current = s; };
-    o.cancel = [&] { return current == stage && ++polls_in_stage >= 2; };
-    EXPECT_THROW(run(d, o), Cancelled) << method_name(method);
+    const Control control([&](double, std::string_view s) { current = s; },
+                          [&] { return current == stage && ++polls_in_stage >= 2; });
+    EXPECT_THROW(run(d, with(method), control), Cancelled) << method_name(method);
     EXPECT_GE(polls_in_stage, 2) << method_name(method);
   }
 }

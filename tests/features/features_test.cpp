@@ -199,13 +199,12 @@ TEST(Features, BadInputsGiveClearErrors) {
 
 TEST(Features, CancelStopsTheDistanceMatrix) {
   const Clip clip = smooth_clip(400);
-  FeatureOptions opt;
-  opt.cancel = [] { return true; };
-  EXPECT_THROW(build_features(std::span<const Clip>(&clip, 1), opt), Cancelled);
+  const FeatureOptions opt;
+  EXPECT_THROW(build_features(std::span<const Clip>(&clip, 1), opt, Control({}, [] { return true; })),
+               Cancelled);
   std::vector<double> seen;
-  opt.cancel = {};
-  opt.progress = [&](double p) { seen.push_back(p); };
-  build_features(std::span<const Clip>(&clip, 1), opt);
+  build_features(std::span<const Clip>(&clip, 1), opt,
+                 Control([&](double p, std::string_view) { seen.push_back(p); }));
   ASSERT_FALSE(seen.empty());
   EXPECT_EQ(seen.back(), 1.0);
   for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);

@@ -27,7 +27,7 @@
 
 #include "main_window.h"
 #include "map_view.h"
-#include "motionmap/embed/map_csv.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/sample/sample_clip.h"
 #include "skeleton_view.h"
@@ -447,7 +447,7 @@ TEST(StudioMap, FilesDroppedTogetherShareOneMap) {
   ASSERT_TRUE(
       QTest::qWaitFor([&] { return w.currentMap() != nullptr || !w.isComputing(); }, kTimeoutMs));
   ASSERT_NE(w.currentMap(), nullptr) << w.lastError().toStdString();
-  EXPECT_EQ(w.currentMap()->map.features.segment_starts, (std::vector<int>{0, 120}));
+  EXPECT_EQ(w.currentMap()->map.features->segment_starts, (std::vector<int>{0, 120}));
   // Ctrl-drop adds to the open map.
   QMimeData one;
   one.setUrls({urls.front()});
@@ -465,9 +465,9 @@ TEST(StudioMap, ExportsTheMapAsCsvPngAndSvg) {
   ASSERT_NE(map, nullptr);
   QTemporaryDir dir;
   ASSERT_TRUE(w->exportMap(dir.filePath("map.csv"))) << w->lastError().toStdString();
-  const embed::MapTable table = embed::read_map_csv(dir.filePath("map.csv").toStdString());
-  ASSERT_EQ(table.num_rows(), map->map.features.num_samples());
-  EXPECT_NO_THROW(table.check_matches(map->map.features));
+  const pipeline::MapTable table = pipeline::read_map_csv(dir.filePath("map.csv").toStdString());
+  ASSERT_EQ(table.num_rows(), map->map.features->num_samples());
+  EXPECT_NO_THROW(table.check_matches(*map->map.features));
   EXPECT_EQ(table.coords.row(7), map->map.embedding.coordinates.row(7).leftCols(2));
   ASSERT_TRUE(w->exportMap(dir.filePath("map.png")));
   EXPECT_EQ(QImage(dir.filePath("map.png")).width(), 800);
@@ -561,8 +561,8 @@ TEST(StudioMap, ClipsOfTheSameSkeletonShareOneMap) {
   // Coloured by clip, the clips named in the legend.
   EXPECT_EQ(w->mapView()->plotOptions().clip_names, QStringList({"sample:swing", "walk.bvh"}));
   // One map of both clips, each its own trajectory.
-  EXPECT_EQ(map->map.features.segment_starts, (std::vector<int>{0, 240}));
-  EXPECT_EQ(map->map.features.num_samples(), 240 + 120);
+  EXPECT_EQ(map->map.features->segment_starts, (std::vector<int>{0, 240}));
+  EXPECT_EQ(map->map.features->num_samples(), 240 + 120);
   ASSERT_EQ(map->rowOfFrame.size(), 2u);
   EXPECT_EQ(map->rowOfFrame[1][30], 270);
   EXPECT_TRUE(w->windowTitle().contains("+ 1 more")) << w->windowTitle().toStdString();
@@ -583,9 +583,9 @@ TEST(StudioMap, ClipsOfTheSameSkeletonShareOneMap) {
   EXPECT_LE(
       (w->mapView()->toWidget(map->blender->sample_point(row)) - QPointF(p)).manhattanLength(),
       2.0);
-  EXPECT_EQ(w->currentClip(), map->map.features.clip_of[std::size_t(row)]);
+  EXPECT_EQ(w->currentClip(), map->map.features->clip_of[std::size_t(row)]);
   ASSERT_EQ(w->currentClip(), 1);
-  EXPECT_EQ(w->currentFrame(), map->map.features.frame_of[std::size_t(row)]);
+  EXPECT_EQ(w->currentFrame(), map->map.features->frame_of[std::size_t(row)]);
   EXPECT_EQ(w->clip()->path, "walk.bvh");
   EXPECT_TRUE(w->statusText().contains("clip 2 of 2 · 120 frames"))
       << w->statusText().toStdString();
@@ -601,7 +601,7 @@ TEST(StudioMap, ClipsOfTheSameSkeletonShareOneMap) {
   w->pause();
   QTemporaryDir dir;
   ASSERT_TRUE(w->exportMap(dir.filePath("both.csv")));
-  const embed::MapTable table = embed::read_map_csv(dir.filePath("both.csv").toStdString());
+  const pipeline::MapTable table = pipeline::read_map_csv(dir.filePath("both.csv").toStdString());
   EXPECT_EQ(table.num_rows(), 360);
   EXPECT_EQ(table.clip_of.back(), 1);
   // Another skeleton cannot join: the library's hierarchy check, as a message.

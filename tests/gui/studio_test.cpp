@@ -92,7 +92,7 @@ TEST(Studio, ComputesTheMapOnAWorkerAndReportsItInTheStatusBar) {
   const MapResult* map = w->currentMap();
   ASSERT_NE(map, nullptr);
   EXPECT_EQ(map->map.embedding.method, embed::Method::Isomap);
-  EXPECT_EQ(map->map.embedding.coordinates.rows(), map->map.features.num_samples());
+  EXPECT_EQ(map->map.embedding.coordinates.rows(), map->map.features->num_samples());
   EXPECT_TRUE(w->mapView()->hasMap());
   const QString status = w->statusText();
   EXPECT_TRUE(status.contains("240 frames")) << status.toStdString();
@@ -152,7 +152,7 @@ TEST(Studio, HoveringTheTrajectoryShowsTheFrameNumber) {
   const MapResult* map = w->currentMap();
   ASSERT_NE(map, nullptr);
   MapView* view = w->mapView();
-  const int row = map->map.features.num_samples() - 1;  // the last frame: nothing drawn over it
+  const int row = map->map.features->num_samples() - 1;  // the last frame: nothing drawn over it
   QTest::mouseMove(view, view->toWidget(map->blender->sample_point(row)).toPoint());
   const QString text = view->hoverText();
   ASSERT_TRUE(text.startsWith("frame ")) << text.toStdString();
@@ -300,7 +300,7 @@ TEST(Studio, ChangingMethodOrClosingDuringAComputationIsSafe) {
     ASSERT_TRUE(QTest::qWaitFor([&] { return w.currentMap() != nullptr; }, kTimeoutMs));
     EXPECT_EQ(w.currentMap()->map.embedding.method, embed::Method::Pca);
     EXPECT_EQ(w.currentMap()->map.embedding.coordinates.rows(),
-              w.currentMap()->map.features.num_samples());
+              w.currentMap()->map.features->num_samples());
   }
   {
     MainWindow w;  // destroyed while computing: the destructor cancels and joins the worker

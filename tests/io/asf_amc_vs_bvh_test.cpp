@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "motionmap/core/files.h"
 #include "motionmap/io/asf_amc.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"

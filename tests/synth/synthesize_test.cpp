@@ -178,15 +178,12 @@ TEST(SynthSynthesize, ReportsProgressAndCancels) {
   path.points = {{0.5, 0.0}, {7.5, 0.0}};
   path.times = {0.0, 40.0};  // 1201 frames: five blocks
   std::vector<double> seen;
-  LoopControl control;
-  control.progress = [&](double x) { seen.push_back(x); };
-  synthesize(blender, path, {}, control);
+  synthesize(blender, path, {}, Control([&](double x, std::string_view) { seen.push_back(x); }));
   ASSERT_FALSE(seen.empty());
   EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
   EXPECT_EQ(seen.back(), 1.0);
   int polls = 0;
-  control.cancel = [&] { return ++polls > 2; };
-  EXPECT_THROW(synthesize(blender, path, {}, control), Cancelled);
+  EXPECT_THROW(synthesize(blender, path, {}, Control({}, [&] { return ++polls > 2; })), Cancelled);
 }
 
 TEST(SynthSynthesize, RejectsBadOptions) {

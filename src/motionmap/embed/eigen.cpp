@@ -16,7 +16,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
-#include "motionmap/embed/progress.h"
+#include "motionmap/embed/detail/progress.h"
 
 namespace motionmap::embed {
 
@@ -232,7 +232,7 @@ EigenPairs largest_eigenpairs(const Eigen::MatrixXd& A, int count, std::string_v
 
 EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
                                          const Eigen::VectorXd& null_vector, int count,
-                                         std::string_view what, Progress* progress,
+                                         std::string_view what, const Control& control,
                                          int dense_limit) {
   const Eigen::Index n = A.rows();
   check_count(n, count, static_cast<int>(n) - 2, what);
@@ -273,7 +273,7 @@ EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
     }
     Eigen::VectorXd tmp(n);
     const Product product = [&](const double* x, double* y) {
-      if (progress) progress->check_cancel();
+      control.check();
       Eigen::Map<const Eigen::VectorXd> xv(x, n);
       Eigen::Map<Eigen::VectorXd> yv(y, n);
       tmp = xv - q * q.dot(xv);

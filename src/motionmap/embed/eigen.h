@@ -12,9 +12,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-namespace motionmap::embed {
+#include "motionmap/core/control.h"
 
-class Progress;
+namespace motionmap::embed {
 
 /// Matrices with at most this many rows are solved densely (full spectrum, exact); larger ones
 /// with Lanczos.
@@ -61,12 +61,12 @@ EigenPairs largest_eigenpairs(const Eigen::MatrixXd& A, int count, std::string_v
 ///   dense (n ≤ dense_limit): the smallest eigenpairs of A + c·q·qᵀ, c above A's spectrum;
 ///   sparse: Lanczos on P·(A + ε·I)⁻¹·P (shift-invert with a sparse LDLᵀ factorization, P the
 ///   projector off q, ε = 1e-9·‖A‖∞), whose largest eigenvalues 1/(λ + ε) are A's smallest.
-/// Eigenvalues are the Rayleigh quotients vᵀ·A·v. Progress (optional) is polled for cancel.
+/// Eigenvalues are the Rayleigh quotients vᵀ·A·v. `control` is polled for cancellation.
 /// @throws NumericalError when the factorization fails or Lanczos does not converge;
 ///   ParameterError unless 1 ≤ count ≤ n − 2; Cancelled.
 EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
                                          const Eigen::VectorXd& null_vector, int count,
-                                         std::string_view what, Progress* progress = nullptr,
+                                         std::string_view what, const Control& control = {},
                                          int dense_limit = kDenseEigenLimit);
 
 /// The rows of Z = (A − shift)·diag(1/scale) projected on Z's top `count` right-singular

@@ -9,8 +9,8 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/eigen.h"
-#include "motionmap/embed/methods.h"
-#include "motionmap/embed/progress.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
 
 namespace motionmap::embed {
 
@@ -211,11 +211,11 @@ void EmbedOptions::validate(int num_frames) const {
   }
 }
 
-Embedding embed(const EmbedInput& input, const EmbedOptions& options) {
+Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Control& control) {
   const MethodInfo& m = info(options.method);
   Embedding out;
   out.method = options.method;
-  Progress progress(options, &out.timings);
+  Progress progress(control, &out.timings);
   progress.stage("validate", 0.0, 0.02);
 
   const std::string who = std::string(m.name) + ": ";

@@ -12,13 +12,14 @@
 //   pca, svd  X only;   mds, isomap, le  D only;   lle  X (weights) and D (neighbours).
 // Every output axis is flipped so that its entry of largest magnitude is positive, so the same
 // input always gives the same picture (and byte-identical numbers on one machine).
-#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "motionmap/core/control.h"
 
 namespace motionmap::embed {
 
@@ -49,12 +50,6 @@ struct EmbedOptions {
   /// Disconnected neighbour graph: false joins the components through their closest pairs and
   /// warns; true throws NumericalError instead.
   bool strict = false;
-  /// Called from the calling thread with the overall fraction done (non-decreasing, 0 … 1) and
-  /// the current stage's name, at stage boundaries and periodically inside long loops.
-  std::function<void(double fraction, std::string_view stage)> progress;
-  /// Polled from the calling thread as often as progress; returning true stops the computation
-  /// with motionmap::Cancelled.
-  std::function<bool()> cancel;
 
   /// Checks every field for a clip of `num_frames` frames. @throws ParameterError naming the
   /// parameter, its value and the valid range.
@@ -114,7 +109,9 @@ struct Embedding {
 /// @throws ParameterError for a missing or malformed input (empty, non-finite, D not square,
 ///   not symmetric, negative or with a non-zero diagonal, row counts that differ) or a bad option;
 ///   NumericalError for a disconnected graph in strict mode, heat-kernel weights that underflow,
-///   or an eigen solver that does not converge; Cancelled when options.cancel returns true.
-Embedding embed(const EmbedInput& input, const EmbedOptions& options);
+///   or an eigen solver that does not converge; Cancelled when `control` is cancelled. `control`
+///   hears each stage ("validate", "neighbours", "shortest paths", "eigen", "stress", …) and its
+///   progress, and is polled within every long loop.
+Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Control& control = {});
 
 }  // namespace motionmap::embed

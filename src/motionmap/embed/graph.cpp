@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "motionmap/core/parallel.h"
-#include "motionmap/embed/progress.h"
+#include "motionmap/embed/detail/progress.h"
 
 namespace motionmap::embed {
 
@@ -137,7 +137,7 @@ void block_paths(const Graph& graph, int s0, IndexedHeap& heap, std::vector<doub
 // trees are alike and a frame is popped about once per block (measured on mocap k-NN graphs: 1
 // to 2 times): a block costs about one Dijkstra, and the lane loops vectorise. Only the lower
 // triangle is kept (column s from source s); the upper one is mirrored from it.
-Eigen::MatrixXd shortest_paths(const Graph& graph, Progress* progress) {
+Eigen::MatrixXd shortest_paths(const Graph& graph, const Control& control) {
   const int n = graph.frames();
   Eigen::MatrixXd out(n, n);
   const int chunks = (n + kLanes - 1) / kLanes;
@@ -151,7 +151,7 @@ Eigen::MatrixXd shortest_paths(const Graph& graph, Progress* progress) {
         block_paths(graph, c * kLanes, heaps[worker], scratch[worker], out);
       },
       [&](int done) {
-        if (progress) progress->update(double(done) / chunks);
+        control.update(double(done) / chunks);
       });
   // Mirror the lower triangle into the upper one, in cache-sized tiles.
   constexpr int kTile = 64;

@@ -8,14 +8,11 @@
 
 namespace motionmap::embed {
 
-class Progress;
-
 /// Shortest-path length between every pair of frames along the graph's edges (weights =
 /// lengths ≥ 0): a label-correcting search (binary heap) from blocks of consecutive frames at
 /// once, which gives Dijkstra's sums, in parallel. Returns #frames by #frames, symmetric (+inf
-/// between components). Progress (optional) gets the fraction of sources done and may throw
-/// Cancelled.
-Eigen::MatrixXd shortest_paths(const Graph& graph, Progress* progress = nullptr);
+/// between components). `control` gets the fraction of sources done. @throws Cancelled.
+Eigen::MatrixXd shortest_paths(const Graph& graph, const Control& control = {});
 
 /// The symmetric normalised Laplacian of a graph whose weights are edge weights w_ij > 0:
 ///   1. deg_i = Σ_j w_ij,

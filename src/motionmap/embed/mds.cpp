@@ -12,9 +12,9 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/eigen.h"
-#include "motionmap/embed/methods.h"
+#include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/metrics.h"
-#include "motionmap/embed/progress.h"
+#include "motionmap/embed/detail/progress.h"
 
 namespace motionmap::embed {
 
@@ -30,8 +30,8 @@ constexpr int kParallelFrames = 1500;
 // fly is free), split into column chunks of equal area with a partial sum each.
 class DoubleCentredProduct {
  public:
-  DoubleCentredProduct(const Eigen::MatrixXd& T, Progress& progress)
-      : m_T(T), m_n(T.rows()), m_progress(progress), m_u(m_n) {
+  DoubleCentredProduct(const Eigen::MatrixXd& T, const Control& control)
+      : m_T(T), m_n(T.rows()), m_control(control), m_u(m_n) {
     const double total = 0.5 * double(m_n) * double(m_n - 1);
     m_bounds.push_back(0);
     double area = 0.0;
@@ -45,7 +45,7 @@ class DoubleCentredProduct {
   }
 
   void operator()(const double* x, double* y) {
-    m_progress.check_cancel();
+    m_control.check();
     const Eigen::Map<const Eigen::VectorXd> xv(x, m_n);
     m_u = xv.array() - xv.mean();
     parallel_chunks(
@@ -71,7 +71,7 @@ class DoubleCentredProduct {
  private:
   const Eigen::MatrixXd& m_T;
   Eigen::Index m_n;
-  Progress& m_progress;
+  Control m_control;
   std::vector<Eigen::Index> m_bounds;
   std::vector<Eigen::VectorXd> m_partial;
   Eigen::VectorXd m_u;
@@ -105,7 +105,7 @@ void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedd
     out.negative.count = static_cast<int>((all.array() < -1e-9 * largest).count());
     out.negative.most_negative = *out.negative.count > 0 ? all[0] : 0.0;
   } else {
-    DoubleCentredProduct op(T, progress);
+    DoubleCentredProduct op(T, progress.control());
     const Product product = [&op](const double* x, double* y) { op(x, y); };
     // Every product reads all of T, so products are what costs: Spectra checks convergence once
     // per restart, and on MDS spectra (a few dominant eigenvalues) 2 eigenpairs converge to
@@ -133,7 +133,7 @@ void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedd
     }
   }
   progress.stage("stress", begin + 0.9 * (end - begin), end);
-  out.stress = normalized_stress(T, out.coordinates);
+  out.stress = normalized_stress(T, out.coordinates, progress.control());
 }
 
 void run_mds(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& out,

@@ -51,7 +51,7 @@ double percentile(std::vector<double> values, double q) {
 }  // namespace
 
 NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y,
-                                         int k) {
+                                         int k, const Control& control) {
   check_pair(D, Y, "trustworthiness");
   const int n = static_cast<int>(D.rows());
   if (k < 1 || 2 * k >= n) {
@@ -90,7 +90,7 @@ NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::
           cont_penalty[i] += rank_of(e.data(), n, i, j) - k;
       }
     }
-  });
+  }, [&](int done) { control.update(double(done) / chunks); });
   double trust_sum = 0.0, cont_sum = 0.0;
   for (int i = 0; i < n; ++i) {
     trust_sum += double(trust_penalty[i]);
@@ -108,7 +108,8 @@ double continuity(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k) {
   return neighborhood_quality(D, Y, k).continuity;
 }
 
-double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y) {
+double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y,
+                         const Control& control) {
   if (T.rows() != T.cols() || T.rows() != Y.rows()) {
     throw ParameterError("normalized_stress: the target distances are " + std::to_string(T.rows()) +
                          " by " + std::to_string(T.cols()) + " and the map has " +
@@ -142,7 +143,7 @@ double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y) {
           ee[c] += e.square().sum();
         }
       }
-    });
+    }, [&](int done) { control.update((residual ? 0.5 : 0.0) + 0.5 * double(done) / chunks); });
   };
   pass(false, 0.0);
   double stt = 0.0, ste = 0.0, see = 0.0;

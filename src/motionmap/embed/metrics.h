@@ -6,6 +6,8 @@
 //   double jumps = jump_score(map.coordinates);         // ≈1 smooth; ≫1 the map tears the motion
 #include <Eigen/Core>
 
+#include "motionmap/core/control.h"
+
 namespace motionmap::embed {
 
 /// Neighbourhood preservation at k neighbours, both in [0, 1] (1 = perfect).
@@ -23,9 +25,9 @@ struct NeighborhoodQuality {
 /// space go to the smaller frame index. D: #frames by #frames (column i = distances from i);
 /// Y: #frames by #dims map. O(#frames²), parallel.
 /// @throws ParameterError unless 1 ≤ k < #frames / 2, D is square with Y's row count, and both
-///   are finite.
+///   are finite; Cancelled (`control` is polled and told the fraction of frames done).
 NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y,
-                                         int k = 10);
+                                         int k = 10, const Control& control = {});
 
 /// neighborhood_quality(D, Y, k).trustworthiness. @throws as neighborhood_quality.
 double trustworthiness(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k = 10);
@@ -38,8 +40,10 @@ double continuity(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k = 10
 ///   stress = sqrt(Σ (t_ij − s·e_ij)² / Σ t_ij²),   s = Σ t_ij·e_ij / Σ e_ij²  (the minimiser),
 /// i.e. sqrt(1 − (Σ t·e)² / (Σ t²·Σ e²)). 0 = distances preserved up to scale; 1 when the map
 /// is a single point. 0 when every target distance is 0.
-/// @throws ParameterError unless T is square with Y's row count.
-double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y);
+/// @throws ParameterError unless T is square with Y's row count; Cancelled (`control` is polled
+///   and told the fraction of columns done).
+double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y,
+                         const Control& control = {});
 
 /// Jump score: the 95th percentile of the steps ‖Y(f+1) − Y(f)‖ between consecutive frames
 /// divided by their median (percentiles interpolated linearly, like numpy). ≈1 when the map

@@ -6,7 +6,8 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/parallel.h"
-#include "motionmap/embed/progress.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
 
 namespace motionmap::embed {
 
@@ -42,7 +43,7 @@ void k_nearest(const double* values, int n, int self, int k, int* index, double*
   for (int j = hi; j < n; ++j) offer(j);
 }
 
-NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, Progress* progress) {
+NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, const Control& control) {
   const int n = static_cast<int>(D.rows());
   if (k < 1 || k > n - 1) {
     throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
@@ -66,7 +67,7 @@ NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, Progress* prog
         for (int i = c * kFramesPerChunk; i < end; ++i) select(i);
       },
       [&](int done) {
-        if (progress) progress->update(double(done) / chunks);
+        control.update(double(done) / chunks);
       });
   return out;
 }
@@ -142,7 +143,7 @@ Components connected_components(const Graph& graph, bool positive_only) {
 }
 
 std::vector<Edge> joining_edges(const Eigen::MatrixXd& D, const Components& components,
-                                Progress* progress) {
+                                const Control& control) {
   const int n = static_cast<int>(components.label.size());
   std::vector<Edge> edges;
   if (components.count <= 1) return edges;
@@ -167,7 +168,7 @@ std::vector<Edge> joining_edges(const Eigen::MatrixXd& D, const Components& comp
         }
       }
       ++added;
-      if (progress && added % 64 == 0) progress->update(double(added) / n);
+      if (added % 64 == 0) control.update(double(added) / n);
     }
   };
   add_component(components.label[0]);
@@ -187,7 +188,7 @@ NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions&
   const double mid = begin + 0.8 * (end - begin);
   progress.stage("neighbours", begin, mid);
   NeighborGraph ng;
-  ng.lists = knn_from_distances(D, options.k, &progress);
+  ng.lists = knn_from_distances(D, options.k, progress.control());
   ng.graph = knn_graph(ng.lists, D);
   const Components components = connected_components(ng.graph);
   out.k_used = options.k;
@@ -201,7 +202,7 @@ NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions&
                            "closest pairs)");
     }
     progress.stage("joining components", mid, end);
-    ng.joins = joining_edges(D, components, &progress);
+    ng.joins = joining_edges(D, components, progress.control());
     ng.graph = knn_graph(ng.lists, D, ng.joins);
     out.connecting_edges = static_cast<int>(ng.joins.size());
     out.warnings.push_back(what + "; joined them with " + std::to_string(ng.joins.size()) +

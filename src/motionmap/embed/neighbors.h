@@ -11,11 +11,10 @@
 
 #include <Eigen/Core>
 
+#include "motionmap/core/control.h"
 #include "motionmap/embed/embed.h"
 
 namespace motionmap::embed {
-
-class Progress;
 
 /// The length of pair {i, j} as every routine reads it: D's lower triangle, D(max, min).
 inline double pair_distance(const Eigen::MatrixXd& D, int i, int j) {
@@ -44,9 +43,9 @@ void k_nearest(const double* values, int n, int self, int k, int* index, double*
 
 /// The k nearest neighbours of every frame by D (column i of D; the frame itself excluded; of
 /// equal distances the smaller frame index wins). D: #frames by #frames, symmetric, validated.
-/// Runs in parallel; progress (optional) gets the fraction of frames done and may throw
+/// Runs in parallel; `control` gets the fraction of frames done and may throw
 /// Cancelled. @throws ParameterError unless 1 ≤ k ≤ #frames − 1.
-NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, Progress* progress = nullptr);
+NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, const Control& control = {});
 
 /// An undirected edge between frames a and b of the given length.
 struct Edge {
@@ -85,21 +84,6 @@ Components connected_components(const Graph& graph, bool positive_only = false);
 /// components, where joining two costs their closest pair of frames by D (Prim's algorithm grown
 /// from frame 0's component; ties go to the smaller frame index). O(#frames²).
 std::vector<Edge> joining_edges(const Eigen::MatrixXd& D, const Components& components,
-                                Progress* progress = nullptr);
-
-/// The neighbour graph a graph method works on, with the joins already applied.
-struct NeighborGraph {
-  NeighborLists lists;
-  std::vector<Edge> joins;  ///< edges added to connect the components (empty when connected)
-  Graph graph;              ///< symmetric k-NN graph + joins, weights = lengths
-};
-
-/// k-NN lists, graph, components and joins for `options` (k, strict); records k_used,
-/// graph_components, connecting_edges and a warning in `out`. Reports the "neighbours" stage
-/// over the overall fractions [begin, end].
-/// @throws NumericalError in strict mode when the graph is disconnected (names the number of
-///   components and suggests a larger k); Cancelled.
-NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions& options,
-                                   Embedding& out, Progress& progress, double begin, double end);
+                                const Control& control = {});
 
 }  // namespace motionmap::embed

@@ -3,8 +3,8 @@
 #include <string>
 
 #include "motionmap/embed/eigen.h"
-#include "motionmap/embed/methods.h"
-#include "motionmap/embed/progress.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
 
 namespace motionmap::embed {
 

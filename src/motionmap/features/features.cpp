@@ -1,9 +1,11 @@
 #include "motionmap/features/features.h"
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/features/diagnostics.h"
 
@@ -57,55 +59,60 @@ Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> j
   return X;
 }
 
-Eigen::MatrixXd pairwise_distances(const Eigen::Ref<const RowMatrix>& points,
-                                   const std::function<void(double)>& progress,
-                                   const std::function<bool()>& cancel) {
-  const auto n = points.rows();
+namespace {
+
+// The distance between two rows, as every entry of D and every check below computes it.
+double point_distance(const Eigen::Ref<const RowMatrix>& points, Eigen::Index i, Eigen::Index j) {
+  return (points.row(i) - points.row(j)).norm();
+}
+
+double geodesic_distance(const Eigen::Ref<const RowMatrix>& quaternions, Eigen::Index i,
+                         Eigen::Index j) {
+  double sum = 0.0;
+  for (Eigen::Index k = 0; k < quaternions.cols() / 4; ++k) {
+    const auto a = quaternions.row(i).segment<4>(4 * k);
+    const auto b = quaternions.row(j).segment<4>(4 * k);
+    const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]);
+    const Eigen::Quaterniond qb(b[0], b[1], b[2], b[3]);
+    const double theta = rotation_angle(qa, qb);
+    sum += theta * theta;
+  }
+  return std::sqrt(sum);
+}
+
+// D from a per-pair distance: row i fills D(i, i+1…n−1), written as column i (contiguous in the
+// column-major D) and mirrored afterwards.
+template <class Distance>
+Eigen::MatrixXd all_pairs(Eigen::Index n, const Distance& distance, const Control& control) {
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
-  // Row i fills D(i, i+1…n−1); D is mirrored afterwards. Column-major D: write the upper part
-  // as column i (contiguous) and mirror into the rows.
-  parallel_for(static_cast<int>(n),
-               [&](int i) {
-                 for (Eigen::Index j = i + 1; j < n; ++j)
-                   D(j, i) = (points.row(i) - points.row(j)).norm();
-               },
-               {progress, cancel});
+  parallel_for(
+      static_cast<int>(n),
+      [&](int i) {
+        for (Eigen::Index j = i + 1; j < n; ++j) D(j, i) = distance(i, j);
+      },
+      control);
   D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
   return D;
 }
 
-Eigen::MatrixXd geodesic_distances(const Eigen::MatrixXd& quaternions,
-                                   const std::function<void(double)>& progress,
-                                   const std::function<bool()>& cancel) {
-  const auto n = quaternions.rows();
-  const auto joints = quaternions.cols() / 4;
-  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
-  parallel_for(static_cast<int>(n),
-               [&](int i) {
-                 for (Eigen::Index j = i + 1; j < n; ++j) {
-                   double sum = 0.0;
-                   for (Eigen::Index k = 0; k < joints; ++k) {
-                     const auto a = quaternions.row(i).segment<4>(4 * k);
-                     const auto b = quaternions.row(j).segment<4>(4 * k);
-                     const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]);
-                     const Eigen::Quaterniond qb(b[0], b[1], b[2], b[3]);
-                     const double theta = rotation_angle(qa, qb);
-                     sum += theta * theta;
-                   }
-                   D(j, i) = std::sqrt(sum);
-                 }
-               },
-               {progress, cancel});
-  D.triangularView<Eigen::StrictlyUpper>() = D.transpose();
-  return D;
+}  // namespace
+
+Eigen::MatrixXd pairwise_distances(const Eigen::Ref<const RowMatrix>& points,
+                                   const Control& control) {
+  return all_pairs(
+      points.rows(), [&](Eigen::Index i, Eigen::Index j) { return point_distance(points, i, j); },
+      control);
+}
+
+Eigen::MatrixXd geodesic_distances(const Eigen::Ref<const RowMatrix>& quaternions,
+                                   const Control& control) {
+  return all_pairs(
+      quaternions.rows(),
+      [&](Eigen::Index i, Eigen::Index j) { return geodesic_distance(quaternions, i, j); },
+      control);
 }
 
 namespace {
-
-std::string base_name(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
 
 // Joints in X: every non-root joint whose name the exclude pattern does not match.
 std::vector<int> used_joints(const Skeleton& skeleton, const std::string& exclude) {
@@ -234,13 +241,14 @@ FeatureSet select_samples(std::span<const Clip> clips, const FeatureOptions& opt
   return select(clips, options).set;
 }
 
-FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options) {
+FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
+                          const Control& control, Distances distances) {
   Selection selection = select(clips, options);
   FeatureSet set = std::move(selection.set);
   const Skeleton& skeleton = clips.front().skeleton;
   const auto point_cols = kept_point_columns(skeleton, set.joints);
 
-  std::vector<Eigen::MatrixXd> x_blocks;
+  std::vector<RowMatrix> x_blocks;
   std::vector<RowMatrix> cloud_blocks;
   for (std::size_t c = 0; c < clips.size(); ++c) {
     const std::vector<int>& frames = selection.frames[c];
@@ -260,45 +268,70 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
   }
 
   const Eigen::Index n = set.num_samples();
-  auto stack = [n](const auto& blocks) {
+  auto stack = [n](std::vector<RowMatrix>& blocks) {
     Eigen::Index cols = blocks.front().cols(), row = 0;
     RowMatrix out(n, cols);
-    for (const auto& b : blocks) {
+    for (auto& b : blocks) {
       out.middleRows(row, b.rows()) = b;
       row += b.rows();
+      b = RowMatrix();
     }
     return out;
   };
-  const RowMatrix cloud = stack(cloud_blocks);
+  RowMatrix cloud = stack(cloud_blocks);
   RowMatrix quats;
   if (!x_blocks.empty()) quats = stack(x_blocks);
   set.X = options.features == FeatureKind::Quaternions ? Eigen::MatrixXd(quats)
                                                        : Eigen::MatrixXd(cloud);
 
+  // Every frame as far from the first as rounding goes (point clouds: relative to their size,
+  // since removing a moving root's floor translation is not exact in floating point).
+  set.distance = options.distance;
+  double farthest = 0.0;
   switch (options.distance) {
     case DistanceKind::PointCloud:
-      set.D = pairwise_distances(cloud, options.progress, options.cancel);
+      for (Eigen::Index j = 1; j < n; ++j) farthest = std::max(farthest, point_distance(cloud, 0, j));
+      set.distance_input = std::move(cloud);
       break;
     case DistanceKind::Geodesic:
-      set.D = geodesic_distances(quats, options.progress, options.cancel);
+      for (Eigen::Index j = 1; j < n; ++j) farthest = std::max(farthest, geodesic_distance(quats, 0, j));
+      set.distance_input = std::move(quats);
       break;
     case DistanceKind::Features: {
       const RowMatrix x = set.X;
-      set.D = pairwise_distances(x, options.progress, options.cancel);
+      for (Eigen::Index j = 1; j < n; ++j) farthest = std::max(farthest, point_distance(x, 0, j));
       break;
     }
   }
-  // Every frame as far from the first as rounding goes (point clouds: relative to their size,
-  // since removing a moving root's floor translation is not exact in floating point).
   const double same =
-      1e-9 *
-      (options.distance == DistanceKind::PointCloud ? 1.0 + cloud.cwiseAbs().maxCoeff() : 1.0);
-  if (n > 1 && set.D.row(0).maxCoeff() <= same) {
+      1e-9 * (options.distance == DistanceKind::PointCloud
+                  ? 1.0 + set.distance_input.cwiseAbs().maxCoeff()
+                  : 1.0);
+  if (n > 1 && farthest <= same) {
     set.notes.push_back("every frame has the same pose (distance " +
                         std::string(distance_kind_name(options.distance)) +
                         " 0 between all of them): a map can only show one point");
   }
+  if (distances == Distances::Now) add_distances(set, control);
   return set;
+}
+
+void add_distances(FeatureSet& set, const Control& control) {
+  if (set.has_distances() || set.num_samples() == 0) return;
+  switch (set.distance) {
+    case DistanceKind::PointCloud:
+      set.D = pairwise_distances(set.distance_input, control);
+      break;
+    case DistanceKind::Geodesic:
+      set.D = geodesic_distances(set.distance_input, control);
+      break;
+    case DistanceKind::Features: {
+      const RowMatrix x = set.X;
+      set.D = pairwise_distances(x, control);
+      break;
+    }
+  }
+  set.distance_input = RowMatrix();
 }
 
 }  // namespace motionmap::features

@@ -9,7 +9,10 @@
 //   motionmap::features::FeatureOptions opt;            // quaternions + point-cloud distance
 //   auto set = motionmap::features::build_features(clips, opt);
 //   // set.X, set.D, set.frame_of[i] = file frame of sample i, set.notes = what was left out
-#include <functional>
+//
+// D costs O(#samples²) time and memory (3.2 GB at 20 000 frames) and PCA and SVD never read it:
+// build_features(…, Distances::Later) leaves it out, and add_distances() computes it when a
+// method or a metric asks for it.
 #include <optional>
 #include <span>
 #include <string>
@@ -18,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include "motionmap/core/control.h"
 #include "motionmap/features/point_cloud.h"
 #include "motionmap/skeleton/skeleton.h"
 
@@ -42,10 +46,6 @@ struct FeatureOptions {
   /// Keep a leading bind pose (frame 0 farther from frame 1 than 10× the median step); by
   /// default it is left out and a note says so.
   bool keep_first = false;
-  /// Called with the fraction done (0…1) while D is computed; may be empty.
-  std::function<void(double)> progress;
-  /// Polled while D is computed; returning true throws motionmap::Cancelled.
-  std::function<bool()> cancel;
 
   /// @throws ParameterError naming the option, its value and the valid range.
   void validate() const;
@@ -60,15 +60,30 @@ struct FeatureSet {
   std::vector<int> segment_starts;  ///< first sample of each clip
   std::vector<int> joints;          ///< skeleton joints used in X (non-root, not excluded)
   std::vector<std::string> notes;   ///< e.g. "64_08.bvh: frame 0 looks like a bind pose: left out"
+  /// What D is computed from, kept while D is not there yet (Distances::Later): the kept point
+  /// clouds (PointCloud), the quaternions (Geodesic), or nothing (Features: X itself).
+  DistanceKind distance = DistanceKind::PointCloud;
+  RowMatrix distance_input;
+
   int num_samples() const { return static_cast<int>(frame_of.size()); }
+  /// Whether D has been computed.
+  bool has_distances() const { return D.rows() == num_samples() && num_samples() > 0; }
 };
+
+/// Whether build_features() computes D now or leaves it to add_distances().
+enum class Distances { Now, Later };
 
 /// Builds X and D for `clips`, which must share one joint hierarchy (names and parents; offsets
 /// may differ: each clip uses its own for forward kinematics).
 /// @throws ParameterError for bad options, clips of different hierarchies, a selection with no
 ///         frames, or an exclude pattern that is invalid or leaves no joint;
-///         NumericalError if a clip holds NaN or infinite values; Cancelled if cancel() says so.
-FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options);
+///         NumericalError if a clip holds NaN or infinite values; Cancelled if `control` says so.
+FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
+                          const Control& control = {}, Distances distances = Distances::Now);
+
+/// Computes D of a set built with Distances::Later (nothing when D is there already), and frees
+/// what it was computed from. @throws Cancelled if `control` says so.
+void add_distances(FeatureSet& set, const Control& control = {});
 
 /// The samples build_features() would use — clip_of, frame_of, segment_starts, joints and notes,
 /// with X and D left empty — at the cost of forward kinematics only. For checking that a map
@@ -84,13 +99,11 @@ Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> j
 /// Euclidean distances between the rows of `points` (#rows by #rows), computed directly (no
 /// Gram-matrix shortcut, which loses accuracy for nearby poses) on all cores.
 Eigen::MatrixXd pairwise_distances(const Eigen::Ref<const RowMatrix>& points,
-                                   const std::function<void(double)>& progress = {},
-                                   const std::function<bool()>& cancel = {});
+                                   const Control& control = {});
 
 /// Geodesic pose distance between rows of quaternion features (4 values per joint):
 /// sqrt(Σ_j θ_j²) with θ_j = 2·acos|q_a,j · q_b,j|.
-Eigen::MatrixXd geodesic_distances(const Eigen::MatrixXd& quaternions,
-                                   const std::function<void(double)>& progress = {},
-                                   const std::function<bool()>& cancel = {});
+Eigen::MatrixXd geodesic_distances(const Eigen::Ref<const RowMatrix>& quaternions,
+                                   const Control& control = {});
 
 }  // namespace motionmap::features

@@ -9,8 +9,8 @@
 #include <unordered_map>
 
 #include "motionmap/core/error.h"
-#include "motionmap/io/load.h"
-#include "motionmap/io/text_cursor.h"
+#include "motionmap/core/files.h"
+#include "motionmap/core/text_cursor.h"
 
 namespace motionmap::io {
 

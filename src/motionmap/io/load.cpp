@@ -1,30 +1,16 @@
 #include "motionmap/io/load.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
 #include "motionmap/io/asf_amc.h"
 #include "motionmap/io/bvh.h"
 
 namespace motionmap::io {
 
 namespace fs = std::filesystem;
-
-std::string read_text_file(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw Error(path + ": error: is a directory, expected a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": error: cannot open: " + std::strerror(errno));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw Error(path + ": error: cannot read: " + std::strerror(errno));
-  return std::move(buffer).str();
-}
 
 namespace {
 

@@ -18,7 +18,4 @@ struct LoadOptions {
 /// .asf) or ParseError (malformed file).
 Clip load_clip(const std::string& path, const LoadOptions& options = {});
 
-/// Reads a whole file into memory. @throws Error naming the path and the system's reason.
-std::string read_text_file(const std::string& path);
-
 }  // namespace motionmap::io

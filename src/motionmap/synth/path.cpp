@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "motionmap/core/error.h"
-#include "motionmap/io/load.h"
-#include "motionmap/io/text_cursor.h"
+#include "motionmap/core/files.h"
+#include "motionmap/core/text_cursor.h"
 #include "motionmap/core/format.h"
 
 namespace motionmap::synth {
@@ -37,17 +37,17 @@ void MapPath::validate() const {
 }
 
 MapPath parse_path_csv(std::string_view text, const std::string& path) {
-  io::TextCursor cur(io::skip_utf8_bom(text), path);
+  TextCursor cur(skip_utf8_bom(text), path);
   MapPath out;
   std::size_t columns = 0;       // 2 or 3 once the header or first row says so
   std::size_t shape_line = 0;    // the line that fixed `columns`
   std::size_t first_point_line = 0;
   bool any_content = false;
-  io::CsvRow csv;
-  while (io::next_csv_row(cur, csv)) {
+  CsvRow csv;
+  while (next_csv_row(cur, csv)) {
     const std::size_t line = csv.line;
     const std::string_view row = csv.text;
-    const std::vector<io::CsvField>& fields = csv.fields;
+    const std::vector<CsvField>& fields = csv.fields;
 
     if (!any_content) {
       any_content = true;
@@ -55,22 +55,22 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
       const char* first = fields.front().text.data();
       double ignored = 0.0;
       if (!fields.front().text.empty() &&
-          io::parse_number(first, first + fields.front().text.size(), ignored) == io::NumberStatus::NotANumber) {
+          parse_number(first, first + fields.front().text.size(), ignored) == NumberStatus::NotANumber) {
         if (fields.size() != 2 && fields.size() != 3) {
           cur.fail_at(line, fields.front().column,
                       "expected a header 't,x,y' or 'x,y', found " + std::to_string(fields.size()) + " fields");
         }
         const std::size_t offset = fields.size() == 3 ? 1 : 0;
         if (offset == 1) {
-          const std::string t = io::ascii_lower(fields[0].text);
+          const std::string t = ascii_lower(fields[0].text);
           if (t != "t" && t != "time") {
             cur.fail_at(line, fields[0].column, "expected 't' or 'time' as the first header field, found '" +
                                                     quote_token(fields[0].text) + "'");
           }
         }
         for (std::size_t k = 0; k < 2; ++k) {
-          const io::CsvField& f = fields[offset + k];
-          if (io::ascii_lower(f.text) != (k == 0 ? "x" : "y")) {
+          const CsvField& f = fields[offset + k];
+          if (ascii_lower(f.text) != (k == 0 ? "x" : "y")) {
             cur.fail_at(line, f.column, std::string("expected '") + (k == 0 ? "x" : "y") +
                                             "' in the header, found '" + quote_token(f.text) + "'");
           }
@@ -95,14 +95,14 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
     }
     double v[3] = {0.0, 0.0, 0.0};
     for (std::size_t k = 0; k < columns; ++k) {
-      const io::CsvField& f = fields[k];
+      const CsvField& f = fields[k];
       if (f.text.empty()) cur.fail_at(line, f.column, "expected a number, found an empty field");
       const char* first = f.text.data();
-      switch (io::parse_number(first, first + f.text.size(), v[k])) {
-        case io::NumberStatus::Ok: break;
-        case io::NumberStatus::NotANumber:
+      switch (parse_number(first, first + f.text.size(), v[k])) {
+        case NumberStatus::Ok: break;
+        case NumberStatus::NotANumber:
           cur.fail_at(line, f.column, "expected a number, found '" + quote_token(f.text) + "'");
-        case io::NumberStatus::NotFinite:
+        case NumberStatus::NotFinite:
           cur.fail_at(line, f.column, "expected a finite number, found '" + quote_token(f.text) + "'");
       }
     }
@@ -125,7 +125,7 @@ MapPath parse_path_csv(std::string_view text, const std::string& path) {
   return out;
 }
 
-MapPath read_path_csv(const std::string& path) { return parse_path_csv(io::read_text_file(path), path); }
+MapPath read_path_csv(const std::string& path) { return parse_path_csv(read_text_file(path), path); }
 
 std::vector<Eigen::Vector2d> resample_path(const MapPath& path, double frame_time, double speed,
                                            long long max_frames) {

@@ -6,6 +6,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 
 namespace motionmap::synth {
 
@@ -67,7 +68,7 @@ void SynthOptions::validate() const {
 }
 
 SynthResult synthesize(const MapBlender& blender, const MapPath& path, const SynthOptions& options,
-                       const LoopControl& control) {
+                       const Control& control) {
   options.validate();
   path.validate();
   double speed = options.speed;
@@ -114,7 +115,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   std::deque<MapWeights> raw;
   long long raw_first = 0;
   for (long long k0 = 0; k0 < frames; k0 += kBlockFrames) {
-    if (control.cancel && control.cancel()) throw Cancelled();
+    control.check();
     const long long k1 = std::min(frames, k0 + kBlockFrames);
     const long long need_first = std::max(0LL, k0 - half), need_end = std::min(frames, k1 + half);
     while (raw_first < need_first && !raw.empty()) {
@@ -148,7 +149,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
       yaw_rate[static_cast<std::size_t>(k)] = b.yaw_rate;
       result.validity[static_cast<std::size_t>(k)] = own.validity;
     });
-    if (control.progress) control.progress(static_cast<double>(k1) / static_cast<double>(frames));
+    control.update(static_cast<double>(k1) / static_cast<double>(frames));
   }
 
   // Root motion: integrate the heading-local velocity and yaw rate from the origin, heading 0.

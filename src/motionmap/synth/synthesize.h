@@ -17,7 +17,7 @@
 // trajectory at its own timing reproduces the clip (up to the start's position and heading).
 #include <vector>
 
-#include "motionmap/core/parallel.h"
+#include "motionmap/core/control.h"
 #include "motionmap/skeleton/skeleton.h"
 #include "motionmap/synth/blender.h"
 #include "motionmap/synth/path.h"
@@ -53,8 +53,8 @@ struct SynthResult {
 /// @throws ParameterError for bad options or an invalid path (MapPath::validate, resample_path),
 ///         an untimed path with speed 0 on a map without motion, more than kMaxSynthFrames
 ///         frames, or smoothing whose window would hold more than 5e7 kriging weights;
-///         Cancelled if control.cancel() says so (polled between blocks of frames).
+///         Cancelled if `control` says so (polled between blocks of frames). Reports "blending frames".
 SynthResult synthesize(const MapBlender& blender, const MapPath& path, const SynthOptions& options = {},
-                       const LoopControl& control = {});
+                       const Control& control = {});
 
 }  // namespace motionmap::synth

@@ -19,9 +19,9 @@
 
 #include <Eigen/Core>
 
-#include "motionmap/embed/clip_map.h"
+#include "motionmap/pipeline/clip_map.h"
 
-namespace motionmap::embed {
+namespace motionmap::pipeline {
 
 struct MapTable {
   std::string path;           ///< the file (for messages)
@@ -51,4 +51,4 @@ MapTable parse_map_csv(std::string_view text, const std::string& path = "<memory
 /// Reads and parses a map CSV file. @throws Error if unreadable, ParseError as above.
 MapTable read_map_csv(const std::string& path);
 
-}  // namespace motionmap::embed
+}  // namespace motionmap::pipeline

@@ -11,7 +11,7 @@
 #include <system_error>
 #include <vector>
 
-namespace motionmap::io {
+namespace motionmap {
 
 class TextCursor {
  public:
@@ -150,4 +150,4 @@ inline NumberStatus parse_number(const char*& first, const char* last, double& v
   return NumberStatus::Ok;
 }
 
-}  // namespace motionmap::io
+}  // namespace motionmap

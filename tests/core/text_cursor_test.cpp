@@ -1,4 +1,4 @@
-#include "motionmap/io/text_cursor.h"
+#include "motionmap/core/text_cursor.h"
 
 #include <cmath>
 #include <string>
@@ -7,7 +7,7 @@
 
 #include "motionmap/core/error.h"
 
-namespace motionmap::io {
+namespace motionmap {
 namespace {
 
 // Runs `f` on a cursor and returns the ParseError it throws (fails the test if none).
@@ -173,4 +173,4 @@ TEST(TextCursor, ParseNumberLeavesPointerOnFailure) {
 }
 
 }  // namespace
-}  // namespace motionmap::io
+}  // namespace motionmap

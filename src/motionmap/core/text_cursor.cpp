@@ -1,11 +1,11 @@
-#include "motionmap/io/text_cursor.h"
+#include "motionmap/core/text_cursor.h"
 
 #include <charconv>
 #include <cmath>
 
 #include "motionmap/core/error.h"
 
-namespace motionmap::io {
+namespace motionmap {
 
 TextCursor::TextCursor(std::string_view text, std::string path)
     : m_text(text), m_path(std::move(path)) {}
@@ -180,4 +180,4 @@ std::string ascii_lower(std::string_view s) {
   return out;
 }
 
-}  // namespace motionmap::io
+}  // namespace motionmap

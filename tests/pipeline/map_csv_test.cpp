@@ -1,4 +1,4 @@
-#include "motionmap/embed/map_csv.h"
+#include "motionmap/pipeline/map_csv.h"
 
 #include <sstream>
 
@@ -8,7 +8,8 @@
 #include "motionmap/sample/sample_clip.h"
 #include "support/error_message.h"
 
-namespace motionmap::embed {
+namespace motionmap::pipeline {
+using embed::Method;
 namespace {
 
 std::string parse_message(const std::string& text) {
@@ -37,11 +38,11 @@ TEST(MapCsv, WrittenMapReadsBackExactly) {
       EXPECT_NE(text.find(cs.size() > 1 ? "files=a.bvh,b.bvh\n" : "files=a.bvh\n"), std::string::npos);
 
       const MapTable table = parse_map_csv(text, "m.csv");
-      ASSERT_EQ(table.num_rows(), map.features.num_samples());
+      ASSERT_EQ(table.num_rows(), map.features->num_samples());
       EXPECT_EQ(table.coords, map.embedding.coordinates);  // 17 digits: bit-exact
-      EXPECT_EQ(table.frame_of, map.features.frame_of);
-      EXPECT_EQ(table.clip_of, map.features.clip_of);
-      EXPECT_NO_THROW(table.check_matches(map.features));
+      EXPECT_EQ(table.frame_of, map.features->frame_of);
+      EXPECT_EQ(table.clip_of, map.features->clip_of);
+      EXPECT_NO_THROW(table.check_matches(*map.features));
       EXPECT_NO_THROW(table.check_matches(features::select_samples(cs, options.features)));
     }
   }
@@ -105,4 +106,4 @@ TEST(MapCsv, BadFilesNameLineAndColumn) {
 }
 
 }  // namespace
-}  // namespace motionmap::embed
+}  // namespace motionmap::pipeline

@@ -1,14 +1,14 @@
-#include "motionmap/embed/map_csv.h"
+#include "motionmap/pipeline/map_csv.h"
 
 #include <charconv>
 #include <cstdio>
 #include <limits>
 
 #include "motionmap/core/error.h"
-#include "motionmap/io/load.h"
-#include "motionmap/io/text_cursor.h"
+#include "motionmap/core/files.h"
+#include "motionmap/core/text_cursor.h"
 
-namespace motionmap::embed {
+namespace motionmap::pipeline {
 
 namespace {
 
@@ -43,16 +43,16 @@ void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& 
   out << " files=";
   for (std::size_t i = 0; i < files.size(); ++i) out << (i ? "," : "") << base_name(files[i]);
   out << '\n';
-  for (const auto& note : map.features.notes) out << "# note: " << note << '\n';
+  for (const auto& note : map.features->notes) out << "# note: " << note << '\n';
   for (const auto& w : map.embedding.warnings) out << "# warning: " << w << '\n';
   if (map.metrics) out << "# metrics " << describe_metrics(*map.metrics) << '\n';
-  const bool several = map.features.segment_starts.size() > 1;
+  const bool several = map.features->segment_starts.size() > 1;
   const auto& Y = map.embedding.coordinates;
   out << (several ? "clip,frame,x,y" : "frame,x,y") << (Y.cols() == 3 ? ",z\n" : "\n");
   char buf[32];
   for (Eigen::Index i = 0; i < Y.rows(); ++i) {
-    if (several) out << map.features.clip_of[i] << ',';
-    out << map.features.frame_of[i];
+    if (several) out << map.features->clip_of[i] << ',';
+    out << map.features->frame_of[i];
     for (Eigen::Index c = 0; c < Y.cols(); ++c) {
       std::snprintf(buf, sizeof buf, ",%.17g", Y(i, c));
       out << buf;
@@ -62,21 +62,21 @@ void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& 
 }
 
 MapTable parse_map_csv(std::string_view text, const std::string& path) {
-  io::TextCursor cur(io::skip_utf8_bom(text), path);
+  TextCursor cur(skip_utf8_bom(text), path);
   MapTable table;
   table.path = path;
   bool has_clip = false;
   std::size_t columns = 0;  // set by the header
   std::vector<double> values;
-  io::CsvRow csv;
-  while (io::next_csv_row(cur, csv)) {
+  CsvRow csv;
+  while (next_csv_row(cur, csv)) {
     const std::size_t line = csv.line;
     const std::string_view row = csv.text;
-    const std::vector<io::CsvField>& fields = csv.fields;
+    const std::vector<CsvField>& fields = csv.fields;
 
     if (columns == 0) {
       std::string header;
-      for (const auto& f : fields) header += (header.empty() ? "" : ",") + io::ascii_lower(f.text);
+      for (const auto& f : fields) header += (header.empty() ? "" : ",") + ascii_lower(f.text);
       if (header == "frame,x,y" || header == "frame,x,y,z") {
         has_clip = false;
       } else if (header == "clip,frame,x,y" || header == "clip,frame,x,y,z") {
@@ -96,7 +96,7 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
     const std::size_t ids = has_clip ? 2 : 1;
     int id[2] = {0, 0};
     for (std::size_t k = 0; k < ids; ++k) {
-      const io::CsvField& f = fields[k];
+      const CsvField& f = fields[k];
       const char* end = f.text.data() + f.text.size();
       const auto [ptr, ec] = std::from_chars(f.text.data(), end, id[k]);
       if (f.text.empty() || ec != std::errc() || ptr != end || id[k] < 0) {
@@ -105,12 +105,12 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
       }
     }
     for (std::size_t k = ids; k < columns; ++k) {
-      const io::CsvField& f = fields[k];
+      const CsvField& f = fields[k];
       double v = 0.0;
       const char* first = f.text.data();
-      const auto status = f.text.empty() ? io::NumberStatus::NotANumber
-                                         : io::parse_number(first, first + f.text.size(), v);
-      if (status != io::NumberStatus::Ok) {
+      const auto status = f.text.empty() ? NumberStatus::NotANumber
+                                         : parse_number(first, first + f.text.size(), v);
+      if (status != NumberStatus::Ok) {
         cur.fail_at(line, f.column, "expected a finite coordinate, found '" + quote_token(f.text) + "'");
       }
       values.push_back(v);
@@ -127,6 +127,6 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
   return table;
 }
 
-MapTable read_map_csv(const std::string& path) { return parse_map_csv(io::read_text_file(path), path); }
+MapTable read_map_csv(const std::string& path) { return parse_map_csv(read_text_file(path), path); }
 
-}  // namespace motionmap::embed
+}  // namespace motionmap::pipeline

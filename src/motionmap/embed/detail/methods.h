@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 
 #include "motionmap/embed/embed.h"
+#include "motionmap/embed/graph.h"
+#include "motionmap/embed/neighbors.h"
 
 namespace motionmap::embed {
 
@@ -35,5 +37,20 @@ void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOpti
 /// axes with λ ≤ 0. Reports the stages "eigen" and "stress" over [begin, end].
 void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedding& out,
                    Progress& progress, double begin, double end);
+
+/// The neighbour graph a graph method works on, with the joins already applied.
+struct NeighborGraph {
+  NeighborLists lists;
+  std::vector<Edge> joins;  ///< edges added to connect the components (empty when connected)
+  Graph graph;              ///< symmetric k-NN graph + joins, weights = lengths
+};
+
+/// k-NN lists, graph, components and joins for `options` (k, strict); records k_used,
+/// graph_components, connecting_edges and a warning in `out`. Reports the "neighbours" stage
+/// over the overall fractions [begin, end].
+/// @throws NumericalError in strict mode when the graph is disconnected (names the number of
+///   components and suggests a larger k); Cancelled.
+NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions& options,
+                                   Embedding& out, Progress& progress, double begin, double end);
 
 }  // namespace motionmap::embed

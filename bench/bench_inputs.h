@@ -2,8 +2,9 @@
 // The inputs of the benchmarks and of motionmap_compare: real clips from ../shared/data, and the
 // built-in procedural swing (src/motionmap/sample/) for sizes the real clips cannot reach.
 //
-//   const motionmap::bench::Input& in = motionmap::bench::sample_input(2000);  // X, D of 2000 frames
-//   const motionmap::bench::Input* real = motionmap::bench::real_input(500);   // nullptr: no data
+//   const motionmap::bench::Input& in = motionmap::bench::sample_input(2000);  // X, D of 2000
+//   frames const motionmap::bench::Input* real = motionmap::bench::real_input(500);   // nullptr:
+//   no data
 //
 // Both go through the library's own pipeline: build_features() gives X (joint-rotation
 // quaternions, #frames by 120 for the 31-joint CMU skeleton), P (the heading-local point clouds)

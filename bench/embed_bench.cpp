@@ -52,8 +52,8 @@ void BM_KnnGraph(benchmark::State& state, Source source) {
 void BM_ShortestPaths(benchmark::State& state, Source source) {
   const Input* in = input_for(state, source);
   if (in == nullptr) return;
-  const auto graph = motionmap::embed::knn_graph(
-      motionmap::embed::knn_from_distances(in->D, kNeighbours), in->D);
+  const auto graph =
+      motionmap::embed::knn_graph(motionmap::embed::knn_from_distances(in->D, kNeighbours), in->D);
   for (auto _ : state) {
     Eigen::MatrixXd geo = motionmap::embed::shortest_paths(graph);
     benchmark::DoNotOptimize(geo.data());

@@ -25,8 +25,8 @@ enum class Source { Real, Sample };
 // The clips of this run (cached per size), or nullptr after marking the run skipped.
 const std::vector<Clip>* clips_for(benchmark::State& state, Source source) {
   if (source == Source::Real) {
-    static const std::vector<Clip> real = motionmap::bench::load_clips(
-        motionmap::bench::real_clip_paths());
+    static const std::vector<Clip> real =
+        motionmap::bench::load_clips(motionmap::bench::real_clip_paths());
     if (real.empty()) {
       state.SkipWithError(("no real clips in " + motionmap::bench::shared_data().string()).c_str());
       return nullptr;
@@ -59,7 +59,8 @@ void BM_FeatureMatrix(benchmark::State& state, Source source) {
         if (clip.skeleton.joints[j].parent >= 0) joints.push_back(j);
       }
       std::iota(frames.begin(), frames.end(), 0);
-      const Eigen::MatrixXd X = motionmap::features::quaternion_features(clip.motion, joints, frames);
+      const Eigen::MatrixXd X =
+          motionmap::features::quaternion_features(clip.motion, joints, frames);
       benchmark::DoNotOptimize(cloud.data());
       benchmark::DoNotOptimize(X.data());
     }

@@ -108,8 +108,7 @@ Args parse_args(int argc, char** argv) {
 }
 
 double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 // Peak resident memory of this process so far, in MiB: VmHWM from /proc/self/status. Not
@@ -201,10 +200,10 @@ int run(const Args& args) {
                in.frames(), static_cast<int>(in.X.cols()), features_seconds);
 
   json << "{\n  \"source\": " << json_string(in.source) << ",\n  \"frames\": " << in.frames()
-       << ",\n  \"features\": " << in.X.cols() << ",\n  \"points\": " << in.P.cols() << ",\n  \"k\": " << bench::kNeighbours
+       << ",\n  \"features\": " << in.X.cols() << ",\n  \"points\": " << in.P.cols()
+       << ",\n  \"k\": " << bench::kNeighbours
        << ",\n  \"threads\": " << std::max(1u, std::thread::hardware_concurrency())
-       << ",\n  \"features_seconds\": " << json_number(features_seconds)
-       << ",\n  \"methods\": {";
+       << ",\n  \"features_seconds\": " << json_number(features_seconds) << ",\n  \"methods\": {";
   std::vector<std::pair<std::string, double>> rss = {{"features", rss_features}};
   bool first = true;
   for (embed::Method method : embed::all_methods()) {
@@ -228,8 +227,8 @@ int run(const Args& args) {
     write_raw(out_dir / ("Y_" + name + ".f64"), best.coordinates);
     std::fprintf(stderr, "  %-6s best %.4f s, median %.4f s of %d\n", name.c_str(), t.best,
                  t.median, t.runs);
-    json << (first ? "" : ",") << "\n    " << json_string(name) << ": {\"best\": "
-         << json_number(t.best) << ", \"median\": " << json_number(t.median)
+    json << (first ? "" : ",") << "\n    " << json_string(name)
+         << ": {\"best\": " << json_number(t.best) << ", \"median\": " << json_number(t.median)
          << ", \"runs\": " << t.runs << ", \"heat_used\": " << json_number(best.heat_used)
          << ", \"warnings\": " << best.warnings.size() << ", \"stages\": {";
     for (std::size_t s = 0; s < best.timings.size(); ++s) {

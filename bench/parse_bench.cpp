@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "motionmap/core/files.h"
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
 
@@ -56,9 +56,8 @@ const std::string& large_file() {
     std::string rows = big.text.substr(rows_at);
     if (rows.empty() || rows.back() != '\n') rows += '\n';
     const std::size_t copies = std::max<std::size_t>(1, kTargetBytes / rows.size());
-    std::string out = big.text.substr(0, frames_at) + "Frames: " +
-                      std::to_string(frames * copies) + "\n" +
-                      big.text.substr(time_at, rows_at - time_at);
+    std::string out = big.text.substr(0, frames_at) + "Frames: " + std::to_string(frames * copies) +
+                      "\n" + big.text.substr(time_at, rows_at - time_at);
     out.reserve(out.size() + rows.size() * copies);
     for (std::size_t i = 0; i < copies; ++i) out += rows;
     return out;

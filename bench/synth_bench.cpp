@@ -44,7 +44,8 @@ const Data& data(int n) {
     std::normal_distribution<double> step(0.0, 1.0);
     slot->map.resize(n, 2);
     slot->map.row(0).setZero();
-    for (int i = 1; i < n; ++i) slot->map.row(i) = slot->map.row(i - 1) + Eigen::RowVector2d(step(rng), step(rng));
+    for (int i = 1; i < n; ++i)
+      slot->map.row(i) = slot->map.row(i - 1) + Eigen::RowVector2d(step(rng), step(rng));
   }
   return *slot;
 }
@@ -70,7 +71,8 @@ std::vector<Eigen::Vector2d> queries(int n, int count) {
   std::uniform_int_distribution<int> pick(0, n - 1);
   std::uniform_real_distribution<double> jitter(-0.5, 0.5);
   std::vector<Eigen::Vector2d> out;
-  for (int i = 0; i < count; ++i) out.emplace_back(d.map.row(pick(rng)).transpose() + Eigen::Vector2d(jitter(rng), jitter(rng)));
+  for (int i = 0; i < count; ++i)
+    out.emplace_back(d.map.row(pick(rng)).transpose() + Eigen::Vector2d(jitter(rng), jitter(rng)));
   return out;
 }
 
@@ -87,9 +89,15 @@ void run_pose_query(benchmark::State& state, BlendMode mode) {
 }
 
 // One pose query: weights at a map point + blend of the 31-joint pose (target: < 50 µs at 10 000).
-void BM_SynthPoseLocal(benchmark::State& state) { run_pose_query(state, BlendMode::Local); }
-void BM_SynthPoseIdw(benchmark::State& state) { run_pose_query(state, BlendMode::Idw); }
-void BM_SynthPoseKriging(benchmark::State& state) { run_pose_query(state, BlendMode::Kriging); }
+void BM_SynthPoseLocal(benchmark::State& state) {
+  run_pose_query(state, BlendMode::Local);
+}
+void BM_SynthPoseIdw(benchmark::State& state) {
+  run_pose_query(state, BlendMode::Idw);
+}
+void BM_SynthPoseKriging(benchmark::State& state) {
+  run_pose_query(state, BlendMode::Kriging);
+}
 BENCHMARK(BM_SynthPoseLocal)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SynthPoseIdw)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SynthPoseKriging)->Arg(1000)->Arg(2000)->Unit(benchmark::kMicrosecond);
@@ -107,7 +115,8 @@ BENCHMARK(BM_SynthLocateLocal)->Arg(10000)->Unit(benchmark::kMicrosecond);
 void BM_SynthLocateOutside(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const MapBlender& b = blender(n, BlendMode::Local);
-  for (auto _ : state) benchmark::DoNotOptimize(b.locate(Eigen::Vector2d(1e4, -1e4)).weights.data());
+  for (auto _ : state)
+    benchmark::DoNotOptimize(b.locate(Eigen::Vector2d(1e4, -1e4)).weights.data());
 }
 BENCHMARK(BM_SynthLocateOutside)->Arg(10000)->Unit(benchmark::kMicrosecond);
 
@@ -139,7 +148,8 @@ void BM_SynthPath(benchmark::State& state) {
     path.points.push_back(d.map.row(i * (n / 100)).transpose());
     path.times.push_back(i * 10.0 / 99.0);
   }
-  for (auto _ : state) benchmark::DoNotOptimize(motionmap::synth::synthesize(b, path).motion.num_frames);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(motionmap::synth::synthesize(b, path).motion.num_frames);
 }
 BENCHMARK(BM_SynthPath)->Arg(10000)->Unit(benchmark::kMillisecond);
 

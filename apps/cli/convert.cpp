@@ -26,7 +26,9 @@ void setup_convert(CLI::App& app) {
       "Convert a clip (BVH, or Acclaim AMC with its ASF skeleton) to BVH. A BVH input is written\n"
       "back value for value with its channel order; an AMC input gets the root channels\n"
       "Xposition Yposition Zposition Zrotation Yrotation Xrotation and ZYX rotations elsewhere.");
-  sub->add_option("input", opt->input, "Input clip (.bvh or .amc)")->required()->check(CLI::ExistingFile);
+  sub->add_option("input", opt->input, "Input clip (.bvh or .amc)")
+      ->required()
+      ->check(CLI::ExistingFile);
   sub->add_option("-o,--output", opt->output, "Output .bvh file")->required();
   sub->add_option("--asf", opt->asf, "ASF skeleton for an .amc input (default: the .asf beside it)")
       ->check(CLI::ExistingFile);

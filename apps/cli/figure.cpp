@@ -22,12 +22,18 @@ struct FigureCommand {
 
 const char* long_name(embed::Method m) {
   switch (m) {
-    case embed::Method::Pca: return "PCA";
-    case embed::Method::Svd: return "SVD";
-    case embed::Method::Mds: return "Classical MDS";
-    case embed::Method::Isomap: return "Isomap";
-    case embed::Method::LaplacianEigenmap: return "Laplacian eigenmap";
-    case embed::Method::Lle: return "LLE";
+    case embed::Method::Pca:
+      return "PCA";
+    case embed::Method::Svd:
+      return "SVD";
+    case embed::Method::Mds:
+      return "Classical MDS";
+    case embed::Method::Isomap:
+      return "Isomap";
+    case embed::Method::LaplacianEigenmap:
+      return "Laplacian eigenmap";
+    case embed::Method::Lle:
+      return "LLE";
   }
   return "?";
 }
@@ -49,27 +55,31 @@ void setup_figure(CLI::App& app) {
       "k = 10, stress for MDS/Isomap, jump score). Also prints the metrics as a table.");
   add_map_options(sub, cmd->map, MapOptionsFor::Figure);
   sub->add_option("-o,--output", cmd->output, "Figure to write: .png, .svg or .pdf")->required();
-  sub->add_option("--panel-size", cmd->panel_px, "Pixels per panel (default 500)")->check(CLI::Range(64, 4096));
-  sub->add_option("--axes", cmd->axes,
-                  "fill: each panel's axes scaled to fill it, as the reference system draws (default); "
-                  "equal: one scale for both axes, so distances are to scale")
+  sub->add_option("--panel-size", cmd->panel_px, "Pixels per panel (default 500)")
+      ->check(CLI::Range(64, 4096));
+  sub->add_option(
+         "--axes", cmd->axes,
+         "fill: each panel's axes scaled to fill it, as the reference system draws (default); "
+         "equal: one scale for both axes, so distances are to scale")
       ->check(CLI::IsMember({"fill", "equal"}));
   sub->callback([cmd] {
     const std::vector<Clip> clips = load_inputs(cmd->map);
     const auto& methods = embed::all_methods();
-    pipeline::ClipMapOptions options = clip_map_options(cmd->map, methods.front(), /*metrics=*/true);
+    pipeline::ClipMapOptions options =
+        clip_map_options(cmd->map, methods.front(), /*metrics=*/true);
     const Control overall = progress_line(cmd->map, "figure");
     const double n = static_cast<double>(methods.size()) + 1.0;
     auto start = std::chrono::steady_clock::now();
 
     // D is shared by every method: build the features once.
-    const features::FeatureSet set =
-        features::build_features(clips, options.features, overall.stage("pose distances", 0, 1 / n));
+    const features::FeatureSet set = features::build_features(
+        clips, options.features, overall.stage("pose distances", 0, 1 / n));
     for (const auto& note : set.notes) std::cerr << "note: " << note << '\n';
 
     std::vector<render::FigurePanel> panels;
     int failures = 0;
-    std::printf("%-7s %16s %11s %8s %7s %9s\n", "method", "trustworthiness", "continuity", "stress", "jump", "seconds");
+    std::printf("%-7s %16s %11s %8s %7s %9s\n", "method", "trustworthiness", "continuity", "stress",
+                "jump", "seconds");
     for (std::size_t i = 0; i < methods.size(); ++i) {
       render::FigurePanel panel;
       panel.options.title = long_name(methods[i]);
@@ -78,10 +88,13 @@ void setup_figure(CLI::App& app) {
       eopt.method = methods[i];
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        const embed::Embedding e = embed::embed({&set.X, &set.D}, eopt, overall.part((i + 1) / n, (i + 2) / n));
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const embed::Embedding e =
+            embed::embed({&set.X, &set.D}, eopt, overall.part((i + 1) / n, (i + 2) / n));
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const pipeline::MapMetrics m = pipeline::map_metrics(set, e, 10);
-        for (const auto& w : e.warnings) std::cerr << "warning: " << embed::method_name(methods[i]) << ": " << w << '\n';
+        for (const auto& w : e.warnings)
+          std::cerr << "warning: " << embed::method_name(methods[i]) << ": " << w << '\n';
         panel.coords = cmd->axes == "fill" ? render::fill_axes(e.coordinates) : e.coordinates;
         QString line = "T " + format("%.3f", m.neighborhood.trustworthiness) + "   C " +
                        format("%.3f", m.neighborhood.continuity);
@@ -89,13 +102,16 @@ void setup_figure(CLI::App& app) {
         line += "   jump " + format("%.1f", m.jump);
         panel.options.notes << line;
         if (e.method == embed::Method::LaplacianEigenmap) {
-          panel.options.notes << "k = " + QString::number(e.k_used) + ", heat " + format("%.3g", e.heat_used);
+          panel.options.notes << "k = " + QString::number(e.k_used) + ", heat " +
+                                     format("%.3g", e.heat_used);
         } else if (e.k_used > 0) {
           panel.options.notes << "k = " + QString::number(e.k_used);
         }
-        std::printf("%-7s %16.4f %11.4f %8s %7.2f %9.3f\n", std::string(embed::method_name(methods[i])).c_str(),
+        std::printf("%-7s %16.4f %11.4f %8s %7.2f %9.3f\n",
+                    std::string(embed::method_name(methods[i])).c_str(),
                     m.neighborhood.trustworthiness, m.neighborhood.continuity,
-                    m.stress ? format("%.4f", *m.stress).toStdString().c_str() : "-", m.jump, seconds);
+                    m.stress ? format("%.4f", *m.stress).toStdString().c_str() : "-", m.jump,
+                    seconds);
       } catch (const Cancelled&) {
         throw;
       } catch (const Error& e) {
@@ -107,15 +123,22 @@ void setup_figure(CLI::App& app) {
       panels.push_back(std::move(panel));
     }
     std::string files;
-    for (const auto& f : cmd->map.files) files += (files.empty() ? "" : ", ") + f.substr(f.find_last_of('/') + 1);
-    const QString title = QString::fromStdString(files) + " — " + QString::number(set.num_samples()) +
-                          " frames, features " + QString::fromStdString(std::string(features::feature_kind_name(options.features.features))) +
-                          ", distance " + QString::fromStdString(std::string(features::distance_kind_name(options.features.distance))) +
+    for (const auto& f : cmd->map.files)
+      files += (files.empty() ? "" : ", ") + f.substr(f.find_last_of('/') + 1);
+    const QString title = QString::fromStdString(files) + " — " +
+                          QString::number(set.num_samples()) + " frames, features " +
+                          QString::fromStdString(
+                              std::string(features::feature_kind_name(options.features.features))) +
+                          ", distance " +
+                          QString::fromStdString(std::string(
+                              features::distance_kind_name(options.features.distance))) +
                           (cmd->axes == "fill" ? ", axes scaled to fill each panel" : "");
     render::save_figure(cmd->output, panels, 3, cmd->panel_px, title);
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double total =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "wrote " << cmd->output << " (" << total << " s)\n";
-    if (failures > 0) throw Error(std::to_string(failures) + " of the six maps failed (shown as empty panels)");
+    if (failures > 0)
+      throw Error(std::to_string(failures) + " of the six maps failed (shown as empty panels)");
   });
 }
 

@@ -39,7 +39,8 @@ ClipSummary summarize(const Clip& clip) {
     }
   }
   s.warnings = clip.warnings;
-  for (auto& w : features::clip_warnings(clip.skeleton, clip.motion)) s.warnings.push_back(std::move(w));
+  for (auto& w : features::clip_warnings(clip.skeleton, clip.motion))
+    s.warnings.push_back(std::move(w));
   return s;
 }
 
@@ -83,9 +84,11 @@ void print_json(const Clip& clip, const ClipSummary& s) {
   const Skeleton& sk = clip.skeleton;
   const Motion& m = clip.motion;
   std::string roots;
-  for (int r : sk.roots()) roots += std::string(roots.empty() ? "" : ",") + "\"" + json_escape(sk.joints[r].name) + "\"";
+  for (int r : sk.roots())
+    roots += std::string(roots.empty() ? "" : ",") + "\"" + json_escape(sk.joints[r].name) + "\"";
   std::string warnings;
-  for (const auto& w : s.warnings) warnings += std::string(warnings.empty() ? "" : ",") + "\"" + json_escape(w) + "\"";
+  for (const auto& w : s.warnings)
+    warnings += std::string(warnings.empty() ? "" : ",") + "\"" + json_escape(w) + "\"";
   char frame_time[64];
   std::snprintf(frame_time, sizeof frame_time, "%.17g", m.frame_time);
   std::cout << "{\"file\":\"" << json_escape(clip.path) << "\",\"joints\":" << sk.num_joints()
@@ -93,8 +96,8 @@ void print_json(const Clip& clip, const ClipSummary& s) {
             << ",\"channels\":" << sk.num_channels() << ",\"end_sites\":" << sk.num_end_sites()
             << ",\"frames\":" << m.num_frames << ",\"frame_time\":" << frame_time
             << ",\"fps\":" << num(m.fps()) << ",\"duration\":" << num(m.duration())
-            << ",\"bounding_box\":{\"min\":" << json_vec(s.box_min) << ",\"max\":" << json_vec(s.box_max)
-            << "},\"warnings\":[" << warnings << "]}\n";
+            << ",\"bounding_box\":{\"min\":" << json_vec(s.box_min)
+            << ",\"max\":" << json_vec(s.box_max) << "},\"warnings\":[" << warnings << "]}\n";
 }
 
 }  // namespace
@@ -133,7 +136,9 @@ void setup_info(CLI::App& app) {
         ++failures;
       }
     }
-    if (failures > 0) throw Error(std::to_string(failures) + " of " + std::to_string(opt->files.size()) + " files could not be read");
+    if (failures > 0)
+      throw Error(std::to_string(failures) + " of " + std::to_string(opt->files.size()) +
+                  " files could not be read");
   });
 }
 

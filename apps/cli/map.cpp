@@ -30,12 +30,15 @@ std::string base_name(const std::string& path) {
 void print_metrics_table(std::ostream& out, const pipeline::ClipMap& map, int k) {
   const auto& m = *map.metrics;
   char line[160];
-  std::snprintf(line, sizeof line, "%-8s %16s %12s %8s %6s\n", "method", "trustworthiness", "continuity", "stress", "jump");
+  std::snprintf(line, sizeof line, "%-8s %16s %12s %8s %6s\n", "method", "trustworthiness",
+                "continuity", "stress", "jump");
   out << line;
   std::snprintf(line, sizeof line, "%-8s %16.4f %12.4f %8s %6.2f\n",
-                std::string(embed::method_name(map.embedding.method)).c_str(), m.neighborhood.trustworthiness,
-                m.neighborhood.continuity, m.stress ? std::to_string(*m.stress).substr(0, 6).c_str() : "-", m.jump);
-  out << line << "(trustworthiness and continuity at k = " << k << " against the pose distance D)\n";
+                std::string(embed::method_name(map.embedding.method)).c_str(),
+                m.neighborhood.trustworthiness, m.neighborhood.continuity,
+                m.stress ? std::to_string(*m.stress).substr(0, 6).c_str() : "-", m.jump);
+  out << line << "(trustworthiness and continuity at k = " << k
+      << " against the pose distance D)\n";
 }
 
 }  // namespace
@@ -50,21 +53,25 @@ void setup_map(CLI::App& app) {
   add_map_options(sub, cmd->map, MapOptionsFor::Map);
   sub->add_option("-o,--output", cmd->output, "CSV file to write (default: standard output)");
   sub->add_option("--plot", cmd->plot, "Also draw the map: .png, .svg or .pdf");
-  sub->add_option("--axes", cmd->axes,
-                  "For --plot: equal (one scale for both axes, distances to scale; default) or fill "
-                  "(each axis scaled to fill the square panel)")
+  sub->add_option(
+         "--axes", cmd->axes,
+         "For --plot: equal (one scale for both axes, distances to scale; default) or fill "
+         "(each axis scaled to fill the square panel)")
       ->check(CLI::IsMember({"fill", "equal"}));
-  sub->add_flag("--metrics", cmd->metrics,
-                "Compute trustworthiness and continuity (k = 10), stress (mds, isomap) and the jump "
-                "score; printed as a table and in the CSV comment");
+  sub->add_flag(
+      "--metrics", cmd->metrics,
+      "Compute trustworthiness and continuity (k = 10), stress (mds, isomap) and the jump "
+      "score; printed as a table and in the CSV comment");
   sub->callback([cmd] {
     const std::vector<Clip> clips = load_inputs(cmd->map);
-    const pipeline::ClipMapOptions options = clip_map_options(cmd->map, cmd->map.method, cmd->metrics);
-    const pipeline::ClipMap map =
-        pipeline::map_clips(clips, options, progress_line(cmd->map, embed::method_name(cmd->map.method)));
+    const pipeline::ClipMapOptions options =
+        clip_map_options(cmd->map, cmd->map.method, cmd->metrics);
+    const pipeline::ClipMap map = pipeline::map_clips(
+        clips, options, progress_line(cmd->map, embed::method_name(cmd->map.method)));
     print_diagnostics(map);
     if (map.embedding.method == embed::Method::LaplacianEigenmap) {
-      std::cerr << "heat " << map.embedding.heat_used << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
+      std::cerr << "heat " << map.embedding.heat_used
+                << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
     }
     if (cmd->output.empty() || cmd->output == "-") {
       pipeline::write_map_csv(std::cout, map, options, cmd->map.files);
@@ -82,13 +89,16 @@ void setup_map(CLI::App& app) {
       render::MapPlotOptions plot;
       std::string files;
       for (const auto& f : cmd->map.files) files += (files.empty() ? "" : ", ") + base_name(f);
-      plot.title = QString::fromStdString(files + " — " + std::string(embed::method_name(map.embedding.method)));
+      plot.title = QString::fromStdString(files + " — " +
+                                          std::string(embed::method_name(map.embedding.method)));
       plot.notes << QString::fromStdString(pipeline::describe_parameters(map.embedding, options));
-      if (map.metrics) plot.notes << QString::fromStdString(pipeline::describe_metrics(*map.metrics));
+      if (map.metrics)
+        plot.notes << QString::fromStdString(pipeline::describe_metrics(*map.metrics));
       plot.time_legend = true;
       if (cmd->axes == "fill") plot.notes << "axes scaled to fill the panel";
-      render::save_map_plot(cmd->plot, cmd->axes == "fill" ? render::fill_axes(map.embedding.coordinates)
-                                                           : map.embedding.coordinates,
+      render::save_map_plot(cmd->plot,
+                            cmd->axes == "fill" ? render::fill_axes(map.embedding.coordinates)
+                                                : map.embedding.coordinates,
                             map.features->segment_starts, plot);
     }
   });

@@ -20,7 +20,8 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
   sub->add_option("--asf", opt.asf, "ASF skeleton for .amc inputs (default: the .asf beside them)")
       ->check(CLI::ExistingFile);
   // pose/synth: --fps is the new motion's frame rate there.
-  sub->add_option(use == MapOptionsFor::Synthesis ? "--amc-fps" : "--fps", opt.fps, "Frame rate of .amc inputs (default 120)")
+  sub->add_option(use == MapOptionsFor::Synthesis ? "--amc-fps" : "--fps", opt.fps,
+                  "Frame rate of .amc inputs (default 120)")
       ->check(CLI::PositiveNumber);
   if (use != MapOptionsFor::Figure) {
     std::map<std::string, embed::Method> methods;
@@ -28,7 +29,8 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
     sub->add_option("-m,--method", opt.method, "pca, svd, mds, isomap, le or lle (default isomap)")
         ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case));
   }
-  sub->add_option("--dims", opt.dims, "Map dimensions, 2 or 3 (default 2)")->check(CLI::IsMember({2, 3}));
+  sub->add_option("--dims", opt.dims, "Map dimensions, 2 or 3 (default 2)")
+      ->check(CLI::IsMember({2, 3}));
   sub->add_option(use == MapOptionsFor::Synthesis ? "-k" : "-k,--neighbors", opt.k,
                   "Neighbours per frame in the map's graph for isomap, le, lle (default 20)");
   sub->add_option("--heat", opt.heat,
@@ -39,10 +41,12 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
   sub->add_flag("--strict", opt.strict,
                 "Fail on a disconnected neighbour graph instead of joining its components");
   const std::map<std::string, features::FeatureKind> feature_kinds{
-      {"quat", features::FeatureKind::Quaternions}, {"positions", features::FeatureKind::Positions}};
-  sub->add_option("--features", opt.features,
-                  "Data matrix X for pca, svd and lle: quat (joint rotation quaternions, default) or "
-                  "positions (heading-local joint positions)")
+      {"quat", features::FeatureKind::Quaternions},
+      {"positions", features::FeatureKind::Positions}};
+  sub->add_option(
+         "--features", opt.features,
+         "Data matrix X for pca, svd and lle: quat (joint rotation quaternions, default) or "
+         "positions (heading-local joint positions)")
       ->transform(CLI::CheckedTransformer(feature_kinds, CLI::ignore_case));
   const std::map<std::string, features::DistanceKind> distance_kinds{
       {"pointcloud", features::DistanceKind::PointCloud},
@@ -52,13 +56,17 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                   "Pose distance D for mds, isomap, le and lle's neighbours: pointcloud (default), "
                   "geodesic (joint rotation angles) or features (Euclidean on X)")
       ->transform(CLI::CheckedTransformer(distance_kinds, CLI::ignore_case));
-  sub->add_option("--exclude", opt.exclude,
-                  "Regular expression: joints whose name matches are left out, e.g. '.*(Thumb|Finger).*'");
-  sub->add_option("--frames", opt.frames, "Frame range A:B of each file (B exclusive; either may be empty)");
-  sub->add_option("--stride", opt.stride, "Use every S-th frame (default 1)")->check(CLI::PositiveNumber);
+  sub->add_option(
+      "--exclude", opt.exclude,
+      "Regular expression: joints whose name matches are left out, e.g. '.*(Thumb|Finger).*'");
+  sub->add_option("--frames", opt.frames,
+                  "Frame range A:B of each file (B exclusive; either may be empty)");
+  sub->add_option("--stride", opt.stride, "Use every S-th frame (default 1)")
+      ->check(CLI::PositiveNumber);
   sub->add_flag("--keep-first", opt.keep_first,
                 "Keep a leading bind/T-pose frame (left out by default, with a note)");
-  sub->add_option("--up", opt.up, "Up axis of the files: y (default) or z")->check(CLI::IsMember({"y", "z", "Y", "Z"}));
+  sub->add_option("--up", opt.up, "Up axis of the files: y (default) or z")
+      ->check(CLI::IsMember({"y", "z", "Y", "Z"}));
   sub->add_flag("-q,--quiet", opt.quiet, "No progress line");
 }
 
@@ -80,14 +88,16 @@ int parse_frame_bound(const std::string& text, const std::string& whole) {
   int value = 0;
   const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || ptr != text.data() + text.size() || value < 0) {
-    throw ParameterError("--frames: '" + whole + "' is not a range A:B of non-negative frame numbers");
+    throw ParameterError("--frames: '" + whole +
+                         "' is not a range A:B of non-negative frame numbers");
   }
   return value;
 }
 
 }  // namespace
 
-pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics) {
+pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method,
+                                          bool metrics) {
   pipeline::ClipMapOptions out;
   features::FeatureOptions& f = out.features;
   f.features = opt.features;
@@ -99,7 +109,8 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   if (!opt.frames.empty()) {
     const auto colon = opt.frames.find(':');
     if (colon == std::string::npos) {
-      throw ParameterError("--frames: '" + opt.frames + "' is not a range A:B (e.g. 100:400, 100:, :400)");
+      throw ParameterError("--frames: '" + opt.frames +
+                           "' is not a range A:B (e.g. 100:400, 100:, :400)");
     }
     const std::string a = opt.frames.substr(0, colon), b = opt.frames.substr(colon + 1);
     if (!a.empty()) f.first_frame = parse_frame_bound(a, opt.frames);
@@ -115,7 +126,8 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   e.strict = opt.strict;
   if (opt.heat != "auto") {
     double heat = 0.0;
-    const auto [ptr, ec] = std::from_chars(opt.heat.data(), opt.heat.data() + opt.heat.size(), heat);
+    const auto [ptr, ec] =
+        std::from_chars(opt.heat.data(), opt.heat.data() + opt.heat.size(), heat);
     if (ec != std::errc() || ptr != opt.heat.data() + opt.heat.size() || !std::isfinite(heat)) {
       throw ParameterError("--heat: '" + opt.heat + "' is neither 'auto' nor a number");
     }
@@ -133,8 +145,8 @@ Control progress_line(const MapCliOptions& opt, std::string_view label) {
     const int percent = static_cast<int>(fraction * 100.0);
     if (percent == *last) return;
     *last = percent;
-    std::fprintf(stderr, "\r%-6s %3d%%  %-24.*s", name.c_str(), percent, static_cast<int>(stage.size()),
-                 stage.data());
+    std::fprintf(stderr, "\r%-6s %3d%%  %-24.*s", name.c_str(), percent,
+                 static_cast<int>(stage.size()), stage.data());
     if (percent >= 100) std::fprintf(stderr, "\r%60s\r", "");
     std::fflush(stderr);
   });

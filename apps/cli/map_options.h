@@ -47,7 +47,8 @@ std::vector<Clip> load_inputs(const MapCliOptions& opt);
 
 /// The library options for `method`.
 /// @throws ParameterError for malformed --frames or --heat values.
-pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method, bool metrics);
+pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Method method,
+                                          bool metrics);
 
 /// A progress line on stderr ("isomap  42%  shortest paths"), or a silent Control when --quiet
 /// or stderr is not a terminal.

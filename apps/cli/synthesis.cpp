@@ -1,6 +1,6 @@
-// `motionmap pose FILE… --at X,Y -o pose.bvh` and `motionmap synth FILE… --path path.csv -o new.bvh`:
-// a pose blended from the samples around a map point, and a new motion along a path on the map
-// (the library's synth::MapBlender and synth::synthesize; docs/synthesis.md has the maths).
+// `motionmap pose FILE… --at X,Y -o pose.bvh` and `motionmap synth FILE… --path path.csv -o
+// new.bvh`: a pose blended from the samples around a map point, and a new motion along a path on
+// the map (the library's synth::MapBlender and synth::synthesize; docs/synthesis.md has the maths).
 #include <charconv>
 #include <cstdio>
 #include <iostream>
@@ -10,8 +10,8 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
-#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/io/bvh.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace motionmap::cli {
@@ -36,29 +36,37 @@ struct BlendCommand {
 
 void add_blend_options(CLI::App* sub, BlendCommand& cmd) {
   add_map_options(sub, cmd.map, MapOptionsFor::Synthesis);
-  sub->add_option("--map", cmd.map_csv,
-                  "Map CSV from `motionmap map` on the same files and options, instead of recomputing "
-                  "it (checked to belong to the clips: same samples; --method is then unused)")
+  sub->add_option(
+         "--map", cmd.map_csv,
+         "Map CSV from `motionmap map` on the same files and options, instead of recomputing "
+         "it (checked to belong to the clips: same samples; --method is then unused)")
       ->check(CLI::ExistingFile);
   std::map<std::string, synth::BlendMode> modes;
   for (auto m : {synth::BlendMode::Kriging, synth::BlendMode::Local, synth::BlendMode::Idw}) {
     modes[std::string(synth::blend_mode_name(m))] = m;
   }
-  sub->add_option("--blend", cmd.blend,
-                  "Weights of the samples around a map point: local (kriging on the K map-nearest "
-                  "samples, default), kriging (over all samples, ≤ 10 000) or idw (inverse distance)")
+  sub->add_option(
+         "--blend", cmd.blend,
+         "Weights of the samples around a map point: local (kriging on the K map-nearest "
+         "samples, default), kriging (over all samples, ≤ 10 000) or idw (inverse distance)")
       ->transform(CLI::CheckedTransformer(modes, CLI::ignore_case));
-  sub->add_option("--neighbors", cmd.neighbors, "K: samples per local kriging system, or blended by idw (default 12)");
-  sub->add_option("--reach", cmd.reach,
-                  "A point farther from every sample than reach × the median step between consecutive "
-                  "samples is moved to the edge of the data, with a note (default 3)");
-  sub->add_option("-o,--output", cmd.output, "BVH file to write (the source skeleton and channel order)")->required();
+  sub->add_option("--neighbors", cmd.neighbors,
+                  "K: samples per local kriging system, or blended by idw (default 12)");
+  sub->add_option(
+      "--reach", cmd.reach,
+      "A point farther from every sample than reach × the median step between consecutive "
+      "samples is moved to the edge of the data, with a note (default 3)");
+  sub->add_option("-o,--output", cmd.output,
+                  "BVH file to write (the source skeleton and channel order)")
+      ->required();
 }
 
 /// The clips, their map (recomputed, or read with --map and checked) and a blender over it.
-synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips, features::FeatureSet& samples) {
+synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips,
+                          features::FeatureSet& samples) {
   clips = load_inputs(cmd.map);
-  const pipeline::ClipMapOptions options = clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
+  const pipeline::ClipMapOptions options =
+      clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
   Eigen::MatrixXd coords;
   if (!cmd.map_csv.empty()) {
     const pipeline::MapTable table = pipeline::read_map_csv(cmd.map_csv);
@@ -67,8 +75,8 @@ synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips, fea
     table.check_matches(samples);
     coords = table.coords;
   } else {
-    pipeline::ClipMap map =
-        pipeline::map_clips(clips, options, progress_line(cmd.map, embed::method_name(cmd.map.method)));
+    pipeline::ClipMap map = pipeline::map_clips(
+        clips, options, progress_line(cmd.map, embed::method_name(cmd.map.method)));
     print_diagnostics(map);
     samples = *map.features;
     coords = std::move(map.embedding.coordinates);
@@ -79,8 +87,9 @@ synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips, fea
   blend.reach = cmd.reach;
   blend.up = options.features.up;
   if (blend.mode == synth::BlendMode::Kriging && samples.num_samples() > 2000 && !cmd.map.quiet) {
-    std::cerr << "note: factoring the kriging system of " << samples.num_samples()
-              << " samples (O(N³): about 30 s at 10 000; --blend local takes a fraction of a second)\n";
+    std::cerr
+        << "note: factoring the kriging system of " << samples.num_samples()
+        << " samples (O(N³): about 30 s at 10 000; --blend local takes a fraction of a second)\n";
   }
   return synth::MapBlender(clips, samples, coords, blend);
 }
@@ -93,9 +102,12 @@ Eigen::Vector2d parse_point(const std::string& text) {
     const std::string_view part =
         k == 0 ? std::string_view(text).substr(0, comma) : std::string_view(text).substr(comma + 1);
     const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), p[k]);
-    ok = !part.empty() && ec == std::errc() && ptr == part.data() + part.size() && std::isfinite(p[k]);
+    ok = !part.empty() && ec == std::errc() && ptr == part.data() + part.size() &&
+         std::isfinite(p[k]);
   }
-  if (!ok) throw ParameterError("--at: '" + text + "' is not a map point X,Y of two finite numbers (e.g. --at=-0.5,1.2)");
+  if (!ok)
+    throw ParameterError("--at: '" + text +
+                         "' is not a map point X,Y of two finite numbers (e.g. --at=-0.5,1.2)");
   return p;
 }
 
@@ -106,7 +118,9 @@ std::string approx(double v) {
   return buf;
 }
 
-std::string point_text(const Eigen::Vector2d& p) { return "(" + approx(p.x()) + ", " + approx(p.y()) + ")"; }
+std::string point_text(const Eigen::Vector2d& p) {
+  return "(" + approx(p.x()) + ", " + approx(p.y()) + ")";
+}
 
 void write_motion(const synth::MapBlender& blender, const Motion& motion, const std::string& path) {
   io::write_bvh(io::from_motion(blender.skeleton(), motion), path);
@@ -121,7 +135,8 @@ void setup_pose(CLI::App& app) {
       "Blend a new pose from the samples around a point of the clips' map and write it as a\n"
       "one-frame BVH, standing at the origin facing the heading-0 direction (+Z for Y-up files).");
   add_blend_options(sub, *cmd);
-  sub->add_option("--at", cmd->at, "The map point X,Y (write --at=X,Y when X is negative)")->required();
+  sub->add_option("--at", cmd->at, "The map point X,Y (write --at=X,Y when X is negative)")
+      ->required();
   sub->callback([cmd] {
     const Eigen::Vector2d p = parse_point(cmd->at);
     std::vector<Clip> clips;
@@ -131,15 +146,16 @@ void setup_pose(CLI::App& app) {
     const synth::PointValidity& v = weights.validity;
     if (v.clamped) {
       std::cerr << "note: " << point_text(p) << " is " << approx(v.distance)
-                << " map units from the nearest sample, beyond the reach " << approx(blender.reach_distance())
-                << ": the pose is taken at " << point_text(v.point) << ", the nearest edge of the data\n";
+                << " map units from the nearest sample, beyond the reach "
+                << approx(blender.reach_distance()) << ": the pose is taken at "
+                << point_text(v.point) << ", the nearest edge of the data\n";
     }
     write_motion(blender, blender.pose(weights), cmd->output);
     const int nearest = v.nearest_sample;
     std::cerr << "wrote " << cmd->output << ": 1 frame blended from " << weights.samples.size()
-              << " samples (" << synth::blend_mode_name(blender.options().mode) << "); nearest sample: "
-              << clips[samples.clip_of[nearest]].path << " frame " << samples.frame_of[nearest] << " at "
-              << approx(v.distance) << "\n";
+              << " samples (" << synth::blend_mode_name(blender.options().mode)
+              << "); nearest sample: " << clips[samples.clip_of[nearest]].path << " frame "
+              << samples.frame_of[nearest] << " at " << approx(v.distance) << "\n";
   });
 }
 
@@ -151,15 +167,18 @@ void setup_synth(CLI::App& app) {
       "the blend at the path's point; root motion is integrated from the samples' own velocities.\n"
       "The path CSV holds t,x,y rows (seconds) or x,y rows drawn at --speed.");
   add_blend_options(sub, *cmd);
-  sub->add_option("--path", cmd->path, "Path CSV: t,x,y or x,y per line (optional header, # comments)")
+  sub->add_option("--path", cmd->path,
+                  "Path CSV: t,x,y or x,y per line (optional header, # comments)")
       ->required()
       ->check(CLI::ExistingFile);
-  sub->add_option("--speed", cmd->speed,
-                  "Map units per second for a path without times (default: the clip's median map speed)");
+  sub->add_option(
+      "--speed", cmd->speed,
+      "Map units per second for a path without times (default: the clip's median map speed)");
   sub->add_option("--fps", cmd->fps, "Frame rate of the new motion (default: the source clip's)");
-  sub->add_option("--smooth", cmd->smooth,
-                  "Gaussian smoothing of the blend weights over time, σ in seconds (default 0: a path "
-                  "retracing the clip's trajectory at its timing reproduces the clip)");
+  sub->add_option(
+      "--smooth", cmd->smooth,
+      "Gaussian smoothing of the blend weights over time, σ in seconds (default 0: a path "
+      "retracing the clip's trajectory at its timing reproduces the clip)");
   sub->callback([cmd] {
     const synth::MapPath path = synth::read_path_csv(cmd->path);
     synth::SynthOptions options;
@@ -171,11 +190,12 @@ void setup_synth(CLI::App& app) {
     features::FeatureSet samples;
     const synth::MapBlender blender = prepare(*cmd, clips, samples);
     const Control line = progress_line(cmd->map, "synth");
-    const synth::SynthResult result =
-        synth::synthesize(blender, path, options, line.reports() ? line.stage("blending frames", 0, 1) : line);
+    const synth::SynthResult result = synth::synthesize(
+        blender, path, options, line.reports() ? line.stage("blending frames", 0, 1) : line);
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
-                << " frames lie outside the data (beyond the reach " << approx(blender.reach_distance())
+                << " frames lie outside the data (beyond the reach "
+                << approx(blender.reach_distance())
                 << " from every sample) and were blended at the nearest edge of the data\n";
     }
     write_motion(blender, result.motion, cmd->output);

@@ -36,9 +36,9 @@
 
 #include "map_view.h"
 #include "motionmap/core/error.h"
-#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/sample/sample_clip.h"
 #include "skeleton_view.h"
 
@@ -395,7 +395,8 @@ void MainWindow::startComputation(embed::Method method) {
   blend.up = base.features.up;
   const std::string key = cacheKey(method);
   std::shared_ptr<pipeline::FeatureCache> cache = m_featureCache;
-  m_mapJob.start([this, clips, cache, method, base, blend, key](const BackgroundJob::Ticket& ticket) {
+  m_mapJob.start([this, clips, cache, method, base, blend,
+                  key](const BackgroundJob::Ticket& ticket) {
     const int generation = ticket.generation;
     auto result = std::make_shared<MapResult>();
     QString error;
@@ -406,18 +407,20 @@ void MainWindow::startComputation(embed::Method method) {
       for (const Clip& c : *clips) frames += c.motion.num_frames;
       options.metrics = frames <= kMaxMetricsFrames;
       // Callbacks run on this thread: hand progress to the GUI thread, read cancel atomically.
-      const Control control([this, generation](double fraction, std::string_view stage) {
-        const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
-        QMetaObject::invokeMethod(
-            this,
-            [this, generation, fraction, text] {
-              if (!m_mapJob.current(generation)) return;
-              m_progress->setValue(int(fraction * 1000));
-              m_progress->setFormat(text + " %p%");
-              emit progressChanged(fraction);
-            },
-            Qt::QueuedConnection);
-      }, [ticket] { return ticket.cancelled(); });
+      const Control control(
+          [this, generation](double fraction, std::string_view stage) {
+            const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
+            QMetaObject::invokeMethod(
+                this,
+                [this, generation, fraction, text] {
+                  if (!m_mapJob.current(generation)) return;
+                  m_progress->setValue(int(fraction * 1000));
+                  m_progress->setFormat(text + " %p%");
+                  emit progressChanged(fraction);
+                },
+                Qt::QueuedConnection);
+          },
+          [ticket] { return ticket.cancelled(); });
       QElapsedTimer clock;
       clock.start();
       result->map = pipeline::map_clips(*clips, options, control, cache.get());
@@ -727,16 +730,18 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
         QString error;
         bool cancelled = false;
         try {
-          const Control control([this, generation](double fraction, std::string_view) {
-            QMetaObject::invokeMethod(
-                this,
-                [this, generation, fraction] {
-                  if (!m_synthJob.current(generation)) return;
-                  m_synthProgress->setValue(int(fraction * 1000));
-                  emit synthesisProgress(fraction);
-                },
-                Qt::QueuedConnection);
-          }, [ticket] { return ticket.cancelled(); });
+          const Control control(
+              [this, generation](double fraction, std::string_view) {
+                QMetaObject::invokeMethod(
+                    this,
+                    [this, generation, fraction] {
+                      if (!m_synthJob.current(generation)) return;
+                      m_synthProgress->setValue(int(fraction * 1000));
+                      emit synthesisProgress(fraction);
+                    },
+                    Qt::QueuedConnection);
+              },
+              [ticket] { return ticket.cancelled(); });
           *result = synth::synthesize(*map->blender, path, options, control);
           if (ticket.cancelled()) throw Cancelled();
         } catch (const Cancelled&) {

@@ -146,8 +146,8 @@ class MainWindow : public QMainWindow {
   void cancelSynthesis();
   /// Writes the synthesized motion as BVH. False (error shown) on failure.
   bool exportMotion(const QString& path);
-  /// Writes the map shown: .csv (pipeline::write_map_csv), .png, .svg or .pdf (render::save_map_plot).
-  /// False (error shown) on failure.
+  /// Writes the map shown: .csv (pipeline::write_map_csv), .png, .svg or .pdf
+  /// (render::save_map_plot). False (error shown) on failure.
   bool exportMap(const QString& path);
 
   /// When false, errors go to the status line only and discard questions are skipped
@@ -222,7 +222,8 @@ class MainWindow : public QMainWindow {
   SynthParameters m_synthParameters;
   std::map<std::string, std::shared_ptr<MapResult>> m_maps;  ///< by cacheKey
   /// The feature sets of m_clips, one per feature key, shared by the maps of every method.
-  std::shared_ptr<pipeline::FeatureCache> m_featureCache = std::make_shared<pipeline::FeatureCache>();
+  std::shared_ptr<pipeline::FeatureCache> m_featureCache =
+      std::make_shared<pipeline::FeatureCache>();
   BackgroundJob m_mapJob;  ///< the map (and its blender) being computed
 
   std::optional<synth::SynthResult> m_synth;

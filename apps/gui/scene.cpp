@@ -40,28 +40,30 @@ double poseExtent(const WorldPose& pose) {
 }
 
 void appendBox(std::vector<MeshVertex>& out, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-                double radius, const Eigen::Vector3f& color) {
+               double radius, const Eigen::Vector3f& color) {
   Eigen::Vector3d axis = to - from;
   const double length = axis.norm();
   axis = length > 0.0 ? Eigen::Vector3d(axis / length) : Eigen::Vector3d::UnitY();
   // Two directions perpendicular to the bone span its cross-section.
-  const Eigen::Vector3d helper = std::abs(axis.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d helper =
+      std::abs(axis.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
   const Eigen::Vector3d u = axis.cross(helper).normalized() * radius;
   const Eigen::Vector3d v = axis.cross(u).normalized() * radius;
   const Eigen::Vector3d a = length > 0.0 ? from : Eigen::Vector3d(from - axis * radius);
   const Eigen::Vector3d b = length > 0.0 ? to : Eigen::Vector3d(from + axis * radius);
   Eigen::Vector3d corners[8];
   for (int i = 0; i < 8; ++i) {
-    corners[i] = ((i & 4) ? b : a) + ((i & 1) ? u : Eigen::Vector3d(-u)) + ((i & 2) ? v : Eigen::Vector3d(-v));
+    corners[i] = ((i & 4) ? b : a) + ((i & 1) ? u : Eigen::Vector3d(-u)) +
+                 ((i & 2) ? v : Eigen::Vector3d(-v));
   }
   // Faces as corner quads (counter-clockwise seen from outside) with their normals.
   struct Face {
     int c[4];
     Eigen::Vector3d n;
   };
-  const Face faces[6] = {{{0, 2, 3, 1}, -axis}, {{4, 5, 7, 6}, axis}, {{0, 1, 5, 4}, -v.normalized()},
-                         {{2, 6, 7, 3}, v.normalized()}, {{0, 4, 6, 2}, -u.normalized()},
-                         {{1, 3, 7, 5}, u.normalized()}};
+  const Face faces[6] = {{{0, 2, 3, 1}, -axis},           {{4, 5, 7, 6}, axis},
+                         {{0, 1, 5, 4}, -v.normalized()}, {{2, 6, 7, 3}, v.normalized()},
+                         {{0, 4, 6, 2}, -u.normalized()}, {{1, 3, 7, 5}, u.normalized()}};
   for (const Face& f : faces) {
     for (int k : {0, 1, 2, 0, 2, 3}) {
       const Eigen::Vector3d& p = corners[f.c[k]];
@@ -73,14 +75,14 @@ void appendBox(std::vector<MeshVertex>& out, const Eigen::Vector3d& from, const 
 }
 
 std::vector<MeshVertex> skeletonMesh(const std::vector<BoneSegment>& bones, const WorldPose& pose,
-                                      double extent) {
+                                     double extent) {
   std::vector<MeshVertex> out;
   out.reserve((bones.size() + pose.positions.size()) * 36);
   const double radius = 0.012 * extent;
   for (const auto& bone : bones) appendBox(out, bone.from, bone.to, radius, {0.85f, 0.78f, 0.62f});
   for (const auto& p : pose.positions) {
-    appendBox(out, p - Eigen::Vector3d(0, radius * 1.25, 0), p + Eigen::Vector3d(0, radius * 1.25, 0),
-               radius * 1.25, {0.25f, 0.45f, 0.85f});
+    appendBox(out, p - Eigen::Vector3d(0, radius * 1.25, 0),
+              p + Eigen::Vector3d(0, radius * 1.25, 0), radius * 1.25, {0.25f, 0.45f, 0.85f});
   }
   return out;
 }
@@ -103,15 +105,16 @@ std::vector<MeshVertex> gridLines(const Eigen::Vector3d& center, double step) {
 }
 
 Eigen::Vector3d OrbitCamera::eye() const {
-  const Eigen::Vector3d dir(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+  const Eigen::Vector3d dir(std::cos(pitch) * std::sin(yaw), std::sin(pitch),
+                            std::cos(pitch) * std::cos(yaw));
   return target + pan + dir * distance;
 }
 
 QMatrix4x4 OrbitCamera::view() const {
   const Eigen::Vector3d e = eye(), c = target + pan;
   QMatrix4x4 m;
-  m.lookAt(QVector3D(float(e.x()), float(e.y()), float(e.z())), QVector3D(float(c.x()), float(c.y()), float(c.z())),
-           QVector3D(0, 1, 0));
+  m.lookAt(QVector3D(float(e.x()), float(e.y()), float(e.z())),
+           QVector3D(float(c.x()), float(c.y()), float(c.z())), QVector3D(0, 1, 0));
   return m;
 }
 
@@ -136,10 +139,13 @@ void OrbitCamera::panBy(double dx, double dy, QSize size) {
   pan += (-dx * right + dy * up) * units;
 }
 
-void OrbitCamera::zoom(double steps) { distance = std::clamp(distance * std::pow(0.85, steps), 1e-3, 1e7); }
+void OrbitCamera::zoom(double steps) {
+  distance = std::clamp(distance * std::pow(0.85, steps), 1e-3, 1e7);
+}
 
 QPointF projectToPixels(const OrbitCamera& camera, QSize size, const Eigen::Vector3d& p) {
-  const QVector4D clip = camera.projection(size) * camera.view() * QVector4D(float(p.x()), float(p.y()), float(p.z()), 1.0f);
+  const QVector4D clip = camera.projection(size) * camera.view() *
+                         QVector4D(float(p.x()), float(p.y()), float(p.z()), 1.0f);
   if (clip.w() <= 0.0f) return {std::nan(""), std::nan("")};
   const double x = clip.x() / clip.w(), y = clip.y() / clip.w();
   return {(x + 1.0) * 0.5 * size.width(), (1.0 - y) * 0.5 * size.height()};

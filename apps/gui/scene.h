@@ -37,22 +37,23 @@ struct MeshVertex {
 
 /// Triangles (36 vertices) of a box of half-width `radius` from `from` to `to`, appended to `out`.
 void appendBox(std::vector<MeshVertex>& out, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-                double radius, const Eigen::Vector3f& color);
+               double radius, const Eigen::Vector3f& color);
 
 /// Shaded skeleton: a box per bone (radius = 1.2 % of `extent`) and a cube per joint.
 std::vector<MeshVertex> skeletonMesh(const std::vector<BoneSegment>& bones, const WorldPose& pose,
-                                      double extent);
+                                     double extent);
 
 /// Ground grid lines (pairs of vertices) on y = 0 around `center`'s floor position, 21 lines each
-/// way, `step` apart, snapped to multiples of `step` so the grid stays put while the camera follows.
+/// way, `step` apart, snapped to multiples of `step` so the grid stays put while the camera
+/// follows.
 std::vector<MeshVertex> gridLines(const Eigen::Vector3d& center, double step);
 
 /// An orbit camera looking at target + pan from `distance` away, Y up.
 struct OrbitCamera {
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< followed point (the root)
   Eigen::Vector3d pan = Eigen::Vector3d::Zero();     ///< user offset added to target
-  double yaw = 0.6;                                   ///< radians about +Y
-  double pitch = 0.3;                                 ///< radians above the horizon, |pitch| < 1.5
+  double yaw = 0.6;                                  ///< radians about +Y
+  double pitch = 0.3;                                ///< radians above the horizon, |pitch| < 1.5
   double distance = 400.0;
   double fovDegrees = 40.0;
 

@@ -68,9 +68,10 @@ TEST(EmbedValidation, MissingInputs) {
   EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &d.D}, with(Method::Pca)); }),
               HasSubstr("pca: this method needs the feature matrix X (#frames by #features); "
                         "none was given"));
-  EXPECT_THAT(error_message<ParameterError>([&] { embed({.features = &d.X}, with(Method::Isomap)); }),
-              HasSubstr("isomap: this method needs the distance matrix D (#frames by #frames); "
-                        "none was given"));
+  EXPECT_THAT(
+      error_message<ParameterError>([&] { embed({.features = &d.X}, with(Method::Isomap)); }),
+      HasSubstr("isomap: this method needs the distance matrix D (#frames by #frames); "
+                "none was given"));
   EXPECT_THAT(error_message<ParameterError>([&] { embed({.features = &d.X}, with(Method::Lle)); }),
               HasSubstr("lle: this method needs the distance matrix D"));
   EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &d.D}, with(Method::Lle)); }),
@@ -82,11 +83,13 @@ TEST(EmbedValidation, MissingInputs) {
 
 TEST(EmbedValidation, EmptyInputs) {
   const Eigen::MatrixXd empty;
-  EXPECT_THAT(error_message<ParameterError>([&] { embed({.features = &empty}, with(Method::Pca)); }),
-              HasSubstr("pca: the feature matrix X is empty (0 by 0); expected #frames by "
-                        "#features with both ≥ 1"));
-  EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &empty}, with(Method::Mds)); }),
-              HasSubstr("mds: the distance matrix D is 0 by 0; expected #frames by #frames"));
+  EXPECT_THAT(
+      error_message<ParameterError>([&] { embed({.features = &empty}, with(Method::Pca)); }),
+      HasSubstr("pca: the feature matrix X is empty (0 by 0); expected #frames by "
+                "#features with both ≥ 1"));
+  EXPECT_THAT(
+      error_message<ParameterError>([&] { embed({.distances = &empty}, with(Method::Mds)); }),
+      HasSubstr("mds: the distance matrix D is 0 by 0; expected #frames by #frames"));
 }
 
 TEST(EmbedValidation, NonFiniteValues) {
@@ -103,8 +106,9 @@ TEST(EmbedValidation, NonFiniteValues) {
 TEST(EmbedValidation, MalformedDistanceMatrix) {
   Data d = trajectory(20);
   const Eigen::MatrixXd rect = d.D.leftCols(19);
-  EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &rect}, with(Method::Mds)); }),
-              HasSubstr("mds: the distance matrix D is 20 by 19; expected #frames by #frames"));
+  EXPECT_THAT(
+      error_message<ParameterError>([&] { embed({.distances = &rect}, with(Method::Mds)); }),
+      HasSubstr("mds: the distance matrix D is 20 by 19; expected #frames by #frames"));
 
   Data asym = d;
   asym.D(7, 4) += 0.5;
@@ -115,8 +119,9 @@ TEST(EmbedValidation, MalformedDistanceMatrix) {
 
   Data negative = d;
   negative.D(1, 6) = negative.D(6, 1) = -1.0;
-  EXPECT_THAT(error_message<ParameterError>([&] { run(negative, with(Method::LaplacianEigenmap)); }),
-              HasSubstr("le: D(6, 1) = -1 is negative; distances must be ≥ 0"));
+  EXPECT_THAT(
+      error_message<ParameterError>([&] { run(negative, with(Method::LaplacianEigenmap)); }),
+      HasSubstr("le: D(6, 1) = -1 is negative; distances must be ≥ 0"));
 
   Data diagonal = d;
   diagonal.D(9, 9) = 0.25;

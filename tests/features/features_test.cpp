@@ -200,8 +200,9 @@ TEST(Features, BadInputsGiveClearErrors) {
 TEST(Features, CancelStopsTheDistanceMatrix) {
   const Clip clip = smooth_clip(400);
   const FeatureOptions opt;
-  EXPECT_THROW(build_features(std::span<const Clip>(&clip, 1), opt, Control({}, [] { return true; })),
-               Cancelled);
+  EXPECT_THROW(
+      build_features(std::span<const Clip>(&clip, 1), opt, Control({}, [] { return true; })),
+      Cancelled);
   std::vector<double> seen;
   build_features(std::span<const Clip>(&clip, 1), opt,
                  Control([&](double p, std::string_view) { seen.push_back(p); }));

@@ -58,7 +58,8 @@ TEST_P(ClipReference, FeaturesAndMapsMatchIndependentImplementation) {
 
   features::FeatureOptions options;
   options.stride = static_cast<int>(x_ref.number("stride"));
-  const features::FeatureSet set = features::build_features(std::span<const Clip>(&clip, 1), options);
+  const features::FeatureSet set =
+      features::build_features(std::span<const Clip>(&clip, 1), options);
   const Eigen::VectorXd frames = x_ref.numbers("frames");
   ASSERT_EQ(set.num_samples(), frames.size());
   for (int i = 0; i < set.num_samples(); ++i) EXPECT_EQ(set.frame_of[i], frames[i]) << i;
@@ -76,10 +77,12 @@ TEST_P(ClipReference, FeaturesAndMapsMatchIndependentImplementation) {
     eopt.method = method;
     eopt.k = static_cast<int>(want.number("k"));
     const embed::Embedding map = embed::embed({&set.X, &set.D}, eopt);
-    const double target = (method == embed::Method::LaplacianEigenmap || method == embed::Method::Lle) ? 1e-6 : 1e-8;
+    const double target =
+        (method == embed::Method::LaplacianEigenmap || method == embed::Method::Lle) ? 1e-6 : 1e-8;
     const double disparity = test::procrustes_disparity(want.matrix, map.coordinates);
     EXPECT_LE(disparity, target) << GetParam() << "/" << name;
-    std::printf("[ disparity ] %s/%s (from the clip): %.3g\n", GetParam().c_str(), name.c_str(), disparity);
+    std::printf("[ disparity ] %s/%s (from the clip): %.3g\n", GetParam().c_str(), name.c_str(),
+                disparity);
   }
 }
 

@@ -27,8 +27,8 @@
 
 #include "main_window.h"
 #include "map_view.h"
-#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/io/bvh.h"
+#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/sample/sample_clip.h"
 #include "skeleton_view.h"
 #include "studio_test_util.h"

@@ -14,12 +14,12 @@
 #include <fstream>
 
 #include "main_window.h"
-#include "studio_test_util.h"
 #include "map_view.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/sample/sample_clip.h"
 #include "scene.h"
 #include "skeleton_view.h"
+#include "studio_test_util.h"
 #include "support/test_data.h"
 
 namespace motionmap::studio {

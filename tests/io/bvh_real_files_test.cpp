@@ -18,7 +18,9 @@
 namespace motionmap::io {
 namespace {
 
-std::vector<std::string> real_bvh_files() { return test::shared_files_with_extension(".bvh"); }
+std::vector<std::string> real_bvh_files() {
+  return test::shared_files_with_extension(".bvh");
+}
 using test::file_test_name;
 
 class BvhRealFile : public ::testing::TestWithParam<std::string> {};
@@ -136,7 +138,8 @@ TEST(BvhRealFiles, CountsMatchSources) {
     EXPECT_EQ(doc.num_frames, k.frames) << file;
     EXPECT_EQ(doc.frame_time, k.frame_time) << file;
   }
-  if (found == 0) GTEST_SKIP() << "none of the files of SOURCES.md under " << test::shared_data_dir();
+  if (found == 0)
+    GTEST_SKIP() << "none of the files of SOURCES.md under " << test::shared_data_dir();
 }
 
 TEST(BvhRealFiles, KnownValuesOfTheQuirkyFiles) {

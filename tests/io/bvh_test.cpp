@@ -102,9 +102,9 @@ TEST(BvhParse, ReadsHierarchyChannelsAndValues) {
             (std::vector<ChannelType>{ChannelType::Xposition, ChannelType::Yposition,
                                       ChannelType::Zposition, ChannelType::Zrotation,
                                       ChannelType::Yrotation, ChannelType::Xrotation}));
-  EXPECT_EQ(spine.channels, (std::vector<ChannelType>{ChannelType::Zrotation,
-                                                       ChannelType::Xrotation,
-                                                       ChannelType::Yrotation}));
+  EXPECT_EQ(spine.channels,
+            (std::vector<ChannelType>{ChannelType::Zrotation, ChannelType::Xrotation,
+                                      ChannelType::Yrotation}));
   ASSERT_EQ(spine.end_sites.size(), 1u);
   EXPECT_EQ(spine.end_sites[0], Eigen::Vector3d(0, 2, 0));
   EXPECT_TRUE(hips.end_sites.empty());
@@ -123,7 +123,9 @@ TEST(BvhParse, WhitespaceVariantsGiveTheSameDocument) {
   for (const char c : std::string(kSmall)) {
     crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
     cr += c == '\n' ? '\r' : c;
-    spaced += c == ' ' ? std::string(" \t  ") : c == '\n' ? std::string("  \n\n") : std::string(1, c);
+    spaced += c == ' '    ? std::string(" \t  ")
+              : c == '\n' ? std::string("  \n\n")
+                          : std::string(1, c);
   }
   // Mixed line ends as in the CMU conversions (CRLF with a few LF lines), a BOM, no final newline.
   std::string mixed = "\xEF\xBB\xBF" + crlf;
@@ -177,8 +179,8 @@ TEST(BvhParse, SeveralRootsLeafJointWithoutEndSiteAndChannelsBeforeOffset) {
 }
 
 TEST(BvhParse, ZeroFramesIsASkeletonWithoutMotion) {
-  BvhDocument doc = parse_bvh(replace(kSmall, "Frames: 2", "Frames: 0").substr(0, 
-      std::string(kSmall).find("1 2 3")));
+  BvhDocument doc = parse_bvh(
+      replace(kSmall, "Frames: 2", "Frames: 0").substr(0, std::string(kSmall).find("1 2 3")));
   EXPECT_EQ(doc.num_frames, 0);
   EXPECT_TRUE(doc.values.empty());
   EXPECT_TRUE(doc.warnings.empty());
@@ -189,7 +191,8 @@ TEST(BvhParse, ZeroFramesIsASkeletonWithoutMotion) {
 }
 
 TEST(BvhParse, SkeletonWithoutChannelsHasEmptyRows) {
-  const char* text = "HIERARCHY\nROOT A\n{\nOFFSET 1 2 3\n}\nMOTION\nFrames: 3\nFrame Time: 0.5\n\n\n\n";
+  const char* text =
+      "HIERARCHY\nROOT A\n{\nOFFSET 1 2 3\n}\nMOTION\nFrames: 3\nFrame Time: 0.5\n\n\n\n";
   const BvhDocument doc = parse_bvh(text);
   EXPECT_EQ(doc.num_frames, 3);
   EXPECT_EQ(doc.num_channels(), 0);
@@ -209,7 +212,8 @@ TEST(BvhParse, ExtraRowsAreIgnoredWithAWarningNamingTheirLine) {
             "walk.bvh:21: warning: 2 extra motion rows after the declared 2 frames ignored");
   const BvhDocument one = parse_bvh(std::string(kSmall) + "1", "w.bvh");
   ASSERT_EQ(one.warnings.size(), 1u);
-  EXPECT_EQ(one.warnings[0], "w.bvh:21: warning: 1 extra motion row after the declared 2 frames ignored");
+  EXPECT_EQ(one.warnings[0],
+            "w.bvh:21: warning: 1 extra motion row after the declared 2 frames ignored");
 }
 
 TEST(BvhParse, BlankLinesBetweenRowsAreSkipped) {
@@ -228,7 +232,9 @@ struct ErrorCase {
   std::string message;
 };
 
-void PrintTo(const ErrorCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const ErrorCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 class BvhParseError : public ::testing::TestWithParam<ErrorCase> {};
 
@@ -247,12 +253,16 @@ std::vector<ErrorCase> error_cases() {
   const std::string s = kSmall;
   const std::string hierarchy_only = s.substr(0, s.find("MOTION"));
   std::string deep = "HIERARCHY\n";
-  for (int i = 0; i <= kBvhMaxDepth; ++i) deep += (i ? "JOINT j" : "ROOT j") + std::to_string(i) + "\n{\nOFFSET 0 0 0\n";
+  for (int i = 0; i <= kBvhMaxDepth; ++i)
+    deep += (i ? "JOINT j" : "ROOT j") + std::to_string(i) + "\n{\nOFFSET 0 0 0\n";
   return {
       {"EmptyFile", "", 1, 1, "expected 'HIERARCHY', found end of file"},
       {"OnlyWhitespace", " \r\n\t\n", 3, 1, "expected 'HIERARCHY', found end of file"},
-      {"BinaryGarbage", std::string("\x7f" "ELF\x02\x01\x01\x00\x00", 9), 1, 1,
-       "expected 'HIERARCHY', found '\\x7FELF\\x02\\x01\\x01\\x00\\x00'"},
+      {"BinaryGarbage",
+       std::string("\x7f"
+                   "ELF\x02\x01\x01\x00\x00",
+                   9),
+       1, 1, "expected 'HIERARCHY', found '\\x7FELF\\x02\\x01\\x01\\x00\\x00'"},
       {"NoRoot", "HIERARCHY\nMOTION\nFrames: 0\nFrame Time: 1\n", 2, 1,
        "expected 'ROOT', found 'MOTION'"},
       {"RootWithoutName", replace(s, "ROOT Hips", "ROOT  "), 2, 7,
@@ -281,10 +291,10 @@ std::vector<ErrorCase> error_cases() {
        "expected OFFSET y (a finite number), found 'nan'"},
       {"EndSiteWithoutOffset", replace(s, "\t\t\tOFFSET 0 2 0\n", ""), 12, 3,
        "expected 'OFFSET', found '}'"},
-      {"ChannelsCountAboveNames", replace(s, "CHANNELS 3 Zrotation", "CHANNELS 4 Zrotation"), 9,
-       43, "expected 4 channel names as CHANNELS declares, found end of line"},
-      {"ChannelsCountBelowNames", replace(s, "CHANNELS 3 Zrotation", "CHANNELS 2 Zrotation"), 9,
-       34, "expected only 2 channel names as CHANNELS declares, found 'Yrotation'"},
+      {"ChannelsCountAboveNames", replace(s, "CHANNELS 3 Zrotation", "CHANNELS 4 Zrotation"), 9, 43,
+       "expected 4 channel names as CHANNELS declares, found end of line"},
+      {"ChannelsCountBelowNames", replace(s, "CHANNELS 3 Zrotation", "CHANNELS 2 Zrotation"), 9, 34,
+       "expected only 2 channel names as CHANNELS declares, found 'Yrotation'"},
       {"ChannelsCountNotANumber", replace(s, "CHANNELS 3 Z", "CHANNELS three Z"), 9, 12,
        "expected a channel count, found 'three'"},
       {"ChannelsCountNegative", replace(s, "CHANNELS 3 Z", "CHANNELS -3 Z"), 9, 12,
@@ -295,15 +305,15 @@ std::vector<ErrorCase> error_cases() {
       {"DuplicateJointName", replace(s, "JOINT Spine", "JOINT Hips"), 6, 8,
        "expected a joint name not used before (line 2), found 'Hips'"},
       {"MissingMotion", hierarchy_only, 16, 1, "expected 'ROOT' or 'MOTION', found end of file"},
-      {"MissingFrames", replace(s, "Frames: 2\n", ""), 17, 1,
-       "expected 'Frames:', found 'Frame'"},
+      {"MissingFrames", replace(s, "Frames: 2\n", ""), 17, 1, "expected 'Frames:', found 'Frame'"},
       {"FramesNotANumber", replace(s, "Frames: 2", "Frames: two"), 17, 9,
        "expected a frame count, found 'two'"},
       {"FramesNegative", replace(s, "Frames: 2", "Frames: -2"), 17, 9,
        "expected a frame count, found '-2'"},
       {"MissingFrameTime", replace(s, "Frame Time: 0.0333333\n", ""), 18, 1,
        "expected 'Frame', found '1'"},
-      {"FrameTimeZero", replace(s, "0.0333333", "0"), 18, 13, "expected a frame time > 0, found '0'"},
+      {"FrameTimeZero", replace(s, "0.0333333", "0"), 18, 13,
+       "expected a frame time > 0, found '0'"},
       {"FrameTimeNegative", replace(s, "0.0333333", "-0.01"), 18, 13,
        "expected a frame time > 0, found '-0.01'"},
       {"FrameTimeInf", replace(s, "0.0333333", "inf"), 18, 13,
@@ -320,8 +330,8 @@ std::vector<ErrorCase> error_cases() {
        "expected a frame count, found '2147483648'"},
       {"FewerRowsThanFrames", replace(s, "Frames: 2", "Frames: 3"), 21, 1,
        "expected motion row 3 of the 3 that Frames: declares, found end of file"},
-      {"RowTooShort", replace(s, "4 5 6 -10 -20 -30 -40 -50 -60", "4 5 6 -10 -20 -30 -40 -50"),
-       20, 26, "expected 9 values on motion row 2 (one per channel), not 8, found end of line"},
+      {"RowTooShort", replace(s, "4 5 6 -10 -20 -30 -40 -50 -60", "4 5 6 -10 -20 -30 -40 -50"), 20,
+       26, "expected 9 values on motion row 2 (one per channel), not 8, found end of line"},
       {"RowTooLong", replace(s, "40 50 60", "40 50 60 70"), 19, 25,
        "expected end of motion row 1 after its 9 values, found '70'"},
       {"RowSplitOverTwoLines", replace(s, "30 40 50 60", "30\n40 50 60"), 19, 15,
@@ -368,7 +378,8 @@ TEST(BvhParse, FramesTimesJointsBeyondTheFileIsRejectedBeforeAllocating) {
 TEST(BvhParse, NestingUpToTheLimitIsAccepted) {
   std::string text = "HIERARCHY\n";
   for (int i = 0; i < kBvhMaxDepth; ++i) {
-    text += (i ? "JOINT j" : "ROOT j") + std::to_string(i) + "\n{\nOFFSET 0 1 0\nCHANNELS 1 Xrotation\n";
+    text += (i ? "JOINT j" : "ROOT j") + std::to_string(i) +
+            "\n{\nOFFSET 0 1 0\nCHANNELS 1 Xrotation\n";
   }
   for (int i = 0; i < kBvhMaxDepth; ++i) text += "}\n";
   text += "MOTION\nFrames: 1\nFrame Time: 1\n";
@@ -500,8 +511,8 @@ TEST(BvhToMotion, RotationsComposeInTheWrittenOrderForAllSixOrders) {
   const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (const auto& o : orders) {
     const std::string text = std::string("HIERARCHY\nROOT r\n{\nOFFSET 1 2 3\nCHANNELS 3 ") +
-                             names[o[0]] + "rotation " + names[o[1]] + "rotation " +
-                             names[o[2]] + "rotation\n}\nMOTION\nFrames: 1\nFrame Time: 1\n"
+                             names[o[0]] + "rotation " + names[o[1]] + "rotation " + names[o[2]] +
+                             "rotation\n}\nMOTION\nFrames: 1\nFrame Time: 1\n"
                              "30 -50 70\n";
     const Motion m = to_motion(parse_bvh(text));
     const Eigen::Quaterniond expected =
@@ -541,10 +552,16 @@ Skeleton layout_skeleton() {
   using C = ChannelType;
   Skeleton s;
   s.joints = {
-      Joint{"root", -1, {0, 0, 0}, {C::Xposition, C::Yposition, C::Zposition, C::Yrotation,
-                                    C::Xrotation, C::Zrotation}, {}},
-      Joint{"three_repeat", 0, {0, 1, 0}, {C::Zrotation, C::Xrotation, C::Zrotation,
-                                           C::Yrotation}, {}},
+      Joint{"root",
+            -1,
+            {0, 0, 0},
+            {C::Xposition, C::Yposition, C::Zposition, C::Yrotation, C::Xrotation, C::Zrotation},
+            {}},
+      Joint{"three_repeat",
+            0,
+            {0, 1, 0},
+            {C::Zrotation, C::Xrotation, C::Zrotation, C::Yrotation},
+            {}},
       Joint{"two", 1, {0, 1, 0}, {C::Zrotation, C::Xrotation}, {}},
       Joint{"one", 2, {0, 1, 0}, {C::Yrotation}, {}},
       Joint{"none", 3, {0, 1, 0}, {}, {{0, 1, 0}}},
@@ -649,8 +666,9 @@ TEST(BvhLoad, LoadBvhIsReadPlusToMotionWithWarnings) {
   EXPECT_EQ(clip.motion.frame_time, 0.0333333);
   EXPECT_EQ(clip.motion.translation(1, 0), Eigen::Vector3d(4, 5, 6));
   ASSERT_EQ(clip.warnings.size(), 1u);
-  EXPECT_EQ(clip.warnings[0], path.string() + ":21: warning: 1 extra motion row after the "
-                                              "declared 2 frames ignored");
+  EXPECT_EQ(clip.warnings[0], path.string() +
+                                  ":21: warning: 1 extra motion row after the "
+                                  "declared 2 frames ignored");
   std::filesystem::remove(path);
 }
 

@@ -34,8 +34,10 @@ TEST(MapCsv, WrittenMapReadsBackExactly) {
       const std::vector<std::string> files{"dir/a.bvh", "b.bvh"};
       write_map_csv(out, map, options, std::span(files).first(cs.size()));
       const std::string text = out.str();
-      EXPECT_EQ(text.rfind("# motionmap map method=pca dims=" + std::to_string(dims), 0), 0u) << text.substr(0, 80);
-      EXPECT_NE(text.find(cs.size() > 1 ? "files=a.bvh,b.bvh\n" : "files=a.bvh\n"), std::string::npos);
+      EXPECT_EQ(text.rfind("# motionmap map method=pca dims=" + std::to_string(dims), 0), 0u)
+          << text.substr(0, 80);
+      EXPECT_NE(text.find(cs.size() > 1 ? "files=a.bvh,b.bvh\n" : "files=a.bvh\n"),
+                std::string::npos);
 
       const MapTable table = parse_map_csv(text, "m.csv");
       ASSERT_EQ(table.num_rows(), map.features->num_samples());
@@ -74,8 +76,10 @@ TEST(MapCsv, CheckMatchesNamesTheFirstDifferentRow) {
     table.check_matches(set);
     FAIL() << "no error";
   } catch (const ParameterError& e) {
-    EXPECT_STREQ(e.what(), "m.csv:6: row 3 is clip 0 frame 4, but the clips' sample 3 is clip 0 frame 3: not a "
-                           "map of these clips with these options");
+    EXPECT_STREQ(
+        e.what(),
+        "m.csv:6: row 3 is clip 0 frame 4, but the clips' sample 3 is clip 0 frame 3: not a "
+        "map of these clips with these options");
   }
   set.frame_of = {1, 2};
   set.clip_of = {0, 0};
@@ -83,25 +87,36 @@ TEST(MapCsv, CheckMatchesNamesTheFirstDifferentRow) {
     table.check_matches(set);
     FAIL() << "no error";
   } catch (const ParameterError& e) {
-    EXPECT_NE(std::string(e.what()).find("m.csv: 3 map rows, but the clips give 2 samples"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("m.csv: 3 map rows, but the clips give 2 samples"),
+              std::string::npos)
         << e.what();
   }
 }
 
 TEST(MapCsv, BadFilesNameLineAndColumn) {
-  EXPECT_EQ(parse_message(""), "m.csv:1:1: error: expected the header of a map (frame,x,y or clip,frame,x,y), found none");
-  EXPECT_EQ(parse_message("# only\n"), "m.csv:2:1: error: expected the header of a map (frame,x,y or clip,frame,x,y), found none");
+  EXPECT_EQ(
+      parse_message(""),
+      "m.csv:1:1: error: expected the header of a map (frame,x,y or clip,frame,x,y), found none");
+  EXPECT_EQ(
+      parse_message("# only\n"),
+      "m.csv:2:1: error: expected the header of a map (frame,x,y or clip,frame,x,y), found none");
   EXPECT_EQ(parse_message("t,x,y\n0,1,2\n"),
-            "m.csv:1:1: error: expected the header of a map (frame,x,y or clip,frame,x,y, with ,z in 3-D), found 't,x,y'");
-  EXPECT_EQ(parse_message("frame,x,y\n"), "m.csv:2:1: error: expected map rows after the header, found none");
-  EXPECT_EQ(parse_message("frame,x,y\n1,2\n"), "m.csv:2:4: error: expected 3 fields as in the header, found 2");
-  EXPECT_EQ(parse_message("frame,x,y\n1,2,3,4\n"), "m.csv:2:7: error: expected 3 fields as in the header, found 4");
+            "m.csv:1:1: error: expected the header of a map (frame,x,y or clip,frame,x,y, with ,z "
+            "in 3-D), found 't,x,y'");
+  EXPECT_EQ(parse_message("frame,x,y\n"),
+            "m.csv:2:1: error: expected map rows after the header, found none");
+  EXPECT_EQ(parse_message("frame,x,y\n1,2\n"),
+            "m.csv:2:4: error: expected 3 fields as in the header, found 2");
+  EXPECT_EQ(parse_message("frame,x,y\n1,2,3,4\n"),
+            "m.csv:2:7: error: expected 3 fields as in the header, found 4");
   EXPECT_EQ(parse_message("frame,x,y\n-1,2,3\n"),
             "m.csv:2:1: error: expected a frame number (an integer ≥ 0), found '-1'");
   EXPECT_EQ(parse_message("clip,frame,x,y\n0.5,1,2,3\n"),
             "m.csv:2:1: error: expected a clip number (an integer ≥ 0), found '0.5'");
-  EXPECT_EQ(parse_message("frame,x,y\n1, nan ,3\n"), "m.csv:2:4: error: expected a finite coordinate, found 'nan'");
-  EXPECT_EQ(parse_message("frame,x,y\n1,,3\n"), "m.csv:2:3: error: expected a finite coordinate, found ''");
+  EXPECT_EQ(parse_message("frame,x,y\n1, nan ,3\n"),
+            "m.csv:2:4: error: expected a finite coordinate, found 'nan'");
+  EXPECT_EQ(parse_message("frame,x,y\n1,,3\n"),
+            "m.csv:2:3: error: expected a finite coordinate, found ''");
   EXPECT_EQ(parse_message("Frame,X,Y,Z\n1,2,3,4\n"), "no error");
 }
 

@@ -13,8 +13,8 @@
 #include "motionmap/core/error.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/skeleton/forward_kinematics.h"
-#include "support/test_data.h"
 #include "support/error_message.h"
+#include "support/test_data.h"
 
 namespace motionmap::sample {
 namespace {

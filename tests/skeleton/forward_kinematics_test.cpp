@@ -43,8 +43,8 @@ constexpr const char* kChain =
     "0 0 0 90 90 0 0 0 0 -90 0 0 0\n";
 
 void expect_near(const Eigen::Vector3d& actual, const Eigen::Vector3d& expected) {
-  EXPECT_LT((actual - expected).norm(), 1e-12) << actual.transpose() << " vs "
-                                                << expected.transpose();
+  EXPECT_LT((actual - expected).norm(), 1e-12)
+      << actual.transpose() << " vs " << expected.transpose();
 }
 
 TEST(ForwardKinematics, RestPoseIsTheSumOfOffsets) {
@@ -138,7 +138,9 @@ TEST_P(ForwardKinematicsRealFile, BoneLengthsAreConstant) {
   EXPECT_GT(checked, 0);
 }
 
-std::vector<std::string> real_bvh_files() { return test::shared_files_with_extension(".bvh"); }
+std::vector<std::string> real_bvh_files() {
+  return test::shared_files_with_extension(".bvh");
+}
 using test::file_test_name;
 
 INSTANTIATE_TEST_SUITE_P(SharedData, ForwardKinematicsRealFile,

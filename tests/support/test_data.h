@@ -10,7 +10,9 @@
 
 namespace motionmap::test {
 
-inline std::filesystem::path shared_data_dir() { return MOTIONMAP_SHARED_DATA; }
+inline std::filesystem::path shared_data_dir() {
+  return MOTIONMAP_SHARED_DATA;
+}
 
 /// Path of a file under ../shared/data, e.g. shared_file("cmu/64_08.bvh").
 inline std::string shared_file(const std::string& relative) {

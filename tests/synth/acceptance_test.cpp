@@ -19,9 +19,9 @@ namespace motionmap::synth {
 namespace {
 
 struct Figures {
-  double rms_degrees = 0.0;    // over every joint of every frame (root: after aligning the start)
-  double root_percent = 0.0;   // largest root position error ÷ distance travelled, in %
-  double travelled = 0.0;      // distance the original root travelled
+  double rms_degrees = 0.0;   // over every joint of every frame (root: after aligning the start)
+  double root_percent = 0.0;  // largest root position error ÷ distance travelled, in %
+  double travelled = 0.0;     // distance the original root travelled
 };
 
 // Compares original frame f ≥ first with the synthesized frame at the same time (frame
@@ -82,11 +82,16 @@ void run_acceptance(const std::string& relative, int stride, double max_rms, dou
       const SynthResult r = synthesize(blender, path);
       ASSERT_EQ(r.motion.num_frames, set.frame_of.back() - first + 1);
       const Figures fig = compare(clip.motion, first, r.motion, blender.motion_root());
-      std::printf("[ figures  ] %s stride %d  %-6s %-7s  rotation RMS %.3g deg  root path %.3g %% of %.4g\n",
-                  relative.c_str(), stride, std::string(embed::method_name(method)).c_str(),
-                  std::string(blend_mode_name(mode)).c_str(), fig.rms_degrees, fig.root_percent, fig.travelled);
-      EXPECT_LT(fig.rms_degrees, max_rms) << embed::method_name(method) << " " << blend_mode_name(mode);
-      EXPECT_LT(fig.root_percent, max_root) << embed::method_name(method) << " " << blend_mode_name(mode);
+      std::printf(
+          "[ figures  ] %s stride %d  %-6s %-7s  rotation RMS %.3g deg  root path %.3g %% of "
+          "%.4g\n",
+          relative.c_str(), stride, std::string(embed::method_name(method)).c_str(),
+          std::string(blend_mode_name(mode)).c_str(), fig.rms_degrees, fig.root_percent,
+          fig.travelled);
+      EXPECT_LT(fig.rms_degrees, max_rms)
+          << embed::method_name(method) << " " << blend_mode_name(mode);
+      EXPECT_LT(fig.root_percent, max_root)
+          << embed::method_name(method) << " " << blend_mode_name(mode);
     }
   }
 }
@@ -143,7 +148,8 @@ TEST(SynthAcceptance, SynthesizedMotionExportsAsBvh) {
   EXPECT_NEAR(back.frame_time, r.motion.frame_time, 1e-12);
   for (int f = 0; f < back.num_frames; f += 17) {
     for (int j = 0; j < back.num_joints; ++j) {
-      EXPECT_LT(rotation_angle(back.rotation(f, j), r.motion.rotation(f, j)), 1e-9) << f << " " << j;
+      EXPECT_LT(rotation_angle(back.rotation(f, j), r.motion.rotation(f, j)), 1e-9)
+          << f << " " << j;
     }
     EXPECT_LT((back.translation(f, 0) - r.motion.translation(f, 0)).norm(), 1e-9);
   }

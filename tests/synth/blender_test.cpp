@@ -10,8 +10,8 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/features/point_cloud.h"
-#include "synth/synth_fixtures.h"
 #include "support/error_message.h"
+#include "synth/synth_fixtures.h"
 
 namespace motionmap::synth {
 namespace {
@@ -31,12 +31,14 @@ MapBlender make_blender(const Clip& clip, const Eigen::MatrixXd& map, BlendMode 
 }
 
 // The pose sample f should blend to: its joints, its root tilt and height at the origin.
-void expect_pose_of_frame(const Motion& pose, const Clip& clip, int f, double tol, double height_tol = 1e-9) {
+void expect_pose_of_frame(const Motion& pose, const Clip& clip, int f, double tol,
+                          double height_tol = 1e-9) {
   const Eigen::Quaterniond q = clip.motion.rotation(f, 0);
   const Eigen::Quaterniond tilt = axis_rotation(Axis::Y, -features::heading_angle(q)) * q;
   EXPECT_LE(rotation_angle(pose.rotation(0, 0), tilt), tol) << "root, frame " << f;
   for (int j = 1; j < clip.motion.num_joints; ++j) {
-    EXPECT_LE(rotation_angle(pose.rotation(0, j), clip.motion.rotation(f, j)), tol) << "joint " << j << ", frame " << f;
+    EXPECT_LE(rotation_angle(pose.rotation(0, j), clip.motion.rotation(f, j)), tol)
+        << "joint " << j << ", frame " << f;
   }
   EXPECT_NEAR(pose.translation(0, 0).y(), clip.motion.translation(f, 0).y(), height_tol);
   EXPECT_EQ(pose.translation(0, 0).x(), 0.0);
@@ -73,7 +75,8 @@ TEST(SynthBlender, PoseOfLocatedWeightsIsPoseAt) {
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender blender = make_blender(clip, map, BlendMode::Local);
   // Between samples, and far outside the data (clamped).
-  for (const Eigen::Vector2d p : {Eigen::Vector2d((map.row(3) + map.row(4)).transpose() / 2), Eigen::Vector2d(1e3, -1e3)}) {
+  for (const Eigen::Vector2d p :
+       {Eigen::Vector2d((map.row(3) + map.row(4)).transpose() / 2), Eigen::Vector2d(1e3, -1e3)}) {
     const Motion a = blender.pose_at(p), b = blender.pose(blender.locate(p));
     ASSERT_EQ(a.num_frames, 1);
     EXPECT_EQ(a.rotations, b.rotations);
@@ -115,7 +118,8 @@ TEST(SynthBlender, BatchLocateMatchesSingle) {
     for (std::size_t i = 0; i < pts.size(); i += 7) {
       const MapWeights one = blender.locate(pts[i]);
       ASSERT_EQ(one.samples, batch[i].samples);
-      for (std::size_t e = 0; e < one.weights.size(); ++e) EXPECT_NEAR(one.weights[e], batch[i].weights[e], 1e-12);
+      for (std::size_t e = 0; e < one.weights.size(); ++e)
+        EXPECT_NEAR(one.weights[e], batch[i].weights[e], 1e-12);
     }
   }
 }
@@ -144,7 +148,9 @@ TEST(SynthBlender, PoseIsContinuousInsideTheData) {
     const double x = 0.1 + 7.7 * s;
     return Eigen::Vector2d(x, 0.8 * std::sin(1.5 * x) + 0.12);
   };
-  auto across = [](double s) { return Eigen::Vector2d(3.0 + 0.1 * s, 0.8 * std::sin(4.5) - 0.25 + 0.5 * s); };
+  auto across = [](double s) {
+    return Eigen::Vector2d(3.0 + 0.1 * s, 0.8 * std::sin(4.5) - 0.25 + 0.5 * s);
+  };
   for (BlendMode mode : kModes) {
     SCOPED_TRACE(std::string(blend_mode_name(mode)));
     const MapBlender blender = make_blender(clip, map, mode, 6);
@@ -195,7 +201,8 @@ TEST(SynthBlender, ClampsPointsOutsideTheData) {
     const MapBlender blender = make_blender(clip, map, mode);
     EXPECT_NEAR(blender.median_step(), 0.1, 0.03);
     EXPECT_DOUBLE_EQ(blender.reach_distance(), 3.0 * blender.median_step());
-    for (const Eigen::Vector2d far : {Eigen::Vector2d(1e6, -3e5), Eigen::Vector2d(-50, 0), Eigen::Vector2d(4, 40)}) {
+    for (const Eigen::Vector2d far :
+         {Eigen::Vector2d(1e6, -3e5), Eigen::Vector2d(-50, 0), Eigen::Vector2d(4, 40)}) {
       const MapWeights w = blender.locate(far);
       EXPECT_TRUE(w.validity.clamped);
       EXPECT_EQ(w.validity.query, far);
@@ -212,7 +219,8 @@ TEST(SynthBlender, ClampsPointsOutsideTheData) {
       }
     }
     // Just inside the reach: not clamped.
-    const Eigen::Vector2d inside = map.row(0).transpose() - Eigen::Vector2d(0.9 * blender.reach_distance(), 0);
+    const Eigen::Vector2d inside =
+        map.row(0).transpose() - Eigen::Vector2d(0.9 * blender.reach_distance(), 0);
     EXPECT_FALSE(blender.locate(inside).validity.clamped);
   }
 }
@@ -228,10 +236,17 @@ TEST(SynthBlender, ClampsOntoTheTrajectoryContinuously) {
     // Above the middle of a segment: its foot, raised by √(0.3² − 0.05²) (0.3 from both ends).
     const MapWeights w = blender.locate(Eigen::Vector2d(2.05, 5.0));
     EXPECT_TRUE(w.validity.clamped);
-    EXPECT_NEAR((w.validity.point - Eigen::Vector2d(2.05, std::sqrt(0.09 - 0.0025))).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((w.validity.point - Eigen::Vector2d(2.05, std::sqrt(0.09 - 0.0025))).norm(), 0.0,
+                1e-12);
     // Above a sample: the sample, raised by the reach; beyond the end: towards the end sample.
-    EXPECT_NEAR((blender.locate(Eigen::Vector2d(3.0, -7.0)).validity.point - Eigen::Vector2d(3.0, -0.3)).norm(), 0.0, 1e-12);
-    EXPECT_NEAR((blender.locate(Eigen::Vector2d(-4.0, 3.0)).validity.point - Eigen::Vector2d(-0.24, 0.18)).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(
+        (blender.locate(Eigen::Vector2d(3.0, -7.0)).validity.point - Eigen::Vector2d(3.0, -0.3))
+            .norm(),
+        0.0, 1e-12);
+    EXPECT_NEAR(
+        (blender.locate(Eigen::Vector2d(-4.0, 3.0)).validity.point - Eigen::Vector2d(-0.24, 0.18))
+            .norm(),
+        0.0, 1e-12);
     // Sliding along far outside moves the pose continuously.
     auto line = [](double s) { return Eigen::Vector2d(0.5 + 4.0 * s, 2.0); };
     const double coarse = max_jump(blender, line, 1000);
@@ -329,11 +344,13 @@ TEST(SynthBlender, LocalModeStaysExactWhereSamplesCrowd) {
   // A stretch where consecutive samples are 1e-6 of the step apart (1e-8 of the map's extent).
   const Clip clip = walking_clip(120);
   Eigen::MatrixXd map = curve_map(120);
-  for (int f = 50; f < 70; ++f) map.row(f) = map.row(49) + Eigen::RowVector2d(1e-7 * (f - 49), 3e-8 * (f - 49));
+  for (int f = 50; f < 70; ++f)
+    map.row(f) = map.row(49) + Eigen::RowVector2d(1e-7 * (f - 49), 3e-8 * (f - 49));
   for (BlendMode mode : {BlendMode::Local, BlendMode::Idw}) {
     const MapBlender blender = make_blender(clip, map, mode);
     EXPECT_EQ(blender.num_points(), 120);
-    for (int f = 40; f < 80; ++f) expect_pose_of_frame(blender.pose_at(map.row(f).transpose()), clip, f, 1e-9);
+    for (int f = 40; f < 80; ++f)
+      expect_pose_of_frame(blender.pose_at(map.row(f).transpose()), clip, f, 1e-9);
   }
 }
 
@@ -410,10 +427,14 @@ TEST(SynthBlender, RejectsBadOptions) {
   auto message = [&](BlendMode mode, int k, double reach) {
     return motionmap::test::error_message<ParameterError>([&] { build(mode, k, reach); });
   };
-  EXPECT_EQ(message(BlendMode::Local, 0, 3.0), "neighbors: 0 is out of range (must be in [1, 20], the map's sample count)");
-  EXPECT_EQ(message(BlendMode::Idw, 21, 3.0), "neighbors: 21 is out of range (must be in [1, 20], the map's sample count)");
-  EXPECT_EQ(message(BlendMode::Local, 12, 0.0), "reach: 0 is out of range (must be a finite number > 0)");
-  EXPECT_EQ(message(BlendMode::Local, 12, -1.0), "reach: -1 is out of range (must be a finite number > 0)");
+  EXPECT_EQ(message(BlendMode::Local, 0, 3.0),
+            "neighbors: 0 is out of range (must be in [1, 20], the map's sample count)");
+  EXPECT_EQ(message(BlendMode::Idw, 21, 3.0),
+            "neighbors: 21 is out of range (must be in [1, 20], the map's sample count)");
+  EXPECT_EQ(message(BlendMode::Local, 12, 0.0),
+            "reach: 0 is out of range (must be a finite number > 0)");
+  EXPECT_EQ(message(BlendMode::Local, 12, -1.0),
+            "reach: -1 is out of range (must be a finite number > 0)");
   EXPECT_THAT(message(BlendMode::Local, 12, std::nan("")), HasSubstr("reach: nan is out of range"));
   EXPECT_THAT(message(BlendMode::Local, 12, INFINITY), HasSubstr("reach: inf is out of range"));
   EXPECT_NO_THROW(build(BlendMode::Kriging, 50, 3.0));  // K is not used by kriging
@@ -426,26 +447,30 @@ TEST(SynthBlender, RejectsAMapOfOtherClips) {
   const std::span<const Clip> clips(&clip, 1);
   auto message = [](const auto& f) { return motionmap::test::error_message(f); };
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), curve_map(19)); }),
-            "map: it has 19 rows but the features have 20 samples; the map does not belong to these clips");
+            "map: it has 19 rows but the features have 20 samples; the map does not belong to "
+            "these clips");
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), Eigen::MatrixXd::Zero(20, 1)); }),
             "map: it has 1 column(s); at least 2 are needed");
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(25), curve_map(25)); }),
-            "map: sample 20 is frame 20 of walking.bvh, which has 20 frames; the map does not belong to these clips");
+            "map: sample 20 is frame 20 of walking.bvh, which has 20 frames; the map does not "
+            "belong to these clips");
   features::FeatureSet two_clips = all_frames(20);
   two_clips.clip_of[5] = 1;
   EXPECT_EQ(message([&] { MapBlender(clips, two_clips, curve_map(20)); }),
             "map: sample 5 belongs to clip 1 but only 1 clip(s) were given");
   EXPECT_EQ(message([&] { MapBlender(clips, features::FeatureSet{}, Eigen::MatrixXd(0, 2)); }),
             "map: the feature set has no samples");
-  EXPECT_EQ(message([&] { MapBlender(std::span<const Clip>(), all_frames(20), curve_map(20)); }), "map: no clip given");
+  EXPECT_EQ(message([&] { MapBlender(std::span<const Clip>(), all_frames(20), curve_map(20)); }),
+            "map: no clip given");
   Eigen::MatrixXd nan_map = curve_map(20);
   nan_map(7, 1) = std::nan("");
   EXPECT_EQ(message([&] { MapBlender(clips, all_frames(20), nan_map); }),
             "map: row 7 holds a NaN or infinite coordinate");
   Clip bad = clip;
   bad.motion.translation(3, 0).x() = INFINITY;
-  EXPECT_EQ(message([&] { MapBlender(std::span<const Clip>(&bad, 1), all_frames(20), curve_map(20)); }),
-            "walking.bvh: frame 3 holds a NaN, infinite or zero value");
+  EXPECT_EQ(
+      message([&] { MapBlender(std::span<const Clip>(&bad, 1), all_frames(20), curve_map(20)); }),
+      "walking.bvh: frame 3 holds a NaN, infinite or zero value");
   Clip other = clip;
   other.path = "other.bvh";
   other.skeleton.joints[4].name = "RightHand";
@@ -453,7 +478,8 @@ TEST(SynthBlender, RejectsAMapOfOtherClips) {
   features::FeatureSet both = all_frames(20);
   both.clip_of[19] = 1;
   EXPECT_EQ(message([&] { MapBlender(mixed, both, curve_map(20)); }),
-            "other.bvh: its joint hierarchy differs from walking.bvh's; clips blended together must share one");
+            "other.bvh: its joint hierarchy differs from walking.bvh's; clips blended together "
+            "must share one");
 }
 
 TEST(SynthBlender, RejectsKrigingBeyondItsLimit) {
@@ -472,7 +498,8 @@ TEST(SynthBlender, RejectsKrigingBeyondItsLimit) {
     FAIL() << "no error";
   } catch (const ParameterError& e) {
     EXPECT_STREQ(e.what(),
-                 "blend: kriging over 10001 distinct map points exceeds the limit of 10000 (a dense (N+1)² system); "
+                 "blend: kriging over 10001 distinct map points exceeds the limit of 10000 (a "
+                 "dense (N+1)² system); "
                  "use the local mode or a frame stride");
   }
 }

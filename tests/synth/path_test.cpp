@@ -17,7 +17,9 @@ std::string parse_message(const std::string& text) {
   return motionmap::test::error_message<ParseError>([&] { parse_path_csv(text, "p.csv"); });
 }
 
-std::string parameter_message(const std::function<void()>& f) { return motionmap::test::error_message<ParameterError>(f); }
+std::string parameter_message(const std::function<void()>& f) {
+  return motionmap::test::error_message<ParameterError>(f);
+}
 
 TEST(SynthPath, ParsesTimedRowsWithHeader) {
   const MapPath p = parse_path_csv("t,x,y\n0,1.5,-2\n0.25, 2 ,-1e-1\n1,+3,.5\n");
@@ -37,33 +39,46 @@ TEST(SynthPath, ParsesUntimedRowsCommentsBlankLinesAndLineEnds) {
   const MapPath q = parse_path_csv("Time,x,y\n0,0,0\n1,1,1\n");
   EXPECT_EQ(q.times.size(), 2u);
   const MapPath r = parse_path_csv("0,0,0\n2,1,1\n");  // no header
-  const MapPath bom = parse_path_csv("\xEF\xBB\xBFt,x,y\n0,0,0\n1,1,1\n");  // as spreadsheets save it
+  const MapPath bom =
+      parse_path_csv("\xEF\xBB\xBFt,x,y\n0,0,0\n1,1,1\n");  // as spreadsheets save it
   EXPECT_EQ(bom.points.size(), 2u);
   EXPECT_EQ(r.times, (std::vector<double>{0.0, 2.0}));
 }
 
 TEST(SynthPath, ReportsMalformedInputWithItsPosition) {
   EXPECT_EQ(parse_message(""), "p.csv:1:1: error: expected at least 2 path points, found none");
-  EXPECT_EQ(parse_message("t,x,y\n\n"), "p.csv:3:1: error: expected at least 2 path points, found none");
-  EXPECT_EQ(parse_message("t,x,y\n0,1,2\n"), "p.csv:2:1: error: expected at least 2 path points, found only this one");
+  EXPECT_EQ(parse_message("t,x,y\n\n"),
+            "p.csv:3:1: error: expected at least 2 path points, found none");
+  EXPECT_EQ(parse_message("t,x,y\n0,1,2\n"),
+            "p.csv:2:1: error: expected at least 2 path points, found only this one");
   EXPECT_EQ(parse_message("x,y\n1,2\n3,abc\n"), "p.csv:3:3: error: expected a number, found 'abc'");
-  EXPECT_EQ(parse_message("x,y\n1,2\n3, nan\n"), "p.csv:3:4: error: expected a finite number, found 'nan'");
-  EXPECT_EQ(parse_message("1,2\ninf,2\n"), "p.csv:2:1: error: expected a finite number, found 'inf'");
-  EXPECT_EQ(parse_message("1,2\n1e999,2\n"), "p.csv:2:1: error: expected a finite number, found '1e999'");
-  EXPECT_EQ(parse_message("t,x,y\n0,1,2\n0.5,1,2\n0.4,1,2\n"),
-            "p.csv:4:1: error: time 0.4 is not after the previous point's 0.5 (times must increase)");
+  EXPECT_EQ(parse_message("x,y\n1,2\n3, nan\n"),
+            "p.csv:3:4: error: expected a finite number, found 'nan'");
+  EXPECT_EQ(parse_message("1,2\ninf,2\n"),
+            "p.csv:2:1: error: expected a finite number, found 'inf'");
+  EXPECT_EQ(parse_message("1,2\n1e999,2\n"),
+            "p.csv:2:1: error: expected a finite number, found '1e999'");
+  EXPECT_EQ(
+      parse_message("t,x,y\n0,1,2\n0.5,1,2\n0.4,1,2\n"),
+      "p.csv:4:1: error: time 0.4 is not after the previous point's 0.5 (times must increase)");
   EXPECT_EQ(parse_message("0,1,2\n0,1,3\n"),
             "p.csv:2:1: error: time 0 is not after the previous point's 0 (times must increase)");
-  EXPECT_EQ(parse_message("t,x,y\n0,1,2\n1,2\n"), "p.csv:3:4: error: expected 3 values (t,x,y) as on line 1, found 2");
-  EXPECT_EQ(parse_message("1,2\n3,4,5\n"), "p.csv:2:5: error: expected 2 values (x,y) as on line 1, found 3");
-  EXPECT_EQ(parse_message("1,2,3,4\n"), "p.csv:1:1: error: expected 2 (x,y) or 3 (t,x,y) values, found 4");
+  EXPECT_EQ(parse_message("t,x,y\n0,1,2\n1,2\n"),
+            "p.csv:3:4: error: expected 3 values (t,x,y) as on line 1, found 2");
+  EXPECT_EQ(parse_message("1,2\n3,4,5\n"),
+            "p.csv:2:5: error: expected 2 values (x,y) as on line 1, found 3");
+  EXPECT_EQ(parse_message("1,2,3,4\n"),
+            "p.csv:1:1: error: expected 2 (x,y) or 3 (t,x,y) values, found 4");
   EXPECT_EQ(parse_message("1,,2\n"), "p.csv:1:3: error: expected a number, found an empty field");
-  EXPECT_EQ(parse_message("a,b,c\n"), "p.csv:1:1: error: expected 't' or 'time' as the first header field, found 'a'");
+  EXPECT_EQ(parse_message("a,b,c\n"),
+            "p.csv:1:1: error: expected 't' or 'time' as the first header field, found 'a'");
   EXPECT_EQ(parse_message("x,z\n"), "p.csv:1:3: error: expected 'y' in the header, found 'z'");
   EXPECT_EQ(parse_message("y,x\n"), "p.csv:1:1: error: expected 'x' in the header, found 'y'");
-  EXPECT_EQ(parse_message("hello\n"), "p.csv:1:1: error: expected a header 't,x,y' or 'x,y', found 1 fields");
+  EXPECT_EQ(parse_message("hello\n"),
+            "p.csv:1:1: error: expected a header 't,x,y' or 'x,y', found 1 fields");
   EXPECT_EQ(parse_message("x,y\nx,y\n"), "p.csv:2:1: error: expected a number, found 'x'");
-  EXPECT_EQ(parse_message(std::string("1,2\n3,\x01\n")), "p.csv:2:3: error: expected a number, found '\\x01'");
+  EXPECT_EQ(parse_message(std::string("1,2\n3,\x01\n")),
+            "p.csv:2:3: error: expected a number, found '\\x01'");
 }
 
 TEST(SynthPath, ParseErrorCarriesLineAndColumn) {
@@ -86,7 +101,10 @@ TEST(SynthPath, ReadsFiles) {
   const MapPath p = read_path_csv(file.string());
   EXPECT_EQ(p.points.size(), 2u);
   std::filesystem::remove(file);
-  EXPECT_THROW(read_path_csv((std::filesystem::temp_directory_path() / "motionmap_no_such_path.csv").string()), Error);
+  EXPECT_THROW(
+      read_path_csv(
+          (std::filesystem::temp_directory_path() / "motionmap_no_such_path.csv").string()),
+      Error);
 }
 
 TEST(SynthPath, ValidateNamesTheOffendingPoint) {
@@ -98,10 +116,12 @@ TEST(SynthPath, ValidateNamesTheOffendingPoint) {
   EXPECT_EQ(parameter_message([&] { p.validate(); }), "path: point 1 is not finite");
   p.points = {{0, 0}, {1, 1}, {2, 2}};
   p.times = {0, 1};
-  EXPECT_EQ(parameter_message([&] { p.validate(); }), "path: 2 times for 3 points (give one per point, or none)");
+  EXPECT_EQ(parameter_message([&] { p.validate(); }),
+            "path: 2 times for 3 points (give one per point, or none)");
   p.times = {0, 1, 1};
   EXPECT_EQ(parameter_message([&] { p.validate(); }),
-            "path: the time of point 2, 1 s, is not after the previous point's 1 s (times must increase)");
+            "path: the time of point 2, 1 s, is not after the previous point's 1 s (times must "
+            "increase)");
   p.times = {0, NAN, 1};
   EXPECT_EQ(parameter_message([&] { p.validate(); }), "path: the time of point 1 is not finite");
   p.times = {0, 1, 2};
@@ -145,7 +165,8 @@ TEST(SynthPath, ResampleRejectsBadArguments) {
   MapPath still;
   still.points = {{1, 1}, {1, 1}, {1, 1}};
   EXPECT_EQ(parameter_message([&] { resample_path(still, 0.1, 1.0); }),
-            "path: all 3 points are the same map point; an untimed path must move (give times to hold a pose)");
+            "path: all 3 points are the same map point; an untimed path must move (give times to "
+            "hold a pose)");
   still.times = {0, 1, 2};  // timed: holds the pose
   EXPECT_EQ(resample_path(still, 0.5).size(), 5u);
   MapPath p;
@@ -156,7 +177,8 @@ TEST(SynthPath, ResampleRejectsBadArguments) {
             "fps: the frame time 0 s is not a finite number > 0");
   EXPECT_EQ(parameter_message([&] { resample_path(p, 0.1, 1e-6, 1000); }),
             "path: 1000000 s at 10 fps gives 10000001 frames, more than the limit of 1000");
-  EXPECT_EQ(parameter_message([&] { resample_path(MapPath{}, 0.1, 1.0); }), "path: 0 point(s); at least 2 are needed");
+  EXPECT_EQ(parameter_message([&] { resample_path(MapPath{}, 0.1, 1.0); }),
+            "path: 0 point(s); at least 2 are needed");
 }
 
 }  // namespace

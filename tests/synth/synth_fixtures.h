@@ -16,7 +16,8 @@ namespace motionmap::synth::test {
 inline Skeleton five_joint_skeleton() {
   using C = ChannelType;
   Skeleton s;
-  const std::vector<C> root{C::Xposition, C::Yposition, C::Zposition, C::Zrotation, C::Yrotation, C::Xrotation};
+  const std::vector<C> root{C::Xposition, C::Yposition, C::Zposition,
+                            C::Zrotation, C::Yrotation, C::Xrotation};
   const std::vector<C> rot{C::Zrotation, C::Yrotation, C::Xrotation};
   s.joints.push_back({"Hips", -1, {0, 0, 0}, root, {}});
   s.joints.push_back({"Spine", 0, {0, 10, 0}, rot, {}});
@@ -40,9 +41,11 @@ inline Clip walking_clip(int frames = 80, double fps = 30.0) {
     const double heading = 0.3 + 0.4 * t;
     for (int j = 0; j < 5; ++j) clip.motion.translation(f, j) = clip.skeleton.joints[j].offset;
     clip.motion.translation(f, 0) = Eigen::Vector3d(pos.x(), 90 + 2 * std::sin(6 * t), pos.z());
-    clip.motion.rotation(f, 0) = axis_rotation(Axis::Y, heading) * axis_rotation(Axis::X, 0.1 * std::sin(3 * t));
+    clip.motion.rotation(f, 0) =
+        axis_rotation(Axis::Y, heading) * axis_rotation(Axis::X, 0.1 * std::sin(3 * t));
     clip.motion.rotation(f, 1) = axis_rotation(Axis::X, 0.3 * std::sin(2 * t));
-    clip.motion.rotation(f, 2) = axis_rotation(Axis::Y, 0.5 * std::cos(1.5 * t)) * axis_rotation(Axis::Z, 0.1 * t);
+    clip.motion.rotation(f, 2) =
+        axis_rotation(Axis::Y, 0.5 * std::cos(1.5 * t)) * axis_rotation(Axis::Z, 0.1 * t);
     clip.motion.rotation(f, 3) = axis_rotation(Axis::Z, 1.0 + 0.6 * std::sin(3 * t));
     clip.motion.rotation(f, 4) = axis_rotation(Axis::X, -0.8 * std::sin(3 * t + 0.5));
     // Forward is +Z turned by the heading.
@@ -72,7 +75,8 @@ inline Eigen::MatrixXd curve_map(int frames) {
 /// Largest rotation angle (radians) between the joints of two poses.
 inline double max_joint_angle(const Motion& a, int fa, const Motion& b, int fb) {
   double worst = 0.0;
-  for (int j = 0; j < a.num_joints; ++j) worst = std::max(worst, rotation_angle(a.rotation(fa, j), b.rotation(fb, j)));
+  for (int j = 0; j < a.num_joints; ++j)
+    worst = std::max(worst, rotation_angle(a.rotation(fa, j), b.rotation(fb, j)));
   return worst;
 }
 

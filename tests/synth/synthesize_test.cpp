@@ -6,8 +6,8 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/features/point_cloud.h"
-#include "synth/synth_fixtures.h"
 #include "support/error_message.h"
+#include "synth/synth_fixtures.h"
 
 namespace motionmap::synth {
 namespace {
@@ -18,7 +18,8 @@ using test::walking_clip;
 
 constexpr BlendMode kModes[] = {BlendMode::Kriging, BlendMode::Local, BlendMode::Idw};
 
-MapBlender make_blender(const Clip& clip, const Eigen::MatrixXd& map, BlendMode mode = BlendMode::Local, int k = 12) {
+MapBlender make_blender(const Clip& clip, const Eigen::MatrixXd& map,
+                        BlendMode mode = BlendMode::Local, int k = 12) {
   BlendOptions opt;
   opt.mode = mode;
   opt.neighbors = k;
@@ -36,7 +37,9 @@ MapPath own_trajectory(const Eigen::MatrixXd& map, double frame_time, int first 
   return path;
 }
 
-std::string parameter_message(const std::function<void()>& f) { return motionmap::test::error_message<ParameterError>(f); }
+std::string parameter_message(const std::function<void()>& f) {
+  return motionmap::test::error_message<ParameterError>(f);
+}
 
 TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
   const Clip clip = walking_clip();
@@ -57,7 +60,8 @@ TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
     EXPECT_EQ(r.clamped_frames, 0);
     for (int f = 0; f < orig.num_frames; ++f) {
       EXPECT_LE(rotation_angle(r.motion.rotation(f, 0), unturn * orig.rotation(f, 0)), 1e-9) << f;
-      for (int j = 1; j < 5; ++j) EXPECT_LE(rotation_angle(r.motion.rotation(f, j), orig.rotation(f, j)), 1e-9) << f;
+      for (int j = 1; j < 5; ++j)
+        EXPECT_LE(rotation_angle(r.motion.rotation(f, j), orig.rotation(f, j)), 1e-9) << f;
       const Eigen::Vector3d expected = unturn * (orig.translation(f, 0) - p0);
       EXPECT_LE((r.motion.translation(f, 0) - expected).norm(), 1e-9) << f;
       EXPECT_EQ(r.validity[f].distance, 0.0);
@@ -121,7 +125,8 @@ TEST(SynthSynthesize, HigherFrameRatesInterpolateBetweenSamples) {
     }
   }
   // The walking speed is kept: 30 units/s.
-  const Eigen::Vector3d d = r.motion.translation(r.motion.num_frames - 1, 0) - r.motion.translation(0, 0);
+  const Eigen::Vector3d d =
+      r.motion.translation(r.motion.num_frames - 1, 0) - r.motion.translation(0, 0);
   EXPECT_GT(Eigen::Vector2d(d.x(), d.z()).norm() / ((r.motion.num_frames - 1) / 90.0), 20.0);
 }
 
@@ -141,7 +146,8 @@ TEST(SynthSynthesize, SmoothingSoftensJumpsAlongThePath) {
       const SynthResult r = synthesize(blender, path, opt);
       double worst = 0.0;
       for (int f = 1; f < r.motion.num_frames; ++f) {
-        worst = std::max(worst, rotation_angle(r.motion.rotation(f - 1, 3), r.motion.rotation(f, 3)));
+        worst =
+            std::max(worst, rotation_angle(r.motion.rotation(f - 1, 3), r.motion.rotation(f, 3)));
       }
       return worst;
     };
@@ -199,13 +205,15 @@ TEST(SynthSynthesize, RejectsBadOptions) {
     return parameter_message([&] { synthesize(blender, path, opt); });
   };
   EXPECT_EQ(run(-1, 0, 0), "speed: -1 is out of range (map units per second, ≥ 0; 0 = the clip's)");
-  EXPECT_EQ(run(NAN, 0, 0), "speed: nan is out of range (map units per second, ≥ 0; 0 = the clip's)");
+  EXPECT_EQ(run(NAN, 0, 0),
+            "speed: nan is out of range (map units per second, ≥ 0; 0 = the clip's)");
   EXPECT_EQ(run(0, -30, 0), "fps: -30 is out of range (must be in (0, 1000]; 0 = the clip's)");
   EXPECT_EQ(run(0, 1e4, 0), "fps: 10000 is out of range (must be in (0, 1000]; 0 = the clip's)");
   EXPECT_EQ(run(0, 0, -0.1), "smooth: -0.1 s is out of range (must be in [0, 10])");
   EXPECT_EQ(run(0, 0, 11), "smooth: 11 s is out of range (must be in [0, 10])");
   EXPECT_EQ(run(0, 0, INFINITY), "smooth: inf s is out of range (must be in [0, 10])");
-  EXPECT_EQ(parameter_message([&] { synthesize(blender, MapPath{}); }), "path: 0 point(s); at least 2 are needed");
+  EXPECT_EQ(parameter_message([&] { synthesize(blender, MapPath{}); }),
+            "path: 0 point(s); at least 2 are needed");
 }
 
 TEST(SynthSynthesize, RejectsADefaultSpeedOnAStillMap) {
@@ -213,8 +221,9 @@ TEST(SynthSynthesize, RejectsADefaultSpeedOnAStillMap) {
   const MapBlender blender = make_blender(clip, Eigen::MatrixXd::Zero(10, 2), BlendMode::Local, 4);
   MapPath path;
   path.points = {{0, 0}, {1, 0}};
-  EXPECT_EQ(parameter_message([&] { synthesize(blender, path); }),
-            "speed: the map has no motion to take a default speed from; give one (map units per second)");
+  EXPECT_EQ(
+      parameter_message([&] { synthesize(blender, path); }),
+      "speed: the map has no motion to take a default speed from; give one (map units per second)");
   SynthOptions opt;
   opt.speed = 2.0;
   EXPECT_EQ(synthesize(blender, path, opt).motion.num_frames, 16);  // 0.5 s at 30 fps
@@ -243,7 +252,8 @@ TEST(SynthSynthesize, RejectsOverlongPathsAndSmoothingWindows) {
   so.fps = 1000.0;
   path.times = {0, 40};
   EXPECT_EQ(parameter_message([&] { synthesize(kriging, path, so); }),
-            "smooth: 10 s spans 60001 frames of dense kriging weights over 1000 samples, more than the limit of "
+            "smooth: 10 s spans 60001 frames of dense kriging weights over 1000 samples, more than "
+            "the limit of "
             "50000000 weights; use less smoothing or the local mode");
 }
 

@@ -31,13 +31,17 @@ void Control::update(double fraction) const {
   check();
 }
 
-void Control::finish() const { report(m_end, true); }
+void Control::finish() const {
+  report(m_end, true);
+}
 
 void Control::check() const {
   if (cancelled()) throw Cancelled();
 }
 
-bool Control::cancelled() const { return m_shared && m_shared->cancel && m_shared->cancel(); }
+bool Control::cancelled() const {
+  return m_shared && m_shared->cancel && m_shared->cancel();
+}
 
 void Control::report(double overall, bool force) const {
   if (!reports()) return;

@@ -24,8 +24,8 @@ class ParseError : public Error {
   ParseError(std::string path, std::size_t line, std::size_t column, const std::string& message);
 
   const std::string& path() const { return m_path; }
-  std::size_t line() const { return m_line; }      ///< 1-based
-  std::size_t column() const { return m_column; }  ///< 1-based
+  std::size_t line() const { return m_line; }               ///< 1-based
+  std::size_t column() const { return m_column; }           ///< 1-based
   const std::string& message() const { return m_message; }  ///< the text after "error: "
 
  private:

@@ -8,9 +8,12 @@ Eigen::Quaterniond axis_rotation(Axis axis, double radians) {
   const double h = 0.5 * radians;
   const double s = std::sin(h);
   switch (axis) {
-    case Axis::X: return {std::cos(h), s, 0.0, 0.0};
-    case Axis::Y: return {std::cos(h), 0.0, s, 0.0};
-    case Axis::Z: return {std::cos(h), 0.0, 0.0, s};
+    case Axis::X:
+      return {std::cos(h), s, 0.0, 0.0};
+    case Axis::Y:
+      return {std::cos(h), 0.0, s, 0.0};
+    case Axis::Z:
+      return {std::cos(h), 0.0, 0.0, s};
   }
   return Eigen::Quaterniond::Identity();
 }

@@ -15,13 +15,18 @@ namespace motionmap {
 enum class Axis { X = 0, Y = 1, Z = 2 };
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double deg_to_rad(double d) { return d * (kPi / 180.0); }
-constexpr double rad_to_deg(double r) { return r * (180.0 / kPi); }
+constexpr double deg_to_rad(double d) {
+  return d * (kPi / 180.0);
+}
+constexpr double rad_to_deg(double r) {
+  return r * (180.0 / kPi);
+}
 
 /// Rotation by `radians` about a coordinate axis.
 Eigen::Quaterniond axis_rotation(Axis axis, double radians);
 
-/// R = R(order[0], angles[0]) · R(order[1], angles[1]) · … for any number of axes (repeats allowed).
+/// R = R(order[0], angles[0]) · R(order[1], angles[1]) · … for any number of axes (repeats
+/// allowed).
 Eigen::Quaterniond euler_to_quat(std::span<const Axis> order, std::span<const double> radians);
 
 /// Inverse of euler_to_quat for three distinct axes (any of the six Tait–Bryan orders): the angles

@@ -113,9 +113,12 @@ double TextCursor::next_number(std::string_view what, bool same_line) {
   const char* first = m_text.data() + m_pos;
   double value = 0.0;
   switch (parse_number(first, m_text.data() + m_text.size(), value)) {
-    case NumberStatus::Ok: break;
-    case NumberStatus::NotANumber: fail_expected(what);
-    case NumberStatus::NotFinite: fail_expected(std::string(what) + " (a finite number)");
+    case NumberStatus::Ok:
+      break;
+    case NumberStatus::NotANumber:
+      fail_expected(what);
+    case NumberStatus::NotFinite:
+      fail_expected(std::string(what) + " (a finite number)");
   }
   m_pos = static_cast<std::size_t>(first - m_text.data());
   return value;

@@ -45,7 +45,8 @@ class TextCursor {
   /// @throws ParseError naming `what` if the token is not a complete finite number.
   double next_number(std::string_view what, bool same_line = false);
   /// Consumes an integer token in [min, max]. @throws ParseError otherwise.
-  long long next_integer(std::string_view what, long long min, long long max, bool same_line = false);
+  long long next_integer(std::string_view what, long long min, long long max,
+                         bool same_line = false);
 
   /// Throws `path:line:col: error: expected <expected>, found '<found>'` at the start of the next
   /// token (or the end of file / line end).
@@ -87,9 +88,13 @@ class TextCursor {
 };
 
 /// Space, tab, \v or \f (not a line end).
-inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+inline bool is_blank(char c) {
+  return c == ' ' || c == '\t' || c == '\v' || c == '\f';
+}
 /// A blank or a line end.
-inline bool is_space(char c) { return is_blank(c) || c == '\n' || c == '\r'; }
+inline bool is_space(char c) {
+  return is_blank(c) || c == '\n' || c == '\r';
+}
 
 /// A comma-separated field of a CSV line: its text without surrounding blanks, and the 1-based
 /// column where that text starts.

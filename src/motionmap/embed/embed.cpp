@@ -8,9 +8,9 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
-#include "motionmap/embed/eigen.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/eigen.h"
 
 namespace motionmap::embed {
 

@@ -150,9 +150,7 @@ Eigen::MatrixXd shortest_paths(const Graph& graph, const Control& control) {
       [&](int c, int worker) {
         block_paths(graph, c * kLanes, heaps[worker], scratch[worker], out);
       },
-      [&](int done) {
-        control.update(double(done) / chunks);
-      });
+      [&](int done) { control.update(double(done) / chunks); });
   // Mirror the lower triangle into the upper one, in cache-sized tiles.
   constexpr int kTile = 64;
   const int tiles = (n + kTile - 1) / kTile;

@@ -1,9 +1,9 @@
 // Isomap: geodesic distances (shortest paths along the k-NN graph of D) replace D, then
 // classical MDS. Unrolls a curved manifold when k is small enough not to short-cut it.
-#include "motionmap/embed/graph.h"
 #include "motionmap/embed/detail/methods.h"
-#include "motionmap/embed/neighbors.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/graph.h"
+#include "motionmap/embed/neighbors.h"
 
 namespace motionmap::embed {
 

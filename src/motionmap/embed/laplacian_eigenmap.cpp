@@ -12,11 +12,11 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/graph.h"
-#include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/neighbors.h"
-#include "motionmap/embed/detail/progress.h"
 
 namespace motionmap::embed {
 
@@ -112,7 +112,8 @@ void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& option
   Eigen::VectorXd degrees;
   const Eigen::SparseMatrix<double> L = normalized_laplacian(w, degrees);
   const Eigen::VectorXd q = degrees.cwiseSqrt().normalized();
-  const EigenPairs low = smallest_eigenpairs_excluding(L, q, options.dimensions, "le", progress.control());
+  const EigenPairs low =
+      smallest_eigenpairs_excluding(L, q, options.dimensions, "le", progress.control());
   out.eigenvalues = low.values;
   out.coordinates = degrees.cwiseSqrt().cwiseInverse().asDiagonal() * low.vectors;
 }

@@ -7,11 +7,11 @@
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCore>
 
-#include "motionmap/embed/eigen.h"
-#include "motionmap/embed/detail/methods.h"
-#include "motionmap/embed/neighbors.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/eigen.h"
+#include "motionmap/embed/neighbors.h"
 
 namespace motionmap::embed {
 
@@ -79,7 +79,8 @@ void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOpti
   A.setFromTriplets(entries.begin(), entries.end());
   const Eigen::SparseMatrix<double> M = Eigen::SparseMatrix<double>(A.transpose()) * A;
   const Eigen::VectorXd q = Eigen::VectorXd::Constant(n, 1.0 / std::sqrt(double(n)));
-  const EigenPairs low = smallest_eigenpairs_excluding(M, q, options.dimensions, "lle", progress.control());
+  const EigenPairs low =
+      smallest_eigenpairs_excluding(M, q, options.dimensions, "lle", progress.control());
   out.eigenvalues = low.values;
   out.coordinates = low.vectors;
 }

@@ -11,10 +11,10 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
-#include "motionmap/embed/eigen.h"
 #include "motionmap/embed/detail/methods.h"
-#include "motionmap/embed/metrics.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/eigen.h"
+#include "motionmap/embed/metrics.h"
 
 namespace motionmap::embed {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "motionmap/core/error.h"
-#include "motionmap/embed/neighbors.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/embed/neighbors.h"
 
 namespace motionmap::embed {
 
@@ -50,8 +50,8 @@ double percentile(std::vector<double> values, double q) {
 
 }  // namespace
 
-NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y,
-                                         int k, const Control& control) {
+NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::MatrixXd& Y, int k,
+                                         const Control& control) {
   check_pair(D, Y, "trustworthiness");
   const int n = static_cast<int>(D.rows());
   if (k < 1 || 2 * k >= n) {
@@ -65,32 +65,35 @@ NeighborhoodQuality neighborhood_quality(const Eigen::MatrixXd& D, const Eigen::
   // Per-frame penalties, summed in frame order afterwards so the result is thread-independent.
   std::vector<long> trust_penalty(std::size_t(n), 0);
   std::vector<long> cont_penalty(std::size_t(n), 0);
-  parallel_chunks(chunks, [&](int c, int w) {
-    Eigen::ArrayXd& e = scratch[w];
-    const auto kk = static_cast<std::size_t>(k);
-    std::vector<int> nd(kk), ne(kk);
-    std::vector<double> dd(kk), de(kk);
-    const int end = std::min(n, (c + 1) * kRowsPerChunk);
-    for (int i = c * kRowsPerChunk; i < end; ++i) {
-      e.setZero(n);
-      for (Eigen::Index a = 0; a < Y.cols(); ++a) e += (Y.col(a).array() - Y(i, a)).square();
-      e = e.sqrt();
-      const double* d = D.col(i).data();
-      k_nearest(d, n, i, k, nd.data(), dd.data());
-      k_nearest(e.data(), n, i, k, ne.data(), de.data());
-      std::vector<int> sd(nd), se(ne);
-      std::sort(sd.begin(), sd.end());
-      std::sort(se.begin(), se.end());
-      for (int j : ne) {
-        if (!std::binary_search(sd.begin(), sd.end(), j))
-          trust_penalty[i] += rank_of(d, n, i, j) - k;
-      }
-      for (int j : nd) {
-        if (!std::binary_search(se.begin(), se.end(), j))
-          cont_penalty[i] += rank_of(e.data(), n, i, j) - k;
-      }
-    }
-  }, [&](int done) { control.update(double(done) / chunks); });
+  parallel_chunks(
+      chunks,
+      [&](int c, int w) {
+        Eigen::ArrayXd& e = scratch[w];
+        const auto kk = static_cast<std::size_t>(k);
+        std::vector<int> nd(kk), ne(kk);
+        std::vector<double> dd(kk), de(kk);
+        const int end = std::min(n, (c + 1) * kRowsPerChunk);
+        for (int i = c * kRowsPerChunk; i < end; ++i) {
+          e.setZero(n);
+          for (Eigen::Index a = 0; a < Y.cols(); ++a) e += (Y.col(a).array() - Y(i, a)).square();
+          e = e.sqrt();
+          const double* d = D.col(i).data();
+          k_nearest(d, n, i, k, nd.data(), dd.data());
+          k_nearest(e.data(), n, i, k, ne.data(), de.data());
+          std::vector<int> sd(nd), se(ne);
+          std::sort(sd.begin(), sd.end());
+          std::sort(se.begin(), se.end());
+          for (int j : ne) {
+            if (!std::binary_search(sd.begin(), sd.end(), j))
+              trust_penalty[i] += rank_of(d, n, i, j) - k;
+          }
+          for (int j : nd) {
+            if (!std::binary_search(se.begin(), se.end(), j))
+              cont_penalty[i] += rank_of(e.data(), n, i, j) - k;
+          }
+        }
+      },
+      [&](int done) { control.update(double(done) / chunks); });
   double trust_sum = 0.0, cont_sum = 0.0;
   for (int i = 0; i < n; ++i) {
     trust_sum += double(trust_penalty[i]);
@@ -123,27 +126,30 @@ double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y,
   std::vector<double> tt(std::size_t(chunks), 0.0), te(std::size_t(chunks), 0.0),
       ee(std::size_t(chunks), 0.0), rr(std::size_t(chunks), 0.0);
   auto pass = [&](bool residual, double s) {
-    parallel_chunks(chunks, [&](int c, int) {
-      Eigen::ArrayXd e;
-      const int end = std::min(n, (c + 1) * kRowsPerChunk);
-      for (int j = c * kRowsPerChunk; j < end; ++j) {
-        const Eigen::Index m = n - 1 - j;
-        if (m == 0) continue;
-        e.setZero(m);
-        for (Eigen::Index a = 0; a < Y.cols(); ++a) {
-          e += (Y.col(a).tail(m).array() - Y(j, a)).square();
-        }
-        e = e.sqrt();
-        const auto t = T.col(j).tail(m).array();
-        if (residual) {
-          rr[c] += (t - s * e).square().sum();
-        } else {
-          tt[c] += t.square().sum();
-          te[c] += (t * e).sum();
-          ee[c] += e.square().sum();
-        }
-      }
-    }, [&](int done) { control.update((residual ? 0.5 : 0.0) + 0.5 * double(done) / chunks); });
+    parallel_chunks(
+        chunks,
+        [&](int c, int) {
+          Eigen::ArrayXd e;
+          const int end = std::min(n, (c + 1) * kRowsPerChunk);
+          for (int j = c * kRowsPerChunk; j < end; ++j) {
+            const Eigen::Index m = n - 1 - j;
+            if (m == 0) continue;
+            e.setZero(m);
+            for (Eigen::Index a = 0; a < Y.cols(); ++a) {
+              e += (Y.col(a).tail(m).array() - Y(j, a)).square();
+            }
+            e = e.sqrt();
+            const auto t = T.col(j).tail(m).array();
+            if (residual) {
+              rr[c] += (t - s * e).square().sum();
+            } else {
+              tt[c] += t.square().sum();
+              te[c] += (t * e).sum();
+              ee[c] += e.square().sum();
+            }
+          }
+        },
+        [&](int done) { control.update((residual ? 0.5 : 0.0) + 0.5 * double(done) / chunks); });
   };
   pass(false, 0.0);
   double stt = 0.0, ste = 0.0, see = 0.0;

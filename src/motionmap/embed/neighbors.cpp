@@ -66,9 +66,7 @@ NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, const Control&
         const int end = std::min(n, (c + 1) * kFramesPerChunk);
         for (int i = c * kFramesPerChunk; i < end; ++i) select(i);
       },
-      [&](int done) {
-        control.update(double(done) / chunks);
-      });
+      [&](int done) { control.update(double(done) / chunks); });
   return out;
 }
 

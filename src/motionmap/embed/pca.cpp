@@ -4,9 +4,9 @@
 #include <limits>
 #include <string>
 
-#include "motionmap/embed/eigen.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/eigen.h"
 
 namespace motionmap::embed {
 

@@ -2,9 +2,9 @@
 // sklearn.decomposition.TruncatedSVD). The first axis mostly shows the mean pose's magnitude.
 #include <string>
 
-#include "motionmap/embed/eigen.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/eigen.h"
 
 namespace motionmap::embed {
 

@@ -14,7 +14,8 @@ BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor) {
   check.distance = (points.row(0) - points.row(1)).norm();
   std::vector<double> steps;
   steps.reserve(static_cast<std::size_t>(frames - 2));
-  for (Eigen::Index f = 1; f + 1 < frames; ++f) steps.push_back((points.row(f) - points.row(f + 1)).norm());
+  for (Eigen::Index f = 1; f + 1 < frames; ++f)
+    steps.push_back((points.row(f) - points.row(f + 1)).norm());
   const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
   std::nth_element(steps.begin(), mid, steps.end());
   check.median_step = *mid;
@@ -73,7 +74,8 @@ std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& m
       first_flip_frame = 1;
       warnings.push_back(
           "frame 0 looks like a bind pose (T-pose): it is " +
-          (std::isfinite(bind.ratio) ? format_double(bind.ratio, 0) + "×" : std::string("infinitely")) +
+          (std::isfinite(bind.ratio) ? format_double(bind.ratio, 0) + "×"
+                                     : std::string("infinitely")) +
           " farther from frame 1 than the median step between frames (CMU's BVH conversions start "
           "with one; `motionmap map` leaves it out unless --keep-first)");
     }
@@ -83,7 +85,8 @@ std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& m
       warnings.push_back("joint '" + skeleton.joints[flip.joint].name + "' rotates by up to " +
                          format_double(flip.max_degrees, 0) + "° between consecutive frames (" +
                          frame_pairs(flip.frames, 5) + "), more than a body can at " +
-                         format_double(motion.fps(), 0) + " fps: likely a rotation flip in the data");
+                         format_double(motion.fps(), 0) +
+                         " fps: likely a rotation flip in the data");
     }
   }
   return warnings;

@@ -11,9 +11,9 @@ namespace motionmap::features {
 
 struct BindPoseCheck {
   bool detected = false;
-  double distance = 0.0;       ///< point-cloud distance between frames 0 and 1
-  double median_step = 0.0;    ///< median point-cloud distance between later consecutive frames
-  double ratio = 0.0;          ///< distance / median_step (infinite if the rest of the clip is still)
+  double distance = 0.0;     ///< point-cloud distance between frames 0 and 1
+  double median_step = 0.0;  ///< median point-cloud distance between later consecutive frames
+  double ratio = 0.0;        ///< distance / median_step (infinite if the rest of the clip is still)
 };
 
 /// Frame 0 is a leading bind pose when its point-cloud distance to frame 1 exceeds `factor` × the
@@ -23,7 +23,8 @@ BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor = 1
 
 struct RotationFlip {
   int joint = -1;
-  std::vector<int> frames;  ///< f such that the joint's rotation changes by > threshold from f to f+1
+  std::vector<int>
+      frames;  ///< f such that the joint's rotation changes by > threshold from f to f+1
   double max_degrees = 0.0;
 };
 

@@ -290,11 +290,13 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
   double farthest = 0.0;
   switch (options.distance) {
     case DistanceKind::PointCloud:
-      for (Eigen::Index j = 1; j < n; ++j) farthest = std::max(farthest, point_distance(cloud, 0, j));
+      for (Eigen::Index j = 1; j < n; ++j)
+        farthest = std::max(farthest, point_distance(cloud, 0, j));
       set.distance_input = std::move(cloud);
       break;
     case DistanceKind::Geodesic:
-      for (Eigen::Index j = 1; j < n; ++j) farthest = std::max(farthest, geodesic_distance(quats, 0, j));
+      for (Eigen::Index j = 1; j < n; ++j)
+        farthest = std::max(farthest, geodesic_distance(quats, 0, j));
       set.distance_input = std::move(quats);
       break;
     case DistanceKind::Features: {
@@ -303,10 +305,9 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
       break;
     }
   }
-  const double same =
-      1e-9 * (options.distance == DistanceKind::PointCloud
-                  ? 1.0 + set.distance_input.cwiseAbs().maxCoeff()
-                  : 1.0);
+  const double same = 1e-9 * (options.distance == DistanceKind::PointCloud
+                                  ? 1.0 + set.distance_input.cwiseAbs().maxCoeff()
+                                  : 1.0);
   if (n > 1 && farthest <= same) {
     set.notes.push_back("every frame has the same pose (distance " +
                         std::string(distance_kind_name(options.distance)) +

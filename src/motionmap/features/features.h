@@ -30,7 +30,7 @@ namespace motionmap::features {
 enum class FeatureKind { Quaternions, Positions };
 enum class DistanceKind { PointCloud, Geodesic, Features };
 
-std::string_view feature_kind_name(FeatureKind k);  ///< "quat" / "positions"
+std::string_view feature_kind_name(FeatureKind k);    ///< "quat" / "positions"
 std::string_view distance_kind_name(DistanceKind k);  ///< "pointcloud" / "geodesic" / "features"
 
 struct FeatureOptions {
@@ -40,9 +40,9 @@ struct FeatureOptions {
   /// ECMAScript regular expression; joints whose whole name matches are left out of X and D
   /// (with their end sites), e.g. ".*(Thumb|Finger).*". Empty: keep every joint.
   std::string exclude;
-  int first_frame = 0;   ///< first file frame used (per clip)
-  int end_frame = -1;    ///< one past the last file frame used; −1 = the clip's end
-  int stride = 1;        ///< use every stride-th frame from first_frame
+  int first_frame = 0;  ///< first file frame used (per clip)
+  int end_frame = -1;   ///< one past the last file frame used; −1 = the clip's end
+  int stride = 1;       ///< use every stride-th frame from first_frame
   /// Keep a leading bind pose (frame 0 farther from frame 1 than 10× the median step); by
   /// default it is left out and a note says so.
   bool keep_first = false;
@@ -53,8 +53,8 @@ struct FeatureOptions {
 
 /// The feature set of a map: matrices plus where every sample came from.
 struct FeatureSet {
-  Eigen::MatrixXd X;  ///< #samples by #features
-  Eigen::MatrixXd D;  ///< #samples by #samples, symmetric, zero diagonal
+  Eigen::MatrixXd X;                ///< #samples by #features
+  Eigen::MatrixXd D;                ///< #samples by #samples, symmetric, zero diagonal
   std::vector<int> clip_of;         ///< per sample: index of its clip
   std::vector<int> frame_of;        ///< per sample: its frame index in the clip's file
   std::vector<int> segment_starts;  ///< first sample of each clip

@@ -134,8 +134,7 @@ class BvhParser {
     const auto [it, inserted] = m_name_lines.emplace(std::string(name), at.line);
     if (!inserted) {
       m_cur.reset(at);
-      m_cur.fail_expected("a joint name not used before (line " + std::to_string(it->second) +
-                          ")");
+      m_cur.fail_expected("a joint name not used before (line " + std::to_string(it->second) + ")");
     }
     return std::string(name);
   }
@@ -223,10 +222,10 @@ class BvhParser {
         channels == 0 ? static_cast<unsigned long long>(frames) : (count == 0 ? 0 : 2 * count - 1);
     if (least > remaining) {
       m_cur.reset(frames_at);
-      m_cur.fail_expected("a frame count the rest of the file can hold (" +
-                          std::to_string(frames) + " frames of " + std::to_string(channels) +
-                          " values need at least " + std::to_string(least) + " bytes, " +
-                          std::to_string(remaining) + " remain)");
+      m_cur.fail_expected("a frame count the rest of the file can hold (" + std::to_string(frames) +
+                          " frames of " + std::to_string(channels) + " values need at least " +
+                          std::to_string(least) + " bytes, " + std::to_string(remaining) +
+                          " remain)");
     }
     // to_motion() makes #frames·#joints transforms: many joints without channels would let a
     // small file ask for gigabytes. Beyond kFreeTransforms, a byte per transform is required.
@@ -234,10 +233,10 @@ class BvhParser {
     const auto transforms = static_cast<unsigned long long>(frames) * joints;
     if (transforms > kFreeTransforms && transforms > remaining) {
       m_cur.reset(frames_at);
-      m_cur.fail_expected("a frame count the rest of the file can hold (" +
-                          std::to_string(frames) + " frames of " + std::to_string(joints) +
-                          " joints need at least " + std::to_string(transforms) + " bytes, " +
-                          std::to_string(remaining) + " remain)");
+      m_cur.fail_expected("a frame count the rest of the file can hold (" + std::to_string(frames) +
+                          " frames of " + std::to_string(joints) + " joints need at least " +
+                          std::to_string(transforms) + " bytes, " + std::to_string(remaining) +
+                          " remain)");
     }
     m_doc.frame_time = frame_time;
     m_doc.num_frames = static_cast<int>(frames);
@@ -249,8 +248,8 @@ class BvhParser {
   [[noreturn]] void fail_in_rows(const char* p, std::size_t line, const char* line_start,
                                  const std::string& expected) {
     const char* data = m_cur.text().data();
-    m_cur.reset({static_cast<std::size_t>(p - data), line,
-                 static_cast<std::size_t>(line_start - data)});
+    m_cur.reset(
+        {static_cast<std::size_t>(p - data), line, static_cast<std::size_t>(line_start - data)});
     m_cur.fail_expected(expected);
   }
 
@@ -268,8 +267,8 @@ class BvhParser {
         while (p != end && is_blank(*p)) ++p;
         if (p == end) {
           fail_in_rows(p, line, line_start,
-                       "motion row " + std::to_string(f + 1) + " of the " +
-                           std::to_string(frames) + " that Frames: declares");
+                       "motion row " + std::to_string(f + 1) + " of the " + std::to_string(frames) +
+                           " that Frames: declares");
         }
         if (*p != '\n' && *p != '\r') break;
         p += (*p == '\r' && p + 1 != end && p[1] == '\n') ? 2 : 1;
@@ -284,7 +283,8 @@ class BvhParser {
                            " (one per channel), not " + std::to_string(c));
         }
         switch (parse_number(p, end, *out)) {
-          case NumberStatus::Ok: break;
+          case NumberStatus::Ok:
+            break;
           case NumberStatus::NotANumber:
             fail_in_rows(p, line, line_start,
                          "a number (value " + std::to_string(c + 1) + " of motion row " +
@@ -303,8 +303,8 @@ class BvhParser {
                          std::to_string(channels) + " values");
       }
     }
-    m_cur.reset({static_cast<std::size_t>(p - data), line,
-                 static_cast<std::size_t>(line_start - data)});
+    m_cur.reset(
+        {static_cast<std::size_t>(p - data), line, static_cast<std::size_t>(line_start - data)});
   }
 
   // Rows beyond the declared count (a common exporter slip) are counted and dropped.
@@ -321,8 +321,8 @@ class BvhParser {
       m_cur.skip_line();
     }
     if (extra == 0) return;
-    m_doc.warnings.push_back(m_cur.path() + ":" + std::to_string(first_line) + ": warning: " +
-                             std::to_string(extra) + " extra motion row" +
+    m_doc.warnings.push_back(m_cur.path() + ":" + std::to_string(first_line) +
+                             ": warning: " + std::to_string(extra) + " extra motion row" +
                              (extra == 1 ? "" : "s") + " after the declared " +
                              std::to_string(m_doc.num_frames) + " frames ignored");
   }
@@ -437,7 +437,9 @@ BvhDocument parse_bvh(std::string_view text, const std::string& path) {
   return BvhParser(text, path).parse();
 }
 
-BvhDocument read_bvh(const std::string& path) { return parse_bvh(read_text_file(path), path); }
+BvhDocument read_bvh(const std::string& path) {
+  return parse_bvh(read_text_file(path), path);
+}
 
 void write_bvh(const BvhDocument& doc, std::ostream& out) {
   const std::vector<int> depth = check_writable(doc);
@@ -562,14 +564,13 @@ BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion) {
   const int joints = skeleton.num_joints();
   const auto entries = static_cast<std::size_t>(std::max(motion.num_frames, 0)) *
                        static_cast<std::size_t>(std::max(motion.num_joints, 0));
-  if (motion.num_joints != joints || motion.num_frames < 0 ||
-      motion.rotations.size() != entries || motion.translations.size() != entries) {
-    throw ParameterError("from_motion: the motion (" + std::to_string(motion.num_frames) +
-                         " frames of " + std::to_string(motion.num_joints) + " joints, " +
-                         std::to_string(motion.rotations.size()) + " rotations, " +
-                         std::to_string(motion.translations.size()) +
-                         " translations) does not fit the skeleton of " + std::to_string(joints) +
-                         " joints");
+  if (motion.num_joints != joints || motion.num_frames < 0 || motion.rotations.size() != entries ||
+      motion.translations.size() != entries) {
+    throw ParameterError(
+        "from_motion: the motion (" + std::to_string(motion.num_frames) + " frames of " +
+        std::to_string(motion.num_joints) + " joints, " + std::to_string(motion.rotations.size()) +
+        " rotations, " + std::to_string(motion.translations.size()) +
+        " translations) does not fit the skeleton of " + std::to_string(joints) + " joints");
   }
   if (!(motion.frame_time > 0.0) || !std::isfinite(motion.frame_time)) {
     throw ParameterError("from_motion: frame time " + std::to_string(motion.frame_time) +

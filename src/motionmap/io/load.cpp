@@ -54,8 +54,10 @@ Clip load_clip(const std::string& path, const LoadOptions& options) {
     return load_asf_amc(asf, path, options.fps > 0 ? options.fps : 120.0);
   }
   if (ext == ".asf") {
-    throw Error(path + ": error: an .asf file holds only a skeleton; open the .amc motion (with "
-                       "--asf " + path + ")");
+    throw Error(path +
+                ": error: an .asf file holds only a skeleton; open the .amc motion (with "
+                "--asf " +
+                path + ")");
   }
   throw Error(path + ": error: unknown file type '" + ext + "', expected .bvh or .amc");
 }

@@ -6,10 +6,10 @@
 
 namespace motionmap::pipeline {
 
-using embed::EmbedInput;
 using embed::Embedding;
-using embed::Method;
+using embed::EmbedInput;
 using embed::jump_score;
+using embed::Method;
 using embed::neighborhood_quality;
 
 namespace {
@@ -24,7 +24,9 @@ bool uses_graph(Method m) {
 }
 }  // namespace
 
-bool needs_distances(Method method) { return method != Method::Pca && method != Method::Svd; }
+bool needs_distances(Method method) {
+  return method != Method::Pca && method != Method::Svd;
+}
 
 ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
                   const Control& control, FeatureCache* cache) {
@@ -39,14 +41,14 @@ ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
   if (cache) {
     result.features = cache->get(clips, options.features, need_d, features_control);
   } else {
-    result.features = std::make_shared<const features::FeatureSet>(features::build_features(
-        clips, options.features, features_control,
-        need_d ? features::Distances::Now : features::Distances::Later));
+    result.features = std::make_shared<const features::FeatureSet>(
+        features::build_features(clips, options.features, features_control,
+                                 need_d ? features::Distances::Now : features::Distances::Later));
   }
   const features::FeatureSet& set = *result.features;
   const EmbedInput input{&set.X, set.has_distances() ? &set.D : nullptr};
-  result.embedding =
-      embed::embed(input, options.embed, control.part(features_share, features_share + embed_share));
+  result.embedding = embed::embed(input, options.embed,
+                                  control.part(features_share, features_share + embed_share));
 
   if (options.metrics) {
     result.metrics = map_metrics(set, result.embedding, options.metrics_k,
@@ -59,8 +61,9 @@ ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
 MapMetrics map_metrics(const features::FeatureSet& features, const Embedding& embedding, int k,
                        const Control& control) {
   if (!features.has_distances()) {
-    throw ParameterError("metrics: the feature set has no distance matrix D (built with "
-                         "Distances::Later); add_distances() first");
+    throw ParameterError(
+        "metrics: the feature set has no distance matrix D (built with "
+        "Distances::Later); add_distances() first");
   }
   MapMetrics m;
   m.neighborhood = neighborhood_quality(features.D, embedding.coordinates, k, control);
@@ -85,7 +88,8 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   s += " up=" + std::string(f.up == Axis::Z ? "z" : "y");
   if (!f.exclude.empty()) s += " exclude=" + f.exclude;
   if (f.first_frame != 0 || f.end_frame >= 0) {
-    s += " frames=" + std::to_string(f.first_frame) + ":" + (f.end_frame >= 0 ? std::to_string(f.end_frame) : "");
+    s += " frames=" + std::to_string(f.first_frame) + ":" +
+         (f.end_frame >= 0 ? std::to_string(f.end_frame) : "");
   }
   if (f.stride != 1) s += " stride=" + std::to_string(f.stride);
   if (f.keep_first) s += " keep-first";

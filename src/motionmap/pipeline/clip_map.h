@@ -32,8 +32,8 @@ struct ClipMapOptions {
 /// Quality of a map (see metrics.h for the definitions).
 struct MapMetrics {
   embed::NeighborhoodQuality neighborhood;  ///< at ClipMapOptions::metrics_k, against D
-  std::optional<double> stress;      ///< MDS and Isomap: against their target distances
-  double jump = 0.0;                 ///< 95th percentile ÷ median of consecutive map steps
+  std::optional<double> stress;             ///< MDS and Isomap: against their target distances
+  double jump = 0.0;                        ///< 95th percentile ÷ median of consecutive map steps
 };
 
 struct ClipMap {

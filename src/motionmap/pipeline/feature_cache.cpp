@@ -1,6 +1,5 @@
 #include "motionmap/pipeline/feature_cache.h"
 
-
 namespace motionmap::pipeline {
 
 std::string feature_key(const features::FeatureOptions& o) {

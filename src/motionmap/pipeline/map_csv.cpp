@@ -21,18 +21,20 @@ std::string base_name(const std::string& path) {
 
 void MapTable::check_matches(const features::FeatureSet& samples) const {
   if (num_rows() != samples.num_samples()) {
-    throw ParameterError(path + ": " + std::to_string(num_rows()) + " map rows, but the clips give " +
-                         std::to_string(samples.num_samples()) +
-                         " samples with these options (frames, stride, bind pose, files): not a map of "
-                         "these clips; compute it with the same options, or leave out --map");
+    throw ParameterError(
+        path + ": " + std::to_string(num_rows()) + " map rows, but the clips give " +
+        std::to_string(samples.num_samples()) +
+        " samples with these options (frames, stride, bind pose, files): not a map of "
+        "these clips; compute it with the same options, or leave out --map");
   }
   for (int i = 0; i < num_rows(); ++i) {
     if (clip_of[i] != samples.clip_of[i] || frame_of[i] != samples.frame_of[i]) {
-      throw ParameterError(path + ":" + std::to_string(lines[i]) + ": row " + std::to_string(i + 1) + " is clip " +
-                           std::to_string(clip_of[i]) + " frame " + std::to_string(frame_of[i]) +
-                           ", but the clips' sample " + std::to_string(i + 1) + " is clip " +
-                           std::to_string(samples.clip_of[i]) + " frame " + std::to_string(samples.frame_of[i]) +
-                           ": not a map of these clips with these options");
+      throw ParameterError(
+          path + ":" + std::to_string(lines[i]) + ": row " + std::to_string(i + 1) + " is clip " +
+          std::to_string(clip_of[i]) + " frame " + std::to_string(frame_of[i]) +
+          ", but the clips' sample " + std::to_string(i + 1) + " is clip " +
+          std::to_string(samples.clip_of[i]) + " frame " + std::to_string(samples.frame_of[i]) +
+          ": not a map of these clips with these options");
     }
   }
 }
@@ -82,16 +84,19 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
       } else if (header == "clip,frame,x,y" || header == "clip,frame,x,y,z") {
         has_clip = true;
       } else {
-        cur.fail_at(line, 1, "expected the header of a map (frame,x,y or clip,frame,x,y, with ,z in 3-D), found '" +
-                                 quote_token(row) + "'");
+        cur.fail_at(
+            line, 1,
+            "expected the header of a map (frame,x,y or clip,frame,x,y, with ,z in 3-D), found '" +
+                quote_token(row) + "'");
       }
       columns = fields.size();
       continue;
     }
     if (fields.size() != columns) {
       const std::size_t col = fields.size() > columns ? fields[columns].column : row.size() + 1;
-      cur.fail_at(line, col, "expected " + std::to_string(columns) + " fields as in the header, found " +
-                                 std::to_string(fields.size()));
+      cur.fail_at(line, col,
+                  "expected " + std::to_string(columns) + " fields as in the header, found " +
+                      std::to_string(fields.size()));
     }
     const std::size_t ids = has_clip ? 2 : 1;
     int id[2] = {0, 0};
@@ -100,18 +105,20 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
       const char* end = f.text.data() + f.text.size();
       const auto [ptr, ec] = std::from_chars(f.text.data(), end, id[k]);
       if (f.text.empty() || ec != std::errc() || ptr != end || id[k] < 0) {
-        cur.fail_at(line, f.column, std::string("expected a ") + (k + 1 == ids ? "frame" : "clip") +
-                                        " number (an integer ≥ 0), found '" + quote_token(f.text) + "'");
+        cur.fail_at(line, f.column,
+                    std::string("expected a ") + (k + 1 == ids ? "frame" : "clip") +
+                        " number (an integer ≥ 0), found '" + quote_token(f.text) + "'");
       }
     }
     for (std::size_t k = ids; k < columns; ++k) {
       const CsvField& f = fields[k];
       double v = 0.0;
       const char* first = f.text.data();
-      const auto status = f.text.empty() ? NumberStatus::NotANumber
-                                         : parse_number(first, first + f.text.size(), v);
+      const auto status =
+          f.text.empty() ? NumberStatus::NotANumber : parse_number(first, first + f.text.size(), v);
       if (status != NumberStatus::Ok) {
-        cur.fail_at(line, f.column, "expected a finite coordinate, found '" + quote_token(f.text) + "'");
+        cur.fail_at(line, f.column,
+                    "expected a finite coordinate, found '" + quote_token(f.text) + "'");
       }
       values.push_back(v);
     }
@@ -119,14 +126,20 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
     table.frame_of.push_back(id[ids - 1]);
     table.lines.push_back(line);
   }
-  if (columns == 0) cur.fail_at(cur.line(), 1, "expected the header of a map (frame,x,y or clip,frame,x,y), found none");
-  if (table.frame_of.empty()) cur.fail_at(cur.line(), 1, "expected map rows after the header, found none");
+  if (columns == 0)
+    cur.fail_at(cur.line(), 1,
+                "expected the header of a map (frame,x,y or clip,frame,x,y), found none");
+  if (table.frame_of.empty())
+    cur.fail_at(cur.line(), 1, "expected map rows after the header, found none");
   const auto dims = static_cast<Eigen::Index>(columns - (has_clip ? 2 : 1));
-  table.coords = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-      values.data(), table.num_rows(), dims);
+  table.coords =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          values.data(), table.num_rows(), dims);
   return table;
 }
 
-MapTable read_map_csv(const std::string& path) { return parse_map_csv(read_text_file(path), path); }
+MapTable read_map_csv(const std::string& path) {
+  return parse_map_csv(read_text_file(path), path);
+}
 
 }  // namespace motionmap::pipeline

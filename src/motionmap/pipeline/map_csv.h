@@ -1,9 +1,9 @@
 #pragma once
 // A map as CSV: what `motionmap map` writes and `motionmap pose|synth --map` read back.
 //
-//   # motionmap map method=isomap dims=2 k=20 features=quat distance=pointcloud up=y files=64_08.bvh
-//   # note: 64_08.bvh: frame 0 looks like a bind pose (…): left out (--keep-first keeps it)
-//   frame,x,y                 ← `clip,frame,x,y` with several clips, `,z` in 3-D
+//   # motionmap map method=isomap dims=2 k=20 features=quat distance=pointcloud up=y
+//   files=64_08.bvh # note: 64_08.bvh: frame 0 looks like a bind pose (…): left out (--keep-first
+//   keeps it) frame,x,y                 ← `clip,frame,x,y` with several clips, `,z` in 3-D
 //   1,-1.0734,0.2213
 //
 //   auto table = motionmap::embed::read_map_csv("map.csv");
@@ -24,10 +24,10 @@
 namespace motionmap::pipeline {
 
 struct MapTable {
-  std::string path;           ///< the file (for messages)
-  std::vector<int> clip_of;   ///< per row: clip index (all 0 when the file has no clip column)
-  std::vector<int> frame_of;  ///< per row: the frame's index in its clip's file
-  Eigen::MatrixXd coords;     ///< #rows by 2 or 3
+  std::string path;                ///< the file (for messages)
+  std::vector<int> clip_of;        ///< per row: clip index (all 0 when the file has no clip column)
+  std::vector<int> frame_of;       ///< per row: the frame's index in its clip's file
+  Eigen::MatrixXd coords;          ///< #rows by 2 or 3
   std::vector<std::size_t> lines;  ///< per row: its line in the file
   int num_rows() const { return static_cast<int>(frame_of.size()); }
 

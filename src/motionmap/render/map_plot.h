@@ -36,11 +36,11 @@ QColor clip_color(int clip);
 
 /// How paint_map() draws a panel. Sizes are in the painter's units (pixels for images).
 struct MapPlotOptions {
-  QString title;                  ///< printed above the panel (nothing when empty)
-  QStringList notes;              ///< lines printed under the panel, e.g. quality metrics
-  bool start_marker = true;       ///< black-outlined white circle on each clip's first frame
-  bool draw_points = false;       ///< a dot on every sample, in its time colour
-  bool time_legend = false;       ///< a red → blue "start … end" bar under the panel
+  QString title;             ///< printed above the panel (nothing when empty)
+  QStringList notes;         ///< lines printed under the panel, e.g. quality metrics
+  bool start_marker = true;  ///< black-outlined white circle on each clip's first frame
+  bool draw_points = false;  ///< a dot on every sample, in its time colour
+  bool time_legend = false;  ///< a red → blue "start … end" bar under the panel
   /// Non-empty: colour by clip — clip c's trajectory and dots in clip_color(c), and the legend
   /// (when time_legend is set) names the clips with their colours instead of the time bar.
   QStringList clip_names;

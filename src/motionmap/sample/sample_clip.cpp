@@ -586,8 +586,8 @@ Clip make_sample_clip(SampleKind kind, const SampleOptions& options) {
   const double length = seconds > 0.0 ? seconds : natural;
   const double frames = std::round(length * fps);
   if (frames < 1.0 || frames > static_cast<double>(kMaxSampleFrames)) {
-    throw ParameterError("sample of " + format_number(length) + " s at " + format_number(fps) + " fps has " +
-                         std::to_string(static_cast<long long>(frames)) +
+    throw ParameterError("sample of " + format_number(length) + " s at " + format_number(fps) +
+                         " fps has " + std::to_string(static_cast<long long>(frames)) +
                          " frames; the frame count must be in [1, " +
                          std::to_string(kMaxSampleFrames) + "]");
   }

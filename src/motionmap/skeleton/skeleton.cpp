@@ -8,11 +8,13 @@
 namespace motionmap {
 
 namespace {
-constexpr std::array<std::string_view, 6> kChannelNames = {
-    "Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+constexpr std::array<std::string_view, 6> kChannelNames = {"Xposition", "Yposition", "Zposition",
+                                                           "Xrotation", "Yrotation", "Zrotation"};
 }
 
-std::string_view channel_name(ChannelType c) { return kChannelNames[static_cast<int>(c)]; }
+std::string_view channel_name(ChannelType c) {
+  return kChannelNames[static_cast<int>(c)];
+}
 
 std::optional<ChannelType> parse_channel_name(std::string_view name) {
   for (std::size_t i = 0; i < kChannelNames.size(); ++i) {

@@ -20,19 +20,30 @@
 namespace motionmap {
 
 /// One BVH channel. Position channels translate, rotation channels rotate about a coordinate axis.
-enum class ChannelType : std::uint8_t { Xposition, Yposition, Zposition, Xrotation, Yrotation, Zrotation };
+enum class ChannelType : std::uint8_t {
+  Xposition,
+  Yposition,
+  Zposition,
+  Xrotation,
+  Yrotation,
+  Zrotation
+};
 
 /// "Xposition", …, "Zrotation" as written in BVH files.
 std::string_view channel_name(ChannelType c);
 /// Parses a BVH channel name (exact, case-sensitive as every exporter writes it).
 std::optional<ChannelType> parse_channel_name(std::string_view name);
-inline bool is_rotation(ChannelType c) { return c >= ChannelType::Xrotation; }
+inline bool is_rotation(ChannelType c) {
+  return c >= ChannelType::Xrotation;
+}
 /// The coordinate axis a channel acts along (position) or about (rotation).
-inline Axis channel_axis(ChannelType c) { return static_cast<Axis>(static_cast<int>(c) % 3); }
+inline Axis channel_axis(ChannelType c) {
+  return static_cast<Axis>(static_cast<int>(c) % 3);
+}
 
 struct Joint {
   std::string name;
-  int parent = -1;                                   ///< index into Skeleton::joints, −1 for a root
+  int parent = -1;  ///< index into Skeleton::joints, −1 for a root
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< rest translation from the parent
   std::vector<ChannelType> channels;                 ///< channel layout exactly as in the file
   std::vector<Eigen::Vector3d> end_sites;            ///< offsets of the joint's End Site blocks
@@ -71,15 +82,19 @@ struct Motion {
   double frame_time = 1.0 / 120.0;  ///< seconds between frames
   int num_frames = 0;
   int num_joints = 0;
-  std::vector<Eigen::Quaterniond> rotations;   ///< #frames·#joints unit quaternions
-  std::vector<Eigen::Vector3d> translations;   ///< #frames·#joints local translations
+  std::vector<Eigen::Quaterniond> rotations;  ///< #frames·#joints unit quaternions
+  std::vector<Eigen::Vector3d> translations;  ///< #frames·#joints local translations
 
   /// Allocates #frames·#joints identity rotations and zero translations.
   void resize(int frames, int joints);
   Eigen::Quaterniond& rotation(int frame, int joint) { return rotations[index(frame, joint)]; }
-  const Eigen::Quaterniond& rotation(int frame, int joint) const { return rotations[index(frame, joint)]; }
+  const Eigen::Quaterniond& rotation(int frame, int joint) const {
+    return rotations[index(frame, joint)];
+  }
   Eigen::Vector3d& translation(int frame, int joint) { return translations[index(frame, joint)]; }
-  const Eigen::Vector3d& translation(int frame, int joint) const { return translations[index(frame, joint)]; }
+  const Eigen::Vector3d& translation(int frame, int joint) const {
+    return translations[index(frame, joint)];
+  }
   PoseView pose(int frame) const;
   double fps() const { return frame_time > 0 ? 1.0 / frame_time : 0.0; }
   double duration() const { return num_frames * frame_time; }
@@ -102,7 +117,8 @@ struct Clip {
   std::string path;
   Skeleton skeleton;
   Motion motion;
-  std::vector<std::string> warnings;  ///< non-fatal findings, formatted like "path:line: warning: …"
+  std::vector<std::string>
+      warnings;  ///< non-fatal findings, formatted like "path:line: warning: …"
 };
 
 }  // namespace motionmap

@@ -11,11 +11,10 @@
 #include <nanoflann.hpp>
 
 #include "motionmap/core/error.h"
-#include "motionmap/features/point_cloud.h"
 #include "motionmap/core/format.h"
+#include "motionmap/features/point_cloud.h"
 
 namespace motionmap::synth {
-
 
 namespace {
 
@@ -33,7 +32,9 @@ constexpr int kKrigingBlock = 64;
 struct PointSet {
   std::vector<Eigen::Vector2d> points;
   std::size_t kdtree_get_point_count() const { return points.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const { return points[i][static_cast<Eigen::Index>(d)]; }
+  double kdtree_get_pt(std::size_t i, std::size_t d) const {
+    return points[i][static_cast<Eigen::Index>(d)];
+  }
   template <class Box>
   bool kdtree_get_bbox(Box&) const {
     return false;
@@ -86,9 +87,12 @@ bool same_translation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 std::string_view blend_mode_name(BlendMode mode) {
   switch (mode) {
-    case BlendMode::Kriging: return "kriging";
-    case BlendMode::Local: return "local";
-    case BlendMode::Idw: return "idw";
+    case BlendMode::Kriging:
+      return "kriging";
+    case BlendMode::Local:
+      return "local";
+    case BlendMode::Idw:
+      return "idw";
   }
   return "?";
 }
@@ -102,11 +106,13 @@ std::optional<BlendMode> parse_blend_mode(std::string_view name) {
 
 void BlendOptions::validate(int num_samples) const {
   if (mode != BlendMode::Kriging && (neighbors < 1 || neighbors > num_samples)) {
-    throw ParameterError("neighbors: " + std::to_string(neighbors) + " is out of range (must be in [1, " +
-                         std::to_string(num_samples) + "], the map's sample count)");
+    throw ParameterError("neighbors: " + std::to_string(neighbors) +
+                         " is out of range (must be in [1, " + std::to_string(num_samples) +
+                         "], the map's sample count)");
   }
   if (!(reach > 0.0) || !std::isfinite(reach)) {
-    throw ParameterError("reach: " + format_number(reach) + " is out of range (must be a finite number > 0)");
+    throw ParameterError("reach: " + format_number(reach) +
+                         " is out of range (must be a finite number > 0)");
   }
   if (up != Axis::X && up != Axis::Y && up != Axis::Z) throw ParameterError("up: not an axis");
 }
@@ -122,9 +128,10 @@ struct MapBlender::Impl {
 
   // Per sample, precomputed so a query only sums.
   std::vector<Eigen::Quaterniond> rotations;  // #samples × #joints; the motion root's is its tilt
-  std::vector<int> moving;                    // joints other than the motion root whose translation varies
+  std::vector<int> moving;  // joints other than the motion root whose translation varies
   std::vector<Eigen::Vector3d> moving_translations;  // #samples × moving.size()
-  std::vector<Eigen::Vector3d> fixed_translations;   // #joints: sample 0's, motion root's floor zeroed
+  std::vector<Eigen::Vector3d>
+      fixed_translations;  // #joints: sample 0's, motion root's floor zeroed
   std::vector<double> height;
   std::vector<Eigen::Vector3d> velocity;  // heading-local floor velocity, units/s
   std::vector<double> yaw_rate;           // rad/s
@@ -132,7 +139,8 @@ struct MapBlender::Impl {
   // Distinct map points ("points"): merged samples.
   PointSet points;
   std::unique_ptr<KdTree> tree;
-  std::vector<int> member_start, members;  // members of point j: members[member_start[j] … member_start[j+1])
+  std::vector<int> member_start,
+      members;  // members of point j: members[member_start[j] … member_start[j+1])
   // The trajectory: segments between consecutive samples of a clip, and isolated samples as
   // segments of length 0 (start, end sample).
   std::vector<std::pair<int, int>> segments;
@@ -154,7 +162,8 @@ struct MapBlender::Impl {
 
   // The k nearest points to p: indices and (non-squared) distances, nearest first.
   int nearest(const Eigen::Vector2d& p, int k, std::uint32_t* idx, double* dist) const {
-    const auto found = static_cast<int>(tree->knnSearch(p.data(), static_cast<std::size_t>(k), idx, dist));
+    const auto found =
+        static_cast<int>(tree->knnSearch(p.data(), static_cast<std::size_t>(k), idx, dist));
     for (int i = 0; i < found; ++i) dist[i] = std::sqrt(dist[i]);
     return found;
   }
@@ -171,18 +180,21 @@ struct MapBlender::Impl {
   // Point weights (point index, weight) at v.point; sets v.variance. Not for kriging.
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
   // Point weights → sample weights, sorted and merged.
-  MapWeights expand(const std::vector<std::pair<int, double>>& point_w, const PointValidity& v) const;
+  MapWeights expand(const std::vector<std::pair<int, double>>& point_w,
+                    const PointValidity& v) const;
   void kriging_block(std::span<const Eigen::Vector2d> pts, std::span<MapWeights> out) const;
 };
 
-void MapBlender::Impl::build_samples(std::span<const Clip> clips, const features::FeatureSet& samples) {
+void MapBlender::Impl::build_samples(std::span<const Clip> clips,
+                                     const features::FeatureSet& samples) {
   const Axis up = options.up;
   const int J = joints;
   const auto uJ = static_cast<std::size_t>(J);
 
   // The shallowest motion root over the clips: a joint that moves in any clip carries motion.
   motion_root = std::numeric_limits<int>::max();
-  for (const Clip& clip : clips) motion_root = std::min(motion_root, motionmap::motion_root(clip.skeleton, clip.motion));
+  for (const Clip& clip : clips)
+    motion_root = std::min(motion_root, motionmap::motion_root(clip.skeleton, clip.motion));
 
   const auto un = static_cast<std::size_t>(n);
   rotations.resize(un * uJ);
@@ -199,7 +211,8 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips, const features
     const Motion& m = clips[samples.clip_of[i]].motion;
     const int f = samples.frame_of[i];
     const auto row = static_cast<std::size_t>(i) * uJ;
-    for (int j = 0; j < J; ++j) rotations[row + static_cast<std::size_t>(j)] = m.rotation(f, j).normalized();
+    for (int j = 0; j < J; ++j)
+      rotations[row + static_cast<std::size_t>(j)] = m.rotation(f, j).normalized();
     const Eigen::Quaterniond q = m.rotation(f, r).normalized();
     const double heading = features::heading_angle(q, up);
     rotations[row + static_cast<std::size_t>(r)] = (axis_rotation(up, -heading) * q).normalized();
@@ -211,8 +224,7 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips, const features
     const double ha = features::heading_angle(m.rotation(a, r).normalized(), up);
     const double hb = features::heading_angle(m.rotation(b, r).normalized(), up);
     const double dt = m.frame_time;
-    velocity[i] =
-        axis_rotation(up, -ha) * floor(m.translation(b, r) - m.translation(a, r)) / dt;
+    velocity[i] = axis_rotation(up, -ha) * floor(m.translation(b, r) - m.translation(a, r)) / dt;
     yaw_rate[i] = wrap_angle(hb - ha) / dt;
   }
 
@@ -236,12 +248,14 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips, const features
   for (int i = 0; i < n; ++i) {
     const Motion& m = clips[samples.clip_of[i]].motion;
     for (std::size_t k = 0; k < mv; ++k) {
-      moving_translations[static_cast<std::size_t>(i) * mv + k] = m.translation(samples.frame_of[i], moving[k]);
+      moving_translations[static_cast<std::size_t>(i) * mv + k] =
+          m.translation(samples.frame_of[i], moving[k]);
     }
   }
 }
 
-void MapBlender::Impl::build_points(std::span<const Clip> clips, const features::FeatureSet& samples) {
+void MapBlender::Impl::build_points(std::span<const Clip> clips,
+                                    const features::FeatureSet& samples) {
   Eigen::Vector2d lo = sample_points.front(), hi = lo;
   for (const auto& c : sample_points) {
     lo = lo.cwiseMin(c);
@@ -288,7 +302,9 @@ void MapBlender::Impl::build_points(std::span<const Clip> clips, const features:
   // Median step and speed over consecutive samples of a clip that do not share a map point.
   std::vector<double> steps, speeds;
   for (int i = 0; i + 1 < n; ++i) {
-    if (samples.clip_of[i] != samples.clip_of[i + 1] || samples.frame_of[i + 1] <= samples.frame_of[i]) continue;
+    if (samples.clip_of[i] != samples.clip_of[i + 1] ||
+        samples.frame_of[i + 1] <= samples.frame_of[i])
+      continue;
     const double step = (sample_points[i + 1] - sample_points[i]).norm();
     if (step <= tol || step == 0.0) continue;
     const double dt = (samples.frame_of[i + 1] - samples.frame_of[i]) *
@@ -298,7 +314,9 @@ void MapBlender::Impl::build_points(std::span<const Clip> clips, const features:
   }
   std::vector<char> on_segment(static_cast<std::size_t>(n), 0);
   for (int i = 0; i + 1 < n; ++i) {
-    if (samples.clip_of[i] != samples.clip_of[i + 1] || samples.frame_of[i + 1] <= samples.frame_of[i]) continue;
+    if (samples.clip_of[i] != samples.clip_of[i + 1] ||
+        samples.frame_of[i + 1] <= samples.frame_of[i])
+      continue;
     segments.emplace_back(i, i + 1);
     on_segment[i] = on_segment[i + 1] = 1;
   }
@@ -368,7 +386,8 @@ void MapBlender::Impl::build_local() {
 void MapBlender::Impl::build_kriging() {
   const int np = num_points();
   if (np > kMaxKrigingSamples) {
-    throw ParameterError("blend: kriging over " + std::to_string(np) + " distinct map points exceeds the limit of " +
+    throw ParameterError("blend: kriging over " + std::to_string(np) +
+                         " distinct map points exceeds the limit of " +
                          std::to_string(kMaxKrigingSamples) +
                          " (a dense (N+1)² system); use the local mode or a frame stride");
   }
@@ -384,8 +403,8 @@ void MapBlender::Impl::build_kriging() {
   const Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> factor(lu);
   const double rcond = factor.rcond();
   if (!(rcond > 1e-15)) {
-    throw NumericalError("the kriging system is singular (reciprocal condition " + format_number(rcond) +
-                         "); use the local mode");
+    throw NumericalError("the kriging system is singular (reciprocal condition " +
+                         format_number(rcond) + "); use the local mode");
   }
   perm = factor.permutationP();
 }
@@ -419,7 +438,8 @@ Eigen::Vector2d MapBlender::Impl::clamp(const Eigen::Vector2d& p) const {
 
 PointValidity MapBlender::Impl::validate_point(const Eigen::Vector2d& p) const {
   if (!p.allFinite()) {
-    throw ParameterError("map point (" + format_number(p.x()) + ", " + format_number(p.y()) + ") is not finite");
+    throw ParameterError("map point (" + format_number(p.x()) + ", " + format_number(p.y()) +
+                         ") is not finite");
   }
   PointValidity v;
   v.query = p;
@@ -436,18 +456,20 @@ PointValidity MapBlender::Impl::validate_point(const Eigen::Vector2d& p) const {
   return v;
 }
 
-void MapBlender::Impl::point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const {
+void MapBlender::Impl::point_weights(PointValidity& v,
+                                     std::vector<std::pair<int, double>>& out) const {
   out.clear();
   const int np = num_points();
   const bool local = options.mode == BlendMode::Local;
   const int count = std::min(local ? kLocalPartitionSize : options.neighbors, np);
   std::vector<std::uint32_t> idx(static_cast<std::size_t>(count + 1));
-  std::vector<double> dist(static_cast<std::size_t>(count + 1)), phi(static_cast<std::size_t>(count));
+  std::vector<double> dist(static_cast<std::size_t>(count + 1)),
+      phi(static_cast<std::size_t>(count));
   const int found = nearest(v.point, count + 1, idx.data(), dist.data());
   // The partition radius: the next point's distance (a point leaving the set has weight 0);
   // with no next point, twice the farthest.
-  const double R = found > count ? dist[count]
-                                 : 2.0 * dist[found - 1] + std::numeric_limits<double>::min();
+  const double R =
+      found > count ? dist[count] : 2.0 * dist[found - 1] + std::numeric_limits<double>::min();
   partition_weights(dist.data(), count, R, phi.data());
   if (!local) {
     for (int i = 0; i < count; ++i) {
@@ -479,7 +501,8 @@ void MapBlender::Impl::point_weights(PointValidity& v, std::vector<std::pair<int
   }
 }
 
-MapWeights MapBlender::Impl::expand(const std::vector<std::pair<int, double>>& point_w, const PointValidity& v) const {
+MapWeights MapBlender::Impl::expand(const std::vector<std::pair<int, double>>& point_w,
+                                    const PointValidity& v) const {
   std::vector<std::pair<int, double>> sw;
   sw.reserve(point_w.size());
   for (const auto& [p, w] : point_w) {
@@ -501,7 +524,8 @@ MapWeights MapBlender::Impl::expand(const std::vector<std::pair<int, double>>& p
   return out;
 }
 
-void MapBlender::Impl::kriging_block(std::span<const Eigen::Vector2d> pts, std::span<MapWeights> out) const {
+void MapBlender::Impl::kriging_block(std::span<const Eigen::Vector2d> pts,
+                                     std::span<MapWeights> out) const {
   const int np = num_points();
   const auto m = static_cast<Eigen::Index>(pts.size());
   Eigen::MatrixXd rhs(np + 1, m);
@@ -540,11 +564,13 @@ MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& 
                          " clip indices for " + std::to_string(n) + " samples");
   }
   if (coords.rows() != n) {
-    throw ParameterError("map: it has " + std::to_string(coords.rows()) + " rows but the features have " +
-                         std::to_string(n) + " samples; the map does not belong to these clips");
+    throw ParameterError("map: it has " + std::to_string(coords.rows()) +
+                         " rows but the features have " + std::to_string(n) +
+                         " samples; the map does not belong to these clips");
   }
   if (coords.cols() < 2) {
-    throw ParameterError("map: it has " + std::to_string(coords.cols()) + " column(s); at least 2 are needed");
+    throw ParameterError("map: it has " + std::to_string(coords.cols()) +
+                         " column(s); at least 2 are needed");
   }
   const Skeleton& skeleton = clips.front().skeleton;
   for (const Clip& clip : clips) {
@@ -553,18 +579,23 @@ MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& 
                            "'s; clips blended together must share one");
     }
     const Motion& mo = clip.motion;
-    const auto size = static_cast<std::size_t>(mo.num_frames) * static_cast<std::size_t>(mo.num_joints);
-    if (mo.num_joints != skeleton.num_joints() || mo.rotations.size() != size || mo.translations.size() != size) {
-      throw ParameterError(clip.path + ": its motion does not fit its skeleton (" + std::to_string(mo.num_joints) +
-                           " joints for " + std::to_string(skeleton.num_joints()) + ")");
+    const auto size =
+        static_cast<std::size_t>(mo.num_frames) * static_cast<std::size_t>(mo.num_joints);
+    if (mo.num_joints != skeleton.num_joints() || mo.rotations.size() != size ||
+        mo.translations.size() != size) {
+      throw ParameterError(clip.path + ": its motion does not fit its skeleton (" +
+                           std::to_string(mo.num_joints) + " joints for " +
+                           std::to_string(skeleton.num_joints()) + ")");
     }
     if (!(mo.frame_time > 0.0) || !std::isfinite(mo.frame_time)) {
-      throw ParameterError(clip.path + ": frame time " + format_number(mo.frame_time) + " is not > 0");
+      throw ParameterError(clip.path + ": frame time " + format_number(mo.frame_time) +
+                           " is not > 0");
     }
     for (std::size_t k = 0; k < size; ++k) {
       if (!mo.rotations[k].coeffs().allFinite() || !mo.translations[k].allFinite() ||
           mo.rotations[k].norm() < 1e-6) {
-        throw NumericalError(clip.path + ": frame " + std::to_string(k / static_cast<std::size_t>(mo.num_joints)) +
+        throw NumericalError(clip.path + ": frame " +
+                             std::to_string(k / static_cast<std::size_t>(mo.num_joints)) +
                              " holds a NaN, infinite or zero value");
       }
     }
@@ -573,14 +604,16 @@ MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& 
   for (int i = 0; i < n; ++i) {
     const int c = samples.clip_of[i];
     if (c < 0 || c >= static_cast<int>(clips.size())) {
-      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " + std::to_string(c) +
-                           " but only " + std::to_string(clips.size()) + " clip(s) were given");
+      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " +
+                           std::to_string(c) + " but only " + std::to_string(clips.size()) +
+                           " clip(s) were given");
     }
     const int f = samples.frame_of[i];
     const Clip& clip = clips[c];
     if (f < 0 || f >= clip.motion.num_frames) {
-      throw ParameterError("map: sample " + std::to_string(i) + " is frame " + std::to_string(f) + " of " +
-                           clip.path + ", which has " + std::to_string(clip.motion.num_frames) +
+      throw ParameterError("map: sample " + std::to_string(i) + " is frame " + std::to_string(f) +
+                           " of " + clip.path + ", which has " +
+                           std::to_string(clip.motion.num_frames) +
                            " frames; the map does not belong to these clips");
     }
     if (!std::isfinite(coords(i, 0)) || !std::isfinite(coords(i, 1))) {
@@ -607,7 +640,8 @@ MapBlender::MapBlender(MapBlender&&) noexcept = default;
 MapBlender& MapBlender::operator=(MapBlender&&) noexcept = default;
 
 MapWeights MapBlender::locate(const Eigen::Vector2d& p) const {
-  if (m->options.mode == BlendMode::Kriging) return std::move(locate(std::span<const Eigen::Vector2d>(&p, 1)).front());
+  if (m->options.mode == BlendMode::Kriging)
+    return std::move(locate(std::span<const Eigen::Vector2d>(&p, 1)).front());
   PointValidity v = m->validate_point(p);
   std::vector<std::pair<int, double>> pw;
   m->point_weights(v, pw);
@@ -637,26 +671,30 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   const Impl& s = *m;
   if (w.samples.size() != w.weights.size() || w.samples.empty()) {
     throw ParameterError("blend: " + std::to_string(w.samples.size()) + " sample indices for " +
-                         std::to_string(w.weights.size()) + " weights (need equal, non-zero counts)");
+                         std::to_string(w.weights.size()) +
+                         " weights (need equal, non-zero counts)");
   }
   std::size_t ref = 0;
   double total = 0.0;
   for (std::size_t k = 0; k < w.samples.size(); ++k) {
     if (w.samples[k] < 0 || w.samples[k] >= s.n) {
-      throw ParameterError("blend: sample index " + std::to_string(w.samples[k]) + " is out of range [0, " +
-                           std::to_string(s.n) + ")");
+      throw ParameterError("blend: sample index " + std::to_string(w.samples[k]) +
+                           " is out of range [0, " + std::to_string(s.n) + ")");
     }
-    if (!std::isfinite(w.weights[k])) throw ParameterError("blend: weight " + std::to_string(k) + " is not finite");
+    if (!std::isfinite(w.weights[k]))
+      throw ParameterError("blend: weight " + std::to_string(k) + " is not finite");
     if (w.weights[k] > w.weights[ref]) ref = k;
     total += w.weights[k];
   }
-  if (!(std::abs(total) > 1e-12)) throw ParameterError("blend: the weights sum to " + format_number(total) + ", not about 1");
+  if (!(std::abs(total) > 1e-12))
+    throw ParameterError("blend: the weights sum to " + format_number(total) + ", not about 1");
 
   const auto J = static_cast<std::size_t>(s.joints);
   const std::size_t mv = s.moving.size();
   std::vector<Eigen::Vector4d> qsum(J, Eigen::Vector4d::Zero());
   std::vector<Eigen::Vector3d> tsum(mv, Eigen::Vector3d::Zero());
-  const Eigen::Quaterniond* qref = s.rotations.data() + static_cast<std::size_t>(w.samples[ref]) * J;
+  const Eigen::Quaterniond* qref =
+      s.rotations.data() + static_cast<std::size_t>(w.samples[ref]) * J;
   BlendedFrame out;
   double height = 0.0, yaw = 0.0;
   Eigen::Vector3d vel = Eigen::Vector3d::Zero();
@@ -678,12 +716,14 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   for (std::size_t j = 0; j < J; ++j) {
     const double norm = qsum[j].norm();
     // Weights that cancel (e.g. negative weights on opposite rotations): keep the reference's.
-    out.rotations[j] = norm > 1e-12 * std::abs(total) ? Eigen::Quaterniond(qsum[j] / norm) : qref[j];
+    out.rotations[j] =
+        norm > 1e-12 * std::abs(total) ? Eigen::Quaterniond(qsum[j] / norm) : qref[j];
   }
   // A blend of heading-free tilts can keep a trace of heading: remove it, so the pose faces
   // heading 0 exactly (a no-op at samples).
   Eigen::Quaterniond& tilt = out.rotations[static_cast<std::size_t>(s.motion_root)];
-  tilt = (axis_rotation(s.options.up, -features::heading_angle(tilt, s.options.up)) * tilt).normalized();
+  tilt = (axis_rotation(s.options.up, -features::heading_angle(tilt, s.options.up)) * tilt)
+             .normalized();
   out.translations = s.fixed_translations;
   for (std::size_t k = 0; k < mv; ++k) out.translations[s.moving[k]] = tsum[k] / total;
   out.translations[s.motion_root][static_cast<int>(s.options.up)] = height / total;
@@ -692,7 +732,9 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   return out;
 }
 
-Motion MapBlender::pose_at(const Eigen::Vector2d& p) const { return pose(locate(p)); }
+Motion MapBlender::pose_at(const Eigen::Vector2d& p) const {
+  return pose(locate(p));
+}
 
 Motion MapBlender::pose(const MapWeights& weights) const {
   const BlendedFrame b = blend(weights);
@@ -704,18 +746,37 @@ Motion MapBlender::pose(const MapWeights& weights) const {
   return pose;
 }
 
-const Skeleton& MapBlender::skeleton() const { return m->skeleton; }
-const BlendOptions& MapBlender::options() const { return m->options; }
-int MapBlender::num_samples() const { return m->n; }
-int MapBlender::num_points() const { return m->num_points(); }
-double MapBlender::frame_time() const { return m->frame_time; }
-int MapBlender::motion_root() const { return m->motion_root; }
-double MapBlender::median_step() const { return m->median_step; }
-double MapBlender::reach_distance() const { return m->reach_distance; }
-double MapBlender::median_speed() const { return m->median_speed; }
+const Skeleton& MapBlender::skeleton() const {
+  return m->skeleton;
+}
+const BlendOptions& MapBlender::options() const {
+  return m->options;
+}
+int MapBlender::num_samples() const {
+  return m->n;
+}
+int MapBlender::num_points() const {
+  return m->num_points();
+}
+double MapBlender::frame_time() const {
+  return m->frame_time;
+}
+int MapBlender::motion_root() const {
+  return m->motion_root;
+}
+double MapBlender::median_step() const {
+  return m->median_step;
+}
+double MapBlender::reach_distance() const {
+  return m->reach_distance;
+}
+double MapBlender::median_speed() const {
+  return m->median_speed;
+}
 Eigen::Vector2d MapBlender::sample_point(int i) const {
   if (i < 0 || i >= m->n) {
-    throw ParameterError("sample " + std::to_string(i) + " is out of range [0, " + std::to_string(m->n) + ")");
+    throw ParameterError("sample " + std::to_string(i) + " is out of range [0, " +
+                         std::to_string(m->n) + ")");
   }
   return m->sample_points[i];
 }

@@ -85,7 +85,8 @@ struct BlendOptions {
 /// How far a map point is from the data, and where it was actually evaluated.
 struct PointValidity {
   Eigen::Vector2d query = Eigen::Vector2d::Zero();  ///< the point asked for
-  Eigen::Vector2d point = Eigen::Vector2d::Zero();  ///< the point evaluated (== query unless clamped)
+  Eigen::Vector2d point =
+      Eigen::Vector2d::Zero();  ///< the point evaluated (== query unless clamped)
   bool clamped = false;         ///< query was outside the data and moved (see the top of the file)
   double distance = 0.0;        ///< from query to the nearest sample (map units)
   int nearest_sample = 0;       ///< the sample at that distance (the first of merged ones)

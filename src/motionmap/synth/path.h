@@ -44,7 +44,7 @@ MapPath read_path_csv(const std::string& path);
 /// @throws ParameterError for an invalid path (see MapPath::validate), an untimed path whose
 ///         points all coincide, frame_time or (untimed paths) speed not a finite number > 0, or
 ///         more than `max_frames` points.
-std::vector<Eigen::Vector2d> resample_path(const MapPath& path, double frame_time, double speed = 0.0,
-                                           long long max_frames = 360000);
+std::vector<Eigen::Vector2d> resample_path(const MapPath& path, double frame_time,
+                                           double speed = 0.0, long long max_frames = 360000);
 
 }  // namespace motionmap::synth

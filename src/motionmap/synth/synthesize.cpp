@@ -10,7 +10,6 @@
 
 namespace motionmap::synth {
 
-
 namespace {
 
 // Frames blended per block (between progress reports and cancel polls), and path points
@@ -21,8 +20,8 @@ constexpr int kLocateBatch = 64;
 constexpr long long kMaxWindowWeights = 50'000'000;
 
 // Σ g_j·w_{k+j} / Σ g_j over the frames of the window that exist.
-MapWeights smoothed(const std::deque<MapWeights>& raw, long long raw_first, long long k, long long frames,
-                    const std::vector<double>& kernel, int num_samples) {
+MapWeights smoothed(const std::deque<MapWeights>& raw, long long raw_first, long long k,
+                    long long frames, const std::vector<double>& kernel, int num_samples) {
   const auto half = static_cast<long long>(kernel.size() / 2);
   std::vector<double> acc(static_cast<std::size_t>(num_samples), 0.0);
   std::vector<char> seen(static_cast<std::size_t>(num_samples), 0);
@@ -56,14 +55,17 @@ MapWeights smoothed(const std::deque<MapWeights>& raw, long long raw_first, long
 
 void SynthOptions::validate() const {
   if (!(speed >= 0.0) || !std::isfinite(speed)) {
-    throw ParameterError("speed: " + format_number(speed) + " is out of range (map units per second, ≥ 0; 0 = the clip's)");
+    throw ParameterError("speed: " + format_number(speed) +
+                         " is out of range (map units per second, ≥ 0; 0 = the clip's)");
   }
   if (!(fps >= 0.0 && fps <= 1000.0)) {
-    throw ParameterError("fps: " + format_number(fps) + " is out of range (must be in (0, 1000]; 0 = the clip's)");
+    throw ParameterError("fps: " + format_number(fps) +
+                         " is out of range (must be in (0, 1000]; 0 = the clip's)");
   }
   if (!(smooth >= 0.0 && smooth <= kMaxSmoothSeconds)) {
-    throw ParameterError("smooth: " + format_number(smooth) + " s is out of range (must be in [0, " +
-                         format_number(kMaxSmoothSeconds) + "])");
+    throw ParameterError("smooth: " + format_number(smooth) +
+                         " s is out of range (must be in [0, " + format_number(kMaxSmoothSeconds) +
+                         "])");
   }
 }
 
@@ -75,7 +77,9 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   if (!path.timed() && speed == 0.0) {
     speed = blender.median_speed();
     if (!(speed > 0.0)) {
-      throw ParameterError("speed: the map has no motion to take a default speed from; give one (map units per second)");
+      throw ParameterError(
+          "speed: the map has no motion to take a default speed from; give one (map units per "
+          "second)");
     }
   }
   // 0 fps keeps the clip's exact frame time, so a path timed like the clip hits its samples.
@@ -87,7 +91,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   std::vector<double> kernel{1.0};
   if (options.smooth > 0.0) {
     const double sigma = options.smooth / dt;
-    const auto half = static_cast<long long>(std::min<double>(std::ceil(3.0 * sigma), static_cast<double>(frames)));
+    const auto half = static_cast<long long>(
+        std::min<double>(std::ceil(3.0 * sigma), static_cast<double>(frames)));
     kernel.assign(static_cast<std::size_t>(2 * half + 1), 0.0);
     for (long long j = -half; j <= half; ++j) {
       kernel[static_cast<std::size_t>(j + half)] = std::exp(-0.5 * (j / sigma) * (j / sigma));
@@ -96,8 +101,9 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   const auto half = static_cast<long long>(kernel.size() / 2);
   if (blender.options().mode == BlendMode::Kriging && half > 0 &&
       (2 * half + 1 + kBlockFrames) * blender.num_samples() > kMaxWindowWeights) {
-    throw ParameterError("smooth: " + format_number(options.smooth) + " s spans " + std::to_string(2 * half + 1) +
-                         " frames of dense kriging weights over " + std::to_string(blender.num_samples()) +
+    throw ParameterError("smooth: " + format_number(options.smooth) + " s spans " +
+                         std::to_string(2 * half + 1) + " frames of dense kriging weights over " +
+                         std::to_string(blender.num_samples()) +
                          " samples, more than the limit of " + std::to_string(kMaxWindowWeights) +
                          " weights; use less smoothing or the local mode");
   }
@@ -140,7 +146,9 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
       const long long k = k0 + i;
       const MapWeights& own = raw[static_cast<std::size_t>(k - raw_first)];
       const BlendedFrame b =
-          half == 0 ? blender.blend(own) : blender.blend(smoothed(raw, raw_first, k, frames, kernel, blender.num_samples()));
+          half == 0
+              ? blender.blend(own)
+              : blender.blend(smoothed(raw, raw_first, k, frames, kernel, blender.num_samples()));
       for (int j = 0; j < J; ++j) {
         result.motion.rotation(static_cast<int>(k), j) = b.rotations[j];
         result.motion.translation(static_cast<int>(k), j) = b.translations[j];

@@ -6,7 +6,8 @@
 //   motionmap::synth::MapBlender blender(clips, set, coords);
 //   auto path = motionmap::synth::read_path_csv("sketch.csv");
 //   auto result = motionmap::synth::synthesize(blender, path);
-//   motionmap::io::write_bvh(motionmap::io::from_motion(blender.skeleton(), result.motion), "new.bvh");
+//   motionmap::io::write_bvh(motionmap::io::from_motion(blender.skeleton(), result.motion),
+//   "new.bvh");
 //
 // Per output frame k (at t0 + k/fps along the path): weights at the path point (optionally
 // smoothed over time with a Gaussian), joint rotations and root height and tilt blended with
@@ -53,8 +54,9 @@ struct SynthResult {
 /// @throws ParameterError for bad options or an invalid path (MapPath::validate, resample_path),
 ///         an untimed path with speed 0 on a map without motion, more than kMaxSynthFrames
 ///         frames, or smoothing whose window would hold more than 5e7 kriging weights;
-///         Cancelled if `control` says so (polled between blocks of frames). Reports "blending frames".
-SynthResult synthesize(const MapBlender& blender, const MapPath& path, const SynthOptions& options = {},
-                       const Control& control = {});
+///         Cancelled if `control` says so (polled between blocks of frames). Reports "blending
+///         frames".
+SynthResult synthesize(const MapBlender& blender, const MapPath& path,
+                       const SynthOptions& options = {}, const Control& control = {});
 
 }  // namespace motionmap::synth

@@ -107,8 +107,9 @@ void setup_info(CLI::App& app) {
   auto* sub = app.add_subcommand(
       "info",
       "Print what clips hold: joints, roots, channels, frames, fps, duration, bounding box, and\n"
-      "warnings (a leading bind/T-pose frame; joints whose rotation flips by >90° between\n"
-      "consecutive frames at ≥ 60 fps, with the frames).");
+      "warnings (what the reader accepted with a warning, e.g. a BVH root declared with JOINT;\n"
+      "a leading bind/T-pose frame; joints whose rotation flips by >90° between consecutive\n"
+      "frames at ≥ 60 fps, with the frames).");
   sub->add_option("files", opt->files, "BVH or AMC files")->required()->check(CLI::ExistingFile);
   sub->add_option("--asf", opt->asf, "ASF skeleton for .amc files (default: the .asf beside it)")
       ->check(CLI::ExistingFile);

@@ -121,6 +121,30 @@ def bad_file_exits_one_with_location():
     assert bad + ":4:" in err and "error: expected" in err, err
 
 
+SEEDS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "fuzz", "seeds", "bvh")
+
+
+@test
+def info_shows_tolerated_bvh_quirks_as_warnings_and_truncation_as_an_error():
+    # The tiny files of tests/io/bvh_test.cpp: a root declared with JOINT, a leaf JOINT with
+    # CHANNELS 0 (read as an End Site), a file cut inside a joint.
+    joint_root = os.path.join(SEEDS, "joint_root.bvh")
+    code, out, err = run("info", joint_root)
+    assert code == 0, err
+    assert joint_root + ":2:1: warning: root declared with JOINT instead of ROOT; read as ROOT" in out, out
+    leaf = os.path.join(SEEDS, "channels_zero_leaf.bvh")
+    code, out, err = run("info", "--json", leaf)
+    assert code == 0, err
+    info = json.loads(out)
+    assert info["joints"] == 4 and info["end_sites"] == 2 and info["channels"] == 5, info
+    assert info["warnings"] == [leaf + ":10:5: warning: joint 'HeadTop' has CHANNELS 0 and no "
+                                "children; read as an end site"], info
+    cut = os.path.join(SEEDS, "ends_in_hierarchy.bvh")
+    code, out, err = run("info", cut)
+    assert code == 1 and out == "", (code, out)
+    assert cut + ":10:1: error: file ends early: expected '}' closing joint 'LeftArm'" in err, err
+
+
 @test
 def convert_bvh_round_trips_values():
     if not have("cmu/64_08.bvh"):

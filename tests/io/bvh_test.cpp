@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/text_cursor.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 
 namespace motionmap::io {
@@ -54,6 +55,13 @@ std::string replace(std::string text, const std::string& from, const std::string
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
   return text;
+}
+
+// `text` up to (not including) the first occurrence of `at`: a file cut short there.
+std::string upto(const std::string& text, const std::string& at) {
+  const auto pos = text.find(at);
+  EXPECT_NE(pos, std::string::npos) << at;
+  return text.substr(0, pos);
 }
 
 std::string written(const BvhDocument& doc) {
@@ -222,6 +230,243 @@ TEST(BvhParse, BlankLinesBetweenRowsAreSkipped) {
   EXPECT_TRUE(doc.warnings.empty());
 }
 
+// --- what real exporters write ---------------------------------------------------------------
+// Each text is also a fuzz seed, fuzz/seeds/bvh/<name> (checked by SeedFilesAreTheseTexts).
+
+// The hierarchy opened with JOINT.
+constexpr const char* kJointRoot =
+    "HIERARCHY\n"
+    "JOINT Hips\n"
+    "{\n"
+    "  OFFSET 0 0 0\n"
+    "  CHANNELS 3 Xposition Yposition Zposition\n"
+    "  JOINT Spine\n"
+    "  {\n"
+    "    OFFSET 0 5 0\n"
+    "    CHANNELS 1 Zrotation\n"
+    "    End Site\n"
+    "    {\n"
+    "      OFFSET 0 2 0\n"
+    "    }\n"
+    "  }\n"
+    "}\n"
+    "MOTION\n"
+    "Frames: 2\n"
+    "Frame Time: 0.5\n"
+    "1 2 3 10\n"
+    "4 5 6 20\n";
+
+// HeadTop: a leaf JOINT with CHANNELS 0, an End Site written as a joint. Clavicle: CHANNELS 0 with
+// a child, a static joint.
+constexpr const char* kChannelsZeroLeaf =
+    "HIERARCHY\n"
+    "ROOT Hips\n"
+    "{\n"
+    "  OFFSET 0 0 0\n"
+    "  CHANNELS 3 Xposition Yposition Zposition\n"
+    "  JOINT Head\n"
+    "  {\n"
+    "    OFFSET 0 5 0\n"
+    "    CHANNELS 1 Yrotation\n"
+    "    JOINT HeadTop\n"
+    "    {\n"
+    "      OFFSET 0 2 0\n"
+    "      CHANNELS 0\n"
+    "    }\n"
+    "  }\n"
+    "  JOINT Clavicle\n"
+    "  {\n"
+    "    OFFSET 1 4 0\n"
+    "    CHANNELS 0\n"
+    "    JOINT Hand\n"
+    "    {\n"
+    "      OFFSET 3 0 0\n"
+    "      CHANNELS 1 Zrotation\n"
+    "      End Site\n"
+    "      {\n"
+    "        OFFSET 1 0 0\n"
+    "      }\n"
+    "    }\n"
+    "  }\n"
+    "}\n"
+    "MOTION\n"
+    "Frames: 2\n"
+    "Frame Time: 0.5\n"
+    "1 2 3 10 20\n"
+    "4 5 6 30 40\n";
+
+// Cut inside a joint's block.
+constexpr const char* kEndsInHierarchy =
+    "HIERARCHY\n"
+    "ROOT Hips\n"
+    "{\n"
+    "  OFFSET 0 0 0\n"
+    "  CHANNELS 3 Xposition Yposition Zposition\n"
+    "  JOINT LeftArm\n"
+    "  {\n"
+    "    OFFSET 1 0 0\n"
+    "    CHANNELS 1 Zrotation\n";
+
+// Cut inside frame 2 of 3, without a final line end.
+constexpr const char* kEndsInMotion =
+    "HIERARCHY\n"
+    "ROOT Hips\n"
+    "{\n"
+    "  OFFSET 0 0 0\n"
+    "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+    "  End Site\n"
+    "  {\n"
+    "    OFFSET 0 1 0\n"
+    "  }\n"
+    "}\n"
+    "MOTION\n"
+    "Frames: 3\n"
+    "Frame Time: 0.5\n"
+    "1 2 3 10 20 30\n"
+    "4 5 6";
+
+TEST(BvhTolerant, RootDeclaredWithJointIsReadAsRootWithAWarning) {
+  const BvhDocument doc = parse_bvh(kJointRoot, "joint_root.bvh");
+  ASSERT_EQ(doc.skeleton.num_joints(), 2);
+  EXPECT_EQ(doc.skeleton.joints[0].name, "Hips");
+  EXPECT_EQ(doc.skeleton.roots(), (std::vector<int>{0}));
+  EXPECT_EQ(doc.skeleton.joints[1].parent, 0);
+  EXPECT_EQ(doc.skeleton.num_end_sites(), 1);
+  EXPECT_EQ(doc.num_channels(), 4);
+  EXPECT_EQ(doc.values, (std::vector<double>{1, 2, 3, 10, 4, 5, 6, 20}));
+  EXPECT_EQ(doc.warnings, (std::vector<std::string>{
+                              "joint_root.bvh:2:1: warning: root declared with JOINT instead of "
+                              "ROOT; read as ROOT"}));
+  // The same document as with ROOT, which is what gets written back.
+  const BvhDocument with_root = parse_bvh(replace(kJointRoot, "JOINT Hips", "ROOT Hips"));
+  EXPECT_TRUE(with_root.warnings.empty());
+  expect_same_document(doc, with_root);
+  const std::string text = written(doc);
+  EXPECT_EQ(text.substr(0, 20), "HIERARCHY\nROOT Hips\n");
+  const BvhDocument back = parse_bvh(text);
+  expect_same_document(back, doc);
+  EXPECT_TRUE(back.warnings.empty());
+  // Later roots may be declared with JOINT too; each gets its warning.
+  const std::string two = replace(kJointRoot, "MOTION", "JOINT Prop\n{\n  OFFSET 9 0 0\n}\nMOTION");
+  const BvhDocument both = parse_bvh(two, "two.bvh");
+  EXPECT_EQ(both.skeleton.roots(), (std::vector<int>{0, 2}));
+  ASSERT_EQ(both.warnings.size(), 2u);
+  EXPECT_EQ(both.warnings[1],
+            "two.bvh:16:1: warning: root declared with JOINT instead of ROOT; read as ROOT");
+}
+
+TEST(BvhTolerant, LeafJointWithChannelsZeroIsReadAsAnEndSite) {
+  const BvhDocument doc = parse_bvh(kChannelsZeroLeaf, "channels_zero_leaf.bvh");
+  ASSERT_EQ(doc.skeleton.num_joints(), 4);
+  const Skeleton& skel = doc.skeleton;
+  EXPECT_EQ(skel.joints[0].name, "Hips");
+  EXPECT_EQ(skel.joints[1].name, "Head");
+  EXPECT_EQ(skel.joints[2].name, "Clavicle");  // CHANNELS 0 with a child: a static joint
+  EXPECT_EQ(skel.joints[3].name, "Hand");
+  EXPECT_EQ(skel.joints[2].parent, 0);
+  EXPECT_TRUE(skel.joints[2].channels.empty());
+  EXPECT_EQ(skel.joints[3].parent, 2);
+  EXPECT_EQ(skel.joints[1].end_sites, (std::vector<Eigen::Vector3d>{{0, 2, 0}}));
+  EXPECT_EQ(skel.joints[3].end_sites, (std::vector<Eigen::Vector3d>{{1, 0, 0}}));
+  EXPECT_EQ(skel.num_end_sites(), 2);
+  EXPECT_EQ(doc.num_channels(), 5);
+  EXPECT_EQ(doc.values, (std::vector<double>{1, 2, 3, 10, 20, 4, 5, 6, 30, 40}));
+  EXPECT_EQ(doc.warnings, (std::vector<std::string>{
+                              "channels_zero_leaf.bvh:10:5: warning: joint 'HeadTop' has CHANNELS "
+                              "0 and no children; read as an end site"}));
+  // Exactly as if the file had written an End Site.
+  const BvhDocument end_site = parse_bvh(replace(kChannelsZeroLeaf,
+                                                 "JOINT HeadTop\n    {\n      OFFSET 0 2 0\n"
+                                                 "      CHANNELS 0\n",
+                                                 "End Site\n    {\n      OFFSET 0 2 0\n"));
+  EXPECT_TRUE(end_site.warnings.empty());
+  expect_same_document(doc, end_site);
+  // Written back as an End Site; the columns still line up, and nothing is left to warn about.
+  const std::string text = written(doc);
+  EXPECT_EQ(text.find("HeadTop"), std::string::npos);
+  EXPECT_NE(text.find("\t\tCHANNELS 1 Yrotation\n\t\tEnd Site\n\t\t{\n\t\t\tOFFSET 0 2 0\n"),
+            std::string::npos)
+      << text;
+  const BvhDocument back = parse_bvh(text);
+  expect_same_document(back, doc);
+  EXPECT_TRUE(back.warnings.empty());
+  const WorldPose pose = forward_kinematics(back.skeleton, to_motion(back), 1);
+  // Hips at (4, 5, 6), Head 5 above it, the End Site 2 above Head (Yrotation keeps it there).
+  EXPECT_LT((pose.end_sites[0] - Eigen::Vector3d(4, 12, 6)).norm(), 1e-12);
+
+  // With an End Site of its own, or as a root, a joint with CHANNELS 0 stays a joint.
+  const BvhDocument with_site =
+      parse_bvh(replace(kChannelsZeroLeaf, "      CHANNELS 0\n",
+                        "      CHANNELS 0\n      End Site { OFFSET 0 1 0 }\n"));
+  EXPECT_EQ(with_site.skeleton.num_joints(), 5);
+  EXPECT_TRUE(with_site.warnings.empty());
+  const BvhDocument root = parse_bvh(
+      "HIERARCHY\nROOT R\n{\nOFFSET 0 0 0\nCHANNELS 0\n}\n"
+      "MOTION\nFrames: 1\nFrame Time: 1\n\n");
+  EXPECT_EQ(root.skeleton.num_joints(), 1);
+  EXPECT_TRUE(root.warnings.empty());
+}
+
+TEST(BvhTolerant, FileEndingInsideTheHierarchySaysFileEndsEarly) {
+  const ParseError e = parse_error(kEndsInHierarchy);
+  EXPECT_EQ(std::string(e.what()),
+            "t.bvh:10:1: error: file ends early: expected '}' closing joint 'LeftArm'");
+}
+
+TEST(BvhTolerant, FileEndingInsideAFrameSaysFileEndsEarly) {
+  // 3 frames of 6 values cannot fit in the 20 bytes left: the rows are read without storing them
+  // (nothing allocated), up to where the file ends.
+  const ParseError e = parse_error(kEndsInMotion);
+  EXPECT_EQ(std::string(e.what()),
+            "t.bvh:15:6: error: file ends early: expected 3 more values of frame 2, then 1 more "
+            "frame");
+  // With a line end after the short row, the file still ends inside frame 2.
+  EXPECT_EQ(std::string(parse_error(std::string(kEndsInMotion) + "\n").what()),
+            "t.bvh:16:1: error: file ends early: expected 3 more values of frame 2, then 1 more "
+            "frame");
+}
+
+// Wherever a file is cut between two tokens, it either parses (only the complete file minus its
+// last line end) or says "file ends early" at its end, never "found end of file".
+TEST(BvhTolerant, EveryCutBetweenTokensSaysFileEndsEarlyAtTheEnd) {
+  for (const std::string full : {std::string(kSmall), std::string(kJointRoot),
+                                 std::string(kChannelsZeroLeaf), std::string(kEndsInMotion)}) {
+    for (std::size_t n = std::string("HIERARCHY").size(); n < full.size(); ++n) {
+      if (!is_space(full[n]) && !is_space(full[n - 1])) continue;  // inside a token
+      const std::string cut = full.substr(0, n);
+      std::size_t line = 1, column = 1;
+      for (const char c : cut) {
+        column = c == '\n' ? 1 : column + 1;
+        line += c == '\n';
+      }
+      try {
+        parse_bvh(cut, "t.bvh");
+        EXPECT_EQ(n + 1, full.size()) << "parsed:\n" << cut;
+      } catch (const ParseError& e) {
+        EXPECT_EQ(e.message().rfind("file ends early: expected ", 0), 0u) << e.what();
+        EXPECT_EQ(e.line(), line) << e.what();
+        EXPECT_EQ(e.column(), column) << e.what();
+      }
+    }
+  }
+}
+
+TEST(BvhTolerant, SeedFilesAreTheseTexts) {
+  const std::filesystem::path dir = std::filesystem::path(MOTIONMAP_SOURCE_DIR) / "fuzz/seeds/bvh";
+  const std::pair<const char*, const char*> seeds[] = {
+      {"joint_root.bvh", kJointRoot},
+      {"channels_zero_leaf.bvh", kChannelsZeroLeaf},
+      {"ends_in_hierarchy.bvh", kEndsInHierarchy},
+      {"ends_in_motion.bvh", kEndsInMotion}};
+  for (const auto& [name, text] : seeds) {
+    std::ifstream in(dir / name, std::ios::binary);
+    ASSERT_TRUE(in) << dir / name;
+    std::ostringstream content;
+    content << in.rdbuf();
+    EXPECT_EQ(content.str(), text) << name;
+  }
+}
+
 // --- errors ----------------------------------------------------------------------------------
 
 struct ErrorCase {
@@ -304,7 +549,7 @@ std::vector<ErrorCase> error_cases() {
        "Zrotation), found 'yrotation'"},
       {"DuplicateJointName", replace(s, "JOINT Spine", "JOINT Hips"), 6, 8,
        "expected a joint name not used before (line 2), found 'Hips'"},
-      {"MissingMotion", hierarchy_only, 16, 1, "expected 'ROOT' or 'MOTION', found end of file"},
+      {"MissingMotion", hierarchy_only, 16, 1, "file ends early: expected 'MOTION'"},
       {"MissingFrames", replace(s, "Frames: 2\n", ""), 17, 1, "expected 'Frames:', found 'Frame'"},
       {"FramesNotANumber", replace(s, "Frames: 2", "Frames: two"), 17, 9,
        "expected a frame count, found 'two'"},
@@ -320,18 +565,26 @@ std::vector<ErrorCase> error_cases() {
        "expected a frame time (a finite number), found 'inf'"},
       {"FrameTimeTrailingJunk", replace(s, "0.0333333", "0.0333333 s"), 18, 23,
        "expected end of line after the frame time, found 's'"},
-      {"FramesBeyondFileSize", replace(s, "Frames: 2", "Frames: 1000000000"), 17, 9,
-       "expected a frame count the rest of the file can hold (1000000000 frames of 9 values need "
-       "at least 17999999999 bytes, 54 remain), found '1000000000'"},
-      {"FramesTimesChannelsHuge", replace(s, "Frames: 2", "Frames: 2147483647"), 17, 9,
-       "expected a frame count the rest of the file can hold (2147483647 frames of 9 values need "
-       "at least 38654705645 bytes, 54 remain), found '2147483647'"},
+      // More frames than the rest of the file can hold: the rows are checked without storing
+      // them, so the file is reported where it ends (or at its first bad row).
+      {"FramesBeyondFileSize", replace(s, "Frames: 2", "Frames: 1000000000"), 21, 1,
+       "file ends early: expected 999999998 more frames (Frames: declares 1000000000, the file "
+       "holds 2)"},
+      {"FramesTimesChannelsHuge", replace(s, "Frames: 2", "Frames: 2147483647"), 21, 1,
+       "file ends early: expected 2147483645 more frames (Frames: declares 2147483647, the file "
+       "holds 2)"},
+      {"FramesBeyondFileSizeBadRowFirst",
+       replace(replace(s, "Frames: 2", "Frames: 1000000000"), "-20 -30", "-20 abc"), 20, 15,
+       "expected a number (value 6 of motion row 2), found 'abc'"},
       {"FramesBeyondInt", replace(s, "Frames: 2", "Frames: 2147483648"), 17, 9,
        "expected a frame count, found '2147483648'"},
       {"FewerRowsThanFrames", replace(s, "Frames: 2", "Frames: 3"), 21, 1,
-       "expected motion row 3 of the 3 that Frames: declares, found end of file"},
-      {"RowTooShort", replace(s, "4 5 6 -10 -20 -30 -40 -50 -60", "4 5 6 -10 -20 -30 -40 -50"), 20,
-       26, "expected 9 values on motion row 2 (one per channel), not 8, found end of line"},
+       "file ends early: expected 1 more frame (Frames: declares 3, the file holds 2)"},
+      {"RowTooShort", replace(s, "1 2 3 10 20 30 40 50 60", "1 2 3 10 20 30 40 50"), 19, 21,
+       "expected 9 values on motion row 1 (one per channel), not 8, found end of line"},
+      {"LastRowTooShortAtEndOfFile",
+       replace(s, "4 5 6 -10 -20 -30 -40 -50 -60", "4 5 6 -10 -20 -30 -40 -50"), 21, 1,
+       "file ends early: expected 1 more value of frame 2"},
       {"RowTooLong", replace(s, "40 50 60", "40 50 60 70"), 19, 25,
        "expected end of motion row 1 after its 9 values, found '70'"},
       {"RowSplitOverTwoLines", replace(s, "30 40 50 60", "30\n40 50 60"), 19, 15,
@@ -348,6 +601,47 @@ std::vector<ErrorCase> error_cases() {
        "expected a finite number (value 6 of motion row 2), found '1e999'"},
       {"RowWithCrlfReportsRightLine", replace(s, "\n4 5 6", "\r\n\r\n4 5 x"), 21, 5,
        "expected a number (value 3 of motion row 2), found 'x'"},
+      // The file ends (nothing but whitespace left) inside the hierarchy or the motion block.
+      {"EndsAfterHierarchy", "HIERARCHY\n", 2, 1, "file ends early: expected 'ROOT'"},
+      {"EndsAfterRootKeyword", "HIERARCHY\nROOT", 2, 5, "file ends early: expected a joint name"},
+      {"EndsAfterRootName", upto(s, "{"), 3, 1,
+       "file ends early: expected '{' opening joint 'Hips'"},
+      {"EndsBeforeOffset", upto(s, "\tOFFSET 0 0 0"), 4, 1,
+       "file ends early: expected 'OFFSET' of joint 'Hips'"},
+      {"EndsInsideOffset", upto(s, " 0\n\tCHANNELS 6"), 4, 12,
+       "file ends early: expected OFFSET z"},
+      {"EndsAfterChannelsKeyword", upto(s, " 6 Xposition"), 5, 10,
+       "file ends early: expected a channel count"},
+      {"EndsInsideChannelNames", upto(s, " Zposition"), 5, 32,
+       "file ends early: expected 6 channel names as CHANNELS declares"},
+      {"EndsInsideJoint", upto(s, "\t}\n}\nMOTION"), 14, 1,
+       "file ends early: expected '}' closing joint 'Spine'"},
+      {"EndsInsideRoot", upto(s, "}\nMOTION"), 15, 1,
+       "file ends early: expected '}' closing joint 'Hips'"},
+      {"EndsAfterEnd", upto(s, " Site"), 10, 6, "file ends early: expected 'Site'"},
+      {"EndsAfterEndSite", upto(s, "\t\t{\n\t\t\tOFFSET 0 2 0"), 11, 1,
+       "file ends early: expected '{' opening an End Site of joint 'Spine'"},
+      {"EndsBeforeEndSiteOffset", upto(s, "\t\t\tOFFSET 0 2 0"), 12, 1,
+       "file ends early: expected 'OFFSET' of an End Site of joint 'Spine'"},
+      {"EndsBeforeEndSiteBrace", upto(s, "\t\t}\n\t}"), 13, 1,
+       "file ends early: expected '}' closing an End Site of joint 'Spine'"},
+      {"EndsAfterMotion", upto(s, "Frames:"), 17, 1, "file ends early: expected 'Frames:'"},
+      {"EndsAfterFramesLabel", upto(s, " 2\nFrame Time"), 17, 8,
+       "file ends early: expected a frame count"},
+      {"EndsBeforeFrameTime", upto(s, "Frame Time"), 18, 1,
+       "file ends early: expected 'Frame Time:'"},
+      {"EndsInsideFrameTimeLabel", upto(s, " Time:"), 18, 6,
+       "file ends early: expected 'Frame Time:'"},
+      {"EndsAfterFrameTimeLabel", upto(s, " 0.0333333"), 18, 12,
+       "file ends early: expected a frame time"},
+      {"EndsBeforeTheRows", upto(s, "1 2 3"), 19, 1,
+       "file ends early: expected 2 more frames (Frames: declares 2, the file holds 0)"},
+      {"EndsInsideTheLastFrame", upto(s, " -10 -20"), 20, 6,
+       "file ends early: expected 6 more values of frame 2"},
+      {"EndsInsideAFrameWithMoreToCome", upto(replace(s, "Frames: 2", "Frames: 12"), " -10 -20"),
+       20, 6, "file ends early: expected 6 more values of frame 2, then 10 more frames"},
+      {"EndsInsideCrlfRows", upto(replace(s, "60\n4 5 6", "60\r\n\r\n4 5 6"), " -10 -20") + "\r\n",
+       22, 1, "file ends early: expected 6 more values of frame 2"},
       {"TooDeep", deep, static_cast<std::size_t>(2 + 3 * kBvhMaxDepth), 1,
        "expected at most 1000 nested joints, found 'JOINT'"},
   };
@@ -459,6 +753,19 @@ TEST(BvhWrite, NonDepthFirstJointOrderIsWrittenDepthFirstWithItsColumns) {
   EXPECT_EQ(back.skeleton.joints[3].name, "C");
   EXPECT_EQ(back.skeleton.joints[3].parent, 0);
   EXPECT_EQ(back.values, (std::vector<double>{10, 20, 40, 30}));
+}
+
+TEST(BvhWrite, AJointWithoutChannelsOrChildrenIsWrittenWithoutChannelsLine) {
+  // `CHANNELS 0` would make the leaf an End Site when read back; without the line it stays a joint.
+  const BvhDocument doc = parse_bvh(
+      "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\nJOINT B\n{\nOFFSET 0 1 0\n}\n}\n"
+      "MOTION\nFrames: 1\nFrame Time: 1\n5\n");
+  ASSERT_EQ(doc.skeleton.num_joints(), 2);
+  const std::string text = written(doc);
+  EXPECT_NE(text.find("\tJOINT B\n\t{\n\t\tOFFSET 0 1 0\n\t}\n}\n"), std::string::npos) << text;
+  const BvhDocument back = parse_bvh(text);
+  expect_same_document(back, doc);
+  EXPECT_TRUE(back.warnings.empty());
 }
 
 TEST(BvhWrite, RejectsDocumentsThatCannotBeValidBvh) {

@@ -1,5 +1,6 @@
 #include "motionmap/io/bvh.h"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <charconv>
@@ -30,9 +31,16 @@ std::string_view trim_trailing_blanks(std::string_view s) {
   return s;
 }
 
+// "1 more frame", "6 more values".
+std::string more(long long n, const std::string& noun) {
+  return std::to_string(n) + " more " + noun + (n == 1 ? "" : "s");
+}
+
 // Reads one BVH text. The hierarchy is parsed iteratively (a stack of open joints, capped at
 // kBvhMaxDepth) so hostile nesting cannot overflow the call stack; the motion block is scanned
 // row by row with from_chars straight from the text, which is where nearly all the time goes.
+// Where the text runs out, the error says "file ends early: expected <what is missing>" at the end
+// of the file instead of describing a next token that is not there.
 class BvhParser {
  public:
   BvhParser(std::string_view text, const std::string& path) : m_cur(text, path) {}
@@ -44,19 +52,64 @@ class BvhParser {
   }
 
  private:
+  struct OpenJoint {
+    int index = 0;
+    TextCursor::Mark keyword;    // where its ROOT/JOINT keyword starts
+    bool zero_channels = false;  // declared with `CHANNELS 0`
+  };
+
+  // True when nothing but whitespace is left from the cursor on (stops at the first other byte).
+  bool only_space_left() const {
+    const std::string_view rest = m_cur.text().substr(m_cur.position());
+    return std::all_of(rest.begin(), rest.end(), is_space);
+  }
+
+  // `path:line:col: error: file ends early: expected <expected>`, at the end of the text.
+  [[noreturn]] void fail_early(const std::string& expected) {
+    m_cur.skip_space();
+    m_cur.fail_at(m_cur.line(), m_cur.column(), "file ends early: expected " + expected);
+  }
+
+  // Fails at the next token; if the text has run out, says so, naming `at_end` (or `expected`).
+  [[noreturn]] void fail(const std::string& expected, const std::string& at_end = {}) {
+    if (only_space_left()) fail_early(at_end.empty() ? expected : at_end);
+    m_cur.fail_expected(expected);
+  }
+
+  // Before a number or count that must be on the current line: the text may not end there.
+  void fail_if_file_ends(const std::string& what) {
+    m_cur.skip_inline_space();
+    if (m_cur.at_line_end() && only_space_left()) fail_early(what);
+  }
+
+  void warn(const TextCursor::Mark& at, const std::string& message) {
+    m_doc.warnings.push_back(m_cur.path() + ":" + std::to_string(at.line) + ":" +
+                             std::to_string(at.pos - at.line_start + 1) + ": warning: " + message);
+  }
+
+  std::string joint_label(int j) const {
+    return "joint '" + quote_token(m_doc.skeleton.joints[j].name) + "'";
+  }
+
   void parse_hierarchy() {
     m_cur.expect("HIERARCHY");
     for (;;) {
       const std::string_view token = m_cur.peek_token();
-      if (token == "ROOT") {
-        const TextCursor::Mark keyword = m_cur.mark();
+      const TextCursor::Mark keyword = m_cur.mark();
+      if (token == "ROOT" || token == "JOINT") {
+        // Some exporters open the hierarchy with JOINT: it can only be a root.
+        if (token == "JOINT") {
+          warn(keyword, "root declared with JOINT instead of ROOT; read as ROOT");
+        }
         m_cur.next_token();
         begin_joint(-1, keyword);
         parse_joint_bodies();
       } else if (token == "MOTION" && !m_doc.skeleton.joints.empty()) {
         return;
+      } else if (m_doc.skeleton.joints.empty()) {
+        fail("'ROOT'");
       } else {
-        m_cur.fail_expected(m_doc.skeleton.joints.empty() ? "'ROOT'" : "'ROOT' or 'MOTION'");
+        fail("'ROOT' or 'MOTION'", "'MOTION'");
       }
     }
   }
@@ -66,24 +119,50 @@ class BvhParser {
     while (!m_open.empty()) {
       const std::string_view token = m_cur.peek_token();
       const TextCursor::Mark at = m_cur.mark();
+      const int joint = m_open.back().index;
       if (token == "JOINT") {
         m_cur.next_token();
-        begin_joint(m_open.back(), at);
+        begin_joint(joint, at);
       } else if (token == "End") {
         m_cur.next_token();
-        m_cur.expect("Site");
-        m_cur.expect("{");
-        if (m_cur.peek_token() != "OFFSET") m_cur.fail_expected("'OFFSET'");
+        if (m_cur.peek_token() != "Site") fail("'Site'");
+        m_cur.next_token();
+        if (m_cur.peek_token() != "{") {
+          fail("'{'", "'{' opening an End Site of " + joint_label(joint));
+        }
+        m_cur.next_token();
+        if (m_cur.peek_token() != "OFFSET") {
+          fail("'OFFSET'", "'OFFSET' of an End Site of " + joint_label(joint));
+        }
         const Eigen::Vector3d offset = read_offset();
-        m_cur.expect("}");
-        m_doc.skeleton.joints[m_open.back()].end_sites.push_back(offset);
+        if (m_cur.peek_token() != "}") {
+          fail("'}'", "'}' closing an End Site of " + joint_label(joint));
+        }
+        m_cur.next_token();
+        m_doc.skeleton.joints[joint].end_sites.push_back(offset);
       } else if (token == "}") {
         m_cur.next_token();
-        m_open.pop_back();
+        close_joint();
       } else {
-        m_cur.fail_expected("'JOINT', 'End Site' or '}'");
+        fail("'JOINT', 'End Site' or '}'", "'}' closing " + joint_label(joint));
       }
     }
+  }
+
+  // Pops the innermost open joint. A leaf JOINT declared with `CHANNELS 0` (no child joints, no
+  // End Sites) is how some exporters write an End Site: it becomes one of its parent's, offset
+  // kept, as if the file had said `End Site { OFFSET ... }`. With children it is a static joint.
+  void close_joint() {
+    const OpenJoint open = m_open.back();
+    m_open.pop_back();
+    std::vector<Joint>& joints = m_doc.skeleton.joints;
+    const Joint& joint = joints[open.index];
+    const bool leaf = open.index + 1 == static_cast<int>(joints.size()) && joint.end_sites.empty();
+    if (!open.zero_channels || !leaf || joint.parent < 0) return;
+    warn(open.keyword,
+         joint_label(open.index) + " has CHANNELS 0 and no children; read as an end site");
+    joints[joint.parent].end_sites.push_back(joint.offset);
+    joints.pop_back();
   }
 
   // After ROOT/JOINT: the name, '{', OFFSET and CHANNELS (either order, CHANNELS optional).
@@ -95,7 +174,10 @@ class BvhParser {
     Joint joint;
     joint.parent = parent;
     joint.name = read_name();
-    m_cur.expect("{");
+    if (m_cur.peek_token() != "{") {
+      fail("'{'", "'{' opening joint '" + quote_token(joint.name) + "'");
+    }
+    m_cur.next_token();
     bool have_offset = false;
     bool have_channels = false;
     for (;;) {
@@ -110,8 +192,9 @@ class BvhParser {
         break;
       }
     }
-    if (!have_offset) m_cur.fail_expected("'OFFSET'");
-    m_open.push_back(m_doc.skeleton.num_joints());
+    if (!have_offset) fail("'OFFSET'", "'OFFSET' of joint '" + quote_token(joint.name) + "'");
+    m_open.push_back(
+        {m_doc.skeleton.num_joints(), keyword, have_channels && joint.channels.empty()});
     m_doc.skeleton.joints.push_back(std::move(joint));
   }
 
@@ -129,7 +212,7 @@ class BvhParser {
     }
     if (name.empty()) {
       m_cur.reset(at);
-      m_cur.fail_expected("a joint name");
+      fail("a joint name");
     }
     const auto [it, inserted] = m_name_lines.emplace(std::string(name), at.line);
     if (!inserted) {
@@ -142,16 +225,21 @@ class BvhParser {
   Eigen::Vector3d read_offset() {
     m_cur.next_token();  // OFFSET
     Eigen::Vector3d offset;
-    offset.x() = m_cur.next_number("OFFSET x", true);
-    offset.y() = m_cur.next_number("OFFSET y", true);
-    offset.z() = m_cur.next_number("OFFSET z", true);
+    offset.x() = number_on_line("OFFSET x");
+    offset.y() = number_on_line("OFFSET y");
+    offset.z() = number_on_line("OFFSET z");
     check_no_more_numbers("only 3 OFFSET values");
     return offset;
   }
 
+  double number_on_line(const std::string& what) {
+    fail_if_file_ends(what);
+    return m_cur.next_number(what, true);
+  }
+
   void read_channels(Joint& joint) {
     m_cur.next_token();  // CHANNELS
-    m_cur.skip_inline_space();
+    fail_if_file_ends("a channel count");
     const TextCursor::Mark count_at = m_cur.mark();
     const long long count = m_cur.next_integer("a channel count", 0, INT_MAX, true);
     if (m_total_channels + count > INT_MAX) {
@@ -167,7 +255,7 @@ class BvhParser {
       if (!channel) {
         m_cur.reset(at);
         if (m_cur.at_line_end()) {
-          m_cur.fail_expected(std::to_string(count) + " channel names as CHANNELS declares");
+          fail(std::to_string(count) + " channel names as CHANNELS declares");
         }
         m_cur.fail_expected(kChannelNames);
       }
@@ -195,13 +283,16 @@ class BvhParser {
 
   void parse_motion() {
     m_cur.expect("MOTION");
-    m_cur.expect("Frames:");
-    m_cur.skip_inline_space();
+    if (m_cur.peek_token() != "Frames:") fail("'Frames:'");
+    m_cur.next_token();
+    fail_if_file_ends("a frame count");
     const TextCursor::Mark frames_at = m_cur.mark();
     const long long frames = m_cur.next_integer("a frame count", 0, INT_MAX, true);
-    m_cur.expect("Frame");
-    m_cur.expect("Time:");
-    m_cur.skip_inline_space();
+    if (m_cur.peek_token() != "Frame") fail("'Frame'", "'Frame Time:'");
+    m_cur.next_token();
+    if (m_cur.peek_token() != "Time:") fail("'Time:'", "'Frame Time:'");
+    m_cur.next_token();
+    fail_if_file_ends("a frame time");
     const TextCursor::Mark time_at = m_cur.mark();
     const double frame_time = m_cur.next_number("a frame time", true);
     if (!(frame_time > 0.0)) {
@@ -221,6 +312,9 @@ class BvhParser {
     const unsigned long long least =
         channels == 0 ? static_cast<unsigned long long>(frames) : (count == 0 ? 0 : 2 * count - 1);
     if (least > remaining) {
+      // The rows cannot all be there. Read them without storing anything, so that a file which
+      // ends early (or has a bad row first) is reported as such, where it happens.
+      if (channels > 0) parse_rows<false>(static_cast<int>(frames), static_cast<int>(channels));
       m_cur.reset(frames_at);
       m_cur.fail_expected("a frame count the rest of the file can hold (" + std::to_string(frames) +
                           " frames of " + std::to_string(channels) + " values need at least " +
@@ -241,19 +335,43 @@ class BvhParser {
     m_doc.frame_time = frame_time;
     m_doc.num_frames = static_cast<int>(frames);
     m_doc.values.resize(count);
-    if (channels > 0) parse_rows(static_cast<int>(frames), static_cast<int>(channels));
+    if (channels > 0) parse_rows<true>(static_cast<int>(frames), static_cast<int>(channels));
     warn_extra_rows();
   }
 
-  [[noreturn]] void fail_in_rows(const char* p, std::size_t line, const char* line_start,
-                                 const std::string& expected) {
+  enum class RowProblem { MissingRow, ShortRow, NotANumber, NotFinite, LongRow };
+
+  // Reports a problem at `p` in frame f (0-based), value c (0-based). Out of line and cold, so the
+  // messages are not built in the hot loop.
+  [[noreturn, gnu::cold, gnu::noinline]] void fail_in_rows(RowProblem problem, const char* p,
+                                                           std::size_t line, const char* line_start,
+                                                           int f, int c, int frames, int channels) {
     const char* data = m_cur.text().data();
     m_cur.reset(
         {static_cast<std::size_t>(p - data), line, static_cast<std::size_t>(line_start - data)});
-    m_cur.fail_expected(expected);
+    const std::string row = std::to_string(f + 1);
+    switch (problem) {
+      case RowProblem::MissingRow:
+        fail_early(more(frames - f, "frame") + " (Frames: declares " + std::to_string(frames) +
+                   ", the file holds " + std::to_string(f) + ")");
+      case RowProblem::ShortRow:
+        fail(std::to_string(channels) + " values on motion row " + row +
+                 " (one per channel), not " + std::to_string(c),
+             more(channels - c, "value") + " of frame " + row +
+                 (f + 1 < frames ? ", then " + more(frames - f - 1, "frame") : ""));
+      case RowProblem::NotANumber:
+        fail("a number (value " + std::to_string(c + 1) + " of motion row " + row + ")");
+      case RowProblem::NotFinite:
+        fail("a finite number (value " + std::to_string(c + 1) + " of motion row " + row + ")");
+      case RowProblem::LongRow:
+        break;
+    }
+    fail("end of motion row " + row + " after its " + std::to_string(channels) + " values");
   }
 
-  // The hot loop: plain pointers, one from_chars per value, line counting by hand.
+  // The hot loop: plain pointers, one from_chars per value, line counting by hand. Without
+  // kStore, the rows are only checked (each value read into one scratch double).
+  template <bool kStore>
   void parse_rows(int frames, int channels) {
     const TextCursor::Mark start = m_cur.mark();
     const char* const data = m_cur.text().data();
@@ -261,14 +379,13 @@ class BvhParser {
     const char* p = data + start.pos;
     const char* line_start = data + start.line_start;
     std::size_t line = start.line;
-    double* out = m_doc.values.data();
+    double scratch = 0.0;
+    double* out = kStore ? m_doc.values.data() : &scratch;
     for (int f = 0; f < frames; ++f) {
       for (;;) {  // skip blank lines
         while (p != end && is_blank(*p)) ++p;
         if (p == end) {
-          fail_in_rows(p, line, line_start,
-                       "motion row " + std::to_string(f + 1) + " of the " + std::to_string(frames) +
-                           " that Frames: declares");
+          fail_in_rows(RowProblem::MissingRow, p, line, line_start, f, 0, frames, channels);
         }
         if (*p != '\n' && *p != '\r') break;
         p += (*p == '\r' && p + 1 != end && p[1] == '\n') ? 2 : 1;
@@ -278,29 +395,21 @@ class BvhParser {
       for (int c = 0; c < channels; ++c) {
         while (p != end && is_blank(*p)) ++p;
         if (p == end || *p == '\n' || *p == '\r') {
-          fail_in_rows(p, line, line_start,
-                       std::to_string(channels) + " values on motion row " + std::to_string(f + 1) +
-                           " (one per channel), not " + std::to_string(c));
+          fail_in_rows(RowProblem::ShortRow, p, line, line_start, f, c, frames, channels);
         }
         switch (parse_number(p, end, *out)) {
           case NumberStatus::Ok:
             break;
           case NumberStatus::NotANumber:
-            fail_in_rows(p, line, line_start,
-                         "a number (value " + std::to_string(c + 1) + " of motion row " +
-                             std::to_string(f + 1) + ")");
+            fail_in_rows(RowProblem::NotANumber, p, line, line_start, f, c, frames, channels);
           case NumberStatus::NotFinite:
-            fail_in_rows(p, line, line_start,
-                         "a finite number (value " + std::to_string(c + 1) + " of motion row " +
-                             std::to_string(f + 1) + ")");
+            fail_in_rows(RowProblem::NotFinite, p, line, line_start, f, c, frames, channels);
         }
-        ++out;
+        if constexpr (kStore) ++out;
       }
       while (p != end && is_blank(*p)) ++p;
       if (p != end && *p != '\n' && *p != '\r') {
-        fail_in_rows(p, line, line_start,
-                     "end of motion row " + std::to_string(f + 1) + " after its " +
-                         std::to_string(channels) + " values");
+        fail_in_rows(RowProblem::LongRow, p, line, line_start, f, channels, frames, channels);
       }
     }
     m_cur.reset(
@@ -329,7 +438,7 @@ class BvhParser {
 
   TextCursor m_cur;
   BvhDocument m_doc;
-  std::vector<int> m_open;  // joints whose block is open, innermost last
+  std::vector<OpenJoint> m_open;  // joints whose block is open, innermost last
   std::unordered_map<std::string, std::size_t> m_name_lines;  // name → line it was defined on
   long long m_total_channels = 0;
 };
@@ -487,14 +596,20 @@ void write_bvh(const BvhDocument& doc, std::ostream& out) {
     w.indent(depth[item]);
     w.text("{\n");
     w.vector_line(depth[item] + 1, joint.offset);
-    w.indent(depth[item] + 1);
-    w.text("CHANNELS ");
-    w.text(std::to_string(joint.channels.size()));
-    for (const ChannelType c : joint.channels) {
-      w.text(" ");
-      w.text(channel_name(c));
+    // parse_bvh reads a leaf JOINT with `CHANNELS 0` as an End Site; a joint without channels,
+    // children or End Sites is written without the line, which parse_bvh reads as a joint.
+    const bool bare_leaf = joint.parent >= 0 && joint.channels.empty() && children[item].empty() &&
+                           joint.end_sites.empty();
+    if (!bare_leaf) {
+      w.indent(depth[item] + 1);
+      w.text("CHANNELS ");
+      w.text(std::to_string(joint.channels.size()));
+      for (const ChannelType c : joint.channels) {
+        w.text(" ");
+        w.text(channel_name(c));
+      }
+      w.text("\n");
     }
-    w.text("\n");
     for (std::size_t c = 0; c < joint.channels.size(); ++c) {
       columns.push_back(first_column[item] + static_cast<int>(c));
     }

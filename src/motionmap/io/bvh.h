@@ -23,14 +23,16 @@ namespace motionmap::io {
 constexpr int kBvhMaxDepth = 1000;
 
 struct BvhDocument {
-  /// Joints in file order (parents before children), with channels and End Sites as written.
+  /// Joints in file order (parents before children), with channels and End Sites as written
+  /// (except a leaf JOINT with `CHANNELS 0`, read as an End Site: see parse_bvh).
   Skeleton skeleton;
   double frame_time = 0.0;  ///< seconds, > 0
   int num_frames = 0;
   /// #frames by #channels raw values, frames-major, channels in file order.
   std::vector<double> values;
-  /// Non-fatal findings, e.g. `path:line: warning: 3 extra motion rows after the declared 100
-  /// frames ignored`.
+  /// Non-fatal findings, in file order, e.g. `path:line: warning: 3 extra motion rows after the
+  /// declared 100 frames ignored` or `path:line:col: warning: root declared with JOINT instead of
+  /// ROOT; read as ROOT`.
   std::vector<std::string> warnings;
 
   int num_channels() const { return skeleton.num_channels(); }
@@ -41,17 +43,33 @@ struct BvhDocument {
 
 /// Parses BVH text. `path` is only used in messages.
 /// Accepts any channel order, any rotation order, position channels on any joint, several ROOTs,
-/// End Sites, tabs, CRLF/LF/CR, blank lines, scientific notation. More motion rows than `Frames:`
-/// declares give a warning and are ignored. Line-based parts: a joint name is the rest of its
-/// ROOT/JOINT line (so it may contain ':' or spaces; a trailing ` {` opens the block), OFFSET's
-/// three numbers and CHANNELS' count and names are on one line, and each motion row is one line of
-/// exactly #channels values. `Frames: 0` (a skeleton without motion) is valid. A skeleton without
-/// channels has no motion rows: its `Frames:` lines are empty.
+/// End Sites, tabs, CRLF/LF/CR, blank lines, scientific notation. Line-based parts: a joint name is
+/// the rest of its ROOT/JOINT line (so it may contain ':' or spaces; a trailing ` {` opens the
+/// block), OFFSET's three numbers and CHANNELS' count and names are on one line, and each motion
+/// row is one line of exactly #channels values. `Frames: 0` (a skeleton without motion) is valid. A
+/// skeleton without channels has no motion rows: its `Frames:` lines are empty. CHANNELS may be
+/// left out (no channels).
+/// What real exporters write is read with a warning in `warnings` naming its first line:
+///  - more motion rows than `Frames:` declares: ignored
+///    (`path:line: warning: 3 extra motion rows after the declared 100 frames ignored`);
+///  - a root declared with JOINT: read as ROOT
+///    (`path:line:col: warning: root declared with JOINT instead of ROOT; read as ROOT`);
+///  - a leaf JOINT with `CHANNELS 0` (an OFFSET, no child joints, no End Site): read as an End Site
+///    of its parent, offset kept
+///    (`path:line:col: warning: joint 'X' has CHANNELS 0 and no children; read as an end site`).
+///    A JOINT with `CHANNELS 0` and children is a static joint, a leaf JOINT without a CHANNELS
+///    line a joint without channels.
 /// @throws ParseError `path:line:col: error: expected <what>, found '<token>'` on any malformed
 ///         input (also duplicate joint names, nesting deeper than kBvhMaxDepth, a frame time
-///         that is not > 0), before allocating memory the file could not fill: `Frames:` may not
-///         exceed what the rest of the file can hold at 2 bytes per value, nor, beyond 4M
-///         frame·joint transforms (the size of to_motion's result), 1 byte per transform.
+///         that is not > 0); where the file ends (nothing but whitespace left) inside the
+///         hierarchy or the motion block, `path:line:col: error: file ends early: expected
+///         <what>` at the end of the file, e.g. `expected '}' closing joint 'LeftArm'`, `expected
+///         'Frame Time:'`, `expected 6 more values of frame 12`, `expected 2 more frames (Frames:
+///         declares 10, the file holds 8)`; fewer frames than `Frames:` declares are an error.
+///         Nothing is allocated that the file could not fill: a `Frames:` count the rest of the
+///         file cannot hold at 2 bytes per value is reported where the rows stop (reading them
+///         without storing), and beyond 4M frame·joint transforms (the size of to_motion's result)
+///         `Frames:` may not exceed 1 byte of the rest of the file per transform.
 BvhDocument parse_bvh(std::string_view text, const std::string& path = "<memory>");
 
 /// Reads and parses a BVH file. @throws Error if it cannot be read, ParseError if malformed.
@@ -61,6 +79,8 @@ BvhDocument read_bvh(const std::string& path);
 /// which parse_bvh reads back to the same skeleton and bit-identical values. Joints are written
 /// depth-first, children in index order (the order parse_bvh produces); a skeleton in another
 /// parent-before-child order is written in that depth-first order, its value columns moved along.
+/// Every joint gets a CHANNELS line except a non-root joint without channels, child joints or End
+/// Sites, which `CHANNELS 0` would turn into an End Site when read back.
 /// @throws ParameterError if `doc` cannot be written as valid BVH: values.size() is not
 ///         num_frames·num_channels, a value, offset or the frame time is not finite (frame time
 ///         not > 0), the skeleton fails Skeleton::validate, a joint name is empty, has leading or

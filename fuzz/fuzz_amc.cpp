@@ -11,7 +11,8 @@
 #include <string_view>
 
 #include "motionmap/core/error.h"
-#include "motionmap/io/asf_amc.h"
+#include "motionmap/io/amc.h"
+#include "motionmap/io/asf.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "motionmap/core/error.h"
-#include "motionmap/io/asf_amc.h"
+#include "motionmap/io/asf.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -20,4 +20,10 @@ void setup_synth(CLI::App& app);
 /// Escapes a string for a JSON string literal (without the quotes).
 std::string json_escape(const std::string& s);
 
+/// Creates the process's QGuiApplication on first use (main.cpp), which the render library needs
+/// and never creates: the commands that draw (`map --plot`, `figure`) call it just before drawing.
+/// Uses the offscreen platform unless QT_QPA_PLATFORM names one, so no display is needed, and drops
+/// Qt's warning that XDG_RUNTIME_DIR is unset. Call it from the main thread.
+void ensure_gui_application();
+
 }  // namespace motionmap::cli

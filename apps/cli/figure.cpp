@@ -133,6 +133,7 @@ void setup_figure(CLI::App& app) {
                           QString::fromStdString(std::string(
                               features::distance_kind_name(options.features.distance))) +
                           (cmd->axes == "fill" ? ", axes scaled to fill each panel" : "");
+    ensure_gui_application();
     render::save_figure(cmd->output, panels, 3, cmd->panel_px, title);
     const double total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -96,6 +96,7 @@ void setup_map(CLI::App& app) {
         plot.notes << QString::fromStdString(pipeline::describe_metrics(*map.metrics));
       plot.time_legend = true;
       if (cmd->axes == "fill") plot.notes << "axes scaled to fill the panel";
+      ensure_gui_application();
       render::save_map_plot(cmd->plot,
                             cmd->axes == "fill" ? render::fill_axes(map.embedding.coordinates)
                                                 : map.embedding.coordinates,

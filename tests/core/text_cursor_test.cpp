@@ -159,6 +159,100 @@ TEST(TextCursor, MarkAndResetReturnToAnEarlierToken) {
   EXPECT_EQ(std::string(e.what()), "t.txt:2:1: error: expected x, found 'bb'");
 }
 
+TEST(TextCursor, SkipToContentPassesBlankLinesAndComments) {
+  TextCursor cur("\n  # a comment\r\n\t\n# another\rkey 1 # tail\n#last", "t.txt");
+  ASSERT_TRUE(cur.skip_to_content('#'));
+  EXPECT_EQ(cur.line(), 5u);
+  EXPECT_EQ(cur.peek_char(), 'k');
+  EXPECT_EQ(cur.next_token_on_line('#'), "key");
+  EXPECT_EQ(cur.next_token_on_line('#'), "1");
+  EXPECT_EQ(cur.next_token_on_line('#'), "") << "a comment ends the line's tokens";
+  EXPECT_TRUE(cur.at_line_end_or_comment('#'));
+  EXPECT_TRUE(cur.at_line_end()) << "the comment is skipped, the line end is not";
+  EXPECT_FALSE(cur.skip_to_content('#')) << "only a comment left";
+  EXPECT_TRUE(cur.at_end());
+  EXPECT_EQ(cur.peek_char(), '\0');
+}
+
+TEST(TextCursor, ExpectLineEndAllowsBlanksAndACommentOnly) {
+  TextCursor ok("a  \t# done\nb", "t.txt");
+  ok.next_token();
+  ok.expect_line_end('#');
+  EXPECT_EQ(ok.next_token(), "b");
+  ParseError e = error_of("a b # c", [](TextCursor& c) {
+    c.next_token();
+    c.expect_line_end('#');
+  });
+  EXPECT_EQ(std::string(e.what()), "t.txt:1:3: error: expected end of line, found 'b'");
+  e = error_of("a 1 2", [](TextCursor& c) {
+    c.next_token();
+    c.next_number("x", true);
+    c.expect_line_end('#', "end of line after the value");
+  });
+  EXPECT_EQ(e.message(), "expected end of line after the value, found '2'");
+}
+
+TEST(TextCursor, FailExpectedAtReportsAnEarlierMarkWithASuffix) {
+  const ParseError e = error_of("first\n  second third", [](TextCursor& c) {
+    c.next_token();
+    const TextCursor::Mark at = c.mark_next();
+    EXPECT_EQ(at.line, 2u);
+    c.next_token();
+    EXPECT_EQ(c.mark_next_on_line().line, 2u);
+    EXPECT_EQ(c.column(), 10u) << "on 'third'";
+    c.next_token();
+    c.fail_expected_at(at, "a keyword", " (again)");
+  });
+  EXPECT_EQ(std::string(e.what()), "t.txt:2:3: error: expected a keyword, found 'second' (again)");
+  const ParseError end = error_of("x  \ny", [](TextCursor& c) {
+    c.next_token();
+    const TextCursor::Mark at = c.mark_next_on_line();
+    c.next_token();
+    c.fail_expected_at(at, "a value");
+  });
+  EXPECT_EQ(std::string(end.what()), "t.txt:1:4: error: expected a value, found end of line");
+}
+
+TEST(TextCursor, NumberOnLineBuildsItsMessageOnlyOnFailure) {
+  TextCursor cur("1.5 -2e3 7", "t.txt");
+  int built = 0;
+  const auto what = [&] {
+    ++built;
+    return std::string("a value");
+  };
+  EXPECT_EQ(cur.next_number_on_line(what), 1.5);
+  EXPECT_EQ(cur.next_number_on_line(what), -2000.0);
+  EXPECT_EQ(cur.next_number_on_line(what), 7.0);
+  EXPECT_EQ(built, 0);
+  ParseError e = error_of("1 x", [&](TextCursor& c) {
+    c.next_number_on_line(what);
+    c.next_number_on_line(what);
+  });
+  EXPECT_EQ(std::string(e.what()), "t.txt:1:3: error: expected a value, found 'x'");
+  EXPECT_EQ(built, 1);
+  e = error_of("1\n2", [&](TextCursor& c) {
+    c.next_number_on_line(what);
+    c.next_number_on_line(what);
+  });
+  EXPECT_EQ(e.message(), "expected a value, found end of line");
+  e = error_of("1e999", [&](TextCursor& c) { c.next_number_on_line(what); });
+  EXPECT_EQ(e.message(), "expected a value (a finite number), found '1e999'");
+}
+
+TEST(TextHelpers, AsciiCaseDigitsAndTrimming) {
+  EXPECT_TRUE(ascii_iequals(":FULLY-SPECIFIED", ":fully-specified"));
+  EXPECT_TRUE(ascii_iequals("", ""));
+  EXPECT_FALSE(ascii_iequals("deg", "degrees"));
+  EXPECT_FALSE(ascii_iequals("rx", "ry"));
+  EXPECT_FALSE(ascii_iequals("\xC9", "\xE9")) << "only ASCII letters fold";
+  EXPECT_TRUE(all_digits("0123456789"));
+  EXPECT_FALSE(all_digits(""));
+  EXPECT_FALSE(all_digits("12a"));
+  EXPECT_FALSE(all_digits("+1"));
+  EXPECT_EQ(trim_blanks(" \t name with spaces \v\f"), "name with spaces");
+  EXPECT_EQ(trim_blanks(" \t "), "");
+}
+
 TEST(TextCursor, ParseNumberLeavesPointerOnFailure) {
   const std::string s = "12abc";
   const char* p = s.data();

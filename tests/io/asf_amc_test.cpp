@@ -1,4 +1,5 @@
-#include "motionmap/io/asf_amc.h"
+#include "motionmap/io/amc.h"
+#include "motionmap/io/asf.h"
 
 #include <cmath>
 #include <initializer_list>

@@ -11,7 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/files.h"
-#include "motionmap/io/asf_amc.h"
+#include "motionmap/io/amc.h"
+#include "motionmap/io/asf.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
 #include "motionmap/skeleton/forward_kinematics.h"

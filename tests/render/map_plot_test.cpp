@@ -8,6 +8,7 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <string>
 
@@ -92,9 +93,13 @@ std::string read_all(const std::string& path) {
 
 using test::error_message;
 
+// Tests that draw: under the QGuiApplication that render_test_main.cpp makes.
 class MapPlotTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { ensure_gui_application(); }
+  static void SetUpTestSuite() {
+    ASSERT_NE(qobject_cast<QGuiApplication*>(QCoreApplication::instance()), nullptr)
+        << "render_test_main.cpp makes the QGuiApplication";
+  }
 };
 
 // --- colours ----------------------------------------------------------------------------------
@@ -588,36 +593,73 @@ TEST_F(MapPlotTest, BadSizesAndDataAreParameterErrors) {
   EXPECT_FALSE(std::filesystem::exists(png));
 }
 
-TEST_F(MapPlotTest, EnsureGuiApplicationIsIdempotent) {
-  ensure_gui_application();
-  QCoreApplication* first = QCoreApplication::instance();
-  ASSERT_NE(qobject_cast<QGuiApplication*>(first), nullptr);
-  ensure_gui_application();
-  EXPECT_EQ(QCoreApplication::instance(), first);
-  EXPECT_FALSE(qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM"));
+TEST_F(MapPlotTest, DrawingLeavesTheApplicationAndTheProcessAlone) {
+  const auto current_handler = [] {
+    const QtMessageHandler h = qInstallMessageHandler(nullptr);
+    qInstallMessageHandler(h);
+    return h;
+  };
+  QCoreApplication* const app = QCoreApplication::instance();
+  const QByteArray platform = qgetenv("QT_QPA_PLATFORM");
+  const QtMessageHandler handler = current_handler();
+  save_map_plot(temp_file("alone.png"), arc(10), {}, {});
+  save_figure(temp_file("alone.svg"), {FigurePanel{arc(10), {}, {}}});
+  EXPECT_EQ(QCoreApplication::instance(), app);
+  EXPECT_EQ(qgetenv("QT_QPA_PLATFORM"), platform);
+  EXPECT_EQ(current_handler(), handler) << "no message handler installed";
 }
 
-// Creates a plain QCoreApplication, then asks for a GUI one: exits 3 with the error message.
-[[noreturn]] void ensure_gui_after_core_application() {
+// Runs in a child process without the test main's QGuiApplication (see render_test_main.cpp):
+// with `core_app`, a plain QCoreApplication exists. Draws each way the library offers and exits
+// 3 after printing each error, in order, when all three refused and nothing was written.
+[[noreturn]] void draw_without_gui_application(bool core_app) {
   static int argc = 1;
   static char name[] = "render_test";
   static char* argv[] = {name, nullptr};
-  QCoreApplication app(argc, argv);
-  try {
-    ensure_gui_application();
-  } catch (const Error& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    std::exit(3);
-  }
-  std::exit(0);
+  std::unique_ptr<QCoreApplication> app;
+  if (core_app) app = std::make_unique<QCoreApplication>(argc, argv);
+  const std::string png = temp_file(core_app ? "core_app.png" : "no_app.png");
+  std::filesystem::remove(png);
+  int refused = 0;
+  const auto attempt = [&](const std::function<void()>& draw) {
+    try {
+      draw();
+    } catch (const Error& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      ++refused;
+    }
+  };
+  attempt([&] { save_map_plot(png, arc(10), {}, {}); });
+  attempt([&] { save_figure(png, {FigurePanel{arc(10), {}, {}}}); });
+  QImage image(64, 64, QImage::Format_RGB32);
+  attempt([&] {
+    QPainter painter(&image);
+    paint_map(painter, QRectF(0, 0, 64, 64), arc(10), {}, {});
+  });
+  std::exit(refused == 3 && !std::filesystem::exists(png) ? 3 : 1);
+}
+
+// Drawing needs the caller's QGuiApplication; without one the library throws, never creates one.
+TEST(RenderDeathTest, NoApplicationIsReported) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");  // a fresh process, re-executed
+  qputenv("MOTIONMAP_RENDER_TESTS_NO_APP", "1");
+  EXPECT_EXIT(draw_without_gui_application(false), ::testing::ExitedWithCode(3),
+              "save_map_plot: no QGuiApplication exists; create one before drawing .the render "
+              "library draws into what it is given and never creates the application.\n"
+              "save_figure: no QGuiApplication exists.*\n"
+              "paint_map: no QGuiApplication exists");
+  qunsetenv("MOTIONMAP_RENDER_TESTS_NO_APP");
 }
 
 TEST(RenderDeathTest, PlainCoreApplicationIsReported) {
-  // Re-executed in a fresh process, where no application exists yet.
   GTEST_FLAG_SET(death_test_style, "threadsafe");
-  EXPECT_EXIT(ensure_gui_after_core_application(), ::testing::ExitedWithCode(3),
-              "ensure_gui_application: a QCoreApplication exists; drawing text needs a "
-              "QGuiApplication");
+  qputenv("MOTIONMAP_RENDER_TESTS_NO_APP", "1");
+  EXPECT_EXIT(draw_without_gui_application(true), ::testing::ExitedWithCode(3),
+              "save_map_plot: a QCoreApplication exists, but drawing needs a QGuiApplication "
+              ".create one instead.\n"
+              "save_figure: a QCoreApplication exists.*\n"
+              "paint_map: a QCoreApplication exists");
+  qunsetenv("MOTIONMAP_RENDER_TESTS_NO_APP");
 }
 
 }  // namespace

@@ -79,6 +79,31 @@ std::string_view TextCursor::next_token_on_line() {
   return m_text.substr(begin, m_pos - begin);
 }
 
+std::string_view TextCursor::next_token_on_line(char comment) {
+  skip_inline_space();
+  if (peek_char() == comment) return {};
+  return next_token_on_line();
+}
+
+bool TextCursor::skip_to_content(char comment) {
+  for (;;) {
+    skip_space();
+    if (at_end()) return false;
+    if (m_text[m_pos] != comment) return true;
+    skip_line();
+  }
+}
+
+bool TextCursor::at_line_end_or_comment(char comment) {
+  skip_inline_space();
+  if (peek_char() == comment) rest_of_line();
+  return at_line_end();
+}
+
+void TextCursor::expect_line_end(char comment, std::string_view what) {
+  if (!at_line_end_or_comment(comment)) fail_expected(what);
+}
+
 std::string TextCursor::describe_next() {
   skip_inline_space();
   if (at_end()) return "end of file";
@@ -89,8 +114,15 @@ std::string TextCursor::describe_next() {
 }
 
 void TextCursor::fail_expected(std::string_view expected) {
+  fail_expected_at(mark(), expected);
+}
+
+void TextCursor::fail_expected_at(const Mark& at, std::string_view expected,
+                                  std::string_view suffix) {
+  reset(at);
   const std::string found = describe_next();
-  fail_at(m_line, column(), "expected " + std::string(expected) + ", found " + found);
+  fail_at(m_line, column(),
+          "expected " + std::string(expected) + ", found " + found + std::string(suffix));
 }
 
 void TextCursor::fail_at(std::size_t line, std::size_t column, const std::string& message) const {
@@ -175,12 +207,24 @@ bool next_csv_row(TextCursor& cur, CsvRow& row) {
   return false;
 }
 
+namespace {
+char lower_ascii_char(char c) {
+  return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c;
+}
+}  // namespace
+
 std::string ascii_lower(std::string_view s) {
   std::string out(s);
-  for (char& c : out) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
+  for (char& c : out) c = lower_ascii_char(c);
   return out;
+}
+
+bool ascii_iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (lower_ascii_char(a[i]) != lower_ascii_char(b[i])) return false;
+  }
+  return true;
 }
 
 }  // namespace motionmap

@@ -2,7 +2,17 @@
 // A cursor over a whole text file for hand-written parsers: whitespace-separated tokens, numbers
 // through std::from_chars, and the 1-based line and column of everything it reads, so every
 // failure becomes `path:line:col: error: expected <what>, found '<token>'`.
-// Line ends may be LF, CRLF or lone CR; tabs count as one column.
+// Line ends may be LF, CRLF or lone CR; tabs count as one column. Line-oriented formats with
+// comments (ASF, AMC: `#` to the end of the line) use the members that take a comment character.
+//
+//   TextCursor c(text, path);
+//   while (c.skip_to_content('#')) {
+//     const TextCursor::Mark at = c.mark_next();
+//     const std::string_view key = c.next_token();
+//     if (!ascii_iequals(key, "length")) c.fail_expected_at(at, "'length'");
+//     const double length = c.next_number("a length", /*same_line=*/true);
+//     c.expect_line_end('#');
+//   }
 #include <charconv>
 #include <cmath>
 #include <cstddef>
@@ -39,6 +49,22 @@ class TextCursor {
   /// Like next_token but never crosses a line end: empty if the line has no more tokens.
   std::string_view next_token_on_line();
 
+  /// Like next_token_on_line(), but a token starting with `comment` starts a comment, which ends
+  /// the line's tokens: empty then (the comment is not consumed).
+  std::string_view next_token_on_line(char comment);
+
+  /// The next character, not consumed; '\0' at the end of the text.
+  char peek_char() const { return at_end() ? '\0' : m_text[m_pos]; }
+  /// Skips whitespace, line ends and comments (from `comment` to the end of its line), so the
+  /// cursor is on the next token. Returns false if only those were left (at the end of the text).
+  bool skip_to_content(char comment);
+  /// Skips blanks and a comment on the current line; returns whether nothing else is left on it
+  /// (the cursor is then on the line end or at the end of the text).
+  bool at_line_end_or_comment(char comment);
+  /// Requires that only blanks and a comment are left on the current line, and skips them.
+  /// @throws ParseError `expected <what>, found '<token>'` otherwise.
+  void expect_line_end(char comment, std::string_view what = "end of line");
+
   /// Consumes the next token, which must equal `keyword`. @throws ParseError otherwise.
   void expect(std::string_view keyword);
   /// Consumes a finite floating-point number (optionally on the current line only).
@@ -47,6 +73,11 @@ class TextCursor {
   /// Consumes an integer token in [min, max]. @throws ParseError otherwise.
   long long next_integer(std::string_view what, long long min, long long max,
                          bool same_line = false);
+  /// next_number(what(), true) for the loops over a file's values: `what` (a callable returning
+  /// the description as a std::string) is only called when the token is not a finite number, to
+  /// build the message. @throws ParseError as next_number().
+  template <typename What>
+  double next_number_on_line(const What& what);
 
   /// Throws `path:line:col: error: expected <expected>, found '<found>'` at the start of the next
   /// token (or the end of file / line end).
@@ -78,6 +109,20 @@ class TextCursor {
     m_line = m.line;
     m_line_start = m.line_start;
   }
+  /// Skips whitespace (incl. line ends) and marks where the next token starts.
+  Mark mark_next() {
+    skip_space();
+    return mark();
+  }
+  /// Skips blanks and marks where the next token on the line (or the line end) is.
+  Mark mark_next_on_line() {
+    skip_inline_space();
+    return mark();
+  }
+  /// Throws `path:line:col: error: expected <expected>, found <what is at `at`><suffix>` at `at`,
+  /// a mark of this cursor: for a token that is judged only after it has been read.
+  [[noreturn]] void fail_expected_at(const Mark& at, std::string_view expected,
+                                     std::string_view suffix = {});
 
  private:
   std::string_view m_text;
@@ -125,6 +170,26 @@ inline std::string_view skip_utf8_bom(std::string_view text) {
 /// ASCII lower case, for case-insensitive header names.
 std::string ascii_lower(std::string_view s);
 
+/// Whether `a` and `b` are equal ignoring ASCII case, for case-insensitive keywords (other bytes
+/// must match exactly, whatever the locale).
+bool ascii_iequals(std::string_view a, std::string_view b);
+
+/// Whether `s` is non-empty and made of the ASCII digits 0-9 only.
+inline bool all_digits(std::string_view s) {
+  if (s.empty()) return false;
+  for (const char c : s) {
+    if (c < '0' || c > '9') return false;
+  }
+  return true;
+}
+
+/// `s` without leading and trailing blanks (see is_blank()).
+inline std::string_view trim_blanks(std::string_view s) {
+  while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
 enum class NumberStatus { Ok, NotANumber, NotFinite };
 
 /// Parses the number starting at `first` (strtod syntax plus a leading '+', '.5' and '5.' forms;
@@ -153,6 +218,19 @@ inline NumberStatus parse_number(const char*& first, const char* last, double& v
   if (ec != std::errc() || !std::isfinite(value)) return NumberStatus::NotFinite;
   first = ptr;
   return NumberStatus::Ok;
+}
+
+template <typename What>
+double TextCursor::next_number_on_line(const What& what) {
+  skip_inline_space();
+  const char* first = m_text.data() + m_pos;
+  double value = 0.0;
+  if (!at_line_end() &&
+      parse_number(first, m_text.data() + m_text.size(), value) == NumberStatus::Ok) {
+    m_pos = static_cast<std::size_t>(first - m_text.data());  // a number spans no line end
+    return value;
+  }
+  return next_number(what(), true);  // throws the full message
 }
 
 }  // namespace motionmap

@@ -5,7 +5,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
-#include "motionmap/io/asf_amc.h"
+#include "motionmap/io/amc.h"
 #include "motionmap/io/bvh.h"
 
 namespace motionmap::io {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -267,6 +266,22 @@ Error write_error(const std::string& path, const std::string& reason) {
   return Error("cannot write '" + path + "': " + reason);
 }
 
+// Drawing text needs the QGuiApplication that the caller creates: throw, rather than let Qt abort
+// (or crash in the font code), when there is none.
+void require_gui_application(const char* caller) {
+  const QCoreApplication* app = QCoreApplication::instance();
+  if (app == nullptr) {
+    throw Error(std::string(caller) +
+                ": no QGuiApplication exists; create one before drawing (the render library "
+                "draws into what it is given and never creates the application)");
+  }
+  if (qobject_cast<const QGuiApplication*>(app) == nullptr) {
+    throw Error(std::string(caller) +
+                ": a QCoreApplication exists, but drawing needs a QGuiApplication (create one "
+                "instead)");
+  }
+}
+
 Format format_of(const std::string& path) {
   const std::string ext = lowercase_extension(path);
   if (ext == ".png") return Format::Png;
@@ -278,10 +293,10 @@ Format format_of(const std::string& path) {
 }
 
 // Opens the output, runs `draw` on a painter whose coordinates span QRectF(0, 0, size), closes.
-void render_file(const std::string& path, const QSize& size, const QString& title,
-                 const std::function<void(QPainter&, const QRectF&)>& draw) {
+void render_file(const char* caller, const std::string& path, const QSize& size,
+                 const QString& title, const std::function<void(QPainter&, const QRectF&)>& draw) {
   const Format format = format_of(path);  // before creating anything
-  ensure_gui_application();
+  require_gui_application(caller);
   const QString qpath = QString::fromStdString(path);
   const QRectF area(QPointF(0, 0), QSizeF(size));
 
@@ -430,6 +445,7 @@ QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
 void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coords,
                const std::vector<int>& segment_starts, const MapPlotOptions& options) {
   const std::vector<int> bounds = clip_bounds(coords, segment_starts);  // validates first
+  require_gui_application("paint_map");
   const std::vector<ColoredSegment> segments = trajectory_segments(coords, segment_starts);
   const UnitMapping unit = unit_mapping(coords);
   const Layout l = layout_panel(rect, options);
@@ -521,7 +537,7 @@ void save_map_plot(const std::string& path, const Eigen::MatrixXd& coords,
                          " is outside [16, 16384]");
   }
   clip_bounds(coords, segment_starts);  // invalid data must not leave a half-written file
-  render_file(path, QSize(size_px, size_px), options.title,
+  render_file("save_map_plot", path, QSize(size_px, size_px), options.title,
               [&](QPainter& painter, const QRectF& area) {
                 paint_map(painter, area, coords, segment_starts, options);
               });
@@ -559,7 +575,7 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
                          " pixels, more than 10^8");
   }
 
-  render_file(path, QSize(int(width), int(std::ceil(height))), title,
+  render_file("save_figure", path, QSize(int(width), int(std::ceil(height))), title,
               [&](QPainter& painter, const QRectF& area) {
                 painter.fillRect(area, Qt::white);
                 painter.setRenderHints(QPainter::Antialiasing | QPainter::TextAntialiasing);
@@ -579,40 +595,6 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
                   paint_map(painter, cell, p.coords, p.segment_starts, p.options);
                 }
               });
-}
-
-namespace {
-QtMessageHandler g_qt_handler = nullptr;
-
-// Qt warns on every headless run where XDG_RUNTIME_DIR is unset (root in a container, CI):
-// noise on a batch tool's stderr, since drawing into images never uses that folder.
-void quiet_runtime_dir_warning(QtMsgType type, const QMessageLogContext& context,
-                               const QString& message) {
-  if (type == QtWarningMsg && message.startsWith(QLatin1String("QStandardPaths: XDG_RUNTIME_DIR")))
-    return;
-  if (g_qt_handler) return g_qt_handler(type, context, message);
-  std::fprintf(stderr, "%s\n", qPrintable(qFormatLogMessage(type, context, message)));
-}
-}  // namespace
-
-void ensure_gui_application() {
-  if (QCoreApplication* existing = QCoreApplication::instance()) {
-    if (qobject_cast<QGuiApplication*>(existing) == nullptr) {
-      throw Error(
-          "ensure_gui_application: a QCoreApplication exists; drawing text needs a "
-          "QGuiApplication (create one instead)");
-    }
-    return;
-  }
-  // Offscreen works with or without a display; keep whatever platform the user chose.
-  if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
-  g_qt_handler = qInstallMessageHandler(quiet_runtime_dir_warning);
-  static int argc = 1;
-  static char name[] = "motionmap";
-  static char* argv[] = {name, nullptr};
-  // Destroyed with the other statics at exit; leaking it instead leaves fontconfig's caches
-  // unreachable, which LeakSanitizer reports.
-  static QGuiApplication app(argc, argv);
 }
 
 }  // namespace motionmap::render

@@ -4,6 +4,13 @@
 // app (a widget's QPainter), the CLI (PNG/SVG/PDF files, no display needed) and figures (a grid
 // of panels, e.g. one per embedding method). QtGui only, no QtWidgets.
 //
+// A library, not an application: it draws into the QPainter/QPaintDevice or the file it is given
+// and leaves the process alone. Drawing (paint_map, save_map_plot, save_figure) needs a
+// QGuiApplication (or QApplication), which the caller creates on the main thread before it draws
+// (the CLI with the offscreen platform, Studio its QApplication); render never creates one, sets
+// no environment variable and installs no message handler. The plain-data functions (colours,
+// segments, transforms, layout) need none.
+//
 //   motionmap::render::MapPlotOptions options;
 //   options.title = "Isomap";
 //   options.notes = {"trustworthiness 0.93"};
@@ -96,16 +103,18 @@ QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
 /// Draws one panel into `rect`: background, title on top, a square data area with a thin frame,
 /// the trajectory coloured by each clip's own time, start markers, notes at the bottom.
 /// Degenerate input (no/one sample, identical samples, NaN rows) draws what remains.
-/// Text needs a QGuiApplication (see ensure_gui_application()). Linear in #samples.
+/// Needs a QGuiApplication (text does). Linear in #samples.
 /// @throws ParameterError if coords has < 2 columns or segment_starts is invalid.
+/// @throws Error if no QGuiApplication exists (nothing is drawn).
 void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coords,
                const std::vector<int>& segment_starts, const MapPlotOptions& options);
 
 /// Writes one panel to `path`, size_px × size_px, format from the extension (case-insensitive):
-/// .png (antialiased), .svg, .pdf (one square page, size_px at 96 dpi). Calls
-/// ensure_gui_application().
+/// .png (antialiased), .svg, .pdf (one square page, size_px at 96 dpi). Needs a
+/// QGuiApplication.
 /// @throws ParameterError if size_px is outside [16, 16384] or coords/segment_starts are invalid.
 /// @throws Error naming the path and the reason on an unknown extension or a write failure.
+/// @throws Error if no QGuiApplication exists (nothing is written).
 void save_map_plot(const std::string& path, const Eigen::MatrixXd& coords,
                    const std::vector<int>& segment_starts, const MapPlotOptions& options,
                    int size_px = 800);
@@ -118,21 +127,13 @@ struct FigurePanel {
 };
 
 /// Writes panels in a grid of `columns` columns (row by row), each panel_px wide with its title
-/// and notes, under a figure title and a time legend. Formats as save_map_plot().
-/// Calls ensure_gui_application().
+/// and notes, under a figure title and a time legend. Formats as save_map_plot(). Needs a
+/// QGuiApplication.
 /// @throws ParameterError if panels is empty, columns is outside [1, 64], panel_px outside
 ///         [64, 4096], the figure would exceed 10⁸ pixels, or a panel's data is invalid.
 /// @throws Error naming the path and the reason on an unknown extension or a write failure.
+/// @throws Error if no QGuiApplication exists (nothing is written).
 void save_figure(const std::string& path, const std::vector<FigurePanel>& panels, int columns = 3,
                  int panel_px = 500, const QString& title = {});
-
-/// Makes sure a QGuiApplication exists, which text rendering needs. If there is no
-/// QCoreApplication at all, sets QT_QPA_PLATFORM=offscreen (unless already set, so any display
-/// works and none is needed) and creates a QGuiApplication in static storage, which lives until
-/// the process exits; Qt's warning that XDG_RUNTIME_DIR is unset is then dropped (other messages
-/// pass).
-/// Does nothing when one exists (the app's QApplication). Call it from the main thread.
-/// @throws Error if a plain QCoreApplication (not a QGuiApplication) already exists.
-void ensure_gui_application();
 
 }  // namespace motionmap::render

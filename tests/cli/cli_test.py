@@ -225,6 +225,25 @@ def map_writes_csv_with_parameters_and_is_deterministic():
 
 
 @test
+def maps_do_not_depend_on_the_number_of_threads():
+    # MOTIONMAP_THREADS sizes the thread pool: 1 (the caller alone), 2, and more threads than
+    # cores must give byte-identical maps for every method, metrics included.
+    if not needs(GOLF):
+        return
+    for method in ("pca", "svd", "mds", "isomap", "le", "lle"):
+        outputs = []
+        for threads in ("1", "2", "7"):
+            out = os.path.join(TMP, "threads-%s-%s.csv" % (method, threads))
+            env = dict(os.environ, MOTIONMAP_THREADS=threads)
+            code, _, err = run("map", data(GOLF), "--method", method, "--metrics", "-o", out,
+                               "-q", env=env)
+            assert code == 0, err
+            with open(out, "rb") as f:
+                outputs.append(f.read())
+        assert outputs[0] == outputs[1] == outputs[2], method + ": maps differ between thread counts"
+
+
+@test
 def map_options_frames_stride_dims_several_files_metrics_plot():
     if not (needs(GOLF) and needs("cmu/64_09.bvh")):
         return

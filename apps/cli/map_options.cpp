@@ -24,10 +24,9 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                   "Frame rate of .amc inputs (default 120)")
       ->check(CLI::PositiveNumber);
   if (use != MapOptionsFor::Figure) {
-    std::map<std::string, embed::Method> methods;
-    for (embed::Method m : embed::all_methods()) methods[std::string(embed::method_name(m))] = m;
     sub->add_option("-m,--method", opt.method, "pca, svd, mds, isomap, le or lle (default isomap)")
-        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case));
+        ->transform(CLI::CheckedTransformer(choices(embed::all_methods(), embed::method_name),
+                                            CLI::ignore_case));
   }
   sub->add_option("--dims", opt.dims, "Map dimensions, 2 or 3 (default 2)")
       ->check(CLI::IsMember({2, 3}));
@@ -40,22 +39,17 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
   sub->add_flag("--standardize", opt.standardize, "PCA on standardised columns (correlation PCA)");
   sub->add_flag("--strict", opt.strict,
                 "Fail on a disconnected neighbour graph instead of joining its components");
-  const std::map<std::string, features::FeatureKind> feature_kinds{
-      {"quat", features::FeatureKind::Quaternions},
-      {"positions", features::FeatureKind::Positions}};
   sub->add_option(
          "--features", opt.features,
          "Data matrix X for pca, svd and lle: quat (joint rotation quaternions, default) or "
          "positions (heading-local joint positions)")
-      ->transform(CLI::CheckedTransformer(feature_kinds, CLI::ignore_case));
-  const std::map<std::string, features::DistanceKind> distance_kinds{
-      {"pointcloud", features::DistanceKind::PointCloud},
-      {"geodesic", features::DistanceKind::Geodesic},
-      {"features", features::DistanceKind::Features}};
+      ->transform(CLI::CheckedTransformer(
+          choices(features::all_feature_kinds(), features::feature_kind_name), CLI::ignore_case));
   sub->add_option("--distance", opt.distance,
                   "Pose distance D for mds, isomap, le and lle's neighbours: pointcloud (default), "
                   "geodesic (joint rotation angles) or features (Euclidean on X)")
-      ->transform(CLI::CheckedTransformer(distance_kinds, CLI::ignore_case));
+      ->transform(CLI::CheckedTransformer(
+          choices(features::all_distance_kinds(), features::distance_kind_name), CLI::ignore_case));
   sub->add_option(
       "--exclude", opt.exclude,
       "Regular expression: joints whose name matches are left out, e.g. '.*(Thumb|Finger).*'");

@@ -2,6 +2,7 @@
 // Options shared by the commands that compute a map (map, figure, pose, synth), and the code
 // that turns them into library calls.
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +39,15 @@ struct MapCliOptions {
 /// all six), `pose`/`synth` (where --neighbors is the blend's K and --fps the new motion's frame
 /// rate, so the graph's k is -k only and the AMC input rate --amc-fps).
 enum class MapOptionsFor { Map, Figure, Synthesis };
+
+/// The values of an enum by their library names (embed::method_name, …), for CLI11's
+/// CheckedTransformer: the command line accepts exactly the names the CSV and Studio write.
+template <class E, class Name>
+std::map<std::string, E> choices(const std::vector<E>& values, Name name) {
+  std::map<std::string, E> out;
+  for (E v : values) out[std::string(name(v))] = v;
+  return out;
+}
 
 /// Adds the input files and the feature and method options to `sub`.
 void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use);

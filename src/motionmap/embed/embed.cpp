@@ -7,6 +7,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/names.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
@@ -15,6 +16,15 @@
 namespace motionmap::embed {
 
 namespace {
+
+constexpr EnumName<Method> kMethodNames[] = {
+    {Method::Pca, "pca"},
+    {Method::Svd, "svd"},
+    {Method::Mds, "mds"},
+    {Method::Isomap, "isomap"},
+    {Method::LaplacianEigenmap, "le"},
+    {Method::Lle, "lle"},
+};
 
 struct MethodInfo {
   Method method;
@@ -25,12 +35,13 @@ struct MethodInfo {
 };
 
 constexpr MethodInfo kMethods[] = {
-    {Method::Pca, "pca", true, false, false},
-    {Method::Svd, "svd", true, false, false},
-    {Method::Mds, "mds", false, true, false},
-    {Method::Isomap, "isomap", false, true, true},
-    {Method::LaplacianEigenmap, "le", false, true, true},
-    {Method::Lle, "lle", true, true, true},
+    {Method::Pca, enum_name(kMethodNames, Method::Pca), true, false, false},
+    {Method::Svd, enum_name(kMethodNames, Method::Svd), true, false, false},
+    {Method::Mds, enum_name(kMethodNames, Method::Mds), false, true, false},
+    {Method::Isomap, enum_name(kMethodNames, Method::Isomap), false, true, true},
+    {Method::LaplacianEigenmap, enum_name(kMethodNames, Method::LaplacianEigenmap), false, true,
+     true},
+    {Method::Lle, enum_name(kMethodNames, Method::Lle), true, true, true},
 };
 
 const MethodInfo& info(Method method) {
@@ -170,17 +181,20 @@ std::string_view method_name(Method method) {
 }
 
 std::optional<Method> parse_method(std::string_view name) {
-  for (const MethodInfo& m : kMethods) {
-    if (m.name == name) return m.method;
-  }
-  return std::nullopt;
+  return parse_enum(kMethodNames, name);
 }
 
 const std::vector<Method>& all_methods() {
-  static const std::vector<Method> methods = {
-      Method::Pca, Method::Svd, Method::Mds, Method::Isomap, Method::LaplacianEigenmap,
-      Method::Lle};
+  static const std::vector<Method> methods = enum_values(kMethodNames);
   return methods;
+}
+
+bool reads_distances(Method method) {
+  return info(method).needs_distances;
+}
+
+bool uses_graph(Method method) {
+  return info(method).uses_graph;
 }
 
 void EmbedOptions::validate(int num_frames) const {

@@ -34,6 +34,12 @@ std::optional<Method> parse_method(std::string_view name);
 /// Every method, in the order of the enum (for menus and loops).
 const std::vector<Method>& all_methods();
 
+/// Whether `method` reads the distance matrix D (mds, isomap, le, lle; not pca and svd).
+bool reads_distances(Method method);
+
+/// Whether `method` builds a k-NN graph (isomap, le, lle), so k matters.
+bool uses_graph(Method method);
+
 /// What an embedding needs from its caller. Defaults are the documented ones (docs/methods/).
 struct EmbedOptions {
   Method method = Method::Pca;

@@ -6,25 +6,40 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/names.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/features/diagnostics.h"
 
 namespace motionmap::features {
 
+namespace {
+constexpr EnumName<FeatureKind> kFeatureKinds[] = {{FeatureKind::Quaternions, "quat"},
+                                                   {FeatureKind::Positions, "positions"}};
+constexpr EnumName<DistanceKind> kDistanceKinds[] = {{DistanceKind::PointCloud, "pointcloud"},
+                                                     {DistanceKind::Geodesic, "geodesic"},
+                                                     {DistanceKind::Features, "features"}};
+}  // namespace
+
 std::string_view feature_kind_name(FeatureKind k) {
-  return k == FeatureKind::Quaternions ? "quat" : "positions";
+  return enum_name(kFeatureKinds, k);
+}
+std::optional<FeatureKind> parse_feature_kind(std::string_view name) {
+  return parse_enum(kFeatureKinds, name);
+}
+const std::vector<FeatureKind>& all_feature_kinds() {
+  static const std::vector<FeatureKind> kinds = enum_values(kFeatureKinds);
+  return kinds;
 }
 
 std::string_view distance_kind_name(DistanceKind k) {
-  switch (k) {
-    case DistanceKind::PointCloud:
-      return "pointcloud";
-    case DistanceKind::Geodesic:
-      return "geodesic";
-    case DistanceKind::Features:
-      return "features";
-  }
-  return "?";
+  return enum_name(kDistanceKinds, k);
+}
+std::optional<DistanceKind> parse_distance_kind(std::string_view name) {
+  return parse_enum(kDistanceKinds, name);
+}
+const std::vector<DistanceKind>& all_distance_kinds() {
+  static const std::vector<DistanceKind> kinds = enum_values(kDistanceKinds);
+  return kinds;
 }
 
 void FeatureOptions::validate() const {

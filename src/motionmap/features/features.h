@@ -30,8 +30,19 @@ namespace motionmap::features {
 enum class FeatureKind { Quaternions, Positions };
 enum class DistanceKind { PointCloud, Geodesic, Features };
 
-std::string_view feature_kind_name(FeatureKind k);    ///< "quat" / "positions"
-std::string_view distance_kind_name(DistanceKind k);  ///< "pointcloud" / "geodesic" / "features"
+/// "quat" / "positions".
+std::string_view feature_kind_name(FeatureKind k);
+/// The kind named `name` (as feature_kind_name writes it), or nullopt.
+std::optional<FeatureKind> parse_feature_kind(std::string_view name);
+/// Every feature kind, in the enum's order.
+const std::vector<FeatureKind>& all_feature_kinds();
+
+/// "pointcloud" / "geodesic" / "features".
+std::string_view distance_kind_name(DistanceKind k);
+/// The kind named `name` (as distance_kind_name writes it), or nullopt.
+std::optional<DistanceKind> parse_distance_kind(std::string_view name);
+/// Every distance kind, in the enum's order.
+const std::vector<DistanceKind>& all_distance_kinds();
 
 struct FeatureOptions {
   FeatureKind features = FeatureKind::Quaternions;

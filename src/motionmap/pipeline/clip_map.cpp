@@ -19,9 +19,6 @@ std::string fmt(double v, const char* format = "%.4g") {
   return buf;
 }
 
-bool uses_graph(Method m) {
-  return m == Method::Isomap || m == Method::LaplacianEigenmap || m == Method::Lle;
-}
 }  // namespace
 
 bool needs_distances(Method method) {
@@ -30,7 +27,7 @@ bool needs_distances(Method method) {
 
 ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
                   const Control& control, FeatureCache* cache) {
-  const bool need_d = needs_distances(options.embed.method) || options.metrics;
+  const bool need_d = embed::reads_distances(options.embed.method) || options.metrics;
   // Shares of the overall progress: D is O(F²·P); without it the features are quick.
   const double features_share = need_d ? 0.3 : 0.05;
   const double embed_share = options.metrics ? 1.0 - features_share - 0.2 : 1.0 - features_share;
@@ -76,7 +73,7 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   const features::FeatureOptions& f = options.features;
   std::string s = "method=" + std::string(embed::method_name(e.method)) +
                   " dims=" + std::to_string(e.coordinates.cols());
-  if (uses_graph(e.method)) s += " k=" + std::to_string(e.k_used);
+  if (embed::uses_graph(e.method)) s += " k=" + std::to_string(e.k_used);
   if (e.method == Method::LaplacianEigenmap) {
     s += " heat=" + (e.heat_used > 0 ? fmt(e.heat_used, "%.6g") : std::string("0 (weights 1)"));
     if (!options.embed.heat) s += " (auto)";

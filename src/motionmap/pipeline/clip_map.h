@@ -44,9 +44,6 @@ struct ClipMap {
   std::optional<MapMetrics> metrics;
 };
 
-/// Whether `method` reads the distance matrix D (every method but PCA and SVD).
-bool needs_distances(embed::Method method);
-
 /// Builds the features of `clips` (or takes them from `cache`) and maps them. D is built only
 /// when the method or the metrics read it. `control` hears the stages "features", "pose
 /// distances", the method's own stages and "metrics".

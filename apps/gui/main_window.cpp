@@ -9,18 +9,12 @@
 #include <QCheckBox>
 #include <QCloseEvent>
 #include <QComboBox>
-#include <QDialog>
-#include <QDialogButtonBox>
-#include <QDoubleSpinBox>
 #include <QDragEnterEvent>
-#include <QElapsedTimer>
 #include <QFileDialog>
 #include <QFileInfo>
-#include <QFormLayout>
 #include <QHBoxLayout>
 #include <QKeyEvent>
 #include <QLabel>
-#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
@@ -29,7 +23,6 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSlider>
-#include <QSpinBox>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QVBoxLayout>
@@ -40,6 +33,7 @@
 #include "motionmap/io/load.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/sample/sample_clip.h"
+#include "parameter_dialogs.h"
 #include "skeleton_view.h"
 
 namespace motionmap::studio {
@@ -47,42 +41,8 @@ namespace motionmap::studio {
 namespace {
 constexpr int kMaxRecent = 8;
 constexpr double kNearPixels = 12.0;
-/// Metrics are O(#frames²) on top of the map; beyond this the status bar shows none.
-constexpr int kMaxMetricsFrames = 5000;
-/// Playback ticks at least this often (ms), so a 30 fps clip at 1× still repaints at 60 Hz
-/// when sped up, and frames are chosen by the clock, never by counting ticks.
-constexpr int kMaxTickMs = 16;
 constexpr double kSpeeds[] = {0.25, 0.5, 1.0, 2.0, 4.0};
 }  // namespace
-
-QString methodLabel(embed::Method method) {
-  switch (method) {
-    case embed::Method::Pca:
-      return QStringLiteral("PCA");
-    case embed::Method::Svd:
-      return QStringLiteral("SVD");
-    case embed::Method::Mds:
-      return QStringLiteral("MDS");
-    case embed::Method::Isomap:
-      return QStringLiteral("Isomap");
-    case embed::Method::LaplacianEigenmap:
-      return QStringLiteral("LE");
-    case embed::Method::Lle:
-      return QStringLiteral("LLE");
-  }
-  return {};
-}
-
-pipeline::ClipMapOptions MapParameters::options(embed::Method method) const {
-  pipeline::ClipMapOptions o;
-  o.embed.method = method;
-  o.embed.k = k;
-  o.embed.heat = heat;
-  o.features.features = features;
-  o.features.distance = distance;
-  o.features.exclude = exclude;
-  return o;
-}
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   if (qEnvironmentVariableIntValue("MOTIONMAP_STUDIO_NO_CONFIRM") != 0) m_interactive = false;
@@ -91,19 +51,17 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   if (const auto m =
           embed::parse_method(settings.value("method", "isomap").toString().toStdString()))
     m_method = *m;
-  loadParameters();
+  m_parameters = readMapParameters(settings);
+  m_synthParameters = readSynthParameters(settings);
   buildUi();
+  connectControllers();
   restoreGeometry(settings.value("geometry").toByteArray());
   m_splitter->restoreState(settings.value("splitter").toByteArray());
   setAcceptDrops(true);
-  m_timer.setTimerType(Qt::PreciseTimer);
-  connect(&m_timer, &QTimer::timeout, this, &MainWindow::onTick);
 }
 
-MainWindow::~MainWindow() {
-  stopSynthWorker();
-  stopWorker();
-}
+// The controllers stop their workers as they go.
+MainWindow::~MainWindow() = default;
 
 void MainWindow::buildUi() {
   setWindowTitle(tr("MotionMap Studio"));
@@ -127,7 +85,7 @@ void MainWindow::buildUi() {
   m_speedBox->setCurrentIndex(2);
   m_loopBox = new QCheckBox(tr("Loop"));
   m_loopBox->setFocusPolicy(Qt::NoFocus);
-  m_loopBox->setChecked(m_loop);
+  m_loopBox->setChecked(m_playback.loop());
   auto* transport = new QHBoxLayout;
   transport->addWidget(m_playButton);
   transport->addWidget(m_slider, 1);
@@ -141,12 +99,21 @@ void MainWindow::buildUi() {
   setCentralWidget(central);
   connect(m_playButton, &QPushButton::clicked, this, [this] { isPlaying() ? pause() : play(); });
   connect(m_slider, &QSlider::valueChanged, this, [this](int v) {
-    if (v != m_frame) setFrame(v);
+    if (v != currentFrame()) setFrame(v);
   });
   connect(m_speedBox, &QComboBox::currentIndexChanged, this,
           [this](int i) { setPlaybackSpeed(m_speedBox->itemData(i).toDouble()); });
   connect(m_loopBox, &QCheckBox::toggled, this, &MainWindow::setLoop);
 
+  buildMenus();
+  buildStatusBar();
+  connect(m_mapView, &MapView::hovered, this, &MainWindow::onHover);
+  connect(m_mapView, &MapView::clicked, this, &MainWindow::onClick);
+  connect(m_mapView, &MapView::dragged, this, &MainWindow::onDrag);
+  connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
+}
+
+void MainWindow::buildMenus() {
   QMenu* file = menuBar()->addMenu(tr("&File"));
   file->addAction(tr("&Open…"), QKeySequence::Open, this, &MainWindow::openDialog);
   file->addAction(tr("Open &sample golf swing"), this, [this] {
@@ -199,7 +166,9 @@ void MainWindow::buildUi() {
       tr("Green where a dragged or sketched point is within the blender's reach of the data; "
          "outside, the blend is taken at the data's edge"));
   connect(shading, &QAction::toggled, m_mapView, &MapView::setShadingVisible);
+}
 
+void MainWindow::buildStatusBar() {
   m_status = new QLabel(tr("No clip"));
   m_progress = new QProgressBar;
   m_progress->setRange(0, 1000);
@@ -221,11 +190,46 @@ void MainWindow::buildUi() {
   statusBar()->addPermanentWidget(m_cancelButton);
   statusBar()->addPermanentWidget(m_synthProgress);
   statusBar()->addPermanentWidget(m_synthCancelButton);
+}
 
-  connect(m_mapView, &MapView::hovered, this, &MainWindow::onHover);
-  connect(m_mapView, &MapView::clicked, this, &MainWindow::onClick);
-  connect(m_mapView, &MapView::dragged, this, &MainWindow::onDrag);
-  connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
+void MainWindow::connectControllers() {
+  connect(&m_playback, &Playback::frameChanged, this, &MainWindow::showFrame);
+  connect(&m_playback, &Playback::playingChanged, this,
+          [this](bool playing) { m_playButton->setText(playing ? tr("Pause") : tr("Play")); });
+
+  connect(&m_maps, &MapController::started, this, &MainWindow::onMapStarted);
+  connect(&m_maps, &MapController::progress, this, [this](double fraction, const QString& stage) {
+    m_progress->setValue(int(fraction * 1000));
+    m_progress->setFormat(stage + " %p%");
+    emit progressChanged(fraction);
+  });
+  connect(&m_maps, &MapController::stopped, this, [this] {
+    m_progress->hide();
+    m_cancelButton->hide();
+  });
+  connect(&m_maps, &MapController::finished, this, &MainWindow::onMapFinished);
+  connect(&m_maps, &MapController::failed, this, &MainWindow::onMapFailed);
+  connect(&m_maps, &MapController::cancelled, this, &MainWindow::onMapCancelled);
+
+  connect(&m_synthesis, &SynthesisController::progress, this, [this](double fraction) {
+    m_synthProgress->setValue(int(fraction * 1000));
+    emit synthesisProgress(fraction);
+  });
+  connect(&m_synthesis, &SynthesisController::stopped, this, [this] {
+    m_synthProgress->hide();
+    m_synthCancelButton->hide();
+  });
+  connect(&m_synthesis, &SynthesisController::finished, this, &MainWindow::onSynthesized);
+  connect(&m_synthesis, &SynthesisController::failed, this, [this](const QString& error) {
+    updateStatus();
+    showError(error);
+    emit synthesisFinished(false);
+  });
+  connect(&m_synthesis, &SynthesisController::cancelled, this, [this] {
+    updateStatus();
+    m_status->setText(tr("Synthesis cancelled"));
+    emit synthesisFinished(false);
+  });
 }
 
 bool MainWindow::openFile(const QString& path) {
@@ -243,21 +247,18 @@ bool MainWindow::openFile(const QString& path) {
 }
 
 void MainWindow::openClip(Clip clip) {
-  stopSynthWorker();
-  stopWorker();
+  m_synthesis.stop();
+  m_synthesis.clear();
   pause();
-  m_synth.reset();
-  m_synthMap.reset();
   m_unsaved = false;
   m_playingSynth = false;
   m_exportAction->setEnabled(false);
   auto clips = std::make_shared<std::vector<Clip>>();
   clips->push_back(std::move(clip));
-  m_clips = std::move(clips);
+  m_maps.setClips(std::move(clips));
   m_clipIndex = 0;
-  m_frame = 0;
   m_skeletonView->setSkeleton(this->clip()->skeleton);
-  clipsChanged();
+  clipsChanged(0);
 }
 
 bool MainWindow::addFile(const QString& path) {
@@ -273,80 +274,58 @@ bool MainWindow::addFile(const QString& path) {
 }
 
 bool MainWindow::addClip(Clip clip) {
-  if (!m_clips) {
+  const auto& open = m_maps.clips();
+  if (!open) {
     showError(tr("Open a clip first: added clips join its map"));
     return false;
   }
-  if (!clip.skeleton.same_hierarchy(m_clips->front().skeleton)) {
+  if (!clip.skeleton.same_hierarchy(open->front().skeleton)) {
     showError(
         tr("%1 has another skeleton than %2 (joint names or parents differ): it cannot join the "
            "map")
-            .arg(QString::fromStdString(clip.path), QString::fromStdString(m_clips->front().path)));
+            .arg(QString::fromStdString(clip.path), QString::fromStdString(open->front().path)));
     return false;
   }
   // A new set: the worker may still read the old one, so it is copied, never changed in place.
-  stopWorker();
-  auto clips = std::make_shared<std::vector<Clip>>(*m_clips);
+  auto clips = std::make_shared<std::vector<Clip>>(*open);
   clips->push_back(std::move(clip));
-  m_clips = std::move(clips);
-  clipsChanged();
+  m_maps.setClips(std::move(clips));
+  clipsChanged(currentFrame());
   return true;
 }
 
-void MainWindow::clipsChanged() {
-  m_maps.clear();  // maps (and blenders) belong to one set of clips
-  m_featureCache = std::make_shared<pipeline::FeatureCache>();
-  QString title = QFileInfo(QString::fromStdString(m_clips->front().path)).fileName();
-  if (m_clips->size() > 1) title += tr(" + %n more", nullptr, int(m_clips->size()) - 1);
+void MainWindow::clipsChanged(int frame) {
+  const std::vector<Clip>& clips = *m_maps.clips();
+  QString title = QFileInfo(QString::fromStdString(clips.front().path)).fileName();
+  if (clips.size() > 1) title += tr(" + %n more", nullptr, int(clips.size()) - 1);
   setWindowTitle(tr("MotionMap Studio — %1").arg(title));
-  if (!m_playingSynth) setCurrentClip(m_clipIndex, m_frame);
+  if (!m_playingSynth) setCurrentClip(m_clipIndex, frame);
   m_mapView->clearMap(tr("Computing the map…"));
   setMethod(m_method);
 }
 
 void MainWindow::setCurrentClip(int index, int frame) {
-  if (!m_clips || index < 0 || index >= clipCount()) return;
+  if (!m_maps.clips() || index < 0 || index >= clipCount()) return;
   if (index != m_clipIndex) {
     m_clipIndex = index;
     m_skeletonView->setSkeleton(clip()->skeleton, /*keepCamera=*/true);  // its own bone lengths
   }
   m_playingSynth = false;
-  m_slider->setRange(0, std::max(0, clip()->motion.num_frames - 1));
+  updateMotion();
   m_slider->setEnabled(clip()->motion.num_frames > 0);
   setFrame(frame);
   updateStatus();
-}
-
-std::string MainWindow::cacheKey(embed::Method method) const {
-  // Appends only: g++ 12 warns (-Wrestrict, a false positive) on "literal" + std::string&&.
-  std::string key(embed::method_name(method));
-  key.append("|k=").append(std::to_string(m_parameters.k));
-  key.append("|heat=").append(
-      m_parameters.heat ? QString::number(*m_parameters.heat, 'g', 17).toStdString() : "auto");
-  key.append("|").append(features::feature_kind_name(m_parameters.features));
-  key.append("|").append(features::distance_kind_name(m_parameters.distance));
-  key.append("|exclude=").append(m_parameters.exclude);
-  // The blender is part of a cached map.
-  const synth::BlendOptions& blend = m_synthParameters.blend;
-  key.append("|blend=").append(synth::blend_mode_name(blend.mode));
-  key.append(",").append(std::to_string(blend.neighbors));
-  key.append(",").append(QString::number(blend.reach, 'g', 17).toStdString());
-  return key;
 }
 
 void MainWindow::setMethod(embed::Method method) {
   m_method = method;
   for (QAction* a : m_methodGroup->actions()) a->setChecked(a->data().toInt() == int(method));
   QSettings().setValue("method", QString::fromUtf8(embed::method_name(method).data()));
-  if (!m_clips) return;
-  if (m_maps.count(cacheKey(method))) {
-    if (isComputing()) stopWorker();
+  if (m_maps.request(method, m_parameters, m_synthParameters.blend)) {  // cached
     saveParameters();
     showMap();
     emit mapReady(method);
-    return;
   }
-  startComputation(method);
 }
 
 void MainWindow::setParameters(const MapParameters& parameters) {
@@ -365,9 +344,10 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
     showError(QString::fromStdString(e.what()));
     return false;
   }
-  const std::string before = cacheKey(m_method);
+  const bool newBlend = MapController::cacheKey(m_method, m_parameters, parameters.blend) !=
+                        MapController::cacheKey(m_method, m_parameters, m_synthParameters.blend);
   m_synthParameters = parameters;
-  if (cacheKey(m_method) != before) {
+  if (newBlend) {
     setMethod(m_method);  // a blender with the new options: computed, or from the cache
   } else {
     saveParameters();
@@ -375,137 +355,41 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
   return true;
 }
 
-const MapResult* MainWindow::currentMap() const {
-  if (isComputing()) return nullptr;
-  const auto it = m_maps.find(cacheKey(m_method));
-  return it == m_maps.end() ? nullptr : it->second.get();
-}
-
-void MainWindow::startComputation(embed::Method method) {
-  stopWorker();
+void MainWindow::onMapStarted(embed::Method method) {
   m_mapView->clearMap(tr("Computing the %1 map…").arg(methodLabel(method)));
   m_progress->setValue(0);
   m_progress->show();
   m_cancelButton->show();
   m_exportMapAction->setEnabled(false);
   updateStatus();
-  std::shared_ptr<const std::vector<Clip>> clips = m_clips;
-  const pipeline::ClipMapOptions base = m_parameters.options(method);
-  synth::BlendOptions blend = m_synthParameters.blend;
-  blend.up = base.features.up;
-  const std::string key = cacheKey(method);
-  std::shared_ptr<pipeline::FeatureCache> cache = m_featureCache;
-  m_mapJob.start([this, clips, cache, method, base, blend,
-                  key](const BackgroundJob::Ticket& ticket) {
-    const int generation = ticket.generation;
-    auto result = std::make_shared<MapResult>();
-    QString error;
-    bool cancelled = false;
-    try {
-      pipeline::ClipMapOptions options = base;
-      int frames = 0;
-      for (const Clip& c : *clips) frames += c.motion.num_frames;
-      options.metrics = frames <= kMaxMetricsFrames;
-      // Callbacks run on this thread: hand progress to the GUI thread, read cancel atomically.
-      const Control control(
-          [this, generation](double fraction, std::string_view stage) {
-            const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
-            QMetaObject::invokeMethod(
-                this,
-                [this, generation, fraction, text] {
-                  if (!m_mapJob.current(generation)) return;
-                  m_progress->setValue(int(fraction * 1000));
-                  m_progress->setFormat(text + " %p%");
-                  emit progressChanged(fraction);
-                },
-                Qt::QueuedConnection);
-          },
-          [ticket] { return ticket.cancelled(); });
-      QElapsedTimer clock;
-      clock.start();
-      result->map = pipeline::map_clips(*clips, options, control, cache.get());
-      if (ticket.cancelled()) throw Cancelled();
-      result->parameters = pipeline::describe_parameters(result->map.embedding, options);
-      // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system at
-      // once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it behind.
-      const std::shared_ptr<const MapResult> computed = result;
-      result->blender =
-          runUninterruptible<std::unique_ptr<synth::MapBlender>>(ticket, [clips, computed, blend] {
-            return std::make_unique<synth::MapBlender>(*clips, *computed->map.features,
-                                                       computed->map.embedding.coordinates, blend);
-          });
-      result->seconds = double(clock.nsecsElapsed()) * 1e-9;
-      result->options = options;
-      // Frames left out of the map (a bind pose) show the row of the nearest earlier frame of
-      // their clip (or its first row).
-      const features::FeatureSet& set = *result->map.features;
-      result->rowOfFrame.resize(clips->size());
-      for (std::size_t c = 0; c < clips->size(); ++c) {
-        const int first = set.segment_starts[c];
-        const int end =
-            c + 1 < set.segment_starts.size() ? set.segment_starts[c + 1] : set.num_samples();
-        std::vector<int>& rows = result->rowOfFrame[c];
-        rows.assign(std::size_t(std::max(0, (*clips)[c].motion.num_frames)), first);
-        int row = first;
-        for (int f = 0; f < int(rows.size()); ++f) {
-          while (row + 1 < end && set.frame_of[std::size_t(row + 1)] <= f) ++row;
-          rows[std::size_t(f)] = row;
-        }
-      }
-    } catch (const Cancelled&) {
-      cancelled = true;
-    } catch (const std::exception& e) {
-      error = QString::fromStdString(e.what());
-    }
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, method, key, result, error, cancelled] {
-          onComputed(generation, method, key, result, error, cancelled);
-        },
-        Qt::QueuedConnection);
-  });
 }
 
-void MainWindow::stopWorker() {
-  if (!m_mapJob.stop()) return;  // results still queued from it are ignored from now on
-  m_progress->hide();
-  m_cancelButton->hide();
+void MainWindow::onMapFinished(std::shared_ptr<const MapResult> result) {
+  saveParameters();  // the parameters of a map computed without error are the next session's
+  showMap();
+  emit computationFinished(true);
+  emit mapReady(result->options.embed.method);
 }
 
-void MainWindow::cancelComputation() {
-  if (!isComputing()) return;
-  stopWorker();
-  m_mapView->clearMap(tr("Cancelled. Choose a method in the Motion menu to compute the map."));
-  m_status->setText(tr("Computation cancelled"));
+void MainWindow::onMapFailed(const QString& message) {
+  m_mapView->clearMap(tr("The map could not be computed"));
+  showError(message);
+  updateStatus();
   emit computationFinished(false);
 }
 
-void MainWindow::onComputed(int generation, embed::Method method, std::string key,
-                            std::shared_ptr<MapResult> result, QString error, bool cancelled) {
-  if (!m_mapJob.current(generation)) return;
-  m_mapJob.finish();
-  m_progress->hide();
-  m_cancelButton->hide();
-  if (cancelled || !error.isEmpty()) {
-    m_mapView->clearMap(cancelled ? tr("Cancelled") : tr("The map could not be computed"));
-    if (!error.isEmpty()) showError(error);
-    updateStatus();
-    emit computationFinished(false);
-    return;
-  }
-  m_maps[key] = std::move(result);
-  if (key == cacheKey(m_method)) saveParameters();
-  if (method == m_method) showMap();
-  emit computationFinished(true);
-  emit mapReady(method);
+void MainWindow::onMapCancelled() {
+  m_mapView->clearMap(tr("Cancelled. Choose a method in the Motion menu to compute the map."));
+  m_status->setText(tr("Computation cancelled"));
+  emit computationFinished(false);
 }
 
 render::MapPlotOptions MainWindow::plotOptions(const MapResult& map) const {
   render::MapPlotOptions options;
   options.title = methodLabel(map.map.embedding.method);
   options.time_legend = true;
-  if (m_clips && m_clips->size() > 1) {  // several clips: colour by clip, named in the legend
-    for (const Clip& clip : *m_clips)
+  if (clipCount() > 1) {  // several clips: colour by clip, named in the legend
+    for (const Clip& clip : *m_maps.clips())
       options.clip_names << QFileInfo(QString::fromStdString(clip.path)).fileName();
   }
   // What the library wants the user to know (a bind pose left out, a joined graph) under the map.
@@ -529,7 +413,7 @@ void MainWindow::showMap() {
 }
 
 void MainWindow::updateStatus() {
-  if (!m_clips) return;
+  if (!m_maps.clips()) return;
   QStringList parts;
   if (clipCount() > 1) parts << tr("clip %1 of %2").arg(m_clipIndex + 1).arg(clipCount());
   parts << tr("%1 frames").arg(clip()->motion.num_frames)
@@ -543,10 +427,10 @@ void MainWindow::updateStatus() {
   } else if (isComputing()) {
     parts << tr("computing %1…").arg(methodLabel(m_method));
   }
-  if (m_playingSynth && m_synth) {
+  if (m_playingSynth && synthesized()) {
     parts << tr("synthesized: %1 frames, %2 outside the data")
-                 .arg(m_synth->motion.num_frames)
-                 .arg(m_synth->clamped_frames);
+                 .arg(synthesized()->motion.num_frames)
+                 .arg(synthesized()->clamped_frames);
   }
   if (isSynthesizing()) parts << tr("synthesizing…");
   m_status->setText(parts.join(QStringLiteral(" · ")));
@@ -567,101 +451,67 @@ bool MainWindow::confirmDiscard() {
   return QMessageBox::question(
              this, tr("MotionMap Studio"),
              tr("The synthesized motion (%1 frames) has not been exported. Discard it?")
-                 .arg(m_synth->motion.num_frames)) == QMessageBox::Yes;
+                 .arg(synthesized()->motion.num_frames)) == QMessageBox::Yes;
 }
 
 const Motion* MainWindow::playingMotion() const {
-  if (m_playingSynth && m_synth) return &m_synth->motion;
-  return m_clips ? &clip()->motion : nullptr;
+  if (m_playingSynth && synthesized()) return &synthesized()->motion;
+  return clip() ? &clip()->motion : nullptr;
+}
+
+void MainWindow::updateMotion() {
+  const Motion* motion = playingMotion();
+  const int frames = motion ? motion->num_frames : 0;
+  m_playback.setMotion(frames, motion ? motion->frame_time : 0.0);
+  m_slider->setRange(0, std::max(0, frames - 1));
 }
 
 void MainWindow::showFrame(int frame) {
   const Motion* motion = playingMotion();
-  if (!motion || motion->num_frames <= 0) return;
-  m_frame = std::clamp(frame, 0, motion->num_frames - 1);
-  m_skeletonView->setPose(*motion, m_frame);
-  if (m_slider->value() != m_frame) {
+  if (!motion) return;
+  m_skeletonView->setPose(*motion, frame);
+  if (m_slider->value() != frame) {
     const QSignalBlocker block(m_slider);
-    m_slider->setValue(m_frame);
+    m_slider->setValue(frame);
   }
   updatePointer();
-  emit frameChanged(m_frame);
-}
-
-void MainWindow::setFrame(int frame) {
-  showFrame(frame);
-  // A jump while playing goes on from there.
-  m_playStartFrame = m_frame;
-  m_playClock.start();
+  emit frameChanged(frame);
 }
 
 void MainWindow::updatePointer() {
   const MapResult* map = currentMap();
   if (!map) return m_mapView->setPointer(std::nullopt);
-  if (m_playingSynth && m_synth) {
+  const int frame = currentFrame();
+  if (m_playingSynth && synthesized()) {
     // Its map points belong to the map it was sketched on.
-    const bool sameMap = m_synthMap.get() == map && m_frame < int(m_synth->validity.size());
-    m_mapView->setPointer(sameMap ? std::optional(m_synth->validity[std::size_t(m_frame)].point)
+    const auto& validity = synthesized()->validity;
+    const bool sameMap = m_synthesis.resultMap().get() == map && frame < int(validity.size());
+    m_mapView->setPointer(sameMap ? std::optional(validity[std::size_t(frame)].point)
                                   : std::nullopt);
     return;
   }
   if (m_clipIndex < int(map->rowOfFrame.size()) &&
-      m_frame < int(map->rowOfFrame[std::size_t(m_clipIndex)].size())) {
-    m_mapView->setPointer(map->blender->sample_point(
-        map->rowOfFrame[std::size_t(m_clipIndex)][std::size_t(m_frame)]));
+      frame < int(map->rowOfFrame[std::size_t(m_clipIndex)].size())) {
+    m_mapView->setPointer(
+        map->blender->sample_point(map->rowOfFrame[std::size_t(m_clipIndex)][std::size_t(frame)]));
   }
 }
 
-void MainWindow::play() {
-  const Motion* motion = playingMotion();
-  if (!motion || motion->num_frames < 2) return;
-  if (!m_loop && m_frame >= motion->num_frames - 1) showFrame(0);  // play again from the start
-  m_playStartFrame = m_frame;
-  m_playClock.start();
-  m_timer.setInterval(
-      std::clamp(int(std::lround(motion->frame_time * 1000.0 / m_speed)), 1, kMaxTickMs));
-  m_timer.start();
-  m_playButton->setText(tr("Pause"));
-}
-
-void MainWindow::pause() {
-  m_timer.stop();
-  m_playButton->setText(tr("Play"));
-}
-
 void MainWindow::setPlaybackSpeed(double speed) {
-  m_speed = std::clamp(std::isfinite(speed) ? speed : 1.0, 0.05, 8.0);
+  m_playback.setSpeed(speed);
   for (int i = 0; i < m_speedBox->count(); ++i) {
-    if (m_speedBox->itemData(i).toDouble() == m_speed && m_speedBox->currentIndex() != i) {
+    if (m_speedBox->itemData(i).toDouble() == playbackSpeed() && m_speedBox->currentIndex() != i) {
       const QSignalBlocker block(m_speedBox);
       m_speedBox->setCurrentIndex(i);
     }
   }
-  if (isPlaying()) play();  // re-anchors the clock at the current frame
 }
 
 void MainWindow::setLoop(bool loop) {
-  m_loop = loop;
+  m_playback.setLoop(loop);
   if (m_loopBox->isChecked() != loop) {
     const QSignalBlocker block(m_loopBox);
     m_loopBox->setChecked(loop);
-  }
-}
-
-void MainWindow::onTick() {
-  const Motion* motion = playingMotion();
-  if (!motion || motion->num_frames == 0) return pause();
-  // The frame is the clock's, so playback keeps the clip's rate whatever the tick rate.
-  const double elapsed = double(m_playClock.nsecsElapsed()) * 1e-9;
-  const long long target =
-      m_playStartFrame + (long long)std::floor(elapsed * m_speed / motion->frame_time);
-  if (target < motion->num_frames) {
-    if (target != m_frame) showFrame(int(target));
-  } else if (m_loop) {
-    showFrame(int(target % motion->num_frames));
-  } else {
-    showFrame(motion->num_frames - 1);
-    pause();
   }
 }
 
@@ -713,88 +563,24 @@ void MainWindow::onDrag(const Eigen::Vector2d& point) {
 }
 
 bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
-  const auto it = m_maps.find(cacheKey(m_method));
-  if (isComputing() || it == m_maps.end() || !confirmDiscard()) return false;
-  stopSynthWorker();  // a newer sketch replaces one still being synthesized
-  std::shared_ptr<const MapResult> map = it->second;
+  std::shared_ptr<const MapResult> map = m_maps.current();
+  if (!map || !confirmDiscard()) return false;
+  // A newer sketch replaces one still being synthesized.
+  if (!m_synthesis.start(std::move(map), path, m_synthParameters)) return false;
   m_synthProgress->setValue(0);
   m_synthProgress->show();
   m_synthCancelButton->show();
-  const synth::SynthOptions options = m_synthParameters.motion;
-  synth::MapPath followed = path;
-  if (!m_synthParameters.timedAsDrawn) followed.times.clear();
-  m_synthJob.start(
-      [this, map, path = std::move(followed), options](const BackgroundJob::Ticket& ticket) {
-        const int generation = ticket.generation;
-        auto result = std::make_shared<synth::SynthResult>();
-        QString error;
-        bool cancelled = false;
-        try {
-          const Control control(
-              [this, generation](double fraction, std::string_view) {
-                QMetaObject::invokeMethod(
-                    this,
-                    [this, generation, fraction] {
-                      if (!m_synthJob.current(generation)) return;
-                      m_synthProgress->setValue(int(fraction * 1000));
-                      emit synthesisProgress(fraction);
-                    },
-                    Qt::QueuedConnection);
-              },
-              [ticket] { return ticket.cancelled(); });
-          *result = synth::synthesize(*map->blender, path, options, control);
-          if (ticket.cancelled()) throw Cancelled();
-        } catch (const Cancelled&) {
-          cancelled = true;
-        } catch (const std::exception& e) {
-          error = QString::fromStdString(e.what());
-        }
-        QMetaObject::invokeMethod(
-            this,
-            [this, generation, map, result, error, cancelled] {
-              onSynthesized(generation, map, result, error, cancelled);
-            },
-            Qt::QueuedConnection);
-      });
   updateStatus();
   return true;
 }
 
-void MainWindow::stopSynthWorker() {
-  if (!m_synthJob.stop()) return;  // a result still queued from it is ignored from now on
-  m_synthProgress->hide();
-  m_synthCancelButton->hide();
-}
-
-void MainWindow::cancelSynthesis() {
-  if (!isSynthesizing()) return;
-  stopSynthWorker();
-  updateStatus();
-  m_status->setText(tr("Synthesis cancelled"));
-  emit synthesisFinished(false);
-}
-
-void MainWindow::onSynthesized(int generation, std::shared_ptr<const MapResult> map,
-                               std::shared_ptr<synth::SynthResult> result, QString error,
-                               bool cancelled) {
-  if (!m_synthJob.current(generation)) return;
-  m_synthJob.finish();
-  m_synthProgress->hide();
-  m_synthCancelButton->hide();
-  if (cancelled || !error.isEmpty()) {
-    updateStatus();
-    if (!error.isEmpty()) showError(error);
-    emit synthesisFinished(false);
-    return;
-  }
+void MainWindow::onSynthesized() {
   // The user agreed to replace an unexported motion when the sketch ended (synthesizeAlong).
   pause();
-  m_synth = std::move(*result);
-  m_synthMap = std::move(map);
   m_unsaved = true;
   m_playingSynth = true;
   m_exportAction->setEnabled(true);
-  m_slider->setRange(0, std::max(0, m_synth->motion.num_frames - 1));
+  updateMotion();
   setFrame(0);
   updateStatus();
   emit motionSynthesized();
@@ -803,9 +589,10 @@ void MainWindow::onSynthesized(int generation, std::shared_ptr<const MapResult> 
 }
 
 bool MainWindow::exportMotion(const QString& path) {
-  if (!m_synth || !m_synthMap) return false;
+  const std::shared_ptr<const MapResult>& map = m_synthesis.resultMap();
+  if (!synthesized() || !map) return false;
   try {
-    io::write_bvh(io::from_motion(m_synthMap->blender->skeleton(), m_synth->motion),
+    io::write_bvh(io::from_motion(map->blender->skeleton(), synthesized()->motion),
                   path.toStdString());
     m_unsaved = false;
     m_status->setText(tr("Wrote %1").arg(path));
@@ -818,13 +605,13 @@ bool MainWindow::exportMotion(const QString& path) {
 
 bool MainWindow::exportMap(const QString& path) {
   const MapResult* map = currentMap();
-  if (!map || !m_clips) return false;
+  if (!map || !m_maps.clips()) return false;
   try {
     if (QFileInfo(path).suffix().compare("csv", Qt::CaseInsensitive) == 0) {
       std::ofstream out(path.toStdString());
       if (!out) throw Error("cannot write " + path.toStdString());
       std::vector<std::string> files;
-      for (const Clip& c : *m_clips)
+      for (const Clip& c : *m_maps.clips())
         files.push_back(QFileInfo(QString::fromStdString(c.path)).fileName().toStdString());
       pipeline::write_map_csv(out, map->map, map->options, files);
       if (!out.flush()) throw Error("cannot write " + path.toStdString());
@@ -871,189 +658,19 @@ void MainWindow::exportMapDialog() {
 }
 
 void MainWindow::parametersDialog() {
-  QDialog dialog(this);
-  dialog.setWindowTitle(tr("Map parameters"));
-  auto* form = new QFormLayout(&dialog);
-  auto* k = new QSpinBox;
-  k->setRange(1, 1000);
-  k->setValue(m_parameters.k);
-  form->addRow(tr("Neighbours k (Isomap, LE, LLE)"), k);
-  auto* heat =
-      new QLineEdit(m_parameters.heat ? QString::number(*m_parameters.heat, 'g', 17) : QString());
-  heat->setPlaceholderText(tr("auto"));
-  form->addRow(tr("Heat t (LE; ≤ 0: unit weights)"), heat);
-  auto* featureBox = new QComboBox;
-  for (auto f : {features::FeatureKind::Quaternions, features::FeatureKind::Positions}) {
-    featureBox->addItem(QString::fromUtf8(features::feature_kind_name(f).data()), int(f));
-  }
-  featureBox->setCurrentIndex(featureBox->findData(int(m_parameters.features)));
-  form->addRow(tr("Features (PCA, SVD, LLE)"), featureBox);
-  auto* distanceBox = new QComboBox;
-  for (auto d : {features::DistanceKind::PointCloud, features::DistanceKind::Geodesic,
-                 features::DistanceKind::Features}) {
-    distanceBox->addItem(QString::fromUtf8(features::distance_kind_name(d).data()), int(d));
-  }
-  distanceBox->setCurrentIndex(distanceBox->findData(int(m_parameters.distance)));
-  form->addRow(tr("Distance (MDS, Isomap, LE)"), distanceBox);
-  auto* exclude = new QLineEdit(QString::fromStdString(m_parameters.exclude));
-  exclude->setPlaceholderText(tr("e.g. .*(Thumb|Finger).*"));
-  form->addRow(tr("Excluded joints (regex)"), exclude);
-  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
-  form->addRow(buttons);
-  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
-  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
-  if (dialog.exec() != QDialog::Accepted) return;
-  MapParameters p;
-  p.k = k->value();
-  const QString heatText = heat->text().trimmed();
-  if (!heatText.isEmpty() && heatText.compare("auto", Qt::CaseInsensitive) != 0) {
-    bool ok = false;
-    const double value = heatText.toDouble(&ok);
-    if (!ok || !std::isfinite(value))
-      return showError(tr("heat: '%1' is not a number (leave it empty for auto)").arg(heatText));
-    p.heat = value;
-  }
-  p.features = features::FeatureKind(featureBox->currentData().toInt());
-  p.distance = features::DistanceKind(distanceBox->currentData().toInt());
-  p.exclude = exclude->text().toStdString();
-  setParameters(p);  // the library validates: a bad value comes back as its error message
+  QString error;
+  // The library validates: a bad value comes back as its error message.
+  if (const auto p = editMapParameters(this, m_parameters, error)) return setParameters(*p);
+  if (!error.isEmpty()) showError(error);
 }
 
 void MainWindow::synthesisDialog() {
-  QDialog dialog(this);
-  dialog.setWindowTitle(tr("Synthesis"));
-  auto* form = new QFormLayout(&dialog);
-  const SynthParameters& now = m_synthParameters;
-  auto* mode = new QComboBox;
-  for (auto m : {synth::BlendMode::Local, synth::BlendMode::Kriging, synth::BlendMode::Idw}) {
-    mode->addItem(QString::fromUtf8(synth::blend_mode_name(m).data()), int(m));
-  }
-  mode->setCurrentIndex(mode->findData(int(now.blend.mode)));
-  mode->setToolTip(
-      tr("local: kriging on the K map-nearest samples (default); kriging: the reference system's "
-         "rule over all samples (its set-up grows as N³: seconds at a few thousand frames, about "
-         "half a minute at 10 000); idw: inverse-distance weights on the K nearest"));
-  form->addRow(tr("Blend"), mode);
-  auto* neighbors = new QSpinBox;
-  neighbors->setRange(1, 10000);
-  neighbors->setValue(now.blend.neighbors);
-  form->addRow(tr("Neighbours K (local, idw)"), neighbors);
-  auto* reach = new QDoubleSpinBox;
-  reach->setRange(0.01, 1000.0);
-  reach->setDecimals(2);
-  reach->setValue(now.blend.reach);
-  reach->setToolTip(
-      tr("A point farther from every sample than reach × the median step between "
-         "consecutive samples is moved to the data's edge"));
-  form->addRow(tr("Reach (× median step)"), reach);
-  auto* timing = new QComboBox;
-  timing->addItem(tr("as drawn"), true);
-  timing->addItem(tr("at a steady speed"), false);
-  timing->setCurrentIndex(timing->findData(now.timedAsDrawn));
-  form->addRow(tr("Sketch timing"), timing);
-  auto* speed = new QDoubleSpinBox;
-  speed->setRange(0.0, 1e9);
-  speed->setDecimals(4);
-  speed->setSpecialValueText(tr("the clip's"));
-  speed->setValue(now.motion.speed);
-  speed->setToolTip(
-      tr("Map units per second along a sketch at a steady speed; the clip's own "
-         "median speed at 0"));
-  form->addRow(tr("Steady speed"), speed);
-  const auto enableSpeed = [timing, speed] { speed->setEnabled(!timing->currentData().toBool()); };
-  enableSpeed();
-  connect(timing, &QComboBox::currentIndexChanged, speed, enableSpeed);
-  auto* fps = new QDoubleSpinBox;
-  fps->setRange(0.0, 1000.0);
-  fps->setDecimals(2);
-  fps->setSpecialValueText(tr("the clip's"));
-  fps->setValue(now.motion.fps);
-  form->addRow(tr("Frames per second of the motion"), fps);
-  auto* smooth = new QDoubleSpinBox;
-  smooth->setRange(0.0, synth::kMaxSmoothSeconds);
-  smooth->setDecimals(3);
-  smooth->setSuffix(tr(" s"));
-  smooth->setSpecialValueText(tr("none"));
-  smooth->setValue(now.motion.smooth);
-  smooth->setToolTip(tr("σ of a Gaussian smoothing of the blend weights over time"));
-  form->addRow(tr("Smoothing"), smooth);
-  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
-  form->addRow(buttons);
-  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
-  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
-  if (dialog.exec() != QDialog::Accepted) return;
-  SynthParameters p = now;
-  p.blend.mode = synth::BlendMode(mode->currentData().toInt());
-  p.blend.neighbors = neighbors->value();
-  p.blend.reach = reach->value();
-  p.timedAsDrawn = timing->currentData().toBool();
-  p.motion.speed = speed->value();
-  p.motion.fps = fps->value();
-  p.motion.smooth = smooth->value();
-  setSynthParameters(p);
-}
-
-void MainWindow::loadParameters() {
-  // A value from an older version or edited by hand that the library would reject is dropped
-  // (its default stays) rather than breaking every map of the session.
-  const QSettings settings;
-  const auto number = [&](const char* key, auto& value, auto valid) {
-    bool ok = false;
-    const double v = settings.value(key).toDouble(&ok);
-    if (ok && std::isfinite(v) && valid(v))
-      value = static_cast<std::remove_reference_t<decltype(value)>>(v);
-  };
-  const auto count = [](double v) { return v >= 1 && v <= 1e6 && v == std::floor(v); };
-  MapParameters& m = m_parameters;
-  number("map/k", m.k, count);
-  const QString heat = settings.value("map/heat").toString();
-  bool heatOk = false;
-  const double heatValue = heat.toDouble(&heatOk);
-  if (heatOk && std::isfinite(heatValue)) m.heat = heatValue;
-  const auto name = [&](const char* key) { return settings.value(key).toString().toStdString(); };
-  for (auto f : {features::FeatureKind::Quaternions, features::FeatureKind::Positions}) {
-    if (name("map/features") == features::feature_kind_name(f)) m.features = f;
-  }
-  for (auto d : {features::DistanceKind::PointCloud, features::DistanceKind::Geodesic,
-                 features::DistanceKind::Features}) {
-    if (name("map/distance") == features::distance_kind_name(d)) m.distance = d;
-  }
-  m.exclude = name("map/exclude");
-  SynthParameters& s = m_synthParameters;
-  if (const auto b = synth::parse_blend_mode(name("synth/blend"))) s.blend.mode = *b;
-  number("synth/neighbors", s.blend.neighbors, count);
-  number("synth/reach", s.blend.reach, [](double v) { return v > 0; });
-  synth::SynthOptions motion = s.motion;
-  s.timedAsDrawn = settings.value("synth/timedAsDrawn", true).toBool();
-  number("synth/speed", motion.speed, [](double v) { return v >= 0; });
-  number("synth/fps", motion.fps, [](double v) { return v >= 0; });
-  number("synth/smooth", motion.smooth, [](double v) { return v >= 0; });
-  try {
-    motion.validate();
-    s.motion = motion;
-  } catch (const std::exception&) {
-  }
+  if (const auto p = editSynthParameters(this, m_synthParameters)) setSynthParameters(*p);
 }
 
 void MainWindow::saveParameters() const {
   QSettings settings;
-  const MapParameters& m = m_parameters;
-  settings.setValue("map/k", m.k);
-  settings.setValue("map/heat",
-                    m.heat ? QString::number(*m.heat, 'g', 17) : QStringLiteral("auto"));
-  settings.setValue("map/features",
-                    QString::fromUtf8(features::feature_kind_name(m.features).data()));
-  settings.setValue("map/distance",
-                    QString::fromUtf8(features::distance_kind_name(m.distance).data()));
-  settings.setValue("map/exclude", QString::fromStdString(m.exclude));
-  const SynthParameters& s = m_synthParameters;
-  settings.setValue("synth/blend", QString::fromUtf8(synth::blend_mode_name(s.blend.mode).data()));
-  settings.setValue("synth/neighbors", s.blend.neighbors);
-  settings.setValue("synth/reach", s.blend.reach);
-  settings.setValue("synth/timedAsDrawn", s.timedAsDrawn);
-  settings.setValue("synth/speed", s.motion.speed);
-  settings.setValue("synth/fps", s.motion.fps);
-  settings.setValue("synth/smooth", s.motion.smooth);
+  writeParameters(settings, m_parameters, m_synthParameters);
 }
 
 void MainWindow::addRecentFile(const QString& path) {
@@ -1091,8 +708,8 @@ QImage MainWindow::screenshot() {
 
 void MainWindow::closeEvent(QCloseEvent* event) {
   if (!confirmDiscard()) return event->ignore();
-  stopSynthWorker();
-  stopWorker();
+  m_synthesis.stop();
+  m_maps.stop();
   QSettings settings;
   settings.setValue("geometry", saveGeometry());
   settings.setValue("splitter", m_splitter->saveState());
@@ -1108,7 +725,7 @@ void MainWindow::dropEvent(QDropEvent* event) {
   // The first file opens (replacing the clip), more files dropped together join its map;
   // with Ctrl held every file joins the open map.
   const auto urls = event->mimeData()->urls();
-  bool add = m_clips && (event->modifiers() & Qt::ControlModifier);
+  bool add = m_maps.clips() && (event->modifiers() & Qt::ControlModifier);
   for (const QUrl& url : urls) {
     if (!url.isLocalFile()) continue;
     if (!(add ? addFile(url.toLocalFile()) : openFile(url.toLocalFile()))) break;
@@ -1122,12 +739,10 @@ void MainWindow::keyPressEvent(QKeyEvent* event) {
       isPlaying() ? pause() : play();
       break;
     case Qt::Key_Left:
-      pause();
-      setFrame(m_frame - 1);
+      m_playback.step(-1);
       break;
     case Qt::Key_Right:
-      pause();
-      setFrame(m_frame + 1);
+      m_playback.step(+1);
       break;
     default:
       QMainWindow::keyPressEvent(event);

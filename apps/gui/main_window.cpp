@@ -1,53 +1,38 @@
 #include "main_window.h"
 
-#include <cmath>
-#include <fstream>
-
 #include <QAction>
-#include <QActionGroup>
-#include <QApplication>
-#include <QCheckBox>
 #include <QCloseEvent>
-#include <QComboBox>
 #include <QDragEnterEvent>
-#include <QFileDialog>
 #include <QFileInfo>
-#include <QHBoxLayout>
 #include <QKeyEvent>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
 #include <QPainter>
-#include <QProgressBar>
-#include <QPushButton>
 #include <QSettings>
-#include <QSlider>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QVBoxLayout>
 
+#include "file_menu.h"
+#include "job_progress.h"
+#include "map_export.h"
+#include "map_gestures.h"
 #include "map_view.h"
-#include "motionmap/core/error.h"
+#include "menus.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
-#include "motionmap/pipeline/map_csv.h"
 #include "motionmap/sample/sample_clip.h"
 #include "parameter_dialogs.h"
 #include "skeleton_view.h"
+#include "transport_bar.h"
 
 namespace motionmap::studio {
-
-namespace {
-constexpr int kMaxRecent = 8;
-constexpr double kNearPixels = 12.0;
-constexpr double kSpeeds[] = {0.25, 0.5, 1.0, 2.0, 4.0};
-}  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   if (qEnvironmentVariableIntValue("MOTIONMAP_STUDIO_NO_CONFIRM") != 0) m_interactive = false;
   QSettings settings;
-  m_lastDir = settings.value("lastDir").toString();
   if (const auto m =
           embed::parse_method(settings.value("method", "isomap").toString().toStdString()))
     m_method = *m;
@@ -73,152 +58,70 @@ void MainWindow::buildUi() {
   m_splitter->addWidget(m_mapView);
   m_splitter->setSizes({640, 640});
 
-  m_playButton = new QPushButton(tr("Play"));
-  m_playButton->setFocusPolicy(Qt::NoFocus);
-  m_slider = new QSlider(Qt::Horizontal);
-  m_slider->setEnabled(false);
-  m_slider->setFocusPolicy(Qt::NoFocus);
-  m_speedBox = new QComboBox;
-  m_speedBox->setFocusPolicy(Qt::NoFocus);
-  m_speedBox->setToolTip(tr("Playback speed"));
-  for (double s : kSpeeds) m_speedBox->addItem(QString("%1×").arg(s), s);
-  m_speedBox->setCurrentIndex(2);
-  m_loopBox = new QCheckBox(tr("Loop"));
-  m_loopBox->setFocusPolicy(Qt::NoFocus);
-  m_loopBox->setChecked(m_playback.loop());
-  auto* transport = new QHBoxLayout;
-  transport->addWidget(m_playButton);
-  transport->addWidget(m_slider, 1);
-  transport->addWidget(m_speedBox);
-  transport->addWidget(m_loopBox);
   auto* central = new QWidget;
   auto* layout = new QVBoxLayout(central);
   layout->setContentsMargins(4, 4, 4, 4);
   layout->addWidget(m_splitter, 1);
-  layout->addLayout(transport);
+  layout->addWidget(new TransportBar(&m_playback));
   setCentralWidget(central);
-  connect(m_playButton, &QPushButton::clicked, this, [this] { isPlaying() ? pause() : play(); });
-  connect(m_slider, &QSlider::valueChanged, this, [this](int v) {
-    if (v != currentFrame()) setFrame(v);
-  });
-  connect(m_speedBox, &QComboBox::currentIndexChanged, this,
-          [this](int i) { setPlaybackSpeed(m_speedBox->itemData(i).toDouble()); });
-  connect(m_loopBox, &QCheckBox::toggled, this, &MainWindow::setLoop);
 
   buildMenus();
   buildStatusBar();
-  connect(m_mapView, &MapView::hovered, this, &MainWindow::onHover);
-  connect(m_mapView, &MapView::clicked, this, &MainWindow::onClick);
-  connect(m_mapView, &MapView::dragged, this, &MainWindow::onDrag);
+  auto* gestures = new MapGestures(&m_maps, m_mapView, m_skeletonView, &m_playback, this);
+  connect(gestures, &MapGestures::frameClicked, this, &MainWindow::setCurrentClip);
+  connect(gestures, &MapGestures::failed, this, &MainWindow::showError);
   connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
 }
 
 void MainWindow::buildMenus() {
-  QMenu* file = menuBar()->addMenu(tr("&File"));
-  file->addAction(tr("&Open…"), QKeySequence::Open, this, &MainWindow::openDialog);
-  file->addAction(tr("Open &sample golf swing"), this, [this] {
+  m_files = new FileMenu(this);
+  connect(m_files, &FileMenu::openRequested, this, &MainWindow::openFile);
+  connect(m_files, &FileMenu::sampleRequested, this, [this] {
     if (confirmDiscard()) openClip(sample::make_sample_clip(sample::SampleKind::Swing));
   });
-  m_recentMenu = file->addMenu(tr("Open &recent"));
-  file->addAction(tr("&Add clip to the map…"), QKeySequence(tr("Ctrl+Shift+O")), this,
-                  &MainWindow::addDialog);
-  m_exportAction = file->addAction(tr("&Export motion…"), QKeySequence(tr("Ctrl+E")), this,
-                                   &MainWindow::exportDialog);
-  m_exportAction->setEnabled(false);
-  m_exportMapAction = file->addAction(tr("Export &map…"), QKeySequence(tr("Ctrl+Shift+E")), this,
-                                      &MainWindow::exportMapDialog);
-  m_exportMapAction->setEnabled(false);
-  file->addSeparator();
-  file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
-  updateRecentMenu();
+  connect(m_files, &FileMenu::addRequested, this, [this](const QStringList& paths) {
+    for (const QString& path : paths) {
+      if (!addFile(path)) break;
+    }
+  });
+  connect(m_files, &FileMenu::exportMotionRequested, this, &MainWindow::exportMotion);
+  connect(m_files, &FileMenu::exportMapRequested, this, &MainWindow::exportMap);
 
-  QMenu* motion = menuBar()->addMenu(tr("&Motion"));
-  m_methodGroup = new QActionGroup(this);
-  for (embed::Method m : embed::all_methods()) {
-    QAction* action = motion->addAction(methodLabel(m));
-    action->setCheckable(true);
-    action->setChecked(m == m_method);
-    action->setData(int(m));
-    m_methodGroup->addAction(action);
-    connect(action, &QAction::triggered, this, [this, m] { setMethod(m); });
-  }
-  motion->addSeparator();
-  motion->addAction(tr("&Parameters…"), this, &MainWindow::parametersDialog);
-  motion->addAction(tr("S&ynthesis…"), this, &MainWindow::synthesisDialog);
-  motion->addAction(tr("Show &clip"), this, &MainWindow::showClipMotion);
-
-  QMenu* view = menuBar()->addMenu(tr("&View"));
-  QAction* follow = view->addAction(tr("&Follow root"));
-  follow->setCheckable(true);
-  follow->setChecked(true);
-  connect(follow, &QAction::toggled, m_skeletonView, &SkeletonView::setFollowRoot);
-  QAction* sketch = view->addAction(tr("&Sketch mode (drag draws a path)"));
-  sketch->setCheckable(true);
-  sketch->setShortcut(QKeySequence(tr("S")));
-  connect(sketch, &QAction::toggled, m_mapView, &MapView::setSketchMode);
-  QAction* lens = view->addAction(tr("&Magnifier (wheel: power)"));
-  lens->setCheckable(true);
-  lens->setShortcut(QKeySequence(tr("M")));
-  connect(lens, &QAction::toggled, m_mapView, &MapView::setLensEnabled);
-  QAction* shading = view->addAction(tr("Shade &trustworthy blends"));
-  shading->setCheckable(true);
-  shading->setToolTip(
-      tr("Green where a dragged or sketched point is within the blender's reach of the data; "
-         "outside, the blend is taken at the data's edge"));
-  connect(shading, &QAction::toggled, m_mapView, &MapView::setShadingVisible);
+  m_motionMenu = new MotionMenu(this, m_method);
+  connect(m_motionMenu, &MotionMenu::methodChosen, this, &MainWindow::setMethod);
+  connect(m_motionMenu, &MotionMenu::parametersRequested, this, &MainWindow::parametersDialog);
+  connect(m_motionMenu, &MotionMenu::synthesisRequested, this, &MainWindow::synthesisDialog);
+  connect(m_motionMenu, &MotionMenu::showClipRequested, this, &MainWindow::showClipMotion);
+  addViewMenu(this, m_skeletonView, m_mapView);
 }
 
 void MainWindow::buildStatusBar() {
   m_status = new QLabel(tr("No clip"));
-  m_progress = new QProgressBar;
-  m_progress->setRange(0, 1000);
-  m_progress->setMaximumWidth(200);
-  m_progress->hide();
-  m_cancelButton = new QPushButton(tr("Cancel"));
-  m_cancelButton->hide();
-  connect(m_cancelButton, &QPushButton::clicked, this, &MainWindow::cancelComputation);
-  m_synthProgress = new QProgressBar;
-  m_synthProgress->setRange(0, 1000);
-  m_synthProgress->setMaximumWidth(200);
-  m_synthProgress->setFormat(tr("Synthesizing %p%"));
-  m_synthProgress->hide();
-  m_synthCancelButton = new QPushButton(tr("Cancel synthesis"));
-  m_synthCancelButton->hide();
-  connect(m_synthCancelButton, &QPushButton::clicked, this, &MainWindow::cancelSynthesis);
   statusBar()->addWidget(m_status, 1);
-  statusBar()->addPermanentWidget(m_progress);
-  statusBar()->addPermanentWidget(m_cancelButton);
-  statusBar()->addPermanentWidget(m_synthProgress);
-  statusBar()->addPermanentWidget(m_synthCancelButton);
+  m_mapProgress = new JobProgress(statusBar(), tr("Cancel"));
+  connect(m_mapProgress, &JobProgress::cancelClicked, this, &MainWindow::cancelComputation);
+  m_synthProgress = new JobProgress(statusBar(), tr("Cancel synthesis"), tr("Synthesizing %p%"));
+  connect(m_synthProgress, &JobProgress::cancelClicked, this, &MainWindow::cancelSynthesis);
 }
 
 void MainWindow::connectControllers() {
   connect(&m_playback, &Playback::frameChanged, this, &MainWindow::showFrame);
-  connect(&m_playback, &Playback::playingChanged, this,
-          [this](bool playing) { m_playButton->setText(playing ? tr("Pause") : tr("Play")); });
 
   connect(&m_maps, &MapController::started, this, &MainWindow::onMapStarted);
   connect(&m_maps, &MapController::progress, this, [this](double fraction, const QString& stage) {
-    m_progress->setValue(int(fraction * 1000));
-    m_progress->setFormat(stage + " %p%");
+    m_mapProgress->setProgress(fraction, stage + " %p%");
     emit progressChanged(fraction);
   });
-  connect(&m_maps, &MapController::stopped, this, [this] {
-    m_progress->hide();
-    m_cancelButton->hide();
-  });
+  connect(&m_maps, &MapController::stopped, m_mapProgress, &JobProgress::stop);
   connect(&m_maps, &MapController::finished, this, &MainWindow::onMapFinished);
   connect(&m_maps, &MapController::failed, this, &MainWindow::onMapFailed);
   connect(&m_maps, &MapController::cancelled, this, &MainWindow::onMapCancelled);
 
   connect(&m_synthesis, &SynthesisController::progress, this, [this](double fraction) {
-    m_synthProgress->setValue(int(fraction * 1000));
+    m_synthProgress->setProgress(fraction);
     emit synthesisProgress(fraction);
   });
-  connect(&m_synthesis, &SynthesisController::stopped, this, [this] {
-    m_synthProgress->hide();
-    m_synthCancelButton->hide();
-  });
+  connect(&m_synthesis, &SynthesisController::stopped, m_synthProgress, &JobProgress::stop);
   connect(&m_synthesis, &SynthesisController::finished, this, &MainWindow::onSynthesized);
   connect(&m_synthesis, &SynthesisController::failed, this, [this](const QString& error) {
     updateStatus();
@@ -234,16 +137,11 @@ void MainWindow::connectControllers() {
 
 bool MainWindow::openFile(const QString& path) {
   if (!confirmDiscard()) return false;
-  try {
+  return attempt([&] {
     Clip clip = io::load_clip(path.toStdString());
-    m_lastDir = QFileInfo(path).absolutePath();
-    addRecentFile(QFileInfo(path).absoluteFilePath());
+    m_files->remember(path);
     openClip(std::move(clip));
-    return true;
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
-    return false;
-  }
+  });
 }
 
 void MainWindow::openClip(Clip clip) {
@@ -252,7 +150,7 @@ void MainWindow::openClip(Clip clip) {
   pause();
   m_unsaved = false;
   m_playingSynth = false;
-  m_exportAction->setEnabled(false);
+  m_files->exportMotionAction()->setEnabled(false);
   auto clips = std::make_shared<std::vector<Clip>>();
   clips->push_back(std::move(clip));
   m_maps.setClips(std::move(clips));
@@ -262,15 +160,13 @@ void MainWindow::openClip(Clip clip) {
 }
 
 bool MainWindow::addFile(const QString& path) {
-  try {
+  bool added = false;
+  attempt([&] {
     Clip clip = io::load_clip(path.toStdString());
-    m_lastDir = QFileInfo(path).absolutePath();
-    addRecentFile(QFileInfo(path).absoluteFilePath());
-    return addClip(std::move(clip));
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
-    return false;
-  }
+    m_files->remember(path);
+    added = addClip(std::move(clip));
+  });
+  return added;
 }
 
 bool MainWindow::addClip(Clip clip) {
@@ -312,14 +208,13 @@ void MainWindow::setCurrentClip(int index, int frame) {
   }
   m_playingSynth = false;
   updateMotion();
-  m_slider->setEnabled(clip()->motion.num_frames > 0);
   setFrame(frame);
   updateStatus();
 }
 
 void MainWindow::setMethod(embed::Method method) {
   m_method = method;
-  for (QAction* a : m_methodGroup->actions()) a->setChecked(a->data().toInt() == int(method));
+  m_motionMenu->setMethod(method);
   QSettings().setValue("method", QString::fromUtf8(embed::method_name(method).data()));
   if (m_maps.request(method, m_parameters, m_synthParameters.blend)) {  // cached
     saveParameters();
@@ -334,16 +229,14 @@ void MainWindow::setParameters(const MapParameters& parameters) {
 }
 
 bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
-  try {
+  const bool valid = attempt([&] {
     parameters.motion.validate();
     // K is checked against the samples of the map shown; a new clip's map checks it again.
     const MapResult* map = currentMap();
     parameters.blend.validate(map ? map->map.features->num_samples()
                                   : std::numeric_limits<int>::max());
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
-    return false;
-  }
+  });
+  if (!valid) return false;
   const bool newBlend = MapController::cacheKey(m_method, m_parameters, parameters.blend) !=
                         MapController::cacheKey(m_method, m_parameters, m_synthParameters.blend);
   m_synthParameters = parameters;
@@ -357,10 +250,8 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
 
 void MainWindow::onMapStarted(embed::Method method) {
   m_mapView->clearMap(tr("Computing the %1 map…").arg(methodLabel(method)));
-  m_progress->setValue(0);
-  m_progress->show();
-  m_cancelButton->show();
-  m_exportMapAction->setEnabled(false);
+  m_mapProgress->start();
+  m_files->exportMapAction()->setEnabled(false);
   updateStatus();
 }
 
@@ -384,30 +275,15 @@ void MainWindow::onMapCancelled() {
   emit computationFinished(false);
 }
 
-render::MapPlotOptions MainWindow::plotOptions(const MapResult& map) const {
-  render::MapPlotOptions options;
-  options.title = methodLabel(map.map.embedding.method);
-  options.time_legend = true;
-  if (clipCount() > 1) {  // several clips: colour by clip, named in the legend
-    for (const Clip& clip : *m_maps.clips())
-      options.clip_names << QFileInfo(QString::fromStdString(clip.path)).fileName();
-  }
-  // What the library wants the user to know (a bind pose left out, a joined graph) under the map.
-  for (const auto& note : map.map.features->notes) options.notes << QString::fromStdString(note);
-  for (const auto& warning : map.map.embedding.warnings)
-    options.notes << QString::fromStdString(warning);
-  return options;
-}
-
 void MainWindow::showMap() {
   const MapResult* map = currentMap();
   if (!map) return;
   m_mapView->setMap(map->map.embedding.coordinates, map->map.features->segment_starts,
-                    plotOptions(*map));
+                    mapPlotOptions(*map, *m_maps.clips()));
   // A blend is computed from the data where a sample lies within the blender's reach; farther
   // out, MapBlender::locate moves the point to the data's edge (PointValidity::clamped).
   m_mapView->setShadingReach(map->blender->reach_distance());
-  m_exportMapAction->setEnabled(true);
+  m_files->exportMapAction()->setEnabled(true);
   updatePointer();
   updateStatus();
 }
@@ -440,6 +316,16 @@ QString MainWindow::statusText() const {
   return m_status->text();
 }
 
+bool MainWindow::attempt(const std::function<void()>& work) {
+  try {
+    work();
+    return true;
+  } catch (const std::exception& e) {
+    showError(QString::fromStdString(e.what()));
+    return false;
+  }
+}
+
 void MainWindow::showError(const QString& message) {
   m_lastError = message;
   m_status->setText(tr("Error: %1").arg(message));
@@ -461,19 +347,13 @@ const Motion* MainWindow::playingMotion() const {
 
 void MainWindow::updateMotion() {
   const Motion* motion = playingMotion();
-  const int frames = motion ? motion->num_frames : 0;
-  m_playback.setMotion(frames, motion ? motion->frame_time : 0.0);
-  m_slider->setRange(0, std::max(0, frames - 1));
+  m_playback.setMotion(motion ? motion->num_frames : 0, motion ? motion->frame_time : 0.0);
 }
 
 void MainWindow::showFrame(int frame) {
   const Motion* motion = playingMotion();
   if (!motion) return;
   m_skeletonView->setPose(*motion, frame);
-  if (m_slider->value() != frame) {
-    const QSignalBlocker block(m_slider);
-    m_slider->setValue(frame);
-  }
   updatePointer();
   emit frameChanged(frame);
 }
@@ -497,69 +377,9 @@ void MainWindow::updatePointer() {
   }
 }
 
-void MainWindow::setPlaybackSpeed(double speed) {
-  m_playback.setSpeed(speed);
-  for (int i = 0; i < m_speedBox->count(); ++i) {
-    if (m_speedBox->itemData(i).toDouble() == playbackSpeed() && m_speedBox->currentIndex() != i) {
-      const QSignalBlocker block(m_speedBox);
-      m_speedBox->setCurrentIndex(i);
-    }
-  }
-}
-
-void MainWindow::setLoop(bool loop) {
-  m_playback.setLoop(loop);
-  if (m_loopBox->isChecked() != loop) {
-    const QSignalBlocker block(m_loopBox);
-    m_loopBox->setChecked(loop);
-  }
-}
-
 void MainWindow::showClipMotion() {
   if (!m_playingSynth) return;
   setCurrentClip(m_clipIndex, 0);
-}
-
-int MainWindow::sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const {
-  const MapResult* map = currentMap();
-  if (!map || !point.allFinite()) return -1;
-  // The blender knows the nearest sample (library search); the app only judges the pixel distance.
-  const int sample = map->blender->locate(point).validity.nearest_sample;
-  const QPointF at = m_mapView->toWidget(map->blender->sample_point(sample));
-  return QLineF(at, pixel).length() <= kNearPixels ? sample : -1;
-}
-
-void MainWindow::onHover(const Eigen::Vector2d& point, const QPointF& pixel) {
-  const int sample = sampleNear(point, pixel);
-  const MapResult* map = currentMap();
-  if (sample < 0) return m_mapView->setHoverText({});
-  const features::FeatureSet& set = *map->map.features;
-  const int clip = set.clip_of[std::size_t(sample)];
-  m_mapView->setHoverText(
-      clipCount() > 1 ? tr("clip %1, frame %2").arg(clip + 1).arg(set.frame_of[std::size_t(sample)])
-                      : tr("frame %1").arg(set.frame_of[std::size_t(sample)]));
-}
-
-void MainWindow::onClick(const Eigen::Vector2d& point, const QPointF& pixel) {
-  const int sample = sampleNear(point, pixel);
-  if (sample < 0) return;
-  const features::FeatureSet& set = *currentMap()->map.features;
-  setCurrentClip(set.clip_of[std::size_t(sample)], set.frame_of[std::size_t(sample)]);
-}
-
-void MainWindow::onDrag(const Eigen::Vector2d& point) {
-  const MapResult* map = currentMap();
-  if (!map || isPlaying() || !point.allFinite()) return;
-  try {
-    const synth::MapWeights weights = map->blender->locate(point);
-    m_skeletonView->setPose(map->blender->pose(weights), 0);
-    const synth::PointValidity& validity = weights.validity;
-    m_mapView->setPointer(validity.point);
-    m_mapView->setHoverText(validity.clamped ? tr("blend (outside the data: moved to its edge)")
-                                             : tr("blend"));
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
-  }
 }
 
 bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
@@ -567,9 +387,7 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
   if (!map || !confirmDiscard()) return false;
   // A newer sketch replaces one still being synthesized.
   if (!m_synthesis.start(std::move(map), path, m_synthParameters)) return false;
-  m_synthProgress->setValue(0);
-  m_synthProgress->show();
-  m_synthCancelButton->show();
+  m_synthProgress->start();
   updateStatus();
   return true;
 }
@@ -579,7 +397,7 @@ void MainWindow::onSynthesized() {
   pause();
   m_unsaved = true;
   m_playingSynth = true;
-  m_exportAction->setEnabled(true);
+  m_files->exportMotionAction()->setEnabled(true);
   updateMotion();
   setFrame(0);
   updateStatus();
@@ -591,70 +409,21 @@ void MainWindow::onSynthesized() {
 bool MainWindow::exportMotion(const QString& path) {
   const std::shared_ptr<const MapResult>& map = m_synthesis.resultMap();
   if (!synthesized() || !map) return false;
-  try {
+  return attempt([&] {
     io::write_bvh(io::from_motion(map->blender->skeleton(), synthesized()->motion),
                   path.toStdString());
     m_unsaved = false;
     m_status->setText(tr("Wrote %1").arg(path));
-    return true;
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
-    return false;
-  }
+  });
 }
 
 bool MainWindow::exportMap(const QString& path) {
   const MapResult* map = currentMap();
-  if (!map || !m_maps.clips()) return false;
-  try {
-    if (QFileInfo(path).suffix().compare("csv", Qt::CaseInsensitive) == 0) {
-      std::ofstream out(path.toStdString());
-      if (!out) throw Error("cannot write " + path.toStdString());
-      std::vector<std::string> files;
-      for (const Clip& c : *m_maps.clips())
-        files.push_back(QFileInfo(QString::fromStdString(c.path)).fileName().toStdString());
-      pipeline::write_map_csv(out, map->map, map->options, files);
-      if (!out.flush()) throw Error("cannot write " + path.toStdString());
-    } else {
-      render::MapPlotOptions options = plotOptions(*map);
-      options.notes << QString::fromStdString(map->parameters);
-      render::save_map_plot(path.toStdString(), map->map.embedding.coordinates,
-                            map->map.features->segment_starts, options);
-    }
+  if (!map) return false;
+  return attempt([&] {
+    writeMap(path, *map, *m_maps.clips());
     m_status->setText(tr("Wrote %1").arg(path));
-    return true;
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
-    return false;
-  }
-}
-
-void MainWindow::openDialog() {
-  const QString path = QFileDialog::getOpenFileName(
-      this, tr("Open clip"), m_lastDir, tr("Motion capture (*.bvh *.amc);;All files (*)"));
-  if (!path.isEmpty()) openFile(path);
-}
-
-void MainWindow::addDialog() {
-  const QStringList paths =
-      QFileDialog::getOpenFileNames(this, tr("Add clips of the same skeleton"), m_lastDir,
-                                    tr("Motion capture (*.bvh *.amc);;All files (*)"));
-  for (const QString& path : paths) {
-    if (!addFile(path)) break;
-  }
-}
-
-void MainWindow::exportDialog() {
-  const QString path =
-      QFileDialog::getSaveFileName(this, tr("Export motion"), m_lastDir, tr("BVH (*.bvh)"));
-  if (!path.isEmpty()) exportMotion(path);
-}
-
-void MainWindow::exportMapDialog() {
-  const QString path =
-      QFileDialog::getSaveFileName(this, tr("Export map"), m_lastDir,
-                                   tr("PNG image (*.png);;SVG drawing (*.svg);;CSV table (*.csv)"));
-  if (!path.isEmpty()) exportMap(path);
+  });
 }
 
 void MainWindow::parametersDialog() {
@@ -671,27 +440,6 @@ void MainWindow::synthesisDialog() {
 void MainWindow::saveParameters() const {
   QSettings settings;
   writeParameters(settings, m_parameters, m_synthParameters);
-}
-
-void MainWindow::addRecentFile(const QString& path) {
-  QSettings settings;
-  QStringList recent = settings.value("recentFiles").toStringList();
-  recent.removeAll(path);
-  recent.prepend(path);
-  while (recent.size() > kMaxRecent) recent.removeLast();
-  settings.setValue("recentFiles", recent);
-  settings.setValue("lastDir", m_lastDir);
-  updateRecentMenu();
-}
-
-void MainWindow::updateRecentMenu() {
-  m_recentMenu->clear();
-  const QStringList recent = QSettings().value("recentFiles").toStringList();
-  for (const QString& path : recent) {
-    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openFile(path); })
-        ->setToolTip(path);
-  }
-  m_recentMenu->setEnabled(!recent.isEmpty());
 }
 
 QImage MainWindow::screenshot() {
@@ -713,7 +461,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
   QSettings settings;
   settings.setValue("geometry", saveGeometry());
   settings.setValue("splitter", m_splitter->saveState());
-  settings.setValue("lastDir", m_lastDir);
+  settings.setValue("lastDir", m_files->lastDir());
   event->accept();
 }
 

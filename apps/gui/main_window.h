@@ -1,35 +1,32 @@
 #pragma once
-// MotionMap Studio's main window: the 3-D view and the map side by side, a Motion menu choosing
-// the embedding method and its parameters, playback (timer, slider, speed, loop, Space, ←/→) and
-// the map gestures (click to jump, drag to blend a pose, Shift-drag or sketch mode to sketch a
-// new motion, a magnifying lens). The window wires widgets to three controllers without widgets:
-// MapController (maps computed on a worker thread and cached per method and parameters, with
-// their synth::MapBlender), SynthesisController (a sketch synthesized on a second worker) and
-// Playback (the clock). Both workers show a progress bar and a Cancel button in the status bar,
-// so the GUI thread only ever runs short calls (a locate + blend per mouse move).
+// MotionMap Studio's main window: the 3-D view and the map side by side, the transport bar under
+// them (play, frame slider, speed, loop; Space and ←/→ too), the File, Motion and View menus, and
+// the map gestures (hover and click to find a frame, drag to blend a pose, Shift-drag or sketch
+// mode to sketch a new motion, a magnifying lens). The window computes nothing itself: it wires
+// the widgets to three controllers without widgets, MapController (maps computed by
+// pipeline::map_clips on a worker thread and cached per method and parameters, with their
+// synth::MapBlender), SynthesisController (a sketch synthesized on a second worker) and Playback
+// (the clock). Both workers show a progress bar and a Cancel button in the status bar, so the GUI
+// thread only ever runs short calls (a locate + blend per mouse move).
+#include <functional>
 #include <memory>
 
 #include <QMainWindow>
 
 #include "map_controller.h"
-#include "motionmap/render/map_plot.h"
 #include "parameters.h"
 #include "playback.h"
 #include "synthesis_controller.h"
 
-class QActionGroup;
-class QCheckBox;
-class QComboBox;
 class QLabel;
-class QProgressBar;
-class QPushButton;
-class QSlider;
 class QSplitter;
-class QMenu;
 
 namespace motionmap::studio {
 
+class FileMenu;
+class JobProgress;
 class MapView;
+class MotionMenu;
 class SkeletonView;
 
 class MainWindow : public QMainWindow {
@@ -85,10 +82,10 @@ class MainWindow : public QMainWindow {
   void pause() { m_playback.pause(); }
   bool isPlaying() const { return m_playback.isPlaying(); }
   /// Playback speed (1 = the clip's frame rate); clamped to [0.05, 8].
-  void setPlaybackSpeed(double speed);
+  void setPlaybackSpeed(double speed) { m_playback.setSpeed(speed); }
   double playbackSpeed() const { return m_playback.speed(); }
   /// Whether playback starts over at the end (else it stops on the last frame).
-  void setLoop(bool loop);
+  void setLoop(bool loop) { m_playback.setLoop(loop); }
   bool loop() const { return m_playback.loop(); }
   const Motion* playingMotion() const;
 
@@ -152,33 +149,22 @@ class MainWindow : public QMainWindow {
   void onSynthesized();
   /// Shows frame `frame` of the playing motion (Playback::frameChanged).
   void showFrame(int frame);
-  /// Tells the playback clock and the slider the length of the playing motion.
+  /// Tells the playback clock the length and rate of the playing motion.
   void updateMotion();
-  /// The render options the map is drawn (and exported) with.
-  render::MapPlotOptions plotOptions(const MapResult& map) const;
   void showMap();
   void showError(const QString& message);
+  /// Runs `work`; false, with the error it threw shown, when it throws.
+  bool attempt(const std::function<void()>& work);
   void updateStatus();
   void updatePointer();
-  void onHover(const Eigen::Vector2d& point, const QPointF& pixel);
-  void onClick(const Eigen::Vector2d& point, const QPointF& pixel);
-  void onDrag(const Eigen::Vector2d& point);
   void showClipMotion();
-  void openDialog();
-  void exportDialog();
-  void exportMapDialog();
   void parametersDialog();
   void synthesisDialog();
   /// Map and synthesis parameters to QSettings: the ones of the last map computed without error
   /// are the next session's (read back in the constructor).
   void saveParameters() const;
-  void addDialog();
   /// The clips changed (opened or added): a new title, the clip shown from `frame`, a new map.
   void clipsChanged(int frame);
-  void addRecentFile(const QString& path);
-  void updateRecentMenu();
-  /// The map row nearest `pixel` within 12 px of the trajectory, or −1.
-  int sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const;
 
   int m_clipIndex = 0;
   embed::Method m_method = embed::Method::Isomap;
@@ -191,24 +177,15 @@ class MainWindow : public QMainWindow {
   bool m_unsaved = false;       ///< the synthesized motion was not exported
   bool m_interactive = true;
   QString m_lastError;
-  QString m_lastDir;
 
   MapView* m_mapView = nullptr;
   SkeletonView* m_skeletonView = nullptr;
   QSplitter* m_splitter = nullptr;
-  QSlider* m_slider = nullptr;
-  QPushButton* m_playButton = nullptr;
-  QComboBox* m_speedBox = nullptr;
-  QCheckBox* m_loopBox = nullptr;
   QLabel* m_status = nullptr;
-  QProgressBar* m_progress = nullptr;
-  QPushButton* m_cancelButton = nullptr;
-  QProgressBar* m_synthProgress = nullptr;
-  QPushButton* m_synthCancelButton = nullptr;
-  QActionGroup* m_methodGroup = nullptr;
-  QAction* m_exportAction = nullptr;
-  QAction* m_exportMapAction = nullptr;
-  QMenu* m_recentMenu = nullptr;
+  JobProgress* m_mapProgress = nullptr;
+  JobProgress* m_synthProgress = nullptr;
+  MotionMenu* m_motionMenu = nullptr;
+  FileMenu* m_files = nullptr;
 };
 
 }  // namespace motionmap::studio

@@ -13,8 +13,10 @@ Playback::Playback(QObject* parent) : QObject(parent) {
 }
 
 void Playback::setMotion(int frames, double frameTime) {
+  const int before = m_frames;
   m_frames = std::max(0, frames);
   m_frameTime = frameTime;
+  if (m_frames != before) emit frameCountChanged(m_frames);
 }
 
 void Playback::setClock(Clock clock) {
@@ -60,8 +62,16 @@ void Playback::pause() {
 }
 
 void Playback::setSpeed(double speed) {
+  const double before = m_speed;
   m_speed = std::clamp(std::isfinite(speed) ? speed : 1.0, 0.05, 8.0);
   if (isPlaying()) play();  // re-anchors the clock at the current frame
+  if (m_speed != before) emit speedChanged(m_speed);
+}
+
+void Playback::setLoop(bool loop) {
+  if (loop == m_loop) return;
+  m_loop = loop;
+  emit loopChanged(loop);
 }
 
 void Playback::tick() {

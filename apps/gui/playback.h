@@ -28,7 +28,7 @@ class Playback : public QObject {
   explicit Playback(QObject* parent = nullptr);
 
   /// The motion played: `frames` frames, `frameTime` seconds apart. The frame number stays (the
-  /// next setFrame clamps it); nothing is emitted.
+  /// next setFrame clamps it); frameCountChanged is emitted when the count changes.
   void setMotion(int frames, double frameTime);
   int frameCount() const { return m_frames; }
   double frameTime() const { return m_frameTime; }
@@ -50,7 +50,7 @@ class Playback : public QObject {
   void setSpeed(double speed);
   double speed() const { return m_speed; }
   /// Whether playback starts over at the end (else it stops on the last frame).
-  void setLoop(bool loop) { m_loop = loop; }
+  void setLoop(bool loop);
   bool loop() const { return m_loop; }
 
   /// Shows the frame the clock has reached (the timer calls it while playing).
@@ -63,7 +63,10 @@ class Playback : public QObject {
  signals:
   /// The frame shown (see setFrame).
   void frameChanged(int frame);
+  void frameCountChanged(int frames);
   void playingChanged(bool playing);
+  void speedChanged(double speed);
+  void loopChanged(bool loop);
 
  private:
   /// Sets and emits `frame` (clamped), without touching the clock's anchor.

@@ -28,6 +28,7 @@ namespace motionmap::studio {
 namespace {
 
 using testing::kTimeoutMs;
+using testing::pathAlong;
 using testing::swing;
 
 std::shared_ptr<const std::vector<Clip>> clips(Clip clip) {
@@ -42,17 +43,6 @@ std::shared_ptr<const MapResult> computed(MapController& maps, embed::Method met
   EXPECT_TRUE(QTest::qWaitFor([&] { return !maps.isComputing(); }, kTimeoutMs));
   QCoreApplication::processEvents();  // the result is queued to this thread
   return maps.current();
-}
-
-/// A timed path along the trajectory from map row `from` to `to`, `seconds` long.
-synth::MapPath pathAlong(const MapResult& map, int from, int to, double seconds) {
-  synth::MapPath path;
-  const int steps = std::abs(to - from);
-  for (int i = 0; i <= steps; ++i) {
-    path.points.push_back(map.blender->sample_point(from + (to > from ? i : -i)));
-    path.times.push_back(seconds * i / steps);
-  }
-  return path;
 }
 
 TEST(StudioMapController, ComputesTheSampleMapOnAWorkerAndEmitsFinished) {

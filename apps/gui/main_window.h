@@ -1,77 +1,33 @@
 #pragma once
-// MotionMap Studio's main window: the 3-D view and the map side by side, a Motion menu choosing
-// the embedding method and its parameters, playback (timer, slider, speed, loop, Space, ←/→) and
-// the map gestures (click to jump, drag to blend a pose, Shift-drag or sketch mode to sketch a
-// new motion, a magnifying lens). Maps are computed by pipeline::map_clips on a worker thread and
-// cached per method and parameters, with their synth::MapBlender; a sketch is synthesized by
-// synth::synthesize on a second worker. Both show a progress bar and a Cancel button in the
-// status bar, so the GUI thread only ever runs short calls (a locate + blend per mouse move).
-#include <atomic>
-#include <map>
+// MotionMap Studio's main window: the 3-D view and the map side by side, the transport bar under
+// them (play, frame slider, speed, loop; Space and ←/→ too), the File, Motion and View menus, and
+// the map gestures (hover and click to find a frame, drag to blend a pose, Shift-drag or sketch
+// mode to sketch a new motion, a magnifying lens). The window computes nothing itself: it wires
+// the widgets to three controllers without widgets, MapController (maps computed by
+// pipeline::map_clips on a worker thread and cached per method and parameters, with their
+// synth::MapBlender), SynthesisController (a sketch synthesized on a second worker) and Playback
+// (the clock). Both workers show a progress bar and a Cancel button in the status bar, so the GUI
+// thread only ever runs short calls (a locate + blend per mouse move).
+#include <functional>
 #include <memory>
-#include <optional>
-#include <string>
-#include <thread>
 
-#include <QElapsedTimer>
 #include <QMainWindow>
-#include <QTimer>
 
-#include "background_job.h"
-#include "motionmap/pipeline/clip_map.h"
-#include "motionmap/render/map_plot.h"
-#include "motionmap/synth/blender.h"
-#include "motionmap/synth/synthesize.h"
+#include "map_controller.h"
+#include "parameters.h"
+#include "playback.h"
+#include "synthesis_controller.h"
 
-class QActionGroup;
-class QCheckBox;
-class QComboBox;
 class QLabel;
-class QProgressBar;
-class QPushButton;
-class QSlider;
 class QSplitter;
-class QMenu;
 
 namespace motionmap::studio {
 
+class FileMenu;
+class JobProgress;
 class MapView;
+class MotionMenu;
 class SkeletonView;
-
-/// The map parameters the Motion → Parameters dialog edits (the rest are the library's defaults).
-struct MapParameters {
-  int k = 20;                  ///< neighbours (Isomap, LE, LLE)
-  std::optional<double> heat;  ///< LE heat-kernel width; nothing = the library's automatic one
-  features::FeatureKind features = features::FeatureKind::Quaternions;
-  features::DistanceKind distance = features::DistanceKind::PointCloud;
-  std::string exclude;  ///< regular expression of joints left out
-
-  /// The library options for `method` (no callbacks).
-  pipeline::ClipMapOptions options(embed::Method method) const;
-  bool operator==(const MapParameters&) const = default;
-};
-
-/// How a drag blends and a sketch becomes a motion (Motion → Synthesis…): the library's options
-/// and defaults, as `motionmap pose` / `synth` take them. The blend part goes into each map's
-/// blender (changing it recomputes the map, or takes it from the cache); the motion part applies
-/// to the next sketch.
-struct SynthParameters {
-  synth::BlendOptions blend;   ///< mode, K, reach (the up axis is the map's)
-  synth::SynthOptions motion;  ///< speed (of a sketch not timed as drawn), output fps, smoothing
-  /// A sketch keeps the timing of the gesture; false: it is followed at motion.speed (0: the
-  /// clip's own median map speed).
-  bool timedAsDrawn = true;
-};
-
-/// A computed map of the open clip, with what the app needs to use it.
-struct MapResult {
-  pipeline::ClipMap map;
-  pipeline::ClipMapOptions options;  ///< as computed (callbacks cleared), for the CSV export
-  std::unique_ptr<synth::MapBlender> blender;
-  std::string parameters;                    ///< pipeline::describe_parameters
-  double seconds = 0.0;                      ///< wall time of map_clips and the blender's set-up
-  std::vector<std::vector<int>> rowOfFrame;  ///< [clip][frame]: the map row shown for that frame
-};
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -93,8 +49,10 @@ class MainWindow : public QMainWindow {
   /// is kept. False (error shown) for a clip of another hierarchy or without a clip open.
   bool addClip(Clip clip);
   /// The clip playing (the one whose frames the slider shows).
-  const Clip* clip() const { return m_clips ? &(*m_clips)[std::size_t(m_clipIndex)] : nullptr; }
-  int clipCount() const { return m_clips ? int(m_clips->size()) : 0; }
+  const Clip* clip() const {
+    return m_maps.clips() ? &(*m_maps.clips())[std::size_t(m_clipIndex)] : nullptr;
+  }
+  int clipCount() const { return m_maps.clips() ? int(m_maps.clips()->size()) : 0; }
   int currentClip() const { return m_clipIndex; }
   /// Plays clip `index` (of the map's clips) from `frame`.
   void setCurrentClip(int index, int frame = 0);
@@ -113,27 +71,27 @@ class MainWindow : public QMainWindow {
   bool setSynthParameters(const SynthParameters& parameters);
   const SynthParameters& synthParameters() const { return m_synthParameters; }
   /// The map shown (nullptr while computing or without a clip).
-  const MapResult* currentMap() const;
-  bool isComputing() const { return m_mapJob.running(); }
-  void cancelComputation();
+  const MapResult* currentMap() const { return m_maps.current().get(); }
+  bool isComputing() const { return m_maps.isComputing(); }
+  void cancelComputation() { m_maps.cancel(); }
 
   /// Frame of the motion playing (the clip, or a synthesized motion).
-  int currentFrame() const { return m_frame; }
-  void setFrame(int frame);
-  void play();
-  void pause();
-  bool isPlaying() const { return m_timer.isActive(); }
+  int currentFrame() const { return m_playback.frame(); }
+  void setFrame(int frame) { m_playback.setFrame(frame); }
+  void play() { m_playback.play(); }
+  void pause() { m_playback.pause(); }
+  bool isPlaying() const { return m_playback.isPlaying(); }
   /// Playback speed (1 = the clip's frame rate); clamped to [0.05, 8].
-  void setPlaybackSpeed(double speed);
-  double playbackSpeed() const { return m_speed; }
+  void setPlaybackSpeed(double speed) { m_playback.setSpeed(speed); }
+  double playbackSpeed() const { return m_playback.speed(); }
   /// Whether playback starts over at the end (else it stops on the last frame).
-  void setLoop(bool loop);
-  bool loop() const { return m_loop; }
+  void setLoop(bool loop) { m_playback.setLoop(loop); }
+  bool loop() const { return m_playback.loop(); }
   const Motion* playingMotion() const;
 
   /// The last synthesized motion (nothing before the first sketch).
-  const synth::SynthResult* synthesized() const { return m_synth ? &*m_synth : nullptr; }
-  bool hasUnsavedMotion() const { return m_synth && m_unsaved; }
+  const synth::SynthResult* synthesized() const { return m_synthesis.result(); }
+  bool hasUnsavedMotion() const { return m_synthesis.result() && m_unsaved; }
   /// Asks before a synthesized motion that was not exported is replaced or dropped; true to go
   /// on (always when there is none, or when not interactive).
   bool confirmDiscard();
@@ -141,9 +99,9 @@ class MainWindow : public QMainWindow {
   /// parameters; without its times unless timedAsDrawn) on a worker; when done it
   /// replaces the last one (asked first, see confirmDiscard) and plays. False if nothing started.
   bool synthesizeAlong(const synth::MapPath& path);
-  bool isSynthesizing() const { return m_synthJob.running(); }
+  bool isSynthesizing() const { return m_synthesis.isRunning(); }
   /// Stops a running synthesis; the previous synthesized motion (if any) stays.
-  void cancelSynthesis();
+  void cancelSynthesis() { m_synthesis.cancel(); }
   /// Writes the synthesized motion as BVH. False (error shown) on failure.
   bool exportMotion(const QString& path);
   /// Writes the map shown: .csv (pipeline::write_map_csv), .png, .svg or .pdf
@@ -178,89 +136,56 @@ class MainWindow : public QMainWindow {
 
  private:
   void buildUi();
-  std::string cacheKey(embed::Method method) const;
-  void startComputation(embed::Method method);
-  void stopWorker();
-  void stopSynthWorker();
-  void onComputed(int generation, embed::Method method, std::string key,
-                  std::shared_ptr<MapResult> result, QString error, bool cancelled);
-  void onSynthesized(int generation, std::shared_ptr<const MapResult> map,
-                     std::shared_ptr<synth::SynthResult> result, QString error, bool cancelled);
-  /// Shows `frame` of the playing motion (clamped), without touching the playback clock.
+  void buildMenus();
+  void buildStatusBar();
+  void connectControllers();
+  /// The map controller's signals: a computation starts, its map is ready, it failed or was
+  /// cancelled.
+  void onMapStarted(embed::Method method);
+  void onMapFinished(std::shared_ptr<const MapResult> result);
+  void onMapFailed(const QString& message);
+  void onMapCancelled();
+  /// A synthesized motion is ready: it replaces the one before and plays.
+  void onSynthesized();
+  /// Shows frame `frame` of the playing motion (Playback::frameChanged).
   void showFrame(int frame);
-  /// The render options the map is drawn (and exported) with.
-  render::MapPlotOptions plotOptions(const MapResult& map) const;
+  /// Tells the playback clock the length and rate of the playing motion.
+  void updateMotion();
   void showMap();
   void showError(const QString& message);
+  /// Runs `work`; false, with the error it threw shown, when it throws.
+  bool attempt(const std::function<void()>& work);
   void updateStatus();
   void updatePointer();
-  void onTick();
-  void onHover(const Eigen::Vector2d& point, const QPointF& pixel);
-  void onClick(const Eigen::Vector2d& point, const QPointF& pixel);
-  void onDrag(const Eigen::Vector2d& point);
   void showClipMotion();
-  void openDialog();
-  void exportDialog();
-  void exportMapDialog();
   void parametersDialog();
   void synthesisDialog();
-  /// Map and synthesis parameters to and from QSettings: the ones of the last map computed
-  /// without error are the next session's.
-  void loadParameters();
+  /// Map and synthesis parameters to QSettings: the ones of the last map computed without error
+  /// are the next session's (read back in the constructor).
   void saveParameters() const;
-  void addDialog();
-  void clipsChanged();
-  void addRecentFile(const QString& path);
-  void updateRecentMenu();
-  /// The map row nearest `pixel` within 12 px of the trajectory, or −1.
-  int sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const;
+  /// The clips changed (opened or added): a new title, the clip shown from `frame`, a new map.
+  void clipsChanged(int frame);
 
-  std::shared_ptr<const std::vector<Clip>> m_clips;  ///< the map's clips, shared with the worker
   int m_clipIndex = 0;
   embed::Method m_method = embed::Method::Isomap;
   MapParameters m_parameters;
   SynthParameters m_synthParameters;
-  std::map<std::string, std::shared_ptr<MapResult>> m_maps;  ///< by cacheKey
-  /// The feature sets of m_clips, one per feature key, shared by the maps of every method.
-  std::shared_ptr<pipeline::FeatureCache> m_featureCache =
-      std::make_shared<pipeline::FeatureCache>();
-  BackgroundJob m_mapJob;  ///< the map (and its blender) being computed
-
-  std::optional<synth::SynthResult> m_synth;
-  std::shared_ptr<const MapResult> m_synthMap;  ///< the map m_synth was sketched on
-  BackgroundJob m_synthJob;                     ///< the motion being synthesized
-  bool m_playingSynth = false;
-  bool m_unsaved = false;
-
-  int m_frame = 0;
-  QTimer m_timer;
-  QElapsedTimer m_playClock;  ///< since play() or the last loop
-  int m_playStartFrame = 0;
-  double m_speed = 1.0;
-  bool m_loop = true;
+  MapController m_maps;  ///< the clips, their maps and the map being computed
+  SynthesisController m_synthesis;
+  Playback m_playback;
+  bool m_playingSynth = false;  ///< the synthesized motion plays (else the clip)
+  bool m_unsaved = false;       ///< the synthesized motion was not exported
   bool m_interactive = true;
   QString m_lastError;
-  QString m_lastDir;
 
   MapView* m_mapView = nullptr;
   SkeletonView* m_skeletonView = nullptr;
   QSplitter* m_splitter = nullptr;
-  QSlider* m_slider = nullptr;
-  QPushButton* m_playButton = nullptr;
-  QComboBox* m_speedBox = nullptr;
-  QCheckBox* m_loopBox = nullptr;
   QLabel* m_status = nullptr;
-  QProgressBar* m_progress = nullptr;
-  QPushButton* m_cancelButton = nullptr;
-  QProgressBar* m_synthProgress = nullptr;
-  QPushButton* m_synthCancelButton = nullptr;
-  QActionGroup* m_methodGroup = nullptr;
-  QAction* m_exportAction = nullptr;
-  QAction* m_exportMapAction = nullptr;
-  QMenu* m_recentMenu = nullptr;
+  JobProgress* m_mapProgress = nullptr;
+  JobProgress* m_synthProgress = nullptr;
+  MotionMenu* m_motionMenu = nullptr;
+  FileMenu* m_files = nullptr;
 };
-
-/// The menu label of `method`: "PCA", "SVD", "MDS", "Isomap", "LE", "LLE".
-QString methodLabel(embed::Method method);
 
 }  // namespace motionmap::studio

@@ -37,19 +37,9 @@ namespace motionmap::studio {
 namespace {
 
 using testing::kTimeoutMs;
+using testing::pathAlong;
 using testing::swing;
 using testing::windowWithMap;
-
-/// A timed path along the trajectory from map row `from` to `to`, `seconds` long.
-synth::MapPath pathAlong(const MapResult& map, int from, int to, double seconds) {
-  synth::MapPath path;
-  const int steps = std::abs(to - from);
-  for (int i = 0; i <= steps; ++i) {
-    path.points.push_back(map.blender->sample_point(from + (to > from ? i : -i)));
-    path.times.push_back(seconds * i / steps);
-  }
-  return path;
-}
 
 /// Answers the next modal message box with `button` (as a user would), recording its text.
 struct QuestionAnswerer {

@@ -1,8 +1,10 @@
 #pragma once
-// Shared set-up of the offscreen Studio tests: the sample swing and a shown window with its map.
+// Shared set-up of the offscreen Studio tests: the sample swing, a shown window with its map, and
+// paths along a map's trajectory.
 #include <gtest/gtest.h>
 
 #include <QTest>
+#include <cstdlib>
 #include <memory>
 
 #include "main_window.h"
@@ -18,6 +20,17 @@ inline Clip swing(double seconds = 2.0) {
   sample::SampleOptions options;
   options.seconds = seconds;
   return sample::make_sample_clip(sample::SampleKind::Swing, options);
+}
+
+/// A timed path along the trajectory of `map` from row `from` to row `to`, `seconds` long.
+inline synth::MapPath pathAlong(const MapResult& map, int from, int to, double seconds) {
+  synth::MapPath path;
+  const int steps = std::abs(to - from);
+  for (int i = 0; i <= steps; ++i) {
+    path.points.push_back(map.blender->sample_point(from + (to > from ? i : -i)));
+    path.times.push_back(seconds * i / steps);
+  }
+  return path;
 }
 
 /// A shown, non-interactive window with the sample's map computed for `method`.

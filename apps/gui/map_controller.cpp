@@ -1,0 +1,163 @@
+#include "map_controller.h"
+
+#include <QElapsedTimer>
+#include <QMetaObject>
+
+#include "motionmap/core/control.h"
+#include "motionmap/core/error.h"
+
+namespace motionmap::studio {
+
+namespace {
+
+/// [clip][frame]: the map row shown for each frame. Frames left out of the map (a bind pose)
+/// show the row of the nearest earlier frame of their clip (or its first row).
+std::vector<std::vector<int>> rowsOfFrames(const std::vector<Clip>& clips,
+                                           const features::FeatureSet& set) {
+  std::vector<std::vector<int>> out(clips.size());
+  for (std::size_t c = 0; c < clips.size(); ++c) {
+    const int first = set.segment_starts[c];
+    const int end =
+        c + 1 < set.segment_starts.size() ? set.segment_starts[c + 1] : set.num_samples();
+    std::vector<int>& rows = out[c];
+    rows.assign(std::size_t(std::max(0, clips[c].motion.num_frames)), first);
+    int row = first;
+    for (int f = 0; f < int(rows.size()); ++f) {
+      while (row + 1 < end && set.frame_of[std::size_t(row + 1)] <= f) ++row;
+      rows[std::size_t(f)] = row;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+MapController::MapController(QObject* parent) : QObject(parent) {}
+
+MapController::~MapController() {
+  m_job.stop();
+}
+
+void MapController::setClips(std::shared_ptr<const std::vector<Clip>> clips) {
+  // The worker may still read the old clips: it is stopped before they are let go.
+  stop();
+  m_clips = std::move(clips);
+  m_maps.clear();  // maps (and blenders) belong to one set of clips
+  m_featureCache = std::make_shared<pipeline::FeatureCache>();
+}
+
+std::string MapController::cacheKey(embed::Method method, const MapParameters& parameters,
+                                    const synth::BlendOptions& blend) {
+  // Appends only: g++ 12 warns (-Wrestrict, a false positive) on "literal" + std::string&&.
+  std::string key(embed::method_name(method));
+  key.append("|k=").append(std::to_string(parameters.k));
+  key.append("|heat=").append(
+      parameters.heat ? QString::number(*parameters.heat, 'g', 17).toStdString() : "auto");
+  key.append("|").append(features::feature_kind_name(parameters.features));
+  key.append("|").append(features::distance_kind_name(parameters.distance));
+  key.append("|exclude=").append(parameters.exclude);
+  // The blender is part of a cached map.
+  key.append("|blend=").append(synth::blend_mode_name(blend.mode));
+  key.append(",").append(std::to_string(blend.neighbors));
+  key.append(",").append(QString::number(blend.reach, 'g', 17).toStdString());
+  return key;
+}
+
+std::shared_ptr<const MapResult> MapController::current() const {
+  if (isComputing()) return nullptr;
+  const auto it = m_maps.find(m_currentKey);
+  return it == m_maps.end() ? nullptr : it->second;
+}
+
+bool MapController::stop() {
+  if (!m_job.stop()) return false;  // results still queued from it are ignored from now on
+  emit stopped();
+  return true;
+}
+
+void MapController::cancel() {
+  if (!stop()) return;
+  emit cancelled();
+}
+
+bool MapController::request(embed::Method method, const MapParameters& parameters,
+                            const synth::BlendOptions& blendOptions) {
+  if (!m_clips) return false;
+  m_currentKey = cacheKey(method, parameters, blendOptions);
+  if (m_maps.count(m_currentKey)) {
+    stop();
+    return true;
+  }
+  stop();
+  emit started(method);
+  std::shared_ptr<const std::vector<Clip>> clips = m_clips;
+  std::shared_ptr<pipeline::FeatureCache> cache = m_featureCache;
+  const pipeline::ClipMapOptions base = parameters.options(method);
+  synth::BlendOptions blend = blendOptions;
+  blend.up = base.features.up;
+  m_job.start([this, clips, cache, base, blend,
+               key = m_currentKey](const BackgroundJob::Ticket& ticket) {
+    const int generation = ticket.generation;
+    auto result = std::make_shared<MapResult>();
+    QString error;
+    bool cancelled = false;
+    try {
+      pipeline::ClipMapOptions options = base;
+      int frames = 0;
+      for (const Clip& c : *clips) frames += c.motion.num_frames;
+      options.metrics = frames <= kMaxMetricsFrames;
+      // Callbacks run on this thread: hand progress to the controller's, read cancel atomically.
+      const Control control(
+          [this, generation](double fraction, std::string_view stage) {
+            const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
+            QMetaObject::invokeMethod(
+                this,
+                [this, generation, fraction, text] {
+                  if (m_job.current(generation)) emit progress(fraction, text);
+                },
+                Qt::QueuedConnection);
+          },
+          [ticket] { return ticket.cancelled(); });
+      QElapsedTimer clock;
+      clock.start();
+      result->map = pipeline::map_clips(*clips, options, control, cache.get());
+      if (ticket.cancelled()) throw Cancelled();
+      result->parameters = pipeline::describe_parameters(result->map.embedding, options);
+      // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system at
+      // once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it behind.
+      const std::shared_ptr<const MapResult> computed = result;
+      result->blender =
+          runUninterruptible<std::unique_ptr<synth::MapBlender>>(ticket, [clips, computed, blend] {
+            return std::make_unique<synth::MapBlender>(*clips, *computed->map.features,
+                                                       computed->map.embedding.coordinates, blend);
+          });
+      result->seconds = double(clock.nsecsElapsed()) * 1e-9;
+      result->options = options;
+      result->rowOfFrame = rowsOfFrames(*clips, *result->map.features);
+    } catch (const Cancelled&) {
+      cancelled = true;
+    } catch (const std::exception& e) {
+      error = QString::fromStdString(e.what());
+    }
+    QMetaObject::invokeMethod(
+        this,
+        [this, generation, key, result, error, cancelled] {
+          onResult(generation, key, result, error, cancelled);
+        },
+        Qt::QueuedConnection);
+  });
+  return false;
+}
+
+void MapController::onResult(int generation, std::string key, std::shared_ptr<MapResult> result,
+                             QString error, bool cancelled) {
+  if (!m_job.current(generation)) return;  // stopped, or replaced by a newer request
+  m_job.finish();
+  emit stopped();
+  if (cancelled) return emit this->cancelled();
+  if (!error.isEmpty()) return emit failed(error);
+  m_maps[key] = result;
+  emit finished(std::move(result));
+}
+
+}  // namespace motionmap::studio

@@ -1,0 +1,49 @@
+#pragma once
+// The mouse on the map: hovering names the frame under the pointer, a click near the trajectory
+// asks to play that frame, and a drag shows the pose the map's blender makes at the mouse (with
+// where the library took it: inside the data, or moved to its edge). Sketches are the window's
+// (they start a synthesis).
+#include <Eigen/Core>
+#include <QObject>
+#include <QPointF>
+#include <QString>
+
+namespace motionmap::studio {
+
+class MapController;
+class MapView;
+class Playback;
+class SkeletonView;
+
+class MapGestures : public QObject {
+  Q_OBJECT
+ public:
+  /// How close (pixels) to a sample's map point a hover or a click must be.
+  static constexpr double kNearPixels = 12.0;
+
+  /// Handles `mapView`'s gestures on the map `maps` shows, posing `skeletonView`; drags are
+  /// ignored while `playback` plays. All must outlive this.
+  MapGestures(const MapController* maps, MapView* mapView, SkeletonView* skeletonView,
+              const Playback* playback, QObject* parent = nullptr);
+
+  /// The map row nearest `pixel` (at map point `point`) within kNearPixels, or −1.
+  int sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const;
+
+ signals:
+  /// A click near the trajectory: frame `frame` of clip `clip`.
+  void frameClicked(int clip, int frame);
+  /// The library's error for a drag.
+  void failed(const QString& message);
+
+ private:
+  void onHover(const Eigen::Vector2d& point, const QPointF& pixel);
+  void onClick(const Eigen::Vector2d& point, const QPointF& pixel);
+  void onDrag(const Eigen::Vector2d& point);
+
+  const MapController* m_maps;
+  MapView* m_mapView;
+  SkeletonView* m_skeletonView;
+  const Playback* m_playback;
+};
+
+}  // namespace motionmap::studio

@@ -1,0 +1,89 @@
+#pragma once
+// The playback clock of the motion shown: the current frame, play/pause, speed and loop. While
+// playing, a timer ticks at least every 16 ms and the frame shown is the one the clock has
+// reached (start frame + elapsed × speed ÷ frame time), never a count of ticks, so playback keeps
+// the motion's rate whatever the tick rate. No widgets: the window shows frameChanged.
+//
+//   Playback playback;
+//   connect(&playback, &Playback::frameChanged, [&](int f) { view.setPose(motion, f); });
+//   playback.setMotion(motion.num_frames, motion.frame_time);
+//   playback.setFrame(0);
+//   playback.play();
+#include <functional>
+
+#include <QElapsedTimer>
+#include <QObject>
+#include <QTimer>
+
+namespace motionmap::studio {
+
+class Playback : public QObject {
+  Q_OBJECT
+ public:
+  /// Seconds since an arbitrary start, never decreasing.
+  using Clock = std::function<double()>;
+  /// Ticks at least this often (ms), so a 30 fps clip at 1× still repaints at 60 Hz when sped up.
+  static constexpr int kMaxTickMs = 16;
+
+  explicit Playback(QObject* parent = nullptr);
+
+  /// The motion played: `frames` frames, `frameTime` seconds apart. The frame number stays (the
+  /// next setFrame clamps it); frameCountChanged is emitted when the count changes.
+  void setMotion(int frames, double frameTime);
+  int frameCount() const { return m_frames; }
+  double frameTime() const { return m_frameTime; }
+
+  int frame() const { return m_frame; }
+  /// Shows `frame` (clamped to the motion; nothing without frames) and, while playing, goes on
+  /// from there. frameChanged is emitted even when the number stays: the motion behind it may
+  /// be another one.
+  void setFrame(int frame);
+  /// Pauses and moves `delta` frames (the arrow keys).
+  void step(int delta);
+
+  /// Plays from the current frame (from the first when stopped at the end without loop). Needs
+  /// a motion of two frames or more.
+  void play();
+  void pause();
+  bool isPlaying() const { return m_timer.isActive(); }
+  /// 1 = the motion's frame rate; clamped to [0.05, 8] (not finite: 1).
+  void setSpeed(double speed);
+  double speed() const { return m_speed; }
+  /// Whether playback starts over at the end (else it stops on the last frame).
+  void setLoop(bool loop);
+  bool loop() const { return m_loop; }
+
+  /// Shows the frame the clock has reached (the timer calls it while playing).
+  void tick();
+  /// Replaces the clock (tests: a clock they advance by hand). The default is a QElapsedTimer.
+  void setClock(Clock clock);
+  /// The timer's interval while playing (ms).
+  int tickInterval() const { return m_timer.interval(); }
+
+ signals:
+  /// The frame shown (see setFrame).
+  void frameChanged(int frame);
+  void frameCountChanged(int frames);
+  void playingChanged(bool playing);
+  void speedChanged(double speed);
+  void loopChanged(bool loop);
+
+ private:
+  /// Sets and emits `frame` (clamped), without touching the clock's anchor.
+  void show(int frame);
+  /// Playing from here: the clock's anchor is now and the current frame.
+  void anchor();
+
+  int m_frames = 0;
+  double m_frameTime = 1.0 / 30.0;
+  int m_frame = 0;
+  double m_speed = 1.0;
+  bool m_loop = true;
+  QTimer m_timer;
+  QElapsedTimer m_elapsed;  ///< the default clock
+  Clock m_clock;
+  double m_startTime = 0.0;  ///< the clock at play() or the last jump
+  int m_startFrame = 0;      ///< the frame then
+};
+
+}  // namespace motionmap::studio

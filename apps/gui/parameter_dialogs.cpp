@@ -42,14 +42,13 @@ std::optional<MapParameters> editMapParameters(QWidget* parent, const MapParamet
   heat->setPlaceholderText(QDialog::tr("auto"));
   form->addRow(QDialog::tr("Heat t (LE; ≤ 0: unit weights)"), heat);
   auto* featureBox = new QComboBox;
-  for (auto f : {features::FeatureKind::Quaternions, features::FeatureKind::Positions}) {
+  for (auto f : features::all_feature_kinds()) {
     featureBox->addItem(fromName(features::feature_kind_name(f)), int(f));
   }
   featureBox->setCurrentIndex(featureBox->findData(int(now.features)));
   form->addRow(QDialog::tr("Features (PCA, SVD, LLE)"), featureBox);
   auto* distanceBox = new QComboBox;
-  for (auto d : {features::DistanceKind::PointCloud, features::DistanceKind::Geodesic,
-                 features::DistanceKind::Features}) {
+  for (auto d : features::all_distance_kinds()) {
     distanceBox->addItem(fromName(features::distance_kind_name(d)), int(d));
   }
   distanceBox->setCurrentIndex(distanceBox->findData(int(now.distance)));

@@ -49,14 +49,11 @@ MapParameters readMapParameters(const QSettings& settings) {
   bool heatOk = false;
   const double heatValue = heat.toDouble(&heatOk);
   if (heatOk && std::isfinite(heatValue)) m.heat = heatValue;  // "auto" (or nothing): automatic
-  const std::string featureName = readName(settings, "map/features");
-  for (auto f : {features::FeatureKind::Quaternions, features::FeatureKind::Positions}) {
-    if (featureName == features::feature_kind_name(f)) m.features = f;
+  if (const auto f = features::parse_feature_kind(readName(settings, "map/features"))) {
+    m.features = *f;
   }
-  const std::string distanceName = readName(settings, "map/distance");
-  for (auto d : {features::DistanceKind::PointCloud, features::DistanceKind::Geodesic,
-                 features::DistanceKind::Features}) {
-    if (distanceName == features::distance_kind_name(d)) m.distance = d;
+  if (const auto d = features::parse_distance_kind(readName(settings, "map/distance"))) {
+    m.distance = *d;
   }
   m.exclude = readName(settings, "map/exclude");
   return m;

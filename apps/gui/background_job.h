@@ -21,6 +21,10 @@
 #include <optional>
 #include <thread>
 
+#include <QObject>
+#include <QString>
+
+#include "motionmap/core/control.h"
 #include "motionmap/core/error.h"
 
 namespace motionmap::studio {
@@ -70,6 +74,56 @@ class BackgroundJob {
   std::shared_ptr<std::atomic<bool>> m_cancel;
   int m_generation = 0;
 };
+
+/// What a job's work ended with: its value, an error message, or a cancel.
+template <class T>
+struct JobOutcome {
+  std::shared_ptr<T> value;  ///< set when the work finished
+  QString error;             ///< what it threw, when it failed
+  bool cancelled = false;
+};
+
+/// The body of a job's thread: runs work(control), where `control` forwards progress to
+/// `receiver`'s thread as report(fraction, stage) while the job is still wanted and cancels when
+/// the ticket is cancelled; then, on receiver's thread and only if the job is still wanted, joins
+/// the job's thread and calls done(outcome).
+template <class T>
+void runJob(QObject* receiver, BackgroundJob& job, const BackgroundJob::Ticket& ticket,
+            std::function<void(double, const QString&)> report,
+            std::function<std::shared_ptr<T>(const Control&)> work,
+            std::function<void(const JobOutcome<T>&)> done) {
+  const int generation = ticket.generation;
+  JobOutcome<T> outcome;
+  try {
+    const Control control(
+        [receiver, &job, generation, report](double fraction, std::string_view stage) {
+          const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
+          QMetaObject::invokeMethod(
+              receiver,
+              [&job, generation, report, fraction, text] {
+                if (job.current(generation)) report(fraction, text);
+              },
+              Qt::QueuedConnection);
+        },
+        [ticket] { return ticket.cancelled(); });
+    outcome.value = work(control);
+    if (ticket.cancelled()) throw Cancelled();
+  } catch (const Cancelled&) {
+    outcome.value.reset();
+    outcome.cancelled = true;
+  } catch (const std::exception& e) {
+    outcome.value.reset();
+    outcome.error = QString::fromStdString(e.what());
+  }
+  QMetaObject::invokeMethod(
+      receiver,
+      [&job, generation, outcome, done] {
+        if (!job.current(generation)) return;  // stopped, or replaced by a newer job
+        job.finish();
+        done(outcome);
+      },
+      Qt::QueuedConnection);
+}
 
 /// Runs work() on a thread of its own and waits for its result while polling the job's ticket:
 /// for a step that cannot poll for cancellation itself (the kriging blender's O(N³) set-up). When

@@ -97,65 +97,44 @@ bool MapController::request(embed::Method method, const MapParameters& parameter
   blend.up = base.features.up;
   m_job.start([this, clips, cache, base, blend,
                key = m_currentKey](const BackgroundJob::Ticket& ticket) {
-    const int generation = ticket.generation;
-    auto result = std::make_shared<MapResult>();
-    QString error;
-    bool cancelled = false;
-    try {
-      pipeline::ClipMapOptions options = base;
-      int frames = 0;
-      for (const Clip& c : *clips) frames += c.motion.num_frames;
-      options.metrics = frames <= kMaxMetricsFrames;
-      // Callbacks run on this thread: hand progress to the controller's, read cancel atomically.
-      const Control control(
-          [this, generation](double fraction, std::string_view stage) {
-            const QString text = QString::fromUtf8(stage.data(), qsizetype(stage.size()));
-            QMetaObject::invokeMethod(
-                this,
-                [this, generation, fraction, text] {
-                  if (m_job.current(generation)) emit progress(fraction, text);
-                },
-                Qt::QueuedConnection);
-          },
-          [ticket] { return ticket.cancelled(); });
-      QElapsedTimer clock;
-      clock.start();
-      result->map = pipeline::map_clips(*clips, options, control, cache.get());
-      if (ticket.cancelled()) throw Cancelled();
-      result->parameters = pipeline::describe_parameters(result->map.embedding, options);
-      // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system at
-      // once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it behind.
-      const std::shared_ptr<const MapResult> computed = result;
-      result->blender =
-          runUninterruptible<std::unique_ptr<synth::MapBlender>>(ticket, [clips, computed, blend] {
-            return std::make_unique<synth::MapBlender>(*clips, *computed->map.features,
-                                                       computed->map.embedding.coordinates, blend);
-          });
-      result->seconds = double(clock.nsecsElapsed()) * 1e-9;
-      result->options = options;
-      result->rowOfFrame = rowsOfFrames(*clips, *result->map.features);
-    } catch (const Cancelled&) {
-      cancelled = true;
-    } catch (const std::exception& e) {
-      error = QString::fromStdString(e.what());
-    }
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, key, result, error, cancelled] {
-          onResult(generation, key, result, error, cancelled);
+    runJob<MapResult>(
+        this, m_job, ticket,
+        [this](double fraction, const QString& stage) { emit progress(fraction, stage); },
+        [&](const Control& control) {
+          auto result = std::make_shared<MapResult>();
+          pipeline::ClipMapOptions options = base;
+          int frames = 0;
+          for (const Clip& c : *clips) frames += c.motion.num_frames;
+          options.metrics = frames <= kMaxMetricsFrames;
+          QElapsedTimer clock;
+          clock.start();
+          result->map = pipeline::map_clips(*clips, options, control, cache.get());
+          control.check();
+          result->parameters = pipeline::describe_parameters(result->map.embedding, options);
+          // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system
+          // at once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it
+          // behind.
+          const std::shared_ptr<const MapResult> computed = result;
+          result->blender = runUninterruptible<std::unique_ptr<synth::MapBlender>>(
+              ticket, [clips, computed, blend] {
+                return std::make_unique<synth::MapBlender>(
+                    *clips, *computed->map.features, computed->map.embedding.coordinates, blend);
+              });
+          result->seconds = double(clock.nsecsElapsed()) * 1e-9;
+          result->options = options;
+          result->rowOfFrame = rowsOfFrames(*clips, *result->map.features);
+          return result;
         },
-        Qt::QueuedConnection);
+        [this, key](const JobOutcome<MapResult>& outcome) { onResult(key, outcome); });
   });
   return false;
 }
 
-void MapController::onResult(int generation, std::string key, std::shared_ptr<MapResult> result,
-                             QString error, bool cancelled) {
-  if (!m_job.current(generation)) return;  // stopped, or replaced by a newer request
-  m_job.finish();
+void MapController::onResult(const std::string& key, const JobOutcome<MapResult>& outcome) {
   emit stopped();
-  if (cancelled) return emit this->cancelled();
-  if (!error.isEmpty()) return emit failed(error);
+  if (outcome.cancelled) return emit cancelled();
+  if (!outcome.error.isEmpty()) return emit failed(outcome.error);
+  const std::shared_ptr<MapResult> result = outcome.value;
   m_maps[key] = result;
   emit finished(std::move(result));
 }

@@ -90,8 +90,7 @@ class MapController : public QObject {
   void cancelled();
 
  private:
-  void onResult(int generation, std::string key, std::shared_ptr<MapResult> result, QString error,
-                bool cancelled);
+  void onResult(const std::string& key, const JobOutcome<MapResult>& outcome);
 
   std::shared_ptr<const std::vector<Clip>> m_clips;                ///< shared with the worker
   std::map<std::string, std::shared_ptr<const MapResult>> m_maps;  ///< by cacheKey

@@ -38,48 +38,23 @@ bool SynthesisController::start(std::shared_ptr<const MapResult> map, const synt
   if (!parameters.timedAsDrawn) followed.times.clear();
   m_job.start([this, map = std::move(map), path = std::move(followed),
                options](const BackgroundJob::Ticket& ticket) {
-    const int generation = ticket.generation;
-    auto result = std::make_shared<synth::SynthResult>();
-    QString error;
-    bool cancelled = false;
-    try {
-      // Callbacks run on this thread: hand progress to the controller's, read cancel atomically.
-      const Control control(
-          [this, generation](double fraction, std::string_view) {
-            QMetaObject::invokeMethod(
-                this,
-                [this, generation, fraction] {
-                  if (m_job.current(generation)) emit progress(fraction);
-                },
-                Qt::QueuedConnection);
-          },
-          [ticket] { return ticket.cancelled(); });
-      *result = synth::synthesize(*map->blender, path, options, control);
-      if (ticket.cancelled()) throw Cancelled();
-    } catch (const Cancelled&) {
-      cancelled = true;
-    } catch (const std::exception& e) {
-      error = QString::fromStdString(e.what());
-    }
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, map, result, error, cancelled] {
-          onResult(generation, map, result, error, cancelled);
+    runJob<synth::SynthResult>(
+        this, m_job, ticket, [this](double fraction, const QString&) { emit progress(fraction); },
+        [&](const Control& control) {
+          return std::make_shared<synth::SynthResult>(
+              synth::synthesize(*map->blender, path, options, control));
         },
-        Qt::QueuedConnection);
+        [this, map](const JobOutcome<synth::SynthResult>& outcome) { onResult(map, outcome); });
   });
   return true;
 }
 
-void SynthesisController::onResult(int generation, std::shared_ptr<const MapResult> map,
-                                   std::shared_ptr<synth::SynthResult> result, QString error,
-                                   bool cancelled) {
-  if (!m_job.current(generation)) return;  // stopped, or replaced by a newer sketch
-  m_job.finish();
+void SynthesisController::onResult(std::shared_ptr<const MapResult> map,
+                                   const JobOutcome<synth::SynthResult>& outcome) {
   emit stopped();
-  if (cancelled) return emit this->cancelled();
-  if (!error.isEmpty()) return emit failed(error);
-  m_result = std::move(*result);
+  if (outcome.cancelled) return emit cancelled();
+  if (!outcome.error.isEmpty()) return emit failed(outcome.error);
+  m_result = std::move(*outcome.value);
   m_resultMap = std::move(map);
   emit finished();
 }

@@ -62,8 +62,8 @@ class SynthesisController : public QObject {
   void cancelled();
 
  private:
-  void onResult(int generation, std::shared_ptr<const MapResult> map,
-                std::shared_ptr<synth::SynthResult> result, QString error, bool cancelled);
+  void onResult(std::shared_ptr<const MapResult> map,
+                const JobOutcome<synth::SynthResult>& outcome);
 
   std::optional<synth::SynthResult> m_result;
   std::shared_ptr<const MapResult> m_resultMap;

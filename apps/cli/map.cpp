@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/render/map_plot.h"
 
@@ -21,11 +22,6 @@ struct MapCommand {
   bool metrics = false;
   std::string axes = "equal";
 };
-
-std::string base_name(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
 
 void print_metrics_table(std::ostream& out, const pipeline::ClipMap& map, int k) {
   const auto& m = *map.metrics;

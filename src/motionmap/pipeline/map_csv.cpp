@@ -10,15 +10,6 @@
 
 namespace motionmap::pipeline {
 
-namespace {
-
-std::string base_name(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-}  // namespace
-
 void MapTable::check_matches(const features::FeatureSet& samples) const {
   if (num_rows() != samples.num_samples()) {
     throw ParameterError(

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "motionmap/features/detail/point_cloud.h"
+
 namespace motionmap::features {
 
 BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor) {
@@ -28,8 +30,11 @@ BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor) {
   return check;
 }
 
-std::vector<RotationFlip> find_rotation_flips(const Skeleton& skeleton, const Motion& motion,
-                                              double threshold_degrees, int first_frame) {
+namespace {
+
+// find_rotation_flips() of a skeleton and motion already checked.
+std::vector<RotationFlip> rotation_flips(const Skeleton& skeleton, const Motion& motion,
+                                         double threshold_degrees, int first_frame) {
   std::vector<RotationFlip> flips;
   const double threshold = deg_to_rad(threshold_degrees);
   for (int j = 0; j < skeleton.num_joints(); ++j) {
@@ -45,6 +50,14 @@ std::vector<RotationFlip> find_rotation_flips(const Skeleton& skeleton, const Mo
     if (!flip.frames.empty()) flips.push_back(std::move(flip));
   }
   return flips;
+}
+
+}  // namespace
+
+std::vector<RotationFlip> find_rotation_flips(const Skeleton& skeleton, const Motion& motion,
+                                              double threshold_degrees, int first_frame) {
+  check_motion(skeleton, motion, "find_rotation_flips");
+  return rotation_flips(skeleton, motion, threshold_degrees, first_frame);
 }
 
 namespace {
@@ -66,10 +79,12 @@ std::string frame_pairs(const std::vector<int>& frames, std::size_t shown) {
 }  // namespace
 
 std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& motion, Axis up) {
+  check_motion(skeleton, motion, "clip_warnings");
   std::vector<std::string> warnings;
   int first_flip_frame = 0;
   if (motion.num_frames >= 3) {
-    const BindPoseCheck bind = check_leading_bind_pose(heading_local_points(skeleton, motion, up));
+    const BindPoseCheck bind =
+        check_leading_bind_pose(detail::checked_heading_local_points(skeleton, motion, up));
     if (bind.detected) {
       first_flip_frame = 1;
       warnings.push_back(
@@ -81,7 +96,7 @@ std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& m
     }
   }
   if (motion.fps() >= 60.0) {
-    for (const RotationFlip& flip : find_rotation_flips(skeleton, motion, 90.0, first_flip_frame)) {
+    for (const RotationFlip& flip : rotation_flips(skeleton, motion, 90.0, first_flip_frame)) {
       warnings.push_back("joint '" + skeleton.joints[flip.joint].name + "' rotates by up to " +
                          format_double(flip.max_degrees, 0) + "° between consecutive frames (" +
                          frame_pairs(flip.frames, 5) + "), more than a body can at " +

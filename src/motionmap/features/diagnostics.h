@@ -31,12 +31,14 @@ struct RotationFlip {
 /// Joints whose local rotation changes by more than `threshold_degrees` between consecutive
 /// frames from `first_frame` on. Only meaningful at high frame rates (≥ 60 fps), where real
 /// motion never does that.
+/// @throws ParameterError or NumericalError if check_motion (MotionCheck::Values) fails.
 std::vector<RotationFlip> find_rotation_flips(const Skeleton& skeleton, const Motion& motion,
                                               double threshold_degrees = 90.0, int first_frame = 0);
 
 /// Human-readable warnings for a clip: the bind pose check and, at ≥ 60 fps, rotation flips,
 /// each naming the frames (0-based, as in the file's motion rows). The jump out of a detected
 /// bind pose is not reported as a flip.
+/// @throws ParameterError or NumericalError if check_motion (MotionCheck::Values) fails.
 std::vector<std::string> clip_warnings(const Skeleton& skeleton, const Motion& motion,
                                        Axis up = Axis::Y);
 

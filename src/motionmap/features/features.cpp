@@ -8,6 +8,7 @@
 #include "motionmap/core/files.h"
 #include "motionmap/core/names.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/features/detail/point_cloud.h"
 #include "motionmap/features/diagnostics.h"
 
 namespace motionmap::features {
@@ -55,8 +56,11 @@ void FeatureOptions::validate() const {
   }
 }
 
-Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> joints,
-                                    std::span<const int> frames) {
+namespace {
+
+// quaternion_features() of a motion, joints and frames already checked.
+Eigen::MatrixXd quaternion_block(const Motion& motion, std::span<const int> joints,
+                                 std::span<const int> frames) {
   const auto cols = static_cast<Eigen::Index>(4 * joints.size());
   Eigen::MatrixXd X(static_cast<Eigen::Index>(frames.size()), cols);
   for (std::size_t r = 0; r < frames.size(); ++r) {
@@ -72,6 +76,28 @@ Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> j
     }
   }
   return X;
+}
+
+}  // namespace
+
+Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> joints,
+                                    std::span<const int> frames) {
+  check_motion(motion, "quaternion_features");
+  for (const int j : joints) {
+    if (j < 0 || j >= motion.num_joints) {
+      throw ParameterError("quaternion_features: joint index " + std::to_string(j) +
+                           " is out of range (the motion has " + std::to_string(motion.num_joints) +
+                           " joints)");
+    }
+  }
+  for (const int f : frames) {
+    if (f < 0 || f >= motion.num_frames) {
+      throw ParameterError("quaternion_features: frame " + std::to_string(f) +
+                           " is out of range (the motion has " + std::to_string(motion.num_frames) +
+                           " frames)");
+    }
+  }
+  return quaternion_block(motion, joints, frames);
 }
 
 namespace {
@@ -178,18 +204,6 @@ std::vector<Eigen::Index> kept_point_columns(const Skeleton& skeleton,
   return cols;
 }
 
-void check_finite(const Clip& clip) {
-  const Motion& m = clip.motion;
-  for (int f = 0; f < m.num_frames; ++f) {
-    for (int j = 0; j < m.num_joints; ++j) {
-      if (!m.rotation(f, j).coeffs().allFinite() || !m.translation(f, j).allFinite()) {
-        throw NumericalError(clip.path + ": frame " + std::to_string(f) + ", joint '" +
-                             clip.skeleton.joints[j].name + "' holds a NaN or infinite value");
-      }
-    }
-  }
-}
-
 /// The samples of `clips` (clip_of, frame_of, segment_starts, joints, notes; no X or D) and, per
 /// clip, its heading-local point cloud (all frames) and the frames selected.
 struct Selection {
@@ -208,14 +222,14 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options) {
                            clips.front().path + "'s; clips mapped together must share one");
     }
     if (clip.motion.num_frames == 0) throw ParameterError(clip.path + ": the clip has no frames");
-    check_finite(clip);
+    check_clip(clip);
   }
 
   Selection out;
   FeatureSet& set = out.set;
   set.joints = used_joints(skeleton, options.exclude);
   for (const Clip& clip : clips) {
-    RowMatrix cloud = heading_local_points(clip.skeleton, clip.motion, options.up);
+    RowMatrix cloud = detail::checked_heading_local_points(clip.skeleton, clip.motion, options.up);
     int first = options.first_frame;
     if (first == 0 && !options.keep_first) {
       const BindPoseCheck bind = check_leading_bind_pose(cloud);
@@ -270,7 +284,7 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
     const RowMatrix& cloud = selection.clouds[c];
     if (options.features == FeatureKind::Quaternions ||
         options.distance == DistanceKind::Geodesic) {
-      x_blocks.push_back(quaternion_features(clips[c].motion, set.joints, frames));
+      x_blocks.push_back(quaternion_block(clips[c].motion, set.joints, frames));
     }
     RowMatrix kept(static_cast<Eigen::Index>(frames.size()),
                    static_cast<Eigen::Index>(point_cols.size()));

@@ -86,9 +86,12 @@ enum class Distances { Now, Later };
 
 /// Builds X and D for `clips`, which must share one joint hierarchy (names and parents; offsets
 /// may differ: each clip uses its own for forward kinematics).
+/// Every clip goes through check_clip() (MotionCheck::Values) first.
 /// @throws ParameterError for bad options, clips of different hierarchies, a selection with no
-///         frames, or an exclude pattern that is invalid or leaves no joint;
-///         NumericalError if a clip holds NaN or infinite values; Cancelled if `control` says so.
+///         frames, an exclude pattern that is invalid or leaves no joint, or a clip whose motion
+///         does not fit its skeleton (sizes, parents, frame time);
+///         NumericalError if a clip holds NaN, infinite or zero values (messages name the clip's
+///         path, frame and joint); Cancelled if `control` says so.
 FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
                           const Control& control = {}, Distances distances = Distances::Now);
 
@@ -104,6 +107,9 @@ FeatureSet select_samples(std::span<const Clip> clips, const FeatureOptions& opt
 /// Sign-consistent local rotation quaternions: #frames by 4·#joints (w, x, y, z per joint) of
 /// the given frames; row 0 has w ≥ 0 per joint, every later row flips a joint's quaternion whose
 /// dot product with the previous row's is negative.
+/// @throws ParameterError if `motion` fails check_motion(motion, …) (sizes, frame time) or a
+///         joint or frame index is out of range; NumericalError for NaN, infinite or zero
+///         rotations or non-finite translations.
 Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> joints,
                                     std::span<const int> frames);
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "motionmap/features/detail/point_cloud.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 
 namespace motionmap::features {
@@ -28,7 +29,9 @@ double heading_angle(const Eigen::Quaterniond& world_rotation, Axis up) {
   return std::atan2(sa, ca);
 }
 
-RowMatrix heading_local_points(const Skeleton& skeleton, const Motion& motion, Axis up) {
+namespace detail {
+
+RowMatrix checked_heading_local_points(const Skeleton& skeleton, const Motion& motion, Axis up) {
   const int joints = skeleton.num_joints();
   const int points = joints + skeleton.num_end_sites();
   const int root = motion_root(skeleton, motion);
@@ -50,6 +53,13 @@ RowMatrix heading_local_points(const Skeleton& skeleton, const Motion& motion, A
     }
   }
   return out;
+}
+
+}  // namespace detail
+
+RowMatrix heading_local_points(const Skeleton& skeleton, const Motion& motion, Axis up) {
+  check_motion(skeleton, motion, "heading_local_points");
+  return detail::checked_heading_local_points(skeleton, motion, up);
 }
 
 }  // namespace motionmap::features

@@ -19,8 +19,9 @@ double heading_angle(const Eigen::Quaterniond& world_rotation, Axis up = Axis::Y
 
 /// #frames by 3·(#joints + #end sites): row f holds frame f's joint then end-site positions with
 /// the motion root's (see motion_root()) floor position moved to the origin and its heading
-/// turned to zero. Height
-/// along `up` is kept.
+/// turned to zero. Height along `up` is kept.
+/// @throws ParameterError or NumericalError if check_motion (MotionCheck::Values) fails: the
+///         motion does not fit the skeleton, or holds NaN, infinite or zero values.
 RowMatrix heading_local_points(const Skeleton& skeleton, const Motion& motion, Axis up = Axis::Y);
 
 }  // namespace motionmap::features

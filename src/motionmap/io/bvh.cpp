@@ -676,6 +676,7 @@ Motion to_motion(const BvhDocument& doc) {
 }
 
 BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion) {
+  check_motion(skeleton, motion, "from_motion");
   const int joints = skeleton.num_joints();
   const auto entries = static_cast<std::size_t>(std::max(motion.num_frames, 0)) *
                        static_cast<std::size_t>(std::max(motion.num_joints, 0));

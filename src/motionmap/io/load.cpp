@@ -40,9 +40,8 @@ std::string find_asf_for(const std::string& amc_path) {
               std::to_string(found.size()) + " .asf files beside it); pass it explicitly (--asf)");
 }
 
-}  // namespace
-
-Clip load_clip(const std::string& path, const LoadOptions& options) {
+// The clip in `path`, as its format's loader produced it (with the fps override applied).
+Clip read_clip(const std::string& path, const LoadOptions& options) {
   const std::string ext = lower_extension(path);
   if (ext == ".bvh") {
     Clip clip = load_bvh(path);
@@ -60,6 +59,15 @@ Clip load_clip(const std::string& path, const LoadOptions& options) {
                 path + ")");
   }
   throw Error(path + ": error: unknown file type '" + ext + "', expected .bvh or .amc");
+}
+
+}  // namespace
+
+Clip load_clip(const std::string& path, const LoadOptions& options) {
+  Clip clip = read_clip(path, options);
+  // What the loaders or an fps override produce is what the rest of the library trusts.
+  check_clip(clip);
+  return clip;
 }
 
 }  // namespace motionmap::io

@@ -14,8 +14,10 @@ struct LoadOptions {
   double fps = 0.0;
 };
 
-/// Loads a .bvh, or an .amc with its .asf. @throws Error (unreadable, unknown extension, missing
-/// .asf) or ParseError (malformed file).
+/// Loads a .bvh, or an .amc with its .asf, and runs check_clip() on the result.
+/// @throws Error (unreadable, unknown extension, missing .asf), ParseError (malformed file), or
+///         ParameterError / NumericalError from check_clip() (e.g. an `fps` so large that the
+///         frame time is 0).
 Clip load_clip(const std::string& path, const LoadOptions& options = {});
 
 }  // namespace motionmap::io

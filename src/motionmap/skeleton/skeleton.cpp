@@ -83,6 +83,7 @@ void Motion::resize(int frames, int joints) {
 }
 
 int motion_root(const Skeleton& skeleton, const Motion& motion) {
+  check_motion(skeleton, motion, "motion_root", MotionCheck::Sizes);
   const auto roots = skeleton.roots();
   int joint = roots.empty() ? 0 : roots.front();
   for (;;) {

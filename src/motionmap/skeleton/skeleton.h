@@ -1,6 +1,7 @@
 #pragma once
 // The data model: a Skeleton (joints in parent-before-child order) and a Motion (frames-major
-// arrays of local joint transforms), bundled with their provenance in a Clip.
+// arrays of local joint transforms), bundled with their provenance in a Clip; and check_motion(),
+// the one check every public function taking a skeleton and motion runs first.
 //
 //   motionmap::Clip clip = motionmap::io::load_clip("64_08.bvh");
 //   const auto& skel = clip.skeleton;              // #joints, parents, offsets, channels
@@ -109,7 +110,8 @@ struct Motion {
 /// The joint that carries the body's motion: the first root, or — where exporters put a static
 /// joint above the hips (Bandai Namco's joint_Root) — the first joint down the chain of single
 /// children whose local transform changes during `motion`. Heading and floor position are read
-/// from it.
+/// from it. Checks sizes only (see check_motion(), MotionCheck::Sizes).
+/// @throws ParameterError if `motion` does not fit `skeleton`.
 int motion_root(const Skeleton& skeleton, const Motion& motion);
 
 /// A loaded clip: what it is called, its skeleton and motion, and the loader's warnings.
@@ -120,5 +122,65 @@ struct Clip {
   std::vector<std::string>
       warnings;  ///< non-fatal findings, formatted like "path:line: warning: …"
 };
+
+// ---- Checking a skeleton and motion --------------------------------------------------------
+// The one check of a skeleton and its motion, called at every public entry point that takes
+// them, so that a Motion whose public fields were set inconsistently ends in a clear
+// motionmap::Error instead of an out-of-bounds read or NaN poses.
+//
+//   motionmap::check_clip(clip);  // throws naming clip.path, the first bad frame and joint
+//   motionmap::check_motion(skeleton, motion, "forward_kinematics", motionmap::MotionCheck::Sizes);
+//
+// What is checked, in this order (the first problem found is reported):
+//  1. the skeleton: at least one joint, every parent −1 (a root) or the index of an earlier joint;
+//  2. the motion's shape: #frames ≥ 0, #joints equal to the skeleton's, rotations and
+//     translations each holding #frames·#joints entries, a frame time that is finite and > 0;
+//  3. with MotionCheck::Values only (one pass over the data): finite joint offsets and End Sites,
+//     then, frame by frame, finite rotations of norm > kMinRotationNorm and finite translations.
+// Sizes and structure problems throw ParameterError, non-finite or zero values NumericalError.
+
+/// How much check_motion() looks at.
+enum class MotionCheck {
+  /// Skeleton structure, array sizes and frame time: O(#joints), for per-frame entry points.
+  Sizes,
+  /// Sizes, then every offset, End Site, rotation and translation: one pass over the motion.
+  Values,
+};
+
+/// Rotations shorter than this are rejected as zero (they cannot be normalised into a rotation).
+inline constexpr double kMinRotationNorm = 1e-6;
+
+/// Checks that `skeleton` is well-formed: at least one joint, parents before children; with
+/// MotionCheck::Values also finite offsets and End Sites. `who` starts every message (a clip
+/// path or the name of the function checking).
+/// @throws ParameterError "who: joint 'Spine' (index 1) has parent index 5; expected -1 (a root)
+///         or the index of an earlier joint …" or "who: the skeleton has no joint";
+///         NumericalError "who: joint 'Spine' has a non-finite offset (nan, 0, 1)" (Values only).
+void check_skeleton(const Skeleton& skeleton, std::string_view who,
+                    MotionCheck depth = MotionCheck::Values);
+
+/// Checks `motion` alone (no skeleton): #frames and #joints ≥ 0, rotations and translations of
+/// #frames·#joints entries each, frame time finite and > 0; with MotionCheck::Values also finite,
+/// non-zero rotations and finite translations (joints named by index).
+/// @throws ParameterError (sizes, frame time) or NumericalError (values), messages as
+///         check_motion(skeleton, motion, …).
+void check_motion(const Motion& motion, std::string_view who,
+                  MotionCheck depth = MotionCheck::Values);
+
+/// Checks that `motion` is a valid motion of `skeleton`: check_skeleton(), then motion.num_joints
+/// equal to skeleton.num_joints(), then check_motion(motion), joints named by their names.
+/// `who` starts every message: a clip path, or the name of the public function checking.
+/// @throws ParameterError for structure and size problems, e.g.
+///         "who: the motion (3 frames of 4 joints, 12 rotations, 12 translations) does not fit
+///         the skeleton of 5 joints", "who: frame time 0.000000 is not a finite number > 0";
+///         NumericalError for values (MotionCheck::Values only), e.g. "who: frame 7, joint
+///         'LeftThumb' holds a NaN or infinite value (rotation w x y z = nan 0 0 1; expected
+///         finite numbers)" or "… has a rotation of norm 0 (…; expected a unit quaternion)".
+void check_motion(const Skeleton& skeleton, const Motion& motion, std::string_view who,
+                  MotionCheck depth = MotionCheck::Values);
+
+/// check_motion(clip.skeleton, clip.motion, …) with messages starting with clip.path ("clip"
+/// when it is empty). @throws as check_motion().
+void check_clip(const Clip& clip, MotionCheck depth = MotionCheck::Values);
 
 }  // namespace motionmap

@@ -678,20 +678,6 @@ Motion to_motion(const BvhDocument& doc) {
 BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion) {
   check_motion(skeleton, motion, "from_motion");
   const int joints = skeleton.num_joints();
-  const auto entries = static_cast<std::size_t>(std::max(motion.num_frames, 0)) *
-                       static_cast<std::size_t>(std::max(motion.num_joints, 0));
-  if (motion.num_joints != joints || motion.num_frames < 0 || motion.rotations.size() != entries ||
-      motion.translations.size() != entries) {
-    throw ParameterError(
-        "from_motion: the motion (" + std::to_string(motion.num_frames) + " frames of " +
-        std::to_string(motion.num_joints) + " joints, " + std::to_string(motion.rotations.size()) +
-        " rotations, " + std::to_string(motion.translations.size()) +
-        " translations) does not fit the skeleton of " + std::to_string(joints) + " joints");
-  }
-  if (!(motion.frame_time > 0.0) || !std::isfinite(motion.frame_time)) {
-    throw ParameterError("from_motion: frame time " + std::to_string(motion.frame_time) +
-                         " is not a finite number > 0");
-  }
 
   // Per joint: the channel carrying each distinct rotation axis (first occurrence, file order).
   struct Plan {

@@ -107,8 +107,9 @@ Motion to_motion(const BvhDocument& doc);
 /// with repeated axes the first channel of each axis carries the angle, later repeats are 0.
 /// Position channels get the translation's components; translations of joints (or axes) without
 /// position channels are not stored (the file's OFFSET is the skeleton's).
-/// @throws ParameterError if the motion does not fit the skeleton (joint count, array sizes) or
-///         its frame time is not > 0.
+/// @throws as check_motion(): ParameterError if the motion does not fit the skeleton (joint
+///         count, array sizes, parents) or its frame time is not > 0; NumericalError for NaN,
+///         infinite or zero-length values.
 BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion);
 
 /// read_bvh + to_motion, as a Clip carrying the document's warnings.

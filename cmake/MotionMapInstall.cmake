@@ -61,12 +61,14 @@ set(MOTIONMAP_PACKAGE_MAINTAINER "MotionMap maintainers <maintainers@motionmap.i
     CACHE STRING "Maintainer field of the .deb built by `make package`")
 set(CPACK_PACKAGE_CONTACT "${MOTIONMAP_PACKAGE_MAINTAINER}")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "map motion-capture clips to 2D trajectories")
-set(CPACK_PACKAGE_DESCRIPTION "\
-MotionMap maps every frame of a motion-capture clip (BVH, Acclaim ASF/AMC) to a point on a 2D \
-plane with PCA, SVD, MDS, Isomap, Laplacian eigenmaps or LLE, and synthesizes new poses and \
-motions from the maps. This package holds the motionmap command-line tool, MotionMap Studio (a \
-Qt 6 desktop application), and the C++20 static libraries with their headers and CMake package \
-files (find_package(MotionMap), which also needs libeigen3-dev).")
+# The long description, in lines of < 80 characters as Debian wants them.
+string(CONCAT CPACK_PACKAGE_DESCRIPTION
+  "MotionMap maps every frame of a motion-capture clip (BVH, Acclaim ASF/AMC) to\n"
+  "a point on a 2D plane with PCA, SVD, MDS, Isomap, Laplacian eigenmaps or LLE,\n"
+  "and synthesizes new poses and motions from the maps. This package holds the\n"
+  "motionmap command-line tool, MotionMap Studio (a Qt 6 desktop application),\n"
+  "and the C++20 static libraries with their headers and CMake package files\n"
+  "(find_package(MotionMap), which also needs libeigen3-dev).")
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # motionmap_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)

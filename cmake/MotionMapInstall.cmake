@@ -53,6 +53,11 @@ endif()
 # `make package` (cpack -G DEB in the build directory): one package, motionmap, with all of the
 # above under /usr. dpkg-shlibdeps (dpkg-dev) derives Depends from the binaries' shared libraries
 # (libc6, libstdc++6, libqt6core6, libqt6gui6, libqt6svg6, libqt6widgets6, libqt6opengl6, …).
+# Only for MotionMap's own build: a project that adds MotionMap with add_subdirectory() packages
+# itself.
+if(NOT _mm_top)
+  return()
+endif()
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME motionmap)
 set(CPACK_PACKAGE_VENDOR "MotionMap")

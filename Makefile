@@ -1,13 +1,20 @@
 # MotionMap's two commands. Both install missing Debian packages first (scripts/install-deps.sh).
-#   make demo   build (Release) and run the main job on the built-in sample
-#   make test   build and run the whole test suite through ctest: Release, then ASan+UBSan,
-#               then every parser's libFuzzer target for FUZZ_SECONDS each
+#   make demo   build (Release) the CLI and Studio and run the main job on the built-in sample
+#   make test   check the formatting, then build everything and run the whole test suite through
+#               ctest: Release, then ASan+UBSan, then every parser's libFuzzer target for
+#               FUZZ_SECONDS each
+# Also: make package (the .deb, docs/install.md), make format / format-check, make bench.
 JOBS ?= $(shell nproc)
 FUZZ_SECONDS ?= 60
 BUILD ?= build
-CMAKE_GEN := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 
-.PHONY: all deps build demo test test-release test-sanitize test-fuzz bench format clean
+# cmake's -G for a new build directory $(1): Ninja when it is there. A shell substitution, so it
+# is decided when the recipe runs, after `deps` may have installed ninja in the same run; nothing
+# for a directory configured before (cmake refuses to switch generators).
+cmake_gen = $$(test -f $(1)/CMakeCache.txt || { command -v ninja >/dev/null 2>&1 && echo -G Ninja; })
+
+.PHONY: all deps build demo test test-release test-sanitize test-fuzz bench package format \
+        format-check clean
 
 all: build
 
@@ -15,15 +22,18 @@ deps:
 	@bash scripts/install-deps.sh
 
 $(BUILD)/CMakeCache.txt: | deps
-	cmake -S . -B $(BUILD) $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=Release
+	cmake -S . -B $(BUILD) $(call cmake_gen,$(BUILD)) -DCMAKE_BUILD_TYPE=Release
 
 build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
 # The main job on the built-in sample: the six maps of a golf-like swing, as a figure; then, when
 # a display is there ($$DISPLAY or $$WAYLAND_DISPLAY set), MotionMap Studio opened on the same clip.
+# Builds only the two programs it runs (in the same build directory as `make test`, which builds
+# the rest).
 STUDIO := $(BUILD)/apps/gui/motionmap-studio
-demo: build
+demo: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS) --target motionmap motionmap-studio
 	@mkdir -p out
 	$(BUILD)/apps/cli/motionmap sample --kind swing -o out/sample-swing.bvh
 	$(BUILD)/apps/cli/motionmap info out/sample-swing.bvh
@@ -38,15 +48,16 @@ demo: build
 	  $(STUDIO) out/sample-swing.bvh; \
 	fi
 
-test: test-release test-sanitize test-fuzz
+# format-check first: a badly formatted tree fails before anything is built.
+test: format-check test-release test-sanitize test-fuzz
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # The same unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (no benchmarks).
 test-sanitize: deps
-	cmake -S . -B build-asan $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMOTIONMAP_SANITIZE=ON \
-	  -DMOTIONMAP_BUILD_BENCH=OFF
+	cmake -S . -B build-asan $(call cmake_gen,build-asan) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DMOTIONMAP_SANITIZE=ON -DMOTIONMAP_BUILD_BENCH=OFF
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS)
@@ -54,7 +65,7 @@ test-sanitize: deps
 # libFuzzer targets (clang, ASan+UBSan) seeded with the real files in ../shared/data; each runs
 # FUZZ_SECONDS as a ctest test.
 test-fuzz: deps
-	cmake -S . -B build-fuzz $(CMAKE_GEN) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	cmake -S . -B build-fuzz $(call cmake_gen,build-fuzz) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_COMPILER=clang++ -DMOTIONMAP_FUZZ=ON -DMOTIONMAP_FUZZ_SECONDS=$(FUZZ_SECONDS) \
 	  -DMOTIONMAP_BUILD_TESTS=OFF -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_CLI=OFF \
 	  -DMOTIONMAP_BUILD_GUI=OFF -DMOTIONMAP_BUILD_RENDER=OFF
@@ -64,8 +75,16 @@ test-fuzz: deps
 bench: build
 	$(BUILD)/bench/motionmap_bench
 
+# The .deb (CPack) of everything `cmake --install` installs: $(BUILD)/motionmap_<version>_<arch>.deb.
+package: build
+	cd $(BUILD) && cpack -G DEB
+
 format:
 	find src apps tests bench fuzz -name '*.h' -o -name '*.cpp' | xargs clang-format -i
+
+# Fails, naming the files and lines, when a source differs from the committed .clang-format.
+format-check: deps
+	find src apps tests bench fuzz -name '*.h' -o -name '*.cpp' | xargs clang-format --dry-run -Werror
 
 clean:
 	rm -rf $(BUILD) build-asan build-fuzz out

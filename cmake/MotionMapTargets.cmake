@@ -1,7 +1,12 @@
 # Helpers for MotionMap's targets: one library per pipeline stage, whose headers only the stages
 # that link it can include, and one set of warning flags for every target of the project.
 
-option(MOTIONMAP_WERROR "Treat compiler warnings as errors" OFF)
+# Warnings are errors in MotionMap's own builds (CI included); a project that adds MotionMap with
+# add_subdirectory() gets the warnings but not -Werror.
+if(NOT DEFINED _mm_top)
+  set(_mm_top OFF)
+endif()
+option(MOTIONMAP_WERROR "Treat compiler warnings as errors" ${_mm_top})
 
 # motionmap_warnings(target): the project's warning flags (library, apps, tests, benchmarks and
 # fuzzers alike).

@@ -94,7 +94,9 @@ TEST(EmbedNeighbors, GraphIsTheSymmetrisedKnn) {
     for (int e = g.offsets[i]; e < g.offsets[i + 1]; ++e) {
       got.insert({i, g.targets[e]});
       EXPECT_EQ(g.weights[e], pair_distance(D, i, g.targets[e]));
-      if (e > g.offsets[i]) EXPECT_LT(g.targets[e - 1], g.targets[e]);  // sorted, no duplicates
+      if (e > g.offsets[i]) {
+        EXPECT_LT(g.targets[e - 1], g.targets[e]);  // sorted, no duplicates
+      }
     }
   }
   EXPECT_EQ(got, want);

@@ -81,7 +81,9 @@ TEST_P(Reference, MatchesIndependentImplementation) {
   for (Eigen::Index a = 0; a < values.size(); ++a) {
     EXPECT_NEAR(map.eigenvalues[a], values[a], 1e-7 * std::abs(values[0]) + 1e-14) << "axis " << a;
   }
-  if (expected.has("heat_used")) EXPECT_DOUBLE_EQ(map.heat_used, expected.number("heat_used"));
+  if (expected.has("heat_used")) {
+    EXPECT_DOUBLE_EQ(map.heat_used, expected.number("heat_used"));
+  }
   if (expected.has("stress")) {
     ASSERT_TRUE(map.stress.has_value());
     EXPECT_NEAR(*map.stress, expected.number("stress"), 1e-6);

@@ -65,7 +65,9 @@ TEST(SynthBlender, ExactAtEverySampleInEveryMode) {
       EXPECT_FALSE(w.validity.clamped);
       EXPECT_EQ(w.validity.distance, 0.0);
       EXPECT_EQ(w.validity.nearest_sample, f);
-      if (mode != BlendMode::Idw) EXPECT_NEAR(w.validity.variance, 0.0, 1e-9);
+      if (mode != BlendMode::Idw) {
+        EXPECT_NEAR(w.validity.variance, 0.0, 1e-9);
+      }
     }
   }
 }
@@ -75,7 +77,7 @@ TEST(SynthBlender, PoseOfLocatedWeightsIsPoseAt) {
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender blender = make_blender(clip, map, BlendMode::Local);
   // Between samples, and far outside the data (clamped).
-  for (const Eigen::Vector2d p :
+  for (const Eigen::Vector2d& p :
        {Eigen::Vector2d((map.row(3) + map.row(4)).transpose() / 2), Eigen::Vector2d(1e3, -1e3)}) {
     const Motion a = blender.pose_at(p), b = blender.pose(blender.locate(p));
     ASSERT_EQ(a.num_frames, 1);
@@ -201,7 +203,7 @@ TEST(SynthBlender, ClampsPointsOutsideTheData) {
     const MapBlender blender = make_blender(clip, map, mode);
     EXPECT_NEAR(blender.median_step(), 0.1, 0.03);
     EXPECT_DOUBLE_EQ(blender.reach_distance(), 3.0 * blender.median_step());
-    for (const Eigen::Vector2d far :
+    for (const Eigen::Vector2d& far :
          {Eigen::Vector2d(1e6, -3e5), Eigen::Vector2d(-50, 0), Eigen::Vector2d(4, 40)}) {
       const MapWeights w = blender.locate(far);
       EXPECT_TRUE(w.validity.clamped);

@@ -1,0 +1,65 @@
+# The deb_package test: build the .deb of `make package` from the (already built) build tree
+# with CPack into WORK_DIR, unpack it with `dpkg -x` and run the packaged CLI's --version there,
+# with no display.
+#
+#   cmake -DBUILD_DIR=… -DWORK_DIR=… -DCPACK=… -DDPKG=… -DDPKG_DEB=… -DVERSION=…
+#         -P deb_test.cmake
+foreach(_var BUILD_DIR WORK_DIR CPACK DPKG DPKG_DEB VERSION)
+  if(NOT DEFINED ${_var})
+    message(FATAL_ERROR "deb_test.cmake: ${_var} not given")
+  endif()
+endforeach()
+
+function(run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${ARGN}\n${out}\n${err}")
+  endif()
+  set(out "${out}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+
+run("cpack" ${CPACK} -G DEB --config ${BUILD_DIR}/CPackConfig.cmake -B ${WORK_DIR})
+file(GLOB deb ${WORK_DIR}/motionmap_*.deb)
+list(LENGTH deb count)
+if(NOT count EQUAL 1)
+  message(FATAL_ERROR "expected one motionmap_*.deb in ${WORK_DIR}, found: ${deb}")
+endif()
+
+# The control fields: the package's name and version, and the Qt runtime libraries among its
+# dependencies (dpkg-shlibdeps found them in the binaries).
+run("dpkg-deb -f" ${DPKG_DEB} -f ${deb} Package Version Depends)
+message(STATUS "${deb}:\n${out}")
+if(NOT out MATCHES "Package: motionmap\n")
+  message(FATAL_ERROR "the package is not called motionmap")
+endif()
+if(NOT out MATCHES "Version: ${VERSION}\n")
+  message(FATAL_ERROR "the package's version is not ${VERSION}")
+endif()
+foreach(lib libqt6gui6 libqt6widgets6 libqt6svg6 libqt6opengl6 libstdc\\+\\+6)
+  if(NOT out MATCHES "Depends:.*${lib}")
+    message(FATAL_ERROR "Depends does not name ${lib}")
+  endif()
+endforeach()
+
+set(root ${WORK_DIR}/root)
+run("dpkg -x" ${DPKG} -x ${deb} ${root})
+foreach(file usr/bin/motionmap usr/bin/motionmap-studio
+             usr/share/applications/motionmap-studio.desktop
+             usr/share/icons/hicolor/scalable/apps/motionmap-studio.svg
+             usr/include/motionmap/pipeline/clip_map.h)
+  if(NOT EXISTS ${root}/${file})
+    message(FATAL_ERROR "the package has no /${file}")
+  endif()
+endforeach()
+
+# --version needs no display: DISPLAY and WAYLAND_DISPLAY are removed, no Qt platform is set.
+run("motionmap --version" ${CMAKE_COMMAND} -E env --unset=DISPLAY --unset=WAYLAND_DISPLAY
+    --unset=QT_QPA_PLATFORM ${root}/usr/bin/motionmap --version)
+string(STRIP "${out}" out)
+if(NOT out STREQUAL "motionmap ${VERSION}")
+  message(FATAL_ERROR "/usr/bin/motionmap --version printed '${out}', expected 'motionmap ${VERSION}'")
+endif()
+message(STATUS "${root}/usr/bin/motionmap --version: ${out}")

@@ -32,12 +32,12 @@
 // every boundary between two samples' cells), and costs O(#samples), for outside points only.
 //
 // Blending: joint rotations per joint, every sample's quaternion aligned to the hemisphere of the
-// largest-weight sample, weighted sum, normalised (negative weights allowed). The root (the
-// "motion root", see motion_root()) is split into heading (yaw about the up axis, from
-// features::heading_angle), floor position, height and tilt (rotation with the heading
-// removed); a blended pose keeps height and tilt and stands at the origin facing the heading-0
-// direction (+Z for the usual Y-up BVH). Its heading-local velocity and yaw rate are blended too,
-// for synthesize() to integrate.
+// largest-weight sample, weighted sum, normalised (negative weights allowed; weighted_average in
+// core/rotation.h). The root (the "motion root", see motion_root()) is split into heading (yaw
+// about the up axis, from features::heading_angle), floor position, height and tilt (rotation
+// with the heading removed); a blended pose keeps height and tilt and stands at the origin
+// facing the heading-0 direction (+Z for the usual Y-up BVH). Its heading-local velocity and yaw
+// rate are blended too, for synthesize() to integrate (synth/detail/root_motion.h).
 //
 // A MapBlender copies what it needs from the clips; its const member functions are thread-safe.
 #include <memory>

@@ -292,7 +292,8 @@ void MapBlender::Impl::kriging_block(std::span<MapWeights> out) const {
 }
 
 MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& samples,
-                       const Eigen::MatrixXd& coords, const BlendOptions& options)
+                       const Eigen::MatrixXd& coords, const BlendOptions& options,
+                       const Control& control)
     : m(std::make_unique<Impl>()) {
   check_inputs(clips, samples, coords, options);
   const int n = samples.num_samples();
@@ -309,7 +310,8 @@ MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& 
   s.index.emplace(clips, samples, std::move(points), options.reach);
 
   if (options.mode == BlendMode::Local) {
-    s.local.emplace(*s.index, options.neighbors, kSeparationFraction * s.index->median_step());
+    s.local.emplace(*s.index, options.neighbors, kSeparationFraction * s.index->median_step(),
+                    control.stage("kriging set-up", 0.0, 1.0));
   } else if (options.mode == BlendMode::Kriging) {
     const int np = s.index->num_points();
     if (np > kMaxKrigingSamples) {
@@ -318,7 +320,9 @@ MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& 
                            std::to_string(kMaxKrigingSamples) +
                            " (a dense (N+1)² system); use the local mode or a frame stride");
     }
-    s.kriging.emplace(s.index->points());
+    s.kriging.emplace(s.index->points(), control.stage("kriging set-up", 0.0, 1.0));
+  } else {
+    control.check();
   }
 }
 

@@ -8,26 +8,52 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 
 namespace motionmap::synth::detail {
 
-GlobalKriging::GlobalKriging(std::span<const Eigen::Vector2d> points)
+namespace {
+
+// Columns of the global matrix filled per chunk (a few MB).
+constexpr int kFillColumns = 256;
+// Local systems set up between two progress reports / cancellation polls.
+constexpr int kLocalPollEvery = 64;
+
+}  // namespace
+
+GlobalKriging::GlobalKriging(std::span<const Eigen::Vector2d> points, const Control& control)
     : m_points(points.begin(), points.end()) {
   const int np = num_points();
-  m_lu.resize(np + 1, np + 1);
-  for (int b = 0; b < np; ++b) {
-    for (int a = 0; a < np; ++a) m_lu(a, b) = (m_points[a] - m_points[b]).norm();
-    m_lu(np, b) = m_lu(b, np) = 1.0;
-  }
-  m_lu(np, np) = 0.0;
+  const Control fill = control.part(0.0, 0.01);
+  const Control factor = control.part(0.01, 0.95);
+  const Control condition = control.part(0.95, 1.0);
+
+  // [A 1; 1ᵀ 0], column by column (each chunk writes its own columns).
+  Eigen::MatrixXd a(np + 1, np + 1);
+  const int chunks = (np + 1 + kFillColumns - 1) / kFillColumns;
+  parallel_chunks(
+      chunks,
+      [&](int c, int) {
+        const int b0 = c * kFillColumns, b1 = std::min(np + 1, b0 + kFillColumns);
+        for (int b = b0; b < b1; ++b) {
+          if (b == np) {
+            a.col(np).head(np).setOnes();
+            a(np, np) = 0.0;
+            continue;
+          }
+          for (int r = 0; r < np; ++r) a(r, b) = (m_points[r] - m_points[b]).norm();
+          a(np, b) = 1.0;
+        }
+      },
+      [&](int done) { fill.update(static_cast<double>(done) / chunks); });
+
   // In place: the (N+1)² factors replace the matrix, no second copy.
-  const Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> factor(m_lu);
-  const double rcond = factor.rcond();
+  m_lu = BlockedLu(std::move(a), factor);
+  const double rcond = m_lu.rcond(condition);
   if (!(rcond > 1e-15)) {
     throw NumericalError("the kriging system is singular (reciprocal condition " +
                          format_number(rcond) + "); use the local mode");
   }
-  m_perm = factor.permutationP();
 }
 
 Eigen::MatrixXd GlobalKriging::solve(std::span<const Eigen::Vector2d> queries,
@@ -40,16 +66,16 @@ Eigen::MatrixXd GlobalKriging::solve(std::span<const Eigen::Vector2d> queries,
     for (int r = 0; r < np; ++r) rhs(r, c) = (m_points[r] - p).norm();
     rhs(np, c) = 1.0;
   }
-  Eigen::MatrixXd x = m_perm * rhs;
-  m_lu.triangularView<Eigen::UnitLower>().solveInPlace(x);
-  m_lu.triangularView<Eigen::Upper>().solveInPlace(x);
+  Eigen::MatrixXd x = rhs;
+  m_lu.solve_in_place(x);
   for (Eigen::Index c = 0; c < m; ++c) {
     variance[static_cast<std::size_t>(c)] = x.col(c).head(np).dot(rhs.col(c).head(np)) + x(np, c);
   }
   return x;
 }
 
-LocalKriging::LocalKriging(const MapIndex& index, int neighbors, double separation) {
+LocalKriging::LocalKriging(const MapIndex& index, int neighbors, double separation,
+                           const Control& control) {
   const int np = index.num_points();
   const std::span<const Eigen::Vector2d> points = index.points();
   const int K = std::min(neighbors, np);
@@ -59,6 +85,7 @@ LocalKriging::LocalKriging(const MapIndex& index, int neighbors, double separati
   std::vector<double> dist;
   std::vector<int> chosen;
   for (int j = 0; j < np; ++j) {
+    if (j % kLocalPollEvery == 0) control.update(static_cast<double>(j) / np);
     const Eigen::Vector2d& cj = points[j];
     // Greedy: nearest first, skipping candidates closer than `separation` to one already chosen;
     // widen the candidate list while too few are far enough apart.
@@ -100,6 +127,7 @@ LocalKriging::LocalKriging(const MapIndex& index, int neighbors, double separati
     m_inverses.insert(m_inverses.end(), inv.data(), inv.data() + inv.size());
     m_inverse_start.push_back(m_inverses.size());
   }
+  control.finish();
 }
 
 double LocalKriging::predict(const MapIndex& index, int j, const Eigen::Vector2d& p, double scale,

@@ -6,7 +6,7 @@
 //   [A  1] [w]   [a]
 //   [1ᵀ 0] [μ] = [1],     variance at p = wᵀ·a + μ (0 at every point, growing away from them).
 //
-// GlobalKriging solves it over all N points ((N+1)² dense, LU-factored once).
+// GlobalKriging solves it over all N points ((N+1)² dense, LU-factored once with BlockedLu).
 // LocalKriging gives every point its own small system over K mutually separated neighbours
 // (itself included), inverted once; the blender blends the predictions of nearby points'
 // systems with partition-of-unity weights (see blender.h).
@@ -17,6 +17,8 @@
 
 #include <Eigen/Core>
 
+#include "motionmap/core/control.h"
+#include "motionmap/synth/detail/blocked_lu.h"
 #include "motionmap/synth/detail/map_index.h"
 
 namespace motionmap::synth::detail {
@@ -24,10 +26,11 @@ namespace motionmap::synth::detail {
 class GlobalKriging {
  public:
   /// Builds and factors the system over `points` (N ≥ 1 distinct points): about (2/3)·N³ flops,
-  /// 8·(N+1)² bytes.
+  /// 8·(N+1)² bytes. Reports fractions 0…1 of `control`'s range (filling the matrix, factoring,
+  /// estimating its condition) and polls it between chunks of a few ms of work.
   /// @throws NumericalError "the kriging system is singular (reciprocal condition …); use the
-  ///         local mode" when its reciprocal condition estimate is not > 1e-15.
-  explicit GlobalKriging(std::span<const Eigen::Vector2d> points);
+  ///         local mode" when its reciprocal condition estimate is not > 1e-15; Cancelled.
+  GlobalKriging(std::span<const Eigen::Vector2d> points, const Control& control = {});
 
   int num_points() const { return static_cast<int>(m_points.size()); }
 
@@ -37,19 +40,19 @@ class GlobalKriging {
 
  private:
   std::vector<Eigen::Vector2d> m_points;
-  // The LU factors of [A 1; 1ᵀ 0] in place, and the row permutation.
-  Eigen::MatrixXd m_lu;
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> m_perm;
+  BlockedLu m_lu;
 };
 
 class LocalKriging {
  public:
   /// A system for every point of `index`: its K = min(neighbors, #points) nearest points that
   /// lie at least `separation` from each other (greedily, nearest first; fewer when a crowd of
-  /// points closer than that leaves too few), itself included. O(N·K·log N).
+  /// points closer than that leaves too few), itself included. O(N·K·log N). Reports fractions
+  /// 0…1 of `control`'s range and polls it every few dozen points.
   /// @throws NumericalError "local kriging system of map point j is singular (reciprocal
-  ///         condition …)" when one's reciprocal condition estimate is not > 1e-13.
-  LocalKriging(const MapIndex& index, int neighbors, double separation);
+  ///         condition …)" when one's reciprocal condition estimate is not > 1e-13; Cancelled.
+  LocalKriging(const MapIndex& index, int neighbors, double separation,
+               const Control& control = {});
 
   /// Largest neighbourhood (the size of scratch space predict() needs, plus one).
   int max_hood() const { return m_max_hood; }

@@ -1,9 +1,14 @@
 #include "motionmap/synth/blender.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -534,6 +539,80 @@ TEST(SynthBlender, RejectsBadQueriesAndWeights) {
     EXPECT_STREQ(e.what(), "blend: the weights sum to 0, not about 1");
   }
   EXPECT_THROW(blender.sample_point(20), ParameterError);
+}
+
+TEST(SynthBlender, SetUpReportsItsStageAndChangesNothing) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  for (BlendMode mode : kModes) {
+    SCOPED_TRACE(std::string(blend_mode_name(mode)));
+    std::vector<std::string> stages;
+    double last = 0.0;
+    const Control control(
+        [&](double f, std::string_view stage) {
+          if (stages.empty() || stages.back() != stage) stages.emplace_back(stage);
+          last = f;
+        },
+        [] { return false; });
+    BlendOptions opt;
+    opt.mode = mode;
+    const MapBlender watched(std::span<const Clip>(&clip, 1), all_frames(clip.motion.num_frames),
+                             map, opt, control);
+    const MapBlender plain = make_blender(clip, map, mode);
+    if (mode == BlendMode::Idw) {
+      EXPECT_TRUE(stages.empty());
+    } else {
+      EXPECT_EQ(stages, std::vector<std::string>{"kriging set-up"});
+      EXPECT_EQ(last, 1.0);
+    }
+    for (const Eigen::Vector2d p : {Eigen::Vector2d(2.04, 0.7), Eigen::Vector2d(6.3, -0.1)}) {
+      const MapWeights a = watched.locate(p), b = plain.locate(p);
+      EXPECT_EQ(a.samples, b.samples);
+      EXPECT_EQ(a.weights, b.weights);
+    }
+  }
+}
+
+// Cancelling the kriging set-up of a large map (5000 distinct points: a factorisation of about
+// 8·10¹⁰ flops, several seconds even in Release) stops it within 200 ms of the cancel flag
+// turning true. A bound on the latency of cancellation (the factorisation polls between chunks
+// of a few tens of ms), not a speed benchmark; the test itself takes about half a second in
+// Release.
+TEST(SynthBlender, KrigingSetUpIsCancelledPromptly) {
+  using Clock = std::chrono::steady_clock;
+  constexpr int kSamples = 5000;
+  const Clip clip = walking_clip(kSamples);
+  const Eigen::MatrixXd map = curve_map(kSamples);
+  BlendOptions opt;
+  opt.mode = BlendMode::Kriging;
+  // The flag turns true 100 ms after the stage "kriging set-up" reports 2 % (the matrix is
+  // filled by 1 %: from there on the factorisation runs).
+  std::optional<Clock::time_point> deadline;
+  int cancel_polls = 0;
+  const Control control(
+      [&](double fraction, std::string_view stage) {
+        if (stage == "kriging set-up" && fraction >= 0.02 && !deadline)
+          deadline = Clock::now() + std::chrono::milliseconds(100);
+      },
+      [&] {
+        ++cancel_polls;
+        return deadline && Clock::now() >= *deadline;
+      });
+  const Clock::time_point start = Clock::now();
+  EXPECT_THROW(MapBlender(std::span<const Clip>(&clip, 1), all_frames(kSamples), map, opt, control),
+               Cancelled);
+  const Clock::time_point end = Clock::now();
+  ASSERT_TRUE(deadline.has_value()) << "the factorisation never reported its progress";
+  ASSERT_GE(end, *deadline);
+  const double latency_ms = std::chrono::duration<double, std::milli>(end - *deadline).count();
+  RecordProperty("cancel_latency_ms", std::to_string(latency_ms));
+  RecordProperty("total_ms",
+                 std::to_string(std::chrono::duration<double, std::milli>(end - start).count()));
+#ifdef NDEBUG
+  // Optimised builds only (Release, and RelWithDebInfo under the sanitizers): unoptimised Eigen
+  // is tens of times slower, and so is one chunk of work.
+  EXPECT_LT(latency_ms, 200.0) << "after " << cancel_polls << " polls";
+#endif
 }
 
 TEST(SynthBlender, DegenerateMapsStillAnswer) {

@@ -1,6 +1,9 @@
 #include "motionmap/core/rotation.h"
 
 #include <cmath>
+#include <string>
+
+#include "motionmap/core/error.h"
 
 namespace motionmap {
 
@@ -26,12 +29,14 @@ Eigen::Quaterniond euler_to_quat(std::span<const Axis> order, std::span<const do
   return q.normalized();
 }
 
-namespace {
-// Wraps `a` by multiples of 2π to the value closest to `target`.
-double wrap_near(double a, double target) {
-  return a + 2.0 * kPi * std::round((target - a) / (2.0 * kPi));
+double wrap_angle(double radians) {
+  const double a = std::remainder(radians, 2.0 * kPi);
+  return a <= -kPi ? a + 2.0 * kPi : a;
 }
-}  // namespace
+
+double wrap_near(double radians, double target) {
+  return radians + 2.0 * kPi * std::round((target - radians) / (2.0 * kPi));
+}
 
 Eigen::Vector3d quat_to_euler(const Eigen::Quaterniond& q, const std::array<Axis, 3>& order,
                               const Eigen::Vector3d* near) {
@@ -62,6 +67,25 @@ Eigen::Vector3d quat_to_euler(const Eigen::Quaterniond& q, const std::array<Axis
     for (int n = 0; n < 3; ++n) (*v)[n] = wrap_near((*v)[n], (*near)[n]);
   }
   return (first - *near).squaredNorm() <= (second - *near).squaredNorm() ? first : second;
+}
+
+Eigen::Quaterniond weighted_average(std::span<const Eigen::Quaterniond> rotations,
+                                    std::span<const double> weights,
+                                    const Eigen::Quaterniond& reference) {
+  if (rotations.size() != weights.size()) {
+    throw ParameterError("weighted_average: " + std::to_string(rotations.size()) +
+                         " rotations but " + std::to_string(weights.size()) + " weights");
+  }
+  const Eigen::Vector4d& r = reference.coeffs();
+  Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+  double total = 0.0;
+  for (std::size_t i = 0; i < rotations.size(); ++i) {
+    const Eigen::Vector4d& c = rotations[i].coeffs();
+    sum += (c.dot(r) < 0.0 ? -weights[i] : weights[i]) * c;
+    total += weights[i];
+  }
+  const double norm = sum.norm();
+  return norm > 1e-12 * std::abs(total) ? Eigen::Quaterniond(sum / norm) : reference;
 }
 
 double rotation_angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {

@@ -1,6 +1,6 @@
 #pragma once
 // Rotation helpers shared by the readers, writers and the maths: axis rotations, Euler angles in an
-// explicit order, quaternion hemisphere hygiene.
+// explicit order, angle wrapping, quaternion hemisphere hygiene and weighted averages.
 //
 // Conventions: angles in radians unless a name says degrees; an Euler order lists the axes in the
 // order they are written in a file, and the rotation is composed in that order:
@@ -22,6 +22,14 @@ constexpr double rad_to_deg(double r) {
   return r * (180.0 / kPi);
 }
 
+/// The angle `radians` wrapped by a multiple of 2π into (−π, π] (e.g. the change between two
+/// headings). Exact: std::remainder, then −π moved to π.
+double wrap_angle(double radians);
+
+/// The angle `radians` shifted by a multiple of 2π to lie closest to `target` (for angles that
+/// follow a previous frame's without ±2π jumps): a + 2π·round((target − a) / 2π).
+double wrap_near(double radians, double target);
+
 /// Rotation by `radians` about a coordinate axis.
 Eigen::Quaterniond axis_rotation(Axis axis, double radians);
 
@@ -41,6 +49,24 @@ inline Eigen::Quaterniond align_hemisphere(const Eigen::Quaterniond& q,
                                            const Eigen::Quaterniond& reference) {
   return q.dot(reference) < 0.0 ? Eigen::Quaterniond(-q.w(), -q.x(), -q.y(), -q.z()) : q;
 }
+
+/// Weighted average of k rotations: every q_i is first put in the hemisphere of `reference`
+/// (align_hemisphere), then Σ w_i·q_i is normalised. Weights need not be positive nor sum to 1
+/// (negative weights of kriging are fine: the sum is only rescaled). When the sum nearly
+/// cancels (|Σ w_i·q_i| ≤ 1e-12·|Σ w_i|, e.g. opposite rotations with opposite weights, or k = 0),
+/// returns `reference`. Pick as reference one of the rotations (say the one of largest weight),
+/// so rotations near it blend the short way round. This is a normalised linear blend (nlerp for
+/// k = 2): continuous in the weights and close to the geodesic (Karcher) mean for rotations
+/// within a few tens of degrees of each other, but neither that nor Markley's eigenvector mean.
+/// The result does not depend on the signs of the q_i.
+/// @throws ParameterError if the spans differ in size.
+///
+///   const std::array<Eigen::Quaterniond, 2> q{a, b};
+///   const std::array<double, 2> w{0.25, 0.75};
+///   Eigen::Quaterniond mid = weighted_average(q, w, b);  // near slerp(a, b, 0.75)
+Eigen::Quaterniond weighted_average(std::span<const Eigen::Quaterniond> rotations,
+                                    std::span<const double> weights,
+                                    const Eigen::Quaterniond& reference);
 
 /// Angle in radians of the rotation taking a to b, in [0, π]: 2·acos|a·b| for unit quaternions,
 /// computed in a form that stays accurate for tiny angles.

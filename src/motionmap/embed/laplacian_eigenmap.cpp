@@ -12,6 +12,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/stats.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/eigen.h"
@@ -22,16 +23,7 @@ namespace motionmap::embed {
 
 namespace {
 
-// numpy.median of the values (mean of the two middle ones for an even count).
-double median(std::vector<double> v) {
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  const double upper = v[mid];
-  if (v.size() % 2 == 1) return upper;
-  return 0.5 * (*std::max_element(v.begin(), v.begin() + mid) + upper);
-}
-
-// The automatic heat: the median squared k-NN distance; if more than half of those are 0
+// The automatic heat: the median (numpy's) squared k-NN distance; if more than half of those are 0
 // (duplicate frames), the median of the positive ones; 0 when every distance is 0.
 double automatic_heat(const NeighborLists& lists) {
   std::vector<double> squared;

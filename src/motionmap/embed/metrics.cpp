@@ -8,6 +8,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/core/stats.h"
 #include "motionmap/embed/neighbors.h"
 
 namespace motionmap::embed {
@@ -37,15 +38,6 @@ long rank_of(const double* v, int n, int i, int j) {
     rank += (v[l] < dj) || (v[l] == dj && l < j);
   }
   return rank;
-}
-
-double percentile(std::vector<double> values, double q) {
-  // numpy's default ("linear"): position q·(n − 1) between the sorted values.
-  std::sort(values.begin(), values.end());
-  const double pos = q * double(values.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, values.size() - 1);
-  return values[lo] + (pos - double(lo)) * (values[hi] - values[lo]);
 }
 
 }  // namespace
@@ -178,8 +170,10 @@ double jump_score(const Eigen::MatrixXd& Y) {
   }
   std::vector<double> steps(static_cast<std::size_t>(Y.rows() - 1));
   for (Eigen::Index f = 0; f + 1 < Y.rows(); ++f) steps[f] = (Y.row(f + 1) - Y.row(f)).norm();
-  const double median = percentile(steps, 0.5);
-  const double p95 = percentile(steps, 0.95);
+  // Both by numpy's linear quantile (also the median: quantile(·, 0.5), not median(), so the
+  // score stays what it has always been, bit for bit).
+  const double median = quantile(steps, 0.5);
+  const double p95 = quantile(steps, 0.95);
   if (median == 0.0) return p95 == 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
   return p95 / median;
 }

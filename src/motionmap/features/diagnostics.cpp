@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
+
+#include "motionmap/core/stats.h"
 
 #include "motionmap/features/detail/point_cloud.h"
 
@@ -18,9 +21,9 @@ BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor) {
   steps.reserve(static_cast<std::size_t>(frames - 2));
   for (Eigen::Index f = 1; f + 1 < frames; ++f)
     steps.push_back((points.row(f) - points.row(f + 1)).norm());
-  const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
-  std::nth_element(steps.begin(), mid, steps.end());
-  check.median_step = *mid;
+  // The upper median (for an even count the upper of the two middle steps, not numpy's mean):
+  // the bind-pose decision has always used it, and a changed decision would change the maps.
+  check.median_step = upper_median(std::move(steps));
   if (check.median_step > 0) {
     check.ratio = check.distance / check.median_step;
   } else {

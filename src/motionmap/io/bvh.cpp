@@ -13,6 +13,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/rotation.h"
 #include "motionmap/core/text_cursor.h"
 
 namespace motionmap::io {
@@ -531,11 +532,6 @@ std::vector<int> check_writable(const BvhDocument& doc) {
     }
   }
   return depth;
-}
-
-// Angle `a` shifted by a multiple of 2π to lie closest to `near`.
-double wrap_near(double a, double near) {
-  return a + 2.0 * kPi * std::round((near - a) / (2.0 * kPi));
 }
 
 }  // namespace

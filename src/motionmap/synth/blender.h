@@ -11,7 +11,7 @@
 // Weights (see docs/synthesis.md for the maths):
 //  - Kriging: ordinary kriging with a linear variogram over all samples. With A_ij = ‖c_i − c_j‖
 //    and a_i = ‖c_i − p‖ it solves [A 1; 1ᵀ 0]·[w; μ] = [a; 1]; the (N+1)² matrix is LU-factored
-//    once, in the constructor, so a query is O(N²).
+//    once, in the constructor (in chunks that can be cancelled), so a query is O(N²).
 //  - Local (default): kriging on small neighbourhoods, made continuous. Every sample i has its
 //    own system on K mutually separated map neighbours (itself included), factored once; a
 //    query blends the predictions of the 4 map-nearest samples' systems with partition-of-unity
@@ -32,12 +32,12 @@
 // every boundary between two samples' cells), and costs O(#samples), for outside points only.
 //
 // Blending: joint rotations per joint, every sample's quaternion aligned to the hemisphere of the
-// largest-weight sample, weighted sum, normalised (negative weights allowed). The root (the
-// "motion root", see motion_root()) is split into heading (yaw about the up axis, from
-// features::heading_angle), floor position, height and tilt (rotation with the heading
-// removed); a blended pose keeps height and tilt and stands at the origin facing the heading-0
-// direction (+Z for the usual Y-up BVH). Its heading-local velocity and yaw rate are blended too,
-// for synthesize() to integrate.
+// largest-weight sample, weighted sum, normalised (negative weights allowed; weighted_average in
+// core/rotation.h). The root (the "motion root", see motion_root()) is split into heading (yaw
+// about the up axis, from features::heading_angle), floor position, height and tilt (rotation
+// with the heading removed); a blended pose keeps height and tilt and stands at the origin
+// facing the heading-0 direction (+Z for the usual Y-up BVH). Its heading-local velocity and yaw
+// rate are blended too, for synthesize() to integrate (synth/detail/root_motion.h).
 //
 // A MapBlender copies what it needs from the clips; its const member functions are thread-safe.
 #include <memory>
@@ -49,6 +49,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "motionmap/core/control.h"
 #include "motionmap/core/rotation.h"
 #include "motionmap/features/features.h"
 #include "motionmap/skeleton/skeleton.h"
@@ -122,14 +123,18 @@ class MapBlender {
   /// `coords` is #samples by ≥ 2 map coordinates; only the first two columns are used. `clips`
   /// are the clips of build_features, in the same order, sharing one joint hierarchy; the first
   /// one's skeleton and frame time are the blender's. Kriging factors its system here: about
-  /// (2/3)·N³ flops on one core (0.03 s at N = 1 000, 0.26 s at 2 000, about 30 s and 800 MB
-  /// at 10 000); the local mode's set-up is O(N·K·log N) (0.1 s at 10 000).
+  /// (2/3)·N³ flops (0.03 s at N = 1 000, 0.26 s at 2 000, about 30 s and 800 MB at 10 000 on
+  /// one core); the local mode's set-up is O(N·K·log N) (0.1 s at 10 000). Both report the stage
+  /// "kriging set-up" through `control` and poll it for cancellation (kriging: between chunks of
+  /// the factorisation, a few ms of work apart; local: every few dozen systems).
   /// @throws ParameterError for bad options, a map that does not belong to the clips (row count
   ///         ≠ #samples, a clip or frame index out of range, clips of different hierarchies),
   ///         fewer than 2 columns, or kriging with more than kMaxKrigingSamples merged points;
-  ///         NumericalError for non-finite coordinates or motion values or a singular system.
+  ///         NumericalError for non-finite coordinates or motion values or a singular system;
+  ///         Cancelled if `control` says so.
   MapBlender(std::span<const Clip> clips, const features::FeatureSet& samples,
-             const Eigen::MatrixXd& coords, const BlendOptions& options = {});
+             const Eigen::MatrixXd& coords, const BlendOptions& options = {},
+             const Control& control = {});
   ~MapBlender();
   MapBlender(MapBlender&&) noexcept;
   MapBlender& operator=(MapBlender&&) noexcept;

@@ -1,0 +1,87 @@
+#pragma once
+// Where the samples of a map lie: their distinct map points (samples closer than 1e-9 × the map's
+// extent merged into one), a k-d tree over those points for nearest-neighbour queries, the
+// trajectory (consecutive samples of a clip), its median step and speed, and what lies outside
+// the data (farther than reach × median step from every sample) and where such a point is moved.
+//
+//   MapIndex index(clips, samples, sample_points, /*reach=*/3.0);
+//   PointValidity v = index.validate({0.3, -1.2});  // nearest sample, clamped point
+//   index.nearest(v.point, 5, idx, dist);           // the 5 nearest map points
+//
+// A MapIndex is immutable once built; its const member functions are thread-safe.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motionmap/features/features.h"
+#include "motionmap/skeleton/skeleton.h"
+#include "motionmap/synth/blender.h"
+
+namespace motionmap::synth::detail {
+
+class MapIndex {
+ public:
+  /// Indexes `sample_points` (one map point per sample of `samples`, whose clip_of and frame_of
+  /// say which frame of `clips` each is; checked by the caller). `reach` > 0.
+  MapIndex(std::span<const Clip> clips, const features::FeatureSet& samples,
+           std::vector<Eigen::Vector2d> sample_points, double reach);
+  ~MapIndex();
+  MapIndex(MapIndex&&) noexcept;
+  MapIndex& operator=(MapIndex&&) noexcept;
+
+  int num_samples() const { return static_cast<int>(m_sample_points.size()); }
+  /// Distinct map points (samples after merging).
+  int num_points() const { return static_cast<int>(m_points.size()); }
+  const Eigen::Vector2d& sample_point(int sample) const { return m_sample_points[sample]; }
+  /// The distinct map points; point j is the map point of its first member.
+  std::span<const Eigen::Vector2d> points() const { return m_points; }
+  /// The samples that share map point j, increasing.
+  std::span<const int> members(int j) const {
+    return std::span<const int>(m_members).subspan(
+        static_cast<std::size_t>(m_member_start[j]),
+        static_cast<std::size_t>(m_member_start[j + 1] - m_member_start[j]));
+  }
+
+  /// Median of the non-zero map steps between consecutive samples of a clip (upper_median; 0 if
+  /// none), the same over map speeds (step / time between the frames), and reach × step.
+  double median_step() const { return m_median_step; }
+  double median_speed() const { return m_median_speed; }
+  double reach_distance() const { return m_reach_distance; }
+
+  /// The (up to) k nearest map points to p, nearest first: their indices and distances (not
+  /// squared). Returns how many were found (min(k, num_points())).
+  int nearest(const Eigen::Vector2d& p, int k, std::uint32_t* idx, double* dist) const;
+
+  /// Where p is evaluated: p itself within the reach of a sample, else moved onto the reach of
+  /// the trajectory (see blender.h). Sets query, point, clamped, distance and nearest_sample;
+  /// variance is left 0. @throws ParameterError if p is not finite.
+  PointValidity validate(const Eigen::Vector2d& p) const;
+
+  /// Weights over map points (index, weight; repeats allowed) → weights over samples: each
+  /// point's weight shared equally between its members, sorted by sample, repeats summed.
+  MapWeights to_sample_weights(const std::vector<std::pair<int, double>>& point_weights,
+                               const PointValidity& validity) const;
+  /// Dense weights over all points (num_points() values) → over all samples (num_samples()).
+  void to_sample_weights(const double* point_weights, double* sample_weights) const;
+
+ private:
+  // The point of the trajectory nearest p, moved back towards p (see validate()).
+  Eigen::Vector2d clamp(const Eigen::Vector2d& p) const;
+
+  struct Tree;  // nanoflann's k-d tree over m_points
+  std::vector<Eigen::Vector2d> m_sample_points;
+  std::vector<Eigen::Vector2d> m_points;
+  std::unique_ptr<Tree> m_tree;
+  // Members of point j: m_members[m_member_start[j] … m_member_start[j+1]).
+  std::vector<int> m_member_start, m_members;
+  // The trajectory: segments between consecutive samples of a clip, and isolated samples as
+  // segments of length 0 (start, end sample).
+  std::vector<std::pair<int, int>> m_segments;
+  double m_median_step = 0.0, m_median_speed = 0.0, m_reach_distance = 0.0;
+};
+
+}  // namespace motionmap::synth::detail

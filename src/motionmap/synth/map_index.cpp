@@ -1,0 +1,217 @@
+#include "motionmap/synth/detail/map_index.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <nanoflann.hpp>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/core/stats.h"
+
+namespace motionmap::synth::detail {
+
+namespace {
+
+// Samples closer than this fraction of the map's extent share one map point.
+constexpr double kMergeFraction = 1e-9;
+
+struct PointSet {
+  std::vector<Eigen::Vector2d> points;
+  std::size_t kdtree_get_point_count() const { return points.size(); }
+  double kdtree_get_pt(std::size_t i, std::size_t d) const {
+    return points[i][static_cast<Eigen::Index>(d)];
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>,
+                                                   PointSet, 2, std::uint32_t>;
+
+// The 0-based median map step/speed: the upper median (as the blender always had; numpy's mean of
+// the two middle values would move the reach, the local systems' separation and the default
+// synthesis speed), 0 when there is none.
+double median_or_zero(std::vector<double> values) {
+  return values.empty() ? 0.0 : upper_median(std::move(values));
+}
+
+}  // namespace
+
+// The tree keeps a reference to its point set: both live together on the heap, so a moved
+// MapIndex keeps a valid tree.
+struct MapIndex::Tree {
+  PointSet set;
+  KdTree index;
+  explicit Tree(std::vector<Eigen::Vector2d> points)
+      : set{std::move(points)}, index(2, set, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+};
+
+MapIndex::MapIndex(std::span<const Clip> clips, const features::FeatureSet& samples,
+                   std::vector<Eigen::Vector2d> sample_points, double reach)
+    : m_sample_points(std::move(sample_points)) {
+  const int n = num_samples();
+  Eigen::Vector2d lo = m_sample_points.front(), hi = lo;
+  for (const auto& c : m_sample_points) {
+    lo = lo.cwiseMin(c);
+    hi = hi.cwiseMax(c);
+  }
+  const double extent = (hi - lo).norm();
+  const double tol = kMergeFraction * extent;
+
+  // Merge samples within tol of an earlier representative (a radius search per representative).
+  std::vector<int> point_of(static_cast<std::size_t>(n), -1);
+  std::vector<std::vector<int>> groups;
+  if (extent == 0.0) {
+    groups.emplace_back();
+    for (int i = 0; i < n; ++i) groups.back().push_back(i);
+  } else {
+    const Tree sample_tree(m_sample_points);
+    std::vector<std::pair<std::uint32_t, double>> found;
+    for (int i = 0; i < n; ++i) {
+      if (point_of[i] >= 0) continue;
+      const int id = static_cast<int>(groups.size());
+      groups.emplace_back();
+      sample_tree.index.radiusSearch(m_sample_points[i].data(), tol * tol, found,
+                                     nanoflann::SearchParams(32, 0.0f, false));
+      point_of[i] = id;
+      groups.back().push_back(i);
+      for (const auto& [s, d2] : found) {
+        if (point_of[s] < 0) {
+          point_of[s] = id;
+          groups.back().push_back(static_cast<int>(s));
+        }
+      }
+      std::sort(groups.back().begin(), groups.back().end());
+    }
+  }
+  m_member_start.push_back(0);
+  for (const auto& g : groups) {
+    m_points.push_back(m_sample_points[g.front()]);
+    m_members.insert(m_members.end(), g.begin(), g.end());
+    m_member_start.push_back(static_cast<int>(m_members.size()));
+  }
+  m_tree = std::make_unique<Tree>(m_points);
+
+  // Median step and speed over consecutive samples of a clip that do not share a map point.
+  auto consecutive = [&](int i) {
+    return samples.clip_of[i] == samples.clip_of[i + 1] &&
+           samples.frame_of[i + 1] > samples.frame_of[i];
+  };
+  std::vector<double> steps, speeds;
+  for (int i = 0; i + 1 < n; ++i) {
+    if (!consecutive(i)) continue;
+    const double step = (m_sample_points[i + 1] - m_sample_points[i]).norm();
+    if (step <= tol || step == 0.0) continue;
+    const double dt = (samples.frame_of[i + 1] - samples.frame_of[i]) *
+                      clips[samples.clip_of[i]].motion.frame_time;
+    steps.push_back(step);
+    speeds.push_back(step / dt);
+  }
+  std::vector<char> on_segment(static_cast<std::size_t>(n), 0);
+  for (int i = 0; i + 1 < n; ++i) {
+    if (!consecutive(i)) continue;
+    m_segments.emplace_back(i, i + 1);
+    on_segment[i] = on_segment[i + 1] = 1;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!on_segment[i]) m_segments.emplace_back(i, i);
+  }
+  m_median_step = median_or_zero(std::move(steps));
+  m_median_speed = median_or_zero(std::move(speeds));
+  m_reach_distance = reach * m_median_step;
+}
+
+MapIndex::~MapIndex() = default;
+MapIndex::MapIndex(MapIndex&&) noexcept = default;
+MapIndex& MapIndex::operator=(MapIndex&&) noexcept = default;
+
+int MapIndex::nearest(const Eigen::Vector2d& p, int k, std::uint32_t* idx, double* dist) const {
+  const auto found =
+      static_cast<int>(m_tree->index.knnSearch(p.data(), static_cast<std::size_t>(k), idx, dist));
+  for (int i = 0; i < found; ++i) dist[i] = std::sqrt(dist[i]);
+  return found;
+}
+
+Eigen::Vector2d MapIndex::clamp(const Eigen::Vector2d& p) const {
+  // The nearest point q of the trajectory, then back towards p by s(q) = √(r² − e²), e = the
+  // distance from q to the nearer end of its segment: at most r from that sample, and
+  // continuous in p (unlike the nearest point of the union of reach disks, which jumps at every
+  // boundary between two samples' Voronoi cells); it jumps only where two stretches of
+  // trajectory are equally near. Linear in #samples, for outside points only.
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d q = p;
+  double e = 0.0;
+  for (const auto& [a, b] : m_segments) {
+    const Eigen::Vector2d& ca = m_sample_points[a];
+    const Eigen::Vector2d d = m_sample_points[b] - ca;
+    const double len2 = d.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - ca).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const Eigen::Vector2d foot = ca + t * d;
+    const double dist2 = (p - foot).squaredNorm();
+    if (dist2 < best) {
+      best = dist2;
+      q = foot;
+      e = std::min(t, 1.0 - t) * std::sqrt(len2);
+    }
+  }
+  const double s = std::sqrt(std::max(0.0, m_reach_distance * m_reach_distance - e * e));
+  const double dist = std::sqrt(best);
+  return dist > s ? Eigen::Vector2d(q + (p - q) * (s / dist)) : p;
+}
+
+PointValidity MapIndex::validate(const Eigen::Vector2d& p) const {
+  if (!p.allFinite()) {
+    throw ParameterError("map point (" + format_number(p.x()) + ", " + format_number(p.y()) +
+                         ") is not finite");
+  }
+  PointValidity v;
+  v.query = p;
+  std::uint32_t idx = 0;
+  double d = 0.0;
+  nearest(p, 1, &idx, &d);
+  v.distance = d;
+  v.nearest_sample = m_members[m_member_start[idx]];
+  v.point = p;
+  if (d > m_reach_distance) {
+    v.point = clamp(p);
+    v.clamped = true;
+  }
+  return v;
+}
+
+MapWeights MapIndex::to_sample_weights(const std::vector<std::pair<int, double>>& point_weights,
+                                       const PointValidity& validity) const {
+  std::vector<std::pair<int, double>> sw;
+  sw.reserve(point_weights.size());
+  for (const auto& [p, w] : point_weights) {
+    const int b = m_member_start[p], e = m_member_start[static_cast<std::size_t>(p) + 1];
+    const double share = w / (e - b);
+    for (int s = b; s < e; ++s) sw.emplace_back(m_members[s], share);
+  }
+  std::sort(sw.begin(), sw.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  MapWeights out;
+  out.validity = validity;
+  for (const auto& [s, w] : sw) {
+    if (!out.samples.empty() && out.samples.back() == s) {
+      out.weights.back() += w;
+    } else {
+      out.samples.push_back(s);
+      out.weights.push_back(w);
+    }
+  }
+  return out;
+}
+
+void MapIndex::to_sample_weights(const double* point_weights, double* sample_weights) const {
+  for (int p = 0; p < num_points(); ++p) {
+    const int b = m_member_start[p], e = m_member_start[static_cast<std::size_t>(p) + 1];
+    for (int s = b; s < e; ++s) {
+      sample_weights[m_members[static_cast<std::size_t>(s)]] = point_weights[p] / (e - b);
+    }
+  }
+}
+
+}  // namespace motionmap::synth::detail

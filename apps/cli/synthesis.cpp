@@ -41,15 +41,12 @@ void add_blend_options(CLI::App* sub, BlendCommand& cmd) {
          "Map CSV from `motionmap map` on the same files and options, instead of recomputing "
          "it (checked to belong to the clips: same samples; --method is then unused)")
       ->check(CLI::ExistingFile);
-  std::map<std::string, synth::BlendMode> modes;
-  for (auto m : {synth::BlendMode::Kriging, synth::BlendMode::Local, synth::BlendMode::Idw}) {
-    modes[std::string(synth::blend_mode_name(m))] = m;
-  }
   sub->add_option(
          "--blend", cmd.blend,
          "Weights of the samples around a map point: local (kriging on the K map-nearest "
          "samples, default), kriging (over all samples, ≤ 10 000) or idw (inverse distance)")
-      ->transform(CLI::CheckedTransformer(modes, CLI::ignore_case));
+      ->transform(CLI::CheckedTransformer(choices(synth::all_blend_modes(), synth::blend_mode_name),
+                                          CLI::ignore_case));
   sub->add_option("--neighbors", cmd.neighbors,
                   "K: samples per local kriging system, or blended by idw (default 12)");
   sub->add_option(
@@ -87,11 +84,11 @@ synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips,
   blend.reach = cmd.reach;
   blend.up = options.features.up;
   if (blend.mode == synth::BlendMode::Kriging && samples.num_samples() > 2000 && !cmd.map.quiet) {
-    std::cerr
-        << "note: factoring the kriging system of " << samples.num_samples()
-        << " samples (O(N³): about 30 s at 10 000; --blend local takes a fraction of a second)\n";
+    std::cerr << "note: factoring the kriging system of " << samples.num_samples()
+              << " samples (O(N³): tens of seconds at 10 000; --blend local takes a fraction of a "
+                 "second)\n";
   }
-  return synth::MapBlender(clips, samples, coords, blend);
+  return synth::MapBlender(clips, samples, coords, blend, progress_line(cmd.map, "blend"));
 }
 
 Eigen::Vector2d parse_point(const std::string& text) {

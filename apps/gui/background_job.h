@@ -12,13 +12,9 @@
 //     }, Qt::QueuedConnection);
 //   });
 #include <atomic>
-#include <chrono>
-#include <condition_variable>
 #include <exception>
 #include <functional>
 #include <memory>
-#include <mutex>
-#include <optional>
 #include <thread>
 
 #include <QObject>
@@ -123,44 +119,6 @@ void runJob(QObject* receiver, BackgroundJob& job, const BackgroundJob::Ticket& 
         done(outcome);
       },
       Qt::QueuedConnection);
-}
-
-/// Runs work() on a thread of its own and waits for its result while polling the job's ticket:
-/// for a step that cannot poll for cancellation itself (the kriging blender's O(N³) set-up). When
-/// the job is cancelled it throws Cancelled at once and leaves work() to finish unobserved, so
-/// work must own (capture by value, shared_ptr) everything it touches: it can outlive the job and
-/// the window. Rethrows what work() threw.
-template <class T>
-T runUninterruptible(const BackgroundJob::Ticket& ticket, std::function<T()> work) {
-  struct Shared {
-    std::mutex mutex;
-    std::condition_variable done;
-    std::optional<T> value;
-    std::exception_ptr error;
-    bool finished = false;
-  };
-  const auto shared = std::make_shared<Shared>();
-  std::thread([shared, work = std::move(work)] {
-    std::optional<T> value;
-    std::exception_ptr error;
-    try {
-      value.emplace(work());
-    } catch (...) {
-      error = std::current_exception();
-    }
-    const std::lock_guard<std::mutex> lock(shared->mutex);
-    shared->value = std::move(value);
-    shared->error = error;
-    shared->finished = true;
-    shared->done.notify_all();
-  }).detach();
-  std::unique_lock<std::mutex> lock(shared->mutex);
-  while (!shared->done.wait_for(lock, std::chrono::milliseconds(10),
-                                [&] { return shared->finished; })) {
-    if (ticket.cancelled()) throw Cancelled();
-  }
-  if (shared->error) std::rethrow_exception(shared->error);
-  return std::move(*shared->value);
 }
 
 }  // namespace motionmap::studio

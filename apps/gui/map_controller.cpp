@@ -108,18 +108,17 @@ bool MapController::request(embed::Method method, const MapParameters& parameter
           options.metrics = frames <= kMaxMetricsFrames;
           QElapsedTimer clock;
           clock.start();
-          result->map = pipeline::map_clips(*clips, options, control, cache.get());
+          // Kriging's set-up (O(N³)) can outlast the map; the other modes' take moments.
+          const double mapShare = blend.mode == synth::BlendMode::Kriging ? 0.5 : 0.95;
+          result->map =
+              pipeline::map_clips(*clips, options, control.part(0.0, mapShare), cache.get());
           control.check();
           result->parameters = pipeline::describe_parameters(result->map.embedding, options);
-          // The blender's set-up stays off the GUI thread too. Kriging factors an (N+1)² system
-          // at once (about half a minute at 10 000 points) and cannot poll: a cancel leaves it
-          // behind.
-          const std::shared_ptr<const MapResult> computed = result;
-          result->blender = runUninterruptible<std::unique_ptr<synth::MapBlender>>(
-              ticket, [clips, computed, blend] {
-                return std::make_unique<synth::MapBlender>(
-                    *clips, *computed->map.features, computed->map.embedding.coordinates, blend);
-              });
+          // The blender's set-up stays off the GUI thread too, and polls the same Control
+          // (kriging factors an (N+1)² system: tens of seconds at 10 000 points).
+          result->blender = std::make_unique<synth::MapBlender>(*clips, *result->map.features,
+                                                                result->map.embedding.coordinates,
+                                                                blend, control.part(mapShare, 1.0));
           result->seconds = double(clock.nsecsElapsed()) * 1e-9;
           result->options = options;
           result->rowOfFrame = rowsOfFrames(*clips, *result->map.features);

@@ -81,7 +81,7 @@ std::optional<SynthParameters> editSynthParameters(QWidget* parent, const SynthP
   dialog.setWindowTitle(QDialog::tr("Synthesis"));
   auto* form = new QFormLayout(&dialog);
   auto* mode = new QComboBox;
-  for (auto m : {synth::BlendMode::Local, synth::BlendMode::Kriging, synth::BlendMode::Idw}) {
+  for (auto m : synth::all_blend_modes()) {
     mode->addItem(fromName(synth::blend_mode_name(m)), int(m));
   }
   mode->setCurrentIndex(mode->findData(int(now.blend.mode)));

@@ -38,49 +38,5 @@ TEST(BackgroundJob, ANewJobMakesTheOldOnesResultsStale) {
   EXPECT_TRUE(job.current(second.load()));  // finished, not stopped: its result is wanted
 }
 
-TEST(RunUninterruptible, ReturnsTheValueOrRethrows) {
-  BackgroundJob job;
-  std::atomic<int> value{0};
-  std::atomic<bool> threw{false};
-  job.start([&](const BackgroundJob::Ticket& t) {
-    value = runUninterruptible<int>(t, [] { return 42; });
-    try {
-      runUninterruptible<int>(t, []() -> int { throw ParameterError("bad"); });
-    } catch (const ParameterError&) {
-      threw = true;
-    }
-  });
-  job.finish();
-  EXPECT_EQ(value.load(), 42);
-  EXPECT_TRUE(threw.load());
-}
-
-TEST(RunUninterruptible, ACancelledJobStopsAtOnceAndLeavesTheWorkToFinish) {
-  // The work cannot poll: it waits for a release the test gives only after the job has stopped.
-  auto release = std::make_shared<std::atomic<bool>>(false);
-  auto finished = std::make_shared<std::atomic<bool>>(false);
-  std::atomic<bool> cancelled{false};
-  BackgroundJob job;
-  job.start([&, release, finished](const BackgroundJob::Ticket& t) {
-    try {
-      runUninterruptible<int>(t, [release, finished] {
-        while (!*release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        *finished = true;
-        return 1;
-      });
-    } catch (const Cancelled&) {
-      cancelled = true;
-    }
-  });
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  EXPECT_TRUE(job.stop());  // returns although the work is still blocked
-  EXPECT_TRUE(cancelled.load());
-  EXPECT_FALSE(finished->load());
-  *release = true;  // the abandoned work ends by itself, on what it owns
-  for (int i = 0; i < 5000 && !*finished; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  EXPECT_TRUE(finished->load());
-}
-
 }  // namespace
 }  // namespace motionmap::studio

@@ -3,4 +3,6 @@
 #include "motionmap/core/error.h"
 #include "motionmap/embed/embed.h"
 
-int layering_right_include() { return 0; }
+int layering_right_include() {
+  return 0;
+}

@@ -4,4 +4,6 @@
 // that it does.
 #include "motionmap/io/load.h"
 
-int layering_wrong_include() { return 0; }
+int layering_wrong_include() {
+  return 0;
+}

@@ -12,6 +12,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/names.h"
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/root_motion.h"
@@ -83,29 +84,8 @@ void check_inputs(std::span<const Clip> clips, const features::FeatureSet& sampl
       throw ParameterError(clip.path + ": its joint hierarchy differs from " + clips.front().path +
                            "'s; clips blended together must share one");
     }
-    const Motion& mo = clip.motion;
-    const auto size =
-        static_cast<std::size_t>(mo.num_frames) * static_cast<std::size_t>(mo.num_joints);
-    if (mo.num_joints != skeleton.num_joints() || mo.rotations.size() != size ||
-        mo.translations.size() != size) {
-      throw ParameterError(clip.path + ": its motion does not fit its skeleton (" +
-                           std::to_string(mo.num_joints) + " joints for " +
-                           std::to_string(skeleton.num_joints()) + ")");
-    }
-    if (!(mo.frame_time > 0.0) || !std::isfinite(mo.frame_time)) {
-      throw ParameterError(clip.path + ": frame time " + format_number(mo.frame_time) +
-                           " is not > 0");
-    }
-    for (std::size_t k = 0; k < size; ++k) {
-      if (!mo.rotations[k].coeffs().allFinite() || !mo.translations[k].allFinite() ||
-          mo.rotations[k].norm() < 1e-6) {
-        throw NumericalError(clip.path + ": frame " +
-                             std::to_string(k / static_cast<std::size_t>(mo.num_joints)) +
-                             " holds a NaN, infinite or zero value");
-      }
-    }
+    check_clip(clip);
   }
-  if (skeleton.num_joints() < 1) throw ParameterError("map: the skeleton has no joint");
   for (int i = 0; i < n; ++i) {
     const int c = samples.clip_of[i];
     if (c < 0 || c >= static_cast<int>(clips.size())) {
@@ -129,23 +109,22 @@ void check_inputs(std::span<const Clip> clips, const features::FeatureSet& sampl
 
 }  // namespace
 
+namespace {
+constexpr EnumName<BlendMode> kBlendModes[] = {
+    {BlendMode::Local, "local"}, {BlendMode::Kriging, "kriging"}, {BlendMode::Idw, "idw"}};
+}  // namespace
+
 std::string_view blend_mode_name(BlendMode mode) {
-  switch (mode) {
-    case BlendMode::Kriging:
-      return "kriging";
-    case BlendMode::Local:
-      return "local";
-    case BlendMode::Idw:
-      return "idw";
-  }
-  return "?";
+  return enum_name(kBlendModes, mode);
 }
 
 std::optional<BlendMode> parse_blend_mode(std::string_view name) {
-  for (BlendMode m : {BlendMode::Kriging, BlendMode::Local, BlendMode::Idw}) {
-    if (name == blend_mode_name(m)) return m;
-  }
-  return std::nullopt;
+  return parse_enum(kBlendModes, name);
+}
+
+const std::vector<BlendMode>& all_blend_modes() {
+  static const std::vector<BlendMode> modes = enum_values(kBlendModes);
+  return modes;
 }
 
 void BlendOptions::validate(int num_samples) const {

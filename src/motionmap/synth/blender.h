@@ -62,6 +62,8 @@ enum class BlendMode { Kriging, Local, Idw };
 std::string_view blend_mode_name(BlendMode mode);
 /// The mode called `name` (exact, lower case as blend_mode_name writes it), or nothing.
 std::optional<BlendMode> parse_blend_mode(std::string_view name);
+/// Every blend mode, the default (local) first.
+const std::vector<BlendMode>& all_blend_modes();
 
 /// Most merged map points the kriging mode factors: a (N+1)² dense matrix, 800 MB at 10 000.
 inline constexpr int kMaxKrigingSamples = 10000;

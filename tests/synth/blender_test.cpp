@@ -566,7 +566,7 @@ TEST(SynthBlender, SetUpReportsItsStageAndChangesNothing) {
       EXPECT_EQ(stages, std::vector<std::string>{"kriging set-up"});
       EXPECT_EQ(last, 1.0);
     }
-    for (const Eigen::Vector2d p : {Eigen::Vector2d(2.04, 0.7), Eigen::Vector2d(6.3, -0.1)}) {
+    for (const Eigen::Vector2d& p : {Eigen::Vector2d(2.04, 0.7), Eigen::Vector2d(6.3, -0.1)}) {
       const MapWeights a = watched.locate(p), b = plain.locate(p);
       EXPECT_EQ(a.samples, b.samples);
       EXPECT_EQ(a.weights, b.weights);

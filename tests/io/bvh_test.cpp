@@ -430,7 +430,7 @@ TEST(BvhTolerant, FileEndingInsideAFrameSaysFileEndsEarly) {
 // last line end) or says "file ends early" at its end, never "found end of file".
 TEST(BvhTolerant, EveryCutBetweenTokensSaysFileEndsEarlyAtTheEnd) {
   for (const std::string& full : {std::string(kSmall), std::string(kJointRoot),
-                                 std::string(kChannelsZeroLeaf), std::string(kEndsInMotion)}) {
+                                  std::string(kChannelsZeroLeaf), std::string(kEndsInMotion)}) {
     for (std::size_t n = std::string("HIERARCHY").size(); n < full.size(); ++n) {
       if (!is_space(full[n]) && !is_space(full[n - 1])) continue;  // inside a token
       const std::string cut = full.substr(0, n);

@@ -19,6 +19,7 @@
 #include "motionmap/io/load.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 #include "motionmap/skeleton/skeleton.h"
+#include "support/small_clip.h"
 
 namespace motionmap {
 namespace {
@@ -29,24 +30,7 @@ constexpr int kFrames = 10;
 
 // Hips → Spine → {LeftThumb (End Site), Head (End Site)}, kFrames frames of smooth motion.
 Clip good_clip() {
-  Clip clip;
-  clip.path = "bad.bvh";
-  Skeleton& s = clip.skeleton;
-  s.joints.push_back({"Hips", -1, {0, 0, 0}, {}, {}});
-  s.joints.push_back({"Spine", 0, {0, 10, 0}, {}, {}});
-  s.joints.push_back({"LeftThumb", 1, {5, 5, 0}, {}, {{1, 0, 0}}});
-  s.joints.push_back({"Head", 1, {0, 8, 0}, {}, {{0, 3, 0}}});
-  clip.motion.resize(kFrames, 4);
-  for (int f = 0; f < kFrames; ++f) {
-    const double t = f / 30.0;
-    for (int j = 0; j < 4; ++j) clip.motion.translation(f, j) = s.joints[j].offset;
-    clip.motion.translation(f, 0) = Eigen::Vector3d(3 * t, 90, 5 * t);
-    clip.motion.rotation(f, 0) = axis_rotation(Axis::Y, 0.5 * t);
-    clip.motion.rotation(f, 1) = axis_rotation(Axis::X, 0.3 * std::sin(2 * t));
-    clip.motion.rotation(f, 2) = axis_rotation(Axis::Z, 0.2 * t);
-    clip.motion.rotation(f, 3) = axis_rotation(Axis::Y, 0.4 * std::cos(3 * t));
-  }
-  return clip;
+  return test::smooth_clip(kFrames, "bad.bvh");
 }
 
 enum class Found { Sizes, Values };        // the MotionCheck level that finds the problem

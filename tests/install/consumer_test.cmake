@@ -3,19 +3,8 @@
 #
 #   cmake -DSOURCE_DIR=… -DBUILD_DIR=… -DWORK_DIR=… -DCONSUMER_DIR=… -DCONFIG=… -DGENERATOR=…
 #         -DCXX_COMPILER=… [-DCXX_LAUNCHER=…] -DEXPECT=regex -P consumer_test.cmake
-foreach(_var SOURCE_DIR BUILD_DIR WORK_DIR CONSUMER_DIR GENERATOR CXX_COMPILER EXPECT)
-  if(NOT DEFINED ${_var})
-    message(FATAL_ERROR "consumer_test.cmake: ${_var} not given")
-  endif()
-endforeach()
-
-function(run what)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${what} failed (${rc}):\n${ARGN}\n${out}\n${err}")
-  endif()
-  set(out "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/common.cmake)
+require(consumer_test.cmake SOURCE_DIR BUILD_DIR WORK_DIR CONSUMER_DIR GENERATOR CXX_COMPILER EXPECT)
 
 set(prefix ${WORK_DIR}/prefix)
 file(REMOVE_RECURSE ${WORK_DIR})

@@ -4,19 +4,8 @@
 #
 #   cmake -DBUILD_DIR=… -DWORK_DIR=… -DCPACK=… -DDPKG=… -DDPKG_DEB=… -DVERSION=…
 #         -P deb_test.cmake
-foreach(_var BUILD_DIR WORK_DIR CPACK DPKG DPKG_DEB VERSION)
-  if(NOT DEFINED ${_var})
-    message(FATAL_ERROR "deb_test.cmake: ${_var} not given")
-  endif()
-endforeach()
-
-function(run what)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${what} failed (${rc}):\n${ARGN}\n${out}\n${err}")
-  endif()
-  set(out "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/common.cmake)
+require(deb_test.cmake BUILD_DIR WORK_DIR CPACK DPKG DPKG_DEB VERSION)
 
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})

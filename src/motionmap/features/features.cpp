@@ -328,11 +328,11 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
         farthest = std::max(farthest, geodesic_distance(quats, 0, j));
       set.distance_input = std::move(quats);
       break;
-    case DistanceKind::Features: {
-      const RowMatrix x = set.X;
-      for (Eigen::Index j = 1; j < n; ++j) farthest = std::max(farthest, point_distance(x, 0, j));
+    case DistanceKind::Features:
+      set.distance_input = set.X;  // row-major, as the distance loops read it
+      for (Eigen::Index j = 1; j < n; ++j)
+        farthest = std::max(farthest, point_distance(set.distance_input, 0, j));
       break;
-    }
   }
   const double same = 1e-9 * (options.distance == DistanceKind::PointCloud
                                   ? 1.0 + set.distance_input.cwiseAbs().maxCoeff()
@@ -348,19 +348,8 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
 
 void add_distances(FeatureSet& set, const Control& control) {
   if (set.has_distances() || set.num_samples() == 0) return;
-  switch (set.distance) {
-    case DistanceKind::PointCloud:
-      set.D = pairwise_distances(set.distance_input, control);
-      break;
-    case DistanceKind::Geodesic:
-      set.D = geodesic_distances(set.distance_input, control);
-      break;
-    case DistanceKind::Features: {
-      const RowMatrix x = set.X;
-      set.D = pairwise_distances(x, control);
-      break;
-    }
-  }
+  set.D = set.distance == DistanceKind::Geodesic ? geodesic_distances(set.distance_input, control)
+                                                 : pairwise_distances(set.distance_input, control);
   set.distance_input = RowMatrix();
 }
 

@@ -72,7 +72,7 @@ struct FeatureSet {
   std::vector<int> joints;          ///< skeleton joints used in X (non-root, not excluded)
   std::vector<std::string> notes;   ///< e.g. "64_08.bvh: frame 0 looks like a bind pose: left out"
   /// What D is computed from, kept while D is not there yet (Distances::Later): the kept point
-  /// clouds (PointCloud), the quaternions (Geodesic), or nothing (Features: X itself).
+  /// clouds (PointCloud), the quaternions (Geodesic), or X in row-major order (Features).
   DistanceKind distance = DistanceKind::PointCloud;
   RowMatrix distance_input;
 

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <span>
+#include <string>
 
+#include "motionmap/core/error.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/pipeline/feature_cache.h"
 #include "motionmap/sample/sample_clip.h"
@@ -74,6 +76,22 @@ TEST(FeatureCache, MapsFromTheCacheEqualMapsWithout) {
     EXPECT_EQ(cached.embedding.coordinates, fresh.embedding.coordinates) << embed::method_name(m);
     EXPECT_EQ(cached.features->notes, fresh.features->notes) << embed::method_name(m);
   }
+}
+
+TEST(FeatureCache, MetricsOfASetWithoutDAreAClearError) {
+  const Clip clip = sample::make_sample_clip(sample::SampleKind::Swing);
+  const ClipMap pca = map_clips(std::span(&clip, 1), options_for(Method::Pca));
+  ASSERT_FALSE(pca.features->has_distances());
+  try {
+    map_metrics(*pca.features, pca.embedding);
+    FAIL() << "metrics without D did not throw";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no distance matrix D"), std::string::npos)
+        << e.what();
+  }
+  features::FeatureSet with_d = *pca.features;
+  features::add_distances(with_d);
+  EXPECT_NO_THROW(map_metrics(with_d, pca.embedding));
 }
 
 TEST(FeatureKey, DiffersExactlyWhenTheSamplesOrMatricesDo) {

@@ -3,11 +3,13 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <map>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/memory.h"
 #include "motionmap/io/load.h"
 
 namespace motionmap::cli {
@@ -61,6 +63,21 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                 "Keep a leading bind/T-pose frame (left out by default, with a note)");
   sub->add_option("--up", opt.up, "Up axis of the files: y (default) or z")
       ->check(CLI::IsMember({"y", "z", "Y", "Z"}));
+  auto* exact = sub->add_flag(
+      "--exact", opt.exact,
+      "Compute the exact (dense) map from the #frames² distance matrix however many frames there "
+      "are (8·#frames² bytes; by default maps are dense up to " +
+          std::to_string(pipeline::kDenseFrameLimit) + " frames)");
+  sub->add_option("--landmarks", opt.landmarks,
+                  "Take the scalable path however few frames there are — landmark MDS and "
+                  "Isomap with L landmarks (0: " +
+                      std::to_string(embed::kDefaultLandmarks) +
+                      "), le and lle on a sparse k-NN graph — the default above " +
+                      std::to_string(pipeline::kDenseFrameLimit) + " frames")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(exact);
+  sub->add_flag("--verbose", opt.verbose,
+                "Print each stage's time and the peak memory so far to standard error");
   sub->add_flag("-q,--quiet", opt.quiet, "No progress line");
 }
 
@@ -127,18 +144,56 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
     }
     e.heat = heat;
   }
+  if (opt.exact) out.path = pipeline::MapPath::Dense;
+  if (opt.landmarks >= 0) {
+    out.path = pipeline::MapPath::Landmarks;
+    e.landmarks = opt.landmarks;
+  }
   out.metrics = metrics;
   return out;
 }
 
 Control progress_line(const MapCliOptions& opt, std::string_view label) {
-  // For people watching a terminal; scripts and logs get none.
-  if (opt.quiet || !isatty(STDERR_FILENO)) return {};
-  auto last = std::make_shared<int>(-1);
-  return Control([last, name = std::string(label)](double fraction, std::string_view stage) {
+  // The line is for people watching a terminal; scripts and logs get none. --verbose adds a line
+  // per stage, for them too.
+  const bool line = !opt.quiet && isatty(STDERR_FILENO);
+  if (!line && !opt.verbose) return {};
+  struct State {
+    int percent = -1;
+    std::string stage;
+    std::chrono::steady_clock::time_point start, stage_start;
+    bool started = false, done = false;
+  };
+  auto state = std::make_shared<State>();
+  return Control([state, line, verbose = opt.verbose, name = std::string(label)](
+                     double fraction, std::string_view stage) {
+    State& s = *state;
+    const auto now = std::chrono::steady_clock::now();
+    auto report = [&](const std::string& what, std::chrono::steady_clock::time_point since) {
+      if (what.empty()) return;
+      if (line) std::fprintf(stderr, "\r%60s\r", "");
+      std::fprintf(stderr, "verbose: %s: %.2f s, peak %.0f MiB\n", what.c_str(),
+                   std::chrono::duration<double>(now - since).count(),
+                   double(peak_memory()) / (1024.0 * 1024.0));
+    };
+    if (verbose && !s.done) {
+      if (!s.started) s.start = now;
+      if (!s.started || stage != s.stage) {
+        if (s.started) report(s.stage, s.stage_start);
+        s.stage = std::string(stage);
+        s.stage_start = now;
+        s.started = true;
+      }
+      if (fraction >= 1.0) {
+        report(s.stage, s.stage_start);
+        report("total", s.start);
+        s.done = true;
+      }
+    }
+    if (!line) return;
     const int percent = static_cast<int>(fraction * 100.0);
-    if (percent == *last) return;
-    *last = percent;
+    if (percent == s.percent) return;
+    s.percent = percent;
     std::fprintf(stderr, "\r%-6s %3d%%  %-24.*s", name.c_str(), percent,
                  static_cast<int>(stage.size()), stage.data());
     if (percent >= 100) std::fprintf(stderr, "\r%60s\r", "");

@@ -33,6 +33,10 @@ struct MapCliOptions {
   bool keep_first = false;
   std::string up = "y";
   bool quiet = false;
+  // Which path (pipeline::MapPath) and how it reports.
+  bool exact = false;
+  int landmarks = -1;  ///< −1: not given (automatic path); 0: the default count; else L
+  bool verbose = false;
 };
 
 /// Which command the map options are for: `map` (all of them), `figure` (no --method: it runs

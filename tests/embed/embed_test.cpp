@@ -70,8 +70,8 @@ TEST(EmbedValidation, MissingInputs) {
                         "none was given"));
   EXPECT_THAT(
       error_message<ParameterError>([&] { embed({.features = &d.X}, with(Method::Isomap)); }),
-      HasSubstr("isomap: this method needs the distance matrix D (#frames by #frames); "
-                "none was given"));
+      HasSubstr("isomap: this method needs the distance matrix D (#frames by #frames) or the "
+                "points it is computed from; neither was given"));
   EXPECT_THAT(error_message<ParameterError>([&] { embed({.features = &d.X}, with(Method::Lle)); }),
               HasSubstr("lle: this method needs the distance matrix D"));
   EXPECT_THAT(error_message<ParameterError>([&] { embed({.distances = &d.D}, with(Method::Lle)); }),

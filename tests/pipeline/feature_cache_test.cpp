@@ -1,5 +1,6 @@
 // The pipeline builds D only for the methods that read it, and the feature cache builds each
 // feature set once per feature key, whichever method asks.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <span>
@@ -14,6 +15,7 @@ namespace motionmap::pipeline {
 namespace {
 
 using embed::Method;
+using ::testing::HasSubstr;
 
 ClipMapOptions options_for(Method method) {
   ClipMapOptions options;
@@ -78,20 +80,32 @@ TEST(FeatureCache, MapsFromTheCacheEqualMapsWithout) {
   }
 }
 
-TEST(FeatureCache, MetricsOfASetWithoutDAreAClearError) {
+TEST(FeatureCache, MetricsOfASetWithoutDAreMeasuredOnItsPoints) {
   const Clip clip = sample::make_sample_clip(sample::SampleKind::Swing);
   const ClipMap pca = map_clips(std::span(&clip, 1), options_for(Method::Pca));
   ASSERT_FALSE(pca.features->has_distances());
-  try {
-    map_metrics(*pca.features, pca.embedding);
-    FAIL() << "metrics without D did not throw";
-  } catch (const ParameterError& e) {
-    EXPECT_NE(std::string(e.what()).find("has no distance matrix D"), std::string::npos)
-        << e.what();
-  }
+  // Without D, every frame's distances come from the points: the same numbers as from D.
+  const MapMetrics from_points = map_metrics(*pca.features, pca.embedding);
   features::FeatureSet with_d = *pca.features;
   features::add_distances(with_d);
-  EXPECT_NO_THROW(map_metrics(with_d, pca.embedding));
+  const MapMetrics from_d = map_metrics(with_d, pca.embedding);
+  EXPECT_EQ(from_points.neighborhood.trustworthiness, from_d.neighborhood.trustworthiness);
+  EXPECT_EQ(from_points.neighborhood.continuity, from_d.neighborhood.continuity);
+  EXPECT_EQ(from_points.sample, 0);
+  // A sample says how many frames it measured.
+  const MapMetrics sampled = map_metrics(with_d, pca.embedding, 10, {}, 200);
+  EXPECT_EQ(sampled.sample, 200);
+  EXPECT_GT(sampled.neighborhood.trustworthiness, 0.9);
+  EXPECT_THAT(describe_metrics(sampled), HasSubstr("on a random sample of 200 frames"));
+  // Neither D nor points: a clear error.
+  features::FeatureSet bare = *pca.features;
+  bare.distance_input = RowMatrix();
+  try {
+    map_metrics(bare, pca.embedding);
+    FAIL() << "metrics without D or points did not throw";
+  } catch (const ParameterError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("neither the distance matrix D nor the points"));
+  }
 }
 
 TEST(FeatureKey, DiffersExactlyWhenTheSamplesOrMatricesDo) {

@@ -73,6 +73,25 @@ void check_features(const Eigen::MatrixXd& X, std::string_view method) {
   }
 }
 
+// The points of the points path: at least one value per frame, all finite.
+void check_points(const RowMatrix& P, std::string_view method) {
+  if (P.rows() == 0 || P.cols() == 0) {
+    throw ParameterError(std::string(method) + ": the points are empty (" +
+                         std::to_string(P.rows()) + " by " + std::to_string(P.cols()) +
+                         "); expected #frames by #values with both ≥ 1");
+  }
+  if (!P.allFinite()) {
+    for (Eigen::Index r = 0; r < P.rows(); ++r) {
+      for (Eigen::Index c = 0; c < P.cols(); ++c) {
+        if (!std::isfinite(P(r, c))) {
+          throw ParameterError(std::string(method) + ": " + cell("points", r, c) + " is " +
+                               format_number(P(r, c)) + "; every value must be finite");
+        }
+      }
+    }
+  }
+}
+
 // D must be a distance matrix: square, finite, ≥ 0, zero diagonal, symmetric (to 1e-10 of its
 // largest entry).
 void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress& progress) {
@@ -219,6 +238,13 @@ void EmbedOptions::validate(int num_frames) const {
                          " is not finite; give a number (≤ 0: all weights 1) or leave it unset "
                          "for the automatic width");
   }
+  if (landmarks < 0 || (landmarks > 0 && landmarks <= dimensions)) {
+    throw ParameterError(who + "landmarks = " + std::to_string(landmarks) +
+                         " is out of range; give 0 (the default, " +
+                         std::to_string(kDefaultLandmarks) + ") or at least " +
+                         std::to_string(dimensions + 1) + " for a " + std::to_string(dimensions) +
+                         "-D map");
+  }
   if (method == Method::Lle && !(reg > 0.0 && std::isfinite(reg))) {
     throw ParameterError(who + "reg = " + format_number(reg) +
                          " is out of range; it must be a finite number > 0 (default 1e-3)");
@@ -233,25 +259,33 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
   progress.stage("validate", 0.0, 0.02);
 
   const std::string who = std::string(m.name) + ": ";
+  // The points path: a method that reads D, given the points D would be computed from instead.
+  const bool on_points = m.needs_distances && input.distances == nullptr && input.points;
   if (m.needs_features && input.features == nullptr) {
     throw ParameterError(who +
                          "this method needs the feature matrix X (#frames by #features); "
                          "none was given");
   }
-  if (m.needs_distances && input.distances == nullptr) {
+  if (m.needs_distances && input.distances == nullptr && !on_points) {
     throw ParameterError(who +
-                         "this method needs the distance matrix D (#frames by #frames); "
-                         "none was given");
+                         "this method needs the distance matrix D (#frames by #frames) or the "
+                         "points it is computed from; neither was given");
   }
   if (m.needs_features) check_features(*input.features, m.name);
-  if (m.needs_distances) check_distances(*input.distances, m.name, progress);
-  if (m.needs_features && m.needs_distances && input.features->rows() != input.distances->rows()) {
-    throw ParameterError(who + "X has " + std::to_string(input.features->rows()) +
-                         " rows but D has " + std::to_string(input.distances->rows()) +
-                         "; both need one per frame");
+  if (on_points) {
+    check_points(*input.points, m.name);
+  } else if (m.needs_distances) {
+    check_distances(*input.distances, m.name, progress);
+  }
+  const Eigen::Index distance_rows =
+      !m.needs_distances ? 0 : on_points ? input.points->rows() : input.distances->rows();
+  if (m.needs_features && m.needs_distances && input.features->rows() != distance_rows) {
+    throw ParameterError(who + "X has " + std::to_string(input.features->rows()) + " rows but " +
+                         (on_points ? "the points have " : "D has ") +
+                         std::to_string(distance_rows) + "; both need one per frame");
   }
   const int frames =
-      static_cast<int>(m.needs_features ? input.features->rows() : input.distances->rows());
+      static_cast<int>(m.needs_features ? input.features->rows() : distance_rows);
   options.validate(frames);
   if (!m.needs_distances && input.features->cols() < options.dimensions) {
     throw ParameterError(who + "X has " + std::to_string(input.features->cols()) +
@@ -259,6 +293,7 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
                          "-D map needs at least " + std::to_string(options.dimensions));
   }
 
+  const PointSet points{input.points, input.metric};
   switch (options.method) {
     case Method::Pca:
       run_pca(*input.features, options, out, progress);
@@ -267,16 +302,34 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
       run_svd(*input.features, options, out, progress);
       break;
     case Method::Mds:
-      run_mds(*input.distances, options, out, progress);
+      if (on_points) {
+        run_landmark_mds(points, options, out, progress);
+      } else {
+        run_mds(*input.distances, options, out, progress);
+      }
       break;
     case Method::Isomap:
-      run_isomap(*input.distances, options, out, progress);
+      if (on_points) {
+        run_landmark_isomap(points, options, out, progress);
+      } else {
+        run_isomap(*input.distances, options, out, progress);
+      }
       break;
     case Method::LaplacianEigenmap:
-      run_laplacian_eigenmap(*input.distances, options, out, progress);
+      if (on_points) {
+        laplacian_eigenmap_on(build_neighbor_graph(points, options, out, progress, 0.02, 0.3),
+                              options, out, progress, 0.3);
+      } else {
+        run_laplacian_eigenmap(*input.distances, options, out, progress);
+      }
       break;
     case Method::Lle:
-      run_lle(*input.features, *input.distances, options, out, progress);
+      if (on_points) {
+        lle_on(*input.features, build_neighbor_graph(points, options, out, progress, 0.02, 0.2),
+               options, out, progress, 0.2);
+      } else {
+        run_lle(*input.features, *input.distances, options, out, progress);
+      }
       break;
   }
   normalize_signs(out.coordinates);

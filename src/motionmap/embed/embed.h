@@ -10,6 +10,17 @@
 //
 // Rows are frames everywhere. Which input each method reads:
 //   pca, svd  X only;   mds, isomap, le  D only;   lle  X (weights) and D (neighbours).
+//
+// Two paths, one interface. Given D, every method is exact (dense: D is #frames², so this path
+// ends near 20 000 frames). Given the points D would be computed from instead (EmbedInput::points,
+// see points.h), mds, isomap, le and lle never form an #frames² matrix:
+//   mds     landmark MDS (de Silva & Tenenbaum 2004): max-min landmarks, classical MDS of the
+//           landmarks, every frame triangulated from its distances to them;
+//   isomap  landmark Isomap: geodesic distances from the landmarks only (Dijkstra on the sparse
+//           k-NN graph), then the same triangulation;
+//   le, lle the same sparse eigenproblems as the dense path, on the k-NN graph of the points
+//           (exact k-d tree search, approximate HNSW above kExactNeighborLimit frames).
+// With every frame a landmark, landmark MDS and Isomap give the dense maps (to rounding).
 // Every output axis is flipped so that its entry of largest magnitude is positive, so the same
 // input always gives the same picture (and byte-identical numbers on one machine).
 #include <optional>
@@ -20,6 +31,7 @@
 #include <Eigen/Core>
 
 #include "motionmap/core/control.h"
+#include "motionmap/core/metric.h"
 
 namespace motionmap::embed {
 
@@ -56,18 +68,49 @@ struct EmbedOptions {
   /// Disconnected neighbour graph: false joins the components through their closest pairs and
   /// warns; true throws NumericalError instead.
   bool strict = false;
+  /// Points path, mds and isomap: number of landmarks (0 = min(#frames, kDefaultLandmarks)).
+  int landmarks = 0;
+  /// Points path, graph methods: how the k nearest neighbours are found (points.h).
+  enum class Search { Auto, Exact, Approximate } search = Search::Auto;
 
   /// Checks every field for a clip of `num_frames` frames. @throws ParameterError naming the
   /// parameter, its value and the valid range.
   void validate(int num_frames) const;
 };
 
+/// Landmarks of the points path of mds and isomap unless EmbedOptions::landmarks says otherwise.
+constexpr int kDefaultLandmarks = 256;
+
 /// The inputs. Pointers, so a caller passes only what its method needs (nullptr = absent).
 struct EmbedInput {
   const Eigen::MatrixXd* features = nullptr;  ///< X: #frames by #features
   const Eigen::MatrixXd* distances =
       nullptr;  ///< D: #frames by #frames, symmetric, ≥ 0, 0 diagonal
+  /// Instead of D (mds, isomap, le, lle): the rows D would be computed from, and their metric.
+  /// Used only when `distances` is null.
+  const RowMatrix* points = nullptr;
+  Metric metric = Metric::Euclidean;
 };
+
+/// What a landmark map (mds and isomap on the points path) keeps to place frames: a frame with
+/// distances δ to the landmarks (δ_l = distance to landmark l; Isomap: geodesic) lands at
+///   x = −½·P·(δ² − μ) + c
+/// de Silva & Tenenbaum's distance-based triangulation into the landmarks' top classical-MDS
+/// axes (up to 20), followed by the PCA of all frames so triangulated (P and c include it).
+struct LandmarkFit {
+  std::vector<int> frames;       ///< the landmarks, as frame indices, in the order chosen
+  Eigen::MatrixXd projection;    ///< P: dims by L
+  Eigen::VectorXd mean_squared;  ///< μ: L, mean over the landmarks of the squared distances
+  Eigen::VectorXd offset;        ///< c: dims
+  /// Isomap: L by #frames, column f = frame f's geodesic distances to the landmarks (what a new
+  /// frame reaches the landmarks through). Empty for mds.
+  Eigen::MatrixXd geodesic;
+};
+
+/// The triangulation of LandmarkFit, frame by frame: column f of `distances` (L by #frames)
+/// holds frame f's distances to the landmarks; returns #frames by dims. Row f depends on column f
+/// only, summed in a fixed order, so a frame lands on the same bits however many are placed.
+Eigen::MatrixXd triangulate(const LandmarkFit& fit, const Eigen::MatrixXd& distances);
 
 /// What classical MDS (and Isomap's MDS step) learns about the spectrum of B = −½·J·D²·J that the
 /// map leaves out. Negative eigenvalues mean the distances are not Euclidean; they are reported
@@ -108,10 +151,16 @@ struct Embedding {
   int connecting_edges = 0;  ///< edges added to join them (0 when connected)
   std::vector<std::string> warnings;
   std::vector<StageTime> timings;  ///< in execution order
+  /// Points path: how the neighbours were found ("exact", or "approximate (HNSW), recall …");
+  /// empty on the dense path and for methods without a graph.
+  std::string neighbor_search;
+  /// Points path of mds and isomap: the landmarks and what placing frames needs. The stress is
+  /// then measured over the landmark pairs.
+  std::optional<LandmarkFit> landmarks;
 };
 
-/// Computes the map of options.method. X and/or D per the method (see the top of this file);
-/// when both are given they must have the same number of rows.
+/// Computes the map of options.method. X and/or D (or the points instead of D) per the method
+/// (see the top of this file); when both are given they must have the same number of rows.
 /// @throws ParameterError for a missing or malformed input (empty, non-finite, D not square,
 ///   not symmetric, negative or with a non-zero diagonal, row counts that differ) or a bad option;
 ///   NumericalError for a disconnected graph in strict mode, heat-kernel weights that underflow,

@@ -49,9 +49,15 @@ int slot(const Graph& g, int a, int b) {
 
 void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& out,
                             Progress& progress) {
-  const NeighborGraph ng = build_neighbor_graph(D, options, out, progress, 0.02, 0.3);
+  laplacian_eigenmap_on(build_neighbor_graph(D, options, out, progress, 0.02, 0.3), options, out,
+                        progress, 0.3);
+}
+
+void laplacian_eigenmap_on(const NeighborGraph& ng, const EmbedOptions& options, Embedding& out,
+                           Progress& progress, double begin) {
   const int n = ng.graph.frames();
-  progress.stage("weights", 0.3, 0.35);
+  const double weights_end = begin + 0.05 * (1.0 - begin) / 0.7;
+  progress.stage("weights", begin, weights_end);
   const double auto_heat = automatic_heat(ng.lists);
   double heat = options.heat ? *options.heat : auto_heat;
   if (!options.heat && auto_heat == 0.0) {
@@ -100,7 +106,7 @@ void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& option
                          hint + ", or a larger k");
   }
 
-  progress.stage("eigen", 0.35, 1.0);
+  progress.stage("eigen", weights_end, 1.0);
   Eigen::VectorXd degrees;
   const Eigen::SparseMatrix<double> L = normalized_laplacian(w, degrees);
   const Eigen::VectorXd q = degrees.cwiseSqrt().normalized();

@@ -21,7 +21,13 @@ constexpr int kFramesPerChunk = 32;
 
 void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOptions& options,
              Embedding& out, Progress& progress) {
-  const NeighborGraph ng = build_neighbor_graph(D, options, out, progress, 0.02, 0.2);
+  lle_on(X, build_neighbor_graph(D, options, out, progress, 0.02, 0.2), options, out, progress,
+         0.2);
+}
+
+void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& ng, const EmbedOptions& options,
+            Embedding& out, Progress& progress, double begin) {
+  const double weights_end = begin + 0.25 * (1.0 - begin);
   const int n = static_cast<int>(X.rows());
   const int k = ng.lists.k;
   // A joining edge a–b makes each end an extra neighbour of the other, which couples the
@@ -36,7 +42,7 @@ void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOpti
   std::vector<int> columns(static_cast<std::size_t>(offsets[n]));
   std::vector<double> weights(columns.size());
 
-  progress.stage("weights", 0.2, 0.4);
+  progress.stage("weights", begin, weights_end);
   // Row-major, so gathering a frame's neighbours reads contiguous rows.
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows = X;
   const int chunks = (n + kFramesPerChunk - 1) / kFramesPerChunk;
@@ -67,7 +73,7 @@ void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOpti
       },
       [&](int done) { progress.update(double(done) / chunks); });
 
-  progress.stage("eigen", 0.4, 1.0);
+  progress.stage("eigen", weights_end, 1.0);
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(weights.size() + std::size_t(n));
   for (int i = 0; i < n; ++i) {

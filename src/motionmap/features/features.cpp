@@ -102,23 +102,15 @@ Eigen::MatrixXd quaternion_features(const Motion& motion, std::span<const int> j
 
 namespace {
 
-// The distance between two rows, as every entry of D and every check below computes it.
+// The distance between two rows, as every entry of D and every check below computes it (and
+// the scalable maps' neighbour searches, through the same core functions).
 double point_distance(const Eigen::Ref<const RowMatrix>& points, Eigen::Index i, Eigen::Index j) {
-  return (points.row(i) - points.row(j)).norm();
+  return euclidean_distance(points.row(i), points.row(j));
 }
 
 double geodesic_distance(const Eigen::Ref<const RowMatrix>& quaternions, Eigen::Index i,
                          Eigen::Index j) {
-  double sum = 0.0;
-  for (Eigen::Index k = 0; k < quaternions.cols() / 4; ++k) {
-    const auto a = quaternions.row(i).segment<4>(4 * k);
-    const auto b = quaternions.row(j).segment<4>(4 * k);
-    const Eigen::Quaterniond qa(a[0], a[1], a[2], a[3]);
-    const Eigen::Quaterniond qb(b[0], b[1], b[2], b[3]);
-    const double theta = rotation_angle(qa, qb);
-    sum += theta * theta;
-  }
-  return std::sqrt(sum);
+  return quaternion_angle_distance(quaternions.row(i), quaternions.row(j));
 }
 
 // D from a per-pair distance: row i fills D(i, i+1…n−1), written as column i (contiguous in the
@@ -350,7 +342,6 @@ void add_distances(FeatureSet& set, const Control& control) {
   if (set.has_distances() || set.num_samples() == 0) return;
   set.D = set.distance == DistanceKind::Geodesic ? geodesic_distances(set.distance_input, control)
                                                  : pairwise_distances(set.distance_input, control);
-  set.distance_input = RowMatrix();
 }
 
 }  // namespace motionmap::features

@@ -71,8 +71,8 @@ struct FeatureSet {
   std::vector<int> segment_starts;  ///< first sample of each clip
   std::vector<int> joints;          ///< skeleton joints used in X (non-root, not excluded)
   std::vector<std::string> notes;   ///< e.g. "64_08.bvh: frame 0 looks like a bind pose: left out"
-  /// What D is computed from, kept while D is not there yet (Distances::Later): the kept point
-  /// clouds (PointCloud), the quaternions (Geodesic), or X in row-major order (Features).
+  /// What D is computed from (and what the maps that never form D read): the kept point clouds
+  /// (PointCloud), the quaternions (Geodesic), or X in row-major order (Features).
   DistanceKind distance = DistanceKind::PointCloud;
   RowMatrix distance_input;
 
@@ -95,8 +95,9 @@ enum class Distances { Now, Later };
 FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
                           const Control& control = {}, Distances distances = Distances::Now);
 
-/// Computes D of a set built with Distances::Later (nothing when D is there already), and frees
-/// what it was computed from. @throws Cancelled if `control` says so.
+/// Computes D of a set built with Distances::Later (nothing when D is there already). What it is
+/// computed from stays (it is #samples by a few hundred at most; the maps that never form D read
+/// it). @throws Cancelled if `control` says so.
 void add_distances(FeatureSet& set, const Control& control = {});
 
 /// The samples build_features() would use — clip_of, frame_of, segment_starts, joints and notes,

@@ -5,12 +5,13 @@
 // the performer travelled or turned.
 #include <Eigen/Core>
 
+#include "motionmap/core/metric.h"
 #include "motionmap/core/rotation.h"
 #include "motionmap/skeleton/skeleton.h"
 
 namespace motionmap::features {
 
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using motionmap::RowMatrix;
 
 /// Heading (yaw about `up`, radians) of a world rotation: the angle that rotates the reference
 /// frame's floor axes onto the rotation's, averaged over both floor axes so it stays defined when

@@ -1,8 +1,12 @@
 #include "motionmap/pipeline/clip_map.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <random>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/memory.h"
+#include "motionmap/embed/points.h"
 
 namespace motionmap::pipeline {
 
@@ -10,6 +14,7 @@ using embed::Embedding;
 using embed::EmbedInput;
 using embed::jump_score;
 using embed::Method;
+using motionmap::Metric;
 using embed::neighborhood_quality;
 
 namespace {
@@ -21,49 +26,149 @@ std::string fmt(double v, const char* format = "%.4g") {
 
 }  // namespace
 
-bool needs_distances(Method method) {
-  return method != Method::Pca && method != Method::Svd;
+namespace {
+
+Metric metric_of(features::DistanceKind kind) {
+  return kind == features::DistanceKind::Geodesic ? Metric::QuaternionAngles : Metric::Euclidean;
+}
+
+// Refuses a map whose estimated memory exceeds what the machine has available.
+void check_memory(const ClipMapOptions& options, int frames, int values, int columns, bool dense) {
+  const std::optional<std::int64_t> available = available_memory();
+  if (!available) return;
+  const double bytes = estimate_map_bytes(options.embed.method, frames, values, columns, dense,
+                                          options.embed, options.metrics);
+  if (bytes <= double(*available)) return;
+  std::string message = std::string(embed::method_name(options.embed.method)) + " on " +
+                        std::to_string(frames) + " frames needs ~" + format_bytes(bytes) +
+                        (dense ? " dense" : "") + "; available " +
+                        format_bytes(double(*available)) + "; ";
+  if (dense) {
+    message += "use --landmarks (the default above " + std::to_string(options.dense_limit) +
+               " frames)";
+  } else {
+    message += "use fewer landmarks (--landmarks), a smaller k, or --stride to use every n-th frame";
+  }
+  throw ParameterError(message);
+}
+
+// min(count, n) distinct frames drawn with a fixed seed, in increasing order.
+std::vector<int> random_sample(int n, int count) {
+  std::vector<int> all(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) all[i] = i;
+  if (count >= n) return all;
+  std::mt19937_64 random(20061127);
+  for (int i = 0; i < count; ++i) {
+    std::uniform_int_distribution<int> pick(i, n - 1);
+    std::swap(all[i], all[pick(random)]);
+  }
+  all.resize(static_cast<std::size_t>(count));
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+}  // namespace
+
+double estimate_map_bytes(Method method, int frames, int values, int columns, bool dense,
+                          const embed::EmbedOptions& options, bool metrics) {
+  const double F = frames, k = options.k;
+  const double base = F * (values + columns) * 8.0;  // the points and X
+  if (dense) {
+    const bool needs_d = embed::reads_distances(method) || metrics;
+    const double squares = !needs_d ? 0.0 : method == Method::Isomap ? 2.0 : 1.0;
+    return base + squares * 8.0 * F * F + F * k * 64.0;
+  }
+  const double L = std::min<double>(F, options.landmarks > 0 ? options.landmarks
+                                                             : embed::kDefaultLandmarks);
+  double bytes = base;
+  if (embed::uses_graph(method)) {
+    // k-NN lists, the flat pair array and the CSR graph; HNSW's float rows and links above the
+    // exact limit.
+    bytes += F * k * (12.0 + 2 * 16.0 + 2 * 12.0);
+    if (frames > embed::kExactNeighborLimit) bytes += F * (values * 4.0 + 32 * 4.0 + 64.0);
+  }
+  if (method == Method::Mds || method == Method::Isomap) bytes += 8.0 * F * L;
+  if (method == Method::LaplacianEigenmap) bytes += F * (2 * k + 1) * 12.0 * 6.0;
+  if (method == Method::Lle) bytes += F * k * k * 12.0 * 6.0;
+  return bytes;
 }
 
 ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
                   const Control& control, FeatureCache* cache) {
-  const bool need_d = embed::reads_distances(options.embed.method) || options.metrics;
-  // Shares of the overall progress: D is O(F²·P); without it the features are quick.
-  const double features_share = need_d ? 0.3 : 0.05;
+  const bool reads_d = embed::reads_distances(options.embed.method);
+  const double features_share = reads_d || options.metrics ? 0.3 : 0.05;
   const double embed_share = options.metrics ? 1.0 - features_share - 0.2 : 1.0 - features_share;
-  const Control features_control =
-      control.stage(need_d ? "pose distances" : "features", 0.0, features_share);
 
   ClipMap result;
+  const Control features_control = control.stage("features", 0.0, 0.05);
+  std::shared_ptr<features::FeatureSet> own;  // without a cache: built here, D maybe added
   if (cache) {
-    result.features = cache->get(clips, options.features, need_d, features_control);
+    result.features = cache->get(clips, options.features, false, features_control);
   } else {
-    result.features = std::make_shared<const features::FeatureSet>(
-        features::build_features(clips, options.features, features_control,
-                                 need_d ? features::Distances::Now : features::Distances::Later));
+    own = std::make_shared<features::FeatureSet>(features::build_features(
+        clips, options.features, features_control, features::Distances::Later));
+    result.features = own;
+  }
+  const int frames = result.features->num_samples();
+  result.dense = options.path == MapPath::Dense ||
+                 (options.path == MapPath::Auto && frames <= options.dense_limit);
+  const int values = static_cast<int>(result.features->distance_input.cols());
+  const int columns = static_cast<int>(result.features->X.cols());
+  check_memory(options, frames, values, columns, result.dense);
+  if (result.dense && (reads_d || options.metrics) && !result.features->has_distances()) {
+    const Control distances_control = control.stage("pose distances", 0.05, features_share);
+    if (cache) {
+      result.features = cache->get(clips, options.features, true, distances_control);
+    } else {
+      features::add_distances(*own, distances_control);
+    }
   }
   const features::FeatureSet& set = *result.features;
-  const EmbedInput input{&set.X, set.has_distances() ? &set.D : nullptr};
+  EmbedInput input{&set.X};
+  if (result.dense && set.has_distances()) {
+    input.distances = &set.D;
+  } else {
+    input.points = &set.distance_input;
+    input.metric = metric_of(set.distance);
+  }
   result.embedding = embed::embed(input, options.embed,
                                   control.part(features_share, features_share + embed_share));
 
   if (options.metrics) {
     result.metrics = map_metrics(set, result.embedding, options.metrics_k,
-                                 control.stage("metrics", features_share + embed_share, 1.0));
+                                 control.stage("metrics", features_share + embed_share, 1.0),
+                                 result.dense ? 0 : options.metrics_sample);
   }
   control.finish();
   return result;
 }
 
 MapMetrics map_metrics(const features::FeatureSet& features, const Embedding& embedding, int k,
-                       const Control& control) {
-  if (!features.has_distances()) {
-    throw ParameterError(
-        "metrics: the feature set has no distance matrix D (built with "
-        "Distances::Later); add_distances() first");
-  }
+                       const Control& control, int sample) {
   MapMetrics m;
-  m.neighborhood = neighborhood_quality(features.D, embedding.coordinates, k, control);
+  if (sample <= 0 && features.has_distances()) {
+    m.neighborhood = neighborhood_quality(features.D, embedding.coordinates, k, control);
+  } else {
+    if (features.distance_input.rows() != features.num_samples()) {
+      throw ParameterError(
+          "metrics: the feature set has neither the distance matrix D nor the points it is "
+          "computed from");
+    }
+    const std::vector<int> frames =
+        random_sample(features.num_samples(), sample > 0 ? sample : features.num_samples());
+    RowMatrix points(static_cast<Eigen::Index>(frames.size()), features.distance_input.cols());
+    Eigen::MatrixXd Y(points.rows(), embedding.coordinates.cols());
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      points.row(Eigen::Index(i)) = features.distance_input.row(frames[i]);
+      Y.row(Eigen::Index(i)) = embedding.coordinates.row(frames[i]);
+    }
+    const Control distances_control = control.part(0.0, 0.5);
+    const Eigen::MatrixXd D = features.distance == features::DistanceKind::Geodesic
+                                  ? features::geodesic_distances(points, distances_control)
+                                  : features::pairwise_distances(points, distances_control);
+    m.neighborhood = neighborhood_quality(D, Y, k, control.part(0.5, 1.0));
+    m.sample = frames.size() < std::size_t(features.num_samples()) ? int(frames.size()) : 0;
+  }
   m.stress = embedding.stress;
   m.jump = jump_score(embedding.coordinates);
   return m;
@@ -90,6 +195,10 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   }
   if (f.stride != 1) s += " stride=" + std::to_string(f.stride);
   if (f.keep_first) s += " keep-first";
+  if (e.landmarks) s += " landmarks=" + std::to_string(e.landmarks->frames.size());
+  if (!e.neighbor_search.empty() && e.neighbor_search != "exact") {
+    s += " neighbours=" + e.neighbor_search;
+  }
   if (e.connecting_edges > 0) {
     s += " components=" + std::to_string(e.graph_components) + " (joined by " +
          std::to_string(e.connecting_edges) + " edges)";
@@ -102,6 +211,12 @@ std::string describe_metrics(const MapMetrics& m) {
                   " continuity=" + fmt(m.neighborhood.continuity, "%.4f");
   if (m.stress) s += " stress=" + fmt(*m.stress, "%.4f");
   s += " jump=" + fmt(m.jump, "%.3g");
+  if (m.sample > 0) {
+    s += " (trustworthiness and continuity on a random sample of " + std::to_string(m.sample) +
+         " frames";
+    if (m.stress) s += ", stress over the landmark pairs";
+    s += ")";
+  }
   return s;
 }
 

@@ -22,11 +22,27 @@
 
 namespace motionmap::pipeline {
 
+/// Up to this many frames a map is dense (exact, from D) unless ClipMapOptions::path says
+/// otherwise; above, it takes the points path (embed.h, "Two paths").
+constexpr int kDenseFrameLimit = 10000;
+
+/// Which of embed's two paths a map takes.
+enum class MapPath {
+  Auto,       ///< dense up to ClipMapOptions::dense_limit frames, points path above
+  Dense,      ///< always from D (exact; #frames² memory)
+  Landmarks,  ///< always the points path (landmarks, sparse graphs)
+};
+
 struct ClipMapOptions {
   features::FeatureOptions features;
   embed::EmbedOptions embed;
-  bool metrics = false;  ///< compute MapMetrics (O(#frames²), needs D)
+  bool metrics = false;  ///< compute MapMetrics (dense: O(#frames²), needs D)
   int metrics_k = 10;    ///< neighbours for trustworthiness and continuity
+  MapPath path = MapPath::Auto;
+  int dense_limit = kDenseFrameLimit;
+  /// Points path: the metrics are measured on a random sample (seeded, so repeatable) of this
+  /// many frames instead of all of them.
+  int metrics_sample = 2000;
 };
 
 /// Quality of a map (see metrics.h for the definitions).
@@ -34,6 +50,9 @@ struct MapMetrics {
   embed::NeighborhoodQuality neighborhood;  ///< at ClipMapOptions::metrics_k, against D
   std::optional<double> stress;             ///< MDS and Isomap: against their target distances
   double jump = 0.0;                        ///< 95th percentile ÷ median of consecutive map steps
+  /// Frames the neighbourhood quality was measured on: 0 = all of them; otherwise a random
+  /// sample of that many (the points path), and the stress is over the landmark pairs.
+  int sample = 0;
 };
 
 struct ClipMap {
@@ -42,21 +61,36 @@ struct ClipMap {
   std::shared_ptr<const features::FeatureSet> features;
   embed::Embedding embedding;
   std::optional<MapMetrics> metrics;
+  /// Whether the map was computed from D (the dense path) or from the points.
+  bool dense = true;
 };
 
 /// Builds the features of `clips` (or takes them from `cache`) and maps them. D is built only
-/// when the method or the metrics read it. `control` hears the stages "features", "pose
-/// distances", the method's own stages and "metrics".
-/// @throws as build_features() and embed(), and ParameterError if metrics are asked for a clip
-///   too short for metrics_k; Cancelled.
+/// on the dense path, when the method or the metrics read it. Before anything of #frames² or
+/// #frames·L size is allocated, its memory is estimated and compared with what the machine has
+/// available. `control` hears the stages "features", "pose distances", the method's own stages
+/// and "metrics".
+/// @throws as build_features() and embed(); ParameterError if metrics are asked for a clip too
+///   short for metrics_k, or if the map would need more memory than is available (the message
+///   gives the estimate, what is available and the option that would fit); Cancelled.
 ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
                   const Control& control = {}, FeatureCache* cache = nullptr);
 
-/// The metrics of `embedding`, a map of `features` (which must hold D): neighbourhood quality
-/// at k against D, the embedding's stress, the jump score.
-/// @throws ParameterError if the clip is too short for k or `features` has no D; Cancelled.
+/// The metrics of `embedding`, a map of `features`: neighbourhood quality at k against D, the
+/// embedding's stress, the jump score. With `sample` > 0 (or when `features` has no D), the
+/// neighbourhood quality is measured on a random sample of min(sample, #frames) frames, with
+/// their distances computed from the features' points (MapMetrics::sample says how many).
+/// @throws ParameterError if the clip (or sample) is too short for k, or `features` has neither
+///   D nor its points; Cancelled.
 MapMetrics map_metrics(const features::FeatureSet& features, const embed::Embedding& embedding,
-                       int k = 10, const Control& control = {});
+                       int k = 10, const Control& control = {}, int sample = 0);
+
+/// Estimated peak memory of mapping `frames` frames with `method` on the dense path (dense =
+/// true) or the points path; `values` is the width of the points (features::FeatureSet::
+/// distance_input) and `columns` of X. An estimate (within a factor of about 1.5), for refusing
+/// requests that cannot fit before they start.
+double estimate_map_bytes(embed::Method method, int frames, int values, int columns, bool dense,
+                          const embed::EmbedOptions& options, bool metrics);
 
 /// The effective parameters of a map in one line, for CSV comments, titles and status bars:
 /// "method=isomap dims=2 k=20 features=quat distance=pointcloud up=y".

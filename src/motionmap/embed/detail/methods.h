@@ -7,6 +7,7 @@
 #include "motionmap/embed/embed.h"
 #include "motionmap/embed/graph.h"
 #include "motionmap/embed/neighbors.h"
+#include "motionmap/embed/points.h"
 
 namespace motionmap::embed {
 
@@ -31,6 +32,14 @@ void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& option
 void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOptions& options,
              Embedding& out, Progress& progress);
 
+// The points path (embed.h, "Two paths"): the same maps without an #frames² matrix.
+/// Landmark MDS of the points.
+void run_landmark_mds(const PointSet& points, const EmbedOptions& options, Embedding& out,
+                      Progress& progress);
+/// Landmark Isomap of the points' k-NN graph.
+void run_landmark_isomap(const PointSet& points, const EmbedOptions& options, Embedding& out,
+                         Progress& progress);
+
 /// Classical (Torgerson) MDS shared by mds and isomap: B = −½·J·S·J with S_ij = T_ij² (T's lower
 /// triangle read; T: #frames by #frames distances), coordinates U·√max(λ, 0) of B's top
 /// eigenpairs; fills coordinates, eigenvalues, negative and stress (against T), and warns about
@@ -52,5 +61,33 @@ struct NeighborGraph {
 ///   components and suggests a larger k); Cancelled.
 NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions& options,
                                    Embedding& out, Progress& progress, double begin, double end);
+
+/// The same from points (knn_from_points; no #frames² matrix). A disconnected graph is joined
+/// through the closest pairs of a frame and a max-min landmark of another component — the
+/// closest pairs of frames would cost #frames² — so joins may be a little longer than the dense
+/// path's. Records neighbor_search in `out`.
+NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& options,
+                                   Embedding& out, Progress& progress, double begin, double end);
+
+/// Laplacian eigenmap of a neighbour graph (heat-kernel weights, then the sparse eigenproblem).
+void laplacian_eigenmap_on(const NeighborGraph& graph, const EmbedOptions& options,
+                           Embedding& out, Progress& progress, double begin);
+/// LLE of X over a neighbour graph's lists and joins.
+void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& graph, const EmbedOptions& options,
+            Embedding& out, Progress& progress, double begin);
+
+/// Max-min landmarks (de Silva & Tenenbaum): the first is frame 0, each next one the frame
+/// farthest from those chosen (ties: the smaller index). `distances` receives count by #frames,
+/// column f = frame f's distances to the landmarks in the order chosen.
+std::vector<int> maxmin_landmarks(const PointSet& points, int count, Eigen::MatrixXd& distances,
+                                  const Control& control);
+
+/// The landmark map: classical MDS of T (L by L distances between the landmarks, lower triangle
+/// read), every frame triangulated from `distances` (L by #frames), then PCA of the result.
+/// Fills out.landmarks (but its frames), coordinates, eigenvalues (of the final axes: Σ x² per
+/// axis, as classical MDS's eigenvalues), negative, stress (over the landmark pairs) and warnings.
+void fit_landmarks(const Eigen::MatrixXd& T, const Eigen::MatrixXd& distances,
+                   const EmbedOptions& options, Embedding& out, Progress& progress, double begin,
+                   double end);
 
 }  // namespace motionmap::embed

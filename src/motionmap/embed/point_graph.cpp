@@ -1,0 +1,155 @@
+// The neighbour graph of the points path: k-NN lists from knn_from_points, edge lengths from the
+// lists themselves, and components joined through max-min landmarks instead of all pairs.
+#include <algorithm>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "motionmap/core/error.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
+
+namespace motionmap::embed {
+
+namespace {
+
+// The symmetric k-NN graph with each edge's length as the lists (or the join) give it; a pair in
+// both lists has the same length in both (the metric is symmetric to the bit).
+Graph knn_graph_from_lists(const NeighborLists& lists, const std::vector<Edge>& extra) {
+  const int n = lists.frames();
+  // Every pair goes into both rows of one flat array; rows are then sorted and de-duplicated.
+  std::vector<std::size_t> start(std::size_t(n) + 1, 0);
+  for (int i = 0; i < n; ++i) {
+    start[i + 1] += std::size_t(lists.k);
+    for (int j : lists.of(i)) ++start[j + 1];
+  }
+  for (const Edge& e : extra) {
+    ++start[e.a + 1];
+    ++start[e.b + 1];
+  }
+  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<std::pair<int, double>> raw(start[n]);
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  auto add = [&](int a, int b, double length) {
+    raw[fill[a]++] = {b, length};
+    raw[fill[b]++] = {a, length};
+  };
+  for (int i = 0; i < n; ++i) {
+    const auto index = lists.of(i);
+    const auto distance = lists.distances_of(i);
+    for (int a = 0; a < lists.k; ++a) add(i, index[a], distance[a]);
+  }
+  for (const Edge& e : extra) add(e.a, e.b, e.length);
+  Graph g;
+  g.offsets.assign(std::size_t(n) + 1, 0);
+  g.targets.reserve(raw.size());
+  g.weights.reserve(raw.size());
+  for (int i = 0; i < n; ++i) {
+    const auto first = raw.begin() + std::ptrdiff_t(start[i]);
+    const auto last = raw.begin() + std::ptrdiff_t(start[i + 1]);
+    std::sort(first, last);
+    int previous = -1;
+    for (auto it = first; it != last; ++it) {
+      if (it->first == previous || it->first == i) continue;
+      previous = it->first;
+      g.targets.push_back(it->first);
+      g.weights.push_back(it->second);
+    }
+    g.offsets[i + 1] = static_cast<int>(g.targets.size());
+  }
+  return g;
+}
+
+// count − 1 edges joining the components: the shortest frame–landmark pair between every two
+// components that have one, then a minimum spanning tree over the components (Prim from frame
+// 0's component; ties: the edge found first, scanning frames then landmarks in order).
+std::vector<Edge> joining_edges(const Components& components, const std::vector<int>& landmarks,
+                                const Eigen::MatrixXd& distances) {
+  const int n = static_cast<int>(components.label.size());
+  const int c = components.count;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<Edge> best(std::size_t(c) * c, Edge{-1, -1, inf});
+  for (int f = 0; f < n; ++f) {
+    const int cf = components.label[f];
+    for (std::size_t l = 0; l < landmarks.size(); ++l) {
+      const int cl = components.label[landmarks[l]];
+      if (cl == cf) continue;
+      const double d = distances(Eigen::Index(l), f);
+      Edge& e = best[std::size_t(std::min(cf, cl)) * c + std::max(cf, cl)];
+      if (d < e.length) e = {std::min(f, landmarks[l]), std::max(f, landmarks[l]), d};
+    }
+  }
+  std::vector<Edge> edges;
+  std::vector<char> in_tree(static_cast<std::size_t>(c), 0);
+  in_tree[components.label[0]] = 1;
+  for (int step = 1; step < c; ++step) {
+    const Edge* pick = nullptr;
+    for (int a = 0; a < c; ++a) {
+      for (int b = a + 1; b < c; ++b) {
+        const Edge& e = best[std::size_t(a) * c + b];
+        if (in_tree[a] != in_tree[b] && e.a >= 0 && (!pick || e.length < pick->length)) {
+          pick = &e;
+        }
+      }
+    }
+    if (!pick) {
+      throw NumericalError("the landmarks do not reach every component of the k-NN graph");
+    }
+    edges.push_back(*pick);
+    in_tree[components.label[pick->a]] = 1;
+    in_tree[components.label[pick->b]] = 1;
+  }
+  return edges;
+}
+
+NeighborSearch to_search(EmbedOptions::Search s) {
+  switch (s) {
+    case EmbedOptions::Search::Exact:
+      return NeighborSearch::Exact;
+    case EmbedOptions::Search::Approximate:
+      return NeighborSearch::Approximate;
+    case EmbedOptions::Search::Auto:
+      break;
+  }
+  return NeighborSearch::Auto;
+}
+
+}  // namespace
+
+NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& options,
+                                   Embedding& out, Progress& progress, double begin, double end) {
+  const double mid = begin + 0.8 * (end - begin);
+  progress.stage("neighbours", begin, mid);
+  NeighborGraph ng;
+  NeighborSearchReport report;
+  ng.lists =
+      knn_from_points(points, options.k, to_search(options.search), progress.control(), &report);
+  out.neighbor_search = report.description();
+  ng.graph = knn_graph_from_lists(ng.lists, {});
+  const Components components = connected_components(ng.graph);
+  out.k_used = options.k;
+  out.graph_components = components.count;
+  if (components.count > 1) {
+    const std::string what = "the k-NN graph (k = " + std::to_string(options.k) + ") has " +
+                             std::to_string(components.count) + " connected components";
+    if (options.strict) {
+      throw NumericalError(std::string(method_name(options.method)) + ": " + what +
+                           "; use a larger k (or turn strict off to join them)");
+    }
+    progress.stage("joining components", mid, end);
+    Eigen::MatrixXd distances;
+    const std::vector<int> landmarks =
+        maxmin_landmarks(points, std::min(points.frames(), kDefaultLandmarks), distances,
+                         progress.control());
+    ng.joins = joining_edges(components, landmarks, distances);
+    ng.graph = knn_graph_from_lists(ng.lists, ng.joins);
+    out.connecting_edges = static_cast<int>(ng.joins.size());
+    out.warnings.push_back(what + "; joined them with " + std::to_string(ng.joins.size()) +
+                           " edge(s) between a frame and a landmark of another component. "
+                           "Distances across the joins are unreliable; a larger k avoids them");
+  }
+  return ng;
+}
+
+}  // namespace motionmap::embed

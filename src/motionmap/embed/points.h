@@ -1,0 +1,65 @@
+#pragma once
+// Frames given as points (the rows D would be computed from), and their k nearest neighbours
+// found without the #frames² distance matrix: what the scalable maps (see embed.h, "Two paths")
+// work on.
+//
+//   PointSet points{&cloud, Metric::Euclidean};
+//   NeighborSearchReport report;
+//   NeighborLists nn = knn_from_points(points, 20, NeighborSearch::Auto, control, &report);
+//   // report.approximate: HNSW was used (above kExactNeighborLimit); report.recall measured
+#include <string>
+
+#include "motionmap/core/control.h"
+#include "motionmap/core/metric.h"
+#include "motionmap/embed/neighbors.h"
+
+namespace motionmap::embed {
+
+/// Frames as points: row f of `rows` is frame f; distances by `metric` (core/metric.h), exactly
+/// as the entries of D would be.
+struct PointSet {
+  const RowMatrix* rows = nullptr;
+  Metric metric = Metric::Euclidean;
+
+  int frames() const { return rows ? static_cast<int>(rows->rows()) : 0; }
+  double distance(Eigen::Index i, Eigen::Index j) const {
+    return pose_distance(rows->row(i), rows->row(j), metric);
+  }
+};
+
+/// How knn_from_points searches.
+enum class NeighborSearch {
+  /// Exact up to kExactNeighborLimit frames, approximate above.
+  Auto,
+  /// Exact: a k-d tree (nanoflann) for Euclidean points, otherwise every pair (O(#frames²) time,
+  /// O(#frames) memory).
+  Exact,
+  /// Approximate: a hierarchical navigable small-world graph (hnswlib), built in frame order on
+  /// one thread (so the result does not depend on the thread count), searched in parallel.
+  Approximate,
+};
+
+/// Above this many frames NeighborSearch::Auto searches approximately.
+constexpr int kExactNeighborLimit = 100000;
+
+/// What a search did.
+struct NeighborSearchReport {
+  bool approximate = false;
+  /// Approximate only: the fraction of true k nearest neighbours found, measured on
+  /// `recall_queries` frames spread evenly over the set against an exhaustive search; 1 when exact.
+  double recall = 1.0;
+  int recall_queries = 0;
+  /// "exact (k-d tree)", "exact (all pairs)" or "approximate (HNSW, recall@20 0.987 on 200
+  /// frames)".
+  std::string description() const;
+};
+
+/// Each frame's k nearest other frames, nearest first, with their distances; of equal distances
+/// the smaller frame index wins among the candidates found. Runs in parallel; `control` hears the
+/// fraction done (index build and queries) and may throw Cancelled.
+/// @throws ParameterError unless 1 ≤ k ≤ #frames − 1 and points.rows is set.
+NeighborLists knn_from_points(const PointSet& points, int k,
+                              NeighborSearch search = NeighborSearch::Auto,
+                              const Control& control = {}, NeighborSearchReport* report = nullptr);
+
+}  // namespace motionmap::embed

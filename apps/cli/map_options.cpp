@@ -102,9 +102,10 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
   sub->add_flag("--recursive", opt.recursive,
                 "Folders given (on the command line or in @lists) contribute the clips of their "
                 "subfolders too; without it, only the files directly in them");
-  sub->add_flag("--keep-going", opt.keep_going,
-                "Skip a clip that fails to load (its error is printed) and map the others; "
-                "without it the first failure is an error. No clip loading is an error anyway");
+  sub->add_flag(
+      "--keep-going", opt.keep_going,
+      "Skip a clip that fails to load (its error is printed) and map the others; "
+      "without it the first failure is an error. If no clip loads, that is an error either way");
   sub->add_option("--joints", opt.joints,
                   "all: every joint, the clips must share one joint hierarchy (default); common: "
                   "the joints whose names all clips have, so clips of different skeletons share "

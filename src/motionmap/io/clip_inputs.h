@@ -18,9 +18,9 @@
 //    non-blank character is '#' (a '#' after a path is part of the path). An entry may be a clip
 //    or a folder (expanded as below), never another list. The list's order is kept.
 //  - a folder: its .bvh and .amc files (any letter case), sorted by path (byte order); with
-//    ExpandOptions::recursive, those of every subfolder too, all sorted together. .asf files are
-//    skeletons, not clips (an .amc finds its .asf as load_clip() does); other files, and names
-//    starting with '.', are ignored.
+//    ExpandOptions::recursive, those of every subfolder too, all sorted together (links to
+//    folders are not followed). .asf files are skeletons, not clips (an .amc finds its .asf as
+//    load_clip() does); other files, and names starting with '.', are ignored.
 //  - anything else: a clip path, taken as it is (load_clip() reports a wrong extension).
 // Inputs are expanded in the order given; a clip named twice is loaded twice.
 #include <span>

@@ -122,10 +122,7 @@ void setup_figure(CLI::App& app) {
       }
       panels.push_back(std::move(panel));
     }
-    std::string files;
-    for (const auto& f : cmd->map.files)
-      files += (files.empty() ? "" : ", ") + f.substr(f.find_last_of('/') + 1);
-    const QString title = QString::fromStdString(files) + " — " +
+    const QString title = QString::fromStdString(clip_names(clips)) + " — " +
                           QString::number(set.num_samples()) + " frames, features " +
                           QString::fromStdString(
                               std::string(features::feature_kind_name(options.features.features))) +

@@ -7,7 +7,6 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
-#include "motionmap/core/files.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/render/map_plot.h"
 
@@ -70,11 +69,11 @@ void setup_map(CLI::App& app) {
                 << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
     }
     if (cmd->output.empty() || cmd->output == "-") {
-      pipeline::write_map_csv(std::cout, map, options, cmd->map.files);
+      pipeline::write_map_csv(std::cout, map, options, clip_paths(clips));
     } else {
       std::ofstream out(cmd->output);
       if (!out) throw Error(cmd->output + ": error: cannot open for writing");
-      pipeline::write_map_csv(out, map, options, cmd->map.files);
+      pipeline::write_map_csv(out, map, options, clip_paths(clips));
       if (!out.flush()) throw Error(cmd->output + ": error: write failed");
     }
     if (map.metrics) {
@@ -83,9 +82,7 @@ void setup_map(CLI::App& app) {
     }
     if (!cmd->plot.empty()) {
       render::MapPlotOptions plot;
-      std::string files;
-      for (const auto& f : cmd->map.files) files += (files.empty() ? "" : ", ") + base_name(f);
-      plot.title = QString::fromStdString(files + " — " +
+      plot.title = QString::fromStdString(clip_names(clips) + " — " +
                                           std::string(embed::method_name(map.embedding.method)));
       plot.notes << QString::fromStdString(pipeline::describe_parameters(map.embedding, options));
       if (map.metrics)

@@ -5,20 +5,58 @@
 #include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <map>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
 #include "motionmap/core/memory.h"
-#include "motionmap/io/load.h"
+#include "motionmap/io/clip_inputs.h"
 
 namespace motionmap::cli {
 
+namespace {
+
+// An input must exist: a file or folder, or after '@' a list file. Missing ones are usage errors
+// (exit 2), as CLI::ExistingFile made them; what a list names is checked when it is read.
+CLI::Validator clip_input_validator() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        std::error_code ec;
+        if (!input.empty() && input.front() == '@') {
+          const std::string list = input.substr(1);
+          return std::filesystem::is_regular_file(list, ec) ? std::string()
+                                                            : "List file does not exist: " + list;
+        }
+        return std::filesystem::exists(input, ec) ? std::string()
+                                                  : "File or folder does not exist: " + input;
+      },
+      "PATH|@LIST");
+}
+
+// "loading 12/40 clips (183 000 frames)" on stderr while several clips load, for people watching
+// a terminal; the last line ("loaded 40 clips …") stays.
+Control loading_line(const MapCliOptions& opt, std::size_t clips) {
+  if (opt.quiet || clips < 2 || !isatty(STDERR_FILENO)) return {};
+  return Control([](double fraction, std::string_view stage) {
+    std::fprintf(stderr, "\r%-60.*s", static_cast<int>(stage.size()), stage.data());
+    if (fraction >= 1.0) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  });
+}
+
+}  // namespace
+
 void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
   sub->add_option("files", opt.files,
-                  "Clips (.bvh, or .amc with its .asf); several clips of one skeleton make one map")
+                  "Clips: .bvh files, .amc files (with their .asf), folders (their .bvh and .amc "
+                  "files, sorted by path; subfolders only with --recursive) and @LIST files (one "
+                  "path a line, relative to the list's folder; blank lines and # comments "
+                  "ignored). Several clips make one map: of one skeleton, or of several with "
+                  "--joints common")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(clip_input_validator());
   sub->add_option("--asf", opt.asf, "ASF skeleton for .amc inputs (default: the .asf beside them)")
       ->check(CLI::ExistingFile);
   // pose/synth: --fps is the new motion's frame rate there.
@@ -63,6 +101,21 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                 "Keep a leading bind/T-pose frame (left out by default, with a note)");
   sub->add_option("--up", opt.up, "Up axis of the files: y (default) or z")
       ->check(CLI::IsMember({"y", "z", "Y", "Z"}));
+  sub->add_flag("--recursive", opt.recursive,
+                "Folders given (on the command line or in @lists) contribute the clips of their "
+                "subfolders too; without it, only the files directly in them");
+  sub->add_flag(
+      "--keep-going", opt.keep_going,
+      "Skip a clip that fails to load (its error is printed) and map the others; "
+      "without it the first failure is an error. If no clip loads, that is an error either way");
+  sub->add_option("--joints", opt.joints,
+                  "all: every joint, the clips must share one joint hierarchy (default); common: "
+                  "the joints whose names all clips have, so clips of different skeletons share "
+                  "a map (each clip's own skeleton and forward kinematics; a note lists what was "
+                  "kept and dropped)")
+      ->transform(CLI::CheckedTransformer(
+          choices(features::all_joint_selections(), features::joint_selection_name),
+          CLI::ignore_case));
   auto* exact = sub->add_flag(
       "--exact", opt.exact,
       "Compute the exact (dense) map from the #frames² distance matrix however many frames there "
@@ -82,15 +135,40 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
 }
 
 std::vector<Clip> load_inputs(const MapCliOptions& opt) {
-  std::vector<Clip> clips;
-  io::LoadOptions load;
-  load.asf_path = opt.asf;
-  load.fps = opt.fps;
-  for (const auto& file : opt.files) {
-    clips.push_back(io::load_clip(file, load));
-    for (const auto& w : clips.back().warnings) std::cerr << w << '\n';
+  io::ExpandOptions expand;
+  expand.recursive = opt.recursive;
+  const std::vector<std::string> paths = io::expand_clip_inputs(opt.files, expand);
+  io::LoadClipsOptions load;
+  load.load.asf_path = opt.asf;
+  load.load.fps = opt.fps;
+  load.keep_going = opt.keep_going;
+  io::LoadedClips loaded = io::load_clips(paths, load, loading_line(opt, paths.size()));
+  for (const Clip& clip : loaded.clips) {
+    for (const auto& w : clip.warnings) std::cerr << w << '\n';
   }
-  return clips;
+  for (const auto& failure : loaded.failures) std::cerr << failure << '\n';
+  if (!loaded.failures.empty()) {
+    std::cerr << "note: skipped " << loaded.failures.size() << " of " << paths.size()
+              << " clips that failed to load (--keep-going)\n";
+  }
+  return std::move(loaded.clips);
+}
+
+std::vector<std::string> clip_paths(const std::vector<Clip>& clips) {
+  std::vector<std::string> paths;
+  for (const Clip& clip : clips) paths.push_back(clip.path);
+  return paths;
+}
+
+std::string clip_names(const std::vector<Clip>& clips) {
+  constexpr std::size_t kShown = 3;
+  const std::size_t shown = clips.size() <= kShown + 1 ? clips.size() : kShown - 1;
+  std::string out;
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + base_name(clips[i].path);
+  if (shown < clips.size()) {
+    out += " and " + std::to_string(clips.size() - shown) + " more clips";
+  }
+  return out;
 }
 
 namespace {
@@ -117,6 +195,7 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   f.exclude = opt.exclude;
   f.stride = opt.stride;
   f.keep_first = opt.keep_first;
+  f.joints = opt.joints;
   if (!opt.frames.empty()) {
     const auto colon = opt.frames.find(':');
     if (colon == std::string::npos) {

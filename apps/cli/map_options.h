@@ -33,6 +33,11 @@ struct MapCliOptions {
   bool keep_first = false;
   std::string up = "y";
   bool quiet = false;
+  // Libraries of clips: folders and @lists as inputs, clips that fail to load, clips of
+  // different skeletons.
+  bool recursive = false;
+  bool keep_going = false;
+  features::JointSelection joints = features::JointSelection::All;
   // Which path (pipeline::MapPath) and how it reports.
   bool exact = false;
   int landmarks = -1;  ///< −1: not given (automatic path); 0: the default count; else L
@@ -56,8 +61,16 @@ std::map<std::string, E> choices(const std::vector<E>& values, Name name) {
 /// Adds the input files and the feature and method options to `sub`.
 void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use);
 
-/// Loads every input file. @throws Error / ParseError.
+/// Loads every clip the inputs name (files, folders, @lists: io::expand_clip_inputs), printing
+/// their warnings, and with --keep-going the errors of the clips skipped, on stderr.
+/// @throws Error / ParseError (the first clip that fails without --keep-going, or every one).
 std::vector<Clip> load_inputs(const MapCliOptions& opt);
+
+/// The clips' paths, in order (the CSV's files= list).
+std::vector<std::string> clip_paths(const std::vector<Clip>& clips);
+
+/// The clips' file names for a title: "a.bvh, b.bvh, c.bvh", or "a.bvh, b.bvh and 38 more clips".
+std::string clip_names(const std::vector<Clip>& clips);
 
 /// The library options for `method`.
 /// @throws ParameterError for malformed --frames or --heat values.

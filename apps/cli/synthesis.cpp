@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
+#include "motionmap/features/joint_match.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/synth/synthesize.h"
@@ -62,6 +63,14 @@ void add_blend_options(CLI::App* sub, BlendCommand& cmd) {
 synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips,
                           features::FeatureSet& samples) {
   clips = load_inputs(cmd.map);
+  // A new pose has one skeleton: say so before a map of several (--joints common) is computed.
+  for (const Clip& clip : clips) {
+    if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
+      throw Error(clip.path + ": its joint hierarchy differs from " + clips.front().path + "'s (" +
+                  why +
+                  "); pose and synth blend clips of one skeleton (--joints common maps "
+                  "clips of several, but cannot blend them)");
+  }
   const pipeline::ClipMapOptions options =
       clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
   Eigen::MatrixXd coords;

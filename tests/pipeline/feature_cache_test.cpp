@@ -118,6 +118,9 @@ TEST(FeatureKey, DiffersExactlyWhenTheSamplesOrMatricesDo) {
   b.distance = features::DistanceKind::Geodesic;
   EXPECT_NE(feature_key(a), feature_key(b));
   b = a;
+  b.joints = features::JointSelection::Common;  // other joints, other X and D
+  EXPECT_NE(feature_key(a), feature_key(b));
+  b = a;
   b.exclude = "x|1";  // a pattern holding the key's separator is still its own key
   features::FeatureOptions c = a;
   c.exclude = "x";

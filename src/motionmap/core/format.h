@@ -27,4 +27,16 @@ inline std::string format_number(double v, int significant) {
   return buf.data();
 }
 
+/// A count with its digits grouped by three and a space between groups ("183 000"), for progress
+/// lines and notes.
+inline std::string format_count(long long n) {
+  const auto magnitude = static_cast<unsigned long long>(n);
+  std::string digits = std::to_string(n < 0 ? 0ULL - magnitude : magnitude), out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ' ';
+    out += digits[i];
+  }
+  return n < 0 ? "-" + out : out;
+}
+
 }  // namespace motionmap

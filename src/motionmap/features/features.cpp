@@ -10,6 +10,7 @@
 #include "motionmap/core/parallel.h"
 #include "motionmap/features/detail/point_cloud.h"
 #include "motionmap/features/diagnostics.h"
+#include "motionmap/features/joint_match.h"
 
 namespace motionmap::features {
 
@@ -19,6 +20,8 @@ constexpr EnumName<FeatureKind> kFeatureKinds[] = {{FeatureKind::Quaternions, "q
 constexpr EnumName<DistanceKind> kDistanceKinds[] = {{DistanceKind::PointCloud, "pointcloud"},
                                                      {DistanceKind::Geodesic, "geodesic"},
                                                      {DistanceKind::Features, "features"}};
+constexpr EnumName<JointSelection> kJointSelections[] = {{JointSelection::All, "all"},
+                                                         {JointSelection::Common, "common"}};
 }  // namespace
 
 std::string_view feature_kind_name(FeatureKind k) {
@@ -41,6 +44,17 @@ std::optional<DistanceKind> parse_distance_kind(std::string_view name) {
 const std::vector<DistanceKind>& all_distance_kinds() {
   static const std::vector<DistanceKind> kinds = enum_values(kDistanceKinds);
   return kinds;
+}
+
+std::string_view joint_selection_name(JointSelection s) {
+  return enum_name(kJointSelections, s);
+}
+std::optional<JointSelection> parse_joint_selection(std::string_view name) {
+  return parse_enum(kJointSelections, name);
+}
+const std::vector<JointSelection>& all_joint_selections() {
+  static const std::vector<JointSelection> selections = enum_values(kJointSelections);
+  return selections;
 }
 
 void FeatureOptions::validate() const {
@@ -147,8 +161,8 @@ Eigen::MatrixXd geodesic_distances(const Eigen::Ref<const RowMatrix>& quaternion
 
 namespace {
 
-// Joints in X: every non-root joint whose name the exclude pattern does not match.
-std::vector<int> used_joints(const Skeleton& skeleton, const std::string& exclude) {
+// The exclude pattern, compiled; nullopt when empty.
+std::optional<std::regex> exclude_pattern(const std::string& exclude) {
   std::optional<std::regex> pattern;
   if (!exclude.empty()) {
     try {
@@ -158,6 +172,12 @@ std::vector<int> used_joints(const Skeleton& skeleton, const std::string& exclud
                            e.what() + ")");
     }
   }
+  return pattern;
+}
+
+// Joints in X: every non-root joint whose name the exclude pattern does not match.
+std::vector<int> used_joints(const Skeleton& skeleton, const std::string& exclude) {
+  const std::optional<std::regex> pattern = exclude_pattern(exclude);
   std::vector<int> joints;
   for (int j = 0; j < skeleton.num_joints(); ++j) {
     if (skeleton.joints[j].parent < 0) continue;
@@ -196,12 +216,208 @@ std::vector<Eigen::Index> kept_point_columns(const Skeleton& skeleton,
   return cols;
 }
 
+/// Which joints each clip puts in X and which columns of its point cloud it keeps, in one order
+/// for every clip. With JointSelection::All one entry serves every clip.
+struct JointPlan {
+  std::vector<std::vector<int>> x_joints;
+  std::vector<std::vector<Eigen::Index>> point_columns;
+
+  const std::vector<int>& x(std::size_t clip) const {
+    return x_joints.size() == 1 ? x_joints.front() : x_joints[clip];
+  }
+  const std::vector<Eigen::Index>& points(std::size_t clip) const {
+    return point_columns.size() == 1 ? point_columns.front() : point_columns[clip];
+  }
+};
+
+// "a", "a and b", "a, b and c" — at most `most` names, then "and N more".
+std::string name_list(const std::vector<std::string>& names, std::size_t most = 12) {
+  std::string out;
+  const std::size_t shown = std::min(names.size(), most);
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > shown) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
+}
+
+// JointSelection::Common: the shared joint names, matched in every clip (see FeatureOptions),
+// with the notes that say what was kept and dropped.
+JointPlan plan_common_joints(std::span<const Clip> clips, const FeatureOptions& options,
+                             std::vector<std::string>& notes) {
+  const std::vector<std::string> names = common_joint_names(clips);
+  const Clip& first = clips.front();
+  if (names.empty()) {
+    std::string why;
+    for (const Clip& clip : clips) {
+      const std::vector<Clip> pair{first, clip};
+      if (common_joint_names(pair).empty()) {
+        why = base_name(clip.path) + " has none of " + base_name(first.path) + "'s joints, e.g. '" +
+              first.skeleton.joints.front().name + "'";
+        break;
+      }
+    }
+    if (why.empty()) why = "each of " + base_name(first.path) + "'s joints is missing somewhere";
+    throw ParameterError("joints common: the clips share no joint name (" + why + ")");
+  }
+  const std::size_t n = clips.size(), k_count = names.size();
+  // index[c][k]: clip c's joint called names[k].
+  std::vector<std::vector<int>> index(n, std::vector<int>(k_count));
+  std::vector<bool> root(k_count, false);
+  for (std::size_t c = 0; c < n; ++c) {
+    for (std::size_t k = 0; k < k_count; ++k) {
+      const int j = clips[c].skeleton.find(names[k]);
+      index[c][k] = j;
+      if (clips[c].skeleton.joints[static_cast<std::size_t>(j)].parent < 0) root[k] = true;
+    }
+  }
+  const std::optional<std::regex> pattern = exclude_pattern(options.exclude);
+  std::vector<std::size_t> in_x, in_cloud;
+  std::vector<std::string> root_names;
+  for (std::size_t k = 0; k < k_count; ++k) {
+    const bool excluded = pattern && std::regex_match(names[k], *pattern);
+    if (!root[k] && !excluded) in_x.push_back(k);
+    if (root[k] || !excluded) in_cloud.push_back(k);
+    if (root[k]) root_names.push_back(names[k]);
+  }
+  if (in_x.empty()) {
+    if (root_names.size() == k_count) {
+      throw ParameterError(
+          "joints common: the clips share only " + name_list(root_names) +
+          (k_count == 1 ? ", a root in some clip, which X never uses (it carries the heading)"
+                        : ", roots in some clip, which X never uses (they carry the heading)"));
+    }
+    throw ParameterError("exclude: '" + options.exclude + "' leaves no joint to map (the clips " +
+                         "share " + std::to_string(k_count) + " joints, roots are never used)");
+  }
+  // End Sites of a point-cloud joint that has as many in every clip.
+  std::vector<std::size_t> with_sites;
+  std::size_t sites = 0;
+  for (const std::size_t k : in_cloud) {
+    const std::size_t count =
+        first.skeleton.joints[static_cast<std::size_t>(index[0][k])].end_sites.size();
+    bool same = count > 0;
+    for (std::size_t c = 1; c < n && same; ++c) {
+      same =
+          clips[c].skeleton.joints[static_cast<std::size_t>(index[c][k])].end_sites.size() == count;
+    }
+    if (same) {
+      with_sites.push_back(k);
+      sites += count;
+    }
+  }
+
+  JointPlan plan;
+  for (std::size_t c = 0; c < n; ++c) {
+    const Skeleton& s = clips[c].skeleton;
+    auto& x = plan.x_joints.emplace_back();
+    for (const std::size_t k : in_x) x.push_back(index[c][k]);
+    auto& cols = plan.point_columns.emplace_back();
+    for (const std::size_t k : in_cloud) {
+      for (int a = 0; a < 3; ++a) cols.push_back(3 * Eigen::Index{index[c][k]} + a);
+    }
+    // heading_local_points() lists End Sites after the joints, in joint order.
+    std::vector<int> first_site(static_cast<std::size_t>(s.num_joints()), 0);
+    for (int j = 1; j < s.num_joints(); ++j) {
+      first_site[static_cast<std::size_t>(j)] =
+          first_site[static_cast<std::size_t>(j) - 1] +
+          static_cast<int>(s.joints[static_cast<std::size_t>(j) - 1].end_sites.size());
+    }
+    for (const std::size_t k : with_sites) {
+      const auto j = static_cast<std::size_t>(index[c][k]);
+      for (std::size_t e = 0; e < s.joints[j].end_sites.size(); ++e) {
+        const Eigen::Index point = s.num_joints() + first_site[j] + static_cast<Eigen::Index>(e);
+        for (int a = 0; a < 3; ++a) cols.push_back(3 * point + a);
+      }
+    }
+  }
+
+  // What was kept and dropped, skeletons with the same dropped joints together.
+  const bool all_kept = std::all_of(clips.begin(), clips.end(), [&](const Clip& clip) {
+    return clip.skeleton.num_joints() == static_cast<int>(k_count);
+  });
+  if (all_kept) {
+    notes.push_back("joints common: " + (n == 1 ? std::string("a single clip: all ") +
+                                                      std::to_string(k_count) + " joints kept"
+                                                : "the " + std::to_string(n) + " clips share all " +
+                                                      std::to_string(k_count) + " joints"));
+  } else {
+    std::vector<std::pair<std::vector<std::string>, std::vector<std::size_t>>> dropped;
+    for (std::size_t c = 0; c < n; ++c) {
+      std::vector<std::string> lost;
+      for (const Joint& j : clips[c].skeleton.joints) {
+        if (std::find(names.begin(), names.end(), j.name) == names.end()) lost.push_back(j.name);
+      }
+      if (lost.empty()) continue;
+      auto same = std::find_if(dropped.begin(), dropped.end(),
+                               [&](const auto& d) { return d.first == lost; });
+      if (same == dropped.end()) {
+        dropped.push_back({std::move(lost), {c}});
+      } else {
+        same->second.push_back(c);
+      }
+    }
+    std::string note = "joints common: " + std::to_string(k_count) + " joints shared by the " +
+                       std::to_string(n) + " clips are kept (" + std::to_string(in_x.size()) +
+                       " in X, ";
+    if (!root_names.empty()) {
+      note += std::string(root_names.size() == 1 ? "the root " : "the roots ") +
+              name_list(root_names) + " only in the point cloud, ";
+    }
+    note += (sites == 0 ? std::string("no End Site")
+                        : std::to_string(sites) + (sites == 1 ? " End Site" : " End Sites")) +
+            "): " + name_list(names, names.size()) + "; dropped: ";
+    for (std::size_t d = 0; d < dropped.size(); ++d) {
+      const auto& [lost, which] = dropped[d];
+      note += (d ? ", " : "") + name_list(lost, 40) + " (" + base_name(clips[which[0]].path);
+      if (which.size() > 1) {
+        note += " and " + std::to_string(which.size() - 1) +
+                (which.size() == 2 ? " more clip" : " more clips");
+      }
+      note += ")";
+    }
+    notes.push_back(std::move(note));
+  }
+
+  // Local rotations are relative to the parent: a parent of another name is another reference.
+  if (options.features == FeatureKind::Quaternions || options.distance == DistanceKind::Geodesic) {
+    std::vector<std::string> moved;
+    auto parent_name = [&](std::size_t c, std::size_t k) {
+      const Skeleton& s = clips[c].skeleton;
+      const int p = s.joints[static_cast<std::size_t>(index[c][k])].parent;
+      return p < 0 ? std::string() : s.joints[static_cast<std::size_t>(p)].name;
+    };
+    for (const std::size_t k : in_x) {
+      const std::string mine = parent_name(0, k);
+      for (std::size_t c = 1; c < n; ++c) {
+        const std::string theirs = parent_name(c, k);
+        if (theirs != mine) {
+          moved.push_back(names[k] + " (parent '" + mine + "' in " + base_name(first.path) + ", '" +
+                          theirs + "' in " + base_name(clips[c].path) + ")");
+          break;
+        }
+      }
+    }
+    if (!moved.empty()) {
+      const bool one = moved.size() == 1;
+      notes.push_back(
+          "joints common: " + std::to_string(moved.size()) +
+          (one ? " kept joint has another parent in some clip, so its local rotation is measured "
+                 "against another bone there"
+               : " kept joints have another parent in some clip, so their local rotations are "
+                 "measured against other bones there") +
+          " (quaternion features, geodesic distance): " + name_list(moved, 8));
+    }
+  }
+  return plan;
+}
+
 /// The samples of `clips` (clip_of, frame_of, segment_starts, joints, notes; no X or D) and, per
-/// clip, its heading-local point cloud (all frames) and the frames selected.
+/// clip, its heading-local point cloud (all frames), the frames selected, and the joints and
+/// point-cloud columns it contributes.
 struct Selection {
   FeatureSet set;
   std::vector<RowMatrix> clouds;
   std::vector<std::vector<int>> frames;
+  JointPlan plan;
 };
 
 Selection select(std::span<const Clip> clips, const FeatureOptions& options) {
@@ -209,9 +425,12 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options) {
   if (clips.empty()) throw ParameterError("no clip given");
   const Skeleton& skeleton = clips.front().skeleton;
   for (const Clip& clip : clips) {
-    if (!clip.skeleton.same_hierarchy(skeleton)) {
-      throw ParameterError(clip.path + ": its joint hierarchy (names and parents) differs from " +
-                           clips.front().path + "'s; clips mapped together must share one");
+    if (options.joints == JointSelection::All && !clip.skeleton.same_hierarchy(skeleton)) {
+      throw ParameterError(clip.path + ": its joint hierarchy differs from " + clips.front().path +
+                           "'s (" + hierarchy_difference(clips.front(), clip) +
+                           "); clips mapped together must share one (joint names and parents), "
+                           "or be mapped by the joints whose names they all have: --joints "
+                           "common");
     }
     if (clip.motion.num_frames == 0) throw ParameterError(clip.path + ": the clip has no frames");
     check_clip(clip);
@@ -219,7 +438,14 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options) {
 
   Selection out;
   FeatureSet& set = out.set;
-  set.joints = used_joints(skeleton, options.exclude);
+  if (options.joints == JointSelection::Common) {
+    out.plan = plan_common_joints(clips, options, set.notes);
+    set.joints = out.plan.x_joints.front();
+  } else {
+    set.joints = used_joints(skeleton, options.exclude);
+    out.plan.x_joints.push_back(set.joints);
+    out.plan.point_columns.push_back(kept_point_columns(skeleton, set.joints));
+  }
   for (const Clip& clip : clips) {
     RowMatrix cloud = detail::checked_heading_local_points(clip.skeleton, clip.motion, options.up);
     int first = options.first_frame;
@@ -266,17 +492,16 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
                           const Control& control, Distances distances) {
   Selection selection = select(clips, options);
   FeatureSet set = std::move(selection.set);
-  const Skeleton& skeleton = clips.front().skeleton;
-  const auto point_cols = kept_point_columns(skeleton, set.joints);
 
   std::vector<RowMatrix> x_blocks;
   std::vector<RowMatrix> cloud_blocks;
   for (std::size_t c = 0; c < clips.size(); ++c) {
     const std::vector<int>& frames = selection.frames[c];
     const RowMatrix& cloud = selection.clouds[c];
+    const std::vector<Eigen::Index>& point_cols = selection.plan.points(c);
     if (options.features == FeatureKind::Quaternions ||
         options.distance == DistanceKind::Geodesic) {
-      x_blocks.push_back(quaternion_block(clips[c].motion, set.joints, frames));
+      x_blocks.push_back(quaternion_block(clips[c].motion, selection.plan.x(c), frames));
     }
     RowMatrix kept(static_cast<Eigen::Index>(frames.size()),
                    static_cast<Eigen::Index>(point_cols.size()));

@@ -29,6 +29,14 @@ namespace motionmap::features {
 
 enum class FeatureKind { Quaternions, Positions };
 enum class DistanceKind { PointCloud, Geodesic, Features };
+/// Which joints clips are compared by (FeatureOptions::joints).
+enum class JointSelection {
+  /// Every joint of the one hierarchy all clips must share (names and parents).
+  All,
+  /// The joints whose names every clip has (common_joint_names()): clips of different skeletons
+  /// in one map.
+  Common,
+};
 
 /// "quat" / "positions".
 std::string_view feature_kind_name(FeatureKind k);
@@ -44,6 +52,13 @@ std::optional<DistanceKind> parse_distance_kind(std::string_view name);
 /// Every distance kind, in the enum's order.
 const std::vector<DistanceKind>& all_distance_kinds();
 
+/// "all" / "common".
+std::string_view joint_selection_name(JointSelection s);
+/// The selection named `name` (as joint_selection_name writes it), or nullopt.
+std::optional<JointSelection> parse_joint_selection(std::string_view name);
+/// Every joint selection, in the enum's order.
+const std::vector<JointSelection>& all_joint_selections();
+
 struct FeatureOptions {
   FeatureKind features = FeatureKind::Quaternions;
   DistanceKind distance = DistanceKind::PointCloud;
@@ -57,6 +72,21 @@ struct FeatureOptions {
   /// Keep a leading bind pose (frame 0 farther from frame 1 than 10× the median step); by
   /// default it is left out and a note says so.
   bool keep_first = false;
+  /// All: the clips must share one joint hierarchy, and every joint is used. Common: the clips
+  /// may come from different skeletons; they are compared by the joints whose names all of them
+  /// have, each clip computing its point cloud by its own forward kinematics and its own motion
+  /// root (so heading and floor position are each clip's), and its quaternions from its own
+  /// joints of those names:
+  ///  - X: the shared joints that are a root in no clip (and not excluded), in the first clip's
+  ///    joint order;
+  ///  - point cloud: those joints and the shared joints that are a root in some clip, plus the
+  ///    End Sites of such a joint when every clip gives it the same number of End Sites (a joint
+  ///    that is a leaf in one skeleton and has children in another loses its End Site);
+  ///  - notes: how many joints were kept, which each skeleton lost, and the kept joints whose
+  ///    parent has another name in some clip (their local rotations are measured against
+  ///    different bones, which matters to the quaternion features and the geodesic distance).
+  /// With clips of one hierarchy, Common gives the same X and D as All.
+  JointSelection joints = JointSelection::All;
 
   /// @throws ParameterError naming the option, its value and the valid range.
   void validate() const;
@@ -69,8 +99,10 @@ struct FeatureSet {
   std::vector<int> clip_of;         ///< per sample: index of its clip
   std::vector<int> frame_of;        ///< per sample: its frame index in the clip's file
   std::vector<int> segment_starts;  ///< first sample of each clip
-  std::vector<int> joints;          ///< skeleton joints used in X (non-root, not excluded)
-  std::vector<std::string> notes;   ///< e.g. "64_08.bvh: frame 0 looks like a bind pose: left out"
+  /// Skeleton joints used in X (non-root, not excluded), as indices of the first clip's skeleton
+  /// (with JointSelection::Common the other clips' joints of the same names may have others).
+  std::vector<int> joints;
+  std::vector<std::string> notes;  ///< e.g. "64_08.bvh: frame 0 looks like a bind pose: left out"
   /// What D is computed from (and what the maps that never form D read): the kept point clouds
   /// (PointCloud), the quaternions (Geodesic), or X in row-major order (Features).
   DistanceKind distance = DistanceKind::PointCloud;
@@ -85,11 +117,13 @@ struct FeatureSet {
 enum class Distances { Now, Later };
 
 /// Builds X and D for `clips`, which must share one joint hierarchy (names and parents; offsets
-/// may differ: each clip uses its own for forward kinematics).
-/// Every clip goes through check_clip() (MotionCheck::Values) first.
-/// @throws ParameterError for bad options, clips of different hierarchies, a selection with no
-///         frames, an exclude pattern that is invalid or leaves no joint, or a clip whose motion
-///         does not fit its skeleton (sizes, parents, frame time);
+/// may differ: each clip uses its own for forward kinematics) unless options.joints is
+/// JointSelection::Common. Every clip goes through check_clip() (MotionCheck::Values) first.
+/// @throws ParameterError for bad options; clips of different hierarchies (naming the first
+///         clip that differs and how, see hierarchy_difference(), and suggesting --joints
+///         common); clips that share no joint name or no non-root joint (Common); a selection
+///         with no frames; an exclude pattern that is invalid or leaves no joint; or a clip whose
+///         motion does not fit its skeleton (sizes, parents, frame time);
 ///         NumericalError if a clip holds NaN, infinite or zero values (messages name the clip's
 ///         path, frame and joint); Cancelled if `control` says so.
 FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,

@@ -8,7 +8,8 @@ std::string feature_key(const features::FeatureOptions& o) {
          std::string(features::distance_kind_name(o.distance)) + "|" +
          (o.up == Axis::Z ? "z" : "y") + "|" + std::to_string(o.first_frame) + "|" +
          std::to_string(o.end_frame) + "|" + std::to_string(o.stride) + "|" +
-         (o.keep_first ? "1" : "0") + "|" + std::to_string(o.exclude.size()) + ":" + o.exclude;
+         (o.keep_first ? "1" : "0") + "|" + std::string(features::joint_selection_name(o.joints)) +
+         "|" + std::to_string(o.exclude.size()) + ":" + o.exclude;
 }
 
 std::shared_ptr<const features::FeatureSet> FeatureCache::get(

@@ -1,0 +1,358 @@
+#!/usr/bin/env python3
+"""End-to-end tests of libraries of clips in the `motionmap` tool: folders (--recursive), @list
+files, clips of different skeletons (--joints common), clips that fail to load (--keep-going),
+and the loading progress line. The clips are the real ones in ../shared/data, linked (never
+copied) into temporary folders; the tests skip, with a message, when a file is absent.
+
+usage: library_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
+"""
+import os
+import pty
+import shutil
+import subprocess
+import sys
+import tempfile
+import traceback
+
+BIN = os.path.abspath(sys.argv[1])
+DATA = os.path.abspath(sys.argv[2])
+TMP = tempfile.mkdtemp(prefix="motionmap-library-")
+
+GOLF = "cmu/64_08.bvh"
+GOLF2 = "cmu/64_09.bvh"
+RUN = "cmu/02_03.bvh"
+OTHER = "other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh"  # 23 joints, 19 of them named as CMU's
+
+# A valid two-joint clip and the same with a letter where line 20, column 1 needs a number.
+TINY_BVH = """HIERARCHY
+ROOT Hips
+{
+  OFFSET 0 0 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+  JOINT Spine
+  {
+    OFFSET 0 10 0
+    CHANNELS 3 Zrotation Xrotation Yrotation
+    End Site
+    {
+      OFFSET 0 5 0
+    }
+  }
+}
+MOTION
+Frames: 3
+Frame Time: 0.0333333
+0 90 0 0 0 0 0 0 0
+1 90 0 0 5 0 0 10 0
+2 90 0 0 10 0 0 20 0
+"""
+BROKEN_BVH = TINY_BVH.replace("1 90 0 0 5", "x 90 0 0 5")
+
+
+def run(*args):
+    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=300)
+    return p.returncode, p.stdout, p.stderr
+
+
+def data(rel):
+    return os.path.join(DATA, rel)
+
+
+def needs(*rels):
+    for rel in rels:
+        if not os.path.exists(data(rel)):
+            print(f"  skipped: {rel} absent from the shared data")
+            return False
+    return True
+
+
+def tmp(*parts):
+    return os.path.join(TMP, *parts)
+
+
+def folder(name, links=(), files=()):
+    """A fresh folder under TMP with `links` (relative path, shared data file) as symbolic links
+    and `files` (relative path, text) written; returns its path."""
+    root = tmp(name)
+    for rel, target in links:
+        os.makedirs(os.path.dirname(os.path.join(root, rel)), exist_ok=True)
+        os.symlink(data(target), os.path.join(root, rel))
+    for rel, text in files:
+        os.makedirs(os.path.dirname(os.path.join(root, rel)), exist_ok=True)
+        with open(os.path.join(root, rel), "w") as f:
+            f.write(text)
+    os.makedirs(root, exist_ok=True)
+    return root
+
+
+def read_map(path):
+    with open(path) as f:
+        lines = f.read().splitlines()
+    comments = [l for l in lines if l.startswith("#")]
+    rows = [l.split(",") for l in lines if not l.startswith("#")]
+    return comments, rows[0], rows[1:]
+
+
+def files_of(comments):
+    """The files= list of the CSV's parameter line."""
+    first = comments[0]
+    return first[first.index(" files=") + len(" files="):].split(",")
+
+
+def clip_counts(rows):
+    counts = {}
+    for r in rows:
+        counts[int(r[0])] = counts.get(int(r[0]), 0) + 1
+    return counts
+
+
+TESTS = []
+
+
+def test(fn):
+    TESTS.append(fn)
+    return fn
+
+
+@test
+def help_describes_folders_lists_and_the_new_options():
+    for cmd in ("map", "figure", "pose", "synth"):
+        code, out, _ = run(cmd, "--help")
+        assert code == 0, cmd
+        flat = " ".join(out.split())
+        for word in ("@LIST", "--recursive", "--keep-going", "--joints", "subfolders only with"):
+            assert word in flat, (cmd, word)
+
+
+@test
+def a_folder_maps_its_clips_in_sorted_order():
+    if not needs(GOLF, GOLF2, RUN):
+        return
+    out = tmp("cmu.csv")
+    code, _, err = run("map", data("cmu"), "--method", "pca", "-q", "-o", out)
+    assert code == 0, err
+    comments, header, rows = read_map(out)
+    assert header == ["clip", "frame", "x", "y"], header
+    # SUBJECT64.txt is not a clip; the T-pose frame of each is left out
+    assert files_of(comments) == ["02_03.bvh", "64_08.bvh", "64_09.bvh"], comments[0]
+    assert clip_counts(rows) == {0: 173, 1: 364, 2: 452}, clip_counts(rows)
+    # the same folder given with a trailing slash, twice: the same map, byte for byte
+    again = tmp("cmu-again.csv")
+    code, _, err = run("map", data("cmu") + "/", "--method", "pca", "-q", "-o", again)
+    assert code == 0, err
+    with open(out, "rb") as a, open(again, "rb") as b:
+        assert a.read() == b.read()
+
+
+@test
+def asf_files_in_a_folder_are_skeletons_not_clips():
+    if not needs("asfamc/02.asf", "asfamc/02_02.amc", "asfamc/02_03.amc"):
+        return
+    out = tmp("asfamc.csv")
+    code, _, err = run("map", data("asfamc"), "--method", "pca", "-q", "-o", out)
+    assert code == 0, err
+    comments, _, rows = read_map(out)
+    assert files_of(comments) == ["02_02.amc", "02_03.amc"], comments[0]
+    assert set(clip_counts(rows)) == {0, 1}
+
+
+@test
+def subfolders_only_with_recursive():
+    if not needs(GOLF, GOLF2):
+        return
+    root = folder("tree", links=[("b/c/64_09.bvh", GOLF2), ("a/64_08.bvh", GOLF)],
+                  files=[("readme.txt", "not a clip\n"), (".hidden/skip.bvh", BROKEN_BVH)])
+    out = tmp("tree.csv")
+    code, _, err = run("map", root, "--method", "pca", "-q", "-o", out)
+    assert code == 1, (code, err)
+    assert root + ": error: no clip (.bvh or .amc file) in this folder" in err, err
+    assert "--recursive" in err, err
+    code, _, err = run("map", root, "--recursive", "--method", "pca", "-q", "-o", out)
+    assert code == 0, err
+    comments, _, rows = read_map(out)
+    assert files_of(comments) == ["64_08.bvh", "64_09.bvh"], comments[0]  # a/ before b/c/
+    assert clip_counts(rows) == {0: 364, 1: 452}
+
+
+@test
+def list_files_with_comments_blank_lines_and_relative_paths():
+    if not needs(GOLF, GOLF2):
+        return
+    lists = folder("lists")
+    list_path = os.path.join(lists, "takes.txt")
+    relative = os.path.relpath(data(GOLF2), lists)
+    with open(list_path, "w") as f:
+        f.write("# golf swings\n\n" + relative + "\n   \n  " + data(GOLF) + "  \n")
+    out = tmp("list.csv")
+    code, _, err = run("map", "@" + list_path, "--method", "pca", "-q", "-o", out)
+    assert code == 0, err
+    comments, _, rows = read_map(out)
+    assert files_of(comments) == ["64_09.bvh", "64_08.bvh"], comments[0]  # the list's order
+    assert clip_counts(rows) == {0: 452, 1: 364}
+
+    # A list named by a relative path: its entries are relative to the list, not to the caller.
+    p = subprocess.run([BIN, "map", "@lists/takes.txt", "--method", "pca", "-q", "-o", out],
+                       capture_output=True, text=True, cwd=TMP, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert files_of(read_map(out)[0]) == ["64_09.bvh", "64_08.bvh"]
+
+    missing = os.path.join(lists, "missing.txt")
+    with open(missing, "w") as f:
+        f.write("# first line\n" + relative + "\n\n  nope/missing.bvh\n")
+    code, stdout, err = run("map", "@" + missing, "-q", "-o", out)
+    assert code == 1, (code, err)
+    assert missing + ":4:3: error: no such file or folder: 'nope/missing.bvh'" in err, err
+    assert stdout == ""
+
+    empty = os.path.join(lists, "empty.txt")
+    with open(empty, "w") as f:
+        f.write("# nothing yet\n\n")
+    code, _, err = run("map", "@" + empty, "-q", "-o", out)
+    assert code == 1 and empty + ": error: the list names no clip" in err, (code, err)
+
+    code, _, err = run("map", "@" + os.path.join(lists, "absent.txt"), "-q", "-o", out)
+    assert code == 2 and "absent.txt" in err, (code, err)  # a usage error, like a missing file
+
+
+@test
+def different_skeletons_are_an_error_naming_the_clip_and_offering_common_joints():
+    if not needs(GOLF, OTHER):
+        return
+    code, stdout, err = run("map", data(GOLF), data(OTHER), "-q", "-o", tmp("mixed.csv"))
+    assert code == 1, (code, err)
+    assert data(OTHER) + ": its joint hierarchy differs from " + data(GOLF) + "'s" in err, err
+    assert "it has 23 joints, 64_08.bvh 31" in err, err
+    assert "'Spine' (parent 'Hips') where 64_08.bvh has 'LHipJoint' (parent 'Hips')" in err, err
+    assert "--joints common" in err, err
+    assert stdout == ""
+
+
+@test
+def common_joints_map_clips_of_different_skeletons():
+    if not needs(GOLF, OTHER):
+        return
+    out = tmp("common.csv")
+    code, _, err = run("map", data(GOLF), data(OTHER), "--joints", "common", "-q", "-o", out)
+    assert code == 0, err
+    kept = "note: joints common: 19 joints shared by the 2 clips are kept (18 in X, the root " \
+           "Hips only in the point cloud, 3 End Sites)"
+    assert kept in err, err
+    assert "dropped: LHipJoint, RHipJoint, LowerBack" in err, err
+    assert "6 kept joints have another parent in some clip" in err, err
+    comments, _, rows = read_map(out)
+    assert any("joints common: 19 joints shared by the 2 clips are kept" in c
+               for c in comments), comments
+    assert clip_counts(rows) == {0: 364, 1: 1064}, clip_counts(rows)
+    code, _, err = run("map", data(GOLF), "--joints", "some", "-q", "-o", out)
+    assert code == 2 and "some" in err, (code, err)
+    # A blended pose has one skeleton: pose and synth say so before computing the map.
+    code, _, err = run("pose", data(GOLF), data(OTHER), "--joints", "common", "--at=0,0", "-q",
+                       "-o", tmp("mixed-pose.bvh"))
+    assert code == 1, (code, err)
+    assert data(OTHER) + ": its joint hierarchy differs" in err and "cannot blend" in err, err
+
+
+@test
+def keep_going_skips_a_broken_clip_and_without_it_the_error_stops_the_map():
+    if not needs(GOLF):
+        return
+    root = folder("broken", links=[("64_08.bvh", GOLF)], files=[("a-broken.bvh", BROKEN_BVH)])
+    broken = os.path.join(root, "a-broken.bvh")
+    out = tmp("broken.csv")
+    code, stdout, err = run("map", root, "-q", "-o", out)
+    assert code == 1, (code, err)
+    assert broken + ":20:1: error: expected a number" in err, err
+    assert stdout == ""
+
+    code, _, err = run("map", root, "--keep-going", "--method", "pca", "-q", "-o", out)
+    assert code == 0, err
+    assert broken + ":20:1: error: expected a number" in err, err
+    assert "note: skipped 1 of 2 clips that failed to load (--keep-going)" in err, err
+    comments, header, rows = read_map(out)
+    assert files_of(comments) == ["64_08.bvh"] and header == ["frame", "x", "y"], comments
+    assert len(rows) == 364
+
+    # Every clip failing is an error with --keep-going too.
+    only_broken = folder("only-broken", files=[("x.bvh", BROKEN_BVH), ("y.bvh", "HIERARCHY\n")])
+    code, _, err = run("map", only_broken, "--keep-going", "-q", "-o", out)
+    assert code == 1, (code, err)
+    assert "no clip could be loaded (2 of 2 failed)" in err, err
+    assert os.path.join(only_broken, "x.bvh") + ":20:1: error:" in err, err
+
+
+@test
+def figure_pose_and_synth_take_folders_and_lists_too():
+    if not needs(GOLF, GOLF2):
+        return
+    root = folder("swings", links=[("1.bvh", GOLF), ("2.bvh", GOLF2)])
+    list_path = os.path.join(root, "one.txt")
+    with open(list_path, "w") as f:
+        f.write("1.bvh\n")
+    png = tmp("swings.png")
+    code, out, err = run("figure", root, "--stride", "4", "-q", "-o", png)
+    assert code == 0, err
+    with open(png, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    pose = tmp("pose.bvh")
+    code, _, err = run("pose", "@" + list_path, "--at=0,0", "-q", "-o", pose)
+    assert code == 0, err
+    assert "1.bvh frame" in err or os.path.exists(pose), err
+    path_csv = tmp("path.csv")
+    with open(path_csv, "w") as f:
+        f.write("0,0\n1,0.5\n")
+    code, _, err = run("synth", root, "--path", path_csv, "--stride", "4", "-q", "-o",
+                       tmp("synth.bvh"))
+    assert code == 0, err
+    # a map written from the folder belongs to the same folder given to pose --map
+    csv = tmp("swings.csv")
+    code, _, err = run("map", root, "--method", "pca", "-q", "-o", csv)
+    assert code == 0, err
+    code, _, err = run("pose", root, "--map", csv, "--at=0,0", "-q", "-o", pose)
+    assert code == 0, err
+
+
+@test
+def loading_progress_counts_clips_and_frames_on_a_terminal():
+    if not needs(GOLF, GOLF2, RUN):
+        return
+    master, slave = pty.openpty()
+    p = subprocess.Popen([BIN, "map", data("cmu"), "--method", "pca", "-o", tmp("tty.csv")],
+                         stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # EIO: the other end closed
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    os.close(master)
+    assert p.wait(timeout=300) == 0
+    text = b"".join(chunks).decode("utf-8", "replace")
+    # 02_03.bvh has 174 frames, 64_08.bvh 365, 64_09.bvh 453 (T-poses included: all are loaded)
+    assert "loading 1/3 clips (0 frames)" in text, text
+    assert "loading 3/3 clips (539 frames)" in text, text
+    assert "loaded 3 clips (992 frames)" in text, text
+
+
+def main():
+    passed = failed = 0
+    for fn in TESTS:
+        try:
+            fn()
+            passed += 1
+            print(f"PASS {fn.__name__}")
+        except Exception:
+            failed += 1
+            print(f"FAIL {fn.__name__}")
+            traceback.print_exc()
+    print(f"{passed} passed, {failed} failed")
+    if not failed:
+        shutil.rmtree(TMP, ignore_errors=True)  # kept for a look when something failed
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

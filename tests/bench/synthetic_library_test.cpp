@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "motionmap/features/point_cloud.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/sample/sample_clip.h"
 #include "motionmap/skeleton/forward_kinematics.h"
@@ -217,6 +218,14 @@ TEST(SyntheticLibrary, ClipsAreDeterministicAndTiled) {
   std::vector<double> sorted = steps;
   std::sort(sorted.begin(), sorted.end());
   EXPECT_LT(*std::max_element(steps.begin(), steps.end()), 4.0 * sorted[sorted.size() / 2]);
+  // Nor turns: each segment is turned to go on in the previous one's heading.
+  double turn = 0.0;
+  for (int f = 1; f < 700; ++f) {
+    turn = std::max(
+        turn, std::abs(wrap_angle(features::heading_angle(a.clip.motion.rotation(f, root)) -
+                                  features::heading_angle(a.clip.motion.rotation(f - 1, root)))));
+  }
+  EXPECT_LT(rad_to_deg(turn), 2.0);
 }
 
 TEST(SyntheticLibrary, RoundValuesKeepsDecimalsAndDropsNegativeZero) {

@@ -25,6 +25,7 @@ Libraries are kept in --library-dir (one folder per size and seed, ~0.76 KB a fr
 """
 import argparse
 import datetime
+import hashlib
 import json
 import os
 import re
@@ -102,6 +103,8 @@ def has_verbose(cli):
 def library(args, frames):
     """The folder of the library of `frames` frames, made unless a matching one is there."""
     name = f"frames{frames}-clip{args.clip_frames}-seed{args.seed}"
+    if args.source:  # another source, another library
+        name += "-" + hashlib.sha1(os.path.abspath(args.source).encode()).hexdigest()[:8]
     folder = os.path.join(args.library_dir, name)
     manifest = os.path.join(folder, "manifest.txt")
     want = f"frames={frames} clip_frames={args.clip_frames} seed={args.seed} "

@@ -216,7 +216,9 @@ def main():
             cmd += args.extra
             rc, wall, peak, stderr = run_map(cmd, args.timeout, mem_limit)
             stages = stages_of(stderr)
-            slowest = max(stages, key=lambda s: s["seconds"]) if stages else None
+            # The tool ends with a "total" line; the slowest stage is among the others.
+            parts = [s for s in stages if s["stage"] != "total"]
+            slowest = max(parts, key=lambda s: s["seconds"]) if parts else None
             slow = f"{slowest['stage']} ({slowest['seconds']:.2f} s)" if slowest else ""
             if rc is None:
                 result = f"timeout (> {args.timeout:g} s)"

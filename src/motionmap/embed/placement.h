@@ -1,0 +1,82 @@
+#pragma once
+// Placing new frames on a map that was already made, without refitting it (scikit-learn's
+// `transform`): everything a map keeps for that (MapModel), and place().
+//
+//   MapModel model = make_model(input, options, map);          // after embed(input, options)
+//   Eigen::MatrixXd xy = place(model, {&new_X, &new_points});   // #new frames by dims
+//
+// Per method:
+//   pca, svd  projection on the map's axes: x = ((f − mean) ÷ scale)·axes;
+//   mds       the landmark triangulation (embed.h, LandmarkFit) from the distances to the
+//             landmarks; a dense map keeps every frame as a landmark (Nyström);
+//   isomap    the same, from geodesic distances: a new frame joins the k-NN graph through its k
+//             nearest samples, g(new, l) = min over them of d(new, s) + g(s, l) (a landmark map
+//             keeps g(s, l); a dense map runs Dijkstra from the new frame over the kept graph);
+//   le        the Nyström extension (Bengio et al. 2004): x = Σ_s w_s·y_s ÷ ((1 − λ_a)·Σ_s w_s)
+//             over the k nearest samples s, w_s the heat kernel, λ_a axis a's eigenvalue;
+//   lle       barycentric weights of the k nearest samples (LLE's own weights, regularised the
+//             same way): x = Σ_s w_s·y_s.
+// A frame whose point equals a sample's (distance 0) lands on that sample's coordinates, so
+// placing the map's own frames gives their coordinates back: exactly for pca/svd (to rounding),
+// landmark maps and every sample of le and lle; for dense mds and isomap to the eigen solver's
+// tolerance. Each frame is placed on its own: place(X)[i] == place(X[i:i+1]) bit for bit.
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motionmap/core/control.h"
+#include "motionmap/core/metric.h"
+#include "motionmap/embed/embed.h"
+#include "motionmap/embed/neighbors.h"
+
+namespace motionmap::embed {
+
+/// What placing frames on a map needs. Fields a method does not use are empty.
+struct MapModel {
+  Method method = Method::Pca;
+  int dimensions = 2;
+  /// The samples' map positions (#samples by dims).
+  Eigen::MatrixXd coordinates;
+
+  // pca, svd: x = ((f − mean) ÷ scale)·axes; mean empty for svd, scale empty unless
+  // standardised.
+  Eigen::RowVectorXd mean;
+  Eigen::RowVectorXd scale;
+  Eigen::MatrixXd axes;  ///< #features by dims
+
+  // mds, isomap, le, lle: the samples as points (the rows D is computed from) and their metric.
+  // For a landmark mds map only the landmarks' rows are kept (in LandmarkFit::frames order).
+  RowMatrix points;
+  Metric metric = Metric::Euclidean;
+  int k = 0;  ///< isomap, le, lle: neighbours a new frame joins through
+  /// mds, isomap: the triangulation (a dense map: every frame a landmark, in frame order).
+  std::optional<LandmarkFit> landmarks;
+  /// isomap on the dense path: the k-NN graph (with its joins) the geodesics run on.
+  Graph graph;
+  double heat = 0.0;            ///< le: heat-kernel width (0: every weight 1)
+  Eigen::VectorXd eigenvalues;  ///< le: λ per axis (of L_sym)
+  /// lle: the samples' features (X, rows), which the barycentric weights are solved in, and reg.
+  RowMatrix features;
+  double reg = 1e-3;
+};
+
+/// What place() reads of the new frames: their features (pca, svd, lle: X's columns) and/or their
+/// points (mds, isomap, le, lle: the rows D would be computed from, in the model's metric).
+struct PlaceInput {
+  const Eigen::MatrixXd* features = nullptr;
+  const RowMatrix* points = nullptr;
+};
+
+/// The model of `map`, which embed(input, options) returned. Reads input as embed() did (a dense
+/// mds map reads D once more for the landmark means; a dense isomap map rebuilds its k-NN graph).
+/// @throws ParameterError if `input` is not what the map was made from (row counts).
+MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const Embedding& map);
+
+/// The map positions of new frames (#frames by dims). In parallel; `control` hears the fraction
+/// placed and may cancel.
+/// @throws ParameterError when the input the method needs is missing, has a different number of
+///   columns than the map's, or holds non-finite values (naming the frame); Cancelled.
+Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Control& control = {});
+
+}  // namespace motionmap::embed

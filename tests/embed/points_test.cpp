@@ -1,5 +1,7 @@
 // The points path (embed.h, "Two paths") against the dense one: the exact k-NN search of
-// knn_from_points equals knn_from_distances on D bit for bit (real clips, ties, duplicates).
+// knn_from_points equals knn_from_distances on D bit for bit (real clips, ties, duplicates); the
+// max-min landmarks are those of the definition; landmark Isomap's geodesic distances are the
+// dense shortest paths' bits, and with every frame a landmark the landmark maps are the dense ones.
 #include <algorithm>
 #include <random>
 #include <string>
@@ -8,6 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "embed/embed_test_util.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/embed.h"
+#include "motionmap/embed/graph.h"
 #include "motionmap/embed/neighbors.h"
 #include "motionmap/embed/points.h"
 #include "motionmap/features/features.h"
@@ -105,6 +110,98 @@ TEST(EmbedPoints, ExactSearchEqualsDistanceMatrixNearAManifold) {
     for (int k : {1, 20}) {
       expect_same_lists(P, D, k, "sheet n " + std::to_string(n) + " d " + std::to_string(d));
     }
+  }
+}
+
+// Max-min landmarks by their definition: frame 0, then each time the frame farthest from those
+// chosen (ties: the smaller index), until `count` or every frame is at distance 0.
+std::vector<int> maxmin_by_definition(const Eigen::MatrixXd& D, int count) {
+  const int n = static_cast<int>(D.rows());
+  std::vector<int> chosen{0};
+  std::vector<double> nearest(static_cast<std::size_t>(n));
+  for (int f = 0; f < n; ++f) nearest[f] = D(0, f);
+  while (int(chosen.size()) < count) {
+    const int next =
+        static_cast<int>(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
+    if (!(nearest[next] > 0.0)) break;
+    chosen.push_back(next);
+    for (int f = 0; f < n; ++f) nearest[f] = std::min(nearest[f], D(next, f));
+  }
+  return chosen;
+}
+
+TEST(EmbedPoints, MaxMinLandmarksFollowTheirDefinition) {
+  for (bool integer : {false, true}) {
+    for (int n : {1, 2, 40, 900}) {
+      const RowMatrix P = sheet_points(n, 4, 2, unsigned(7 * n), integer);
+      const Eigen::MatrixXd D = distances_of(P);
+      for (int count : {1, 3, 64, n}) {
+        const std::vector<int> want = maxmin_by_definition(D, std::min(count, n));
+        const PointSet points{&P, Metric::Euclidean};
+        EXPECT_EQ(maxmin_landmarks(points, count, {}), want)
+            << "n " << n << " count " << count << " integer " << integer;
+        Eigen::MatrixXd distances;
+        ASSERT_EQ(maxmin_landmarks(points, count, distances, {}), want);
+        ASSERT_EQ(distances.rows(), Eigen::Index(want.size()));
+        for (std::size_t l = 0; l < want.size(); ++l) {
+          for (int f = 0; f < n; ++f) ASSERT_EQ(distances(Eigen::Index(l), f), D(want[l], f));
+        }
+      }
+    }
+  }
+}
+
+// The real clips as points and as D.
+features::FeatureSet real_set(const std::vector<std::string>& names) {
+  std::vector<Clip> clips;
+  for (const std::string& name : names) clips.push_back(io::load_clip(test::shared_file(name)));
+  return features::build_features(clips, {});
+}
+
+TEST(EmbedPoints, LandmarkIsomapGeodesicsAreTheShortestPaths) {
+  MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
+  const features::FeatureSet set = real_set({"cmu/64_08.bvh"});
+  for (int k : {10, 20}) {
+    EmbedOptions options;
+    options.method = Method::Isomap;
+    options.k = k;
+    options.landmarks = 40;
+    const Embedding map =
+        embed({.points = &set.distance_input, .metric = Metric::Euclidean}, options);
+    ASSERT_TRUE(map.landmarks);
+    ASSERT_EQ(map.graph_components, 1) << "k " << k;
+    const Eigen::MatrixXd geodesic = shortest_paths(knn_graph(knn_from_distances(set.D, k), set.D));
+    const LandmarkFit& fit = *map.landmarks;
+    ASSERT_EQ(fit.frames.size(), 40u);
+    // shortest_paths searches from the smaller frame of each pair: the sums of a path from the
+    // landmark are its bits where the frame comes after the landmark, the reverse order's
+    // elsewhere.
+    for (std::size_t l = 0; l < fit.frames.size(); ++l) {
+      const int from = fit.frames[l];
+      for (int f = 0; f < set.num_samples(); ++f) {
+        const double got = fit.geodesic(Eigen::Index(l), f);
+        if (f >= from) {
+          ASSERT_EQ(got, geodesic(f, from)) << "k " << k << " landmark " << l << " frame " << f;
+        } else {
+          ASSERT_NEAR(got, geodesic(f, from), 1e-12 * geodesic(f, from));
+        }
+      }
+    }
+  }
+}
+
+TEST(EmbedPoints, EveryFrameALandmarkGivesTheDenseMaps) {
+  MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
+  const features::FeatureSet set = real_set({"cmu/64_08.bvh"});
+  for (Method method : {Method::Mds, Method::Isomap}) {
+    EmbedOptions options;
+    options.method = method;
+    const Embedding dense = embed({.distances = &set.D}, options);
+    options.landmarks = set.num_samples();
+    const Embedding points =
+        embed({.points = &set.distance_input, .metric = Metric::Euclidean}, options);
+    EXPECT_LE(test::procrustes_disparity(dense.coordinates, points.coordinates), 1e-12)
+        << method_name(method);
   }
 }
 

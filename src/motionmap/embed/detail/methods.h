@@ -70,8 +70,8 @@ NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& o
                                    Embedding& out, Progress& progress, double begin, double end);
 
 /// Laplacian eigenmap of a neighbour graph (heat-kernel weights, then the sparse eigenproblem).
-void laplacian_eigenmap_on(const NeighborGraph& graph, const EmbedOptions& options,
-                           Embedding& out, Progress& progress, double begin);
+void laplacian_eigenmap_on(const NeighborGraph& graph, const EmbedOptions& options, Embedding& out,
+                           Progress& progress, double begin);
 /// LLE of X over a neighbour graph's lists and joins.
 void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& graph, const EmbedOptions& options,
             Embedding& out, Progress& progress, double begin);
@@ -81,6 +81,8 @@ void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& graph, const EmbedOpt
 /// column f = frame f's distances to the landmarks in the order chosen.
 std::vector<int> maxmin_landmarks(const PointSet& points, int count, Eigen::MatrixXd& distances,
                                   const Control& control);
+/// The same landmarks without their distances to every frame.
+std::vector<int> maxmin_landmarks(const PointSet& points, int count, const Control& control);
 
 /// The landmark map: classical MDS of T (L by L distances between the landmarks, lower triangle
 /// read), every frame triangulated from `distances` (L by #frames), then PCA of the result.

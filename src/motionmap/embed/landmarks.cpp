@@ -40,8 +40,7 @@ void dijkstra(const Graph& graph, int source, std::vector<double>& dist,
   const int n = graph.frames();
   dist.assign(std::size_t(n), std::numeric_limits<double>::infinity());
   heap_storage.clear();
-  std::priority_queue<std::pair<double, int>, std::vector<std::pair<double, int>>,
-                      std::greater<>>
+  std::priority_queue<std::pair<double, int>, std::vector<std::pair<double, int>>, std::greater<>>
       heap(std::greater<>(), std::move(heap_storage));
   dist[source] = 0.0;
   heap.emplace(0.0, source);
@@ -62,7 +61,8 @@ void dijkstra(const Graph& graph, int source, std::vector<double>& dist,
 
 // The landmarks' distances to each other from the L by #frames distances (lower triangle of the
 // L by L result, both directions averaged: the graph's two searches may round differently).
-Eigen::MatrixXd landmark_block(const std::vector<int>& landmarks, const Eigen::MatrixXd& distances) {
+Eigen::MatrixXd landmark_block(const std::vector<int>& landmarks,
+                               const Eigen::MatrixXd& distances) {
   const Eigen::Index L = static_cast<Eigen::Index>(landmarks.size());
   Eigen::MatrixXd T(L, L);
   for (Eigen::Index a = 0; a < L; ++a) {
@@ -150,17 +150,16 @@ void fit_landmarks(const Eigen::MatrixXd& T, const Eigen::MatrixXd& distances,
   const double largest = std::max(top.values[0], 0.0);
   int kept = 0;
   while (kept < r && top.values[kept] > 1e-12 * largest) ++kept;
-  out.negative.most_negative =
-      top.smallest_ritz < -1e-9 * largest ? top.smallest_ritz : 0.0;
+  out.negative.most_negative = top.smallest_ritz < -1e-9 * largest ? top.smallest_ritz : 0.0;
   out.negative.relative = largest > 0.0 ? -out.negative.most_negative / largest : 0.0;
 
   // 2. Every frame triangulated into those r axes: z = −½·P_r·(δ² − μ), P_r = (V ÷ √λ)ᵀ.
   progress.stage("triangulation", begin + 0.3 * (end - begin), begin + 0.8 * (end - begin));
   LandmarkFit wide;
   wide.mean_squared = fit.mean_squared;
-  wide.projection = (top.vectors.leftCols(kept) *
-                     top.values.head(kept).cwiseSqrt().cwiseInverse().asDiagonal())
-                        .transpose();
+  wide.projection =
+      (top.vectors.leftCols(kept) * top.values.head(kept).cwiseSqrt().cwiseInverse().asDiagonal())
+          .transpose();
   wide.offset = Eigen::VectorXd::Zero(kept);
   const Eigen::MatrixXd Z = triangulate(wide, distances);
 
@@ -202,8 +201,8 @@ void run_landmark_mds(const PointSet& points, const EmbedOptions& options, Embed
   out.landmarks.emplace();
   Eigen::MatrixXd distances;
   out.landmarks->frames = maxmin_landmarks(points, L, distances, progress.control());
-  fit_landmarks(landmark_block(out.landmarks->frames, distances), distances, options, out,
-                progress, 0.7, 1.0);
+  fit_landmarks(landmark_block(out.landmarks->frames, distances), distances, options, out, progress,
+                0.7, 1.0);
 }
 
 void run_landmark_isomap(const PointSet& points, const EmbedOptions& options, Embedding& out,

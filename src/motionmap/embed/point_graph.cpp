@@ -139,9 +139,8 @@ NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& o
     }
     progress.stage("joining components", mid, end);
     Eigen::MatrixXd distances;
-    const std::vector<int> landmarks =
-        maxmin_landmarks(points, std::min(points.frames(), kDefaultLandmarks), distances,
-                         progress.control());
+    const std::vector<int> landmarks = maxmin_landmarks(
+        points, std::min(points.frames(), kDefaultLandmarks), distances, progress.control());
     ng.joins = joining_edges(components, landmarks, distances);
     ng.graph = knn_graph_from_lists(ng.lists, ng.joins);
     out.connecting_edges = static_cast<int>(ng.joins.size());

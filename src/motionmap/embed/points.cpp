@@ -202,8 +202,7 @@ void approximate_hnsw(const PointSet& points, NeighborLists& out, const Control&
         const int i = static_cast<int>((std::int64_t(a) * n) / q);
         std::vector<int> index_exact(static_cast<std::size_t>(k));
         std::vector<double> distance_exact(static_cast<std::size_t>(k));
-        all_pairs_nearest(points, i, k, buffers[worker], index_exact.data(),
-                          distance_exact.data());
+        all_pairs_nearest(points, i, k, buffers[worker], index_exact.data(), distance_exact.data());
         const auto approx = out.of(i);
         std::sort(index_exact.begin(), index_exact.end());
         for (int j : approx) {

@@ -16,6 +16,10 @@ class Progress;
 /// PCA of X (#frames by #features): scores on the top principal axes.
 void run_pca(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
              Progress& progress);
+/// PCA's per-column scale when standardising: the population standard deviation, 1 for a
+/// constant column (StandardScaler's rule); counts those in *constant_columns when given.
+Eigen::RowVectorXd standardization_scale(const Eigen::MatrixXd& X, const Eigen::RowVectorXd& mean,
+                                         int* constant_columns);
 /// Truncated SVD of X, not centred: X times its top right-singular vectors.
 void run_svd(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
              Progress& progress);
@@ -70,8 +74,8 @@ NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& o
                                    Embedding& out, Progress& progress, double begin, double end);
 
 /// Laplacian eigenmap of a neighbour graph (heat-kernel weights, then the sparse eigenproblem).
-void laplacian_eigenmap_on(const NeighborGraph& graph, const EmbedOptions& options,
-                           Embedding& out, Progress& progress, double begin);
+void laplacian_eigenmap_on(const NeighborGraph& graph, const EmbedOptions& options, Embedding& out,
+                           Progress& progress, double begin);
 /// LLE of X over a neighbour graph's lists and joins.
 void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& graph, const EmbedOptions& options,
             Embedding& out, Progress& progress, double begin);

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/memory.h"
 #include "motionmap/embed/points.h"
 
@@ -48,7 +49,7 @@ void check_memory(const ClipMapOptions& options, int frames, int values, int col
                                           options.embed, options.metrics);
   if (bytes <= double(*available)) return;
   std::string message = std::string(embed::method_name(options.embed.method)) + " on " +
-                        std::to_string(frames) + " frames needs ~" + format_bytes(bytes) +
+                        format_count(frames) + " frames needs ~" + format_bytes(bytes) +
                         (dense ? " dense" : "") + "; available " +
                         format_bytes(double(*available)) + "; ";
   if (dense) {

@@ -196,6 +196,9 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   s += " features=" + std::string(features::feature_kind_name(f.features)) +
        " distance=" + std::string(features::distance_kind_name(f.distance));
   s += " up=" + std::string(f.up == Axis::Z ? "z" : "y");
+  if (f.joints != features::JointSelection::All) {
+    s += " joints=" + std::string(features::joint_selection_name(f.joints));
+  }
   if (!f.exclude.empty()) s += " exclude=" + f.exclude;
   if (f.first_frame != 0 || f.end_frame >= 0) {
     s += " frames=" + std::to_string(f.first_frame) + ":" +

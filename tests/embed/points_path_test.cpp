@@ -159,6 +159,26 @@ TEST(PointsPath, ComponentsAreJoinedOrStrictlyRefused) {
   }
 }
 
+TEST(PointsPath, ManyComponentsAreJoinedIntoAChain) {
+  // Five copies of a clip, 10 m apart along a line: four joins, between neighbouring copies, so
+  // Isomap's first axis orders the copies as the line does.
+  const ClipData d = clip_data("cmu/02_03.bvh");
+  const Eigen::Index n = d.set.distance_input.rows();
+  RowMatrix points(5 * n, d.set.distance_input.cols());
+  for (int c = 0; c < 5; ++c) {
+    points.middleRows(c * n, n) = d.set.distance_input;
+    points.middleRows(c * n, n).col(0).array() += 1000.0 * c;
+  }
+  const Embedding map = embed({.points = &points}, with(Method::Isomap, 100));
+  EXPECT_EQ(map.graph_components, 5);
+  EXPECT_EQ(map.connecting_edges, 4);
+  std::vector<double> centre(5);
+  for (int c = 0; c < 5; ++c) centre[c] = map.coordinates.col(0).segment(c * n, n).mean();
+  EXPECT_TRUE(std::is_sorted(centre.begin(), centre.end()) ||
+              std::is_sorted(centre.rbegin(), centre.rend()))
+      << centre[0] << " " << centre[1] << " " << centre[2] << " " << centre[3] << " " << centre[4];
+}
+
 TEST(PointsPath, BadPointsAndOptionsAreClearErrors) {
   const ClipData d = clip_data("cmu/02_03.bvh");
   RowMatrix bad = d.set.distance_input;

@@ -458,6 +458,27 @@ class Edit {
     H5Sclose(space);
     H5Tclose(type);
   }
+  // Replaces dataset `name` by fixed-length ASCII strings, null-padded, as MATLAB writes them.
+  void fixed_strings(const std::string& name, const std::vector<std::string>& values) {
+    remove(name);
+    std::size_t size = 1;
+    for (const std::string& v : values) size = std::max(size, v.size() + 1);
+    std::vector<char> buffer(values.size() * size, '\0');
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      std::memcpy(buffer.data() + i * size, values[i].data(), values[i].size());
+    }
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, size);
+    H5Tset_strpad(type, H5T_STR_NULLPAD);
+    const hsize_t dims[1] = {values.size()};
+    const hid_t space = H5Screate_simple(1, dims, nullptr);
+    const hid_t d =
+        H5Dcreate2(m_file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data());
+    H5Dclose(d);
+    H5Sclose(space);
+    H5Tclose(type);
+  }
   // Replaces dataset `name` by a rows × cols (cols 0: 1-D) one of `type` filled with `value`.
   void replace(const std::string& name, hsize_t rows, hsize_t cols, hid_t type, double value) {
     remove(name);
@@ -535,6 +556,26 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
             "attribute k of /model is 0, expected 1 to 40 for the isomap map");
   EXPECT_EQ(refused([](Edit& e) { e.remove("/parameters"); }),
             "missing group /parameters (the effective parameters)");
+}
+
+TEST(MapFile, StringsAreReadInEveryEncodingHdf5Writes) {
+  // Variable-length UTF-8 (what MotionMap and h5py write), variable-length ASCII and
+  // fixed-length ASCII (MATLAB's h5create/h5writeatt) all read back.
+  const TempDir dir;
+  const MapFile good = synthetic_file();
+  const std::string path = dir.file("strings.mmap.h5");
+  write_map_file(path, good);
+  {
+    Edit e(path);
+    e.text_attribute("/parameters", "description", "ascii line");
+    e.fixed_strings("/clips/path", {"a.bvh", "folder/b.bvh"});
+  }
+  const MapFile read = read_map_file(path);
+  EXPECT_EQ(read.parameters, "ascii line");
+  ASSERT_EQ(read.clips.size(), 2u);
+  EXPECT_EQ(read.clips[0].path, "a.bvh");
+  EXPECT_EQ(read.clips[1].path, "folder/b.bvh");
+  EXPECT_EQ(read.notes, good.notes);  // UTF-8
 }
 
 TEST(MapFile, FilesThatAreNotMapFilesAreRefused) {

@@ -88,10 +88,21 @@ std::string hdf5_reason() {
   return reason;
 }
 
-Id variable_string_type() {
+Id variable_string_type(H5T_cset_t cset = H5T_CSET_UTF8) {
   Id type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type.get(), H5T_VARIABLE);
-  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  H5Tset_cset(type.get(), cset);
+  return type;
+}
+
+// A memory type for reading strings of the file type `file_type`: HDF5 converts neither between
+// ASCII and UTF-8 strings nor between variable and fixed length, so it takes the file's.
+Id string_memory_type(hid_t file_type) {
+  const H5T_cset_t cset = H5Tget_cset(file_type);
+  if (H5Tis_variable_str(file_type) > 0) return variable_string_type(cset);
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), H5Tget_size(file_type));
+  H5Tset_cset(type.get(), cset);
   return type;
 }
 
@@ -348,8 +359,8 @@ std::optional<std::string> Reader::text_attribute(const std::string& object,
   if (H5Tget_class(type.get()) != H5T_STRING) {
     m->fail("attribute " + name + " of " + object + " is not a string");
   }
+  const Id memory = string_memory_type(type.get());
   if (H5Tis_variable_str(type.get()) > 0) {
-    const Id memory = variable_string_type();
     char* text = nullptr;
     if (H5Aread(attr.get(), memory.get(), &text) < 0) {
       m->fail("cannot read attribute " + name + " of " + object);
@@ -360,8 +371,6 @@ std::optional<std::string> Reader::text_attribute(const std::string& object,
   }
   const std::size_t size = H5Tget_size(type.get());
   std::string out(size, '\0');
-  const Id memory(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(memory.get(), size);
   if (H5Aread(attr.get(), memory.get(), out.data()) < 0) {
     m->fail("cannot read attribute " + name + " of " + object);
   }
@@ -465,8 +474,8 @@ std::vector<std::string> Reader::strings(const std::string& name) const {
   std::vector<std::string> out;
   out.reserve(n);
   if (n == 0) return out;
+  const Id memory = string_memory_type(type.get());
   if (H5Tis_variable_str(type.get()) > 0) {
-    const Id memory = variable_string_type();
     std::vector<char*> text(n, nullptr);
     if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0) {
       m->fail("cannot read " + name + ": " + hdf5_reason());
@@ -483,8 +492,6 @@ std::vector<std::string> Reader::strings(const std::string& name) const {
   }
   const std::size_t size = H5Tget_size(type.get());
   std::vector<char> buffer(n * size + 1, '\0');
-  const Id memory(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(memory.get(), size);
   if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0) {
     m->fail("cannot read " + name + ": " + hdf5_reason());
   }

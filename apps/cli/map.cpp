@@ -127,7 +127,8 @@ void setup_map(CLI::App& app) {
       "map",
       "Map every frame of the clips to a point (PCA, SVD, classical MDS, Isomap, Laplacian\n"
       "eigenmap, LLE) and write frame,x,y as CSV, with the effective parameters in a # comment.\n"
-      "A leading bind/T-pose frame is left out unless --keep-first.");
+      "A leading bind/T-pose frame is left out unless --keep-first. --save also writes the map\n"
+      "as an HDF5 map file; --onto places the clips' frames on a saved map instead of mapping.");
   add_map_options(sub, cmd->map, MapOptionsFor::Map);
   sub->add_option("-o,--output", cmd->output, "CSV file to write (default: standard output)");
   sub->add_option("--plot", cmd->plot,

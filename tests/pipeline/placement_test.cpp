@@ -13,6 +13,7 @@
 #include "motionmap/embed/placement.h"
 #include "motionmap/io/load.h"
 #include "motionmap/pipeline/clip_map.h"
+#include "motionmap/sample/sample_clip.h"
 #include "support/error_message.h"
 #include "support/test_data.h"
 
@@ -128,6 +129,48 @@ TEST(Placement, BadInputIsAClearError) {
                 embed::place(model, {nullptr, &bad});
               }),
               HasSubstr("frame 1's points are not all finite"));
+}
+
+}  // namespace
+}  // namespace motionmap::pipeline
+
+namespace motionmap::pipeline {
+namespace {
+
+TEST(MapPaths, DenseUpToTheLimitThenPointsUnlessForced) {
+  const Clip clip = sample::make_sample_clip(sample::SampleKind::Swing);
+  ClipMapOptions options;
+  options.embed.method = embed::Method::Mds;
+  EXPECT_TRUE(map_clips(std::span(&clip, 1), options).dense);
+  options.dense_limit = 100;
+  const ClipMap above = map_clips(std::span(&clip, 1), options);
+  EXPECT_FALSE(above.dense);
+  EXPECT_TRUE(above.embedding.from_points);
+  EXPECT_FALSE(above.features->has_distances());  // no #frames² matrix was made
+  EXPECT_THAT(describe_parameters(above.embedding, options), HasSubstr(" landmarks=256"));
+  options.path = MapPath::Dense;
+  EXPECT_TRUE(map_clips(std::span(&clip, 1), options).dense);
+  options.path = MapPath::Landmarks;
+  options.dense_limit = kDenseFrameLimit;
+  EXPECT_FALSE(map_clips(std::span(&clip, 1), options).dense);
+}
+
+TEST(MapPaths, AMapThatCannotFitIsRefusedBeforeItIsAllocated) {
+  // 60 000 frames: the dense isomap would need two 60 000² matrices (~58 GB).
+  const Clip clip =
+      sample::make_sample_clip(sample::SampleKind::Walk, {.fps = 120, .seconds = 500});
+  ClipMapOptions options;
+  options.embed.method = embed::Method::Isomap;
+  options.path = MapPath::Dense;
+  EXPECT_THAT(test::error_message<ParameterError>([&] { map_clips(std::span(&clip, 1), options); }),
+              HasSubstr("isomap on 60 000 frames needs ~58 GB dense; available "));
+  EXPECT_THAT(test::error_message<ParameterError>([&] { map_clips(std::span(&clip, 1), options); }),
+              HasSubstr("; use --landmarks (the default above 10000 frames)"));
+  EXPECT_NEAR(
+      estimate_map_bytes(embed::Method::Isomap, 60000, 100, 120, true, options.embed, false),
+      57.6e9, 0.2e9);
+  EXPECT_LT(estimate_map_bytes(embed::Method::Isomap, 60000, 100, 120, false, options.embed, false),
+            1e9);
 }
 
 }  // namespace

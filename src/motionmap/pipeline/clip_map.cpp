@@ -5,6 +5,7 @@
 #include <random>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/memory.h"
 #include "motionmap/embed/points.h"
 
@@ -48,7 +49,7 @@ void check_memory(const ClipMapOptions& options, int frames, int values, int col
                                           options.embed, options.metrics);
   if (bytes <= double(*available)) return;
   std::string message = std::string(embed::method_name(options.embed.method)) + " on " +
-                        std::to_string(frames) + " frames needs ~" + format_bytes(bytes) +
+                        format_count(frames) + " frames needs ~" + format_bytes(bytes) +
                         (dense ? " dense" : "") + "; available " +
                         format_bytes(double(*available)) + "; ";
   if (dense) {
@@ -195,6 +196,9 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   s += " features=" + std::string(features::feature_kind_name(f.features)) +
        " distance=" + std::string(features::distance_kind_name(f.distance));
   s += " up=" + std::string(f.up == Axis::Z ? "z" : "y");
+  if (f.joints != features::JointSelection::All) {
+    s += " joints=" + std::string(features::joint_selection_name(f.joints));
+  }
   if (!f.exclude.empty()) s += " exclude=" + f.exclude;
   if (f.first_frame != 0 || f.end_frame >= 0) {
     s += " frames=" + std::to_string(f.first_frame) + ":" +

@@ -391,7 +391,29 @@ TEST(MapFile, AClipOfAnotherSkeletonIsRefusedNamingWhatDiffers) {
             "small.bvh: cannot be placed on lib.mmap.h5: its joint hierarchy differs from the "
             "map's (it has 4 joints, swing.bvh 31; the first that differs is joint 1: 'Spine' "
             "(parent 'Hips') where swing.bvh has 'LHipJoint' (parent 'Hips')); a clip placed on "
-            "a map must have the skeleton of the map's clips (joint names and parents)");
+            "a map must have the skeleton of the map's clips (joint names, parents and End Sites)");
+}
+
+TEST(MapFile, AClipWithOtherEndSitesIsRefused) {
+  // The same joint names and parents, but a joint without its End Site: the point clouds would
+  // not line up.
+  const TempDir dir;
+  const std::vector<Clip> clips{swing_clip(dir)};
+  pipeline::ClipMapOptions options;
+  options.embed.method = Method::Isomap;
+  const MapFile file = make_map_file(clips, pipeline::map_clips(clips, options), options);
+  Clip other = clips.front();
+  other.path = "other.bvh";
+  const int head = other.skeleton.find("Head");
+  ASSERT_GE(head, 0);
+  ASSERT_FALSE(other.skeleton.joints[std::size_t(head)].end_sites.empty());
+  other.skeleton.joints[std::size_t(head)].end_sites.clear();
+  const std::vector<Clip> bad{other};
+  const std::string message = test::error_message<ParameterError>([&] { place_clips(bad, file); });
+  EXPECT_EQ(message.rfind("other.bvh: cannot be placed on the map: its joint hierarchy differs", 0),
+            0u)
+      << message;
+  EXPECT_NE(message.find("End Site"), std::string::npos) << message;
 }
 
 TEST(MapFile, AJointsCommonMapPlacesClipsThatHaveItsSharedJoints) {

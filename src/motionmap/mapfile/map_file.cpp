@@ -747,6 +747,9 @@ Placement place_clips(std::span<const Clip> clips, const MapFile& map, const Pla
       Joint joint;
       joint.name = map.skeleton.names[j];
       joint.parent = map.skeleton.parents[j];
+      // End Site counts are part of the hierarchy (the point cloud holds their points); their
+      // offsets are the new clip's own business.
+      joint.end_sites.assign(std::size_t(map.skeleton.end_sites[j]), Eigen::Vector3d::Zero());
       reference.skeleton.joints.push_back(std::move(joint));
     }
     for (const Clip& clip : clips) {
@@ -755,7 +758,7 @@ Placement place_clips(std::span<const Clip> clips, const MapFile& map, const Pla
         throw ParameterError(clip.path + ": cannot be placed on " + onto +
                              ": its joint hierarchy differs from the map's (" + difference +
                              "); a clip placed on a map must have the skeleton of the map's "
-                             "clips (joint names and parents)");
+                             "clips (joint names, parents and End Sites)");
       }
     }
   } else {

@@ -261,7 +261,8 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
   if (needs_points && !landmark_mds)
     index = std::make_unique<SampleIndex>(model.points, model.metric);
   const int k = std::max(model.k, 1);
-  const RowMatrix points = needs_points ? *input.points : RowMatrix();
+  static const RowMatrix no_points;
+  const RowMatrix& points = needs_points ? *input.points : no_points;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> features =
       needs_features ? *input.features : Eigen::MatrixXd();
 

@@ -792,8 +792,8 @@ Placement place_clips(std::span<const Clip> clips, const MapFile& map, const Pla
   }
 
   Placement out;
-  out.features =
-      features::build_features(clips, f, control.part(0.0, 0.2), features::Distances::Later);
+  out.features = features::build_features(clips, f, control.stage("features", 0.0, 0.2),
+                                          features::Distances::Later);
   const features::FeatureSet& set = out.features;
   if (map.options.features.joints == features::JointSelection::Common) {
     // Its own "joints common" notes describe the exclusion above, not the map: replace them.
@@ -820,7 +820,7 @@ Placement place_clips(std::span<const Clip> clips, const MapFile& map, const Pla
                          std::to_string(map.point_columns) + " (End Sites or roots differ)");
   }
   const embed::PlaceInput input{&set.X, &set.distance_input};
-  out.coordinates = embed::place(map.model, input, control.part(0.2, 1.0));
+  out.coordinates = embed::place(map.model, input, control.stage("placing", 0.2, 1.0));
   control.finish();
   return out;
 }

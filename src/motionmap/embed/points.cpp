@@ -1,14 +1,17 @@
 #include "motionmap/embed/points.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <hnswlib/hnswlib.h>
-#include <nanoflann.hpp>
+#include <Eigen/Eigenvalues>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/parallel.h"
@@ -62,50 +65,258 @@ void exact_all_pairs(const PointSet& points, NeighborLists& out, const Control& 
       [&](int done) { control.update(double(done) / chunks); });
 }
 
-// nanoflann's view of the rows.
-struct RowsAdaptor {
-  const RowMatrix& rows;
-  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(rows.rows()); }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const {
-    return rows(Eigen::Index(i), Eigen::Index(d));
+// An exact k-d tree over the points turned into their principal axes. A rotation keeps every
+// distance, and mocap poses lie near a low-dimensional manifold: in the principal frame the
+// splits fall on the few axes that separate poses, and a partial distance over the leading
+// coordinates exceeds the k-th best after a few of them for most points. nanoflann on the raw
+// coordinates splits on one of ~100 axes of similar spread and sums every coordinate of every
+// point it meets (1.4.3 does not stop a leaf's sums early).
+//
+// Distances in the turned frame equal the metric's up to rounding, far below `slack` (see the
+// constructor); each query's candidates are re-ranked by the metric itself and its k-th distance
+// checked against the first candidate left out, with a radius search when they are too close to
+// call, so the lists are those of every pair — knn_from_distances on D — ties included.
+class PrincipalKdTree {
+ public:
+  PrincipalKdTree(const RowMatrix& points, const Control& control) {
+    const Eigen::Index n = points.rows();
+    m_dims = static_cast<int>(points.cols());
+    // 1. The principal axes, from the covariance of at most kAxisSamples frames spread evenly
+    //    over the set (any orthonormal axes keep the result exact; good ones make it fast).
+    const Eigen::RowVectorXd mean = points.colwise().mean();
+    const Eigen::Index samples = std::min<Eigen::Index>(n, kAxisSamples);
+    Eigen::MatrixXd sample(samples, m_dims);
+    for (Eigen::Index s = 0; s < samples; ++s) {
+      sample.row(s) = points.row((s * n) / samples) - mean;
+    }
+    Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(m_dims, m_dims);
+    covariance.selfadjointView<Eigen::Lower>().rankUpdate(sample.transpose());
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
+    const Eigen::MatrixXd axes = eigen.eigenvectors().rowwise().reverse();  // largest first
+    control.check();
+    // 2. Every frame in those axes. The rounding of y = (p − mean)·axes and of the distances
+    //    computed from it is below ~√d·d·ε·‖p − mean‖ (ε = 2⁻⁵³) per frame; `slack` allows a
+    //    million times that, which costs nothing in the search.
+    m_turned.resize(n, m_dims);
+    double radius = 0.0;
+    const int chunks = static_cast<int>((n + kRowsPerChunk - 1) / kRowsPerChunk);
+    std::vector<double> radii(static_cast<std::size_t>(chunks), 0.0);
+    parallel_chunks(chunks, [&](int c, int) {
+      const Eigen::Index r0 = Eigen::Index(c) * kRowsPerChunk;
+      const Eigen::Index rows = std::min<Eigen::Index>(kRowsPerChunk, n - r0);
+      const Eigen::MatrixXd centred = points.middleRows(r0, rows).rowwise() - mean;
+      m_turned.middleRows(r0, rows).noalias() = centred * axes;
+      radii[c] = centred.rowwise().norm().maxCoeff();
+    });
+    for (double r : radii) radius = std::max(radius, r);
+    const double orthogonality =
+        (axes.transpose() * axes - Eigen::MatrixXd::Identity(m_dims, m_dims)).cwiseAbs().maxCoeff();
+    m_slack = (1e-9 + 4.0 * std::sqrt(double(m_dims)) * orthogonality) * 2.0 * radius +
+              std::numeric_limits<double>::denorm_min();
+    control.check();
+    // 3. The tree: median splits on the axis of largest spread; then the rows in tree order,
+    //    so a leaf's points are contiguous.
+    m_order.resize(std::size_t(n));
+    std::iota(m_order.begin(), m_order.end(), 0);
+    m_nodes.reserve(std::size_t(2 * n / kLeafSize + 2));
+    build(0, static_cast<int>(n));
+    RowMatrix ordered(n, m_dims);
+    for (Eigen::Index p = 0; p < n; ++p) ordered.row(p) = m_turned.row(m_order[p]);
+    m_turned.swap(ordered);
+    m_position.resize(std::size_t(n));
+    for (Eigen::Index p = 0; p < n; ++p) m_position[m_order[p]] = static_cast<int>(p);
   }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
+
+  int frames() const { return static_cast<int>(m_order.size()); }
+  int frame(int position) const { return m_order[position]; }
+  int position(int frame) const { return m_position[frame]; }
+  const double* row(int position) const { return m_turned.row(position).data(); }
+  /// Bound on |distance in the turned frame − metric distance| for any pair.
+  double slack() const { return m_slack; }
+
+  /// The `want` nearest positions to `query` (a turned row) by turned squared distance,
+  /// ascending, in found/squared; returns how many (fewer only when the tree is smaller).
+  int nearest(const double* query, int want, int* found, double* squared,
+              std::vector<double>& offsets) const {
+    Search s{query, found, squared, want, 0, std::numeric_limits<double>::infinity(), false};
+    offsets.assign(std::size_t(m_dims), 0.0);
+    descend(0, 0.0, offsets, s);
+    return s.count;
   }
+
+  /// Every position within turned squared distance `radius_squared` of `query`, in any order.
+  void within(const double* query, double radius_squared, std::vector<int>& found,
+              std::vector<double>& offsets) const {
+    found.clear();
+    Search s{query, nullptr, nullptr, 0, 0, radius_squared, true};
+    s.all = &found;
+    offsets.assign(std::size_t(m_dims), 0.0);
+    descend(0, 0.0, offsets, s);
+  }
+
+ private:
+  static constexpr int kLeafSize = 16;
+  static constexpr Eigen::Index kAxisSamples = 32768;
+  static constexpr Eigen::Index kRowsPerChunk = 4096;
+
+  struct Node {
+    int begin = 0, end = 0;
+    int axis = -1;            // -1: a leaf
+    int left = 0, right = 0;  // children
+    double low = 0.0;         // largest value of `axis` on the left
+    double high = 0.0;        // smallest on the right
+  };
+
+  struct Search {
+    const double* query;
+    int* found;
+    double* squared;
+    int want;
+    int count;
+    double worst;  // the want-th best so far (+inf until `want` found), or the radius²
+    bool radius;
+    std::vector<int>* all = nullptr;
+  };
+
+  int build(int begin, int end) {
+    const int id = static_cast<int>(m_nodes.size());
+    m_nodes.push_back({begin, end});
+    if (end - begin <= kLeafSize) return id;
+    int axis = 0;
+    double spread = -1.0;
+    for (int a = 0; a < m_dims; ++a) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int p = begin; p < end; ++p) {
+        const double v = m_turned(m_order[p], a);
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+      if (hi - lo > spread) {
+        spread = hi - lo;
+        axis = a;
+      }
+    }
+    const int mid = begin + (end - begin) / 2;
+    auto value = [&](int f) { return m_turned(f, axis); };
+    std::nth_element(
+        m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end,
+        [&](int a, int b) { return value(a) < value(b) || (value(a) == value(b) && a < b); });
+    double low = -std::numeric_limits<double>::infinity();
+    for (int p = begin; p < mid; ++p) low = std::max(low, value(m_order[p]));
+    double high = std::numeric_limits<double>::infinity();
+    for (int p = mid; p < end; ++p) high = std::min(high, value(m_order[p]));
+    const int left = build(begin, mid);
+    const int right = build(mid, end);
+    Node& node = m_nodes[id];
+    node.axis = axis;
+    node.left = left;
+    node.right = right;
+    node.low = low;
+    node.high = high;
+    return id;
+  }
+
+  void descend(int id, double bound, std::vector<double>& offsets, Search& s) const {
+    const Node& node = m_nodes[id];
+    if (node.axis < 0) {
+      scan(node, s);
+      return;
+    }
+    const double v = s.query[node.axis];
+    // The near side, then the far one if its box can still hold a better point.
+    const bool go_left = v - node.low < node.high - v;
+    descend(go_left ? node.left : node.right, bound, offsets, s);
+    const double gap = go_left ? std::max(0.0, node.high - v) : std::max(0.0, v - node.low);
+    const double old = offsets[node.axis];
+    const double far_bound = bound - old * old + gap * gap;
+    if (far_bound <= s.worst) {
+      offsets[node.axis] = gap;
+      descend(go_left ? node.right : node.left, far_bound, offsets, s);
+      offsets[node.axis] = old;
+    }
+  }
+
+  void scan(const Node& node, Search& s) const {
+    const int d = m_dims;
+    for (int p = node.begin; p < node.end; ++p) {
+      const double* y = m_turned.row(p).data();
+      double sum = 0.0;
+      int j = 0;
+      // Leading axes first; stop as soon as the partial sum rules the point out.
+      for (; j + 8 <= d; j += 8) {
+        double part = 0.0;
+        for (int t = 0; t < 8; ++t) {
+          const double diff = s.query[j + t] - y[j + t];
+          part += diff * diff;
+        }
+        sum += part;
+        if (sum > s.worst) break;
+      }
+      if (sum > s.worst) continue;
+      for (; j < d; ++j) {
+        const double diff = s.query[j] - y[j];
+        sum += diff * diff;
+      }
+      if (s.radius) {
+        if (sum <= s.worst) s.all->push_back(p);
+        continue;
+      }
+      if (!(sum < s.worst)) continue;  // (+inf until `want` are found)
+      // Insert into the sorted list of the best `want`.
+      int i = std::min(s.count, s.want - 1);
+      while (i > 0 && s.squared[i - 1] > sum) {
+        s.squared[i] = s.squared[i - 1];
+        s.found[i] = s.found[i - 1];
+        --i;
+      }
+      s.squared[i] = sum;
+      s.found[i] = p;
+      if (s.count < s.want) ++s.count;
+      if (s.count == s.want) s.worst = s.squared[s.want - 1];
+    }
+  }
+
+  int m_dims = 0;
+  RowMatrix m_turned;  // the turned rows, in tree order once built
+  std::vector<int> m_order;
+  std::vector<int> m_position;
+  std::vector<Node> m_nodes;
+  double m_slack = 0.0;
 };
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Adaptor<double, RowsAdaptor, double>,
-                                        RowsAdaptor, -1, std::uint32_t>;
 
 void exact_kd_tree(const PointSet& points, NeighborLists& out, const Control& control) {
   const int n = points.frames(), k = out.k;
-  const RowsAdaptor adaptor{*points.rows};
-  const Control build = control.part(0.0, 0.1);
-  build.check();
-  KdTree tree(static_cast<int>(points.rows->cols()), adaptor,
-              nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  // k + 1: the frame itself is usually among them (unless it has duplicates).
-  const int want = std::min(n, k + 1);
+  const PrincipalKdTree tree(*points.rows, control.part(0.0, 0.1));
+  // k + 2: the frame itself (usually), its k nearest, and the first one left out, which must be
+  // clearly farther than the k-th for the lists to be known exact.
+  const int want = std::min(n, k + 2);
+  const double slack = tree.slack();
   const int chunks = (n + kFramesPerChunk - 1) / kFramesPerChunk;
   const Control queries = control.part(0.1, 1.0);
+  // Queries in tree order: consecutive ones are close, and so are the leaves they read.
   parallel_chunks(
       chunks,
       [&](int c, int) {
-        std::vector<std::uint32_t> found(static_cast<std::size_t>(want));
+        std::vector<int> found(static_cast<std::size_t>(want));
         std::vector<double> squared(static_cast<std::size_t>(want));
+        std::vector<double> offsets;
+        std::vector<int> inside;
         Candidates candidates;
-        for (int i = c * kFramesPerChunk; i < std::min(n, (c + 1) * kFramesPerChunk); ++i) {
-          const std::size_t got =
-              tree.knnSearch(points.rows->row(i).data(), want, found.data(), squared.data());
+        for (int p = c * kFramesPerChunk; p < std::min(n, (c + 1) * kFramesPerChunk); ++p) {
+          const int i = tree.frame(p);
+          const int got = tree.nearest(tree.row(p), want, found.data(), squared.data(), offsets);
           candidates.clear();
-          for (std::size_t a = 0; a < got; ++a) candidates.emplace_back(0.0, int(found[a]));
-          if (int(std::count_if(candidates.begin(), candidates.end(),
-                                [&](const auto& p) { return p.second != i; })) < k) {
-            throw NumericalError("knn: the k-d tree returned fewer than k neighbours");
-          }
-          keep_nearest(points, candidates, i, k, out.index.data() + std::size_t(i) * k,
-                       out.distance.data() + std::size_t(i) * k);
+          for (int a = 0; a < got; ++a) candidates.emplace_back(0.0, tree.frame(found[a]));
+          int* index = out.index.data() + std::size_t(i) * k;
+          double* distance = out.distance.data() + std::size_t(i) * k;
+          keep_nearest(points, candidates, i, k, index, distance);
+          // Every frame left out is at least sqrt(squared[got − 1]) − slack away.
+          if (got == n || std::sqrt(squared[got - 1]) > distance[k - 1] + slack) continue;
+          const double radius = distance[k - 1] + slack;
+          tree.within(tree.row(p), radius * radius, inside, offsets);
+          candidates.clear();
+          for (int q : inside) candidates.emplace_back(0.0, tree.frame(q));
+          keep_nearest(points, candidates, i, k, index, distance);
         }
       },
       [&](int done) { queries.update(double(done) / chunks); });

@@ -31,8 +31,9 @@ struct PointSet {
 enum class NeighborSearch {
   /// Exact up to kExactNeighborLimit frames, approximate above.
   Auto,
-  /// Exact: a k-d tree (nanoflann) for Euclidean points, otherwise every pair (O(#frames²) time,
-  /// O(#frames) memory).
+  /// Exact: a k-d tree over the points turned into their principal axes for Euclidean points
+  /// (a copy of the points, #frames by #values), otherwise every pair (O(#frames²) time,
+  /// O(#frames) memory). Either way the lists are those of knn_from_distances on D, bit for bit.
   Exact,
   /// Approximate: a hierarchical navigable small-world graph (hnswlib), built in frame order on
   /// one thread (so the result does not depend on the thread count), searched in parallel.
@@ -55,8 +56,8 @@ struct NeighborSearchReport {
 };
 
 /// Each frame's k nearest other frames, nearest first, with their distances; of equal distances
-/// the smaller frame index wins among the candidates found. Runs in parallel; `control` hears the
-/// fraction done (index build and queries) and may throw Cancelled.
+/// the smaller frame index wins (approximate search: among the candidates found). Runs in parallel;
+/// `control` hears the fraction done (index build and queries) and may throw Cancelled.
 /// @throws ParameterError unless 1 ≤ k ≤ #frames − 1 and points.rows is set.
 NeighborLists knn_from_points(const PointSet& points, int k,
                               NeighborSearch search = NeighborSearch::Auto,

@@ -1,0 +1,112 @@
+// The points path (embed.h, "Two paths") against the dense one: the exact k-NN search of
+// knn_from_points equals knn_from_distances on D bit for bit (real clips, ties, duplicates).
+#include <algorithm>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "embed/embed_test_util.h"
+#include "motionmap/embed/neighbors.h"
+#include "motionmap/embed/points.h"
+#include "motionmap/features/features.h"
+#include "motionmap/io/load.h"
+#include "support/test_data.h"
+
+namespace motionmap::embed {
+namespace {
+
+// Exact search from the points against knn_from_distances on D: the same frames in the same
+// order (ties to the smaller index) and the same distance bits.
+void expect_same_lists(const RowMatrix& points, const Eigen::MatrixXd& D, int k,
+                       const std::string& what) {
+  const NeighborLists want = knn_from_distances(D, k);
+  NeighborSearchReport report;
+  const NeighborLists got =
+      knn_from_points({&points, Metric::Euclidean}, k, NeighborSearch::Exact, {}, &report);
+  EXPECT_FALSE(report.approximate);
+  ASSERT_EQ(got.k, k);
+  ASSERT_EQ(got.index.size(), want.index.size());
+  for (int i = 0; i < want.frames(); ++i) {
+    for (int a = 0; a < k; ++a) {
+      ASSERT_EQ(got.of(i)[a], want.of(i)[a]) << what << " k " << k << " frame " << i << " #" << a;
+      ASSERT_EQ(got.distances_of(i)[a], want.distances_of(i)[a])
+          << what << " k " << k << " frame " << i << " #" << a;
+    }
+  }
+}
+
+// n points near a `manifold`-dimensional curved sheet in `d` dimensions, turned at random (as
+// poses are: many coordinates, few degrees of freedom), or integers in {0…3} (many exact ties).
+RowMatrix sheet_points(int n, int d, int manifold, unsigned seed, bool integer = false) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> small(0, 3);
+  RowMatrix P(n, d);
+  if (integer) {
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < d; ++j) P(i, j) = small(rng);
+    }
+    return P;
+  }
+  Eigen::MatrixXd mix(manifold, d);
+  for (int a = 0; a < manifold; ++a) {
+    for (int j = 0; j < d; ++j) mix(a, j) = u(rng);
+  }
+  for (int i = 0; i < n; ++i) {
+    Eigen::RowVectorXd t(manifold);
+    for (int a = 0; a < manifold; ++a) t[a] = u(rng);
+    P.row(i) = (t.array().sin() * 3.0).matrix() * mix;
+    for (int j = 0; j < d; ++j) P(i, j) += 1e-3 * u(rng);
+  }
+  return P;
+}
+
+Eigen::MatrixXd distances_of(const RowMatrix& P) {
+  return features::pairwise_distances(P);
+}
+
+TEST(EmbedPoints, ExactSearchEqualsDistanceMatrixOnRealClips) {
+  MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
+  MOTIONMAP_REQUIRE_SHARED("cmu/64_09.bvh");
+  MOTIONMAP_REQUIRE_SHARED("cmu/02_03.bvh");
+  for (const std::vector<std::string>& names :
+       {std::vector<std::string>{"cmu/64_08.bvh", "cmu/64_09.bvh"},
+        std::vector<std::string>{"cmu/02_03.bvh"}}) {
+    std::vector<Clip> clips;
+    for (const std::string& name : names) clips.push_back(io::load_clip(test::shared_file(name)));
+    const features::FeatureSet set = features::build_features(clips, {});
+    ASSERT_TRUE(set.has_distances());
+    for (int k : {1, 5, 20, 60}) expect_same_lists(set.distance_input, set.D, k, names[0]);
+  }
+}
+
+TEST(EmbedPoints, ExactSearchEqualsDistanceMatrixWithTiesAndDuplicates) {
+  // Integer coordinates in {0…3}⁵: 1024 possible points, so thousands of exact ties and
+  // duplicates, which the search settles by a radius search, as every pair would.
+  for (int n : {3, 30, 700, 3000}) {
+    const RowMatrix P = sheet_points(n, 5, 0, unsigned(n), true);
+    const Eigen::MatrixXd D = distances_of(P);
+    std::vector<int> ks{1, 2, std::min(20, n - 1)};
+    if (n <= 700) ks.push_back(n - 1);
+    for (int k : ks) expect_same_lists(P, D, k, "integers n " + std::to_string(n));
+  }
+  // Every frame the same pose.
+  const RowMatrix same = RowMatrix::Constant(50, 7, 0.25);
+  expect_same_lists(same, distances_of(same), 10, "one pose");
+}
+
+TEST(EmbedPoints, ExactSearchEqualsDistanceMatrixNearAManifold) {
+  for (const auto& [n, d, m] : {std::tuple{400, 60, 3}, std::tuple{2500, 114, 6},
+                                std::tuple{2000, 9, 9}, std::tuple{1500, 1, 1}}) {
+    const RowMatrix P = sheet_points(n, d, m, unsigned(n + d));
+    const Eigen::MatrixXd D = distances_of(P);
+    for (int k : {1, 20}) {
+      expect_same_lists(P, D, k, "sheet n " + std::to_string(n) + " d " + std::to_string(d));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace motionmap::embed

@@ -22,9 +22,10 @@ endforeach()
 install(TARGETS motionmap_all EXPORT MotionMapTargets)
 install(EXPORT MotionMapTargets NAMESPACE MotionMap:: DESTINATION ${MOTIONMAP_INSTALL_CMAKEDIR})
 
-# MotionMapConfig.cmake finds the public dependencies again (Eigen3, Threads, and QtGui + QtSvg
-# when render is installed: it links them). Spectra and nanoflann are header-only and private
-# ($<BUILD_INTERFACE:…> in src/motionmap/CMakeLists.txt), so a consumer never needs them.
+# MotionMapConfig.cmake finds the public dependencies again (Eigen3, Threads, the HDF5 C library
+# that mapfile links, and QtGui + QtSvg when render is installed: it links them). Spectra and
+# nanoflann are header-only and private ($<BUILD_INTERFACE:…> in src/motionmap/CMakeLists.txt),
+# so a consumer never needs them.
 set(MOTIONMAP_INSTALLED_RENDER OFF)
 if("render" IN_LIST _mm_stages)
   set(MOTIONMAP_INSTALLED_RENDER ON)
@@ -73,11 +74,11 @@ string(CONCAT CPACK_PACKAGE_DESCRIPTION
   "and synthesizes new poses and motions from the maps. This package holds the\n"
   "motionmap command-line tool, MotionMap Studio (a Qt 6 desktop application),\n"
   "and the C++20 static libraries with their headers and CMake package files\n"
-  "(find_package(MotionMap), which also needs libeigen3-dev).")
+  "(find_package(MotionMap), which also needs libeigen3-dev and libhdf5-dev).")
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # motionmap_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "fonts-dejavu-core")  # the plots' labels
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libeigen3-dev")         # for find_package(MotionMap)
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libeigen3-dev, libhdf5-dev")  # for find_package(MotionMap)
 set(CPACK_STRIP_FILES ON)
 include(CPack)

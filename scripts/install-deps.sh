@@ -10,7 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
   clang libclang-rt-14-dev
-  python3 python3-numpy python3-scipy python3-sklearn
+  python3 python3-numpy python3-scipy python3-sklearn python3-h5py
   xvfb xauth
 )
 

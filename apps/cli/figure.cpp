@@ -71,11 +71,12 @@ void setup_figure(CLI::App& app) {
     const double n = static_cast<double>(methods.size()) + 1.0;
     auto start = std::chrono::steady_clock::now();
 
-    // D is shared by every method: build the features once.
-    const features::FeatureSet set = features::build_features(
-        clips, options.features, overall.stage("pose distances", 0, 1 / n));
+    // One feature set (and D, on the dense path) shared by every method.
+    pipeline::FeatureCache cache;
+    const std::shared_ptr<const features::FeatureSet> features =
+        cache.get(clips, options.features, false, overall.stage("features", 0, 1 / n));
+    const features::FeatureSet& set = *features;
     for (const auto& note : set.notes) std::cerr << "note: " << note << '\n';
-
     std::vector<render::FigurePanel> panels;
     int failures = 0;
     std::printf("%-7s %16s %11s %8s %7s %9s\n", "method", "trustworthiness", "continuity", "stress",
@@ -84,15 +85,15 @@ void setup_figure(CLI::App& app) {
       render::FigurePanel panel;
       panel.options.title = long_name(methods[i]);
       panel.segment_starts = set.segment_starts;
-      embed::EmbedOptions eopt = options.embed;
-      eopt.method = methods[i];
+      options.embed.method = methods[i];
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        const embed::Embedding e =
-            embed::embed({&set.X, &set.D}, eopt, overall.part((i + 1) / n, (i + 2) / n));
+        const pipeline::ClipMap map =
+            pipeline::map_clips(clips, options, overall.part((i + 1) / n, (i + 2) / n), &cache);
+        const embed::Embedding& e = map.embedding;
+        const pipeline::MapMetrics& m = *map.metrics;
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const pipeline::MapMetrics m = pipeline::map_metrics(set, e, 10);
         for (const auto& w : e.warnings)
           std::cerr << "warning: " << embed::method_name(methods[i]) << ": " << w << '\n';
         panel.coords = cmd->axes == "fill" ? render::fill_axes(e.coordinates) : e.coordinates;
@@ -101,6 +102,10 @@ void setup_figure(CLI::App& app) {
         if (m.stress) line += "   stress " + format("%.3f", *m.stress);
         line += "   jump " + format("%.1f", m.jump);
         panel.options.notes << line;
+        if (m.sample > 0) {
+          panel.options.notes << "T, C on " + QString::number(m.sample) + " random frames" +
+                                     (m.stress ? ", stress on the landmarks" : "");
+        }
         if (e.method == embed::Method::LaplacianEigenmap) {
           panel.options.notes << "k = " + QString::number(e.k_used) + ", heat " +
                                      format("%.3g", e.heat_used);

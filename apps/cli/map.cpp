@@ -1,4 +1,6 @@
-// `motionmap map FILE… --method M -o map.csv [--plot map.png] [--metrics]`: one map of the clips.
+// `motionmap map FILE… --method M -o map.csv [--plot map.png] [--metrics] [--save lib.mmap.h5]`:
+// one map of the clips; `motionmap map NEW… --onto lib.mmap.h5 -o new.csv`: the clips' frames
+// placed on a saved map without refitting it.
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -7,6 +9,8 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
+#include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/render/map_plot.h"
 
@@ -20,7 +24,86 @@ struct MapCommand {
   std::string plot;
   bool metrics = false;
   std::string axes = "equal";
+  std::string save;
+  std::string onto;
 };
+
+// The options a saved map fixes: with --onto they are usage errors (docs/map-file.md).
+constexpr const char* kFixedByTheMap[] = {
+    "--method", "--dims",      "--neighbors", "--heat",    "--reg", "--standardize",
+    "--strict", "--features",  "--distance",  "--exclude", "--up",  "--joints",
+    "--exact",  "--landmarks", "--metrics",   "--save"};
+
+void write_csv(const std::string& output, const pipeline::ClipMap& map,
+               const pipeline::ClipMapOptions& options, const std::vector<Clip>& clips) {
+  if (output.empty() || output == "-") {
+    pipeline::write_map_csv(std::cout, map, options, clip_paths(clips));
+    return;
+  }
+  std::ofstream out(output);
+  if (!out) throw Error(output + ": error: cannot open for writing");
+  pipeline::write_map_csv(out, map, options, clip_paths(clips));
+  if (!out.flush()) throw Error(output + ": error: write failed");
+}
+
+// --onto: the clips' frames placed on the saved map, written as `map` writes a map.
+void place_onto(const MapCommand& cmd) {
+  const mapfile::MapFile saved = mapfile::read_map_file(cmd.onto);
+  const std::vector<Clip> clips = load_inputs(cmd.map);
+  // The frames to place are the command line's (--frames, --stride, --keep-first); everything
+  // else is the map's.
+  const features::FeatureOptions chosen =
+      clip_map_options(cmd.map, saved.options.embed.method, false).features;
+  mapfile::PlaceOptions place;
+  place.first_frame = chosen.first_frame;
+  place.end_frame = chosen.end_frame;
+  place.stride = chosen.stride;
+  place.keep_first = chosen.keep_first;
+  const std::string method(embed::method_name(saved.options.embed.method));
+  mapfile::Placement placed =
+      mapfile::place_clips(clips, saved, place, progress_line(cmd.map, method));
+
+  pipeline::ClipMapOptions options = saved.options;
+  options.features.first_frame = place.first_frame;
+  options.features.end_frame = place.end_frame;
+  options.features.stride = place.stride;
+  options.features.keep_first = place.keep_first;
+  auto features = std::make_shared<features::FeatureSet>(std::move(placed.features));
+  const std::size_t saved_clips = saved.clips.size();
+  features->notes.push_back("placed onto " + cmd.onto + " without refitting it (the " + method +
+                            " map of " + std::to_string(saved.num_samples()) + " frames of " +
+                            (saved_clips == 1 ? base_name(saved.clips.front().path)
+                                              : std::to_string(saved_clips) + " clips") +
+                            ")");
+  pipeline::ClipMap map;
+  map.features = features;
+  map.embedding = mapfile::embedding_for_csv(saved, placed.coordinates);
+  map.dense = saved.dense;
+  print_diagnostics(map);
+  write_csv(cmd.output, map, options, clips);
+  if (cmd.plot.empty()) return;
+  // The new frames' trajectories over the map's samples in grey, framed together; --axes fill
+  // scales both alike.
+  render::MapPlotOptions plot;
+  plot.title =
+      QString::fromStdString(clip_names(clips) + " on " + base_name(cmd.onto) + " — " + method);
+  plot.notes << QString::fromStdString(pipeline::describe_parameters(map.embedding, options))
+             << QString::fromStdString("grey: the map's " + std::to_string(saved.num_samples()) +
+                                       " frames; in colour: the new frames, placed on it");
+  plot.time_legend = true;
+  Eigen::MatrixXd coords = map.embedding.coordinates;
+  plot.backdrop = saved.coordinates;
+  if (cmd.axes == "fill") {
+    Eigen::MatrixXd both(coords.rows() + plot.backdrop.rows(), coords.cols());
+    both << coords, plot.backdrop;
+    both = render::fill_axes(both);
+    coords = both.topRows(coords.rows());
+    plot.backdrop = both.bottomRows(plot.backdrop.rows());
+    plot.notes << "axes scaled to fill the panel";
+  }
+  ensure_gui_application();
+  render::save_map_plot(cmd.plot, coords, features->segment_starts, plot);
+}
 
 void print_metrics_table(std::ostream& out, const pipeline::ClipMap& map, int k) {
   const auto& m = *map.metrics;
@@ -44,10 +127,13 @@ void setup_map(CLI::App& app) {
       "map",
       "Map every frame of the clips to a point (PCA, SVD, classical MDS, Isomap, Laplacian\n"
       "eigenmap, LLE) and write frame,x,y as CSV, with the effective parameters in a # comment.\n"
-      "A leading bind/T-pose frame is left out unless --keep-first.");
+      "A leading bind/T-pose frame is left out unless --keep-first. --save also writes the map\n"
+      "as an HDF5 map file; --onto places the clips' frames on a saved map instead of mapping.");
   add_map_options(sub, cmd->map, MapOptionsFor::Map);
   sub->add_option("-o,--output", cmd->output, "CSV file to write (default: standard output)");
-  sub->add_option("--plot", cmd->plot, "Also draw the map: .png, .svg or .pdf");
+  sub->add_option("--plot", cmd->plot,
+                  "Also draw the map: .png, .svg or .pdf (with --onto: the new frames' "
+                  "trajectories over the saved map's samples in grey)");
   sub->add_option(
          "--axes", cmd->axes,
          "For --plot: equal (one scale for both axes, distances to scale; default) or fill "
@@ -57,7 +143,24 @@ void setup_map(CLI::App& app) {
       "--metrics", cmd->metrics,
       "Compute trustworthiness and continuity (k = 10), stress (mds, isomap) and the jump "
       "score; printed as a table and in the CSV comment");
+  sub->add_option("--save", cmd->save,
+                  "Also write the map as an HDF5 map file (.mmap.h5; docs/map-file.md): the clips "
+                  "(paths, frames, SHA-256), the parameters, the coordinates and what placing new "
+                  "clips on it with --onto needs");
+  auto* onto =
+      sub->add_option(
+             "--onto", cmd->onto,
+             "Place the clips' frames on the map saved in this file (--save) without refitting "
+             "it, and write them as `map` writes a map. The map fixes the method, its "
+             "parameters and the features (those options are errors here); --frames, --stride "
+             "and --keep-first choose the frames placed")
+          ->check(CLI::ExistingFile);
+  for (const char* name : kFixedByTheMap) onto->excludes(sub->get_option(name));
   sub->callback([cmd] {
+    if (!cmd->onto.empty()) {
+      place_onto(*cmd);
+      return;
+    }
     const std::vector<Clip> clips = load_inputs(cmd->map);
     const pipeline::ClipMapOptions options =
         clip_map_options(cmd->map, cmd->map.method, cmd->metrics);
@@ -68,13 +171,9 @@ void setup_map(CLI::App& app) {
       std::cerr << "heat " << map.embedding.heat_used
                 << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
     }
-    if (cmd->output.empty() || cmd->output == "-") {
-      pipeline::write_map_csv(std::cout, map, options, clip_paths(clips));
-    } else {
-      std::ofstream out(cmd->output);
-      if (!out) throw Error(cmd->output + ": error: cannot open for writing");
-      pipeline::write_map_csv(out, map, options, clip_paths(clips));
-      if (!out.flush()) throw Error(cmd->output + ": error: write failed");
+    write_csv(cmd->output, map, options, clips);
+    if (!cmd->save.empty()) {
+      mapfile::write_map_file(cmd->save, mapfile::make_map_file(clips, map, options));
     }
     if (map.metrics) {
       const bool csv_on_stdout = cmd->output.empty() || cmd->output == "-";

@@ -6,6 +6,7 @@ usage: cli_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
 """
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -241,6 +242,52 @@ def maps_do_not_depend_on_the_number_of_threads():
             with open(out, "rb") as f:
                 outputs.append(f.read())
         assert outputs[0] == outputs[1] == outputs[2], method + ": maps differ between thread counts"
+
+
+@test
+def landmarks_exact_and_verbose_choose_and_report_the_path():
+    # --landmarks forces the points path (landmark MDS/Isomap, sparse graphs), --exact the dense
+    # one; both are the same map to rounding when every frame is a landmark. The points path is
+    # byte-identical between thread counts too (HNSW is built on one thread), and --verbose
+    # prints a line per stage with its time and the peak memory.
+    if not needs(GOLF):
+        return
+    for method in ("mds", "isomap", "le", "lle"):
+        dense, full = os.path.join(TMP, "dense.csv"), os.path.join(TMP, "full.csv")
+        code, _, err = run("map", data(GOLF), "-m", method, "--exact", "-o", dense, "-q")
+        assert code == 0, err
+        code, _, err = run("map", data(GOLF), "-m", method, "--landmarks", "5000", "-o", full,
+                           "-q", "--verbose")
+        assert code == 0, err
+        stages = re.findall(r"^verbose: ([^:]+): [0-9.]+ s, peak [0-9]+ MiB$", err, re.M)
+        assert "features" in stages and "total" in stages, err
+        if method in ("mds", "isomap"):
+            assert "landmarks" in stages and "triangulation" in stages, stages
+        else:
+            assert "neighbours" in stages and "eigen" in stages, stages
+        c_dense, _, v_dense = read_map(dense)
+        c_full, _, v_full = read_map(full)
+        if method in ("mds", "isomap"):
+            assert "landmarks=364" in c_full[0] and "landmarks" not in c_dense[0], c_full[0]
+        a = v_dense[:, 1:] - v_dense[:, 1:].mean(0)
+        b = v_full[:, 1:] - v_full[:, 1:].mean(0)
+        u, _, vt = np.linalg.svd(b.T @ a)
+        assert np.abs(b @ (u @ vt) - a).max() <= 1e-6 * np.abs(a).max(), method
+    for method in ("mds", "le"):
+        outputs = []
+        for threads in ("1", "2"):
+            out = os.path.join(TMP, "lm-%s-%s.csv" % (method, threads))
+            env = dict(os.environ, MOTIONMAP_THREADS=threads)
+            code, _, err = run("map", data(GOLF), "-m", method, "--landmarks", "40", "-o", out,
+                               "-q", "--metrics", env=env)
+            assert code == 0, err
+            with open(out, "rb") as f:
+                outputs.append(f.read())
+        assert outputs[0] == outputs[1], method + ": points-path maps differ between thread counts"
+    code, _, err = run("map", data(GOLF), "--exact", "--landmarks", "3")
+    assert code == 2 and "excludes" in err, err
+    code, _, err = run("map", data(GOLF), "-m", "mds", "--landmarks", "2", "-q")
+    assert code == 1 and "landmarks = 2 is out of range" in err, err
 
 
 @test

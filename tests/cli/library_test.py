@@ -240,6 +240,7 @@ def common_joints_map_clips_of_different_skeletons():
     assert "dropped: LHipJoint, RHipJoint, LowerBack" in err, err
     assert "6 kept joints have another parent in some clip" in err, err
     comments, _, rows = read_map(out)
+    assert " joints=common" in comments[0], comments[0]
     assert any("joints common: 19 joints shared by the 2 clips are kept" in c
                for c in comments), comments
     assert clip_counts(rows) == {0: 364, 1: 1064}, clip_counts(rows)

@@ -104,6 +104,14 @@ TEST(JointMatch, HierarchyDifferenceSaysWhatDiffers) {
             "it has 5 joints, a.bvh 4; its first 4 are a.bvh's, then comes 'Hat'");
   EXPECT_EQ(hierarchy_difference(clip_of(longer, "b.bvh"), a),
             "it has 4 joints, b.bvh 5; they are b.bvh's first 4, without 'Hat'");
+  // Same joints and parents, but an End Site more: the point clouds would not line up.
+  Skeleton extra_end = test::chain_skeleton();
+  extra_end.joints[1].end_sites.push_back({0, 1, 0});
+  EXPECT_FALSE(extra_end.same_hierarchy(test::chain_skeleton()));
+  EXPECT_EQ(hierarchy_difference(a, clip_of(extra_end, "b.bvh")),
+            "joint 'Spine' has " + std::to_string(extra_end.joints[1].end_sites.size()) +
+                " End Site(s) where a.bvh has " +
+                std::to_string(test::chain_skeleton().joints[1].end_sites.size()));
 }
 
 TEST(JointMatch, DifferentHierarchiesAreAnErrorThatOffersCommonJoints) {

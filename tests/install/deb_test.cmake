@@ -17,8 +17,8 @@ if(NOT count EQUAL 1)
   message(FATAL_ERROR "expected one motionmap_*.deb in ${WORK_DIR}, found: ${deb}")
 endif()
 
-# The control fields: the package's name and version, and the Qt runtime libraries among its
-# dependencies (dpkg-shlibdeps found them in the binaries).
+# The control fields: the package's name and version, and the Qt and HDF5 runtime libraries
+# among its dependencies (dpkg-shlibdeps found them in the binaries).
 run("dpkg-deb -f" ${DPKG_DEB} -f ${deb} Package Version Depends)
 message(STATUS "${deb}:\n${out}")
 if(NOT out MATCHES "Package: motionmap\n")
@@ -27,7 +27,7 @@ endif()
 if(NOT out MATCHES "Version: ${VERSION}\n")
   message(FATAL_ERROR "the package's version is not ${VERSION}")
 endif()
-foreach(lib libqt6gui6 libqt6widgets6 libqt6svg6 libqt6opengl6 libstdc\\+\\+6)
+foreach(lib libqt6gui6 libqt6widgets6 libqt6svg6 libqt6opengl6 libhdf5 libstdc\\+\\+6)
   if(NOT out MATCHES "Depends:.*${lib}")
     message(FATAL_ERROR "Depends does not name ${lib}")
   endif()

@@ -1,8 +1,9 @@
 // Cancel during every long stage of a map returns quickly: pose distances (features), neighbours,
-// shortest paths, the eigen solve, stress and the metrics, on a clip large enough that each
-// stage runs for a while. The cancel callback says yes at the stage's second poll (from inside
-// its loop, not just at its start), and the test measures the time from that first yes to
-// the Cancelled exception: the issue asks for 200 ms at most. (A bound on latency, not a speed
+// shortest paths, the eigen solve, stress and the metrics, and the points path's landmarks,
+// neighbour searches (k-d tree and HNSW), landmark shortest paths and LLE weights, on a clip large
+// enough that each stage runs for a while. The cancel callback says yes at the stage's second poll
+// (from inside its loop, not just at its start), and the test measures the time from that first yes
+// to the Cancelled exception: the issue asks for 200 ms at most. (A bound on latency, not a speed
 // benchmark: the work between two polls is a few milliseconds even under the sanitizers.)
 #include <gtest/gtest.h>
 
@@ -99,6 +100,30 @@ TEST(Cancel, DuringEveryEmbedStage) {
       embed::embed({&set.X, &set.D}, options, control);
     });
     expect_quick_cancel(std::string(embed::method_name(method)) + " " + stage, out);
+  }
+}
+
+TEST(Cancel, DuringEveryPointsPathStage) {
+  const features::FeatureSet& set = walk_features();
+  struct Case {
+    embed::Method method;
+    const char* stage;
+    bool approximate;
+  };
+  for (const Case& c : {Case{embed::Method::Mds, "landmarks", false},
+                        Case{embed::Method::Isomap, "neighbours", false},
+                        Case{embed::Method::Isomap, "neighbours", true},
+                        Case{embed::Method::Isomap, "shortest paths", false},
+                        Case{embed::Method::Lle, "weights", false}}) {
+    const Outcome out = cancel_during(c.stage, [&](const Control& control) {
+      embed::EmbedOptions options;
+      options.method = c.method;
+      if (c.approximate) options.search = embed::EmbedOptions::Search::Approximate;
+      embed::embed({.features = &set.X, .points = &set.distance_input}, options, control);
+    });
+    expect_quick_cancel(std::string(embed::method_name(c.method)) + " points " + c.stage +
+                            (c.approximate ? " (HNSW)" : ""),
+                        out);
   }
 }
 

@@ -426,6 +426,38 @@ TEST_F(MapPlotTest, ColourByClipDrawsEachClipInItsOwnColourWithANamedLegend) {
   EXPECT_EQ(clip_color(-1), QColor(128, 128, 128));
 }
 
+TEST_F(MapPlotTest, ABackdropIsDrawnUnderTheTrajectoryAndFramedWithIt) {
+  // A short line in the middle of a wide backdrop (a saved map's samples under new frames).
+  const Eigen::MatrixXd c = line(20, 0.4, 0.6, 0.5);
+  MapPlotOptions o;
+  o.line_width = 3.0;
+  o.backdrop.resize(4, 2);
+  o.backdrop << 0, 0, 1, 0, 0, 1, 1, 1;
+  o.backdrop_color = QColor(0, 200, 0);
+  const std::string path = temp_file("backdrop.png");
+  save_map_plot(path, c, {}, o, 300);
+  QImage img(QString::fromStdString(path));
+  ASSERT_EQ(img.size(), QSize(300, 300));
+  const QTransform t = map_transform(c, QRectF(0, 0, 300, 300), o);
+  const QRectF d = data_area(QRectF(0, 0, 300, 300), o);
+  // The backdrop's corners are the data area's: the extent covers it.
+  EXPECT_NEAR(t.map(QPointF(0, 1)).x(), d.left(), 1e-9);
+  EXPECT_NEAR(t.map(QPointF(1, 0)).y(), d.bottom(), 1e-9);
+  auto green = [](QColor p) { return p.green() > 150 && p.red() < 60 && p.blue() < 60; };
+  for (const auto& [x, y] : {std::pair{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}, {1.0, 1.0}}) {
+    EXPECT_TRUE(any_near(img, t.map(QPointF(x, y)), 1, green)) << x << "," << y;
+  }
+  EXPECT_TRUE(any_near(img, t.map(QPointF(0.44, 0.5)), 1, is_reddish));
+  EXPECT_TRUE(any_near(img, t.map(QPointF(0.59, 0.5)), 1, is_bluish));
+  // Without it, the line alone fills the panel.
+  EXPECT_NEAR(map_transform(c, QRectF(0, 0, 300, 300), {}).map(QPointF(0.4, 0.5)).x(), d.left(),
+              1e-9);
+  // A backdrop needs x and y.
+  o.backdrop.resize(3, 1);
+  EXPECT_EQ(error_message<ParameterError>([&] { save_map_plot(path, c, {}, o, 300); }),
+            "map plot: backdrop has 1 column(s); need at least 2 (x, y)");
+}
+
 TEST_F(MapPlotTest, DegenerateInputsStillProduceAnImage) {
   const QRectF rect(0, 0, 200, 200);
   MapPlotOptions o;

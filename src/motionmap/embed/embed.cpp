@@ -277,15 +277,15 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
   } else if (m.needs_distances) {
     check_distances(*input.distances, m.name, progress);
   }
-  const Eigen::Index distance_rows =
-      !m.needs_distances ? 0 : on_points ? input.points->rows() : input.distances->rows();
+  const Eigen::Index distance_rows = !m.needs_distances ? 0
+                                     : on_points        ? input.points->rows()
+                                                        : input.distances->rows();
   if (m.needs_features && m.needs_distances && input.features->rows() != distance_rows) {
     throw ParameterError(who + "X has " + std::to_string(input.features->rows()) + " rows but " +
                          (on_points ? "the points have " : "D has ") +
                          std::to_string(distance_rows) + "; both need one per frame");
   }
-  const int frames =
-      static_cast<int>(m.needs_features ? input.features->rows() : distance_rows);
+  const int frames = static_cast<int>(m.needs_features ? input.features->rows() : distance_rows);
   options.validate(frames);
   if (!m.needs_distances && input.features->cols() < options.dimensions) {
     throw ParameterError(who + "X has " + std::to_string(input.features->cols()) +
@@ -294,6 +294,7 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
   }
 
   const PointSet points{input.points, input.metric};
+  out.from_points = on_points;
   switch (options.method) {
     case Method::Pca:
       run_pca(*input.features, options, out, progress);
@@ -332,7 +333,19 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
       }
       break;
   }
+  const Eigen::MatrixXd unsigned_coordinates = out.landmarks ? out.coordinates : Eigen::MatrixXd();
   normalize_signs(out.coordinates);
+  if (out.landmarks) {
+    // The landmark fit maps to the coordinates as they were: flip its axes with them.
+    for (Eigen::Index a = 0; a < out.coordinates.cols(); ++a) {
+      Eigen::Index at = 0;
+      unsigned_coordinates.col(a).cwiseAbs().maxCoeff(&at);
+      if (out.coordinates(at, a) != unsigned_coordinates(at, a)) {
+        out.landmarks->projection.row(a) *= -1.0;
+        out.landmarks->offset[a] *= -1.0;
+      }
+    }
+  }
   progress.finish();
   return out;
 }

@@ -154,8 +154,11 @@ struct Embedding {
   /// Points path: how the neighbours were found ("exact", or "approximate (HNSW), recall …");
   /// empty on the dense path and for methods without a graph.
   std::string neighbor_search;
-  /// Points path of mds and isomap: the landmarks and what placing frames needs. The stress is
-  /// then measured over the landmark pairs.
+  /// Whether the points path made the map (EmbedInput::points instead of D).
+  bool from_points = false;
+  /// mds and isomap: what placing frames needs (placement.h). On the points path the landmarks
+  /// (the stress is then measured over the landmark pairs); on the dense path every frame is a
+  /// landmark.
   std::optional<LandmarkFit> landmarks;
 };
 

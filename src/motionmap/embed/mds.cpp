@@ -132,6 +132,28 @@ void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedd
                              " positive dimensions");
     }
   }
+  // What placing frames needs (placement.h): every frame a landmark, P = (Y ÷ λ)ᵀ, μ = the
+  // column means of T².
+  LandmarkFit all;
+  all.frames.resize(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) all.frames[i] = static_cast<int>(i);
+  all.projection.resize(dims, n);
+  for (int a = 0; a < dims; ++a) {
+    all.projection.row(a) = top.values[a] > 0.0
+                                ? (out.coordinates.col(a) / top.values[a]).transpose().eval()
+                                : Eigen::RowVectorXd::Zero(n).eval();
+  }
+  all.mean_squared = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      const double s = T(i, j) * T(i, j);
+      all.mean_squared[i] += s;
+      all.mean_squared[j] += s;
+    }
+  }
+  all.mean_squared /= double(n);
+  all.offset = Eigen::VectorXd::Zero(dims);
+  out.landmarks = std::move(all);
   progress.stage("stress", begin + 0.9 * (end - begin), end);
   out.stress = normalized_stress(T, out.coordinates, progress.control());
 }

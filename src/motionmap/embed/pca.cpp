@@ -10,6 +10,27 @@
 
 namespace motionmap::embed {
 
+Eigen::RowVectorXd standardization_scale(const Eigen::MatrixXd& X, const Eigen::RowVectorXd& mean,
+                                         int* constant_columns) {
+  // Population standard deviation, as sklearn's StandardScaler; a column counts as constant
+  // (scale 1, so it stays 0 after centring) by StandardScaler's rule: var ≤ n·ε·var +
+  // (n·mean·ε)².
+  const double n = double(X.rows());
+  const double eps = std::numeric_limits<double>::epsilon();
+  const Eigen::RowVectorXd var = (X.rowwise() - mean).array().square().colwise().sum() / n;
+  Eigen::RowVectorXd scale = var.cwiseSqrt();
+  int constant = 0;
+  for (Eigen::Index c = 0; c < X.cols(); ++c) {
+    const double bound = n * eps * var[c] + (n * mean[c] * eps) * (n * mean[c] * eps);
+    if (var[c] <= bound) {
+      scale[c] = 1.0;
+      ++constant;
+    }
+  }
+  if (constant_columns) *constant_columns = constant;
+  return scale;
+}
+
 void run_pca(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
              Progress& progress) {
   progress.stage("eigen", 0.02, 1.0);
@@ -17,20 +38,8 @@ void run_pca(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& o
   const Eigen::RowVectorXd mean = X.colwise().mean();
   Eigen::RowVectorXd scale;
   if (options.standardize) {
-    // Population standard deviation, as sklearn's StandardScaler; a column counts as constant
-    // (scale 1, so it stays 0 after centring) by StandardScaler's rule: var ≤ n·ε·var +
-    // (n·mean·ε)².
-    const double eps = std::numeric_limits<double>::epsilon();
-    const Eigen::RowVectorXd var = (X.rowwise() - mean).array().square().colwise().sum() / n;
-    scale = var.cwiseSqrt();
     int constant = 0;
-    for (Eigen::Index c = 0; c < X.cols(); ++c) {
-      const double bound = n * eps * var[c] + (n * mean[c] * eps) * (n * mean[c] * eps);
-      if (var[c] <= bound) {
-        scale[c] = 1.0;
-        ++constant;
-      }
-    }
+    scale = standardization_scale(X, mean, &constant);
     if (constant > 0) {
       out.warnings.push_back(std::to_string(constant) +
                              " constant feature column(s) were left unscaled (they are 0 after "

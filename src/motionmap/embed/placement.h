@@ -49,6 +49,8 @@ struct MapModel {
   // For a landmark mds map only the landmarks' rows are kept (in LandmarkFit::frames order).
   RowMatrix points;
   Metric metric = Metric::Euclidean;
+  /// mds on the points path: `points` holds the landmarks' rows only.
+  bool points_are_landmarks = false;
   int k = 0;  ///< isomap, le, lle: neighbours a new frame joins through
   /// mds, isomap: the triangulation (a dense map: every frame a landmark, in frame order).
   std::optional<LandmarkFit> landmarks;

@@ -61,44 +61,54 @@ Graph knn_graph_from_lists(const NeighborLists& lists, const std::vector<Edge>& 
   return g;
 }
 
-// count − 1 edges joining the components: the shortest frame–landmark pair between every two
-// components that have one, then a minimum spanning tree over the components (Prim from frame
-// 0's component; ties: the edge found first, scanning frames then landmarks in order).
+// count − 1 edges joining the components, by Borůvka's algorithm over the candidate edges
+// frame–landmark (every frame to every landmark of another component): each round gives every
+// group of components its shortest candidate edge to another group (ties: the smaller frame, then
+// the smaller landmark), and merges along them. Every component has a candidate (its frames reach
+// a landmark elsewhere, or other frames reach its landmark), so the rounds end in one group, after
+// at most log2(count) passes over the #frames·L distances.
 std::vector<Edge> joining_edges(const Components& components, const std::vector<int>& landmarks,
                                 const Eigen::MatrixXd& distances) {
   const int n = static_cast<int>(components.label.size());
   const int c = components.count;
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<Edge> best(std::size_t(c) * c, Edge{-1, -1, inf});
-  for (int f = 0; f < n; ++f) {
-    const int cf = components.label[f];
-    for (std::size_t l = 0; l < landmarks.size(); ++l) {
-      const int cl = components.label[landmarks[l]];
-      if (cl == cf) continue;
-      const double d = distances(Eigen::Index(l), f);
-      Edge& e = best[std::size_t(std::min(cf, cl)) * c + std::max(cf, cl)];
-      if (d < e.length) e = {std::min(f, landmarks[l]), std::max(f, landmarks[l]), d};
-    }
-  }
+  std::vector<int> group(static_cast<std::size_t>(c));
+  for (int g = 0; g < c; ++g) group[g] = g;
+  auto find = [&](int g) {
+    while (group[g] != g) g = group[g] = group[group[g]];
+    return g;
+  };
+  auto better = [](const Edge& e, double d, int f, int l) {
+    return e.a < 0 || d < e.length || (d == e.length && (f < e.a || (f == e.a && l < e.b)));
+  };
   std::vector<Edge> edges;
-  std::vector<char> in_tree(static_cast<std::size_t>(c), 0);
-  in_tree[components.label[0]] = 1;
-  for (int step = 1; step < c; ++step) {
-    const Edge* pick = nullptr;
-    for (int a = 0; a < c; ++a) {
-      for (int b = a + 1; b < c; ++b) {
-        const Edge& e = best[std::size_t(a) * c + b];
-        if (in_tree[a] != in_tree[b] && e.a >= 0 && (!pick || e.length < pick->length)) {
-          pick = &e;
+  for (int groups = c; groups > 1;) {
+    // best[g]: the shortest candidate leaving group g; a = the frame, b = the landmark's frame.
+    std::vector<Edge> best(static_cast<std::size_t>(c), Edge{-1, -1, 0.0});
+    for (int f = 0; f < n; ++f) {
+      const int gf = find(components.label[f]);
+      for (std::size_t l = 0; l < landmarks.size(); ++l) {
+        const int gl = find(components.label[landmarks[l]]);
+        if (gl == gf) continue;
+        const double d = distances(Eigen::Index(l), f);
+        for (int g : {gf, gl}) {
+          if (better(best[g], d, f, landmarks[l])) best[g] = {f, landmarks[l], d};
         }
       }
     }
-    if (!pick) {
+    bool merged = false;
+    for (int g = 0; g < c; ++g) {
+      const Edge& e = best[g];
+      if (e.a < 0 || find(g) != g) continue;
+      const int ga = find(components.label[e.a]), gb = find(components.label[e.b]);
+      if (ga == gb) continue;
+      group[std::max(ga, gb)] = std::min(ga, gb);
+      edges.push_back({std::min(e.a, e.b), std::max(e.a, e.b), e.length});
+      --groups;
+      merged = true;
+    }
+    if (!merged) {
       throw NumericalError("the landmarks do not reach every component of the k-NN graph");
     }
-    edges.push_back(*pick);
-    in_tree[components.label[pick->a]] = 1;
-    in_tree[components.label[pick->b]] = 1;
   }
   return edges;
 }
@@ -139,9 +149,8 @@ NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& o
     }
     progress.stage("joining components", mid, end);
     Eigen::MatrixXd distances;
-    const std::vector<int> landmarks =
-        maxmin_landmarks(points, std::min(points.frames(), kDefaultLandmarks), distances,
-                         progress.control());
+    const std::vector<int> landmarks = maxmin_landmarks(
+        points, std::min(points.frames(), kDefaultLandmarks), distances, progress.control());
     ng.joins = joining_edges(components, landmarks, distances);
     ng.graph = knn_graph_from_lists(ng.lists, ng.joins);
     out.connecting_edges = static_cast<int>(ng.joins.size());

@@ -61,6 +61,15 @@ std::string hierarchy_difference(const Clip& reference, const Clip& other) {
     out += std::string(na != nb ? "the first that differs" : "the first joint that differs") +
            " is joint " + std::to_string(first) + ": " + describe_joint(b, first) + " where " +
            ref + " has " + describe_joint(a, first);
+  } else if (na == nb) {
+    // Same joints and parents: an End Site count differs.
+    int j = 0;
+    while (a.joints[std::size_t(j)].end_sites.size() == b.joints[std::size_t(j)].end_sites.size()) {
+      ++j;
+    }
+    out += "joint '" + b.joints[std::size_t(j)].name + "' has " +
+           std::to_string(b.joints[std::size_t(j)].end_sites.size()) + " End Site(s) where " + ref +
+           " has " + std::to_string(a.joints[std::size_t(j)].end_sites.size());
   } else if (nb > na) {
     out += "its first " + std::to_string(na) + " are " + ref + "'s, then comes '" +
            b.joints[static_cast<std::size_t>(na)].name + "'";

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/memory.h"
 #include "motionmap/embed/points.h"
 
@@ -14,8 +15,8 @@ using embed::Embedding;
 using embed::EmbedInput;
 using embed::jump_score;
 using embed::Method;
-using motionmap::Metric;
 using embed::neighborhood_quality;
+using motionmap::Metric;
 
 namespace {
 std::string fmt(double v, const char* format = "%.4g") {
@@ -32,6 +33,14 @@ Metric metric_of(features::DistanceKind kind) {
   return kind == features::DistanceKind::Geodesic ? Metric::QuaternionAngles : Metric::Euclidean;
 }
 
+EmbedInput embed_input(const features::FeatureSet& set, bool dense) {
+  EmbedInput input{&set.X};
+  if (dense && set.has_distances()) input.distances = &set.D;
+  input.points = &set.distance_input;
+  input.metric = metric_of(set.distance);
+  return input;
+}
+
 // Refuses a map whose estimated memory exceeds what the machine has available.
 void check_memory(const ClipMapOptions& options, int frames, int values, int columns, bool dense) {
   const std::optional<std::int64_t> available = available_memory();
@@ -40,14 +49,15 @@ void check_memory(const ClipMapOptions& options, int frames, int values, int col
                                           options.embed, options.metrics);
   if (bytes <= double(*available)) return;
   std::string message = std::string(embed::method_name(options.embed.method)) + " on " +
-                        std::to_string(frames) + " frames needs ~" + format_bytes(bytes) +
+                        format_count(frames) + " frames needs ~" + format_bytes(bytes) +
                         (dense ? " dense" : "") + "; available " +
                         format_bytes(double(*available)) + "; ";
   if (dense) {
-    message += "use --landmarks (the default above " + std::to_string(options.dense_limit) +
-               " frames)";
+    message +=
+        "use --landmarks (the default above " + std::to_string(options.dense_limit) + " frames)";
   } else {
-    message += "use fewer landmarks (--landmarks), a smaller k, or --stride to use every n-th frame";
+    message +=
+        "use fewer landmarks (--landmarks), a smaller k, or --stride to use every n-th frame";
   }
   throw ParameterError(message);
 }
@@ -78,8 +88,8 @@ double estimate_map_bytes(Method method, int frames, int values, int columns, bo
     const double squares = !needs_d ? 0.0 : method == Method::Isomap ? 2.0 : 1.0;
     return base + squares * 8.0 * F * F + F * k * 64.0;
   }
-  const double L = std::min<double>(F, options.landmarks > 0 ? options.landmarks
-                                                             : embed::kDefaultLandmarks);
+  const double L =
+      std::min<double>(F, options.landmarks > 0 ? options.landmarks : embed::kDefaultLandmarks);
   double bytes = base;
   if (embed::uses_graph(method)) {
     // k-NN lists, the flat pair array and the CSR graph; HNSW's float rows and links above the
@@ -124,13 +134,7 @@ ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
     }
   }
   const features::FeatureSet& set = *result.features;
-  EmbedInput input{&set.X};
-  if (result.dense && set.has_distances()) {
-    input.distances = &set.D;
-  } else {
-    input.points = &set.distance_input;
-    input.metric = metric_of(set.distance);
-  }
+  const EmbedInput input = embed_input(set, result.dense);
   result.embedding = embed::embed(input, options.embed,
                                   control.part(features_share, features_share + embed_share));
 
@@ -141,6 +145,10 @@ ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
   }
   control.finish();
   return result;
+}
+
+embed::MapModel map_model(const ClipMap& map, const ClipMapOptions& options) {
+  return embed::make_model(embed_input(*map.features, map.dense), options.embed, map.embedding);
 }
 
 MapMetrics map_metrics(const features::FeatureSet& features, const Embedding& embedding, int k,
@@ -188,6 +196,9 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   s += " features=" + std::string(features::feature_kind_name(f.features)) +
        " distance=" + std::string(features::distance_kind_name(f.distance));
   s += " up=" + std::string(f.up == Axis::Z ? "z" : "y");
+  if (f.joints != features::JointSelection::All) {
+    s += " joints=" + std::string(features::joint_selection_name(f.joints));
+  }
   if (!f.exclude.empty()) s += " exclude=" + f.exclude;
   if (f.first_frame != 0 || f.end_frame >= 0) {
     s += " frames=" + std::to_string(f.first_frame) + ":" +
@@ -195,7 +206,9 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   }
   if (f.stride != 1) s += " stride=" + std::to_string(f.stride);
   if (f.keep_first) s += " keep-first";
-  if (e.landmarks) s += " landmarks=" + std::to_string(e.landmarks->frames.size());
+  if (e.from_points && e.landmarks) {
+    s += " landmarks=" + std::to_string(e.landmarks->frames.size());
+  }
   if (!e.neighbor_search.empty() && e.neighbor_search != "exact") {
     s += " neighbours=" + e.neighbor_search;
   }

@@ -17,6 +17,7 @@
 #include "motionmap/core/control.h"
 #include "motionmap/embed/embed.h"
 #include "motionmap/embed/metrics.h"
+#include "motionmap/embed/placement.h"
 #include "motionmap/features/features.h"
 #include "motionmap/pipeline/feature_cache.h"
 
@@ -91,6 +92,10 @@ MapMetrics map_metrics(const features::FeatureSet& features, const embed::Embedd
 /// requests that cannot fit before they start.
 double estimate_map_bytes(embed::Method method, int frames, int values, int columns, bool dense,
                           const embed::EmbedOptions& options, bool metrics);
+
+/// What placing new frames on `map` needs (embed/placement.h), from the map and its features.
+/// @throws as embed::make_model().
+embed::MapModel map_model(const ClipMap& map, const ClipMapOptions& options);
 
 /// The effective parameters of a map in one line, for CSV comments, titles and status bars:
 /// "method=isomap dims=2 k=20 features=quat distance=pointcloud up=y".

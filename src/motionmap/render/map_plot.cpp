@@ -48,10 +48,10 @@ bool finite_row(const Eigen::MatrixXd& coords, Eigen::Index i) {
   return std::isfinite(coords(i, 0)) && std::isfinite(coords(i, 1));
 }
 
-void check_columns(const Eigen::MatrixXd& coords) {
+void check_columns(const Eigen::MatrixXd& coords, const char* what = "coords") {
   if (coords.cols() < 2) {
-    throw ParameterError("map plot: coords has " + std::to_string(coords.cols()) +
-                         " column(s); need at least 2 (x, y)");
+    throw ParameterError(std::string("map plot: ") + what + " has " +
+                         std::to_string(coords.cols()) + " column(s); need at least 2 (x, y)");
   }
 }
 
@@ -108,6 +108,16 @@ UnitMapping unit_mapping(const Eigen::MatrixXd& coords) {
   // No extent to speak of: keep scale 1 so the single point lands at the centre.
   m.scale = negligible_extent(half, magnitude) ? 1.0 : 0.5 / half;
   return m;
+}
+
+// The extent a panel frames: the coordinates, and the backdrop's points when there are any.
+UnitMapping panel_mapping(const Eigen::MatrixXd& coords, const MapPlotOptions& options) {
+  if (options.backdrop.size() == 0) return unit_mapping(coords);
+  check_columns(coords);
+  check_columns(options.backdrop, "backdrop");
+  Eigen::MatrixXd both(coords.rows() + options.backdrop.rows(), 2);
+  both << coords.leftCols(2), options.backdrop.leftCols(2);
+  return unit_mapping(both);
 }
 
 double clip_time(int i, int begin, int end) {
@@ -406,10 +416,12 @@ Eigen::MatrixXd fill_axes(const Eigen::MatrixXd& coords) {
   return out;
 }
 
-std::vector<ColoredSegment> trajectory_segments(const Eigen::MatrixXd& coords,
-                                                const std::vector<int>& segment_starts) {
+namespace {
+
+std::vector<ColoredSegment> segments_in(const Eigen::MatrixXd& coords,
+                                        const std::vector<int>& segment_starts,
+                                        const UnitMapping& m) {
   const std::vector<int> bounds = clip_bounds(coords, segment_starts);
-  const UnitMapping m = unit_mapping(coords);
   std::vector<ColoredSegment> out;
   out.reserve(coords.rows() > 0 ? static_cast<std::size_t>(coords.rows() - 1) : 0);
   for (std::size_t k = 0; k + 1 < bounds.size(); ++k) {
@@ -429,6 +441,13 @@ std::vector<ColoredSegment> trajectory_segments(const Eigen::MatrixXd& coords,
   return out;
 }
 
+}  // namespace
+
+std::vector<ColoredSegment> trajectory_segments(const Eigen::MatrixXd& coords,
+                                                const std::vector<int>& segment_starts) {
+  return segments_in(coords, segment_starts, unit_mapping(coords));
+}
+
 QRectF data_area(const QRectF& rect, const MapPlotOptions& options) {
   return layout_panel(rect, options).data;
 }
@@ -439,15 +458,17 @@ QTransform unit_transform(const QRectF& rect, const MapPlotOptions& options) {
 
 QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
                          const MapPlotOptions& options) {
-  return data_to_unit(coords) * unit_transform(rect, options);
+  const UnitMapping m = panel_mapping(coords, options);
+  const QTransform to_unit(m.scale, 0, 0, m.scale, 0.5 - m.cx * m.scale, 0.5 - m.cy * m.scale);
+  return to_unit * unit_transform(rect, options);
 }
 
 void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coords,
                const std::vector<int>& segment_starts, const MapPlotOptions& options) {
   const std::vector<int> bounds = clip_bounds(coords, segment_starts);  // validates first
   require_gui_application("paint_map");
-  const std::vector<ColoredSegment> segments = trajectory_segments(coords, segment_starts);
-  const UnitMapping unit = unit_mapping(coords);
+  const UnitMapping unit = panel_mapping(coords, options);
+  const std::vector<ColoredSegment> segments = segments_in(coords, segment_starts, unit);
   const Layout l = layout_panel(rect, options);
   const QTransform to_px = unit_to_rect(l.data);
   const double lw =
@@ -465,6 +486,18 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   painter.setPen(QPen(QColor(150, 150, 150), 1.0));
   painter.setBrush(Qt::NoBrush);
   painter.drawRect(l.box);
+
+  if (options.backdrop.size() > 0) {
+    const double r = std::max(1.0, lw * 0.75);
+    painter.setPen(Qt::NoPen);
+    painter.setBrush(options.backdrop_color);
+    for (Eigen::Index i = 0; i < options.backdrop.rows(); ++i) {
+      if (!finite_row(options.backdrop, i)) continue;
+      painter.drawEllipse(to_px.map(unit.map(options.backdrop(i, 0), options.backdrop(i, 1))), r,
+                          r);
+    }
+    painter.setBrush(Qt::NoBrush);
+  }
 
   // Trajectory: consecutive segments in the same time bin become one polyline.
   QPolygonF run;
@@ -537,6 +570,7 @@ void save_map_plot(const std::string& path, const Eigen::MatrixXd& coords,
                          " is outside [16, 16384]");
   }
   clip_bounds(coords, segment_starts);  // invalid data must not leave a half-written file
+  if (options.backdrop.size() > 0) check_columns(options.backdrop, "backdrop");
   render_file("save_map_plot", path, QSize(size_px, size_px), options.title,
               [&](QPainter& painter, const QRectF& area) {
                 paint_map(painter, area, coords, segment_starts, options);
@@ -554,7 +588,10 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
     throw ParameterError("save_figure: panel_px = " + std::to_string(panel_px) +
                          " is outside [64, 4096]");
   }
-  for (const FigurePanel& p : panels) clip_bounds(p.coords, p.segment_starts);
+  for (const FigurePanel& p : panels) {
+    clip_bounds(p.coords, p.segment_starts);
+    if (p.options.backdrop.size() > 0) check_columns(p.options.backdrop, "backdrop");
+  }
 
   const std::size_t n = panels.size();
   const std::size_t cols = std::min<std::size_t>(columns, n);

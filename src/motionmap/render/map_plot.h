@@ -53,6 +53,11 @@ struct MapPlotOptions {
   QStringList clip_names;
   double line_width = 2.0;        ///< trajectory pen width, clamped to [0, 100]; 0 is a hairline
   QColor background = Qt::white;  ///< fills the whole rect; an invalid colour leaves it as is
+  /// Points drawn as dots under the trajectory ("#points by ≥ 2", columns 0 and 1), e.g. the
+  /// samples of a saved map under new frames placed on it; the panel's extent covers them too.
+  /// Non-finite rows are skipped.
+  Eigen::MatrixXd backdrop;
+  QColor backdrop_color = QColor(190, 190, 190);
 };
 
 /// One piece of a trajectory, from sample `sample` to sample `sample + 1` of the same clip, in
@@ -94,17 +99,20 @@ QRectF data_area(const QRectF& rect, const MapPlotOptions& options = {});
 QTransform unit_transform(const QRectF& rect, const MapPlotOptions& options = {});
 
 /// Data → painter coordinates exactly as paint_map(painter, rect, coords, …, options) draws:
-/// data_to_unit(coords) * unit_transform(rect, options). `map_transform(...).inverted().map(mouse)`
+/// data_to_unit(coords) * unit_transform(rect, options), with the extent of options.backdrop
+/// included in data_to_unit's when there is one. `map_transform(...).inverted().map(mouse)`
 /// gives the map coordinates under a mouse position (invertible as long as the data's extent is
 /// below 10⁶ × the data area's side in pixels: Qt's fuzzy determinant test).
 QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
                          const MapPlotOptions& options = {});
 
 /// Draws one panel into `rect`: background, title on top, a square data area with a thin frame,
-/// the trajectory coloured by each clip's own time, start markers, notes at the bottom.
+/// the backdrop's dots, the trajectory coloured by each clip's own time, start markers, notes at
+/// the bottom.
 /// Degenerate input (no/one sample, identical samples, NaN rows) draws what remains.
 /// Needs a QGuiApplication (text does). Linear in #samples.
-/// @throws ParameterError if coords has < 2 columns or segment_starts is invalid.
+/// @throws ParameterError if coords (or a non-empty backdrop) has < 2 columns or segment_starts
+///   is invalid.
 /// @throws Error if no QGuiApplication exists (nothing is drawn).
 void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coords,
                const std::vector<int>& segment_starts, const MapPlotOptions& options);

@@ -53,7 +53,8 @@ int Skeleton::find(std::string_view name) const {
 bool Skeleton::same_hierarchy(const Skeleton& other) const {
   if (joints.size() != other.joints.size()) return false;
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    if (joints[i].name != other.joints[i].name || joints[i].parent != other.joints[i].parent) {
+    if (joints[i].name != other.joints[i].name || joints[i].parent != other.joints[i].parent ||
+        joints[i].end_sites.size() != other.joints[i].end_sites.size()) {
       return false;
     }
   }

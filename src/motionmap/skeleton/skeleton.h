@@ -63,7 +63,8 @@ struct Skeleton {
   std::vector<int> roots() const;
   /// Index of the joint called `name`, or −1.
   int find(std::string_view name) const;
-  /// True when both have the same joint names and parents in the same order (offsets may differ).
+  /// True when both have the same joint names and parents in the same order, and each joint the
+  /// same number of End Sites (offsets may differ): the layouts of features and point clouds.
   bool same_hierarchy(const Skeleton& other) const;
   /// Checks parents come before children and names are unique.
   /// @throws Error naming the first offending joint.

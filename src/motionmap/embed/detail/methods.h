@@ -16,6 +16,10 @@ class Progress;
 /// PCA of X (#frames by #features): scores on the top principal axes.
 void run_pca(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
              Progress& progress);
+/// PCA's per-column scale when standardising: the population standard deviation, 1 for a
+/// constant column (StandardScaler's rule); counts those in *constant_columns when given.
+Eigen::RowVectorXd standardization_scale(const Eigen::MatrixXd& X, const Eigen::RowVectorXd& mean,
+                                         int* constant_columns);
 /// Truncated SVD of X, not centred: X times its top right-singular vectors.
 void run_svd(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
              Progress& progress);

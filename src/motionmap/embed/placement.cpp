@@ -1,0 +1,365 @@
+#include "motionmap/embed/placement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <nanoflann.hpp>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
+
+namespace motionmap::embed {
+
+namespace {
+
+constexpr int kFramesPerChunk = 256;
+
+std::string who(Method method) {
+  return "place (" + std::string(method_name(method)) + "): ";
+}
+
+// The k nearest samples of a new point, nearest first (ties: the smaller index), by the model's
+// metric: a k-d tree for Euclidean points, every sample otherwise.
+class SampleIndex {
+ public:
+  SampleIndex(const RowMatrix& samples, Metric metric) : m_samples(samples), m_metric(metric) {
+    if (metric == Metric::Euclidean) {
+      m_tree = std::make_unique<Tree>(static_cast<int>(samples.cols()), m_adaptor,
+                                      nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    }
+  }
+
+  // index/distance receive the k nearest (k ≤ #samples).
+  void nearest(PoseRow x, int k, std::vector<int>& index, std::vector<double>& distance) const {
+    const int n = static_cast<int>(m_samples.rows());
+    std::vector<std::pair<double, int>> candidates;
+    if (m_tree) {
+      // A few more than k from the tree, re-ranked by the metric as the fit computed it.
+      const int want = std::min(n, k + 4);
+      std::vector<std::uint32_t> found(static_cast<std::size_t>(want));
+      std::vector<double> squared(static_cast<std::size_t>(want));
+      const Eigen::RowVectorXd query = x;
+      const std::size_t got = m_tree->knnSearch(query.data(), want, found.data(), squared.data());
+      for (std::size_t a = 0; a < got; ++a) {
+        candidates.emplace_back(pose_distance(x, m_samples.row(found[a]), m_metric), int(found[a]));
+      }
+    } else {
+      candidates.reserve(std::size_t(n));
+      for (int s = 0; s < n; ++s) {
+        candidates.emplace_back(pose_distance(x, m_samples.row(s), m_metric), s);
+      }
+    }
+    const std::size_t keep = std::min<std::size_t>(std::size_t(k), candidates.size());
+    std::partial_sort(candidates.begin(), candidates.begin() + std::ptrdiff_t(keep),
+                      candidates.end());
+    index.resize(keep);
+    distance.resize(keep);
+    for (std::size_t a = 0; a < keep; ++a) {
+      distance[a] = candidates[a].first;
+      index[a] = candidates[a].second;
+    }
+  }
+
+ private:
+  struct Adaptor {
+    const RowMatrix& rows;
+    std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(rows.rows()); }
+    double kdtree_get_pt(std::size_t i, std::size_t d) const {
+      return rows(Eigen::Index(i), Eigen::Index(d));
+    }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Adaptor<double, Adaptor, double>,
+                                                   Adaptor, -1, std::uint32_t>;
+  const RowMatrix& m_samples;
+  Metric m_metric;
+  Adaptor m_adaptor{m_samples};
+  std::unique_ptr<Tree> m_tree;
+};
+
+// −½·P·(δ² − μ) + c for one frame's distances δ to the landmarks, summed in a fixed order.
+void triangulate_one(const LandmarkFit& fit, const double* delta, double* x) {
+  const Eigen::Index L = fit.projection.cols();
+  for (Eigen::Index a = 0; a < fit.projection.rows(); ++a) {
+    double sum = 0.0;
+    for (Eigen::Index l = 0; l < L; ++l) {
+      sum += fit.projection(a, l) * (delta[l] * delta[l] - fit.mean_squared[l]);
+    }
+    x[a] = -0.5 * sum + fit.offset[a];
+  }
+}
+
+// Shortest-path lengths from a new frame that joins `graph` through `entry` (sample, length)
+// edges, to every sample (Dijkstra with lazy deletion).
+void geodesics_from(const Graph& graph, const std::vector<int>& entry,
+                    const std::vector<double>& length, std::vector<double>& dist) {
+  const int n = graph.frames();
+  dist.assign(std::size_t(n), std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int>;
+  std::vector<Item> heap;
+  auto push = [&](double d, int v) {
+    heap.emplace_back(d, v);
+    std::push_heap(heap.begin(), heap.end(), std::greater<>());
+  };
+  for (std::size_t a = 0; a < entry.size(); ++a) {
+    if (length[a] < dist[entry[a]]) {
+      dist[entry[a]] = length[a];
+      push(length[a], entry[a]);
+    }
+  }
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+    const auto [d, u] = heap.back();
+    heap.pop_back();
+    if (d > dist[u]) continue;
+    for (int e = graph.offsets[u]; e < graph.offsets[u + 1]; ++e) {
+      const double candidate = d + graph.weights[e];
+      if (candidate < dist[graph.targets[e]]) {
+        dist[graph.targets[e]] = candidate;
+        push(candidate, graph.targets[e]);
+      }
+    }
+  }
+}
+
+void check_rows(const Eigen::Ref<const Eigen::MatrixXd>& rows, Eigen::Index columns,
+                const char* what, Method method) {
+  if (rows.cols() != columns) {
+    throw ParameterError(who(method) + "the new frames' " + what + " have " +
+                         std::to_string(rows.cols()) + " values per frame; the map's have " +
+                         std::to_string(columns));
+  }
+  if (!rows.allFinite()) {
+    for (Eigen::Index r = 0; r < rows.rows(); ++r) {
+      if (!rows.row(r).allFinite()) {
+        throw ParameterError(who(method) + "frame " + std::to_string(r) + "'s " + what +
+                             " are not all finite");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const Embedding& map) {
+  MapModel model;
+  model.method = map.method;
+  model.dimensions = static_cast<int>(map.coordinates.cols());
+  model.coordinates = map.coordinates;
+  const Eigen::Index n = map.coordinates.rows();
+  const std::string w = who(map.method);
+  auto require = [&](bool ok, const std::string& what) {
+    if (!ok) throw ParameterError(w + what + " of the " + std::to_string(n) + " mapped frames");
+  };
+  switch (map.method) {
+    case Method::Pca:
+    case Method::Svd: {
+      require(input.features && input.features->rows() == n, "make_model needs the features X");
+      const Eigen::MatrixXd& X = *input.features;
+      if (map.method == Method::Pca) {
+        model.mean = X.colwise().mean();
+        if (options.standardize) model.scale = standardization_scale(X, model.mean, nullptr);
+      }
+      // Y = Z·V with Z the centred (scaled) X, so Zᵀ·Y = V·Σ² and V = Zᵀ·Y ÷ Σ².
+      Eigen::MatrixXd Z = X;
+      if (model.mean.size() > 0) Z.rowwise() -= model.mean;
+      if (model.scale.size() > 0) Z = Z.array().rowwise() / model.scale.array();
+      model.axes = Z.transpose() * map.coordinates;
+      for (int a = 0; a < model.dimensions; ++a) {
+        const double s2 = map.coordinates.col(a).squaredNorm();
+        model.axes.col(a) = s2 > 0.0 ? (model.axes.col(a) / s2).eval()
+                                     : Eigen::VectorXd::Zero(model.axes.rows()).eval();
+      }
+      break;
+    }
+    case Method::Mds:
+    case Method::Isomap:
+    case Method::LaplacianEigenmap:
+    case Method::Lle: {
+      require(input.points && input.points->rows() == n,
+              "make_model needs the points (the rows D is computed from)");
+      model.metric = input.metric;
+      if (map.method == Method::Mds || map.method == Method::Isomap) {
+        require(map.landmarks.has_value(), "make_model needs the map's landmark fit");
+        model.landmarks = map.landmarks;
+      }
+      if (map.method == Method::Mds && map.from_points) {
+        model.points_are_landmarks = true;
+        model.points.resize(Eigen::Index(model.landmarks->frames.size()), input.points->cols());
+        for (std::size_t l = 0; l < model.landmarks->frames.size(); ++l) {
+          model.points.row(Eigen::Index(l)) = input.points->row(model.landmarks->frames[l]);
+        }
+      } else {
+        model.points = *input.points;
+      }
+      if (uses_graph(map.method)) model.k = map.k_used;
+      if (map.method == Method::Isomap && !map.from_points) {
+        require(input.distances && input.distances->rows() == n,
+                "make_model needs D for a dense isomap map");
+        Embedding scratch;
+        Progress none;
+        model.graph =
+            build_neighbor_graph(*input.distances, options, scratch, none, 0.0, 1.0).graph;
+      }
+      if (map.method == Method::LaplacianEigenmap) {
+        model.heat = map.heat_used;
+        model.eigenvalues = map.eigenvalues;
+      }
+      if (map.method == Method::Lle) {
+        require(input.features && input.features->rows() == n, "make_model needs the features X");
+        model.features = *input.features;
+        model.reg = options.reg;
+      }
+      break;
+    }
+  }
+  return model;
+}
+
+Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Control& control) {
+  const Method method = model.method;
+  const int dims = model.dimensions;
+  const bool projection = method == Method::Pca || method == Method::Svd;
+  const bool needs_features = projection || method == Method::Lle;
+  const bool needs_points = !projection;
+  if (needs_features && !input.features) {
+    throw ParameterError(who(method) + "this map places frames by their features X; none given");
+  }
+  if (needs_points && !input.points) {
+    throw ParameterError(who(method) + "this map places frames by their points; none given");
+  }
+  Eigen::Index frames = needs_points ? input.points->rows() : input.features->rows();
+  if (needs_features) {
+    check_rows(*input.features, projection ? model.axes.rows() : model.features.cols(), "features",
+               method);
+  }
+  if (needs_points) check_rows(*input.points, model.points.cols(), "points", method);
+  if (needs_features && needs_points && input.features->rows() != frames) {
+    throw ParameterError(who(method) + "the new frames have " +
+                         std::to_string(input.features->rows()) + " rows of features but " +
+                         std::to_string(frames) + " of points");
+  }
+
+  Eigen::MatrixXd out(frames, dims);
+  if (frames == 0) return out;
+  // The nearest-sample index: every method with points but a landmark mds map (which keeps only
+  // its landmarks, and places a sample exactly by the triangulation anyway).
+  const bool landmark_mds = model.points_are_landmarks;
+  std::unique_ptr<SampleIndex> index;
+  if (needs_points && !landmark_mds)
+    index = std::make_unique<SampleIndex>(model.points, model.metric);
+  const int k = std::max(model.k, 1);
+  static const RowMatrix no_points;
+  const RowMatrix& points = needs_points ? *input.points : no_points;
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> features =
+      needs_features ? *input.features : Eigen::MatrixXd();
+
+  auto place_one = [&](Eigen::Index f, std::vector<int>& nb, std::vector<double>& nd,
+                       std::vector<double>& scratch) {
+    double value[3] = {0.0, 0.0, 0.0};
+    if (projection) {
+      for (int a = 0; a < dims; ++a) {
+        double sum = 0.0;
+        for (Eigen::Index c = 0; c < model.axes.rows(); ++c) {
+          double v = features(f, c);
+          if (model.mean.size() > 0) v -= model.mean[c];
+          if (model.scale.size() > 0) v /= model.scale[c];
+          sum += v * model.axes(c, a);
+        }
+        value[a] = sum;
+      }
+    } else if (landmark_mds) {
+      const LandmarkFit& fit = *model.landmarks;
+      scratch.resize(fit.frames.size());
+      for (std::size_t l = 0; l < fit.frames.size(); ++l) {
+        scratch[l] = pose_distance(model.points.row(Eigen::Index(l)), points.row(f), model.metric);
+      }
+      triangulate_one(fit, scratch.data(), value);
+    } else {
+      const PoseRow p = points.row(f);
+      index->nearest(p, method == Method::Mds ? 1 : k, nb, nd);
+      if (nd[0] == 0.0) {
+        // A sample's own pose lands on that sample.
+        for (int a = 0; a < dims; ++a) value[a] = model.coordinates(nb[0], a);
+      } else if (method == Method::Mds) {
+        const LandmarkFit& fit = *model.landmarks;
+        scratch.resize(fit.frames.size());
+        for (std::size_t l = 0; l < fit.frames.size(); ++l) {
+          scratch[l] = pose_distance(model.points.row(fit.frames[l]), p, model.metric);
+        }
+        triangulate_one(fit, scratch.data(), value);
+      } else if (method == Method::Isomap) {
+        const LandmarkFit& fit = *model.landmarks;
+        const std::size_t L = fit.frames.size();
+        scratch.assign(L, std::numeric_limits<double>::infinity());
+        if (fit.geodesic.size() > 0) {
+          for (std::size_t a = 0; a < nb.size(); ++a) {
+            const double* g = fit.geodesic.col(nb[a]).data();
+            for (std::size_t l = 0; l < L; ++l) scratch[l] = std::min(scratch[l], nd[a] + g[l]);
+          }
+        } else {
+          std::vector<double> dist;
+          geodesics_from(model.graph, nb, nd, dist);
+          for (std::size_t l = 0; l < L; ++l) scratch[l] = dist[fit.frames[l]];
+        }
+        triangulate_one(fit, scratch.data(), value);
+      } else if (method == Method::LaplacianEigenmap) {
+        // Normalised heat-kernel weights, shifted by the nearest distance (exact for the ratio,
+        // and no underflow far from the samples).
+        double total = 0.0;
+        for (std::size_t a = 0; a < nb.size(); ++a) {
+          const double w =
+              model.heat > 0.0 ? std::exp(-(nd[a] * nd[a] - nd[0] * nd[0]) / model.heat) : 1.0;
+          total += w;
+          for (int c = 0; c < dims; ++c) value[c] += w * model.coordinates(nb[a], c);
+        }
+        for (int c = 0; c < dims; ++c) value[c] /= total * (1.0 - model.eigenvalues[c]);
+      } else {  // LLE: the barycentric weights of the k nearest samples, as the fit solved them
+        const Eigen::Index m = static_cast<Eigen::Index>(nb.size());
+        Eigen::MatrixXd Z(m, model.features.cols());
+        for (Eigen::Index a = 0; a < m; ++a) {
+          Z.row(a) = model.features.row(nb[a]) - features.row(f);
+        }
+        Eigen::MatrixXd C = Eigen::MatrixXd::Zero(m, m);
+        C.selfadjointView<Eigen::Lower>().rankUpdate(Z);
+        const double trace = C.trace();
+        C.diagonal().array() += trace > 0.0 ? model.reg * trace : model.reg;
+        Eigen::VectorXd w = C.llt().solve(Eigen::VectorXd::Ones(m));
+        w /= w.sum();
+        for (Eigen::Index a = 0; a < m; ++a) {
+          for (int c = 0; c < dims; ++c) value[c] += w[a] * model.coordinates(nb[a], c);
+        }
+      }
+    }
+    for (int a = 0; a < dims; ++a) out(f, a) = value[a];
+  };
+
+  const int chunks = static_cast<int>((frames + kFramesPerChunk - 1) / kFramesPerChunk);
+  parallel_chunks(
+      chunks,
+      [&](int c, int) {
+        std::vector<int> nb;
+        std::vector<double> nd, scratch;
+        const Eigen::Index end =
+            std::min<Eigen::Index>(frames, Eigen::Index(c + 1) * kFramesPerChunk);
+        for (Eigen::Index f = Eigen::Index(c) * kFramesPerChunk; f < end; ++f) {
+          place_one(f, nb, nd, scratch);
+        }
+      },
+      [&](int done) { control.update(double(done) / chunks); });
+  return out;
+}
+
+}  // namespace motionmap::embed

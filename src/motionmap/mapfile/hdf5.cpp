@@ -1,0 +1,507 @@
+#include "motionmap/mapfile/detail/hdf5.h"
+
+#include <hdf5.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+
+#include "motionmap/core/error.h"
+
+namespace motionmap::mapfile::detail {
+
+namespace {
+
+// Debian's serial HDF5 is not built thread-safe: one Writer or Reader at a time per process
+// (recursive, so one thread may hold a Reader while it writes).
+std::recursive_mutex& hdf5_lock() {
+  static std::recursive_mutex lock;
+  return lock;
+}
+
+// An HDF5 identifier with the function that closes it.
+class Id {
+ public:
+  Id() = default;
+  Id(hid_t id, herr_t (*close)(hid_t)) : m_id(id), m_close(close) {}
+  ~Id() { reset(); }
+  Id(Id&& o) noexcept : m_id(o.m_id), m_close(o.m_close) { o.m_id = H5I_INVALID_HID; }
+  Id& operator=(Id&& o) noexcept {
+    if (this != &o) {
+      reset();
+      m_id = o.m_id;
+      m_close = o.m_close;
+      o.m_id = H5I_INVALID_HID;
+    }
+    return *this;
+  }
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+
+  hid_t get() const { return m_id; }
+  bool valid() const { return m_id >= 0; }
+  /// Closes now; false if HDF5 reports a failure (a write that could not be flushed).
+  bool reset() {
+    bool ok = true;
+    if (m_id >= 0 && m_close) ok = m_close(m_id) >= 0;
+    m_id = H5I_INVALID_HID;
+    return ok;
+  }
+
+ private:
+  hid_t m_id = H5I_INVALID_HID;
+  herr_t (*m_close)(hid_t) = nullptr;
+};
+
+// While alive: the process-wide lock, and HDF5's automatic error printing (a stack dump on
+// stderr for every failed call, including the ones we expect, such as probing for an
+// attribute) switched off; the previous handler comes back afterwards.
+class Quiet {
+ public:
+  Quiet() : m_lock(hdf5_lock()) {
+    H5Eget_auto2(H5E_DEFAULT, &m_func, &m_data);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~Quiet() { H5Eset_auto2(H5E_DEFAULT, m_func, m_data); }
+  Quiet(const Quiet&) = delete;
+  Quiet& operator=(const Quiet&) = delete;
+
+ private:
+  std::lock_guard<std::recursive_mutex> m_lock;
+  H5E_auto2_t m_func = nullptr;
+  void* m_data = nullptr;
+};
+
+// The first message of HDF5's error stack ("unable to open file", …), for our messages.
+std::string hdf5_reason() {
+  std::string reason;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_DOWNWARD,
+      [](unsigned n, const H5E_error2_t* e, void* out) -> herr_t {
+        if (n == 0 && e && e->desc) *static_cast<std::string*>(out) = e->desc;
+        return 0;
+      },
+      &reason);
+  return reason;
+}
+
+Id variable_string_type(H5T_cset_t cset = H5T_CSET_UTF8) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_cset(type.get(), cset);
+  return type;
+}
+
+// A memory type for reading strings of the file type `file_type`: HDF5 converts neither between
+// ASCII and UTF-8 strings nor between variable and fixed length, so it takes the file's.
+Id string_memory_type(hid_t file_type) {
+  const H5T_cset_t cset = H5Tget_cset(file_type);
+  if (H5Tis_variable_str(file_type) > 0) return variable_string_type(cset);
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), H5Tget_size(file_type));
+  H5Tset_cset(type.get(), cset);
+  return type;
+}
+
+// Datasets of at least this many values are chunked and compressed.
+constexpr std::uint64_t kCompressFrom = 1u << 16;
+// Values per chunk (512 KiB of float64), whole rows.
+constexpr std::uint64_t kChunkValues = 1u << 16;
+
+}  // namespace
+
+std::string describe_element(const DatasetInfo& info) {
+  switch (info.kind) {
+    case DatasetInfo::Kind::Float:
+      return "float" + std::to_string(8 * info.element_bytes);
+    case DatasetInfo::Kind::Integer:
+      return "int" + std::to_string(8 * info.element_bytes);
+    case DatasetInfo::Kind::String:
+      return "string";
+    case DatasetInfo::Kind::Other:
+      break;
+  }
+  return "another type (not a number or string)";
+}
+
+// ---- Writer ---------------------------------------------------------------------------------
+
+struct Writer::State {
+  Quiet quiet;
+  std::string path;
+  Id file;
+  bool closed = false;
+
+  [[noreturn]] void fail(const std::string& what) const {
+    const std::string reason = hdf5_reason();
+    throw Error(path + ": error: cannot write " + what + (reason.empty() ? "" : ": " + reason));
+  }
+  Id open_object(const std::string& object) const {
+    Id id(H5Oopen(file.get(), object.c_str(), H5P_DEFAULT), H5Oclose);
+    if (!id.valid()) fail("attributes of " + object + " (no such object)");
+    return id;
+  }
+  void write_attribute(const std::string& object, const std::string& name, hid_t file_type,
+                       hid_t memory_type, const void* value) const {
+    const Id target = open_object(object);
+    const Id space(H5Screate(H5S_SCALAR), H5Sclose);
+    const Id attr(
+        H5Acreate2(target.get(), name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+        H5Aclose);
+    if (!attr.valid() || H5Awrite(attr.get(), memory_type, value) < 0) {
+      fail("attribute " + name + " of " + object);
+    }
+  }
+};
+
+Writer::Writer(const std::string& path) : m(std::make_unique<State>()) {
+  m->path = path;
+  m->file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (!m->file.valid()) {
+    const std::string reason = hdf5_reason();
+    throw Error(path + ": error: cannot create the file" + (reason.empty() ? "" : ": " + reason));
+  }
+}
+
+Writer::~Writer() {
+  if (m && !m->closed) {
+    m->file.reset();
+    std::error_code ec;
+    std::filesystem::remove(m->path, ec);
+  }
+}
+
+void Writer::group(const std::string& name) {
+  const Id g(H5Gcreate2(m->file.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             H5Gclose);
+  if (!g.valid()) m->fail("group " + name);
+}
+
+void Writer::attribute(const std::string& object, const std::string& name,
+                       const std::string& value) {
+  const Id type = variable_string_type();
+  const char* text = value.c_str();
+  m->write_attribute(object, name, type.get(), type.get(), &text);
+}
+
+void Writer::attribute(const std::string& object, const std::string& name, std::int64_t value) {
+  m->write_attribute(object, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &value);
+}
+
+void Writer::attribute(const std::string& object, const std::string& name, double value) {
+  m->write_attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
+}
+
+void Writer::doubles(const std::string& name, const double* data, std::uint64_t rows,
+                     std::uint64_t cols) {
+  const hsize_t dims[2] = {rows, cols};
+  const int rank = cols == 0 ? 1 : 2;
+  const std::uint64_t count = rank == 1 ? rows : rows * cols;
+  const Id space(H5Screate_simple(rank, dims, nullptr), H5Sclose);
+  const Id create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  if (count >= kCompressFrom) {
+    // Whole rows per chunk; shuffle groups the bytes of equal significance, which is what lets
+    // deflate compress doubles at all.
+    const std::uint64_t width = rank == 1 ? 1 : cols;
+    hsize_t chunk[2] = {std::max<std::uint64_t>(1, std::min(rows, kChunkValues / width)), cols};
+    if (rank == 1) chunk[0] = std::min<std::uint64_t>(rows, kChunkValues);
+    H5Pset_chunk(create.get(), rank, chunk);
+    H5Pset_shuffle(create.get());
+    H5Pset_deflate(create.get(), 1);
+  }
+  const Id set(H5Dcreate2(m->file.get(), name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                          create.get(), H5P_DEFAULT),
+               H5Dclose);
+  if (!set.valid()) m->fail("dataset " + name);
+  if (count > 0 &&
+      H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
+    m->fail("dataset " + name);
+  }
+}
+
+void Writer::ints(const std::string& name, const std::int32_t* data, std::uint64_t count) {
+  const hsize_t dims[1] = {count};
+  const Id space(H5Screate_simple(1, dims, nullptr), H5Sclose);
+  const Id create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  if (count >= kCompressFrom) {
+    const hsize_t chunk[1] = {std::min<std::uint64_t>(count, 2 * kChunkValues)};
+    H5Pset_chunk(create.get(), 1, chunk);
+    H5Pset_shuffle(create.get());
+    H5Pset_deflate(create.get(), 1);
+  }
+  const Id set(H5Dcreate2(m->file.get(), name.c_str(), H5T_STD_I32LE, space.get(), H5P_DEFAULT,
+                          create.get(), H5P_DEFAULT),
+               H5Dclose);
+  if (!set.valid()) m->fail("dataset " + name);
+  if (count > 0 && H5Dwrite(set.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
+    m->fail("dataset " + name);
+  }
+}
+
+void Writer::strings(const std::string& name, const std::vector<std::string>& values) {
+  const hsize_t dims[1] = {values.size()};
+  const Id space(H5Screate_simple(1, dims, nullptr), H5Sclose);
+  const Id type = variable_string_type();
+  const Id set(H5Dcreate2(m->file.get(), name.c_str(), type.get(), space.get(), H5P_DEFAULT,
+                          H5P_DEFAULT, H5P_DEFAULT),
+               H5Dclose);
+  if (!set.valid()) m->fail("dataset " + name);
+  std::vector<const char*> text;
+  for (const std::string& v : values) text.push_back(v.c_str());
+  if (!text.empty() &&
+      H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0) {
+    m->fail("dataset " + name);
+  }
+}
+
+void Writer::link(const std::string& existing, const std::string& name) {
+  if (H5Lcreate_hard(m->file.get(), existing.c_str(), m->file.get(), name.c_str(), H5P_DEFAULT,
+                     H5P_DEFAULT) < 0) {
+    m->fail("link " + name + " to " + existing);
+  }
+}
+
+void Writer::close() {
+  if (m->closed) return;
+  const bool flushed = H5Fflush(m->file.get(), H5F_SCOPE_GLOBAL) >= 0;
+  const bool closed = m->file.reset();
+  if (!flushed || !closed) m->fail("the file (flushing it to disk failed)");
+  m->closed = true;
+}
+
+// ---- Reader ---------------------------------------------------------------------------------
+
+struct Reader::State {
+  Quiet quiet;
+  std::string path;
+  Id file;
+
+  [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": error: " + what); }
+  Id dataset(const std::string& name) const {
+    Id set(H5Dopen2(file.get(), name.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) fail(name + " is not a dataset");
+    return set;
+  }
+  // The attribute, or an invalid Id when absent; its dataspace must hold one value.
+  Id attribute(const std::string& object, const std::string& name) const {
+    if (H5Aexists_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT) <= 0) return {};
+    Id attr(H5Aopen_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+            H5Aclose);
+    if (!attr.valid()) fail("cannot read attribute " + name + " of " + object);
+    const Id space(H5Aget_space(attr.get()), H5Sclose);
+    if (H5Sget_simple_extent_npoints(space.get()) != 1) {
+      fail("attribute " + name + " of " + object + " holds " +
+           std::to_string(H5Sget_simple_extent_npoints(space.get())) +
+           " values, expected a single value");
+    }
+    return attr;
+  }
+  H5T_class_t attribute_class(const Id& attr) const {
+    const Id type(H5Aget_type(attr.get()), H5Tclose);
+    return H5Tget_class(type.get());
+  }
+};
+
+Reader::Reader(const std::string& path) : m(std::make_unique<State>()) {
+  m->path = path;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw Error(path + ": error: is a directory, expected a map file");
+  }
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw Error(path + ": error: cannot open: " + std::strerror(errno));
+  }
+  if (H5Fis_hdf5(path.c_str()) <= 0) {
+    throw Error(path +
+                ": error: not an HDF5 file (expected a MotionMap map file, as `motionmap map "
+                "--save` writes)");
+  }
+  m->file = Id(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!m->file.valid()) {
+    const std::string reason = hdf5_reason();
+    throw Error(path + ": error: cannot open the HDF5 file" +
+                (reason.empty() ? "" : ": " + reason));
+  }
+}
+
+Reader::~Reader() = default;
+
+const std::string& Reader::path() const {
+  return m->path;
+}
+
+bool Reader::has(const std::string& name) const {
+  // H5Lexists fails (rather than saying no) when a parent is missing: check each prefix.
+  std::size_t at = 0;
+  while (at != std::string::npos) {
+    at = name.find('/', at + 1);
+    const std::string prefix = name.substr(0, at);
+    if (prefix.empty() || prefix == "/") continue;
+    if (H5Lexists(m->file.get(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+  }
+  return H5Oexists_by_name(m->file.get(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
+bool Reader::has_attribute(const std::string& object, const std::string& name) const {
+  return has(object) &&
+         H5Aexists_by_name(m->file.get(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
+std::optional<std::string> Reader::text_attribute(const std::string& object,
+                                                  const std::string& name) const {
+  if (!has_attribute(object, name)) return std::nullopt;
+  const Id attr = m->attribute(object, name);
+  const Id type(H5Aget_type(attr.get()), H5Tclose);
+  if (H5Tget_class(type.get()) != H5T_STRING) {
+    m->fail("attribute " + name + " of " + object + " is not a string");
+  }
+  const Id memory = string_memory_type(type.get());
+  if (H5Tis_variable_str(type.get()) > 0) {
+    char* text = nullptr;
+    if (H5Aread(attr.get(), memory.get(), &text) < 0) {
+      m->fail("cannot read attribute " + name + " of " + object);
+    }
+    std::string out = text ? text : "";
+    if (text) H5free_memory(text);
+    return out;
+  }
+  const std::size_t size = H5Tget_size(type.get());
+  std::string out(size, '\0');
+  if (H5Aread(attr.get(), memory.get(), out.data()) < 0) {
+    m->fail("cannot read attribute " + name + " of " + object);
+  }
+  out.resize(std::strlen(out.c_str()));
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+std::optional<std::int64_t> Reader::int_attribute(const std::string& object,
+                                                  const std::string& name) const {
+  if (!has_attribute(object, name)) return std::nullopt;
+  const Id attr = m->attribute(object, name);
+  if (m->attribute_class(attr) != H5T_INTEGER) {
+    m->fail("attribute " + name + " of " + object + " is not an integer");
+  }
+  std::int64_t value = 0;
+  if (H5Aread(attr.get(), H5T_NATIVE_INT64, &value) < 0) {
+    m->fail("cannot read attribute " + name + " of " + object);
+  }
+  return value;
+}
+
+std::optional<double> Reader::real_attribute(const std::string& object,
+                                             const std::string& name) const {
+  if (!has_attribute(object, name)) return std::nullopt;
+  const Id attr = m->attribute(object, name);
+  const H5T_class_t c = m->attribute_class(attr);
+  if (c != H5T_FLOAT && c != H5T_INTEGER) {
+    m->fail("attribute " + name + " of " + object + " is not a number");
+  }
+  double value = 0;
+  if (H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &value) < 0) {
+    m->fail("cannot read attribute " + name + " of " + object);
+  }
+  return value;
+}
+
+DatasetInfo Reader::info(const std::string& name) const {
+  const Id set = m->dataset(name);
+  const Id type(H5Dget_type(set.get()), H5Tclose);
+  const Id space(H5Dget_space(set.get()), H5Sclose);
+  DatasetInfo out;
+  switch (H5Tget_class(type.get())) {
+    case H5T_FLOAT:
+      out.kind = DatasetInfo::Kind::Float;
+      break;
+    case H5T_INTEGER:
+      out.kind = DatasetInfo::Kind::Integer;
+      break;
+    case H5T_STRING:
+      out.kind = DatasetInfo::Kind::String;
+      break;
+    default:
+      out.kind = DatasetInfo::Kind::Other;
+  }
+  out.element_bytes = H5Tget_size(type.get());
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0) m->fail("cannot read the shape of " + name);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+  if (rank > 0) H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  out.shape.assign(dims.begin(), dims.end());
+  return out;
+}
+
+namespace {
+
+std::uint64_t element_count(const DatasetInfo& info) {
+  std::uint64_t n = 1;
+  for (const std::uint64_t d : info.shape) n *= d;
+  return n;
+}
+
+}  // namespace
+
+std::vector<double> Reader::doubles(const std::string& name) const {
+  const std::uint64_t n = element_count(info(name));
+  std::vector<double> out(n);
+  const Id set = m->dataset(name);
+  if (n > 0 &&
+      H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0) {
+    m->fail("cannot read " + name + ": " + hdf5_reason());
+  }
+  return out;
+}
+
+std::vector<std::int64_t> Reader::ints(const std::string& name) const {
+  const std::uint64_t n = element_count(info(name));
+  std::vector<std::int64_t> out(n);
+  const Id set = m->dataset(name);
+  if (n > 0 &&
+      H5Dread(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0) {
+    m->fail("cannot read " + name + ": " + hdf5_reason());
+  }
+  return out;
+}
+
+std::vector<std::string> Reader::strings(const std::string& name) const {
+  const std::uint64_t n = element_count(info(name));
+  const Id set = m->dataset(name);
+  const Id type(H5Dget_type(set.get()), H5Tclose);
+  std::vector<std::string> out;
+  out.reserve(n);
+  if (n == 0) return out;
+  const Id memory = string_memory_type(type.get());
+  if (H5Tis_variable_str(type.get()) > 0) {
+    std::vector<char*> text(n, nullptr);
+    if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0) {
+      m->fail("cannot read " + name + ": " + hdf5_reason());
+    }
+    for (char* t : text) out.emplace_back(t ? t : "");
+    const Id space(H5Dget_space(set.get()), H5Sclose);
+    // H5Treclaim from 1.12 on; 1.10 (Debian 12) declares it but only exports H5Dvlen_reclaim.
+#if H5_VERSION_GE(1, 12, 0)
+    H5Treclaim(memory.get(), space.get(), H5P_DEFAULT, text.data());
+#else
+    H5Dvlen_reclaim(memory.get(), space.get(), H5P_DEFAULT, text.data());
+#endif
+    return out;
+  }
+  const std::size_t size = H5Tget_size(type.get());
+  std::vector<char> buffer(n * size + 1, '\0');
+  if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0) {
+    m->fail("cannot read " + name + ": " + hdf5_reason());
+  }
+  for (std::uint64_t i = 0; i < n; ++i) {
+    std::string s(buffer.data() + i * size, size);
+    s.resize(std::strlen(s.c_str()));
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace motionmap::mapfile::detail

@@ -1,0 +1,147 @@
+#pragma once
+// Map files: a map saved with everything needed to read it back and to place new clips' frames
+// on it without refitting (`motionmap map … --save lib.mmap.h5`, then `motionmap map NEW.bvh
+// --onto lib.mmap.h5`). HDF5 on disk, so h5py, MATLAB and every HDF5 tool read it too; the
+// layout (group and dataset names, shapes, types, version policy) is docs/map-file.md.
+//
+//   auto map = motionmap::pipeline::map_clips(clips, options);
+//   motionmap::mapfile::MapFile file = motionmap::mapfile::make_map_file(clips, map, options);
+//   motionmap::mapfile::write_map_file("lib.mmap.h5", file);
+//   …
+//   const auto saved = motionmap::mapfile::read_map_file("lib.mmap.h5");
+//   const auto placed = motionmap::mapfile::place_clips(new_clips, saved);
+//   // placed.coordinates row i ↔ new clip placed.features.clip_of[i], frame frame_of[i]
+//
+// A file of another format, of a layout version this library does not know, with a missing
+// item, an item of the wrong shape or type, or values out of range (indices, non-finite numbers)
+// is refused with an error naming the file and what was expected: what read_map_file() returns
+// can be placed on without further checks.
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motionmap/core/control.h"
+#include "motionmap/embed/placement.h"
+#include "motionmap/features/features.h"
+#include "motionmap/pipeline/clip_map.h"
+
+namespace motionmap::mapfile {
+
+/// The root attribute `format` of every map file.
+inline constexpr std::string_view kFormatName = "motionmap-map";
+/// The layout this library writes and the newest it reads (root attribute `format_version`).
+inline constexpr int kFormatVersion = 1;
+
+/// One clip the map was made from.
+struct ClipRecord {
+  std::string path;         ///< as it was given (relative paths stay relative)
+  std::string sha256;       ///< of the clip file's bytes (an .amc's, not its .asf's): 64 hex digits
+  int frames = 0;           ///< frames in the file
+  double frame_time = 0.0;  ///< seconds per frame
+  int first_sample = 0;     ///< its first row of the map
+  int samples = 0;          ///< how many rows of the map are its frames
+};
+
+/// The joints of the skeleton the map's first clip has (for checking a new clip against it).
+struct SkeletonRecord {
+  std::vector<std::string> names;
+  std::vector<int> parents;    ///< −1 for a root
+  std::vector<int> end_sites;  ///< End Sites per joint
+};
+
+/// Everything a map file holds. make_map_file() fills it from a map; read_map_file() from a file.
+struct MapFile {
+  /// The file it was read from (for messages); empty for a map made in memory.
+  std::string path;
+  std::vector<ClipRecord> clips;
+  /// Per map row (sample): its clip (index into `clips`) and its frame in that clip's file.
+  std::vector<int> clip_of;
+  std::vector<int> frame_of;
+
+  /// The effective parameters as pipeline::describe_parameters() wrote them.
+  std::string parameters;
+  /// The options the map was made with (features, embed, path). embed.heat is nullopt when the
+  /// heat was automatic; the width used is `heat_used`.
+  pipeline::ClipMapOptions options;
+  bool dense = true;            ///< the map took the dense path (from D), not the points path
+  int k_used = 0;               ///< graph methods: neighbours per frame
+  double heat_used = 0.0;       ///< le: heat-kernel width used
+  int landmarks_used = 0;       ///< points path of mds and isomap: landmarks chosen (else 0)
+  std::string neighbor_search;  ///< Embedding::neighbor_search
+  int graph_components = 0;     ///< Embedding::graph_components
+  int connecting_edges = 0;     ///< Embedding::connecting_edges
+  /// The features' notes and the map's warnings, as the CSV's comments give them.
+  std::vector<std::string> notes;
+  std::vector<std::string> warnings;
+
+  SkeletonRecord skeleton;
+  /// The joints the features use (features::FeatureSet::joints, by name, in order): with
+  /// quaternion features X holds their rotations, 4 columns per joint (w, x, y, z).
+  std::vector<std::string> joints;
+  /// JointSelection::Common: the joint names every mapped clip had (what the map compares by).
+  std::vector<std::string> shared_joints;
+  int x_columns = 0;      ///< columns of X
+  int point_columns = 0;  ///< columns of the points D is computed from
+
+  /// #samples by dims: the map (the CSV's x, y[, z]).
+  Eigen::MatrixXd coordinates;
+  /// What placing frames needs (its `coordinates` equal the ones above).
+  embed::MapModel model;
+
+  int num_samples() const { return static_cast<int>(clip_of.size()); }
+};
+
+/// The file record of `map`, a map_clips() result for `clips` with `options`: the clips' hashes
+/// (reading each file once more), the parameters, the joints and the placement model
+/// (pipeline::map_model).
+/// @throws Error if a clip file cannot be read for its hash; ParameterError if `map` is not a
+///   map of `clips`; as embed::make_model().
+MapFile make_map_file(std::span<const Clip> clips, const pipeline::ClipMap& map,
+                      const pipeline::ClipMapOptions& options);
+
+/// Writes `file` to `path` as HDF5 (docs/map-file.md), replacing what is there; a failed write
+/// leaves no file. @throws Error naming the path.
+void write_map_file(const std::string& path, const MapFile& file);
+
+/// Reads and checks a map file. @throws Error naming the path and what was expected: missing
+/// or unreadable, not HDF5, another format, a newer or unknown layout version, a missing group,
+/// dataset or attribute, a wrong shape or element type, an unknown name (method, metric, …),
+/// an index out of range, or a non-finite value.
+MapFile read_map_file(const std::string& path);
+
+/// Which frames of the new clips place_clips() places (the map's own clips' selection was for
+/// them). The feature definition (kind, distance, up axis, excluded and shared joints) always
+/// comes from the map.
+struct PlaceOptions {
+  int first_frame = 0;      ///< first file frame placed (per clip)
+  int end_frame = -1;       ///< one past the last; −1 = the clip's end
+  int stride = 1;           ///< every stride-th frame
+  bool keep_first = false;  ///< keep a leading bind pose (left out by default, with a note)
+};
+
+/// New frames on a saved map.
+struct Placement {
+  /// The new clips' samples: X and the points (no D), clip_of, frame_of, segment_starts, notes.
+  features::FeatureSet features;
+  /// #samples by dims: where each new frame lands.
+  Eigen::MatrixXd coordinates;
+};
+
+/// Places every selected frame of `clips` on `map` without refitting it: builds their features
+/// with the map's feature options, checks that they are comparable with the map's (joint
+/// hierarchy, or for a --joints common map the shared joint names; the columns of X and of the
+/// points), then embed::place(). A frame's place depends on that frame only.
+/// @throws ParameterError naming the clip and what differs from the map (its skeleton, a joint
+///   the map needs, the columns); as features::build_features() and embed::place(); Cancelled.
+Placement place_clips(std::span<const Clip> clips, const MapFile& map,
+                      const PlaceOptions& options = {}, const Control& control = {});
+
+/// The map's Embedding as far as describe_parameters() and the CSV writer read it (method,
+/// coordinates, k, heat, landmark count, neighbour search, components), with `coordinates` in
+/// place of the map's. For writing placed frames in the map CSV format.
+embed::Embedding embedding_for_csv(const MapFile& map, const Eigen::MatrixXd& coordinates);
+
+}  // namespace motionmap::mapfile

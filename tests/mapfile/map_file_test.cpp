@@ -1,0 +1,637 @@
+// Map files: write → read gives the same map bit for bit (every MapModel field, the options, the
+// clips); real maps of every method and path placed back on themselves; and every kind of bad
+// file refused with an error naming the file and what was expected. Bad files are made from good
+// ones with the HDF5 C API directly (an attribute changed, a dataset removed or replaced).
+#include "motionmap/mapfile/map_file.h"
+
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/sha256.h"
+#include "motionmap/features/joint_match.h"
+#include "motionmap/io/bvh.h"
+#include "motionmap/io/load.h"
+#include "motionmap/sample/sample_clip.h"
+#include "support/error_message.h"
+#include "support/small_clip.h"
+
+namespace motionmap::mapfile {
+namespace {
+
+using embed::Method;
+
+// A fresh folder for one test's files, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    m_path = std::filesystem::temp_directory_path() /
+             ("motionmap-mapfile-" + std::to_string(::getpid()) + "-" + info->name());
+    std::filesystem::remove_all(m_path);
+    std::filesystem::create_directories(m_path);
+  }
+  ~TempDir() { std::filesystem::remove_all(m_path); }
+  std::string file(const std::string& name) const { return (m_path / name).string(); }
+
+ private:
+  std::filesystem::path m_path;
+};
+
+bool same_bits(const double* a, const double* b, Eigen::Index n) {
+  return n == 0 || std::memcmp(a, b, sizeof(double) * std::size_t(n)) == 0;
+}
+
+template <class A, class B>
+::testing::AssertionResult bit_equal(const A& a, const B& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) {
+    return ::testing::AssertionFailure()
+           << "shape " << a.rows() << "×" << a.cols() << " vs " << b.rows() << "×" << b.cols();
+  }
+  // Compare in one storage order.
+  const Eigen::MatrixXd x = a, y = b;
+  if (!same_bits(x.data(), y.data(), x.size())) {
+    return ::testing::AssertionFailure() << "values differ";
+  }
+  return ::testing::AssertionSuccess();
+}
+
+void expect_same_model(const embed::MapModel& a, const embed::MapModel& b) {
+  EXPECT_EQ(a.method, b.method);
+  EXPECT_EQ(a.dimensions, b.dimensions);
+  EXPECT_TRUE(bit_equal(a.coordinates, b.coordinates));
+  EXPECT_TRUE(bit_equal(a.mean, b.mean));
+  EXPECT_TRUE(bit_equal(a.scale, b.scale));
+  EXPECT_TRUE(bit_equal(a.axes, b.axes));
+  EXPECT_TRUE(bit_equal(a.points, b.points));
+  EXPECT_EQ(a.metric, b.metric);
+  EXPECT_EQ(a.points_are_landmarks, b.points_are_landmarks);
+  EXPECT_EQ(a.k, b.k);
+  ASSERT_EQ(a.landmarks.has_value(), b.landmarks.has_value());
+  if (a.landmarks) {
+    EXPECT_EQ(a.landmarks->frames, b.landmarks->frames);
+    EXPECT_TRUE(bit_equal(a.landmarks->projection, b.landmarks->projection));
+    EXPECT_TRUE(bit_equal(a.landmarks->mean_squared, b.landmarks->mean_squared));
+    EXPECT_TRUE(bit_equal(a.landmarks->offset, b.landmarks->offset));
+    EXPECT_TRUE(bit_equal(a.landmarks->geodesic, b.landmarks->geodesic));
+  }
+  EXPECT_EQ(a.graph.offsets, b.graph.offsets);
+  EXPECT_EQ(a.graph.targets, b.graph.targets);
+  EXPECT_EQ(a.graph.weights.size(), b.graph.weights.size());
+  EXPECT_TRUE(same_bits(a.graph.weights.data(), b.graph.weights.data(),
+                        Eigen::Index(std::min(a.graph.weights.size(), b.graph.weights.size()))));
+  EXPECT_TRUE(std::memcmp(&a.heat, &b.heat, sizeof a.heat) == 0);
+  EXPECT_TRUE(bit_equal(a.eigenvalues, b.eigenvalues));
+  EXPECT_TRUE(bit_equal(a.features, b.features));
+  EXPECT_TRUE(std::memcmp(&a.reg, &b.reg, sizeof a.reg) == 0);
+}
+
+void expect_same_file(const MapFile& a, const MapFile& b) {
+  ASSERT_EQ(a.clips.size(), b.clips.size());
+  for (std::size_t c = 0; c < a.clips.size(); ++c) {
+    EXPECT_EQ(a.clips[c].path, b.clips[c].path);
+    EXPECT_EQ(a.clips[c].sha256, b.clips[c].sha256);
+    EXPECT_EQ(a.clips[c].frames, b.clips[c].frames);
+    EXPECT_EQ(a.clips[c].frame_time, b.clips[c].frame_time);
+    EXPECT_EQ(a.clips[c].first_sample, b.clips[c].first_sample);
+    EXPECT_EQ(a.clips[c].samples, b.clips[c].samples);
+  }
+  EXPECT_EQ(a.clip_of, b.clip_of);
+  EXPECT_EQ(a.frame_of, b.frame_of);
+  EXPECT_EQ(a.parameters, b.parameters);
+  const auto &fa = a.options.features, &fb = b.options.features;
+  EXPECT_EQ(fa.features, fb.features);
+  EXPECT_EQ(fa.distance, fb.distance);
+  EXPECT_EQ(fa.up, fb.up);
+  EXPECT_EQ(fa.exclude, fb.exclude);
+  EXPECT_EQ(fa.first_frame, fb.first_frame);
+  EXPECT_EQ(fa.end_frame, fb.end_frame);
+  EXPECT_EQ(fa.stride, fb.stride);
+  EXPECT_EQ(fa.keep_first, fb.keep_first);
+  EXPECT_EQ(fa.joints, fb.joints);
+  const auto &ea = a.options.embed, &eb = b.options.embed;
+  EXPECT_EQ(ea.method, eb.method);
+  EXPECT_EQ(ea.dimensions, eb.dimensions);
+  EXPECT_EQ(ea.k, eb.k);
+  EXPECT_EQ(ea.heat, eb.heat);
+  EXPECT_EQ(ea.reg, eb.reg);
+  EXPECT_EQ(ea.standardize, eb.standardize);
+  EXPECT_EQ(ea.strict, eb.strict);
+  EXPECT_EQ(ea.landmarks, eb.landmarks);
+  EXPECT_EQ(ea.search, eb.search);
+  EXPECT_EQ(a.options.path, b.options.path);
+  EXPECT_EQ(a.options.dense_limit, b.options.dense_limit);
+  EXPECT_EQ(a.dense, b.dense);
+  EXPECT_EQ(a.k_used, b.k_used);
+  EXPECT_EQ(a.heat_used, b.heat_used);
+  EXPECT_EQ(a.landmarks_used, b.landmarks_used);
+  EXPECT_EQ(a.neighbor_search, b.neighbor_search);
+  EXPECT_EQ(a.graph_components, b.graph_components);
+  EXPECT_EQ(a.connecting_edges, b.connecting_edges);
+  EXPECT_EQ(a.notes, b.notes);
+  EXPECT_EQ(a.warnings, b.warnings);
+  EXPECT_EQ(a.skeleton.names, b.skeleton.names);
+  EXPECT_EQ(a.skeleton.parents, b.skeleton.parents);
+  EXPECT_EQ(a.skeleton.end_sites, b.skeleton.end_sites);
+  EXPECT_EQ(a.joints, b.joints);
+  EXPECT_EQ(a.shared_joints, b.shared_joints);
+  EXPECT_EQ(a.x_columns, b.x_columns);
+  EXPECT_EQ(a.point_columns, b.point_columns);
+  EXPECT_TRUE(bit_equal(a.coordinates, b.coordinates));
+  expect_same_model(a.model, b.model);
+}
+
+// A map file with every field filled with seeded random values, consistent as the reader
+// checks: an isomap map (points, landmarks with geodesics, a graph) that also carries every other
+// method's fields, so that one round trip covers them all.
+MapFile synthetic_file(int n = 40, int dims = 3) {
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> normal;
+  auto matrix = [&](Eigen::Index r, Eigen::Index c) {
+    Eigen::MatrixXd m(r, c);
+    for (Eigen::Index i = 0; i < m.size(); ++i) m.data()[i] = normal(random) * 1e3;
+    return m;
+  };
+  MapFile f;
+  f.clips = {{"takes/a.bvh", std::string(64, 'a'), n, 1.0 / 120, 0, n / 2},
+             {"/abs/b ü.bvh", sha256_hex("b"), n + 5, 1.0 / 30, n / 2, n - n / 2}};
+  for (int i = 0; i < n; ++i) {
+    f.clip_of.push_back(i < n / 2 ? 0 : 1);
+    f.frame_of.push_back(i < n / 2 ? i : i - n / 2 + 3);
+  }
+  f.parameters = "method=isomap dims=3 k=7 features=quat distance=pointcloud up=y";
+  f.options.features.features = features::FeatureKind::Positions;
+  f.options.features.distance = features::DistanceKind::Geodesic;
+  f.options.features.up = Axis::Z;
+  f.options.features.exclude = ".*(Thumb|Finger).*";
+  f.options.features.first_frame = 1;
+  f.options.features.end_frame = 200;
+  f.options.features.stride = 2;
+  f.options.features.keep_first = true;
+  f.options.features.joints = features::JointSelection::Common;
+  f.options.embed.method = Method::Isomap;
+  f.options.embed.dimensions = dims;
+  f.options.embed.k = 7;
+  f.options.embed.heat = 0.125;
+  f.options.embed.reg = 3e-4;
+  f.options.embed.standardize = true;
+  f.options.embed.strict = true;
+  f.options.embed.landmarks = 12;
+  f.options.embed.search = embed::EmbedOptions::Search::Exact;
+  f.options.path = pipeline::MapPath::Landmarks;
+  f.options.dense_limit = 5000;
+  f.dense = false;
+  f.k_used = 7;
+  f.heat_used = 0.125;
+  f.landmarks_used = 12;
+  f.neighbor_search = "exact";
+  f.graph_components = 2;
+  f.connecting_edges = 1;
+  f.notes = {"a.bvh: frame 0 looks like a bind pose (…): left out", "ünïcode"};
+  f.warnings = {"the graph had 2 components"};
+  f.skeleton = {{"Hips", "Spine", "Head"}, {-1, 0, 1}, {0, 0, 1}};
+  f.joints = {"Spine", "Head"};
+  f.shared_joints = {"Hips", "Spine", "Head"};
+  f.x_columns = 8;
+  f.point_columns = 9;
+  f.coordinates = matrix(n, dims);
+
+  embed::MapModel& m = f.model;
+  m.method = Method::Isomap;
+  m.dimensions = dims;
+  m.coordinates = f.coordinates;
+  m.mean = matrix(1, 8);
+  m.scale = matrix(1, 8).cwiseAbs();
+  m.axes = matrix(8, dims);
+  m.points = matrix(n, 9);
+  m.metric = Metric::QuaternionAngles;
+  m.k = 7;
+  embed::LandmarkFit fit;
+  for (int l = 0; l < 12; ++l) fit.frames.push_back((l * 7) % n);
+  fit.projection = matrix(dims, 12);
+  fit.mean_squared = matrix(12, 1);
+  fit.offset = matrix(dims, 1);
+  fit.geodesic = matrix(12, n).cwiseAbs();
+  m.landmarks = fit;
+  // A ring: i – i±1.
+  for (int i = 0; i < n; ++i) {
+    m.graph.offsets.push_back(int(m.graph.targets.size()));
+    for (const int j : {(i + n - 1) % n, (i + 1) % n}) {
+      m.graph.targets.push_back(j);
+      m.graph.weights.push_back(std::abs(normal(random)));
+    }
+  }
+  m.graph.offsets.push_back(int(m.graph.targets.size()));
+  m.heat = 0.125;
+  m.eigenvalues = matrix(dims, 1).cwiseAbs() / 1e4;
+  m.features = matrix(n, 8);
+  m.reg = 3e-4;
+  return f;
+}
+
+TEST(MapFile, WriteThenReadIsBitExact) {
+  const TempDir dir;
+  const std::string path = dir.file("all.mmap.h5");
+  const MapFile written = synthetic_file();
+  write_map_file(path, written);
+  const MapFile read = read_map_file(path);
+  EXPECT_EQ(read.path, path);
+  expect_same_file(written, read);
+
+  // Large matrices go through chunked, compressed datasets: still bit for bit.
+  const MapFile big = synthetic_file(9000, 2);
+  write_map_file(path, big);
+  expect_same_file(big, read_map_file(path));
+}
+
+TEST(MapFile, ModelCoordinatesThatDifferFromTheMapAreKeptApart) {
+  const TempDir dir;
+  MapFile f = synthetic_file();
+  f.model.coordinates(3, 1) += 1.0;
+  write_map_file(dir.file("m.mmap.h5"), f);
+  expect_same_model(f.model, read_map_file(dir.file("m.mmap.h5")).model);
+}
+
+TEST(MapFile, UnusedFieldsAreLeftOutAndReadBackEmpty) {
+  const TempDir dir;
+  MapFile f = synthetic_file();
+  f.options.embed.method = f.model.method = Method::Svd;
+  f.options.embed.heat.reset();
+  f.options.features.joints = features::JointSelection::All;
+  f.shared_joints.clear();
+  f.model.mean.resize(0);
+  f.model.scale.resize(0);
+  f.model.points.resize(0, 0);
+  f.model.landmarks.reset();
+  f.model.graph = {};
+  f.model.eigenvalues.resize(0);
+  f.model.features.resize(0, 0);
+  f.notes.clear();
+  f.warnings.clear();
+  write_map_file(dir.file("svd.mmap.h5"), f);
+  const MapFile read = read_map_file(dir.file("svd.mmap.h5"));
+  expect_same_file(f, read);
+  EXPECT_FALSE(read.options.embed.heat.has_value());
+}
+
+// ---- Real maps ---------------------------------------------------------------------------------
+
+// The sample swing written as BVH (map files hash the clip files) and loaded back.
+Clip swing_clip(const TempDir& dir, double seconds = 1.5) {
+  sample::SampleOptions options;
+  options.fps = 60;
+  options.seconds = seconds;
+  const Clip sample = sample::make_sample_clip(sample::SampleKind::Swing, options);
+  const std::string path = dir.file("swing.bvh");
+  io::write_bvh(io::from_motion(sample.skeleton, sample.motion), path);
+  return io::load_clip(path);
+}
+
+struct Case {
+  Method method;
+  bool landmarks;    // the points path
+  double tolerance;  // for placing the map's own frames, relative to the largest coordinate
+                     // (0: bit for bit)
+};
+
+TEST(MapFile, RealMapsRoundTripAndTheirFramesPlaceBackOnThemselves) {
+  const TempDir dir;
+  const Clip clip = swing_clip(dir);
+  const std::vector<Clip> clips{clip};
+  // A frame equal to a sample lands on it (mds, isomap, le, lle; a landmark mds map by the
+  // same triangulation the map used): exactly. pca and svd recompute the projection from the
+  // saved axes: equal to rounding (measured ≤ 5e-14 here).
+  const Case cases[] = {{Method::Pca, false, 1e-10},
+                        {Method::Svd, false, 1e-10},
+                        {Method::Mds, false, 0},
+                        {Method::Mds, true, 0},
+                        {Method::Isomap, false, 0},
+                        {Method::Isomap, true, 0},
+                        {Method::LaplacianEigenmap, false, 0},
+                        {Method::LaplacianEigenmap, true, 0},
+                        {Method::Lle, false, 0},
+                        {Method::Lle, true, 0}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string(embed::method_name(c.method)) +
+                 (c.landmarks ? " landmarks" : " dense"));
+    pipeline::ClipMapOptions options;
+    options.embed.method = c.method;
+    options.embed.k = 8;
+    if (c.landmarks) {
+      options.path = pipeline::MapPath::Landmarks;
+      options.embed.landmarks = 0;
+    }
+    const pipeline::ClipMap map = pipeline::map_clips(clips, options);
+    const MapFile made = make_map_file(clips, map, options);
+    EXPECT_EQ(made.clips.front().sha256, sha256_file(clip.path));
+    EXPECT_EQ(made.parameters, pipeline::describe_parameters(map.embedding, options));
+    const std::string path = dir.file("m.mmap.h5");
+    write_map_file(path, made);
+    const MapFile read = read_map_file(path);
+    expect_same_file(made, read);
+    // What the CSV writer is given describes the map as it was.
+    EXPECT_EQ(
+        pipeline::describe_parameters(embedding_for_csv(read, read.coordinates), read.options),
+        made.parameters);
+
+    const Placement placed = place_clips(clips, read);
+    EXPECT_EQ(placed.features.frame_of, map.features->frame_of);
+    const Eigen::MatrixXd& want = map.embedding.coordinates;
+    ASSERT_EQ(placed.coordinates.rows(), want.rows());
+    if (c.tolerance == 0) {
+      EXPECT_TRUE(bit_equal(placed.coordinates, want))
+          << "largest difference " << (placed.coordinates - want).cwiseAbs().maxCoeff();
+    } else {
+      EXPECT_LE((placed.coordinates - want).cwiseAbs().maxCoeff(),
+                c.tolerance * want.cwiseAbs().maxCoeff());
+    }
+  }
+}
+
+TEST(MapFile, PlacingFramesDoesNotDependOnTheOtherFramesPlaced) {
+  const TempDir dir;
+  const std::vector<Clip> clips{swing_clip(dir)};
+  pipeline::ClipMapOptions options;
+  options.embed.method = Method::Isomap;
+  const MapFile file = make_map_file(clips, pipeline::map_clips(clips, options), options);
+  const Placement all = place_clips(clips, file);
+  PlaceOptions some;
+  some.first_frame = 20;
+  some.end_frame = 40;
+  some.stride = 3;
+  const Placement part = place_clips(clips, file, some);
+  ASSERT_GT(part.coordinates.rows(), 0);
+  for (int i = 0; i < part.coordinates.rows(); ++i) {
+    const int row = int(std::find(all.features.frame_of.begin(), all.features.frame_of.end(),
+                                  part.features.frame_of[i]) -
+                        all.features.frame_of.begin());
+    EXPECT_TRUE(bit_equal(part.coordinates.row(i), all.coordinates.row(row))) << "frame " << i;
+  }
+}
+
+TEST(MapFile, AClipOfAnotherSkeletonIsRefusedNamingWhatDiffers) {
+  const TempDir dir;
+  const std::vector<Clip> clips{swing_clip(dir)};
+  pipeline::ClipMapOptions options;
+  options.embed.method = Method::Pca;
+  MapFile file = make_map_file(clips, pipeline::map_clips(clips, options), options);
+  file.path = "lib.mmap.h5";
+  const std::vector<Clip> other{test::smooth_clip(30, "small.bvh")};
+  EXPECT_EQ(test::error_message<ParameterError>([&] { place_clips(other, file); }),
+            "small.bvh: cannot be placed on lib.mmap.h5: its joint hierarchy differs from the "
+            "map's (it has 4 joints, swing.bvh 31; the first that differs is joint 1: 'Spine' "
+            "(parent 'Hips') where swing.bvh has 'LHipJoint' (parent 'Hips')); a clip placed on "
+            "a map must have the skeleton of the map's clips (joint names, parents and End Sites)");
+}
+
+TEST(MapFile, AClipWithOtherEndSitesIsRefused) {
+  // The same joint names and parents, but a joint without its End Site: the point clouds would
+  // not line up.
+  const TempDir dir;
+  const std::vector<Clip> clips{swing_clip(dir)};
+  pipeline::ClipMapOptions options;
+  options.embed.method = Method::Isomap;
+  const MapFile file = make_map_file(clips, pipeline::map_clips(clips, options), options);
+  Clip other = clips.front();
+  other.path = "other.bvh";
+  const int head = other.skeleton.find("Head");
+  ASSERT_GE(head, 0);
+  ASSERT_FALSE(other.skeleton.joints[std::size_t(head)].end_sites.empty());
+  other.skeleton.joints[std::size_t(head)].end_sites.clear();
+  const std::vector<Clip> bad{other};
+  const std::string message = test::error_message<ParameterError>([&] { place_clips(bad, file); });
+  EXPECT_EQ(message.rfind("other.bvh: cannot be placed on the map: its joint hierarchy differs", 0),
+            0u)
+      << message;
+  EXPECT_NE(message.find("End Site"), std::string::npos) << message;
+}
+
+TEST(MapFile, AJointsCommonMapPlacesClipsThatHaveItsSharedJoints) {
+  const TempDir dir;
+  const Clip swing = swing_clip(dir);
+  // The swing's skeleton without its hands: mapped together, the two share the rest.
+  Clip small = test::smooth_clip(40, dir.file("small.bvh"));
+  const std::vector<Clip> clips{swing, small};
+  pipeline::ClipMapOptions options;
+  options.embed.method = Method::Mds;
+  options.features.joints = features::JointSelection::Common;
+  // small.bvh is not on disk: hash a copy.
+  io::write_bvh(io::from_motion(small.skeleton, small.motion), small.path);
+  const pipeline::ClipMap map = pipeline::map_clips(clips, options);
+  const MapFile file = make_map_file(clips, map, options);
+  EXPECT_EQ(file.shared_joints, features::common_joint_names(clips));
+  // The swing alone, placed by the shared joints only, lands where the map put it.
+  const std::vector<Clip> again{swing};
+  const Placement placed = place_clips(again, file);
+  const int n = file.clips.front().samples;
+  EXPECT_LE((placed.coordinates - map.embedding.coordinates.topRows(n)).norm(),
+            1e-6 * map.embedding.coordinates.norm());
+  // A clip without one of them cannot be placed.
+  Clip lacking = swing;
+  lacking.path = "lacking.bvh";
+  lacking.skeleton.joints[lacking.skeleton.find("Spine")].name = "Spine0";
+  const std::vector<Clip> bad{lacking};
+  EXPECT_EQ(test::error_message<ParameterError>([&] { place_clips(bad, file); }),
+            "lacking.bvh: cannot be placed on the map: it lacks 1 of the " +
+                std::to_string(file.shared_joints.size()) +
+                " joints the map compares by (--joints common): Spine");
+}
+
+// ---- Bad files ---------------------------------------------------------------------------------
+
+// Edits a file with the HDF5 C API, as another program (or a damaged copy) would leave it.
+class Edit {
+ public:
+  explicit Edit(const std::string& path)
+      : m_file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~Edit() { H5Fclose(m_file); }
+
+  void remove(const std::string& name) { H5Ldelete(m_file, name.c_str(), H5P_DEFAULT); }
+  void int_attribute(const std::string& object, const std::string& name, long long value) {
+    H5Adelete_by_name(m_file, object.c_str(), name.c_str(), H5P_DEFAULT);
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t a = H5Acreate_by_name(m_file, object.c_str(), name.c_str(), H5T_STD_I64LE, space,
+                                      H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, H5T_NATIVE_LLONG, &value);
+    H5Aclose(a);
+    H5Sclose(space);
+  }
+  void text_attribute(const std::string& object, const std::string& name, const char* value) {
+    H5Adelete_by_name(m_file, object.c_str(), name.c_str(), H5P_DEFAULT);
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, H5T_VARIABLE);
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t a = H5Acreate_by_name(m_file, object.c_str(), name.c_str(), type, space,
+                                      H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, type, &value);
+    H5Aclose(a);
+    H5Sclose(space);
+    H5Tclose(type);
+  }
+  // Replaces dataset `name` by fixed-length ASCII strings, null-padded, as MATLAB writes them.
+  void fixed_strings(const std::string& name, const std::vector<std::string>& values) {
+    remove(name);
+    std::size_t size = 1;
+    for (const std::string& v : values) size = std::max(size, v.size() + 1);
+    std::vector<char> buffer(values.size() * size, '\0');
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      std::memcpy(buffer.data() + i * size, values[i].data(), values[i].size());
+    }
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, size);
+    H5Tset_strpad(type, H5T_STR_NULLPAD);
+    const hsize_t dims[1] = {values.size()};
+    const hid_t space = H5Screate_simple(1, dims, nullptr);
+    const hid_t d =
+        H5Dcreate2(m_file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data());
+    H5Dclose(d);
+    H5Sclose(space);
+    H5Tclose(type);
+  }
+  // Replaces dataset `name` by a rows × cols (cols 0: 1-D) one of `type` filled with `value`.
+  void replace(const std::string& name, hsize_t rows, hsize_t cols, hid_t type, double value) {
+    remove(name);
+    const hsize_t dims[2] = {rows, cols};
+    const hid_t space = H5Screate_simple(cols == 0 ? 1 : 2, dims, nullptr);
+    const hid_t d =
+        H5Dcreate2(m_file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    std::vector<double> values(rows * std::max<hsize_t>(cols, 1), value);
+    H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    H5Dclose(d);
+    H5Sclose(space);
+  }
+
+ private:
+  hid_t m_file;
+};
+
+TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
+  const TempDir dir;
+  const MapFile good = synthetic_file(40, 2);
+  int count = 0;
+  // Each case: a fresh good file, one edit, the error expected (after "path: error: ").
+  auto refused = [&](const std::function<void(Edit&)>& edit) {
+    const std::string path = dir.file("bad" + std::to_string(count++) + ".mmap.h5");
+    write_map_file(path, good);
+    {
+      Edit e(path);
+      edit(e);
+    }
+    const std::string message = test::error_message([&] { read_map_file(path); });
+    const std::string prefix = path + ": error: ";
+    EXPECT_EQ(message.rfind(prefix, 0), 0u) << message;
+    return message.substr(std::min(message.size(), prefix.size()));
+  };
+
+  EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format", "other-format"); }),
+            "not a MotionMap map file: its format is 'other-format', expected 'motionmap-map'");
+  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 2); }),
+            "map file layout version 2 is newer than this MotionMap reads (1); read it with a "
+            "newer MotionMap");
+  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 0); }),
+            "unknown map file layout version 0 (this MotionMap reads version 1)");
+  EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format_version", "1"); }),
+            "attribute format_version of / is not an integer");
+  EXPECT_EQ(refused([](Edit& e) { e.remove("/coordinates"); }),
+            "missing dataset /coordinates (#samples by dims, float64)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/coordinates", 40, 3, H5T_IEEE_F64LE, 0.5); }),
+            "/coordinates has shape 40×3, expected 40×2 (#samples by dims)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/coordinates", 40, 2, H5T_STD_I32LE, 1); }),
+            "/coordinates holds int32 values, expected float64 (#samples by dims)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/coordinates", 40, 2, H5T_IEEE_F32LE, 1); }),
+            "/coordinates holds float32 values, expected float64 (#samples by dims)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/coordinates", 40, 2, H5T_IEEE_F64LE, NAN); }),
+            "/coordinates holds a non-finite value (nan) at row 0, column 0");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/samples/clip", 40, 0, H5T_STD_I32LE, 5); }),
+            "/samples/clip holds 5 at index 0, expected a clip index in [0, 2)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/samples/frame", 39, 0, H5T_STD_I32LE, 0); }),
+            "/samples/frame has shape 39, expected 40 (a frame index)");
+  EXPECT_EQ(refused([](Edit& e) { e.remove("/model/landmarks"); }),
+            "missing dataset /model/landmarks (the isomap map places new frames with it)");
+  EXPECT_EQ(refused([](Edit& e) { e.remove("/model/points"); }),
+            "missing dataset /model/points (the isomap map places new frames with it)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/model/points", 40, 8, H5T_IEEE_F64LE, 0); }),
+            "/model/points has shape 40×8, expected 40×9 (#samples by #point values)");
+  EXPECT_EQ(
+      refused([](Edit& e) { e.replace("/model/landmarks/frames", 12, 0, H5T_STD_I32LE, 40); }),
+      "/model/landmarks/frames holds 40 at index 0, expected a sample index in [0, 40)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/model/graph/offsets", 41, 0, H5T_STD_I32LE, 0); }),
+            "/model/graph/offsets is not a CSR offset list (from 0, never decreasing, to the 80 "
+            "targets)");
+  EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/parameters", "method", "tsne"); }),
+            "attribute method of /parameters is 'tsne', expected a method (pca, svd, mds, "
+            "isomap, le, lle)");
+  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/model", "k", 0); }),
+            "attribute k of /model is 0, expected 1 to 40 for the isomap map");
+  EXPECT_EQ(refused([](Edit& e) { e.remove("/parameters"); }),
+            "missing group /parameters (the effective parameters)");
+}
+
+TEST(MapFile, StringsAreReadInEveryEncodingHdf5Writes) {
+  // Variable-length UTF-8 (what MotionMap and h5py write), variable-length ASCII and
+  // fixed-length ASCII (MATLAB's h5create/h5writeatt) all read back.
+  const TempDir dir;
+  const MapFile good = synthetic_file();
+  const std::string path = dir.file("strings.mmap.h5");
+  write_map_file(path, good);
+  {
+    Edit e(path);
+    e.text_attribute("/parameters", "description", "ascii line");
+    e.fixed_strings("/clips/path", {"a.bvh", "folder/b.bvh"});
+  }
+  const MapFile read = read_map_file(path);
+  EXPECT_EQ(read.parameters, "ascii line");
+  ASSERT_EQ(read.clips.size(), 2u);
+  EXPECT_EQ(read.clips[0].path, "a.bvh");
+  EXPECT_EQ(read.clips[1].path, "folder/b.bvh");
+  EXPECT_EQ(read.notes, good.notes);  // UTF-8
+}
+
+TEST(MapFile, FilesThatAreNotMapFilesAreRefused) {
+  const TempDir dir;
+  EXPECT_EQ(test::error_message([&] { read_map_file(dir.file("none.mmap.h5")); }),
+            dir.file("none.mmap.h5") + ": error: cannot open: No such file or directory");
+  const std::string text = dir.file("text.mmap.h5");
+  std::ofstream(text) << "frame,x,y\n1,2,3\n";
+  EXPECT_EQ(test::error_message([&] { read_map_file(text); }),
+            text +
+                ": error: not an HDF5 file (expected a MotionMap map file, as `motionmap map "
+                "--save` writes)");
+  // An HDF5 file of something else.
+  const std::string other = dir.file("other.h5");
+  const hid_t f = H5Fcreate(other.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  H5Fclose(f);
+  EXPECT_EQ(test::error_message([&] { read_map_file(other); }),
+            other +
+                ": error: not a MotionMap map file: the root has no 'format' attribute "
+                "(expected format = motionmap-map, as `motionmap map --save` writes)");
+}
+
+TEST(MapFile, AFailedWriteLeavesNoFile) {
+  const TempDir dir;
+  const std::string path = dir.file("no/such/folder/m.mmap.h5");
+  const std::string message = test::error_message([&] { write_map_file(path, synthetic_file()); });
+  EXPECT_EQ(message.rfind(path + ": error: cannot create the file", 0), 0u) << message;
+  MapFile empty;
+  EXPECT_EQ(test::error_message([&] { write_map_file(dir.file("e.mmap.h5"), empty); }),
+            dir.file("e.mmap.h5") +
+                ": error: cannot write an empty or inconsistent map (0 clips, 0 samples, 0 "
+                "coordinates)");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("e.mmap.h5")));
+}
+
+}  // namespace
+}  // namespace motionmap::mapfile

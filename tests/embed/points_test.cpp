@@ -1,7 +1,7 @@
 // The points path (embed.h, "Two paths") against the dense one: the exact k-NN search of
 // knn_from_points equals knn_from_distances on D bit for bit (real clips, ties, duplicates); the
 // max-min landmarks are those of the definition; landmark Isomap's geodesic distances are the
-// dense shortest paths' bits, and with every frame a landmark the landmark maps are the dense ones.
+// dense shortest paths' bits. (The maps themselves against the dense ones: points_path_test.cpp.)
 #include <algorithm>
 #include <random>
 #include <string>
@@ -187,21 +187,6 @@ TEST(EmbedPoints, LandmarkIsomapGeodesicsAreTheShortestPaths) {
         }
       }
     }
-  }
-}
-
-TEST(EmbedPoints, EveryFrameALandmarkGivesTheDenseMaps) {
-  MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
-  const features::FeatureSet set = real_set({"cmu/64_08.bvh"});
-  for (Method method : {Method::Mds, Method::Isomap}) {
-    EmbedOptions options;
-    options.method = method;
-    const Embedding dense = embed({.distances = &set.D}, options);
-    options.landmarks = set.num_samples();
-    const Embedding points =
-        embed({.points = &set.distance_input, .metric = Metric::Euclidean}, options);
-    EXPECT_LE(test::procrustes_disparity(dense.coordinates, points.coordinates), 1e-12)
-        << method_name(method);
   }
 }
 

@@ -233,7 +233,7 @@ EigenPairs largest_eigenpairs(const Eigen::MatrixXd& A, int count, std::string_v
 EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
                                          const Eigen::VectorXd& null_vector, int count,
                                          std::string_view what, const Control& control,
-                                         int dense_limit) {
+                                         int dense_limit, double relative_shift) {
   const Eigen::Index n = A.rows();
   check_count(n, count, static_cast<int>(n) - 2, what);
   const Eigen::VectorXd& q = null_vector;
@@ -262,7 +262,7 @@ EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
   } else {
     // Shift-invert: A + εI is positive definite, so LDLᵀ needs no pivoting; ε only has to be
     // small next to the wanted eigenvalues' gaps, the solve itself is backward stable.
-    const double eps = 1e-12 * std::max(norm_inf, 1e-300);
+    const double eps = relative_shift * std::max(norm_inf, 1e-300);
     Eigen::SparseMatrix<double> shifted = A;
     for (Eigen::Index i = 0; i < n; ++i) shifted.coeffRef(i, i) += eps;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(shifted);

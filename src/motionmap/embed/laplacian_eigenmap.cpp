@@ -110,8 +110,9 @@ void laplacian_eigenmap_on(const NeighborGraph& ng, const EmbedOptions& options,
   Eigen::VectorXd degrees;
   const Eigen::SparseMatrix<double> L = normalized_laplacian(w, degrees);
   const Eigen::VectorXd q = degrees.cwiseSqrt().normalized();
-  const EigenPairs low =
-      smallest_eigenpairs_excluding(L, q, options.dimensions, "le", progress.control());
+  const EigenPairs low = smallest_eigenpairs_excluding(
+      L, q, options.dimensions, "le", progress.control(), kDenseEigenLimit,
+      out.from_points ? kPointsRelativeShift : kRelativeShift);
   out.eigenvalues = low.values;
   out.coordinates = degrees.cwiseSqrt().cwiseInverse().asDiagonal() * low.vectors;
 }

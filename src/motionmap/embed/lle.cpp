@@ -85,8 +85,9 @@ void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& ng, const EmbedOption
   A.setFromTriplets(entries.begin(), entries.end());
   const Eigen::SparseMatrix<double> M = Eigen::SparseMatrix<double>(A.transpose()) * A;
   const Eigen::VectorXd q = Eigen::VectorXd::Constant(n, 1.0 / std::sqrt(double(n)));
-  const EigenPairs low =
-      smallest_eigenpairs_excluding(M, q, options.dimensions, "lle", progress.control());
+  const EigenPairs low = smallest_eigenpairs_excluding(
+      M, q, options.dimensions, "lle", progress.control(), kDenseEigenLimit,
+      out.from_points ? kPointsRelativeShift : kRelativeShift);
   out.eigenvalues = low.values;
   out.coordinates = low.vectors;
 }

@@ -3,6 +3,7 @@
 // max-min landmarks are those of the definition; landmark Isomap's geodesic distances are the
 // dense shortest paths' bits. (The maps themselves against the dense ones: points_path_test.cpp.)
 #include <algorithm>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -11,9 +12,11 @@
 
 #include "embed/embed_test_util.h"
 #include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/embed.h"
 #include "motionmap/embed/graph.h"
 #include "motionmap/embed/neighbors.h"
+#include "motionmap/embed/placement.h"
 #include "motionmap/embed/points.h"
 #include "motionmap/features/features.h"
 #include "motionmap/io/load.h"
@@ -185,6 +188,90 @@ TEST(EmbedPoints, LandmarkIsomapGeodesicsAreTheShortestPaths) {
         } else {
           ASSERT_NEAR(got, geodesic(f, from), 1e-12 * geodesic(f, from));
         }
+      }
+    }
+  }
+}
+
+TEST(EmbedPoints, NearestSamplesAreThoseOfEveryPair) {
+  for (bool integer : {false, true}) {
+    const RowMatrix P = sheet_points(1500, 12, 3, 11u, integer);
+    const Eigen::MatrixXd D = distances_of(P);
+    // Every 3rd frame a sample; the queries are every frame, samples included.
+    std::vector<int> sample, frames(1500);
+    for (int f = 0; f < 1500; f += 3) sample.push_back(f);
+    std::iota(frames.begin(), frames.end(), 0);
+    RowMatrix S(Eigen::Index(sample.size()), P.cols());
+    for (std::size_t j = 0; j < sample.size(); ++j) S.row(Eigen::Index(j)) = P.row(sample[j]);
+    for (int k : {1, 7, 20}) {
+      const NeighborLists nn =
+          knn_to_samples({&S, Metric::Euclidean}, {&P, Metric::Euclidean}, frames, k);
+      for (int f = 0; f < 1500; ++f) {
+        std::vector<int> order(sample.size());
+        std::iota(order.begin(), order.end(), 0);
+        std::stable_sort(order.begin(), order.end(),
+                         [&](int a, int b) { return D(sample[a], f) < D(sample[b], f); });
+        for (int a = 0; a < k; ++a) {
+          ASSERT_EQ(nn.of(f)[a], order[a]) << "frame " << f << " k " << k << " #" << a;
+          ASSERT_EQ(nn.distances_of(f)[a], D(sample[order[a]], f));
+        }
+      }
+    }
+  }
+}
+
+// The sampled le and lle (embed.h, kGraphSampleLimit) are the method on the sample plus the
+// placement of every other frame on that map (placement.h), here with a sample of every 3rd frame
+// of a real walk.
+TEST(EmbedPoints, SampledGraphMethodsAreTheSampleMapPlusPlacement) {
+  MOTIONMAP_REQUIRE_SHARED("other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh");
+  const features::FeatureSet set = real_set({"other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh"});
+  const int n = set.num_samples(), limit = (n + 2) / 3;
+  for (Method method : {Method::LaplacianEigenmap, Method::Lle}) {
+    EmbedOptions options;
+    options.method = method;
+    options.k = 10;
+    Embedding sampled;
+    sampled.method = method;
+    sampled.from_points = true;
+    Progress progress;
+    run_sampled_graph_method(&set.X, {&set.distance_input, Metric::Euclidean}, options, sampled,
+                             progress, limit);
+    ASSERT_EQ(sampled.warnings.size(), 1u);
+    EXPECT_NE(sampled.warnings[0].find("every 3rd frame"), std::string::npos)
+        << sampled.warnings[0];
+    // The sample on its own, and the other frames placed on its map.
+    std::vector<int> sample, others;
+    for (int f = 0; f < n; ++f) (f % 3 == 0 ? sample : others).push_back(f);
+    RowMatrix sample_points(Eigen::Index(sample.size()), set.distance_input.cols());
+    Eigen::MatrixXd sample_X(Eigen::Index(sample.size()), set.X.cols());
+    for (std::size_t j = 0; j < sample.size(); ++j) {
+      sample_points.row(Eigen::Index(j)) = set.distance_input.row(sample[j]);
+      sample_X.row(Eigen::Index(j)) = set.X.row(sample[j]);
+    }
+    const EmbedInput sample_input{
+        .features = &sample_X, .points = &sample_points, .metric = Metric::Euclidean};
+    const Embedding alone = embed(sample_input, options);
+    RowMatrix other_points(Eigen::Index(others.size()), set.distance_input.cols());
+    Eigen::MatrixXd other_X(Eigen::Index(others.size()), set.X.cols());
+    for (std::size_t j = 0; j < others.size(); ++j) {
+      other_points.row(Eigen::Index(j)) = set.distance_input.row(others[j]);
+      other_X.row(Eigen::Index(j)) = set.X.row(others[j]);
+    }
+    const Eigen::MatrixXd placed =
+        place(make_model(sample_input, options, alone), {&other_X, &other_points});
+    // embed() flips each axis to make its largest entry positive; the sampled map is unflipped.
+    for (Eigen::Index c = 0; c < alone.coordinates.cols(); ++c) {
+      const double sign = alone.coordinates(0, c) * sampled.coordinates(0, c) < 0.0 ? -1.0 : 1.0;
+      const double scale = alone.coordinates.col(c).cwiseAbs().maxCoeff();
+      for (std::size_t j = 0; j < sample.size(); ++j) {
+        ASSERT_EQ(sign * sampled.coordinates(sample[j], c), alone.coordinates(Eigen::Index(j), c))
+            << method_name(method) << " sample " << j;
+      }
+      for (std::size_t j = 0; j < others.size(); ++j) {
+        ASSERT_NEAR(sign * sampled.coordinates(others[j], c), placed(Eigen::Index(j), c),
+                    1e-12 * scale)
+            << method_name(method) << " frame " << others[j];
       }
     }
   }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <utility>
@@ -26,6 +27,9 @@ namespace {
 constexpr int kFramesPerChunk = 1024;
 // Landmarks whose shortest paths one task computes (see run_landmark_isomap).
 constexpr int kBatch = 8;
+// Frames whose distances to the landmarks fit_landmarks holds at once (landmark MDS computes
+// them block by block, twice, instead of keeping L·#frames of them: 2 GB at 10⁶ frames).
+constexpr int kFramesPerBlock = 8192;
 // Axes the frames are triangulated into before the final PCA (fewer when the landmarks' distances
 // have fewer positive dimensions).
 constexpr int kLandmarkAxes = 20;
@@ -175,17 +179,11 @@ Eigen::MatrixXd landmark_block(const std::vector<int>& landmarks,
   return T;
 }
 
-}  // namespace
-
-Eigen::MatrixXd triangulate(const LandmarkFit& fit, const Eigen::MatrixXd& distances) {
+// triangulate() into `out` (#frames by dims): row f from column f of `distances` alone.
+void triangulate_into(const LandmarkFit& fit, const Eigen::Ref<const Eigen::MatrixXd>& distances,
+                      Eigen::Ref<Eigen::MatrixXd> out) {
   const Eigen::Index L = fit.projection.cols(), dims = fit.projection.rows();
-  if (distances.rows() != L) {
-    throw ParameterError("triangulate: " + std::to_string(distances.rows()) +
-                         " distances per frame given; the map has " + std::to_string(L) +
-                         " landmarks");
-  }
   const int n = static_cast<int>(distances.cols());
-  Eigen::MatrixXd out(n, dims);
   const int chunks = (n + kFramesPerChunk - 1) / kFramesPerChunk;
   parallel_chunks(chunks, [&](int c, int) {
     for (int f = c * kFramesPerChunk; f < std::min(n, (c + 1) * kFramesPerChunk); ++f) {
@@ -199,6 +197,34 @@ Eigen::MatrixXd triangulate(const LandmarkFit& fit, const Eigen::MatrixXd& dista
       }
     }
   });
+}
+
+// Every frame triangulated by `fit` (#frames by dims), kFramesPerBlock frames at a time, their
+// distances from `distances`. `control` hears the fraction done.
+Eigen::MatrixXd triangulate_all(const LandmarkFit& fit, int frames,
+                                const LandmarkDistances& distances, const Control& control) {
+  Eigen::MatrixXd out(frames, fit.projection.rows());
+  Eigen::MatrixXd scratch;
+  for (int first = 0; first < frames; first += kFramesPerBlock) {
+    control.update(double(first) / frames);
+    control.check();
+    const int count = std::min(kFramesPerBlock, frames - first);
+    triangulate_into(fit, distances(first, count, scratch), out.middleRows(first, count));
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::MatrixXd triangulate(const LandmarkFit& fit, const Eigen::MatrixXd& distances) {
+  const Eigen::Index L = fit.projection.cols(), dims = fit.projection.rows();
+  if (distances.rows() != L) {
+    throw ParameterError("triangulate: " + std::to_string(distances.rows()) +
+                         " distances per frame given; the map has " + std::to_string(L) +
+                         " landmarks");
+  }
+  Eigen::MatrixXd out(distances.cols(), dims);
+  triangulate_into(fit, distances, out);
   return out;
 }
 
@@ -277,6 +303,17 @@ std::vector<int> maxmin_landmarks(const PointSet& points, int count, Eigen::Matr
 void fit_landmarks(const Eigen::MatrixXd& T, const Eigen::MatrixXd& distances,
                    const EmbedOptions& options, Embedding& out, Progress& progress, double begin,
                    double end) {
+  fit_landmarks(
+      T, static_cast<int>(distances.cols()),
+      [&](int first, int count, Eigen::MatrixXd&) -> Eigen::Ref<const Eigen::MatrixXd> {
+        return distances.middleCols(first, count);
+      },
+      options, out, progress, begin, end);
+}
+
+void fit_landmarks(const Eigen::MatrixXd& T, int frames, const LandmarkDistances& distances,
+                   const EmbedOptions& options, Embedding& out, Progress& progress, double begin,
+                   double end) {
   const std::string what(method_name(options.method));
   const int dims = options.dimensions;
   const Eigen::Index L = T.rows();
@@ -298,14 +335,15 @@ void fit_landmarks(const Eigen::MatrixXd& T, const Eigen::MatrixXd& distances,
   out.negative.relative = largest > 0.0 ? -out.negative.most_negative / largest : 0.0;
 
   // 2. Every frame triangulated into those r axes: z = −½·P_r·(δ² − μ), P_r = (V ÷ √λ)ᵀ.
-  progress.stage("triangulation", begin + 0.3 * (end - begin), begin + 0.8 * (end - begin));
+  progress.stage("triangulation", begin + 0.3 * (end - begin), begin + 0.9 * (end - begin));
   LandmarkFit wide;
   wide.mean_squared = fit.mean_squared;
   wide.projection =
       (top.vectors.leftCols(kept) * top.values.head(kept).cwiseSqrt().cwiseInverse().asDiagonal())
           .transpose();
   wide.offset = Eigen::VectorXd::Zero(kept);
-  const Eigen::MatrixXd Z = triangulate(wide, distances);
+  const Eigen::MatrixXd Z =
+      triangulate_all(wide, frames, distances, progress.control().part(0, 0.5));
 
   // 3. PCA of the triangulated frames: their top `dims` axes. (de Silva & Tenenbaum's optional
   // last step; with r > dims it also corrects most of the landmarks' bias, since max-min
@@ -331,8 +369,8 @@ void fit_landmarks(const Eigen::MatrixXd& T, const Eigen::MatrixXd& distances,
   // 4. One linear map from δ² to the map: x = Wᵀ·(z − mean).
   fit.projection = W.transpose() * wide.projection;
   fit.offset = -(W.transpose() * mean.transpose());
-  progress.stage("stress", begin + 0.8 * (end - begin), end);
-  out.coordinates = triangulate(fit, distances);
+  out.coordinates = triangulate_all(fit, frames, distances, progress.control().part(0.5, 1.0));
+  progress.stage("stress", begin + 0.9 * (end - begin), end);
   Eigen::MatrixXd at_landmarks(L, dims);
   for (Eigen::Index l = 0; l < L; ++l) at_landmarks.row(l) = out.coordinates.row(fit.frames[l]);
   out.stress = normalized_stress(T, at_landmarks, progress.control());
@@ -340,13 +378,38 @@ void fit_landmarks(const Eigen::MatrixXd& T, const Eigen::MatrixXd& distances,
 
 void run_landmark_mds(const PointSet& points, const EmbedOptions& options, Embedding& out,
                       Progress& progress) {
-  const int L = landmark_count(options, points.frames());
-  progress.stage("landmarks", 0.02, 0.7);
+  const int n = points.frames();
+  progress.stage("landmarks", 0.02, 0.1);
   out.landmarks.emplace();
-  Eigen::MatrixXd distances;
-  out.landmarks->frames = maxmin_landmarks(points, L, distances, progress.control());
-  fit_landmarks(landmark_block(out.landmarks->frames, distances), distances, options, out, progress,
-                0.7, 1.0);
+  const std::vector<int>& landmarks = out.landmarks->frames =
+      maxmin_landmarks(points, landmark_count(options, n), progress.control());
+  const Eigen::Index L = static_cast<Eigen::Index>(landmarks.size());
+  // The frames' distances to the landmarks are computed a block at a time when the fit reads them
+  // (twice), never all kept: the same values as maxmin_landmarks' matrix, and T as
+  // landmark_block of it.
+  Eigen::MatrixXd T(L, L);
+  for (Eigen::Index a = 0; a < L; ++a) {
+    for (Eigen::Index b = 0; b < L; ++b) {
+      T(a, b) = a == b ? 0.0
+                       : 0.5 * (points.distance(landmarks[a], landmarks[b]) +
+                                points.distance(landmarks[b], landmarks[a]));
+    }
+  }
+  const LandmarkDistances distances =
+      [&](int first, int count, Eigen::MatrixXd& block) -> Eigen::Ref<const Eigen::MatrixXd> {
+    block.resize(L, count);
+    const int chunks = (count + kFramesPerChunk - 1) / kFramesPerChunk;
+    parallel_chunks(chunks, [&](int c, int) {
+      for (int j = c * kFramesPerChunk; j < std::min(count, (c + 1) * kFramesPerChunk); ++j) {
+        const int f = first + j;
+        for (Eigen::Index l = 0; l < L; ++l) {
+          block(l, j) = f == landmarks[l] ? 0.0 : points.distance(landmarks[l], f);
+        }
+      }
+    });
+    return block;
+  };
+  fit_landmarks(T, n, distances, options, out, progress, 0.1, 1.0);
 }
 
 void run_landmark_isomap(const PointSet& points, const EmbedOptions& options, Embedding& out,

@@ -414,7 +414,7 @@ void run_landmark_mds(const PointSet& points, const EmbedOptions& options, Embed
 
 void run_landmark_isomap(const PointSet& points, const EmbedOptions& options, Embedding& out,
                          Progress& progress) {
-  const NeighborGraph ng = build_neighbor_graph(points, options, out, progress, 0.02, 0.3);
+  NeighborGraph ng = build_neighbor_graph(points, options, out, progress, 0.02, 0.3);
   const int n = points.frames();
   progress.stage("landmarks", 0.3, 0.35);
   out.landmarks.emplace();
@@ -422,8 +422,9 @@ void run_landmark_isomap(const PointSet& points, const EmbedOptions& options, Em
   fit.frames = maxmin_landmarks(points, landmark_count(options, n), progress.control());
   const int L = static_cast<int>(fit.frames.size());
   progress.stage("shortest paths", 0.35, 0.85);
-  fit.geodesic.resize(L, n);
   const SearchGraph graph(ng.graph);
+  ng = NeighborGraph();  // the searches read their own copy (0.6 GB at 10⁶ frames)
+  fit.geodesic.resize(L, n);
   // A few landmarks per task: their distances are written to the L by #frames matrix together,
   // kBatch consecutive entries of each column at once, instead of one strided entry per cache
   // line per landmark.

@@ -112,7 +112,7 @@ void laplacian_eigenmap_on(const NeighborGraph& ng, const EmbedOptions& options,
   const Eigen::VectorXd q = degrees.cwiseSqrt().normalized();
   const EigenPairs low = smallest_eigenpairs_excluding(
       L, q, options.dimensions, "le", progress.control(), kDenseEigenLimit,
-      out.from_points ? kPointsRelativeShift : kRelativeShift);
+      out.from_points ? kPointsShiftInvert : ShiftInvert{});
   out.eigenvalues = low.values;
   out.coordinates = degrees.cwiseSqrt().cwiseInverse().asDiagonal() * low.vectors;
 }

@@ -87,7 +87,7 @@ void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& ng, const EmbedOption
   const Eigen::VectorXd q = Eigen::VectorXd::Constant(n, 1.0 / std::sqrt(double(n)));
   const EigenPairs low = smallest_eigenpairs_excluding(
       M, q, options.dimensions, "lle", progress.control(), kDenseEigenLimit,
-      out.from_points ? kPointsRelativeShift : kRelativeShift);
+      out.from_points ? kPointsShiftInvert : ShiftInvert{});
   out.eigenvalues = low.values;
   out.coordinates = low.vectors;
 }

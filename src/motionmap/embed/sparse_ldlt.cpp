@@ -28,12 +28,15 @@ constexpr double kTaskShare = 1.0 / 16.0;
 // The first w columns of the symmetric front F (lower triangle) eliminated: F = [F₁₁ F₂₁ᵀ; F₂₁ F₂₂]
 // becomes L₁₁ (unit lower, strictly below the diagonal), L₂₁ below it, and F₂₂ − L₂₁·D·L₂₁ᵀ (the
 // update matrix, lower triangle) at the bottom right; D in d. Panels of kPanel columns, each
-// finished column by column, then one product for everything to its right.
-void partial_ldlt(Eigen::MatrixXd& F, int w, double* d, bool parallel_products) {
+// finished column by column, then one product for everything to its right. With `control` (on
+// the calling thread only), polled before every panel.
+void partial_ldlt(Eigen::MatrixXd& F, int w, double* d, bool parallel_products,
+                  const Control* control) {
   const int m = static_cast<int>(F.rows());
   Eigen::MatrixXd W;
   for (int k0 = 0; k0 < w; k0 += kPanel) {
     const int kb = std::min(kPanel, w - k0);
+    if (control) control->check();
     for (int j = k0; j < k0 + kb; ++j) {
       const double pivot = F(j, j);
       if (pivot == 0.0 || !std::isfinite(pivot)) {
@@ -206,7 +209,7 @@ SupernodalLdlt::SupernodalLdlt(const Eigen::SparseMatrix<double>& A, const Contr
   auto run = [&](int s, int worker, bool parallel_products) {
     std::vector<int>& slot = slots[std::size_t(worker)];
     if (slot.empty()) slot.assign(std::size_t(n), -1);
-    factorize_node(s, lower, children[s], updates, slot, parallel_products);
+    factorize_node(s, lower, children[s], updates, slot, parallel_products ? &control : nullptr);
   };
   const int tasks = static_cast<int>(roots.size());
   parallel_chunks(
@@ -231,7 +234,7 @@ SupernodalLdlt::SupernodalLdlt(const Eigen::SparseMatrix<double>& A, const Contr
 void SupernodalLdlt::factorize_node(int s, const Eigen::SparseMatrix<double>& lower,
                                     const std::vector<int>& children,
                                     std::vector<Eigen::MatrixXd>& updates, std::vector<int>& slot,
-                                    bool parallel_products) {
+                                    const Control* control) {
   Node& node = m_nodes[s];
   const int m = static_cast<int>(node.rows.size()), w = node.last - node.first;
   for (int a = 0; a < m; ++a) slot[node.rows[a]] = a;
@@ -254,7 +257,7 @@ void SupernodalLdlt::factorize_node(int s, const Eigen::SparseMatrix<double>& lo
     U = Eigen::MatrixXd();
   }
   try {
-    partial_ldlt(F, w, m_diag.data() + node.first, parallel_products);
+    partial_ldlt(F, w, m_diag.data() + node.first, control != nullptr, control);
   } catch (const NumericalError& e) {
     throw NumericalError(std::string("supernodal LDLT: ") + e.what() + " at column " +
                          std::to_string(node.first) + " of " + std::to_string(m_n));

@@ -52,9 +52,11 @@ class SupernodalLdlt {
 
   // Supernode s's front from its columns of `lower` (the permuted lower triangle) and its
   // children's update matrices (freed); its columns of L and D, and its own update matrix.
+  // `control`: on the calling thread, above the parallel subtrees (products split over the pool,
+  // cancellation polled per panel); nullptr inside a subtree.
   void factorize_node(int s, const Eigen::SparseMatrix<double>& lower,
                       const std::vector<int>& children, std::vector<Eigen::MatrixXd>& updates,
-                      std::vector<int>& slot, bool parallel_products);
+                      std::vector<int>& slot, const Control* control);
 
   Eigen::Index m_n = 0;
   std::vector<int> m_perm;     // m_perm[i]: the position of original row i in the factor

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/sparse_ldlt.h"
 
 namespace motionmap::embed {
 
@@ -233,7 +235,7 @@ EigenPairs largest_eigenpairs(const Eigen::MatrixXd& A, int count, std::string_v
 EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
                                          const Eigen::VectorXd& null_vector, int count,
                                          std::string_view what, const Control& control,
-                                         int dense_limit) {
+                                         int dense_limit, const ShiftInvert& shift_invert) {
   const Eigen::Index n = A.rows();
   check_count(n, count, static_cast<int>(n) - 2, what);
   const Eigen::VectorXd& q = null_vector;
@@ -262,14 +264,24 @@ EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
   } else {
     // Shift-invert: A + εI is positive definite, so LDLᵀ needs no pivoting; ε only has to be
     // small next to the wanted eigenvalues' gaps, the solve itself is backward stable.
-    const double eps = 1e-12 * std::max(norm_inf, 1e-300);
+    const double eps = shift_invert.relative_shift * std::max(norm_inf, 1e-300);
     Eigen::SparseMatrix<double> shifted = A;
     for (Eigen::Index i = 0; i < n; ++i) shifted.coeffRef(i, i) += eps;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(shifted);
-    if (ldlt.info() != Eigen::Success) {
-      throw NumericalError(std::string(what) + ": the sparse LDLT factorization failed (" +
-                           std::to_string(n) + " by " + std::to_string(n) + ", shift " +
-                           format_number(eps, 6) + ")");
+    const std::string failed = std::string(what) + ": the sparse LDLT factorization failed (" +
+                               std::to_string(n) + " by " + std::to_string(n) + ", shift " +
+                               format_number(eps, 6) + ")";
+    std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>> ldlt;
+    std::unique_ptr<SupernodalLdlt> supernodal;
+    if (shift_invert.supernodal) {
+      try {
+        supernodal = std::make_unique<SupernodalLdlt>(shifted, control);
+      } catch (const NumericalError& e) {
+        throw NumericalError(failed + ": " + e.what());
+      }
+    } else {
+      ldlt = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>>(
+          shifted);
+      if (ldlt->info() != Eigen::Success) throw NumericalError(failed);
     }
     Eigen::VectorXd tmp(n);
     const Product product = [&](const double* x, double* y) {
@@ -277,7 +289,12 @@ EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
       Eigen::Map<const Eigen::VectorXd> xv(x, n);
       Eigen::Map<Eigen::VectorXd> yv(y, n);
       tmp = xv - q * q.dot(xv);
-      yv = ldlt.solve(tmp);
+      if (supernodal) {
+        yv = tmp;
+        supernodal->solve(yv.data());
+      } else {
+        yv = ldlt->solve(tmp);
+      }
       yv -= q * q.dot(yv);
     };
     out = lanczos(n, product, count, Spectra::SortRule::LargestAlge, what, kEigenTolerance);

@@ -21,6 +21,25 @@ namespace motionmap::embed {
 constexpr int kDenseEigenLimit = 200;
 /// Lanczos convergence tolerance: each Ritz pair's residual ‖A·v − θ·v‖ ≤ tol·|θ|.
 constexpr double kEigenTolerance = 1e-10;
+/// Shift-invert's shift ε relative to ‖A‖∞ in smallest_eigenpairs_excluding (the dense path's).
+constexpr double kRelativeShift = 1e-12;
+/// The shift of the points path's Laplacian eigenmap and LLE: the wanted eigenvalues of a large
+/// library's graph can lie far below 1e-12·‖A‖∞ (LLE's M on 72 000 library frames: 6.5e-15 and
+/// 1.1e-14 with ‖M‖∞ = 20), where 1/(λ + ε) bunch together and Lanczos restarts over and over (16
+/// restarts, 290 solves there; 1 restart, 21 solves with this shift). Still ~100 units of
+/// rounding of ‖A‖∞, so A + ε·I stays positive definite through the factorization.
+constexpr double kPointsRelativeShift = 1e-14;
+
+/// How smallest_eigenpairs_excluding factorizes A + ε·I for its shift-invert solves.
+struct ShiftInvert {
+  double relative_shift = kRelativeShift;  ///< ε ÷ ‖A‖∞
+  /// false: Eigen's SimplicialLDLT, one thread (the dense path, whose maps keep its bits);
+  /// true: the supernodal LDLᵀ of detail/sparse_ldlt.h on the thread pool (the points path:
+  /// LLE's M for 72 000 library frames in 1.8 s instead of 5.1 s).
+  bool supernodal = false;
+};
+/// The points path's.
+constexpr ShiftInvert kPointsShiftInvert{kPointsRelativeShift, true};
 
 /// A few eigenpairs.
 struct EigenPairs {
@@ -60,14 +79,16 @@ EigenPairs largest_eigenpairs(const Eigen::MatrixXd& A, int count, std::string_v
 /// leaving that vector out (a graph Laplacian and √deg, LLE's M and the constant vector):
 ///   dense (n ≤ dense_limit): the smallest eigenpairs of A + c·q·qᵀ, c above A's spectrum;
 ///   sparse: Lanczos on P·(A + ε·I)⁻¹·P (shift-invert with a sparse LDLᵀ factorization, P the
-///   projector off q, ε = 1e-9·‖A‖∞), whose largest eigenvalues 1/(λ + ε) are A's smallest.
+///   projector off q, ε = shift_invert.relative_shift·‖A‖∞), whose largest eigenvalues 1/(λ + ε)
+///   are A's smallest; the smaller ε is next to the wanted eigenvalues' gaps, the fewer restarts.
 /// Eigenvalues are the Rayleigh quotients vᵀ·A·v. `control` is polled for cancellation.
 /// @throws NumericalError when the factorization fails or Lanczos does not converge;
 ///   ParameterError unless 1 ≤ count ≤ n − 2; Cancelled.
 EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
                                          const Eigen::VectorXd& null_vector, int count,
                                          std::string_view what, const Control& control = {},
-                                         int dense_limit = kDenseEigenLimit);
+                                         int dense_limit = kDenseEigenLimit,
+                                         const ShiftInvert& shift_invert = {});
 
 /// The rows of Z = (A − shift)·diag(1/scale) projected on Z's top `count` right-singular
 /// vectors: Z·V = U·Σ (m by count), with σ² in `squared_singular_values` (descending). A: m by p;

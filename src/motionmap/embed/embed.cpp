@@ -317,7 +317,9 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
       }
       break;
     case Method::LaplacianEigenmap:
-      if (on_points) {
+      if (on_points && frames > kGraphSampleLimit && input.metric == Metric::Euclidean) {
+        run_sampled_graph_method(nullptr, points, options, out, progress);
+      } else if (on_points) {
         laplacian_eigenmap_on(build_neighbor_graph(points, options, out, progress, 0.02, 0.3),
                               options, out, progress, 0.3);
       } else {
@@ -325,7 +327,9 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
       }
       break;
     case Method::Lle:
-      if (on_points) {
+      if (on_points && frames > kGraphSampleLimit && input.metric == Metric::Euclidean) {
+        run_sampled_graph_method(input.features, points, options, out, progress);
+      } else if (on_points) {
         lle_on(*input.features, build_neighbor_graph(points, options, out, progress, 0.02, 0.2),
                options, out, progress, 0.2);
       } else {

@@ -81,6 +81,15 @@ struct EmbedOptions {
 /// Landmarks of the points path of mds and isomap unless EmbedOptions::landmarks says otherwise.
 constexpr int kDefaultLandmarks = 256;
 
+/// Above this many frames the points path's le and lle (Euclidean points) solve their
+/// eigenproblem on a strided sample of at most this many frames and place every other frame by
+/// the method's out-of-sample rule over its k nearest samples (placement.h: the Nyström
+/// extension, barycentric weights), with a warning. The sparse factorization of the whole graph
+/// grows much faster than the frames (le on 72 000 library frames: 6.4·10⁶ entries; on 10⁶:
+/// 9.4·10⁸, 11 GB), and the smallest eigenvalues of a library's graph (1e-16 … 1e-13:
+/// near-separate clusters of repeated poses) leave no iterative solver to fall back on.
+constexpr int kGraphSampleLimit = 100000;
+
 /// The inputs. Pointers, so a caller passes only what its method needs (nullptr = absent).
 struct EmbedInput {
   const Eigen::MatrixXd* features = nullptr;  ///< X: #frames by #features

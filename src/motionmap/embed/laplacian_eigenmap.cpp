@@ -54,9 +54,9 @@ void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& option
 }
 
 void laplacian_eigenmap_on(const NeighborGraph& ng, const EmbedOptions& options, Embedding& out,
-                           Progress& progress, double begin) {
+                           Progress& progress, double begin, double end) {
   const int n = ng.graph.frames();
-  const double weights_end = begin + 0.05 * (1.0 - begin) / 0.7;
+  const double weights_end = begin + 0.05 * (end - begin) / 0.7;
   progress.stage("weights", begin, weights_end);
   const double auto_heat = automatic_heat(ng.lists);
   double heat = options.heat ? *options.heat : auto_heat;
@@ -106,12 +106,13 @@ void laplacian_eigenmap_on(const NeighborGraph& ng, const EmbedOptions& options,
                          hint + ", or a larger k");
   }
 
-  progress.stage("eigen", weights_end, 1.0);
+  progress.stage("eigen", weights_end, end);
   Eigen::VectorXd degrees;
   const Eigen::SparseMatrix<double> L = normalized_laplacian(w, degrees);
   const Eigen::VectorXd q = degrees.cwiseSqrt().normalized();
-  const EigenPairs low =
-      smallest_eigenpairs_excluding(L, q, options.dimensions, "le", progress.control());
+  const EigenPairs low = smallest_eigenpairs_excluding(
+      L, q, options.dimensions, "le", progress.control(), kDenseEigenLimit,
+      out.from_points ? kPointsShiftInvert : ShiftInvert{});
   out.eigenvalues = low.values;
   out.coordinates = degrees.cwiseSqrt().cwiseInverse().asDiagonal() * low.vectors;
 }

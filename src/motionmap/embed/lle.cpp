@@ -26,8 +26,8 @@ void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOpti
 }
 
 void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& ng, const EmbedOptions& options,
-            Embedding& out, Progress& progress, double begin) {
-  const double weights_end = begin + 0.25 * (1.0 - begin);
+            Embedding& out, Progress& progress, double begin, double end) {
+  const double weights_end = begin + 0.25 * (end - begin);
   const int n = static_cast<int>(X.rows());
   const int k = ng.lists.k;
   // A joining edge a–b makes each end an extra neighbour of the other, which couples the
@@ -73,7 +73,7 @@ void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& ng, const EmbedOption
       },
       [&](int done) { progress.update(double(done) / chunks); });
 
-  progress.stage("eigen", weights_end, 1.0);
+  progress.stage("eigen", weights_end, end);
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(weights.size() + std::size_t(n));
   for (int i = 0; i < n; ++i) {
@@ -85,8 +85,9 @@ void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& ng, const EmbedOption
   A.setFromTriplets(entries.begin(), entries.end());
   const Eigen::SparseMatrix<double> M = Eigen::SparseMatrix<double>(A.transpose()) * A;
   const Eigen::VectorXd q = Eigen::VectorXd::Constant(n, 1.0 / std::sqrt(double(n)));
-  const EigenPairs low =
-      smallest_eigenpairs_excluding(M, q, options.dimensions, "lle", progress.control());
+  const EigenPairs low = smallest_eigenpairs_excluding(
+      M, q, options.dimensions, "lle", progress.control(), kDenseEigenLimit,
+      out.from_points ? kPointsShiftInvert : ShiftInvert{});
   out.eigenvalues = low.values;
   out.coordinates = low.vectors;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -21,6 +22,12 @@ namespace motionmap::embed {
 namespace {
 
 constexpr int kFramesPerChunk = 64;
+// Above kExactNeighborLimit frames, NeighborSearch::Auto keeps the exact k-d tree when it scans at
+// most this many points per query on average, measured on kScanSampleQueries frames. The tree
+// costs ~0.02 µs of a core per point scanned, HNSW's build ~340 µs of its one thread per frame:
+// on 10⁶ library frames the tree scanned 2 900 points per query and took 58 s, HNSW 341 s.
+constexpr double kExactScanBudget = 8000.0;
+constexpr int kScanSampleQueries = 1000;
 // Frames the recall of an approximate search is measured on.
 constexpr int kRecallQueries = 200;
 
@@ -94,9 +101,10 @@ class PrincipalKdTree {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
     const Eigen::MatrixXd axes = eigen.eigenvectors().rowwise().reverse();  // largest first
     control.check();
-    // 2. Every frame in those axes. The rounding of y = (p − mean)·axes and of the distances
-    //    computed from it is below ~√d·d·ε·‖p − mean‖ (ε = 2⁻⁵³) per frame; `slack` allows a
-    //    million times that, which costs nothing in the search.
+    // 2. Every frame in those axes, stored as floats (half the memory: 456 MB at 10⁶ frames of
+    //    114 values) and summed in double. Storing rounds each y = (p − mean)·axes by at most
+    //    2⁻²⁴·‖y‖, the product and sums by ~√d·d·2⁻⁵³·‖p − mean‖; a pair's distance by at most
+    //    2⁻²³ of the largest ‖p − mean‖. `slack` allows eight times that.
     m_turned.resize(n, m_dims);
     double radius = 0.0;
     const int chunks = static_cast<int>((n + kRowsPerChunk - 1) / kRowsPerChunk);
@@ -105,14 +113,17 @@ class PrincipalKdTree {
       const Eigen::Index r0 = Eigen::Index(c) * kRowsPerChunk;
       const Eigen::Index rows = std::min<Eigen::Index>(kRowsPerChunk, n - r0);
       const Eigen::MatrixXd centred = points.middleRows(r0, rows).rowwise() - mean;
-      m_turned.middleRows(r0, rows).noalias() = centred * axes;
+      m_turned.middleRows(r0, rows) = (centred * axes).cast<float>();
       radii[c] = centred.rowwise().norm().maxCoeff();
     });
     for (double r : radii) radius = std::max(radius, r);
     const double orthogonality =
         (axes.transpose() * axes - Eigen::MatrixXd::Identity(m_dims, m_dims)).cwiseAbs().maxCoeff();
-    m_slack = (1e-9 + 4.0 * std::sqrt(double(m_dims)) * orthogonality) * 2.0 * radius +
-              std::numeric_limits<double>::denorm_min();
+    m_relative = 1e-6 + 4.0 * std::sqrt(double(m_dims)) * orthogonality;
+    m_radius = radius;
+    m_slack = m_relative * 2.0 * radius + std::numeric_limits<double>::denorm_min();
+    m_mean = mean;
+    m_axes = axes;
     control.check();
     // 3. The tree: median splits on the axis of largest spread; then the rows in tree order,
     //    so a leaf's points are contiguous.
@@ -120,7 +131,7 @@ class PrincipalKdTree {
     std::iota(m_order.begin(), m_order.end(), 0);
     m_nodes.reserve(std::size_t(2 * n / kLeafSize + 2));
     build(0, static_cast<int>(n));
-    RowMatrix ordered(n, m_dims);
+    Rows ordered(n, m_dims);
     for (Eigen::Index p = 0; p < n; ++p) ordered.row(p) = m_turned.row(m_order[p]);
     m_turned.swap(ordered);
     m_position.resize(std::size_t(n));
@@ -130,22 +141,35 @@ class PrincipalKdTree {
   int frames() const { return static_cast<int>(m_order.size()); }
   int frame(int position) const { return m_order[position]; }
   int position(int frame) const { return m_position[frame]; }
-  const double* row(int position) const { return m_turned.row(position).data(); }
+  const float* row(int position) const { return m_turned.row(position).data(); }
   /// Bound on |distance in the turned frame − metric distance| for any pair.
   double slack() const { return m_slack; }
 
+  /// `point` (in the points' own coordinates) turned as the tree's rows are, in `turned`;
+  /// returns the bound of slack() for the pairs of it and a tree point.
+  double turn(PoseRow point, std::vector<float>& turned) const {
+    const Eigen::RowVectorXd centred = point - m_mean;
+    const Eigen::RowVectorXd y = centred * m_axes;
+    turned.resize(std::size_t(m_dims));
+    for (int j = 0; j < m_dims; ++j) turned[j] = static_cast<float>(y[j]);
+    return m_relative * 2.0 * std::max(m_radius, centred.norm()) +
+           std::numeric_limits<double>::denorm_min();
+  }
+
   /// The `want` nearest positions to `query` (a turned row) by turned squared distance,
   /// ascending, in found/squared; returns how many (fewer only when the tree is smaller).
-  int nearest(const double* query, int want, int* found, double* squared,
-              std::vector<double>& offsets) const {
+  /// `scanned`, when given, receives the number of points the search looked at.
+  int nearest(const float* query, int want, int* found, double* squared,
+              std::vector<double>& offsets, std::int64_t* scanned = nullptr) const {
     Search s{query, found, squared, want, 0, std::numeric_limits<double>::infinity(), false};
     offsets.assign(std::size_t(m_dims), 0.0);
     descend(0, 0.0, offsets, s);
+    if (scanned) *scanned = s.scanned;
     return s.count;
   }
 
   /// Every position within turned squared distance `radius_squared` of `query`, in any order.
-  void within(const double* query, double radius_squared, std::vector<int>& found,
+  void within(const float* query, double radius_squared, std::vector<int>& found,
               std::vector<double>& offsets) const {
     found.clear();
     Search s{query, nullptr, nullptr, 0, 0, radius_squared, true};
@@ -168,7 +192,7 @@ class PrincipalKdTree {
   };
 
   struct Search {
-    const double* query;
+    const float* query;
     int* found;
     double* squared;
     int want;
@@ -176,6 +200,7 @@ class PrincipalKdTree {
     double worst;  // the want-th best so far (+inf until `want` found), or the radius²
     bool radius;
     std::vector<int>* all = nullptr;
+    std::int64_t scanned = 0;
   };
 
   int build(int begin, int end) {
@@ -197,7 +222,7 @@ class PrincipalKdTree {
       }
     }
     const int mid = begin + (end - begin) / 2;
-    auto value = [&](int f) { return m_turned(f, axis); };
+    auto value = [&](int f) { return double(m_turned(f, axis)); };
     std::nth_element(
         m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end,
         [&](int a, int b) { return value(a) < value(b) || (value(a) == value(b) && a < b); });
@@ -238,15 +263,16 @@ class PrincipalKdTree {
 
   void scan(const Node& node, Search& s) const {
     const int d = m_dims;
+    s.scanned += node.end - node.begin;
     for (int p = node.begin; p < node.end; ++p) {
-      const double* y = m_turned.row(p).data();
+      const float* y = m_turned.row(p).data();
       double sum = 0.0;
       int j = 0;
       // Leading axes first; stop as soon as the partial sum rules the point out.
       for (; j + 8 <= d; j += 8) {
         double part = 0.0;
         for (int t = 0; t < 8; ++t) {
-          const double diff = s.query[j + t] - y[j + t];
+          const double diff = double(s.query[j + t]) - double(y[j + t]);
           part += diff * diff;
         }
         sum += part;
@@ -254,7 +280,7 @@ class PrincipalKdTree {
       }
       if (sum > s.worst) continue;
       for (; j < d; ++j) {
-        const double diff = s.query[j] - y[j];
+        const double diff = double(s.query[j]) - double(y[j]);
         sum += diff * diff;
       }
       if (s.radius) {
@@ -277,22 +303,45 @@ class PrincipalKdTree {
   }
 
   int m_dims = 0;
-  RowMatrix m_turned;  // the turned rows, in tree order once built
+  using Rows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  Rows m_turned;  // the turned rows, in tree order once built
   std::vector<int> m_order;
   std::vector<int> m_position;
   std::vector<Node> m_nodes;
   double m_slack = 0.0;
+  double m_relative = 0.0;  // slack per unit of distance from the mean
+  double m_radius = 0.0;    // the largest distance of a point from the mean
+  Eigen::RowVectorXd m_mean;
+  Eigen::MatrixXd m_axes;
 };
 
-void exact_kd_tree(const PointSet& points, NeighborLists& out, const Control& control) {
+// The average number of points the tree scans for one frame's k + 2 nearest, over `queries`
+// frames spread evenly over the set: what an exact search of every frame will cost.
+double scanned_per_query(const PrincipalKdTree& tree, int k, int queries) {
+  const int n = tree.frames();
+  queries = std::min(n, queries);
+  std::vector<std::int64_t> scanned(static_cast<std::size_t>(queries), 0);
+  parallel_chunks(queries, [&](int a, int) {
+    const int want = std::min(n, k + 2);
+    std::vector<int> found(static_cast<std::size_t>(want));
+    std::vector<double> squared(static_cast<std::size_t>(want)), offsets;
+    const int p = tree.position(static_cast<int>((std::int64_t(a) * n) / queries));
+    tree.nearest(tree.row(p), want, found.data(), squared.data(), offsets, &scanned[a]);
+  });
+  std::int64_t total = 0;
+  for (std::int64_t s : scanned) total += s;
+  return double(total) / queries;
+}
+
+void exact_kd_tree(const PointSet& points, const PrincipalKdTree& tree, NeighborLists& out,
+                   const Control& control) {
   const int n = points.frames(), k = out.k;
-  const PrincipalKdTree tree(*points.rows, control.part(0.0, 0.1));
   // k + 2: the frame itself (usually), its k nearest, and the first one left out, which must be
   // clearly farther than the k-th for the lists to be known exact.
   const int want = std::min(n, k + 2);
   const double slack = tree.slack();
   const int chunks = (n + kFramesPerChunk - 1) / kFramesPerChunk;
-  const Control queries = control.part(0.1, 1.0);
+  const Control& queries = control;
   // Queries in tree order: consecutive ones are close, and so are the leaves they read.
   parallel_chunks(
       chunks,
@@ -453,16 +502,96 @@ NeighborLists knn_from_points(const PointSet& points, int k, NeighborSearch sear
   NeighborSearchReport local;
   NeighborSearchReport& r = report ? *report : local;
   r = {};
-  const bool approximate = search == NeighborSearch::Approximate ||
-                           (search == NeighborSearch::Auto && n > kExactNeighborLimit);
+  const bool euclidean = points.metric == Metric::Euclidean;
+  bool approximate = search == NeighborSearch::Approximate ||
+                     (search == NeighborSearch::Auto && n > kExactNeighborLimit && !euclidean);
+  std::unique_ptr<PrincipalKdTree> tree;
+  if (!approximate && euclidean) {
+    tree = std::make_unique<PrincipalKdTree>(*points.rows, control.part(0.0, 0.1));
+    if (search == NeighborSearch::Auto && n > kExactNeighborLimit) {
+      approximate = scanned_per_query(*tree, k, kScanSampleQueries) > kExactScanBudget;
+      if (approximate) tree.reset();
+    }
+  }
   if (approximate) {
     r.approximate = true;
     approximate_hnsw(points, out, control, r);
-  } else if (points.metric == Metric::Euclidean) {
-    exact_kd_tree(points, out, control);
+  } else if (tree) {
+    exact_kd_tree(points, *tree, out, control.part(0.1, 1.0));
   } else {
     exact_all_pairs(points, out, control);
   }
+  control.update(1.0);
+  return out;
+}
+
+NeighborLists knn_to_samples(const PointSet& samples, const PointSet& queries,
+                             std::span<const int> frames, int k, const Control& control) {
+  if (samples.rows == nullptr || queries.rows == nullptr) {
+    throw ParameterError("knn: no samples or no queries were given");
+  }
+  const int m = samples.frames();
+  if (k < 1 || k > m) {
+    throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
+                         std::to_string(m) + " samples it must be in [1, " + std::to_string(m) +
+                         "]");
+  }
+  if (samples.rows->cols() != queries.rows->cols() || samples.metric != queries.metric) {
+    throw ParameterError("knn: the samples and the queries are points of different kinds");
+  }
+  NeighborLists out;
+  out.k = k;
+  out.index.resize(frames.size() * std::size_t(k));
+  out.distance.resize(frames.size() * std::size_t(k));
+  const int count = static_cast<int>(frames.size());
+  const int chunks = (count + kFramesPerChunk - 1) / kFramesPerChunk;
+  const bool euclidean = samples.metric == Metric::Euclidean;
+  std::unique_ptr<PrincipalKdTree> tree;
+  if (euclidean) tree = std::make_unique<PrincipalKdTree>(*samples.rows, control.part(0.0, 0.1));
+  const Control queries_control = euclidean ? control.part(0.1, 1.0) : control;
+  const int want = std::min(m, k + 1);  // the k nearest and the first one left out
+  parallel_chunks(
+      chunks,
+      [&](int c, int) {
+        std::vector<int> found(static_cast<std::size_t>(want)), inside;
+        std::vector<double> squared(static_cast<std::size_t>(want)), offsets;
+        std::vector<float> turned;
+        Candidates candidates;
+        for (int q = c * kFramesPerChunk; q < std::min(count, (c + 1) * kFramesPerChunk); ++q) {
+          const PoseRow query = queries.rows->row(frames[q]);
+          auto rank = [&] {
+            for (auto& [d, s] : candidates)
+              d = pose_distance(query, samples.rows->row(s), samples.metric);
+            std::sort(candidates.begin(), candidates.end());
+            candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+          };
+          candidates.clear();
+          double slack = 0.0;
+          int got = m;
+          if (tree) {
+            slack = tree->turn(query, turned);
+            got = tree->nearest(turned.data(), want, found.data(), squared.data(), offsets);
+            for (int a = 0; a < got; ++a) candidates.emplace_back(0.0, tree->frame(found[a]));
+          } else {
+            for (int s = 0; s < m; ++s) candidates.emplace_back(0.0, s);
+          }
+          rank();
+          // Every sample left out is at least sqrt(squared[got − 1]) − slack away (see
+          // exact_kd_tree); otherwise every sample within the k-th distance + slack.
+          if (tree && got < m && !(std::sqrt(squared[got - 1]) > candidates[k - 1].first + slack)) {
+            const double radius = candidates[k - 1].first + slack;
+            tree->within(turned.data(), radius * radius, inside, offsets);
+            candidates.clear();
+            for (int p : inside) candidates.emplace_back(0.0, tree->frame(p));
+            rank();
+          }
+          for (int a = 0; a < k; ++a) {
+            out.index[std::size_t(q) * k + a] = candidates[a].second;
+            out.distance[std::size_t(q) * k + a] = candidates[a].first;
+          }
+        }
+      },
+      [&](int done) { queries_control.update(double(done) / chunks); });
   control.update(1.0);
   return out;
 }

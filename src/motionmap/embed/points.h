@@ -7,6 +7,7 @@
 //   NeighborSearchReport report;
 //   NeighborLists nn = knn_from_points(points, 20, NeighborSearch::Auto, control, &report);
 //   // report.approximate: HNSW was used (above kExactNeighborLimit); report.recall measured
+#include <span>
 #include <string>
 
 #include "motionmap/core/control.h"
@@ -29,7 +30,9 @@ struct PointSet {
 
 /// How knn_from_points searches.
 enum class NeighborSearch {
-  /// Exact up to kExactNeighborLimit frames, approximate above.
+  /// Exact up to kExactNeighborLimit frames. Above, exact too for Euclidean points when the
+  /// k-d tree scans few points per query (measured on 1 000 frames: poses near a
+  /// low-dimensional manifold, as in motion libraries), approximate otherwise.
   Auto,
   /// Exact: a k-d tree over the points turned into their principal axes for Euclidean points
   /// (a copy of the points, #frames by #values), otherwise every pair (O(#frames²) time,
@@ -40,7 +43,7 @@ enum class NeighborSearch {
   Approximate,
 };
 
-/// Above this many frames NeighborSearch::Auto searches approximately.
+/// Above this many frames NeighborSearch::Auto may search approximately (see Auto).
 constexpr int kExactNeighborLimit = 100000;
 
 /// What a search did.
@@ -62,5 +65,14 @@ struct NeighborSearchReport {
 NeighborLists knn_from_points(const PointSet& points, int k,
                               NeighborSearch search = NeighborSearch::Auto,
                               const Control& control = {}, NeighborSearchReport* report = nullptr);
+
+/// The k nearest of `samples` to each of the rows `frames` of `queries` (points of the same
+/// kind and metric), nearest first, of equal distances the smaller sample index: exactly what
+/// every pair gives (a k-d tree over the samples for Euclidean points). A query equal to a sample
+/// finds it at distance 0. List q (NeighborLists::of(q)) belongs to frames[q]. In parallel;
+/// `control` hears the fraction done and may throw Cancelled.
+/// @throws ParameterError unless 1 ≤ k ≤ #samples, both sets are given and alike.
+NeighborLists knn_to_samples(const PointSet& samples, const PointSet& queries,
+                             std::span<const int> frames, int k, const Control& control = {});
 
 }  // namespace motionmap::embed

@@ -91,15 +91,21 @@ double estimate_map_bytes(Method method, int frames, int values, int columns, bo
   const double L =
       std::min<double>(F, options.landmarks > 0 ? options.landmarks : embed::kDefaultLandmarks);
   double bytes = base;
+  // le and lle above embed::kGraphSampleLimit frames build their graph and eigenproblem on a
+  // sample of that many (Euclidean points; a copy of their rows), placing the others after.
+  const bool sampled = (method == Method::LaplacianEigenmap || method == Method::Lle) &&
+                       frames > embed::kGraphSampleLimit;
+  const double G = sampled ? double(embed::kGraphSampleLimit) : F;
+  if (sampled) bytes += G * (values + columns) * 8.0;
   if (embed::uses_graph(method)) {
-    // k-NN lists, the flat pair array and the CSR graph; HNSW's float rows and links above the
-    // exact limit.
-    bytes += F * k * (12.0 + 2 * 16.0 + 2 * 12.0);
-    if (frames > embed::kExactNeighborLimit) bytes += F * (values * 4.0 + 32 * 4.0 + 64.0);
+    // k-NN lists, the flat pair array and the CSR graph; above the exact limit, the float rows
+    // of the k-d tree or of HNSW (and its links).
+    bytes += G * k * (12.0 + 2 * 16.0 + 2 * 12.0);
+    if (G > embed::kExactNeighborLimit) bytes += G * (values * 4.0 + 32 * 4.0 + 64.0);
   }
   if (method == Method::Mds || method == Method::Isomap) bytes += 8.0 * F * L;
-  if (method == Method::LaplacianEigenmap) bytes += F * (2 * k + 1) * 12.0 * 6.0;
-  if (method == Method::Lle) bytes += F * k * k * 12.0 * 6.0;
+  if (method == Method::LaplacianEigenmap) bytes += G * (2 * k + 1) * 12.0 * 6.0;
+  if (method == Method::Lle) bytes += G * k * k * 12.0 * 6.0;
   return bytes;
 }
 

@@ -2,6 +2,8 @@
 // The six methods behind embed(). Each checks what only it needs, composes the shared routines
 // (neighbors, graph, eigen) and fills `out` (coordinates before the sign convention, eigenvalues,
 // diagnostics). embed() has already validated the options and the inputs it reads.
+#include <functional>
+
 #include <Eigen/Core>
 
 #include "motionmap/embed/embed.h"
@@ -73,24 +75,42 @@ NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions&
 NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& options,
                                    Embedding& out, Progress& progress, double begin, double end);
 
-/// Laplacian eigenmap of a neighbour graph (heat-kernel weights, then the sparse eigenproblem).
+/// Laplacian eigenmap of a neighbour graph (heat-kernel weights, then the sparse eigenproblem),
+/// reporting over the overall fractions [begin, end].
 void laplacian_eigenmap_on(const NeighborGraph& graph, const EmbedOptions& options, Embedding& out,
-                           Progress& progress, double begin);
-/// LLE of X over a neighbour graph's lists and joins.
+                           Progress& progress, double begin, double end = 1.0);
+/// LLE of X over a neighbour graph's lists and joins, reporting over [begin, end].
 void lle_on(const Eigen::MatrixXd& X, const NeighborGraph& graph, const EmbedOptions& options,
-            Embedding& out, Progress& progress, double begin);
+            Embedding& out, Progress& progress, double begin, double end = 1.0);
+/// The points path's le and lle above kGraphSampleLimit frames (Euclidean points): the method on
+/// a strided sample of at most kGraphSampleLimit frames, every other frame placed by the
+/// method's out-of-sample rule (placement.h) over its k nearest samples. X: lle only.
+void run_sampled_graph_method(const Eigen::MatrixXd* X, const PointSet& points,
+                              const EmbedOptions& options, Embedding& out, Progress& progress,
+                              int sample_limit = kGraphSampleLimit);
 
 /// Max-min landmarks (de Silva & Tenenbaum): the first is frame 0, each next one the frame
 /// farthest from those chosen (ties: the smaller index). `distances` receives count by #frames,
 /// column f = frame f's distances to the landmarks in the order chosen.
 std::vector<int> maxmin_landmarks(const PointSet& points, int count, Eigen::MatrixXd& distances,
                                   const Control& control);
+/// The same landmarks without their distances to every frame.
+std::vector<int> maxmin_landmarks(const PointSet& points, int count, const Control& control);
 
 /// The landmark map: classical MDS of T (L by L distances between the landmarks, lower triangle
 /// read), every frame triangulated from `distances` (L by #frames), then PCA of the result.
 /// Fills out.landmarks (but its frames), coordinates, eigenvalues (of the final axes: Σ x² per
 /// axis, as classical MDS's eigenvalues), negative, stress (over the landmark pairs) and warnings.
 void fit_landmarks(const Eigen::MatrixXd& T, const Eigen::MatrixXd& distances,
+                   const EmbedOptions& options, Embedding& out, Progress& progress, double begin,
+                   double end);
+/// Frames [first, first + count)'s distances to the landmarks, L by count: a view of stored ones,
+/// or computed into `scratch`.
+using LandmarkDistances = std::function<Eigen::Ref<const Eigen::MatrixXd>(
+    int first, int count, Eigen::MatrixXd& scratch)>;
+/// The same, reading the #frames frames' distances block by block, twice (the fit, then the map),
+/// so that they need never be held all at once.
+void fit_landmarks(const Eigen::MatrixXd& T, int frames, const LandmarkDistances& distances,
                    const EmbedOptions& options, Embedding& out, Progress& progress, double begin,
                    double end);
 

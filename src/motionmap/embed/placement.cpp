@@ -3,19 +3,19 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
-#include <nanoflann.hpp>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/points.h"
 
 namespace motionmap::embed {
 
@@ -26,68 +26,6 @@ constexpr int kFramesPerChunk = 256;
 std::string who(Method method) {
   return "place (" + std::string(method_name(method)) + "): ";
 }
-
-// The k nearest samples of a new point, nearest first (ties: the smaller index), by the model's
-// metric: a k-d tree for Euclidean points, every sample otherwise.
-class SampleIndex {
- public:
-  SampleIndex(const RowMatrix& samples, Metric metric) : m_samples(samples), m_metric(metric) {
-    if (metric == Metric::Euclidean) {
-      m_tree = std::make_unique<Tree>(static_cast<int>(samples.cols()), m_adaptor,
-                                      nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    }
-  }
-
-  // index/distance receive the k nearest (k ≤ #samples).
-  void nearest(PoseRow x, int k, std::vector<int>& index, std::vector<double>& distance) const {
-    const int n = static_cast<int>(m_samples.rows());
-    std::vector<std::pair<double, int>> candidates;
-    if (m_tree) {
-      // A few more than k from the tree, re-ranked by the metric as the fit computed it.
-      const int want = std::min(n, k + 4);
-      std::vector<std::uint32_t> found(static_cast<std::size_t>(want));
-      std::vector<double> squared(static_cast<std::size_t>(want));
-      const Eigen::RowVectorXd query = x;
-      const std::size_t got = m_tree->knnSearch(query.data(), want, found.data(), squared.data());
-      for (std::size_t a = 0; a < got; ++a) {
-        candidates.emplace_back(pose_distance(x, m_samples.row(found[a]), m_metric), int(found[a]));
-      }
-    } else {
-      candidates.reserve(std::size_t(n));
-      for (int s = 0; s < n; ++s) {
-        candidates.emplace_back(pose_distance(x, m_samples.row(s), m_metric), s);
-      }
-    }
-    const std::size_t keep = std::min<std::size_t>(std::size_t(k), candidates.size());
-    std::partial_sort(candidates.begin(), candidates.begin() + std::ptrdiff_t(keep),
-                      candidates.end());
-    index.resize(keep);
-    distance.resize(keep);
-    for (std::size_t a = 0; a < keep; ++a) {
-      distance[a] = candidates[a].first;
-      index[a] = candidates[a].second;
-    }
-  }
-
- private:
-  struct Adaptor {
-    const RowMatrix& rows;
-    std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(rows.rows()); }
-    double kdtree_get_pt(std::size_t i, std::size_t d) const {
-      return rows(Eigen::Index(i), Eigen::Index(d));
-    }
-    template <class Box>
-    bool kdtree_get_bbox(Box&) const {
-      return false;
-    }
-  };
-  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Adaptor<double, Adaptor, double>,
-                                                   Adaptor, -1, std::uint32_t>;
-  const RowMatrix& m_samples;
-  Metric m_metric;
-  Adaptor m_adaptor{m_samples};
-  std::unique_ptr<Tree> m_tree;
-};
 
 // −½·P·(δ² − μ) + c for one frame's distances δ to the landmarks, summed in a fixed order.
 void triangulate_one(const LandmarkFit& fit, const double* delta, double* x) {
@@ -103,8 +41,8 @@ void triangulate_one(const LandmarkFit& fit, const double* delta, double* x) {
 
 // Shortest-path lengths from a new frame that joins `graph` through `entry` (sample, length)
 // edges, to every sample (Dijkstra with lazy deletion).
-void geodesics_from(const Graph& graph, const std::vector<int>& entry,
-                    const std::vector<double>& length, std::vector<double>& dist) {
+void geodesics_from(const Graph& graph, std::span<const int> entry, std::span<const double> length,
+                    std::vector<double>& dist) {
   const int n = graph.frames();
   dist.assign(std::size_t(n), std::numeric_limits<double>::infinity());
   using Item = std::pair<double, int>;
@@ -254,20 +192,26 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
 
   Eigen::MatrixXd out(frames, dims);
   if (frames == 0) return out;
-  // The nearest-sample index: every method with points but a landmark mds map (which keeps only
-  // its landmarks, and places a sample exactly by the triangulation anyway).
+  // The nearest samples of every frame (the k-d tree search the fit's k-NN uses, exact): every
+  // method with points but a landmark mds map (which keeps only its landmarks, and places a
+  // sample exactly by the triangulation anyway).
   const bool landmark_mds = model.points_are_landmarks;
-  std::unique_ptr<SampleIndex> index;
-  if (needs_points && !landmark_mds)
-    index = std::make_unique<SampleIndex>(model.points, model.metric);
-  const int k = std::max(model.k, 1);
+  const int k = method == Method::Mds ? 1 : std::max(model.k, 1);
+  const bool searches = needs_points && !landmark_mds;
+  NeighborLists nearest;
+  if (searches) {
+    std::vector<int> all(static_cast<std::size_t>(frames));
+    for (int f = 0; f < static_cast<int>(frames); ++f) all[std::size_t(f)] = f;
+    nearest = knn_to_samples(PointSet{&model.points, model.metric},
+                             PointSet{input.points, model.metric}, all, k, control.part(0.0, 0.5));
+  }
+  const Control placing = searches ? control.part(0.5, 1.0) : control;
   static const RowMatrix no_points;
   const RowMatrix& points = needs_points ? *input.points : no_points;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> features =
       needs_features ? *input.features : Eigen::MatrixXd();
 
-  auto place_one = [&](Eigen::Index f, std::vector<int>& nb, std::vector<double>& nd,
-                       std::vector<double>& scratch) {
+  auto place_one = [&](Eigen::Index f, std::vector<double>& scratch) {
     double value[3] = {0.0, 0.0, 0.0};
     if (projection) {
       for (int a = 0; a < dims; ++a) {
@@ -289,7 +233,8 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
       triangulate_one(fit, scratch.data(), value);
     } else {
       const PoseRow p = points.row(f);
-      index->nearest(p, method == Method::Mds ? 1 : k, nb, nd);
+      const std::span<const int> nb = nearest.of(static_cast<int>(f));
+      const std::span<const double> nd = nearest.distances_of(static_cast<int>(f));
       if (nd[0] == 0.0) {
         // A sample's own pose lands on that sample.
         for (int a = 0; a < dims; ++a) value[a] = model.coordinates(nb[0], a);
@@ -350,15 +295,14 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
   parallel_chunks(
       chunks,
       [&](int c, int) {
-        std::vector<int> nb;
-        std::vector<double> nd, scratch;
+        std::vector<double> scratch;
         const Eigen::Index end =
             std::min<Eigen::Index>(frames, Eigen::Index(c + 1) * kFramesPerChunk);
         for (Eigen::Index f = Eigen::Index(c) * kFramesPerChunk; f < end; ++f) {
-          place_one(f, nb, nd, scratch);
+          place_one(f, scratch);
         }
       },
-      [&](int done) { control.update(double(done) / chunks); });
+      [&](int done) { placing.update(double(done) / chunks); });
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <random>
 
 #include "motionmap/core/error.h"
@@ -109,22 +110,23 @@ double estimate_map_bytes(Method method, int frames, int values, int columns, bo
   return bytes;
 }
 
-ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
-                  const Control& control, FeatureCache* cache) {
+namespace {
+
+double features_share(const ClipMapOptions& options) {
+  return embed::reads_distances(options.embed.method) || options.metrics ? 0.3 : 0.05;
+}
+
+// The map of `set`, whose D `with_distances` adds when the dense path needs it.
+ClipMap map_set(std::shared_ptr<const features::FeatureSet> set,
+                const std::function<std::shared_ptr<const features::FeatureSet>(const Control&)>&
+                    with_distances,
+                const ClipMapOptions& options, const Control& control) {
   const bool reads_d = embed::reads_distances(options.embed.method);
-  const double features_share = reads_d || options.metrics ? 0.3 : 0.05;
-  const double embed_share = options.metrics ? 1.0 - features_share - 0.2 : 1.0 - features_share;
+  const double before = features_share(options);
+  const double embed_share = options.metrics ? 1.0 - before - 0.2 : 1.0 - before;
 
   ClipMap result;
-  const Control features_control = control.stage("features", 0.0, 0.05);
-  std::shared_ptr<features::FeatureSet> own;  // without a cache: built here, D maybe added
-  if (cache) {
-    result.features = cache->get(clips, options.features, false, features_control);
-  } else {
-    own = std::make_shared<features::FeatureSet>(features::build_features(
-        clips, options.features, features_control, features::Distances::Later));
-    result.features = own;
-  }
+  result.features = std::move(set);
   const int frames = result.features->num_samples();
   result.dense = options.path == MapPath::Dense ||
                  (options.path == MapPath::Auto && frames <= options.dense_limit);
@@ -132,25 +134,50 @@ ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
   const int columns = static_cast<int>(result.features->X.cols());
   check_memory(options, frames, values, columns, result.dense);
   if (result.dense && (reads_d || options.metrics) && !result.features->has_distances()) {
-    const Control distances_control = control.stage("pose distances", 0.05, features_share);
-    if (cache) {
-      result.features = cache->get(clips, options.features, true, distances_control);
-    } else {
-      features::add_distances(*own, distances_control);
-    }
+    result.features = with_distances(control.stage("pose distances", 0.05, before));
   }
-  const features::FeatureSet& set = *result.features;
-  const EmbedInput input = embed_input(set, result.dense);
-  result.embedding = embed::embed(input, options.embed,
-                                  control.part(features_share, features_share + embed_share));
+  const features::FeatureSet& features = *result.features;
+  const EmbedInput input = embed_input(features, result.dense);
+  result.embedding =
+      embed::embed(input, options.embed, control.part(before, before + embed_share));
 
   if (options.metrics) {
-    result.metrics = map_metrics(set, result.embedding, options.metrics_k,
-                                 control.stage("metrics", features_share + embed_share, 1.0),
+    result.metrics = map_metrics(features, result.embedding, options.metrics_k,
+                                 control.stage("metrics", before + embed_share, 1.0),
                                  result.dense ? 0 : options.metrics_sample);
   }
   control.finish();
   return result;
+}
+
+}  // namespace
+
+ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
+                  const Control& control, FeatureCache* cache) {
+  if (!cache) return map_features(clip_features(clips, options, control), options, control);
+  auto set = cache->get(clips, options.features, false, control.stage("features", 0.0, 0.05));
+  return map_set(
+      std::move(set),
+      [&](const Control& c) { return cache->get(clips, options.features, true, c); }, options,
+      control);
+}
+
+std::shared_ptr<features::FeatureSet> clip_features(std::span<const Clip> clips,
+                                                    const ClipMapOptions& options,
+                                                    const Control& control) {
+  return std::make_shared<features::FeatureSet>(features::build_features(
+      clips, options.features, control.stage("features", 0.0, 0.05), features::Distances::Later));
+}
+
+ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipMapOptions& options,
+                     const Control& control) {
+  return map_set(
+      features,
+      [&](const Control& c) {
+        features::add_distances(*features, c);
+        return features;
+      },
+      options, control);
 }
 
 embed::MapModel map_model(const ClipMap& map, const ClipMapOptions& options) {

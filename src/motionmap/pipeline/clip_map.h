@@ -77,6 +77,18 @@ struct ClipMap {
 ClipMap map_clips(std::span<const Clip> clips, const ClipMapOptions& options,
                   const Control& control = {}, FeatureCache* cache = nullptr);
 
+/// map_clips() without a cache, in its two steps, for a caller that frees the clips' poses in
+/// between (they are most of the memory of a large library: 1.7 GB at 10⁶ frames of 31 joints).
+/// First the features of `clips` (map_clips' "features" stage)…
+std::shared_ptr<features::FeatureSet> clip_features(std::span<const Clip> clips,
+                                                    const ClipMapOptions& options,
+                                                    const Control& control = {});
+
+/// …then the map of them, which reads `features` only (and adds D to it on the dense path when
+/// the method or the metrics read it); the same map as map_clips() of the clips.
+ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipMapOptions& options,
+                     const Control& control = {});
+
 /// The metrics of `embedding`, a map of `features`: neighbourhood quality at k against D, the
 /// embedding's stress, the jump score. With `sample` > 0 (or when `features` has no D), the
 /// neighbourhood quality is measured on a random sample of min(sample, #frames) frames, with

@@ -20,6 +20,10 @@ machine ends in the tool's own bad_alloc error instead of the OOM killer on a sh
     /usr/bin/python3 bench/scale_table.py                          # 20000 72000 100000 1000000
     /usr/bin/python3 bench/scale_table.py --sizes 20000 --methods pca mds --timeout 300
 
+With --place N, each map is also saved (a second run, with --save) and a library of N other frames
+(seed + 1000) is placed on it with `motionmap map … --onto`; a second table gives the placing
+stage's seconds and frames per second (out-of-sample placement, issue 11).
+
 Libraries are kept in --library-dir (one folder per size and seed, ~0.76 KB a frame: 760 MB at
 1 000 000 frames) and reused when their manifest matches; --json saves every run's numbers.
 """
@@ -70,6 +74,8 @@ def parse_args():
                    help="the generator (default: build/bench/library/motionmap-make-library)")
     p.add_argument("--no-skip", action="store_true",
                    help="run a method at larger sizes even after it timed out at a smaller one")
+    p.add_argument("--place", type=int, default=0, metavar="N",
+                   help="also save each map and place a library of N other frames on it")
     p.add_argument("--json", help="also write every run's numbers (and stages) to this file")
     p.add_argument("extra", nargs="*", help="further `motionmap map` options, after --")
     return p.parse_args()
@@ -100,20 +106,21 @@ def has_verbose(cli):
     return "--verbose" in p.stdout + p.stderr
 
 
-def library(args, frames):
+def library(args, frames, seed=None):
     """The folder of the library of `frames` frames, made unless a matching one is there."""
-    name = f"frames{frames}-clip{args.clip_frames}-seed{args.seed}"
+    seed = args.seed if seed is None else seed
+    name = f"frames{frames}-clip{args.clip_frames}-seed{seed}"
     if args.source:  # another source, another library
         name += "-" + hashlib.sha1(os.path.abspath(args.source).encode()).hexdigest()[:8]
     folder = os.path.join(args.library_dir, name)
     manifest = os.path.join(folder, "manifest.txt")
-    want = f"frames={frames} clip_frames={args.clip_frames} seed={args.seed} "
+    want = f"frames={frames} clip_frames={args.clip_frames} seed={seed} "
     if os.path.exists(manifest):
         with open(manifest) as f:
             if want in f.readline():
                 return folder, None
     cmd = [args.generator, "--frames", str(frames), "--clip-frames", str(args.clip_frames),
-           "--seed", str(args.seed), "--out", folder, "--force", "-q"]
+           "--seed", str(seed), "--out", folder, "--force", "-q"]
     if args.source:
         cmd += ["--source", args.source]
     start = time.monotonic()
@@ -175,6 +182,32 @@ def failure_cell(rc, stderr):
     return last if last.startswith("error:") else f"error: {last}"
 
 
+def bvh_files(folder):
+    return sorted(os.path.join(folder, f) for f in os.listdir(folder)
+                  if f.startswith("clip_") and f.endswith(".bvh"))
+
+
+def place_row(args, frames, method, files, new_files, mem_limit):
+    """Saves the map of `files` and places `new_files` on it: a row of the placement table."""
+    with tempfile.TemporaryDirectory() as tmp:
+        saved = os.path.join(tmp, "map.mmap.h5")
+        rc, _, _, stderr = run_map([args.cli, "map", *files, "-m", method, "-o", "/dev/null", "-q",
+                                    "--save", saved, *args.extra], args.timeout, mem_limit)
+        if rc != 0:
+            return [f"{frames}", method, "", cell(failure_cell(rc, stderr) if rc else "timeout"),
+                    "", ""]
+        rc, wall, peak, stderr = run_map([args.cli, "map", *new_files, "--onto", saved, "-o",
+                                          "/dev/null", "-q", "--verbose"], args.timeout, mem_limit)
+        size = os.path.getsize(saved) / 2**20
+    if rc != 0:
+        return [f"{frames}", method, f"{size:.0f}",
+                cell(failure_cell(rc, stderr) if rc else "timeout"), "", ""]
+    placing = [s["seconds"] for s in stages_of(stderr) if s["stage"] == "placing"]
+    seconds = placing[0] if placing else wall
+    return [f"{frames}", method, f"{size:.0f}", f"{seconds:.2f}",
+            f"{args.place / seconds:,.0f}".replace(",", " ") if seconds > 0 else "", f"{peak:.0f}"]
+
+
 def cell(text):
     return text.replace("|", "\\|")
 
@@ -198,11 +231,14 @@ def main():
         header += " · this motionmap has no --verbose: totals only"
     print(header, file=sys.stderr)
 
-    rows, records, timed_out_at = [], [], {}
+    new_files = []
+    if args.place:
+        folder, _ = library(args, args.place, seed=args.seed + 1000)
+        new_files = bvh_files(folder)
+    rows, records, timed_out_at, place_rows = [], [], {}, []
     for frames in sorted(args.sizes):
         folder, made = library(args, frames)
-        files = sorted(os.path.join(folder, f) for f in os.listdir(folder)
-                       if f.startswith("clip_") and f.endswith(".bvh"))
+        files = bvh_files(folder)
         if made is not None:
             print(f"made {folder} ({len(files)} files) in {made:.1f} s", file=sys.stderr)
         for method in args.methods:
@@ -232,6 +268,10 @@ def main():
                             "peak_mib": peak, "result": result, "stages": stages})
             print(f"{frames:>8} {method:<6} {result} · {peak:.0f} MiB" +
                   (f" · slowest {slow}" if slow else ""), file=sys.stderr)
+            if args.place and rc == 0:
+                place_rows.append(place_row(args, frames, method, files, new_files, mem_limit))
+                print(f"{frames:>8} {method:<6} placed: " + " · ".join(place_rows[-1][2:]),
+                      file=sys.stderr)
 
     print(header)
     print()
@@ -239,6 +279,15 @@ def main():
     print("|---:|---|---:|---:|---|")
     for r in rows:
         print("| " + " | ".join(r) + " |")
+    if place_rows:
+        print()
+        print(f"Placing {args.place} other frames (seed {args.seed + 1000}) on each saved map "
+              "(`--onto`; the placing stage of `--verbose`):")
+        print()
+        print("| frames | method | map file MiB | placing s | frames/s | peak MiB |")
+        print("|---:|---|---:|---:|---:|---:|")
+        for r in place_rows:
+            print("| " + " | ".join(r) + " |")
     print()
     print(f"load average at the end: {load_average()}")
     if any(r["stages"] for r in records):

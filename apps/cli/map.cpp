@@ -10,6 +10,7 @@
 #include "map_options.h"
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/memory.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/render/map_plot.h"
@@ -54,6 +55,7 @@ void forget_poses(std::vector<Clip>& clips) {
     std::vector<Eigen::Quaterniond>().swap(clip.motion.rotations);
     std::vector<Eigen::Vector3d>().swap(clip.motion.translations);
   }
+  release_freed_memory();
 }
 
 // --onto: the clips' frames placed on the saved map, written as `map` writes a map.

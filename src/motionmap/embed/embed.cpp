@@ -212,6 +212,10 @@ bool reads_distances(Method method) {
   return info(method).needs_distances;
 }
 
+bool reads_features(Method method) {
+  return info(method).needs_features;
+}
+
 bool uses_graph(Method method) {
   return info(method).uses_graph;
 }

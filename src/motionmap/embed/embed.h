@@ -49,6 +49,9 @@ const std::vector<Method>& all_methods();
 /// Whether `method` reads the distance matrix D (mds, isomap, le, lle; not pca and svd).
 bool reads_distances(Method method);
 
+/// Whether `method` reads the feature matrix X (pca, svd, lle).
+bool reads_features(Method method);
+
 /// Whether `method` builds a k-NN graph (isomap, le, lle), so k matters.
 bool uses_graph(Method method);
 

@@ -94,8 +94,9 @@ struct FeatureOptions {
 
 /// The feature set of a map: matrices plus where every sample came from.
 struct FeatureSet {
-  Eigen::MatrixXd X;                ///< #samples by #features
-  Eigen::MatrixXd D;                ///< #samples by #samples, symmetric, zero diagonal
+  Eigen::MatrixXd X;  ///< #samples by #features (no rows after pipeline::map_features() of a map
+                      ///< that does not read X)
+  Eigen::MatrixXd D;  ///< #samples by #samples, symmetric, zero diagonal
   std::vector<int> clip_of;         ///< per sample: index of its clip
   std::vector<int> frame_of;        ///< per sample: its frame index in the clip's file
   std::vector<int> segment_starts;  ///< first sample of each clip

@@ -138,8 +138,7 @@ ClipMap map_set(std::shared_ptr<const features::FeatureSet> set,
   }
   const features::FeatureSet& features = *result.features;
   const EmbedInput input = embed_input(features, result.dense);
-  result.embedding =
-      embed::embed(input, options.embed, control.part(before, before + embed_share));
+  result.embedding = embed::embed(input, options.embed, control.part(before, before + embed_share));
 
   if (options.metrics) {
     result.metrics = map_metrics(features, result.embedding, options.metrics_k,
@@ -171,6 +170,12 @@ std::shared_ptr<features::FeatureSet> clip_features(std::span<const Clip> clips,
 
 ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipMapOptions& options,
                      const Control& control) {
+  if (!embed::reads_features(options.embed.method)) {
+    // X's rows go (0.96 GB at 10⁶ frames, for a map that reads only the points or D); its
+    // column count stays, which a map file records.
+    features->X.resize(0, features->X.cols());
+    release_freed_memory();
+  }
   return map_set(
       features,
       [&](const Control& c) {

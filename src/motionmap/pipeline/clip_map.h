@@ -84,8 +84,9 @@ std::shared_ptr<features::FeatureSet> clip_features(std::span<const Clip> clips,
                                                     const ClipMapOptions& options,
                                                     const Control& control = {});
 
-/// …then the map of them, which reads `features` only (and adds D to it on the dense path when
-/// the method or the metrics read it); the same map as map_clips() of the clips.
+/// …then the map of them, which reads `features` only: the same map as map_clips() of the clips.
+/// Adds D to `features` on the dense path when the method or the metrics read it, and drops the
+/// rows of X when the method does not read it (mds, isomap, le: X.cols() stays).
 ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipMapOptions& options,
                      const Control& control = {});
 

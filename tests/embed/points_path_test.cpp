@@ -12,6 +12,7 @@
 
 #include "embed/embed_test_util.h"
 #include "motionmap/core/error.h"
+#include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/embed.h"
 #include "motionmap/embed/points.h"
 #include "motionmap/features/features.h"
@@ -200,15 +201,42 @@ TEST(PointsPath, TriangulationPlacesEachFrameOnItsOwn) {
   const ClipData d = clip_data("cmu/64_08.bvh");
   const Embedding map =
       embed({.features = &d.set.X, .points = &d.set.distance_input}, with(Method::Mds, 30));
-  Eigen::MatrixXd distances(30, d.set.num_samples());
-  for (int l = 0; l < 30; ++l) {
-    for (int f = 0; f < d.set.num_samples(); ++f) {
-      distances(l, f) = PointSet{&d.set.distance_input}.distance(map.landmarks->frames[l], f);
+  RowMatrix landmarks(30, d.set.distance_input.cols());
+  for (int l = 0; l < 30; ++l)
+    landmarks.row(l) = d.set.distance_input.row(map.landmarks->frames[l]);
+  const EuclideanToLandmarks to_landmarks(landmarks);
+  const int n = d.set.num_samples();
+  Eigen::MatrixXd distances(30, n);
+  to_landmarks.compute(d.set.distance_input, 0, n, distances);
+  EXPECT_EQ(triangulate(*map.landmarks, distances), map.coordinates);
+  // Frame 7's distances computed alone are the same bits, and it lands on its coordinates.
+  Eigen::MatrixXd seventh(30, 1);
+  to_landmarks.compute(d.set.distance_input, 7, 1, seventh);
+  EXPECT_EQ(seventh, distances.col(7));
+  const Eigen::MatrixXd one = triangulate(*map.landmarks, seventh);
+  EXPECT_EQ(one.row(0), map.coordinates.row(7));
+}
+
+TEST(PointsPath, DistancesToLandmarksAreTheMetricsToRounding) {
+  const ClipData d = clip_data("cmu/02_03.bvh");
+  const PointSet points{&d.set.distance_input};
+  const std::vector<int> chosen = {0, 5, 17, 300, 301};
+  RowMatrix landmarks(Eigen::Index(chosen.size()), d.set.distance_input.cols());
+  for (std::size_t l = 0; l < chosen.size(); ++l) {
+    landmarks.row(Eigen::Index(l)) = d.set.distance_input.row(chosen[l]);
+  }
+  const int n = d.set.num_samples();
+  Eigen::MatrixXd distances(Eigen::Index(chosen.size()), n);
+  EuclideanToLandmarks(landmarks).compute(d.set.distance_input, 0, n, distances);
+  const double size = d.set.distance_input.cwiseAbs().maxCoeff();
+  for (int f = 0; f < n; ++f) {
+    for (std::size_t l = 0; l < chosen.size(); ++l) {
+      // ‖p‖² + ‖q‖² − 2·p·q loses digits to cancellation: about 1e-7 of the points' size for
+      // frames close to a landmark.
+      EXPECT_NEAR(distances(Eigen::Index(l), f), points.distance(chosen[l], f), 1e-6 * size)
+          << "frame " << f << ", landmark " << chosen[l];
     }
   }
-  EXPECT_EQ(triangulate(*map.landmarks, distances), map.coordinates);
-  const Eigen::MatrixXd one = triangulate(*map.landmarks, distances.col(7));
-  EXPECT_EQ(one.row(0), map.coordinates.row(7));
 }
 
 }  // namespace

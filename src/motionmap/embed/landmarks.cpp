@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +35,15 @@ constexpr int kFramesPerBlock = 8192;
 // Axes the frames are triangulated into before the final PCA (fewer when the landmarks' distances
 // have fewer positive dimensions).
 constexpr int kLandmarkAxes = 20;
+
+// The landmarks' rows of the points, in the order chosen.
+RowMatrix landmark_rows(const PointSet& points, const std::vector<int>& landmarks) {
+  RowMatrix rows(static_cast<Eigen::Index>(landmarks.size()), points.rows->cols());
+  for (std::size_t l = 0; l < landmarks.size(); ++l) {
+    rows.row(Eigen::Index(l)) = points.rows->row(landmarks[l]);
+  }
+  return rows;
+}
 
 int landmark_count(const EmbedOptions& options, int frames) {
   return std::min(frames, options.landmarks > 0 ? options.landmarks : kDefaultLandmarks);
@@ -216,6 +227,102 @@ Eigen::MatrixXd triangulate_all(const LandmarkFit& fit, int frames,
 
 }  // namespace
 
+EuclideanToLandmarks::EuclideanToLandmarks(const RowMatrix& landmarks)
+    : m_by_value(landmarks), m_norms(landmarks.rows()) {
+  for (Eigen::Index l = 0; l < landmarks.rows(); ++l) {
+    double sum = 0.0;
+    for (Eigen::Index c = 0; c < landmarks.cols(); ++c) sum += landmarks(l, c) * landmarks(l, c);
+    m_norms[l] = sum;
+  }
+}
+
+namespace {
+
+// Two doubles in one register (GCC and Clang vector extensions: SSE2 on x86-64, NEON on arm64);
+// the arithmetic is lane by lane, the same as on scalars.
+typedef double Pair __attribute__((vector_size(16)));
+
+Pair load_pair(const double* at) {
+  Pair v;
+  std::memcpy(&v, at, sizeof v);
+  return v;
+}
+
+void store_pair(double* at, Pair v) {
+  std::memcpy(at, &v, sizeof v);
+}
+
+// out_j[l] = Σ_c p_j[c]·q[c·L + l] for the 8 landmarks l0 … l0 + 7 and two frames p_0, p_1
+// (p_1 = p_0 for one frame), each sum over c in order: the sixteen sums stay in eight registers
+// through the pass over the values (a GEMM micro-kernel); an entry's arithmetic does not depend
+// on the frame beside it.
+void dot_block(const double* p0, const double* p1, const double* q, Eigen::Index L,
+               Eigen::Index values, Eigen::Index l0, double* out0, double* out1) {
+  Pair a0 = {}, a1 = {}, a2 = {}, a3 = {}, b0 = {}, b1 = {}, b2 = {}, b3 = {};
+  for (Eigen::Index c = 0; c < values; ++c) {
+    const double* qc = q + c * L + l0;
+    const Pair q0 = load_pair(qc), q1 = load_pair(qc + 2), q2 = load_pair(qc + 4),
+               q3 = load_pair(qc + 6);
+    const Pair x = {p0[c], p0[c]}, y = {p1[c], p1[c]};
+    a0 += x * q0;
+    a1 += x * q1;
+    a2 += x * q2;
+    a3 += x * q3;
+    b0 += y * q0;
+    b1 += y * q1;
+    b2 += y * q2;
+    b3 += y * q3;
+  }
+  store_pair(out0 + l0, a0);
+  store_pair(out0 + l0 + 2, a1);
+  store_pair(out0 + l0 + 4, a2);
+  store_pair(out0 + l0 + 6, a3);
+  store_pair(out1 + l0, b0);
+  store_pair(out1 + l0 + 2, b1);
+  store_pair(out1 + l0 + 4, b2);
+  store_pair(out1 + l0 + 6, b3);
+}
+
+// The same for one landmark l0.
+void dot_one(const double* p0, const double* p1, const double* q, Eigen::Index L,
+             Eigen::Index values, Eigen::Index l0, double* out0, double* out1) {
+  double a = 0.0, b = 0.0;
+  for (Eigen::Index c = 0; c < values; ++c) {
+    a += p0[c] * q[c * L + l0];
+    b += p1[c] * q[c * L + l0];
+  }
+  out0[l0] = a;
+  out1[l0] = b;
+}
+
+}  // namespace
+
+void EuclideanToLandmarks::compute(const RowMatrix& points, Eigen::Index first, Eigen::Index count,
+                                   Eigen::Ref<Eigen::MatrixXd> out) const {
+  const Eigen::Index L = m_by_value.rows(), values = m_by_value.cols();
+  const double* q = m_by_value.data();
+  Eigen::VectorXd spare(L);  // the second frame's sums when `count` is odd
+  for (Eigen::Index j = 0; j < count; j += 2) {
+    const bool two = j + 1 < count;
+    const double* p0 = points.row(first + j).data();
+    const double* p1 = two ? points.row(first + j + 1).data() : p0;
+    double* out0 = out.col(j).data();
+    double* out1 = two ? out.col(j + 1).data() : spare.data();
+    Eigen::Index l0 = 0;
+    for (; l0 + 8 <= L; l0 += 8) dot_block(p0, p1, q, L, values, l0, out0, out1);
+    for (; l0 < L; ++l0) dot_one(p0, p1, q, L, values, l0, out0, out1);
+  }
+  for (Eigen::Index j = 0; j < count; ++j) {
+    const double* p = points.row(first + j).data();
+    double norm = 0.0;
+    for (Eigen::Index c = 0; c < values; ++c) norm += p[c] * p[c];
+    double* o = out.col(j).data();
+    for (Eigen::Index l = 0; l < L; ++l) {
+      o[l] = std::sqrt(std::max(0.0, norm + m_norms[l] - 2.0 * o[l]));
+    }
+  }
+}
+
 Eigen::MatrixXd triangulate(const LandmarkFit& fit, const Eigen::MatrixXd& distances) {
   const Eigen::Index L = fit.projection.cols(), dims = fit.projection.rows();
   if (distances.rows() != L) {
@@ -395,12 +502,22 @@ void run_landmark_mds(const PointSet& points, const EmbedOptions& options, Embed
                                 points.distance(landmarks[b], landmarks[a]));
     }
   }
+  // Euclidean points: the landmarks' distances by EuclideanToLandmarks, which placing new frames
+  // uses as well (so the map's own frames land on their coordinates).
+  std::optional<EuclideanToLandmarks> euclidean;
+  if (points.metric == Metric::Euclidean) euclidean.emplace(landmark_rows(points, landmarks));
   const LandmarkDistances distances =
       [&](int first, int count, Eigen::MatrixXd& block) -> Eigen::Ref<const Eigen::MatrixXd> {
     block.resize(L, count);
     const int chunks = (count + kFramesPerChunk - 1) / kFramesPerChunk;
     parallel_chunks(chunks, [&](int c, int) {
-      for (int j = c * kFramesPerChunk; j < std::min(count, (c + 1) * kFramesPerChunk); ++j) {
+      const int begin = c * kFramesPerChunk, end = std::min(count, (c + 1) * kFramesPerChunk);
+      if (euclidean) {
+        euclidean->compute(*points.rows, first + begin, end - begin,
+                           block.middleCols(begin, end - begin));
+        return;
+      }
+      for (int j = begin; j < end; ++j) {
         const int f = first + j;
         for (Eigen::Index l = 0; l < L; ++l) {
           block(l, j) = f == landmarks[l] ? 0.0 : points.distance(landmarks[l], f);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -211,7 +212,35 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> features =
       needs_features ? *input.features : Eigen::MatrixXd();
 
-  auto place_one = [&](Eigen::Index f, std::vector<double>& scratch) {
+  // mds: a frame's distances to the landmarks, as the fit computed them (so a map's own frames
+  // land on their coordinates): EuclideanToLandmarks for Euclidean points.
+  std::optional<EuclideanToLandmarks> to_landmarks;
+  if (method == Method::Mds && model.metric == Metric::Euclidean) {
+    if (landmark_mds) {
+      to_landmarks.emplace(model.points);
+    } else {
+      RowMatrix rows(Eigen::Index(model.landmarks->frames.size()), model.points.cols());
+      for (std::size_t l = 0; l < model.landmarks->frames.size(); ++l) {
+        rows.row(Eigen::Index(l)) = model.points.row(model.landmarks->frames[l]);
+      }
+      to_landmarks.emplace(rows);
+    }
+  }
+  auto landmark_distances = [&](Eigen::Index f, double* delta) {
+    const LandmarkFit& fit = *model.landmarks;
+    const Eigen::Index L = Eigen::Index(fit.frames.size());
+    if (to_landmarks) {
+      to_landmarks->compute(points, f, 1, Eigen::Map<Eigen::MatrixXd>(delta, L, 1));
+      return;
+    }
+    for (Eigen::Index l = 0; l < L; ++l) {
+      const Eigen::Index row = landmark_mds ? l : fit.frames[std::size_t(l)];
+      delta[l] = pose_distance(model.points.row(row), points.row(f), model.metric);
+    }
+  };
+
+  // `block`: the frame's distances to the landmarks when they were computed for its chunk.
+  auto place_one = [&](Eigen::Index f, std::vector<double>& scratch, const double* block) {
     double value[3] = {0.0, 0.0, 0.0};
     if (projection) {
       for (int a = 0; a < dims; ++a) {
@@ -226,11 +255,11 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
       }
     } else if (landmark_mds) {
       const LandmarkFit& fit = *model.landmarks;
-      scratch.resize(fit.frames.size());
-      for (std::size_t l = 0; l < fit.frames.size(); ++l) {
-        scratch[l] = pose_distance(model.points.row(Eigen::Index(l)), points.row(f), model.metric);
+      if (!block) {
+        scratch.resize(fit.frames.size());
+        landmark_distances(f, scratch.data());
       }
-      triangulate_one(fit, scratch.data(), value);
+      triangulate_one(fit, block ? block : scratch.data(), value);
     } else {
       const PoseRow p = points.row(f);
       const std::span<const int> nb = nearest.of(static_cast<int>(f));
@@ -241,9 +270,7 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
       } else if (method == Method::Mds) {
         const LandmarkFit& fit = *model.landmarks;
         scratch.resize(fit.frames.size());
-        for (std::size_t l = 0; l < fit.frames.size(); ++l) {
-          scratch[l] = pose_distance(model.points.row(fit.frames[l]), p, model.metric);
-        }
+        landmark_distances(f, scratch.data());
         triangulate_one(fit, scratch.data(), value);
       } else if (method == Method::Isomap) {
         const LandmarkFit& fit = *model.landmarks;
@@ -296,10 +323,17 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
       chunks,
       [&](int c, int) {
         std::vector<double> scratch;
-        const Eigen::Index end =
-            std::min<Eigen::Index>(frames, Eigen::Index(c + 1) * kFramesPerChunk);
-        for (Eigen::Index f = Eigen::Index(c) * kFramesPerChunk; f < end; ++f) {
-          place_one(f, scratch);
+        const Eigen::Index begin = Eigen::Index(c) * kFramesPerChunk;
+        const Eigen::Index end = std::min<Eigen::Index>(frames, begin + kFramesPerChunk);
+        // A landmark mds map: the chunk's distances together (EuclideanToLandmarks is faster
+        // on several frames; each frame's are the same bits).
+        Eigen::MatrixXd block;
+        if (landmark_mds && to_landmarks) {
+          block.resize(to_landmarks->landmarks(), end - begin);
+          to_landmarks->compute(points, begin, end - begin, block);
+        }
+        for (Eigen::Index f = begin; f < end; ++f) {
+          place_one(f, scratch, block.size() > 0 ? block.col(f - begin).data() : nullptr);
         }
       },
       [&](int done) { placing.update(double(done) / chunks); });

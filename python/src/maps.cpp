@@ -7,14 +7,14 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <unistd.h>
+
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "common.h"
 #include "motionmap/core/files.h"
@@ -112,16 +112,19 @@ py::dict option_dict(const pipeline::ClipMapOptions& o) {
   return d;
 }
 
-// A temporary file name in the system's temporary folder, removed when this goes.
+// A new, empty temporary file (mkstemps: a name no one else has), removed when this goes.
 struct TempFile {
   std::string path;
   TempFile() {
-    static std::atomic<int> counter{0};
-    path = (std::filesystem::temp_directory_path() /
-            ("motionmap-py-" + std::to_string(getpid()) + "-" + std::to_string(counter++) +
-             ".mmap.h5"))
-               .string();
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "motionmap-py-XXXXXX.mmap.h5").string();
+    const int fd = mkstemps(pattern.data(), 8);  // 8: the length of ".mmap.h5"
+    if (fd < 0) throw Error(pattern + ": error: cannot create a temporary file");
+    close(fd);
+    path = pattern;
   }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
   ~TempFile() {
     std::error_code ec;
     std::filesystem::remove(path, ec);
@@ -139,8 +142,7 @@ struct ClipMapState {
 };
 
 std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict& options,
-                                        const std::string& asf, double fps,
-                                        py::object progress) {
+                                        const std::string& asf, double fps, py::object progress) {
   const pipeline::ClipMapOptions opts = clip_map_options(options);
   std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
   auto state = std::make_shared<ClipMapState>();
@@ -193,8 +195,7 @@ py::bytes map_file_bytes(const ClipMapState& s) {
   return py::bytes(bytes);
 }
 
-std::shared_ptr<ClipMapState> state_from_bytes(const std::string& bytes,
-                                               const std::string& path) {
+std::shared_ptr<ClipMapState> state_from_bytes(const std::string& bytes, const std::string& path) {
   auto s = std::make_shared<ClipMapState>();
   {
     py::gil_scoped_release release;
@@ -237,17 +238,17 @@ std::shared_ptr<MatrixMapState> fit_matrix(const InputArray& array, bool precomp
                              "and le");
       }
       if (opts.embed.method == embed::Method::Lle) {
-        throw ParameterError("lle reads X for its weights: metric='precomputed' is for mds, "
-                             "isomap and le");
+        throw ParameterError(
+            "lle reads X for its weights: metric='precomputed' is for mds, "
+            "isomap and le");
       }
       const Eigen::MatrixXd D = rows;
       s->embedding = embed::embed({.distances = &D}, opts.embed, control);
       return 0;
     }
     const Eigen::MatrixXd X = rows;
-    const bool dense =
-        opts.path == pipeline::MapPath::Dense ||
-        (opts.path == pipeline::MapPath::Auto && rows.rows() <= opts.dense_limit);
+    const bool dense = opts.path == pipeline::MapPath::Dense ||
+                       (opts.path == pipeline::MapPath::Auto && rows.rows() <= opts.dense_limit);
     embed::EmbedInput input{.features = &X, .points = &rows};
     Eigen::MatrixXd D;
     if (dense && embed::reads_distances(opts.embed.method)) {
@@ -271,8 +272,8 @@ Eigen::MatrixXd transform_matrix(const MatrixMapState& s, const InputArray& arra
   }
   const RowMatrix rows = to_row_matrix(array, "X");
   if (rows.cols() != s.columns) {
-    throw ParameterError("X has " + std::to_string(rows.cols()) + " columns; the map was fitted on " +
-                         std::to_string(s.columns));
+    throw ParameterError("X has " + std::to_string(rows.cols()) +
+                         " columns; the map was fitted on " + std::to_string(s.columns));
   }
   return run_released(std::move(progress), [&](const Control& control) {
     const Eigen::MatrixXd X = rows;

@@ -24,8 +24,8 @@ RowMatrix to_row_matrix(const InputArray& array, const std::string& what) {
                          std::to_string(array.ndim()) + " dimensions");
   }
   if (array.shape(0) == 0 || array.shape(1) == 0) {
-    throw ParameterError(what + ": the array is empty (" + std::to_string(array.shape(0)) +
-                         " by " + std::to_string(array.shape(1)) + ")");
+    throw ParameterError(what + ": the array is empty (" + std::to_string(array.shape(0)) + " by " +
+                         std::to_string(array.shape(1)) + ")");
   }
   RowMatrix out(array.shape(0), array.shape(1));
   std::memcpy(out.data(), array.data(), sizeof(double) * static_cast<std::size_t>(array.size()));
@@ -57,8 +57,7 @@ PyControl::PyControl(py::object progress) : m_state(std::make_shared<State>()) {
         if (py::hasattr(p, "update") && py::hasattr(p, "n")) {
           // tqdm: total = 100 (set by the caller or here), advance to the fraction's percent.
           if (py::hasattr(p, "set_description")) p.attr("set_description")(std::string(stage));
-          const double total =
-              p.attr("total").is_none() ? 100.0 : p.attr("total").cast<double>();
+          const double total = p.attr("total").is_none() ? 100.0 : p.attr("total").cast<double>();
           const double done = fraction * total - p.attr("n").cast<double>();
           if (done > 0) p.attr("update")(done);
         } else {
@@ -270,13 +269,11 @@ features::FeatureOptions feature_options(const py::dict& o) {
       f.features = parse_name("features", value.cast<std::string>(), features::parse_feature_kind,
                               features::all_feature_kinds(), features::feature_kind_name);
     } else if (k == "distance") {
-      f.distance =
-          parse_name("distance", value.cast<std::string>(), features::parse_distance_kind,
-                     features::all_distance_kinds(), features::distance_kind_name);
+      f.distance = parse_name("distance", value.cast<std::string>(), features::parse_distance_kind,
+                              features::all_distance_kinds(), features::distance_kind_name);
     } else if (k == "joints") {
-      f.joints =
-          parse_name("joints", value.cast<std::string>(), features::parse_joint_selection,
-                     features::all_joint_selections(), features::joint_selection_name);
+      f.joints = parse_name("joints", value.cast<std::string>(), features::parse_joint_selection,
+                            features::all_joint_selections(), features::joint_selection_name);
     } else if (k == "up") {
       const std::string up = value.cast<std::string>();
       if (up != "y" && up != "z" && up != "Y" && up != "Z")

@@ -54,7 +54,8 @@ endif()
 message(STATUS "${root}/usr/bin/motionmap --version: ${out}")
 
 # The Python module, when the build has it (MOTIONMAP_BUILD_PYTHON): in Debian's Python path, and
-# importable from the unpacked package with Debian's interpreter.
+# importable from the unpacked package with Debian's interpreter. (No ';' in the Python code:
+# CMake would split the argument there.)
 file(GLOB python_module ${root}/usr/lib/python3/dist-packages/motionmap/_motionmap*.so)
 if(python_module AND EXISTS /usr/bin/python3)
   foreach(file __init__.py _motionmap.pyi py.typed)
@@ -63,7 +64,7 @@ if(python_module AND EXISTS /usr/bin/python3)
     endif()
   endforeach()
   run("import motionmap" ${CMAKE_COMMAND} -E env PYTHONPATH=${root}/usr/lib/python3/dist-packages
-      /usr/bin/python3 -c "import motionmap, sys; print(motionmap.__file__); sys.exit(not issubclass(motionmap.Error, ValueError))")
+      /usr/bin/python3 -c "import motionmap\nassert issubclass(motionmap.Error, ValueError)\nprint(motionmap.__file__)")
   string(STRIP "${out}" out)
   if(NOT out STREQUAL "${root}/usr/lib/python3/dist-packages/motionmap/__init__.py")
     message(FATAL_ERROR "import motionmap found '${out}', not the package's module")

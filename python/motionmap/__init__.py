@@ -203,7 +203,7 @@ _FEATURE_DOC = """
 
 
 class PCA(_MapEstimator):
-    """Principal component analysis of X (clips: joint rotation quaternions by default).
+    __doc__ = """Principal component analysis of X (clips: joint rotation quaternions by default).
 
     standardize=True divides every column by its standard deviation first.
     """ + _FEATURE_DOC
@@ -226,7 +226,7 @@ class PCA(_MapEstimator):
 
 
 class SVD(_MapEstimator):
-    """Truncated SVD of X (no centring).""" + _FEATURE_DOC
+    __doc__ = """Truncated SVD of X (no centring).""" + _FEATURE_DOC
     _method = "svd"
 
     def __init__(self, n_components=2, *, features="quat", distance="pointcloud", exclude=None,
@@ -244,7 +244,7 @@ class SVD(_MapEstimator):
 
 
 class MDS(_MapEstimator):
-    """Classical (Torgerson) MDS of the pose distances; landmark MDS on the scalable path.
+    __doc__ = """Classical (Torgerson) MDS of the pose distances; landmark MDS on the scalable path.
 
     metric="precomputed": fit takes a distance matrix D instead of X.
     """ + _FEATURE_DOC
@@ -268,7 +268,7 @@ class MDS(_MapEstimator):
 
 
 class Isomap(_MapEstimator):
-    """Isomap: classical MDS of the geodesic distances on the k-NN graph.
+    __doc__ = """Isomap: classical MDS of the geodesic distances on the k-NN graph.
 
     n_neighbors: k; strict=True fails on a disconnected graph instead of joining it.
     metric="precomputed": fit takes a distance matrix D instead of X.
@@ -295,7 +295,7 @@ class Isomap(_MapEstimator):
 
 
 class LaplacianEigenmap(_MapEstimator):
-    """Laplacian eigenmap (scikit-learn's SpectralEmbedding) of the k-NN graph.
+    __doc__ = """Laplacian eigenmap (scikit-learn's SpectralEmbedding) of the k-NN graph.
 
     heat: the heat-kernel width t of exp(-d²/t); None = the median squared k-NN distance;
     <= 0 = every weight 1. metric="precomputed": fit takes a distance matrix D.
@@ -322,7 +322,7 @@ class LaplacianEigenmap(_MapEstimator):
 
 
 class LLE(_MapEstimator):
-    """Locally linear embedding: neighbours by the pose distance, weights solved in X.
+    __doc__ = """Locally linear embedding: neighbours by the pose distance, weights solved in X.
 
     reg: regularisation, C += reg·trace(C)·I.
     """ + _FEATURE_DOC

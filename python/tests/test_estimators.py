@@ -129,3 +129,13 @@ def test_bad_input(X):
         motionmap.MDS(metric="cosine").fit(X)
     with pytest.raises(motionmap.Error, match="path"):
         motionmap.MDS(path="fast").fit(X)
+
+
+def test_docstrings_for_help():
+    for name in motionmap.__all__:
+        obj = getattr(motionmap, name)
+        assert obj.__doc__ and obj.__doc__.strip(), name
+    for cls in ESTIMATORS:
+        assert "Feature parameters" in cls.__doc__
+        for method in ("fit", "transform", "fit_transform", "get_params", "set_params"):
+            assert getattr(cls, method).__doc__, (cls.__name__, method)

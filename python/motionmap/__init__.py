@@ -24,6 +24,10 @@ __all__ = [
 ]
 __version__ = "0.1.0"
 
+Error.__doc__ = """Every error MotionMap's library reports, a ValueError: a malformed file
+('path:line:col: error: …', the CLI's message), a bad parameter or input (naming it, its value and
+the valid range), a failed computation."""
+
 
 class NotFittedError(Error, AttributeError):
     """transform (or another method that needs a fitted map) called before fit.

@@ -19,7 +19,7 @@ from . import _motionmap
 from ._motionmap import Clip, Error, Skeleton, load
 
 __all__ = [
-    "Clip", "Error", "Skeleton", "load", "features", "read_map", "write_map",
+    "Clip", "Error", "Skeleton", "load", "features", "read_map", "write_map", "synthesize",
     "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "NotFittedError",
 ]
 __version__ = "0.1.0"
@@ -175,6 +175,18 @@ class _MapEstimator:
     def fit_transform(self, X, y=None, **fit_params):
         """fit(X), then the map of X's frames (embedding_)."""
         return self.fit(X, y, **fit_params).embedding_
+
+    def inverse_transform(self, Y, *, blend="local", neighbors=12, reach=3.0, progress=None):
+        """The poses at map points: MotionMap's pose synthesis (docs/synthesis.md), blended from
+        the map's frames around each point. Y: #points by 2 (a 2-D map of clips). blend: "local"
+        (kriging on small neighbourhoods), "kriging" or "idw"; neighbors: K; reach: how far (in
+        median steps) a point may be from the data before it is moved to its edge. Returns a
+        Clip of one frame per point (the root at the origin, facing heading 0)."""
+        self._check_fitted()
+        if not isinstance(self.map_, _motionmap._ClipMap):
+            raise Error("inverse_transform: poses are blended from clips; this map was fitted "
+                        "on an array")
+        return self.map_.poses_at(Y, blend, int(neighbors), float(reach), progress)
 
     def write_csv(self, path):
         """Writes the fitted map of clips as the CLI's `motionmap map -o` writes it (byte for
@@ -351,6 +363,23 @@ class LLE(_MapEstimator):
 
 
 _ESTIMATORS = {cls._method: cls for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE)}
+
+
+def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend="local",
+               neighbors=12, reach=3.0, progress=None):
+    """A new motion along a path on a fitted 2-D map of clips (what `motionmap synth` does;
+    docs/synthesis.md): every frame blended at a point of the path, root motion integrated from
+    the samples' own velocities. path_xy: #points by 2; times: seconds per point (strictly
+    increasing) or None (drawn at `speed` map units per second, 0 = the clip's median map
+    speed); fps: output frame rate (0 = the clip's); smooth: σ in seconds of a Gaussian
+    smoothing of the weights over time. blend, neighbors, reach: as inverse_transform. Returns
+    a Clip (save() writes it as BVH)."""
+    fitted._check_fitted()
+    if not isinstance(fitted.map_, _motionmap._ClipMap):
+        raise Error("synthesize: motions are blended from clips; this map was fitted on an array")
+    return fitted.map_.synthesize(path_xy, None if times is None else [float(t) for t in times],
+                                  float(speed), float(fps), float(smooth), blend, int(neighbors),
+                                  float(reach), progress)
 
 
 def read_map(path):

@@ -19,9 +19,12 @@
 #include "common.h"
 #include "motionmap/core/files.h"
 #include "motionmap/features/features.h"
+#include "motionmap/features/joint_match.h"
+#include "motionmap/io/load.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/pipeline/map_csv.h"
+#include "motionmap/synth/synthesize.h"
 
 namespace motionmap::python {
 
@@ -138,6 +141,9 @@ struct ClipMapState {
   /// The map as map_clips() made it, while it lives in the process that fitted it (for the CSV,
   /// which is the CLI's byte for byte); not pickled, not in a map file.
   std::optional<pipeline::ClipMap> map;
+  /// The clips the map was fitted on, while it lives in the process that fitted it (pose
+  /// synthesis blends them); a map read back or unpickled loads them again from `paths`.
+  std::vector<Clip> clips;
   std::vector<std::string> paths;
 };
 
@@ -152,7 +158,128 @@ std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict&
     return 0;
   });
   for (const Clip& c : loaded) state->paths.push_back(c.path);
+  state->clips = std::move(loaded);
   return state;
+}
+
+// ---- poses and motions from map points (inverse_transform, synthesize) ------------------------
+
+// A blender over the map's clips: the fitted clips, or (a map read back or unpickled) its clips
+// loaded again from their recorded paths and checked to give the map's samples. Call with the
+// GIL released.
+synth::MapBlender make_blender(const ClipMapState& s, const synth::BlendOptions& blend,
+                               const Control& control) {
+  if (s.file.coordinates.cols() != 2) {
+    throw ParameterError("poses are blended on 2-D maps; this map has " +
+                         std::to_string(s.file.coordinates.cols()) + " dimensions");
+  }
+  std::vector<Clip> reloaded;
+  if (s.clips.empty()) {
+    for (const auto& path : s.paths) reloaded.push_back(io::load_clip(path));
+  }
+  const std::vector<Clip>& clips = s.clips.empty() ? reloaded : s.clips;
+  for (const Clip& clip : clips) {
+    if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
+      throw ParameterError(clip.path + ": its joint hierarchy differs from " + clips.front().path +
+                           "'s (" + why + "); poses are blended from clips of one skeleton");
+  }
+  features::FeatureSet samples;
+  if (s.map) {
+    samples = *s.map->features;
+  } else {
+    samples = features::select_samples(clips, s.file.options.features);
+    if (samples.clip_of != s.file.clip_of || samples.frame_of != s.file.frame_of) {
+      throw ParameterError(
+          "the clips at the map's paths no longer give its samples (a clip changed or moved "
+          "since the map was made): poses cannot be blended from them");
+    }
+  }
+  synth::BlendOptions options = blend;
+  options.up = s.file.options.features.up;
+  return synth::MapBlender(clips, samples, s.file.coordinates, options, control);
+}
+
+synth::BlendOptions blend_options(const std::string& mode, int neighbors, double reach) {
+  synth::BlendOptions b;
+  const auto parsed = synth::parse_blend_mode(mode);
+  if (!parsed) {
+    throw ParameterError("blend: unknown name '" + mode +
+                         "' (expected one of local, kriging, idw)");
+  }
+  b.mode = *parsed;
+  b.neighbors = neighbors;
+  b.reach = reach;
+  return b;
+}
+
+std::vector<Eigen::Vector2d> map_points(const InputArray& array, const std::string& what) {
+  const RowMatrix p = to_row_matrix(array, what);
+  if (p.cols() != 2) {
+    throw ParameterError(what + ": expected #points by 2 map coordinates, got " +
+                         std::to_string(p.cols()) + " columns");
+  }
+  std::vector<Eigen::Vector2d> out;
+  for (Eigen::Index i = 0; i < p.rows(); ++i) out.emplace_back(p(i, 0), p(i, 1));
+  return out;
+}
+
+Clip poses_at(const ClipMapState& s, const InputArray& Y, const std::string& mode, int neighbors,
+              double reach, py::object progress) {
+  const std::vector<Eigen::Vector2d> points = map_points(Y, "Y");
+  return run_released(std::move(progress), [&](const Control& control) {
+    const synth::MapBlender blender =
+        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.5));
+    Clip out;
+    out.path = "<poses at " + std::to_string(points.size()) + " map points>";
+    out.skeleton = blender.skeleton();
+    const int joints = out.skeleton.num_joints();
+    out.motion.resize(static_cast<int>(points.size()), joints);
+    out.motion.frame_time = blender.frame_time();
+    const Control part = control.part(0.5, 1.0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Motion pose = blender.pose_at(points[i]);
+      for (int j = 0; j < joints; ++j) {
+        out.motion.rotation(static_cast<int>(i), j) = pose.rotation(0, j);
+        out.motion.translation(static_cast<int>(i), j) = pose.translation(0, j);
+      }
+      part.update(double(i + 1) / double(points.size()));
+    }
+    part.finish();
+    return out;
+  });
+}
+
+Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
+                     double speed, double fps, double smooth, const std::string& mode,
+                     int neighbors, double reach, py::object progress) {
+  synth::MapPath path;
+  path.points = map_points(path_xy, "path_xy");
+  if (!times.is_none()) {
+    path.times = times.cast<std::vector<double>>();
+    if (path.times.size() != path.points.size()) {
+      throw ParameterError("times: " + std::to_string(path.times.size()) + " times for " +
+                           std::to_string(path.points.size()) + " path points");
+    }
+  }
+  synth::SynthOptions options;
+  options.speed = speed;
+  options.fps = fps;
+  options.smooth = smooth;
+  options.validate();
+  return run_released(std::move(progress), [&](const Control& control) {
+    const synth::MapBlender blender =
+        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.3));
+    synth::SynthResult result = synth::synthesize(blender, path, options, control.part(0.3, 1.0));
+    Clip out;
+    out.path = "<motion along a path of " + std::to_string(path.points.size()) + " points>";
+    out.skeleton = blender.skeleton();
+    out.motion = std::move(result.motion);
+    if (result.clamped_frames > 0) {
+      out.warnings.push_back(std::to_string(result.clamped_frames) +
+                             " frames were outside the map's data and moved to its edge");
+    }
+    return out;
+  });
 }
 
 Eigen::MatrixXd transform_clips(const ClipMapState& s, const py::object& clips,
@@ -405,6 +532,11 @@ void bind_maps(py::module_& m) {
       .def("transform", &transform_clips, py::arg("clips"), py::arg("options"), py::arg("asf"),
            py::arg("fps"), py::arg("progress"))
       .def("write_csv", &write_csv, py::arg("path"))
+      .def("poses_at", &poses_at, py::arg("Y"), py::arg("blend"), py::arg("neighbors"),
+           py::arg("reach"), py::arg("progress"))
+      .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
+           py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),
+           py::arg("reach"), py::arg("progress"))
       .def(
           "write_map",
           [](const ClipMapState& s, const py::object& path) {

@@ -54,8 +54,9 @@ def _feature_options(features, distance, exclude, up, joints, frames, stride, ke
 
 def features(clips, features="quat", distance="pointcloud", exclude=None, *, up="y",
              joints="all", frames=None, stride=1, keep_first=False, return_distances=False,
-             asf=None, fps=None, progress=None):
-    """The feature matrix X of clips (and, with return_distances=True, the pose distances D).
+             n_neighbors=None, asf=None, fps=None, progress=None):
+    """The feature matrix X of clips; with return_distances=True also the pose distances D, and
+    with n_neighbors=k the k-NN graph of the frames as a scipy.sparse matrix.
 
     clips: a Clip, a path, or a list of them (one map's worth: one skeleton, or several with
     joints="common"). features: "quat" (joint rotation quaternions, w x y z per joint) or
@@ -65,13 +66,32 @@ def features(clips, features="quat", distance="pointcloud", exclude=None, *, up=
     stride-th frame; keep_first: keep a leading bind pose (left out by default). progress: a
     callable(fraction, stage) or a tqdm bar.
 
-    Returns X (#frames by #features), or (X, D) with D #frames by #frames. Raises motionmap.Error.
+    Returns X (#frames by #features); with return_distances, (X, D), D #frames by #frames; with
+    n_neighbors, (X, G) or (X, D, G): G is the symmetric k-NN graph (scipy.sparse.csr_matrix,
+    #frames by #frames; entry i, j is the pose distance when j is among i's k nearest or i among
+    j's), found from the points D is computed from without forming D (exact up to 100 000
+    frames; above, possibly approximate: docs/scale.md). An edge of length 0 (two identical
+    poses) is not stored, as scipy.sparse drops explicit zeros. Raises motionmap.Error.
     """
     options = _feature_options(features, distance, exclude, up, joints, frames, stride,
                                keep_first)
-    return _motionmap._features(clips, options, bool(return_distances),
-                                "" if asf is None else os.fspath(asf),
-                                0.0 if fps is None else float(fps), progress)
+    k = 0 if n_neighbors is None else int(n_neighbors)
+    if n_neighbors is not None and k < 1:
+        raise Error(f"n_neighbors: {n_neighbors} is not a number of neighbours >= 1")
+    X, D, index, distance, _ = _motionmap._features(
+        clips, options, bool(return_distances), k, "" if asf is None else os.fspath(asf),
+        0.0 if fps is None else float(fps), progress)
+    out = [X]
+    if return_distances:
+        out.append(D)
+    if n_neighbors is not None:
+        from scipy import sparse
+
+        n = index.shape[0]
+        rows = np.repeat(np.arange(n), index.shape[1])
+        G = sparse.csr_matrix((distance.ravel(), (rows, index.ravel())), shape=(n, n))
+        out.append(G.maximum(G.T).tocsr())
+    return out[0] if len(out) == 1 else tuple(out)
 
 
 class _MapEstimator:

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common.h"
+#include "motionmap/embed/points.h"
 #include "motionmap/features/diagnostics.h"
 #include "motionmap/features/features.h"
 #include "motionmap/io/bvh.h"
@@ -302,18 +303,42 @@ features::FeatureOptions feature_options(const py::dict& o) {
 
 namespace {
 
-py::object build_features(const py::object& clips, const py::dict& options, bool distances,
-                          const std::string& asf, double fps, py::object progress) {
+// The metric of the points D is computed from (as the pipeline measures them: geodesic
+// distances between quaternion rows, Euclidean otherwise).
+Metric metric_of(features::DistanceKind kind) {
+  return kind == features::DistanceKind::Geodesic ? Metric::QuaternionAngles : Metric::Euclidean;
+}
+
+// X; D when `distances`; the k nearest neighbours of every frame (indices and distances, #frames
+// by k each) when `neighbors` > 0, found from the points without D (embed/points.h).
+py::tuple build_features(const py::object& clips, const py::dict& options, bool distances,
+                         int neighbors, const std::string& asf, double fps, py::object progress) {
   const features::FeatureOptions f = feature_options(options);
   const std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
+  embed::NeighborLists nn;
+  std::string search;
   features::FeatureSet set = run_released(std::move(progress), [&](const Control& control) {
-    return features::build_features(
-        loaded, f, control, distances ? features::Distances::Now : features::Distances::Later);
+    const double end = neighbors > 0 ? 0.7 : 1.0;
+    features::FeatureSet out =
+        features::build_features(loaded, f, control.part(0.0, end),
+                                 distances ? features::Distances::Now : features::Distances::Later);
+    if (neighbors > 0) {
+      const embed::PointSet points{&out.distance_input, metric_of(out.distance)};
+      embed::NeighborSearchReport report;
+      nn = embed::knn_from_points(points, neighbors, embed::NeighborSearch::Auto,
+                                  control.stage("neighbours", end, 1.0), &report);
+      search = report.description();
+    }
+    return out;
   });
-  py::array X = py::cast(std::move(set.X));
-  if (!distances) return X;
-  py::array D = py::cast(std::move(set.D));
-  return py::make_tuple(X, D);
+  py::object D = py::none(), index = py::none(), distance = py::none();
+  if (distances) D = py::cast(std::move(set.D));
+  if (neighbors > 0) {
+    const py::ssize_t n = nn.frames();
+    index = py::array_t<int>({n, py::ssize_t(nn.k)}, nn.index.data());
+    distance = py::array_t<double>({n, py::ssize_t(nn.k)}, nn.distance.data());
+  }
+  return py::make_tuple(py::cast(std::move(set.X)), D, index, distance, search);
 }
 
 }  // namespace
@@ -410,7 +435,7 @@ void init_module(py::module_& m) {
       "Loads a .bvh, or an .amc with its .asf (asf=None: the one beside it).");
 
   m.def("_features", &build_features, py::arg("clips"), py::arg("options"), py::arg("distances"),
-        py::arg("asf"), py::arg("fps"), py::arg("progress"));
+        py::arg("neighbors"), py::arg("asf"), py::arg("fps"), py::arg("progress"));
 
   bind_maps(m);
 }

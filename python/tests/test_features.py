@@ -45,3 +45,25 @@ def test_bad_options(golf):
         motionmap.features([1, 2])
     with pytest.raises(motionmap.Error, match="no clip"):
         motionmap.features([])
+
+
+def test_knn_graph_as_scipy_sparse(golf):
+    sparse = pytest.importorskip("scipy.sparse")
+    k = 8
+    X, D, G = motionmap.features(golf, return_distances=True, n_neighbors=k)
+    assert sparse.issparse(G) and G.shape == D.shape
+    assert (G != G.T).nnz == 0
+    # Edge i-j exactly when j is among i's k nearest by D or i among j's, of length D[i, j].
+    n = D.shape[0]
+    order = np.argsort(D + np.diag(np.full(n, np.inf)), axis=1, kind="stable")[:, :k]
+    expected = np.zeros((n, n), dtype=bool)
+    expected[np.repeat(np.arange(n), k), order.ravel()] = True
+    expected |= expected.T
+    dense = G.toarray()
+    np.testing.assert_array_equal(dense != 0, expected & (D > 0))
+    np.testing.assert_allclose(dense[expected], D[expected], rtol=1e-12, atol=1e-12)
+    X2, G2 = motionmap.features(golf, n_neighbors=k)
+    np.testing.assert_array_equal(X2, X)
+    assert (G2 != G).nnz == 0
+    with pytest.raises(motionmap.Error, match="n_neighbors"):
+        motionmap.features(golf, n_neighbors=0)

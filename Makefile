@@ -80,11 +80,11 @@ package: build
 	cd $(BUILD) && cpack -G DEB
 
 format:
-	find src apps tests bench fuzz -name '*.h' -o -name '*.cpp' | xargs clang-format -i
+	find src apps tests bench fuzz python -name '*.h' -o -name '*.cpp' | xargs clang-format -i
 
 # Fails, naming the files and lines, when a source differs from the committed .clang-format.
 format-check: deps
-	find src apps tests bench fuzz -name '*.h' -o -name '*.cpp' | xargs clang-format --dry-run -Werror
+	find src apps tests bench fuzz python -name '*.h' -o -name '*.cpp' | xargs clang-format --dry-run -Werror
 
 clean:
 	rm -rf $(BUILD) build-asan build-fuzz out

@@ -73,12 +73,19 @@ string(CONCAT CPACK_PACKAGE_DESCRIPTION
   "a point on a 2D plane with PCA, SVD, MDS, Isomap, Laplacian eigenmaps or LLE,\n"
   "and synthesizes new poses and motions from the maps. This package holds the\n"
   "motionmap command-line tool, MotionMap Studio (a Qt 6 desktop application),\n"
-  "and the C++20 static libraries with their headers and CMake package files\n"
-  "(find_package(MotionMap), which also needs libeigen3-dev and libhdf5-dev).")
+  "the C++20 static libraries with their headers and CMake package files\n"
+  "(find_package(MotionMap), which also needs libeigen3-dev and libhdf5-dev),\n"
+  "and, when built with pybind11, the Python module motionmap (import motionmap).")
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # motionmap_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "fonts-dejavu-core")  # the plots' labels
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libeigen3-dev, libhdf5-dev")  # for find_package(MotionMap)
+# The plots' labels; and what `import motionmap` needs when the Python module is in the package
+# (its extension links no libpython, so dpkg-shlibdeps cannot see that).
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "fonts-dejavu-core")
+if(TARGET motionmap_python)
+  string(APPEND CPACK_DEBIAN_PACKAGE_RECOMMENDS ", python3, python3-numpy")
+  set(CPACK_DEBIAN_PACKAGE_SUGGESTS "python3-sklearn, python3-h5py, python3-distributed, ")
+endif()
+string(APPEND CPACK_DEBIAN_PACKAGE_SUGGESTS "libeigen3-dev, libhdf5-dev")  # find_package(MotionMap)
 set(CPACK_STRIP_FILES ON)
 include(CPack)

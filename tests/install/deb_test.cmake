@@ -52,3 +52,22 @@ if(NOT out STREQUAL "motionmap ${VERSION}")
   message(FATAL_ERROR "/usr/bin/motionmap --version printed '${out}', expected 'motionmap ${VERSION}'")
 endif()
 message(STATUS "${root}/usr/bin/motionmap --version: ${out}")
+
+# The Python module, when the build has it (MOTIONMAP_BUILD_PYTHON): in Debian's Python path, and
+# importable from the unpacked package with Debian's interpreter. (No ';' in the Python code:
+# CMake would split the argument there.)
+file(GLOB python_module ${root}/usr/lib/python3/dist-packages/motionmap/_motionmap*.so)
+if(python_module AND EXISTS /usr/bin/python3)
+  foreach(file __init__.py _motionmap.pyi py.typed)
+    if(NOT EXISTS ${root}/usr/lib/python3/dist-packages/motionmap/${file})
+      message(FATAL_ERROR "the package has the Python extension but no motionmap/${file}")
+    endif()
+  endforeach()
+  run("import motionmap" ${CMAKE_COMMAND} -E env PYTHONPATH=${root}/usr/lib/python3/dist-packages
+      /usr/bin/python3 -c "import motionmap\nassert issubclass(motionmap.Error, ValueError)\nprint(motionmap.__file__)")
+  string(STRIP "${out}" out)
+  if(NOT out STREQUAL "${root}/usr/lib/python3/dist-packages/motionmap/__init__.py")
+    message(FATAL_ERROR "import motionmap found '${out}', not the package's module")
+  endif()
+  message(STATUS "import motionmap: ${out}")
+endif()

@@ -1,0 +1,430 @@
+"""MotionMap from Python: motion-capture clips (BVH, ASF/AMC) mapped to 2-D maps.
+
+    import motionmap
+    clip = motionmap.load("64_08.bvh")
+    xy = motionmap.Isomap(n_neighbors=15).fit_transform(clip)    # #frames by 2
+
+A thin shell over MotionMap's C++ library (the compiled module motionmap._motionmap), like the
+``motionmap`` command-line tool: the same inputs give the same numbers, bit for bit. The
+estimators follow scikit-learn's conventions (fit/transform/fit_transform, get_params/set_params,
+pickling); see docs/python.md.
+"""
+
+import inspect
+import os
+
+import numpy as np
+
+from . import _motionmap
+from ._motionmap import Clip, Error, Skeleton, load
+
+__all__ = [
+    "Clip", "Error", "Skeleton", "load", "features", "read_map", "write_map", "synthesize",
+    "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "NotFittedError",
+]
+__version__ = "0.1.0"
+
+Error.__doc__ = """Every error MotionMap's library reports, a ValueError: a malformed file
+('path:line:col: error: …', the CLI's message), a bad parameter or input (naming it, its value and
+the valid range), a failed computation."""
+
+
+class NotFittedError(Error, AttributeError):
+    """transform (or another method that needs a fitted map) called before fit.
+
+    Also an AttributeError, like scikit-learn's NotFittedError."""
+
+
+def _is_clips(X):
+    """Whether X names clips (a Clip, a path, or a list of them) rather than holding a matrix."""
+    if isinstance(X, (Clip, str, os.PathLike)):
+        return True
+    if isinstance(X, (list, tuple)) and len(X) > 0:
+        return all(isinstance(x, (Clip, str, os.PathLike)) for x in X)
+    return False
+
+
+def _feature_options(features, distance, exclude, up, joints, frames, stride, keep_first):
+    return {
+        "features": features, "distance": distance, "exclude": exclude, "up": up,
+        "joints": joints, "frames": None if frames is None else tuple(frames),
+        "stride": int(stride), "keep_first": bool(keep_first),
+    }
+
+
+def features(clips, features="quat", distance="pointcloud", exclude=None, *, up="y",
+             joints="all", frames=None, stride=1, keep_first=False, return_distances=False,
+             n_neighbors=None, asf=None, fps=None, progress=None):
+    """The feature matrix X of clips; with return_distances=True also the pose distances D, and
+    with n_neighbors=k the k-NN graph of the frames as a scipy.sparse matrix.
+
+    clips: a Clip, a path, or a list of them (one map's worth: one skeleton, or several with
+    joints="common"). features: "quat" (joint rotation quaternions, w x y z per joint) or
+    "positions" (heading-local joint positions). distance: "pointcloud", "geodesic" or
+    "features" (Euclidean on X). exclude: a regular expression of joint names to leave out.
+    frames: (first, end) file frames per clip (end exclusive, None = to the end); stride: every
+    stride-th frame; keep_first: keep a leading bind pose (left out by default). progress: a
+    callable(fraction, stage) or a tqdm bar.
+
+    Returns X (#frames by #features); with return_distances, (X, D), D #frames by #frames; with
+    n_neighbors, (X, G) or (X, D, G): G is the symmetric k-NN graph (scipy.sparse.csr_matrix,
+    #frames by #frames; entry i, j is the pose distance when j is among i's k nearest or i among
+    j's), found from the points D is computed from without forming D (exact up to 100 000
+    frames; above, possibly approximate: docs/scale.md). An edge of length 0 (two identical
+    poses) is not stored, as scipy.sparse drops explicit zeros. Raises motionmap.Error.
+    """
+    options = _feature_options(features, distance, exclude, up, joints, frames, stride,
+                               keep_first)
+    k = 0 if n_neighbors is None else int(n_neighbors)
+    if n_neighbors is not None and k < 1:
+        raise Error(f"n_neighbors: {n_neighbors} is not a number of neighbours >= 1")
+    X, D, index, distance, _ = _motionmap._features(
+        clips, options, bool(return_distances), k, "" if asf is None else os.fspath(asf),
+        0.0 if fps is None else float(fps), progress)
+    out = [X]
+    if return_distances:
+        out.append(D)
+    if n_neighbors is not None:
+        from scipy import sparse
+
+        n = index.shape[0]
+        rows = np.repeat(np.arange(n), index.shape[1])
+        G = sparse.csr_matrix((distance.ravel(), (rows, index.ravel())), shape=(n, n))
+        out.append(G.maximum(G.T).tocsr())
+    return out[0] if len(out) == 1 else tuple(out)
+
+
+class _MapEstimator:
+    """What the six estimators share. Parameters are stored by __init__ as given (scikit-learn's
+    rule: no validation there); fit validates them, through the library."""
+
+    _method = None
+
+    @classmethod
+    def _get_param_names(cls):
+        signature = inspect.signature(cls.__init__)
+        return sorted(p.name for p in signature.parameters.values()
+                      if p.name != "self" and p.kind != p.VAR_KEYWORD)
+
+    def get_params(self, deep=True):
+        """The constructor's parameters and their values (scikit-learn's get_params)."""
+        return {name: getattr(self, name) for name in self._get_param_names()}
+
+    def set_params(self, **params):
+        """Sets constructor parameters by name; returns self. Unknown names raise ValueError."""
+        valid = self._get_param_names()
+        for name, value in params.items():
+            if name not in valid:
+                raise ValueError(f"{type(self).__name__}: unknown parameter {name!r} "
+                                 f"(parameters: {', '.join(valid)})")
+            setattr(self, name, value)
+        return self
+
+    def __repr__(self):
+        defaults = {p.name: p.default
+                    for p in inspect.signature(type(self).__init__).parameters.values()}
+        changed = [f"{k}={v!r}" for k, v in self.get_params().items()
+                   if not (isinstance(v, type(defaults.get(k))) and v == defaults.get(k))]
+        return f"{type(self).__name__}({', '.join(changed)})"
+
+    def _options(self):
+        params = self.get_params()
+        options = {"method": self._method}
+        for key in ("n_components", "n_neighbors", "heat", "reg", "standardize", "strict",
+                    "n_landmarks", "path", "features", "distance", "exclude", "up", "joints",
+                    "frames", "stride", "keep_first"):
+            if key in params:
+                options[key] = params[key]
+        if options.get("frames") is not None:
+            options["frames"] = tuple(options["frames"])
+        return options
+
+    def _precomputed(self):
+        return getattr(self, "metric", "euclidean") == "precomputed"
+
+    def fit(self, X, y=None, *, asf=None, fps=None, progress=None):
+        """Makes the map.
+
+        X: clips (a Clip, a path, or a list of them: the map of all their frames, with this
+        estimator's feature parameters), or an array of #frames by #features (rows are frames;
+        mds, isomap, le and lle measure Euclidean distances between rows), or with
+        metric="precomputed" a #frames by #frames distance matrix. y is ignored. asf, fps: for
+        .amc paths. progress: a callable(fraction, stage) or a tqdm bar. Returns self.
+        """
+        metric = getattr(self, "metric", "euclidean")
+        if metric not in ("euclidean", "precomputed"):
+            raise Error(f"metric: unknown name {metric!r} (expected 'euclidean' or "
+                        f"'precomputed')")
+        if _is_clips(X):
+            if self._precomputed():
+                raise Error("metric='precomputed' expects a distance matrix, not clips")
+            self.map_ = _motionmap._fit_clips(X, self._options(),
+                                              "" if asf is None else os.fspath(asf),
+                                              0.0 if fps is None else float(fps), progress)
+        else:
+            self.map_ = _motionmap._fit_matrix(X, self._precomputed(), self._options(), progress)
+        self._set_fitted_attributes()
+        return self
+
+    def _set_fitted_attributes(self):
+        self.embedding_ = np.asarray(self.map_.coordinates)
+        self.eigenvalues_ = np.asarray(self.map_.eigenvalues)
+        self.n_features_in_ = self.map_.x_columns
+        self.warnings_ = list(self.map_.warnings)
+
+    def _check_fitted(self):
+        if not hasattr(self, "map_"):
+            raise NotFittedError(f"This {type(self).__name__} is not fitted yet: call fit first")
+
+    def transform(self, X, *, asf=None, fps=None, progress=None):
+        """Places new frames on the fitted map without refitting it (docs/map-file.md,
+        "placement"): X is clips (for a map of clips) or an array of #frames by #features (for a
+        map of an array). Each frame is placed on its own. Returns #frames by n_components."""
+        self._check_fitted()
+        if _is_clips(X):
+            if not isinstance(self.map_, _motionmap._ClipMap):
+                raise Error("transform: this map was fitted on an array; give an array")
+            return self.map_.transform(X, self._options(),
+                                       "" if asf is None else os.fspath(asf),
+                                       0.0 if fps is None else float(fps), progress)
+        if isinstance(self.map_, _motionmap._ClipMap):
+            raise Error("transform: this map was fitted on clips; give clips (a Clip, a path, "
+                        "or a list of them)")
+        return self.map_.transform(X, progress)
+
+    def fit_transform(self, X, y=None, **fit_params):
+        """fit(X), then the map of X's frames (embedding_)."""
+        return self.fit(X, y, **fit_params).embedding_
+
+    def inverse_transform(self, Y, *, blend="local", neighbors=12, reach=3.0, progress=None):
+        """The poses at map points: MotionMap's pose synthesis (docs/synthesis.md), blended from
+        the map's frames around each point. Y: #points by 2 (a 2-D map of clips). blend: "local"
+        (kriging on small neighbourhoods), "kriging" or "idw"; neighbors: K; reach: how far (in
+        median steps) a point may be from the data before it is moved to its edge. Returns a
+        Clip of one frame per point (the root at the origin, facing heading 0)."""
+        self._check_fitted()
+        if not isinstance(self.map_, _motionmap._ClipMap):
+            raise Error("inverse_transform: poses are blended from clips; this map was fitted "
+                        "on an array")
+        return self.map_.poses_at(Y, blend, int(neighbors), float(reach), progress)
+
+    def write_csv(self, path):
+        """Writes the fitted map of clips as the CLI's `motionmap map -o` writes it (byte for
+        byte the same for the same clips and parameters)."""
+        self._check_fitted()
+        if not isinstance(self.map_, _motionmap._ClipMap):
+            raise Error("write_csv: only maps of clips are written as CSV")
+        self.map_.write_csv(path)
+
+    @property
+    def clip_of_(self):
+        """Per map row: the index of its clip (maps of clips)."""
+        self._check_fitted()
+        return np.asarray(self.map_.clip_of)
+
+    @property
+    def frame_of_(self):
+        """Per map row: its frame in its clip's file (maps of clips)."""
+        self._check_fitted()
+        return np.asarray(self.map_.frame_of)
+
+
+_FEATURE_DOC = """
+    Feature parameters (maps of clips): features ("quat" or "positions"), distance
+    ("pointcloud", "geodesic" or "features"), exclude (regular expression of joint names), up
+    ("y" or "z"), joints ("all" or "common"), frames ((first, end) per clip), stride, keep_first.
+    path: "auto" (dense up to 10 000 frames), "dense" or "landmarks" (the scalable path,
+    docs/scale.md).
+"""
+
+
+class PCA(_MapEstimator):
+    __doc__ = """Principal component analysis of X (clips: joint rotation quaternions by default).
+
+    standardize=True divides every column by its standard deviation first.
+    """ + _FEATURE_DOC
+    _method = "pca"
+
+    def __init__(self, n_components=2, *, standardize=False, features="quat",
+                 distance="pointcloud", exclude=None, up="y", joints="all", frames=None,
+                 stride=1, keep_first=False, path="auto"):
+        self.n_components = n_components
+        self.standardize = standardize
+        self.features = features
+        self.distance = distance
+        self.exclude = exclude
+        self.up = up
+        self.joints = joints
+        self.frames = frames
+        self.stride = stride
+        self.keep_first = keep_first
+        self.path = path
+
+
+class SVD(_MapEstimator):
+    __doc__ = """Truncated SVD of X (no centring).""" + _FEATURE_DOC
+    _method = "svd"
+
+    def __init__(self, n_components=2, *, features="quat", distance="pointcloud", exclude=None,
+                 up="y", joints="all", frames=None, stride=1, keep_first=False, path="auto"):
+        self.n_components = n_components
+        self.features = features
+        self.distance = distance
+        self.exclude = exclude
+        self.up = up
+        self.joints = joints
+        self.frames = frames
+        self.stride = stride
+        self.keep_first = keep_first
+        self.path = path
+
+
+class MDS(_MapEstimator):
+    __doc__ = """Classical (Torgerson) MDS of the pose distances; landmark MDS on the scalable path.
+
+    metric="precomputed": fit takes a distance matrix D instead of X.
+    """ + _FEATURE_DOC
+    _method = "mds"
+
+    def __init__(self, n_components=2, *, metric="euclidean", n_landmarks=None,
+                 features="quat", distance="pointcloud", exclude=None, up="y", joints="all",
+                 frames=None, stride=1, keep_first=False, path="auto"):
+        self.n_components = n_components
+        self.metric = metric
+        self.n_landmarks = n_landmarks
+        self.features = features
+        self.distance = distance
+        self.exclude = exclude
+        self.up = up
+        self.joints = joints
+        self.frames = frames
+        self.stride = stride
+        self.keep_first = keep_first
+        self.path = path
+
+
+class Isomap(_MapEstimator):
+    __doc__ = """Isomap: classical MDS of the geodesic distances on the k-NN graph.
+
+    n_neighbors: k; strict=True fails on a disconnected graph instead of joining it.
+    metric="precomputed": fit takes a distance matrix D instead of X.
+    """ + _FEATURE_DOC
+    _method = "isomap"
+
+    def __init__(self, n_neighbors=20, n_components=2, *, metric="euclidean", strict=False,
+                 n_landmarks=None, features="quat", distance="pointcloud", exclude=None, up="y",
+                 joints="all", frames=None, stride=1, keep_first=False, path="auto"):
+        self.n_neighbors = n_neighbors
+        self.n_components = n_components
+        self.metric = metric
+        self.strict = strict
+        self.n_landmarks = n_landmarks
+        self.features = features
+        self.distance = distance
+        self.exclude = exclude
+        self.up = up
+        self.joints = joints
+        self.frames = frames
+        self.stride = stride
+        self.keep_first = keep_first
+        self.path = path
+
+
+class LaplacianEigenmap(_MapEstimator):
+    __doc__ = """Laplacian eigenmap (scikit-learn's SpectralEmbedding) of the k-NN graph.
+
+    heat: the heat-kernel width t of exp(-d²/t); None = the median squared k-NN distance;
+    <= 0 = every weight 1. metric="precomputed": fit takes a distance matrix D.
+    """ + _FEATURE_DOC
+    _method = "le"
+
+    def __init__(self, n_neighbors=20, n_components=2, *, heat=None, metric="euclidean",
+                 strict=False, features="quat", distance="pointcloud", exclude=None, up="y",
+                 joints="all", frames=None, stride=1, keep_first=False, path="auto"):
+        self.n_neighbors = n_neighbors
+        self.n_components = n_components
+        self.heat = heat
+        self.metric = metric
+        self.strict = strict
+        self.features = features
+        self.distance = distance
+        self.exclude = exclude
+        self.up = up
+        self.joints = joints
+        self.frames = frames
+        self.stride = stride
+        self.keep_first = keep_first
+        self.path = path
+
+
+class LLE(_MapEstimator):
+    __doc__ = """Locally linear embedding: neighbours by the pose distance, weights solved in X.
+
+    reg: regularisation, C += reg·trace(C)·I.
+    """ + _FEATURE_DOC
+    _method = "lle"
+
+    def __init__(self, n_neighbors=20, n_components=2, *, reg=1e-3, strict=False,
+                 features="quat", distance="pointcloud", exclude=None, up="y", joints="all",
+                 frames=None, stride=1, keep_first=False, path="auto"):
+        self.n_neighbors = n_neighbors
+        self.n_components = n_components
+        self.reg = reg
+        self.strict = strict
+        self.features = features
+        self.distance = distance
+        self.exclude = exclude
+        self.up = up
+        self.joints = joints
+        self.frames = frames
+        self.stride = stride
+        self.keep_first = keep_first
+        self.path = path
+
+
+_ESTIMATORS = {cls._method: cls for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE)}
+
+
+def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend="local",
+               neighbors=12, reach=3.0, progress=None):
+    """A new motion along a path on a fitted 2-D map of clips (what `motionmap synth` does;
+    docs/synthesis.md): every frame blended at a point of the path, root motion integrated from
+    the samples' own velocities. path_xy: #points by 2; times: seconds per point (strictly
+    increasing) or None (drawn at `speed` map units per second, 0 = the clip's median map
+    speed); fps: output frame rate (0 = the clip's); smooth: σ in seconds of a Gaussian
+    smoothing of the weights over time. blend, neighbors, reach: as inverse_transform. Returns
+    a Clip (save() writes it as BVH)."""
+    fitted._check_fitted()
+    if not isinstance(fitted.map_, _motionmap._ClipMap):
+        raise Error("synthesize: motions are blended from clips; this map was fitted on an array")
+    return fitted.map_.synthesize(path_xy, None if times is None else [float(t) for t in times],
+                                  float(speed), float(fps), float(smooth), blend, int(neighbors),
+                                  float(reach), progress)
+
+
+def read_map(path):
+    """Reads a map file (`motionmap map --save`, write_map; docs/map-file.md) as a fitted
+    estimator of its method, with the parameters it was made with: transform() places new clips
+    on it. Raises motionmap.Error for a file that is missing, of another format or damaged."""
+    state = _motionmap._read_map(path)
+    options = state.options
+    cls = _ESTIMATORS[options.pop("method")]
+    names = cls._get_param_names()
+    params = {k: v for k, v in options.items() if k in names}
+    if params.get("n_landmarks") == 0:
+        params["n_landmarks"] = None
+    if "frames" in params and tuple(params["frames"]) == (0, None):
+        params["frames"] = None
+    estimator = cls(**params)
+    estimator.map_ = state
+    estimator._set_fitted_attributes()
+    return estimator
+
+
+def write_map(estimator, path):
+    """Writes a fitted map of clips as a map file (HDF5; h5py reads it too; docs/map-file.md)."""
+    estimator._check_fitted()
+    if not isinstance(estimator.map_, _motionmap._ClipMap):
+        raise Error("write_map: map files hold maps of clips (with their clips' records); this "
+                    "map was fitted on an array (pickle it instead)")
+    estimator.map_.write_map(path)

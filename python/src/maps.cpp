@@ -1,0 +1,595 @@
+// The fitted maps behind the estimators of motionmap (PCA, …, LLE in motionmap/__init__.py):
+//  - ClipMapState, a map of clips: map_clips() and the map file record (make_map_file), which is
+//    also its pickled form (the map file's bytes) and what read_map/write_map read and write;
+//    new clips are placed with mapfile::place_clips();
+//  - MatrixMapState, a map of a matrix X (rows = frames, Euclidean distances between rows) or of
+//    a precomputed D: embed::embed() and, for X, the placement model (embed::place()).
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common.h"
+#include "motionmap/core/files.h"
+#include "motionmap/features/features.h"
+#include "motionmap/features/joint_match.h"
+#include "motionmap/io/load.h"
+#include "motionmap/mapfile/map_file.h"
+#include "motionmap/pipeline/clip_map.h"
+#include "motionmap/pipeline/map_csv.h"
+#include "motionmap/synth/synthesize.h"
+
+namespace motionmap::python {
+
+features::FeatureOptions feature_options(const py::dict& o);
+
+namespace {
+
+constexpr const char* kFeatureKeys[] = {"features", "distance", "joints", "up",
+                                        "exclude",  "frames",   "stride", "keep_first"};
+
+// The map options of the estimators' parameters (names as in motionmap/__init__.py).
+pipeline::ClipMapOptions clip_map_options(const py::dict& o) {
+  pipeline::ClipMapOptions out;
+  out.features = feature_options(o);
+  embed::EmbedOptions& e = out.embed;
+  for (const auto& [key, value] : o) {
+    const std::string k = key.cast<std::string>();
+    if (k == "method") {
+      const std::string name = value.cast<std::string>();
+      const auto method = embed::parse_method(name);
+      if (!method) {
+        throw ParameterError("method: unknown name '" + name +
+                             "' (expected one of pca, svd, mds, isomap, le, lle)");
+      }
+      e.method = *method;
+    } else if (k == "n_components") {
+      e.dimensions = value.cast<int>();
+    } else if (k == "n_neighbors") {
+      e.k = value.cast<int>();
+    } else if (k == "heat") {
+      if (!value.is_none()) e.heat = value.cast<double>();
+    } else if (k == "reg") {
+      e.reg = value.cast<double>();
+    } else if (k == "standardize") {
+      e.standardize = value.cast<bool>();
+    } else if (k == "strict") {
+      e.strict = value.cast<bool>();
+    } else if (k == "n_landmarks") {
+      if (!value.is_none()) e.landmarks = value.cast<int>();
+    } else if (k == "path") {
+      const std::string path = value.cast<std::string>();
+      if (path == "auto") {
+        out.path = pipeline::MapPath::Auto;
+      } else if (path == "dense") {
+        out.path = pipeline::MapPath::Dense;
+      } else if (path == "landmarks") {
+        out.path = pipeline::MapPath::Landmarks;
+      } else {
+        throw ParameterError("path: unknown name '" + path +
+                             "' (expected one of auto, dense, landmarks)");
+      }
+    } else if (std::find(std::begin(kFeatureKeys), std::end(kFeatureKeys), k) ==
+               std::end(kFeatureKeys)) {
+      throw ParameterError("unknown option '" + k + "'");
+    }
+  }
+  if (e.dimensions != 2 && e.dimensions != 3) {
+    throw ParameterError("n_components: " + std::to_string(e.dimensions) +
+                         " is not a map dimension (expected 2 or 3)");
+  }
+  return out;
+}
+
+// The estimator parameters of saved options (the inverse of clip_map_options, for read_map).
+py::dict option_dict(const pipeline::ClipMapOptions& o) {
+  py::dict d;
+  const auto& e = o.embed;
+  const auto& f = o.features;
+  d["method"] = std::string(embed::method_name(e.method));
+  d["n_components"] = e.dimensions;
+  d["n_neighbors"] = e.k;
+  d["heat"] = e.heat ? py::cast(*e.heat) : py::none();
+  d["reg"] = e.reg;
+  d["standardize"] = e.standardize;
+  d["strict"] = e.strict;
+  d["n_landmarks"] = e.landmarks;
+  d["path"] = o.path == pipeline::MapPath::Dense       ? "dense"
+              : o.path == pipeline::MapPath::Landmarks ? "landmarks"
+                                                       : "auto";
+  d["features"] = std::string(features::feature_kind_name(f.features));
+  d["distance"] = std::string(features::distance_kind_name(f.distance));
+  d["joints"] = std::string(features::joint_selection_name(f.joints));
+  d["up"] = f.up == Axis::Z ? "z" : "y";
+  d["exclude"] = f.exclude.empty() ? py::none() : py::cast(f.exclude);
+  d["frames"] = py::make_tuple(f.first_frame, f.end_frame < 0 ? py::none() : py::cast(f.end_frame));
+  d["stride"] = f.stride;
+  d["keep_first"] = f.keep_first;
+  return d;
+}
+
+// A new, empty temporary file (mkstemps: a name no one else has), removed when this goes.
+struct TempFile {
+  std::string path;
+  TempFile() {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "motionmap-py-XXXXXX.mmap.h5").string();
+    const int fd = mkstemps(pattern.data(), 8);  // 8: the length of ".mmap.h5"
+    if (fd < 0) throw Error(pattern + ": error: cannot create a temporary file");
+    close(fd);
+    path = pattern;
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile() {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+  }
+};
+
+// ---- maps of clips ----------------------------------------------------------------------------
+
+struct ClipMapState {
+  mapfile::MapFile file;
+  /// The map as map_clips() made it, while it lives in the process that fitted it (for the CSV,
+  /// which is the CLI's byte for byte); not pickled, not in a map file.
+  std::optional<pipeline::ClipMap> map;
+  /// The clips the map was fitted on, while it lives in the process that fitted it (pose
+  /// synthesis blends them); a map read back or unpickled loads them again from `paths`.
+  std::vector<Clip> clips;
+  std::vector<std::string> paths;
+};
+
+std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict& options,
+                                        const std::string& asf, double fps, py::object progress) {
+  const pipeline::ClipMapOptions opts = clip_map_options(options);
+  std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
+  auto state = std::make_shared<ClipMapState>();
+  run_released(std::move(progress), [&](const Control& control) {
+    state->map = pipeline::map_clips(loaded, opts, control);
+    state->file = mapfile::make_map_file(loaded, *state->map, opts);
+    return 0;
+  });
+  for (const Clip& c : loaded) state->paths.push_back(c.path);
+  state->clips = std::move(loaded);
+  return state;
+}
+
+// ---- poses and motions from map points (inverse_transform, synthesize) ------------------------
+
+// A blender over the map's clips: the fitted clips, or (a map read back or unpickled) its clips
+// loaded again from their recorded paths and checked to give the map's samples. Call with the
+// GIL released.
+synth::MapBlender make_blender(const ClipMapState& s, const synth::BlendOptions& blend,
+                               const Control& control) {
+  if (s.file.coordinates.cols() != 2) {
+    throw ParameterError("poses are blended on 2-D maps; this map has " +
+                         std::to_string(s.file.coordinates.cols()) + " dimensions");
+  }
+  std::vector<Clip> reloaded;
+  if (s.clips.empty()) {
+    for (const auto& path : s.paths) reloaded.push_back(io::load_clip(path));
+  }
+  const std::vector<Clip>& clips = s.clips.empty() ? reloaded : s.clips;
+  for (const Clip& clip : clips) {
+    if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
+      throw ParameterError(clip.path + ": its joint hierarchy differs from " + clips.front().path +
+                           "'s (" + why + "); poses are blended from clips of one skeleton");
+  }
+  features::FeatureSet samples;
+  if (s.map) {
+    samples = *s.map->features;
+  } else {
+    samples = features::select_samples(clips, s.file.options.features);
+    if (samples.clip_of != s.file.clip_of || samples.frame_of != s.file.frame_of) {
+      throw ParameterError(
+          "the clips at the map's paths no longer give its samples (a clip changed or moved "
+          "since the map was made): poses cannot be blended from them");
+    }
+  }
+  synth::BlendOptions options = blend;
+  options.up = s.file.options.features.up;
+  return synth::MapBlender(clips, samples, s.file.coordinates, options, control);
+}
+
+synth::BlendOptions blend_options(const std::string& mode, int neighbors, double reach) {
+  synth::BlendOptions b;
+  const auto parsed = synth::parse_blend_mode(mode);
+  if (!parsed) {
+    throw ParameterError("blend: unknown name '" + mode +
+                         "' (expected one of local, kriging, idw)");
+  }
+  b.mode = *parsed;
+  b.neighbors = neighbors;
+  b.reach = reach;
+  return b;
+}
+
+std::vector<Eigen::Vector2d> map_points(const InputArray& array, const std::string& what) {
+  const RowMatrix p = to_row_matrix(array, what);
+  if (p.cols() != 2) {
+    throw ParameterError(what + ": expected #points by 2 map coordinates, got " +
+                         std::to_string(p.cols()) + " columns");
+  }
+  std::vector<Eigen::Vector2d> out;
+  for (Eigen::Index i = 0; i < p.rows(); ++i) out.emplace_back(p(i, 0), p(i, 1));
+  return out;
+}
+
+Clip poses_at(const ClipMapState& s, const InputArray& Y, const std::string& mode, int neighbors,
+              double reach, py::object progress) {
+  const std::vector<Eigen::Vector2d> points = map_points(Y, "Y");
+  return run_released(std::move(progress), [&](const Control& control) {
+    const synth::MapBlender blender =
+        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.5));
+    Clip out;
+    out.path = "<poses at " + std::to_string(points.size()) + " map points>";
+    out.skeleton = blender.skeleton();
+    const int joints = out.skeleton.num_joints();
+    out.motion.resize(static_cast<int>(points.size()), joints);
+    out.motion.frame_time = blender.frame_time();
+    const Control part = control.part(0.5, 1.0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Motion pose = blender.pose_at(points[i]);
+      for (int j = 0; j < joints; ++j) {
+        out.motion.rotation(static_cast<int>(i), j) = pose.rotation(0, j);
+        out.motion.translation(static_cast<int>(i), j) = pose.translation(0, j);
+      }
+      part.update(double(i + 1) / double(points.size()));
+    }
+    part.finish();
+    return out;
+  });
+}
+
+Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
+                     double speed, double fps, double smooth, const std::string& mode,
+                     int neighbors, double reach, py::object progress) {
+  synth::MapPath path;
+  path.points = map_points(path_xy, "path_xy");
+  if (!times.is_none()) {
+    path.times = times.cast<std::vector<double>>();
+    if (path.times.size() != path.points.size()) {
+      throw ParameterError("times: " + std::to_string(path.times.size()) + " times for " +
+                           std::to_string(path.points.size()) + " path points");
+    }
+  }
+  synth::SynthOptions options;
+  options.speed = speed;
+  options.fps = fps;
+  options.smooth = smooth;
+  options.validate();
+  return run_released(std::move(progress), [&](const Control& control) {
+    const synth::MapBlender blender =
+        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.3));
+    synth::SynthResult result = synth::synthesize(blender, path, options, control.part(0.3, 1.0));
+    Clip out;
+    out.path = "<motion along a path of " + std::to_string(path.points.size()) + " points>";
+    out.skeleton = blender.skeleton();
+    out.motion = std::move(result.motion);
+    if (result.clamped_frames > 0) {
+      out.warnings.push_back(std::to_string(result.clamped_frames) +
+                             " frames were outside the map's data and moved to its edge");
+    }
+    return out;
+  });
+}
+
+Eigen::MatrixXd transform_clips(const ClipMapState& s, const py::object& clips,
+                                const py::dict& options, const std::string& asf, double fps,
+                                py::object progress) {
+  const features::FeatureOptions f = feature_options(options);
+  mapfile::PlaceOptions place;
+  place.first_frame = f.first_frame;
+  place.end_frame = f.end_frame;
+  place.stride = f.stride;
+  place.keep_first = f.keep_first;
+  const std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
+  return run_released(std::move(progress), [&](const Control& control) {
+    return mapfile::place_clips(loaded, s.file, place, control).coordinates;
+  });
+}
+
+void write_csv(const ClipMapState& s, const py::object& path) {
+  if (!s.map) {
+    throw Error(
+        "write_csv: this map was read from a map file or unpickled; the CSV is written by the "
+        "process that fitted it (the map file holds the coordinates: coordinates, write_map)");
+  }
+  const std::string out = py::str(py::module_::import("os").attr("fspath")(path));
+  py::gil_scoped_release release;
+  std::ofstream file(out);
+  if (!file) throw Error(out + ": error: cannot open for writing");
+  pipeline::write_map_csv(file, *s.map, s.file.options, s.paths);
+  if (!file.flush()) throw Error(out + ": error: write failed");
+}
+
+py::bytes map_file_bytes(const ClipMapState& s) {
+  std::string bytes;
+  {
+    py::gil_scoped_release release;
+    TempFile tmp;
+    mapfile::write_map_file(tmp.path, s.file);
+    bytes = read_text_file(tmp.path);
+  }
+  return py::bytes(bytes);
+}
+
+std::shared_ptr<ClipMapState> state_from_bytes(const std::string& bytes, const std::string& path) {
+  auto s = std::make_shared<ClipMapState>();
+  {
+    py::gil_scoped_release release;
+    TempFile tmp;
+    {
+      std::ofstream out(tmp.path, std::ios::binary);
+      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      if (!out.flush()) throw Error(tmp.path + ": error: write failed");
+    }
+    s->file = mapfile::read_map_file(tmp.path);
+  }
+  s->file.path = path;
+  for (const auto& c : s->file.clips) s->paths.push_back(c.path);
+  return s;
+}
+
+// ---- maps of matrices -------------------------------------------------------------------------
+
+struct MatrixMapState {
+  embed::EmbedOptions options;
+  embed::Embedding embedding;
+  bool precomputed = false;  ///< fitted from D: nothing to place new frames with
+  embed::MapModel model;
+  int columns = 0;  ///< of X
+};
+
+std::shared_ptr<MatrixMapState> fit_matrix(const InputArray& array, bool precomputed,
+                                           const py::dict& options, py::object progress) {
+  const pipeline::ClipMapOptions opts = clip_map_options(options);
+  const RowMatrix rows = to_row_matrix(array, precomputed ? "D" : "X");
+  auto s = std::make_shared<MatrixMapState>();
+  s->options = opts.embed;
+  s->precomputed = precomputed;
+  s->columns = static_cast<int>(rows.cols());
+  run_released(std::move(progress), [&](const Control& control) {
+    if (precomputed) {
+      if (!embed::reads_distances(opts.embed.method)) {
+        throw ParameterError(std::string(embed::method_name(opts.embed.method)) +
+                             " reads X, not distances: metric='precomputed' is for mds, isomap "
+                             "and le");
+      }
+      if (opts.embed.method == embed::Method::Lle) {
+        throw ParameterError(
+            "lle reads X for its weights: metric='precomputed' is for mds, "
+            "isomap and le");
+      }
+      const Eigen::MatrixXd D = rows;
+      s->embedding = embed::embed({.distances = &D}, opts.embed, control);
+      return 0;
+    }
+    const Eigen::MatrixXd X = rows;
+    const bool dense = opts.path == pipeline::MapPath::Dense ||
+                       (opts.path == pipeline::MapPath::Auto && rows.rows() <= opts.dense_limit);
+    embed::EmbedInput input{.features = &X, .points = &rows};
+    Eigen::MatrixXd D;
+    if (dense && embed::reads_distances(opts.embed.method)) {
+      if (!rows.allFinite()) throw ParameterError("X holds NaN or infinite values");
+      D = features::pairwise_distances(rows, control.stage("pose distances", 0.0, 0.2));
+      input.distances = &D;
+    }
+    s->embedding = embed::embed(input, opts.embed, control.part(0.2, 1.0));
+    s->model = embed::make_model(input, opts.embed, s->embedding);
+    return 0;
+  });
+  return s;
+}
+
+Eigen::MatrixXd transform_matrix(const MatrixMapState& s, const InputArray& array,
+                                 py::object progress) {
+  if (s.precomputed) {
+    throw ParameterError(
+        "transform: a map fitted from precomputed distances cannot place new frames (it has no "
+        "points to measure them against); fit it from X or from clips");
+  }
+  const RowMatrix rows = to_row_matrix(array, "X");
+  if (rows.cols() != s.columns) {
+    throw ParameterError("X has " + std::to_string(rows.cols()) +
+                         " columns; the map was fitted on " + std::to_string(s.columns));
+  }
+  return run_released(std::move(progress), [&](const Control& control) {
+    const Eigen::MatrixXd X = rows;
+    return embed::place(s.model, {.features = &X, .points = &rows}, control);
+  });
+}
+
+// The pickled state of a matrix map: plain Python values and numpy arrays.
+py::dict landmark_state(const embed::LandmarkFit& l) {
+  py::dict d;
+  d["frames"] = l.frames;
+  d["projection"] = l.projection;
+  d["mean_squared"] = l.mean_squared;
+  d["offset"] = l.offset;
+  d["geodesic"] = l.geodesic;
+  return d;
+}
+
+embed::LandmarkFit landmark_from(const py::dict& d) {
+  embed::LandmarkFit l;
+  l.frames = d["frames"].cast<std::vector<int>>();
+  l.projection = d["projection"].cast<Eigen::MatrixXd>();
+  l.mean_squared = d["mean_squared"].cast<Eigen::VectorXd>();
+  l.offset = d["offset"].cast<Eigen::VectorXd>();
+  l.geodesic = d["geodesic"].cast<Eigen::MatrixXd>();
+  return l;
+}
+
+py::tuple matrix_state(const MatrixMapState& s) {
+  py::dict o;
+  o["method"] = std::string(embed::method_name(s.options.method));
+  o["n_components"] = s.options.dimensions;
+  o["n_neighbors"] = s.options.k;
+  o["heat"] = s.options.heat ? py::cast(*s.options.heat) : py::none();
+  o["reg"] = s.options.reg;
+  o["standardize"] = s.options.standardize;
+  o["strict"] = s.options.strict;
+  o["n_landmarks"] = s.options.landmarks;
+  py::dict e;
+  e["coordinates"] = s.embedding.coordinates;
+  e["eigenvalues"] = s.embedding.eigenvalues;
+  e["k_used"] = s.embedding.k_used;
+  e["heat_used"] = s.embedding.heat_used;
+  e["warnings"] = s.embedding.warnings;
+  e["from_points"] = s.embedding.from_points;
+  py::dict m;
+  const embed::MapModel& mm = s.model;
+  m["method"] = std::string(embed::method_name(mm.method));
+  m["dimensions"] = mm.dimensions;
+  m["coordinates"] = mm.coordinates;
+  m["mean"] = Eigen::VectorXd(mm.mean.transpose());
+  m["scale"] = Eigen::VectorXd(mm.scale.transpose());
+  m["axes"] = mm.axes;
+  m["points"] = Eigen::MatrixXd(mm.points);
+  m["metric"] = mm.metric == Metric::Euclidean ? 0 : 1;
+  m["points_are_landmarks"] = mm.points_are_landmarks;
+  m["k"] = mm.k;
+  m["landmarks"] = mm.landmarks ? py::object(landmark_state(*mm.landmarks)) : py::none();
+  m["graph"] = py::make_tuple(mm.graph.offsets, mm.graph.targets, mm.graph.weights);
+  m["heat"] = mm.heat;
+  m["eigenvalues"] = mm.eigenvalues;
+  m["features"] = Eigen::MatrixXd(mm.features);
+  m["reg"] = mm.reg;
+  return py::make_tuple(1, o, e, m, s.precomputed, s.columns);
+}
+
+std::shared_ptr<MatrixMapState> matrix_from_state(const py::tuple& t) {
+  if (t.size() != 6 || t[0].cast<int>() != 1)
+    throw Error("unpickling a matrix map: unknown state layout");
+  auto s = std::make_shared<MatrixMapState>();
+  py::dict o = t[1];
+  s->options = clip_map_options(o).embed;
+  py::dict e = t[2];
+  s->embedding.method = s->options.method;
+  s->embedding.coordinates = e["coordinates"].cast<Eigen::MatrixXd>();
+  s->embedding.eigenvalues = e["eigenvalues"].cast<Eigen::VectorXd>();
+  s->embedding.k_used = e["k_used"].cast<int>();
+  s->embedding.heat_used = e["heat_used"].cast<double>();
+  s->embedding.warnings = e["warnings"].cast<std::vector<std::string>>();
+  s->embedding.from_points = e["from_points"].cast<bool>();
+  py::dict m = t[3];
+  embed::MapModel& mm = s->model;
+  mm.method = *embed::parse_method(m["method"].cast<std::string>());
+  mm.dimensions = m["dimensions"].cast<int>();
+  mm.coordinates = m["coordinates"].cast<Eigen::MatrixXd>();
+  mm.mean = m["mean"].cast<Eigen::VectorXd>().transpose();
+  mm.scale = m["scale"].cast<Eigen::VectorXd>().transpose();
+  mm.axes = m["axes"].cast<Eigen::MatrixXd>();
+  mm.points = m["points"].cast<Eigen::MatrixXd>();
+  mm.metric = m["metric"].cast<int>() == 0 ? Metric::Euclidean : Metric::QuaternionAngles;
+  mm.points_are_landmarks = m["points_are_landmarks"].cast<bool>();
+  mm.k = m["k"].cast<int>();
+  if (!m["landmarks"].is_none()) mm.landmarks = landmark_from(m["landmarks"]);
+  const py::tuple g = m["graph"];
+  mm.graph.offsets = g[0].cast<std::vector<int>>();
+  mm.graph.targets = g[1].cast<std::vector<int>>();
+  mm.graph.weights = g[2].cast<std::vector<double>>();
+  mm.heat = m["heat"].cast<double>();
+  mm.eigenvalues = m["eigenvalues"].cast<Eigen::VectorXd>();
+  mm.features = m["features"].cast<Eigen::MatrixXd>();
+  mm.reg = m["reg"].cast<double>();
+  s->precomputed = t[4].cast<bool>();
+  s->columns = t[5].cast<int>();
+  return s;
+}
+
+}  // namespace
+
+void bind_maps(py::module_& m) {
+  py::class_<ClipMapState, std::shared_ptr<ClipMapState>>(
+      m, "_ClipMap", "A fitted map of clips (the state of a fitted estimator).")
+      .def_property_readonly("coordinates",
+                             [](const ClipMapState& s) { return s.file.coordinates; })
+      .def_property_readonly("eigenvalues",
+                             [](const ClipMapState& s) {
+                               return s.map ? s.map->embedding.eigenvalues : Eigen::VectorXd();
+                             })
+      .def_property_readonly("clip_of", [](const ClipMapState& s) { return s.file.clip_of; })
+      .def_property_readonly("frame_of", [](const ClipMapState& s) { return s.file.frame_of; })
+      .def_property_readonly("paths", [](const ClipMapState& s) { return s.paths; })
+      .def_property_readonly("parameters", [](const ClipMapState& s) { return s.file.parameters; })
+      .def_property_readonly("notes", [](const ClipMapState& s) { return s.file.notes; })
+      .def_property_readonly("warnings", [](const ClipMapState& s) { return s.file.warnings; })
+      .def_property_readonly("k_used", [](const ClipMapState& s) { return s.file.k_used; })
+      .def_property_readonly("heat_used", [](const ClipMapState& s) { return s.file.heat_used; })
+      .def_property_readonly("x_columns", [](const ClipMapState& s) { return s.file.x_columns; })
+      .def_property_readonly("options",
+                             [](const ClipMapState& s) { return option_dict(s.file.options); })
+      .def("transform", &transform_clips, py::arg("clips"), py::arg("options"), py::arg("asf"),
+           py::arg("fps"), py::arg("progress"))
+      .def("write_csv", &write_csv, py::arg("path"))
+      .def("poses_at", &poses_at, py::arg("Y"), py::arg("blend"), py::arg("neighbors"),
+           py::arg("reach"), py::arg("progress"))
+      .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
+           py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),
+           py::arg("reach"), py::arg("progress"))
+      .def(
+          "write_map",
+          [](const ClipMapState& s, const py::object& path) {
+            const std::string out = py::str(py::module_::import("os").attr("fspath")(path));
+            py::gil_scoped_release release;
+            mapfile::write_map_file(out, s.file);
+          },
+          py::arg("path"))
+      .def(py::pickle(
+          [](const ClipMapState& s) {
+            return py::make_tuple(1, map_file_bytes(s), s.file.path, s.paths);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 4 || t[0].cast<int>() != 1)
+              throw Error("unpickling a clip map: unknown state layout");
+            auto s = state_from_bytes(t[1].cast<std::string>(), t[2].cast<std::string>());
+            s->paths = t[3].cast<std::vector<std::string>>();
+            return s;
+          }));
+
+  py::class_<MatrixMapState, std::shared_ptr<MatrixMapState>>(
+      m, "_MatrixMap", "A fitted map of a matrix (the state of a fitted estimator).")
+      .def_property_readonly("coordinates",
+                             [](const MatrixMapState& s) { return s.embedding.coordinates; })
+      .def_property_readonly("eigenvalues",
+                             [](const MatrixMapState& s) { return s.embedding.eigenvalues; })
+      .def_property_readonly("warnings",
+                             [](const MatrixMapState& s) { return s.embedding.warnings; })
+      .def_property_readonly("k_used", [](const MatrixMapState& s) { return s.embedding.k_used; })
+      .def_property_readonly("heat_used",
+                             [](const MatrixMapState& s) { return s.embedding.heat_used; })
+      .def_property_readonly("x_columns", [](const MatrixMapState& s) { return s.columns; })
+      .def_property_readonly("precomputed", [](const MatrixMapState& s) { return s.precomputed; })
+      .def("transform", &transform_matrix, py::arg("X"), py::arg("progress"))
+      .def(py::pickle(&matrix_state, &matrix_from_state));
+
+  m.def("_fit_clips", &fit_clips, py::arg("clips"), py::arg("options"), py::arg("asf"),
+        py::arg("fps"), py::arg("progress"));
+  m.def("_fit_matrix", &fit_matrix, py::arg("X"), py::arg("precomputed"), py::arg("options"),
+        py::arg("progress"));
+  m.def(
+      "_read_map",
+      [](const py::object& path) {
+        const std::string in = py::str(py::module_::import("os").attr("fspath")(path));
+        auto s = std::make_shared<ClipMapState>();
+        {
+          py::gil_scoped_release release;
+          s->file = mapfile::read_map_file(in);
+        }
+        for (const auto& c : s->file.clips) s->paths.push_back(c.path);
+        return s;
+      },
+      py::arg("path"));
+}
+
+}  // namespace motionmap::python

@@ -1,0 +1,63 @@
+"""Poses and motions from map points: inverse_transform at a sample's map point gives that frame's
+pose (the blends are exact at samples), the same after read_map (the clips reloaded from their
+paths), and synthesize along the clip's own map trajectory reproduces its joint rotations; the
+CLI's `pose --at` writes the same pose."""
+import subprocess
+
+import numpy as np
+import pytest
+
+import motionmap
+
+
+def same_rotations(a, b, atol):
+    np.testing.assert_allclose(np.abs(np.sum(a * b, axis=-1)), 1.0, atol=atol)
+
+
+def test_inverse_transform_is_exact_at_samples(golf, tmp_path):
+    est = motionmap.Isomap().fit(golf)
+    clip = motionmap.load(golf)
+    rows = [5, 100, 250]
+    poses = est.inverse_transform(est.embedding_[rows])
+    assert isinstance(poses, motionmap.Clip) and poses.num_frames == 3
+    assert poses.skeleton.names == clip.skeleton.names
+    frames = est.frame_of_[rows]
+    # Every joint but the root (whose heading is removed) has the sample frame's rotation.
+    same_rotations(poses.rotations[:, 1:], clip.rotations[frames, 1:], 1e-9)
+    path = tmp_path / "m.mmap.h5"
+    motionmap.write_map(est, path)
+    again = motionmap.read_map(path).inverse_transform(est.embedding_[rows])
+    np.testing.assert_array_equal(again.rotations, poses.rotations)
+    with pytest.raises(motionmap.Error, match="blend: unknown name"):
+        est.inverse_transform(est.embedding_[:1], blend="nearest")
+    with pytest.raises(motionmap.Error, match="by 2"):
+        est.inverse_transform(np.zeros((2, 3)))
+    with pytest.raises(motionmap.Error, match="fitted on an array"):
+        motionmap.PCA().fit(np.eye(5)).inverse_transform(np.zeros((1, 2)))
+
+
+def test_pose_matches_the_cli(golf, cli, tmp_path):
+    est = motionmap.Isomap().fit(golf)
+    at = est.embedding_[40] * 0.5 + est.embedding_[41] * 0.5
+    out = tmp_path / "pose.bvh"
+    subprocess.run([cli, "pose", golf, f"--at={at[0]!r},{at[1]!r}", "-o", str(out)], check=True,
+                   capture_output=True)
+    theirs = motionmap.load(str(out))
+    ours = est.inverse_transform(at[None, :])
+    # The CLI writes BVH (Euler angles, shortest round-trip numbers): equal to rounding.
+    same_rotations(ours.rotations, theirs.rotations, 1e-9)
+
+
+def test_synthesize_retraces_the_clip(golf, tmp_path):
+    est = motionmap.Isomap().fit(golf)
+    clip = motionmap.load(golf)
+    frames = est.frame_of_
+    times = frames * clip.frame_time
+    motion = motionmap.synthesize(est, est.embedding_, times)
+    assert motion.frame_time == pytest.approx(clip.frame_time)
+    n = min(motion.num_frames, len(frames))
+    same_rotations(motion.rotations[:n, 1:], clip.rotations[frames[:n], 1:], 1e-6)
+    motion.save(tmp_path / "new.bvh")
+    assert motionmap.load(str(tmp_path / "new.bvh")).num_frames == motion.num_frames
+    with pytest.raises(motionmap.Error, match="times"):
+        motionmap.synthesize(est, est.embedding_[:3], [0.0, 1.0])

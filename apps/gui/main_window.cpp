@@ -15,6 +15,7 @@
 #include <QStatusBar>
 #include <QVBoxLayout>
 
+#include "clip_loader.h"
 #include "file_menu.h"
 #include "job_progress.h"
 #include "map_export.h"
@@ -75,6 +76,18 @@ void MainWindow::buildUi() {
   buildMenus();
   buildStatusBar();
   m_gestures = new MapGestures(&m_maps, m_mapView, m_skeletonView, &m_playback, this);
+  m_loader = new ClipLoader(this);
+  connect(m_loader, &ClipLoader::loaded, this, [this](int c) {
+    if (c != m_wantClip) return;
+    m_wantClip = -1;
+    setCurrentClip(c, m_wantFrame);
+  });
+  connect(m_loader, &ClipLoader::failed, this, [this](int c, const QString& message) {
+    if (c != m_wantClip) return;
+    m_wantClip = -1;
+    updateStatus();
+    showError(message);
+  });
   connect(m_gestures, &MapGestures::frameClicked, this, &MainWindow::setCurrentClip);
   connect(m_gestures, &MapGestures::failed, this, &MainWindow::showError);
   connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
@@ -152,6 +165,10 @@ int MainWindow::clipCount() const {
   return m_maps.clips() ? int(m_maps.clips()->size()) : 0;
 }
 
+bool MainWindow::isLoadingClip() const {
+  return m_loader->pending() > 0;
+}
+
 bool MainWindow::openMapFile(const QString& path) {
   if (!confirmDiscard()) return false;
   return attempt([&] {
@@ -172,10 +189,12 @@ bool MainWindow::openMapFile(const QString& path) {
     m_saved = saved;
     m_savedClip.reset();
     m_clipIndex = -1;
-    m_gestures->setSavedMap(m_saved, m_synthParameters.blend.neighbors);
+    m_wantClip = -1;
+    m_loader->setMap(m_saved);
+    m_gestures->setSavedMap(m_saved, m_synthParameters.blend.neighbors, m_loader);
     const mapfile::MapFile& file = m_saved->file();
     render::MapPlotOptions options;
-    options.line_width = 1.5;
+    options.line_width = 1.0;  // the density shows between the strokes
     m_mapView->setDensityMap(std::shared_ptr<const Eigen::MatrixXd>(m_saved, &file.coordinates),
                              Eigen::MatrixXd(0, 2), options);
     m_mapView->setShadingReach(0.0);
@@ -192,7 +211,9 @@ void MainWindow::closeSavedMap() {
   m_saved.reset();
   m_savedClip.reset();
   m_savedRowOfFrame.clear();
-  m_gestures->setSavedMap(nullptr, m_synthParameters.blend.neighbors);
+  m_wantClip = -1;
+  m_loader->setMap(nullptr);
+  m_gestures->setSavedMap(nullptr, m_synthParameters.blend.neighbors, nullptr);
   m_mapView->clearMap();
 }
 
@@ -274,6 +295,17 @@ void MainWindow::setCurrentClip(int index, int frame) {
   if (m_saved) {
     if (index < 0 || index >= clipCount()) return;
     if (index != m_clipIndex || !m_savedClip) {
+      if (!m_loader->request(index)) {  // loading on the worker: the jump follows its arrival
+        m_wantClip = index;
+        m_wantFrame = frame;
+        m_status->setText(tr("Loading clip %1 of %2 (%3)…")
+                              .arg(index + 1)
+                              .arg(clipCount())
+                              .arg(QString::fromStdString(
+                                  m_saved->file().clips[std::size_t(index)].path)));
+        return;
+      }
+      m_wantClip = -1;
       std::shared_ptr<const Clip> loaded;
       if (!attempt([&] { loaded = m_saved->clip(index); })) return;  // the clip before stays
       const bool first = !m_savedClip;
@@ -338,7 +370,7 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
   if (!valid) return false;
   if (m_saved) {
     m_synthParameters = parameters;
-    m_gestures->setSavedMap(m_saved, parameters.blend.neighbors);
+    m_gestures->setSavedMap(m_saved, parameters.blend.neighbors, m_loader);
     saveParameters();
     return true;
   }

@@ -27,6 +27,7 @@ class SavedMap;
 }
 namespace motionmap::studio {
 
+class ClipLoader;
 class FileMenu;
 class MapGestures;
 class JobProgress;
@@ -54,6 +55,8 @@ class MainWindow : public QMainWindow {
   bool openMapFile(const QString& path);
   /// The saved map shown (nullptr when the map is one computed here).
   const mapfile::SavedMap* savedMap() const { return m_saved.get(); }
+  /// A saved map's clip is being loaded (on a worker thread) for a click or a drag.
+  bool isLoadingClip() const;
   /// Shows `clip` and starts its map (tests, the built-in sample). Does not ask: callers that
   /// replace a clip on a user's action call confirmDiscard() first.
   void openClip(Clip clip);
@@ -68,9 +71,10 @@ class MainWindow : public QMainWindow {
   const Clip* clip() const;
   int clipCount() const;
   int currentClip() const { return m_clipIndex; }
-  /// Plays clip `index` (of the map's clips) from `frame`. On a saved map the clip is loaded on
-  /// demand (a few stay cached); a clip that cannot be loaded (missing, changed since the map was
-  /// made) is shown as an error and the clip before stays.
+  /// Plays clip `index` (of the map's clips) from `frame`. On a saved map a clip not in the cache
+  /// is loaded on a worker thread first (isLoadingClip(); the jump happens when it arrives); one
+  /// that cannot be loaded (missing, changed since the map was made) is shown as an error and the
+  /// clip before stays.
   void setCurrentClip(int index, int frame = 0);
 
   /// Shows the map of `method` with the current parameters: at once when cached, else computed
@@ -193,6 +197,9 @@ class MainWindow : public QMainWindow {
   std::shared_ptr<const Clip> m_savedClip;
   std::vector<int> m_savedRowOfFrame;
   MapGestures* m_gestures = nullptr;
+  ClipLoader* m_loader = nullptr;
+  int m_wantClip = -1;  ///< a saved map's clip being loaded to be shown, from m_wantFrame
+  int m_wantFrame = 0;
   /// Leaves the saved map (another clip opened).
   void closeSavedMap();
   SynthesisController m_synthesis;

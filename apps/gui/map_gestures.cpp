@@ -3,6 +3,7 @@
 #include <QFileInfo>
 #include <QLineF>
 
+#include "clip_loader.h"
 #include "map_controller.h"
 #include "map_view.h"
 #include "motionmap/mapfile/saved_map.h"
@@ -23,9 +24,31 @@ MapGestures::MapGestures(const MapController* maps, MapView* mapView, SkeletonVi
   connect(mapView, &MapView::dragged, this, &MapGestures::onDrag);
 }
 
-void MapGestures::setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors) {
+void MapGestures::setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors,
+                              ClipLoader* loader) {
   m_saved = std::move(map);
   m_neighbors = neighbors;
+  m_waitingDrag.reset();
+  if (loader != m_loader) {
+    if (m_loader) disconnect(m_loader, nullptr, this, nullptr);
+    m_loader = loader;
+    if (m_loader) {
+      connect(m_loader, &ClipLoader::loaded, this, &MapGestures::onClipLoaded);
+      connect(m_loader, &ClipLoader::failed, this, [this](int, const QString& message) {
+        if (!m_waitingDrag) return;
+        m_waitingDrag.reset();
+        m_mapView->setHoverText({});
+        emit failed(message);
+      });
+    }
+  }
+}
+
+void MapGestures::onClipLoaded() {
+  if (!m_waitingDrag || !m_loader || m_loader->pending() > 0) return;
+  const Eigen::Vector2d point = *m_waitingDrag;
+  m_waitingDrag.reset();
+  onDrag(point);
 }
 
 int MapGestures::sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const {
@@ -82,6 +105,18 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
   if (m_saved) {
     if (m_playback->isPlaying() || !point.allFinite()) return;
     try {
+      if (m_loader) {
+        // The clips of the samples blended: from the cache, or loading (then blended on arrival).
+        bool ready = true;
+        for (const int c : m_saved->clips_near(point, m_neighbors)) ready = m_loader->request(c) && ready;
+        if (!ready) {
+          m_waitingDrag = point;
+          m_mapView->setPointer(point);
+          m_mapView->setHoverText(tr("loading clips…"));
+          return;
+        }
+      }
+      m_waitingDrag.reset();
       const mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors);
       m_skeletonView->setPose(pose.pose, 0);
       m_mapView->setPointer(point);

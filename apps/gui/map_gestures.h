@@ -4,6 +4,7 @@
 // where the library took it: inside the data, or moved to its edge). Sketches are the window's
 // (they start a synthesis).
 #include <memory>
+#include <optional>
 
 #include <Eigen/Core>
 #include <QObject>
@@ -16,6 +17,7 @@ class SavedMap;
 }
 namespace motionmap::studio {
 
+class ClipLoader;
 class MapController;
 class MapView;
 class Playback;
@@ -37,8 +39,11 @@ class MapGestures : public QObject {
   int sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const;
 
   /// A saved map shown instead of the controller's (nullptr: back to the controller's). Drags then
-  /// blend its `neighbors` nearest samples (mapfile::SavedMap::pose_at), loading their clips.
-  void setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors);
+  /// blend its `neighbors` nearest samples (mapfile::SavedMap::pose_at) once their clips are
+  /// loaded: clips not in the map's cache are asked of `loader` (on its worker thread) and the
+  /// drag's last point is blended when they arrive, so no mouse event waits for a file.
+  void setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors,
+                   ClipLoader* loader);
 
  signals:
   /// A click near the trajectory: frame `frame` of clip `clip`.
@@ -55,8 +60,11 @@ class MapGestures : public QObject {
   MapView* m_mapView;
   SkeletonView* m_skeletonView;
   const Playback* m_playback;
+  void onClipLoaded();
   std::shared_ptr<const mapfile::SavedMap> m_saved;
   int m_neighbors = 12;
+  ClipLoader* m_loader = nullptr;
+  std::optional<Eigen::Vector2d> m_waitingDrag;  ///< a drag point whose clips are loading
 };
 
 }  // namespace motionmap::studio

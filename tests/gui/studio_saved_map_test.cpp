@@ -152,6 +152,11 @@ TEST_F(SavedMapFixture, ClickLoadsTheClickedClipAndJumpsToItsFrame) {
   const int row = file.clips[1].first_sample + 40;
   ASSERT_FALSE(saved->is_loaded(1));
   QTest::mouseClick(m_window->mapView(), Qt::LeftButton, Qt::NoModifier, pixelOf(row));
+  // The click returns at once; the clip loads on the loader's thread, then the jump happens.
+  EXPECT_TRUE(m_window->isLoadingClip());
+  EXPECT_TRUE(m_window->statusText().startsWith("Loading clip 2 of 2"))
+      << m_window->statusText().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
   ASSERT_EQ(m_window->currentClip(), 1) << m_window->lastError().toStdString();
   EXPECT_TRUE(saved->is_loaded(1));
   const int frame = m_window->currentFrame();
@@ -182,12 +187,17 @@ TEST_F(SavedMapFixture, DragBlendsTheNearestSamples) {
   const QPoint mid = (a + b) / 2 + QPoint(3, 2);
   QTest::mousePress(view, Qt::LeftButton, Qt::NoModifier, a);
   QTest::mouseMove(view, mid);
+  // Clips not loaded yet are loaded on the worker; the drag's point is blended when they arrive.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
+  QCoreApplication::processEvents();
   const mapfile::SavedPose expected = saved->pose_at(view->toMap(QPointF(mid)), 12);
   EXPECT_TRUE(sameRotations(m_window->skeletonView()->currentPose(), expected.pose));
   EXPECT_TRUE(view->hoverText().startsWith("blend of 12 samples"))
       << view->hoverText().toStdString();
   EXPECT_EQ(view->hoverText().contains("outside"), expected.outside);
   QTest::mouseMove(view, b);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
+  QCoreApplication::processEvents();
   const mapfile::SavedPose atB = saved->pose_at(view->toMap(QPointF(b)), 12);
   EXPECT_TRUE(sameRotations(m_window->skeletonView()->currentPose(), atB.pose));
   QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, b);
@@ -201,6 +211,7 @@ TEST_F(SavedMapFixture, AClipChangedSinceTheMapWasMadeIsRefusedClearly) {
   const int frame = m_window->currentFrame();
   QTest::mouseClick(m_window->mapView(), Qt::LeftButton, Qt::NoModifier,
                     pixelOf(file.clips[1].first_sample + 40));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
   EXPECT_EQ(m_window->currentClip(), 0);  // the clip before stays
   EXPECT_EQ(m_window->currentFrame(), frame);
   const std::string error = m_window->lastError().toStdString();

@@ -188,6 +188,15 @@ const Skeleton& SavedMap::skeleton() const {
   return m_first->skeleton;
 }
 
+std::vector<int> SavedMap::clips_near(const Eigen::Vector2d& p, int neighbors) const {
+  std::vector<int> out;
+  for (const Neighbor& n : m_index.nearest(p, std::max(1, neighbors))) {
+    const int c = m_file.clip_of[std::size_t(n.sample)];
+    if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+  }
+  return out;
+}
+
 SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) const {
   if (!p.allFinite()) {
     throw ParameterError("map point (" + format_number(p.x()) + ", " + format_number(p.y()) +

@@ -91,6 +91,10 @@ class SavedMap {
   /// @throws ParameterError for a non-finite p or neighbors < 1; as clip().
   SavedPose pose_at(const Eigen::Vector2d& p, int neighbors = 12, Axis up = Axis::Y) const;
 
+  /// The clips pose_at(p, neighbors) reads (of its `neighbors` nearest samples), each once, in
+  /// order of first use: what a caller that must not wait for files loads first (is_loaded()).
+  std::vector<int> clips_near(const Eigen::Vector2d& p, int neighbors = 12) const;
+
   /// The skeleton of the map's first clip (loading it): the skeleton poses are of.
   const Skeleton& skeleton() const;
 

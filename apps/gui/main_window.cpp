@@ -298,11 +298,11 @@ void MainWindow::setCurrentClip(int index, int frame) {
       if (!m_loader->request(index)) {  // loading on the worker: the jump follows its arrival
         m_wantClip = index;
         m_wantFrame = frame;
-        m_status->setText(tr("Loading clip %1 of %2 (%3)…")
-                              .arg(index + 1)
-                              .arg(clipCount())
-                              .arg(QString::fromStdString(
-                                  m_saved->file().clips[std::size_t(index)].path)));
+        m_status->setText(
+            tr("Loading clip %1 of %2 (%3)…")
+                .arg(index + 1)
+                .arg(clipCount())
+                .arg(QString::fromStdString(m_saved->file().clips[std::size_t(index)].path)));
         return;
       }
       m_wantClip = -1;

@@ -108,7 +108,8 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
       if (m_loader) {
         // The clips of the samples blended: from the cache, or loading (then blended on arrival).
         bool ready = true;
-        for (const int c : m_saved->clips_near(point, m_neighbors)) ready = m_loader->request(c) && ready;
+        for (const int c : m_saved->clips_near(point, m_neighbors))
+          ready = m_loader->request(c) && ready;
         if (!ready) {
           m_waitingDrag = point;
           m_mapView->setPointer(point);

@@ -42,8 +42,7 @@ class MapGestures : public QObject {
   /// blend its `neighbors` nearest samples (mapfile::SavedMap::pose_at) once their clips are
   /// loaded: clips not in the map's cache are asked of `loader` (on its worker thread) and the
   /// drag's last point is blended when they arrive, so no mouse event waits for a file.
-  void setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors,
-                   ClipLoader* loader);
+  void setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors, ClipLoader* loader);
 
  signals:
   /// A click near the trajectory: frame `frame` of clip `clip`.

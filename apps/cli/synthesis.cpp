@@ -109,7 +109,7 @@ synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<Clip>& clip
                                             : "leave " + option->get_name() + " out"));
     }
   }
-  const mapfile::SavedMap saved(mapfile::read_map_file(cmd.map_csv));
+  const mapfile::SavedMap saved(mapfile::read_map_file(cmd.map_csv, {.model = false}));
   clips = saved.load_all_clips();
   for (const Clip& clip : clips) {
     if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())

@@ -173,7 +173,7 @@ bool MainWindow::openMapFile(const QString& path) {
   if (!confirmDiscard()) return false;
   return attempt([&] {
     auto saved = std::make_shared<const mapfile::SavedMap>(
-        mapfile::read_map_file(path.toStdString()), kSavedMapCachedClips);
+        mapfile::read_map_file(path.toStdString(), {.model = false}), kSavedMapCachedClips);
     // Its first clip: loaded now, so a map whose clips are gone says so at once.
     std::shared_ptr<const Clip> first = saved->clip(0);
     m_files->remember(path);

@@ -306,7 +306,8 @@ void SavedMapOpen(benchmark::State& state) {
 void SavedMapRead(benchmark::State& state) {
   if (!needSavedMap(state)) return;
   for (auto _ : state) {
-    const mapfile::MapFile file = mapfile::read_map_file(savedMapPath().toStdString());
+    const mapfile::MapFile file =
+        mapfile::read_map_file(savedMapPath().toStdString(), {.model = false});
     benchmark::DoNotOptimize(file.coordinates.data());
   }
 }

@@ -151,6 +151,25 @@ TEST(SavedMap, LoadsClipsOnDemandAndCachesThem) {
   EXPECT_EQ(set.frame_of, lib.map.features->frame_of);
 }
 
+TEST(SavedMap, ReadsTheMapWithoutItsModelForShowingAndBlending) {
+  if (!have_data()) GTEST_SKIP() << "no shared data in " << kData;
+  TempDir dir;
+  const SavedLibrary lib =
+      save_library(dir, {"cmu/64_08.bvh", "cmu/64_09.bvh"}, embed::Method::Lle);
+  const MapFile full = read_map_file(lib.file);
+  const MapFile shown = read_map_file(lib.file, {.model = false});
+  EXPECT_EQ(full.model.features.rows(), full.num_samples());  // LLE keeps every X row
+  EXPECT_EQ(shown.model.features.size(), 0);
+  EXPECT_EQ(shown.model.coordinates.size(), 0);
+  EXPECT_EQ(shown.coordinates, full.coordinates);
+  EXPECT_EQ(shown.clip_of, full.clip_of);
+  EXPECT_EQ(shown.frame_of, full.frame_of);
+  EXPECT_EQ(shown.parameters, full.parameters);
+  EXPECT_EQ(shown.clips.size(), full.clips.size());
+  EXPECT_EQ(shown.clips[1].sha256, full.clips[1].sha256);
+  EXPECT_EQ(shown.skeleton.names, full.skeleton.names);
+}
+
 TEST(SavedMap, FindsClipsBesideTheMapFileWhenPathsAreRelative) {
   if (!have_data()) GTEST_SKIP() << "no shared data in " << kData;
   TempDir dir;

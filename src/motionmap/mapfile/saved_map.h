@@ -6,8 +6,8 @@
 // MotionMap Studio opens with File → Open map, and what `motionmap pose/synth --map
 // lib.mmap.h5` blend from. No Qt.
 //
-//   motionmap::mapfile::SavedMap map(motionmap::mapfile::read_map_file("lib.mmap.h5"));
-//   const auto hit = map.index().nearest({0.3, -1.2});        // the sample under a point
+//   motionmap::mapfile::SavedMap map(motionmap::mapfile::read_map_file("lib.mmap.h5", {.model =
+//   false})); const auto hit = map.index().nearest({0.3, -1.2});        // the sample under a point
 //   std::shared_ptr<const motionmap::Clip> clip = map.clip(map.file().clip_of[hit.sample]);
 //   const auto pose = map.pose_at({0.3, -1.2});                 // blended from the K nearest
 //

@@ -110,6 +110,12 @@ synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<Clip>& clip
     }
   }
   const mapfile::SavedMap saved(mapfile::read_map_file(cmd.map_csv, {.model = false}));
+  if (saved.file().num_samples() > 100000 && !cmd.map.quiet) {
+    std::cerr << "note: " << cmd.map_csv << " has " << saved.file().num_samples() << " samples in "
+              << saved.num_clips()
+              << " clips: all are loaded and blended over (about 0.1 s per 6 000-frame clip "
+                 "and 5 KB per sample; 11 s and 0.5 GB at 100 000 samples)\n";
+  }
   clips = saved.load_all_clips();
   for (const Clip& clip : clips) {
     if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())

@@ -216,7 +216,8 @@ void setup_pose(CLI::App& app) {
   auto* sub = app.add_subcommand(
       "pose",
       "Blend a new pose from the samples around a point of the clips' map and write it as a\n"
-      "one-frame BVH, standing at the origin facing the heading-0 direction (+Z for Y-up files).");
+      "one-frame BVH, standing at the origin facing the heading-0 direction (+Z for Y-up files).\n"
+      "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
   add_blend_options(sub, *cmd);
   sub->add_option("--at", cmd->at, "The map point X,Y (write --at=X,Y when X is negative)")
       ->required();
@@ -248,7 +249,8 @@ void setup_synth(CLI::App& app) {
       "synth",
       "Synthesize a new motion along a path on the clips' map and write it as BVH: each frame is\n"
       "the blend at the path's point; root motion is integrated from the samples' own velocities.\n"
-      "The path CSV holds t,x,y rows (seconds) or x,y rows drawn at --speed.");
+      "The path CSV holds t,x,y rows (seconds) or x,y rows drawn at --speed.\n"
+      "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
   add_blend_options(sub, *cmd);
   sub->add_option("--path", cmd->path,
                   "Path CSV: t,x,y or x,y per line (optional header, # comments)")

@@ -19,11 +19,19 @@ void ClipLoader::setMap(std::shared_ptr<const mapfile::SavedMap> map) {
   m_pool.clear();  // loads not yet started are dropped; a running one finishes unreported
   m_map = std::move(map);
   m_pending.clear();
+  m_failed.clear();
+}
+
+std::optional<QString> ClipLoader::failure(int clip) const {
+  const auto it = m_failed.find(clip);
+  if (it == m_failed.end()) return std::nullopt;
+  return it->second;
 }
 
 bool ClipLoader::request(int clip) {
   if (!m_map || clip < 0 || clip >= m_map->num_clips()) return false;
   if (m_map->is_loaded(clip)) return true;
+  if (m_failed.count(clip) > 0) return false;        // failure() says why
   if (!m_pending.insert(clip).second) return false;  // already on its way
   std::shared_ptr<const mapfile::SavedMap> map = m_map;
   QPointer<ClipLoader> self(this);
@@ -43,6 +51,7 @@ bool ClipLoader::request(int clip) {
           if (error.isEmpty()) {
             emit self->loaded(clip);
           } else {
+            self->m_failed[clip] = error;
             emit self->failed(clip, error);
           }
         },

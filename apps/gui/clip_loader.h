@@ -4,7 +4,9 @@
 // 6 000-frame BVH) runs on the loader's own thread, and loaded() / failed() come back on the
 // thread the loader lives in. The clip then sits in the SavedMap's cache, where the GUI thread
 // takes it at once.
+#include <map>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include <QObject>
@@ -32,6 +34,9 @@ class ClipLoader : public QObject {
   bool request(int clip);
   /// Loads started and not yet reported.
   int pending() const { return int(m_pending.size()); }
+  /// The message of a load of `clip` that failed (it is not tried again for this map: open the
+  /// map again after fixing the file), or nothing.
+  std::optional<QString> failure(int clip) const;
 
  signals:
   void loaded(int clip);
@@ -41,6 +46,7 @@ class ClipLoader : public QObject {
  private:
   std::shared_ptr<const mapfile::SavedMap> m_map;
   std::set<int> m_pending;
+  std::map<int, QString> m_failed;
   QThreadPool m_pool;  ///< one thread: loads run one after another, in the order asked
 };
 

@@ -295,6 +295,7 @@ void MainWindow::setCurrentClip(int index, int frame) {
   if (m_saved) {
     if (index < 0 || index >= clipCount()) return;
     if (index != m_clipIndex || !m_savedClip) {
+      if (const auto why = m_loader->failure(index)) return showError(*why);
       if (!m_loader->request(index)) {  // loading on the worker: the jump follows its arrival
         m_wantClip = index;
         m_wantFrame = frame;

@@ -1,5 +1,7 @@
 #include "map_gestures.h"
 
+#include <stdexcept>
+
 #include <QFileInfo>
 #include <QLineF>
 
@@ -22,6 +24,7 @@ MapGestures::MapGestures(const MapController* maps, MapView* mapView, SkeletonVi
   connect(mapView, &MapView::hovered, this, &MapGestures::onHover);
   connect(mapView, &MapView::clicked, this, &MapGestures::onClick);
   connect(mapView, &MapView::dragged, this, &MapGestures::onDrag);
+  connect(mapView, &MapView::dragFinished, this, [this] { m_dragFailed = false; });
 }
 
 void MapGestures::setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors,
@@ -103,13 +106,15 @@ void MapGestures::onClick(const Eigen::Vector2d& point, const QPointF& pixel) {
 
 void MapGestures::onDrag(const Eigen::Vector2d& point) {
   if (m_saved) {
-    if (m_playback->isPlaying() || !point.allFinite()) return;
+    if (m_playback->isPlaying() || !point.allFinite() || m_dragFailed) return;
     try {
       if (m_loader) {
         // The clips of the samples blended: from the cache, or loading (then blended on arrival).
         bool ready = true;
-        for (const int c : m_saved->clips_near(point, m_neighbors))
+        for (const int c : m_saved->clips_near(point, m_neighbors)) {
+          if (const auto why = m_loader->failure(c)) throw std::runtime_error(why->toStdString());
           ready = m_loader->request(c) && ready;
+        }
         if (!ready) {
           m_waitingDrag = point;
           m_mapView->setPointer(point);
@@ -125,6 +130,7 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
           pose.outside ? tr("blend of %1 samples (outside the data)").arg(pose.around.size())
                        : tr("blend of %1 samples").arg(pose.around.size()));
     } catch (const std::exception& e) {
+      m_dragFailed = true;  // the same error at every move: said once per drag
       emit failed(QString::fromStdString(e.what()));
     }
     return;

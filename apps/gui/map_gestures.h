@@ -64,6 +64,7 @@ class MapGestures : public QObject {
   int m_neighbors = 12;
   ClipLoader* m_loader = nullptr;
   std::optional<Eigen::Vector2d> m_waitingDrag;  ///< a drag point whose clips are loading
+  bool m_dragFailed = false;  ///< a saved map's blend failed: this drag is ignored (one message)
 };
 
 }  // namespace motionmap::studio

@@ -218,6 +218,20 @@ TEST_F(SavedMapFixture, AClipChangedSinceTheMapWasMadeIsRefusedClearly) {
   EXPECT_NE(error.find("64_09.bvh"), std::string::npos) << error;
   EXPECT_NE(error.find("has changed since the map was made"), std::string::npos) << error;
   EXPECT_NE(error.find(file.clips[1].sha256), std::string::npos) << error;
+  // Asked again (a click, a drag over its samples): the same refusal at once, no new load.
+  QTest::mouseClick(m_window->mapView(), Qt::LeftButton, Qt::NoModifier,
+                    pixelOf(file.clips[1].first_sample + 40));
+  EXPECT_FALSE(m_window->isLoadingClip());
+  EXPECT_EQ(m_window->currentClip(), 0);
+  const QPoint on = pixelOf(file.clips[1].first_sample + 80);
+  QTest::mousePress(m_window->mapView(), Qt::LeftButton, Qt::NoModifier, on + QPoint(-6, 0));
+  QTest::mouseMove(m_window->mapView(), on);
+  QTest::mouseMove(m_window->mapView(), on + QPoint(1, 0));
+  EXPECT_FALSE(m_window->isLoadingClip());
+  EXPECT_FALSE(m_window->mapView()->hoverText().startsWith("blend"));
+  EXPECT_NE(m_window->lastError().toStdString().find("has changed since the map was made"),
+            std::string::npos);
+  QTest::mouseRelease(m_window->mapView(), Qt::LeftButton, Qt::NoModifier, on + QPoint(1, 0));
   // The first clip missing: the map does not open, and says why.
   fs::remove(m_dir / "64_08.bvh");
   MainWindow other;

@@ -34,7 +34,7 @@ namespace motionmap::mapfile {
 
 /// A pose blended from the samples nearest a map point (SavedMap::pose_at).
 struct SavedPose {
-  Motion pose;                   ///< one frame of SavedMap::skeleton(), as MapBlender::pose
+  Motion pose;                   ///< one frame of the clips' skeleton, as MapBlender::pose
   std::vector<Neighbor> around;  ///< the samples blended (nearest first) with their distances
   std::vector<double> weights;   ///< one per entry of `around`, summing to 1
   /// The nearest sample is farther than SavedMap::reach_distance(): the point is outside the
@@ -87,16 +87,17 @@ class SavedMap {
   /// inverse-distance weights (R = the distance of the (neighbors + 1)-th nearest; a sample at p
   /// takes all the weight) — synth::BlendMode::Idw's weights, found by the index, blended by
   /// synth::MapBlender::pose over the clips those samples belong to (loaded on demand). Only
-  /// those clips are read, so a pose costs O(log N) plus their loading when not cached.
+  /// those clips are read, so a pose costs O(log N) plus their loading when not cached. The
+  /// blender's idw merges samples that share a map point (within 1e-9 of the map's extent) and
+  /// takes the K nearest points; this takes the K nearest samples: the same where no two samples
+  /// of the neighbourhood share a point. A point outside the data is not moved to its edge
+  /// (`outside` says so); the pose is then mostly its nearest samples'.
   /// @throws ParameterError for a non-finite p or neighbors < 1; as clip().
   SavedPose pose_at(const Eigen::Vector2d& p, int neighbors = 12, Axis up = Axis::Y) const;
 
   /// The clips pose_at(p, neighbors) reads (of its `neighbors` nearest samples), each once, in
   /// order of first use: what a caller that must not wait for files loads first (is_loaded()).
   std::vector<int> clips_near(const Eigen::Vector2d& p, int neighbors = 12) const;
-
-  /// The skeleton of the map's first clip (loading it): the skeleton poses are of.
-  const Skeleton& skeleton() const;
 
  private:
   std::shared_ptr<const Clip> load(int c) const;
@@ -108,7 +109,6 @@ class SavedMap {
   mutable std::mutex m_mutex;
   mutable std::vector<std::pair<int, std::shared_ptr<const Clip>>> m_cache;  ///< most recent last
   mutable int m_loads = 0;
-  mutable std::shared_ptr<const Clip> m_first;  ///< clip 0, for skeleton()
 };
 
 }  // namespace motionmap::mapfile

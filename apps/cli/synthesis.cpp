@@ -1,8 +1,12 @@
 // `motionmap pose FILE… --at X,Y -o pose.bvh` and `motionmap synth FILE… --path path.csv -o
 // new.bvh`: a pose blended from the samples around a map point, and a new motion along a path on
 // the map (the library's synth::MapBlender and synth::synthesize; docs/synthesis.md has the maths).
+// With `--map lib.mmap.h5` (a saved map, `motionmap map --save`) no FILE is given: the map file
+// names its clips, which are loaded and checked against their recorded SHA-256.
 #include <charconv>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -12,6 +16,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/io/bvh.h"
+#include "motionmap/mapfile/saved_map.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/synth/synthesize.h"
 
@@ -20,6 +25,7 @@ namespace motionmap::cli {
 namespace {
 
 struct BlendCommand {
+  CLI::App* sub = nullptr;
   MapCliOptions map;
   std::string map_csv;
   synth::BlendMode blend = synth::BlendMode::Local;
@@ -35,12 +41,32 @@ struct BlendCommand {
   double smooth = 0.0;
 };
 
+// The options a saved map fixes (its clips, features, method, frames): usage errors with a map
+// file, which already holds what they would choose.
+constexpr const char* kFixedBySavedMap[] = {
+    "files",        "--asf",    "--amc-fps",     "--method",     "--dims",     "-k",
+    "--heat",       "--reg",    "--standardize", "--strict",     "--features", "--distance",
+    "--exclude",    "--frames", "--stride",      "--keep-first", "--up",       "--recursive",
+    "--keep-going", "--joints", "--exact",       "--landmarks"};
+
+/// Whether `path` is an HDF5 file (its 8-byte signature at offset 0), i.e. a saved map.
+bool is_hdf5(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[8] = {};
+  return in.read(head, sizeof head) && std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) == 0;
+}
+
 void add_blend_options(CLI::App* sub, BlendCommand& cmd) {
+  cmd.sub = sub;
   add_map_options(sub, cmd.map, MapOptionsFor::Synthesis);
+  // With a saved map (--map lib.mmap.h5) the clips come from the map file.
+  sub->get_option("files")->required(false);
   sub->add_option(
          "--map", cmd.map_csv,
-         "Map CSV from `motionmap map` on the same files and options, instead of recomputing "
-         "it (checked to belong to the clips: same samples; --method is then unused)")
+         "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips are loaded "
+         "from the paths it records and checked against their SHA-256; or a map CSV from "
+         "`motionmap map` on the same files and options, instead of recomputing it (checked to "
+         "belong to the clips: same samples; --method is then unused)")
       ->check(CLI::ExistingFile);
   sub->add_option(
          "--blend", cmd.blend,
@@ -59,9 +85,64 @@ void add_blend_options(CLI::App* sub, BlendCommand& cmd) {
       ->required();
 }
 
+synth::BlendOptions blend_options(const BlendCommand& cmd, Axis up) {
+  synth::BlendOptions blend;
+  blend.mode = cmd.blend;
+  blend.neighbors = cmd.neighbors;
+  blend.reach = cmd.reach;
+  blend.up = up;
+  return blend;
+}
+
+/// A saved map's clips (loaded from the paths it records, each checked against its SHA-256), its
+/// samples and coordinates, and a blender over them: the blender `prepare` makes for the same
+/// clips mapped directly with the map's options.
+synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<Clip>& clips,
+                                features::FeatureSet& samples) {
+  for (const char* name : kFixedBySavedMap) {
+    const CLI::Option* option = cmd.sub->get_option_no_throw(name);
+    if (option && option->count() > 0) {
+      throw CLI::ValidationError(
+          option->get_name(),
+          "the saved map " + cmd.map_csv + " fixes its clips, features, method and frames: " +
+              (std::string(name) == "files" ? "give no FILE with --map " + cmd.map_csv
+                                            : "leave " + option->get_name() + " out"));
+    }
+  }
+  const mapfile::SavedMap saved(mapfile::read_map_file(cmd.map_csv, {.model = false}));
+  if (saved.file().num_samples() > 100000 && !cmd.map.quiet) {
+    std::cerr << "note: " << cmd.map_csv << " has " << saved.file().num_samples() << " samples in "
+              << saved.num_clips()
+              << " clips: all are loaded and blended over (about 0.1 s per 6 000-frame clip "
+                 "and 5 KB per sample; 11 s and 0.5 GB at 100 000 samples)\n";
+  }
+  clips = saved.load_all_clips();
+  for (const Clip& clip : clips) {
+    if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
+      throw Error(cmd.map_csv + ": " + clip.path + ": its joint hierarchy differs from " +
+                  clips.front().path + "'s (" + why +
+                  "); pose and synth blend clips of one skeleton (a --joints common map holds "
+                  "clips of several, but cannot blend them)");
+  }
+  samples = saved.samples();
+  const synth::BlendOptions blend = blend_options(cmd, saved.file().options.features.up);
+  if (blend.mode == synth::BlendMode::Kriging && samples.num_samples() > 2000 && !cmd.map.quiet) {
+    std::cerr << "note: factoring the kriging system of " << samples.num_samples()
+              << " samples (O(N³): tens of seconds at 10 000; --blend local takes a fraction of a "
+                 "second)\n";
+  }
+  return synth::MapBlender(clips, samples, saved.file().coordinates, blend,
+                           progress_line(cmd.map, "blend"));
+}
+
 /// The clips, their map (recomputed, or read with --map and checked) and a blender over it.
 synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips,
                           features::FeatureSet& samples) {
+  if (!cmd.map_csv.empty() && is_hdf5(cmd.map_csv)) return prepare_saved(cmd, clips, samples);
+  if (cmd.map.files.empty()) {
+    throw CLI::ValidationError("files",
+                               "give the clips (FILE…), or a saved map with --map lib.mmap.h5");
+  }
   clips = load_inputs(cmd.map);
   // A new pose has one skeleton: say so before a map of several (--joints common) is computed.
   for (const Clip& clip : clips) {
@@ -87,11 +168,7 @@ synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips,
     samples = *map.features;
     coords = std::move(map.embedding.coordinates);
   }
-  synth::BlendOptions blend;
-  blend.mode = cmd.blend;
-  blend.neighbors = cmd.neighbors;
-  blend.reach = cmd.reach;
-  blend.up = options.features.up;
+  const synth::BlendOptions blend = blend_options(cmd, options.features.up);
   if (blend.mode == synth::BlendMode::Kriging && samples.num_samples() > 2000 && !cmd.map.quiet) {
     std::cerr << "note: factoring the kriging system of " << samples.num_samples()
               << " samples (O(N³): tens of seconds at 10 000; --blend local takes a fraction of a "
@@ -139,7 +216,8 @@ void setup_pose(CLI::App& app) {
   auto* sub = app.add_subcommand(
       "pose",
       "Blend a new pose from the samples around a point of the clips' map and write it as a\n"
-      "one-frame BVH, standing at the origin facing the heading-0 direction (+Z for Y-up files).");
+      "one-frame BVH, standing at the origin facing the heading-0 direction (+Z for Y-up files).\n"
+      "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
   add_blend_options(sub, *cmd);
   sub->add_option("--at", cmd->at, "The map point X,Y (write --at=X,Y when X is negative)")
       ->required();
@@ -171,7 +249,8 @@ void setup_synth(CLI::App& app) {
       "synth",
       "Synthesize a new motion along a path on the clips' map and write it as BVH: each frame is\n"
       "the blend at the path's point; root motion is integrated from the samples' own velocities.\n"
-      "The path CSV holds t,x,y rows (seconds) or x,y rows drawn at --speed.");
+      "The path CSV holds t,x,y rows (seconds) or x,y rows drawn at --speed.\n"
+      "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
   add_blend_options(sub, *cmd);
   sub->add_option("--path", cmd->path,
                   "Path CSV: t,x,y or x,y per line (optional header, # comments)")

@@ -18,6 +18,12 @@ FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
     const QString path = QFileDialog::getOpenFileName(m_window, tr("Open clip"), m_lastDir, clips);
     if (!path.isEmpty()) emit openRequested(path);
   });
+  file->addAction(tr("Open &map…"), QKeySequence(tr("Ctrl+M")), this, [this] {
+    const QString path =
+        QFileDialog::getOpenFileName(m_window, tr("Open map file"), m_lastDir,
+                                     tr("Map files (*.mmap.h5 *.h5 *.hdf5);;All files (*)"));
+    if (!path.isEmpty()) emit openRequested(path);  // the window tells maps from clips
+  });
   file->addAction(tr("Open &sample golf swing"), this, &FileMenu::sampleRequested);
   m_recentMenu = file->addMenu(tr("Open &recent"));
   file->addAction(tr("&Add clip to the map…"), QKeySequence(tr("Ctrl+Shift+O")), this,

@@ -1,8 +1,9 @@
 #pragma once
-// The window's File menu: Open…, Open sample golf swing, Open recent, Add clip to the map…,
-// Export motion…, Export map… and Quit. It runs the file dialogs (they start in the folder of
-// the last file opened), keeps the recent files, and hands what the user chose to the window as
-// signals. Both lists live in QSettings ("recentFiles", "lastDir"), shared with the next session.
+// The window's File menu: Open…, Open map… (a saved .mmap.h5), Open sample golf swing, Open recent,
+// Add clip to the map…, Export motion…, Export map… and Quit. It runs the file dialogs (they start
+// in the folder of the last file opened), keeps the recent files, and hands what the user chose to
+// the window as signals. Both lists live in QSettings ("recentFiles", "lastDir"), shared with the
+// next session.
 #include <QObject>
 #include <QString>
 #include <QStringList>
@@ -35,7 +36,7 @@ class FileMenu : public QObject {
   QAction* exportMapAction() const { return m_exportMap; }
 
  signals:
-  /// Open… or a recent file.
+  /// Open…, Open map… or a recent file (a clip, or a map file: MainWindow::openFile tells).
   void openRequested(const QString& path);
   void sampleRequested();
   /// Add clip to the map…: the files chosen, in order.

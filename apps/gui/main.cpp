@@ -1,6 +1,7 @@
 // motionmap-studio [FILE [MORE…]] [--method M] [--frame N] [--screenshot out.png]
 // Opens FILE (a .bvh, or an .amc with its .asf) and shows its map (MORE: clips of the same
-// skeleton added to that map); with --screenshot, renders the window once to a PNG and exits (1
+// skeleton added to that map), or a saved map file (lib.mmap.h5, from `motionmap map --save`)
+// without refitting it; with --screenshot, renders the window once to a PNG and exits (1
 // with a message on any error).
 #include <QApplication>
 #include <QCommandLineParser>
@@ -27,7 +28,8 @@ int main(int argc, char** argv) {
   parser.addHelpOption();
   parser.addPositionalArgument(
       "file",
-      "Clip to open (.bvh, or .amc with its .asf); more files of the same skeleton join its map",
+      "Clip to open (.bvh, or .amc with its .asf); more files of the same skeleton join its map. "
+      "Or a saved map file (.mmap.h5, from `motionmap map --save`), opened without refitting",
       "[FILE [MORE…]]");
   QCommandLineOption methodOption("method", "Embedding method: pca, svd, mds, isomap, le, lle",
                                   "M");
@@ -98,6 +100,8 @@ int main(int argc, char** argv) {
       if (!image.save(parser.value(shotOption)))
         return fail("cannot write " + parser.value(shotOption));
       return 0;
+    } else if (parser.isSet(frameOption) && window.savedMap()) {
+      window.setFrame(frame);  // a saved map is shown at once
     } else if (parser.isSet(frameOption)) {
       QObject::connect(
           &window, &MainWindow::mapReady, &window, [&window, frame] { window.setFrame(frame); },

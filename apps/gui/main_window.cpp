@@ -15,6 +15,7 @@
 #include <QStatusBar>
 #include <QVBoxLayout>
 
+#include "clip_loader.h"
 #include "file_menu.h"
 #include "job_progress.h"
 #include "map_export.h"
@@ -23,12 +24,19 @@
 #include "menus.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/saved_map.h"
 #include "motionmap/sample/sample_clip.h"
 #include "parameter_dialogs.h"
 #include "skeleton_view.h"
 #include "transport_bar.h"
 
 namespace motionmap::studio {
+
+namespace {
+/// Clips of a saved map kept loaded: a drag blends samples of many clips (a library's variants of
+/// one motion lie side by side on its map); 32 clips of 6 000 frames are about 300 MB.
+constexpr int kSavedMapCachedClips = 32;
+}  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   if (qEnvironmentVariableIntValue("MOTIONMAP_STUDIO_NO_CONFIRM") != 0) m_interactive = false;
@@ -67,9 +75,21 @@ void MainWindow::buildUi() {
 
   buildMenus();
   buildStatusBar();
-  auto* gestures = new MapGestures(&m_maps, m_mapView, m_skeletonView, &m_playback, this);
-  connect(gestures, &MapGestures::frameClicked, this, &MainWindow::setCurrentClip);
-  connect(gestures, &MapGestures::failed, this, &MainWindow::showError);
+  m_gestures = new MapGestures(&m_maps, m_mapView, m_skeletonView, &m_playback, this);
+  m_loader = new ClipLoader(this);
+  connect(m_loader, &ClipLoader::loaded, this, [this](int c) {
+    if (c != m_wantClip) return;
+    m_wantClip = -1;
+    setCurrentClip(c, m_wantFrame);
+  });
+  connect(m_loader, &ClipLoader::failed, this, [this](int c, const QString& message) {
+    if (c != m_wantClip) return;
+    m_wantClip = -1;
+    updateStatus();
+    showError(message);
+  });
+  connect(m_gestures, &MapGestures::frameClicked, this, &MainWindow::setCurrentClip);
+  connect(m_gestures, &MapGestures::failed, this, &MainWindow::showError);
   connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
 }
 
@@ -135,7 +155,71 @@ void MainWindow::connectControllers() {
   });
 }
 
+const Clip* MainWindow::clip() const {
+  if (m_saved) return m_savedClip.get();
+  return m_maps.clips() ? &(*m_maps.clips())[std::size_t(m_clipIndex)] : nullptr;
+}
+
+int MainWindow::clipCount() const {
+  if (m_saved) return m_saved->num_clips();
+  return m_maps.clips() ? int(m_maps.clips()->size()) : 0;
+}
+
+bool MainWindow::isLoadingClip() const {
+  return m_loader->pending() > 0;
+}
+
+bool MainWindow::openMapFile(const QString& path) {
+  if (!confirmDiscard()) return false;
+  return attempt([&] {
+    auto saved = std::make_shared<const mapfile::SavedMap>(
+        mapfile::read_map_file(path.toStdString(), {.model = false}), kSavedMapCachedClips);
+    // Its first clip: loaded now, so a map whose clips are gone says so at once.
+    std::shared_ptr<const Clip> first = saved->clip(0);
+    m_files->remember(path);
+    m_maps.stop();
+    m_maps.setClips(nullptr);
+    m_synthesis.stop();
+    m_synthesis.clear();
+    pause();
+    m_unsaved = false;
+    m_playingSynth = false;
+    m_files->exportMotionAction()->setEnabled(false);
+    m_files->exportMapAction()->setEnabled(false);
+    m_saved = saved;
+    m_savedClip.reset();
+    m_clipIndex = -1;
+    m_wantClip = -1;
+    m_loader->setMap(m_saved);
+    m_gestures->setSavedMap(m_saved, m_synthParameters.blend.neighbors, m_loader);
+    const mapfile::MapFile& file = m_saved->file();
+    render::MapPlotOptions options;
+    options.line_width = 1.0;  // the density shows between the strokes
+    m_mapView->setDensityMap(std::shared_ptr<const Eigen::MatrixXd>(m_saved, &file.coordinates),
+                             Eigen::MatrixXd(0, 2), options);
+    m_mapView->setShadingReach(0.0);
+    setWindowTitle(tr("MotionMap Studio — %1 (%2 points, %3 clips)")
+                       .arg(QFileInfo(path).fileName())
+                       .arg(file.num_samples())
+                       .arg(m_saved->num_clips()));
+    setCurrentClip(0, file.frame_of.empty() ? 0 : file.frame_of.front());
+  });
+}
+
+void MainWindow::closeSavedMap() {
+  if (!m_saved) return;
+  m_saved.reset();
+  m_savedClip.reset();
+  m_savedRowOfFrame.clear();
+  m_wantClip = -1;
+  m_loader->setMap(nullptr);
+  m_gestures->setSavedMap(nullptr, m_synthParameters.blend.neighbors, nullptr);
+  m_mapView->clearMap();
+}
+
 bool MainWindow::openFile(const QString& path) {
+  const QString suffix = QFileInfo(path).suffix().toLower();
+  if (suffix == QLatin1String("h5") || suffix == QLatin1String("hdf5")) return openMapFile(path);
   if (!confirmDiscard()) return false;
   return attempt([&] {
     Clip clip = io::load_clip(path.toStdString());
@@ -145,6 +229,7 @@ bool MainWindow::openFile(const QString& path) {
 }
 
 void MainWindow::openClip(Clip clip) {
+  closeSavedMap();
   m_synthesis.stop();
   m_synthesis.clear();
   pause();
@@ -171,6 +256,12 @@ bool MainWindow::addFile(const QString& path) {
 
 bool MainWindow::addClip(Clip clip) {
   const auto& open = m_maps.clips();
+  if (m_saved) {
+    showError(
+        tr("A saved map is open: clips cannot join it without refitting (open a clip to "
+           "start a new map, or place clips on the map with `motionmap map NEW --onto`)"));
+    return false;
+  }
   if (!open) {
     showError(tr("Open a clip first: added clips join its map"));
     return false;
@@ -201,6 +292,40 @@ void MainWindow::clipsChanged(int frame) {
 }
 
 void MainWindow::setCurrentClip(int index, int frame) {
+  if (m_saved) {
+    if (index < 0 || index >= clipCount()) return;
+    if (index != m_clipIndex || !m_savedClip) {
+      if (const auto why = m_loader->failure(index)) return showError(*why);
+      if (!m_loader->request(index)) {  // loading on the worker: the jump follows its arrival
+        m_wantClip = index;
+        m_wantFrame = frame;
+        m_status->setText(
+            tr("Loading clip %1 of %2 (%3)…")
+                .arg(index + 1)
+                .arg(clipCount())
+                .arg(QString::fromStdString(m_saved->file().clips[std::size_t(index)].path)));
+        return;
+      }
+      m_wantClip = -1;
+      std::shared_ptr<const Clip> loaded;
+      if (!attempt([&] { loaded = m_saved->clip(index); })) return;  // the clip before stays
+      const bool first = !m_savedClip;
+      m_savedClip = std::move(loaded);
+      m_clipIndex = index;
+      m_skeletonView->setSkeleton(m_savedClip->skeleton, /*keepCamera=*/!first);
+      const mapfile::MapFile& file = m_saved->file();
+      const mapfile::ClipRecord& record = file.clips[std::size_t(index)];
+      m_savedRowOfFrame.assign(std::size_t(m_savedClip->motion.num_frames), -1);
+      for (int r = record.first_sample; r < record.first_sample + record.samples; ++r)
+        m_savedRowOfFrame[std::size_t(file.frame_of[std::size_t(r)])] = r;
+      m_mapView->setTrajectory(file.coordinates.middleRows(record.first_sample, record.samples));
+    }
+    m_playingSynth = false;
+    updateMotion();
+    setFrame(frame);
+    updateStatus();
+    return;
+  }
   if (!m_maps.clips() || index < 0 || index >= clipCount()) return;
   if (index != m_clipIndex) {
     m_clipIndex = index;
@@ -213,6 +338,13 @@ void MainWindow::setCurrentClip(int index, int frame) {
 }
 
 void MainWindow::setMethod(embed::Method method) {
+  if (m_saved) {
+    m_motionMenu->setMethod(m_saved->file().options.embed.method);
+    showError(tr("The saved map is shown as it was made (%1); open clips to compute maps of "
+                 "other methods")
+                  .arg(QString::fromStdString(m_saved->file().parameters)));
+    return;
+  }
   m_method = method;
   m_motionMenu->setMethod(method);
   QSettings().setValue("method", QString::fromUtf8(embed::method_name(method).data()));
@@ -237,6 +369,12 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
                                   : std::numeric_limits<int>::max());
   });
   if (!valid) return false;
+  if (m_saved) {
+    m_synthParameters = parameters;
+    m_gestures->setSavedMap(m_saved, parameters.blend.neighbors, m_loader);
+    saveParameters();
+    return true;
+  }
   const bool newBlend = MapController::cacheKey(m_method, m_parameters, parameters.blend) !=
                         MapController::cacheKey(m_method, m_parameters, m_synthParameters.blend);
   m_synthParameters = parameters;
@@ -289,8 +427,23 @@ void MainWindow::showMap() {
 }
 
 void MainWindow::updateStatus() {
-  if (!m_maps.clips()) return;
   QStringList parts;
+  if (m_saved) {
+    const mapfile::MapFile& file = m_saved->file();
+    parts << tr("map file: %1 points, %2 clips").arg(file.num_samples()).arg(m_saved->num_clips())
+          << QString::fromStdString(file.parameters);
+    if (m_savedClip) {
+      parts << tr("clip %1 of %2: %3")
+                   .arg(m_clipIndex + 1)
+                   .arg(m_saved->num_clips())
+                   .arg(QFileInfo(QString::fromStdString(m_savedClip->path)).fileName())
+            << tr("%1 frames").arg(m_savedClip->motion.num_frames)
+            << tr("%1 fps").arg(m_savedClip->motion.fps(), 0, 'g', 4);
+    }
+    m_status->setText(parts.join(QStringLiteral(" · ")));
+    return;
+  }
+  if (!m_maps.clips()) return;
   if (clipCount() > 1) parts << tr("clip %1 of %2").arg(m_clipIndex + 1).arg(clipCount());
   parts << tr("%1 frames").arg(clip()->motion.num_frames)
         << tr("%1 fps").arg(clip()->motion.fps(), 0, 'g', 4);
@@ -359,6 +512,15 @@ void MainWindow::showFrame(int frame) {
 }
 
 void MainWindow::updatePointer() {
+  if (m_saved) {
+    const int frame = currentFrame();
+    const int row = frame >= 0 && frame < int(m_savedRowOfFrame.size())
+                        ? m_savedRowOfFrame[std::size_t(frame)]
+                        : -1;
+    if (row < 0) return m_mapView->setPointer(std::nullopt);
+    const auto& xy = m_saved->file().coordinates;
+    return m_mapView->setPointer(Eigen::Vector2d(xy(row, 0), xy(row, 1)));
+  }
   const MapResult* map = currentMap();
   if (!map) return m_mapView->setPointer(std::nullopt);
   const int frame = currentFrame();
@@ -383,6 +545,12 @@ void MainWindow::showClipMotion() {
 }
 
 bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
+  if (m_saved) {
+    showError(tr("Sketching on a saved map is not supported in Studio; write the path as CSV and "
+                 "run `motionmap synth --map %1 --path PATH.csv -o new.bvh`")
+                  .arg(QString::fromStdString(m_saved->file().path)));
+    return false;
+  }
   std::shared_ptr<const MapResult> map = m_maps.current();
   if (!map || !confirmDiscard()) return false;
   // A newer sketch replaces one still being synthesized.

@@ -21,9 +21,15 @@
 class QLabel;
 class QSplitter;
 
+namespace motionmap::studio {}  // namespace motionmap::studio
+namespace motionmap::mapfile {
+class SavedMap;
+}
 namespace motionmap::studio {
 
+class ClipLoader;
 class FileMenu;
+class MapGestures;
 class JobProgress;
 class MapView;
 class MotionMenu;
@@ -35,9 +41,22 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(QWidget* parent = nullptr);
   ~MainWindow() override;
 
-  /// Loads a .bvh or .amc (io::load_clip) and starts its map. False (error shown) on failure, or
+  /// Loads a .bvh or .amc (io::load_clip) and starts its map; a map file (.h5, .hdf5: what
+  /// `motionmap map --save` writes) opens with openMapFile. False (error shown) on failure, or
   /// when the user keeps an unexported synthesized motion.
   bool openFile(const QString& path);
+  /// Opens a saved map (mapfile::read_map_file) without refitting it: its points drawn as a
+  /// density image, its first clip loaded (on demand, SHA-256 checked against the map file) and
+  /// shown with its trajectory on top. Hover names the clip and frame under the mouse, a click
+  /// loads that clip and jumps to the frame, a drag blends the nearest samples
+  /// (mapfile::SavedMap::pose_at, K = the synthesis parameters' neighbors). The Motion menu's
+  /// methods and sketching need clips mapped here (open clips for that). False (error shown) for
+  /// a file read_map_file refuses or whose first clip cannot be loaded.
+  bool openMapFile(const QString& path);
+  /// The saved map shown (nullptr when the map is one computed here).
+  const mapfile::SavedMap* savedMap() const { return m_saved.get(); }
+  /// A saved map's clip is being loaded (on a worker thread) for a click or a drag.
+  bool isLoadingClip() const;
   /// Shows `clip` and starts its map (tests, the built-in sample). Does not ask: callers that
   /// replace a clip on a user's action call confirmDiscard() first.
   void openClip(Clip clip);
@@ -49,12 +68,13 @@ class MainWindow : public QMainWindow {
   /// is kept. False (error shown) for a clip of another hierarchy or without a clip open.
   bool addClip(Clip clip);
   /// The clip playing (the one whose frames the slider shows).
-  const Clip* clip() const {
-    return m_maps.clips() ? &(*m_maps.clips())[std::size_t(m_clipIndex)] : nullptr;
-  }
-  int clipCount() const { return m_maps.clips() ? int(m_maps.clips()->size()) : 0; }
+  const Clip* clip() const;
+  int clipCount() const;
   int currentClip() const { return m_clipIndex; }
-  /// Plays clip `index` (of the map's clips) from `frame`.
+  /// Plays clip `index` (of the map's clips) from `frame`. On a saved map a clip not in the cache
+  /// is loaded on a worker thread first (isLoadingClip(); the jump happens when it arrives); one
+  /// that cannot be loaded (missing, changed since the map was made) is shown as an error and the
+  /// clip before stays.
   void setCurrentClip(int index, int frame = 0);
 
   /// Shows the map of `method` with the current parameters: at once when cached, else computed
@@ -171,6 +191,17 @@ class MainWindow : public QMainWindow {
   MapParameters m_parameters;
   SynthParameters m_synthParameters;
   MapController m_maps;  ///< the clips, their maps and the map being computed
+  /// A saved map shown instead of m_maps' (File → Open map), its clip playing, and the map row
+  /// of each of that clip's frames (−1: not a sample of the map).
+  std::shared_ptr<const mapfile::SavedMap> m_saved;
+  std::shared_ptr<const Clip> m_savedClip;
+  std::vector<int> m_savedRowOfFrame;
+  MapGestures* m_gestures = nullptr;
+  ClipLoader* m_loader = nullptr;
+  int m_wantClip = -1;  ///< a saved map's clip being loaded to be shown, from m_wantFrame
+  int m_wantFrame = 0;
+  /// Leaves the saved map (another clip opened).
+  void closeSavedMap();
   SynthesisController m_synthesis;
   Playback m_playback;
   bool m_playingSynth = false;  ///< the synthesized motion plays (else the clip)

@@ -3,13 +3,21 @@
 // asks to play that frame, and a drag shows the pose the map's blender makes at the mouse (with
 // where the library took it: inside the data, or moved to its edge). Sketches are the window's
 // (they start a synthesis).
+#include <memory>
+#include <optional>
+
 #include <Eigen/Core>
 #include <QObject>
 #include <QPointF>
 #include <QString>
 
+namespace motionmap::studio {}  // namespace motionmap::studio
+namespace motionmap::mapfile {
+class SavedMap;
+}
 namespace motionmap::studio {
 
+class ClipLoader;
 class MapController;
 class MapView;
 class Playback;
@@ -26,8 +34,15 @@ class MapGestures : public QObject {
   MapGestures(const MapController* maps, MapView* mapView, SkeletonView* skeletonView,
               const Playback* playback, QObject* parent = nullptr);
 
-  /// The map row nearest `pixel` (at map point `point`) within kNearPixels, or −1.
+  /// The map row nearest `pixel` (at map point `point`) within kNearPixels, or −1. On a saved
+  /// map: a k-d tree lookup (mapfile::PointIndex), O(log N).
   int sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const;
+
+  /// A saved map shown instead of the controller's (nullptr: back to the controller's). Drags then
+  /// blend its `neighbors` nearest samples (mapfile::SavedMap::pose_at) once their clips are
+  /// loaded: clips not in the map's cache are asked of `loader` (on its worker thread) and the
+  /// drag's last point is blended when they arrive, so no mouse event waits for a file.
+  void setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors, ClipLoader* loader);
 
  signals:
   /// A click near the trajectory: frame `frame` of clip `clip`.
@@ -44,6 +59,12 @@ class MapGestures : public QObject {
   MapView* m_mapView;
   SkeletonView* m_skeletonView;
   const Playback* m_playback;
+  void onClipLoaded();
+  std::shared_ptr<const mapfile::SavedMap> m_saved;
+  int m_neighbors = 12;
+  ClipLoader* m_loader = nullptr;
+  std::optional<Eigen::Vector2d> m_waitingDrag;  ///< a drag point whose clips are loading
+  bool m_dragFailed = false;  ///< a saved map's blend failed: this drag is ignored (one message)
 };
 
 }  // namespace motionmap::studio

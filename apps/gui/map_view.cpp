@@ -23,11 +23,61 @@ MapView::MapView(QWidget* parent) : QWidget(parent) {
 
 void MapView::invalidate() {
   m_cache = QPixmap();
+  m_densityImage = QImage();
   m_transformValid = false;
+}
+
+void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
+                            const Eigen::MatrixXd& trajectory,
+                            const render::MapPlotOptions& options) {
+  m_density = std::move(points);
+  m_options = options;
+  // Framed as the whole map, whichever clip is drawn over it.
+  const Eigen::MatrixXd& xy = *m_density;
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (Eigen::Index i = 0; i < xy.rows(); ++i) {
+    const double x = xy(i, 0), y = xy(i, 1);
+    if (!std::isfinite(x) || !std::isfinite(y)) continue;
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  if (x0 <= x1) m_options.extent = QRectF(QPointF(x0, y0), QPointF(x1, y1));
+  m_segmentStarts.clear();
+  m_coords = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
+  invalidate();
+  update();
+}
+
+void MapView::setTrajectory(const Eigen::MatrixXd& trajectory) {
+  m_coords = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
+  m_segmentStarts.clear();
+  m_cache = QPixmap();  // the density image and the transform stay
+  m_transformValid = false;
+  update();
+}
+
+const QImage& MapView::densityImage() const {
+  if (!m_density) {
+    m_densityImage = QImage();
+    return m_densityImage;
+  }
+  const qreal dpr = devicePixelRatioF();
+  const QSize pixels = size() * dpr;
+  if (m_densityImage.isNull() || m_densitySize != pixels) {
+    ensureTransform();
+    m_densityImage =
+        render::density_image(*m_density, m_toWidget * QTransform::fromScale(dpr, dpr), pixels);
+    m_densityImage.setDevicePixelRatio(dpr);
+    m_densitySize = pixels;
+  }
+  return m_densityImage;
 }
 
 void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segmentStarts,
                      const render::MapPlotOptions& options) {
+  m_density.reset();
   m_coords = coords.leftCols(std::min<Eigen::Index>(2, coords.cols()));
   m_segmentStarts = segmentStarts;
   m_options = options;
@@ -36,6 +86,7 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
 }
 
 void MapView::clearMap(const QString& hint) {
+  m_density.reset();
   m_coords.resize(0, 2);
   m_segmentStarts.clear();
   m_pointer.reset();
@@ -125,7 +176,16 @@ void MapView::ensureTransform() const {
   m_toMap = m_toWidget.inverted(&invertible);
   if (!invertible) m_toMap = QTransform(0, 0, 0, 0, 0, 0);  // every pixel → (0, 0)
   m_pixelSegments.clear();
-  if (hasMap()) {
+  if (m_density && m_coords.rows() > 0) {
+    // Over a density map the panel frames the whole map: segments' unit coordinates (of the
+    // trajectory's own extent) go back to data, then through the panel's transform.
+    const QTransform unit = render::data_to_unit(m_coords).inverted() * m_toWidget;
+    m_pixelSegments = render::trajectory_segments(m_coords, m_segmentStarts);
+    for (auto& s : m_pixelSegments) {
+      s.from = unit.map(s.from);
+      s.to = unit.map(s.to);
+    }
+  } else if (m_coords.rows() > 0) {
     const QTransform unit = render::unit_transform(area, m_options);
     m_pixelSegments = render::trajectory_segments(m_coords, m_segmentStarts);
     for (auto& s : m_pixelSegments) {
@@ -162,8 +222,19 @@ void MapView::paintEvent(QPaintEvent*) {
     m_cache.setDevicePixelRatio(dpr);
     QPainter cachePainter(&m_cache);
     cachePainter.setRenderHint(QPainter::Antialiasing);
-    render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, m_options);
-    if (m_shadingVisible && m_shadingReach > 0.0) {
+    if (m_density) {
+      // Background, the saved map's density, then the current clip's trajectory over it.
+      cachePainter.fillRect(
+          rect(), m_options.background.isValid() ? m_options.background : QColor(Qt::white));
+      cachePainter.drawImage(QPointF(0, 0), densityImage());
+      render::MapPlotOptions over = m_options;
+      over.background = QColor();
+      if (m_coords.rows() > 0)
+        render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, over);
+    } else {
+      render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, m_options);
+    }
+    if (m_shadingVisible && m_shadingReach > 0.0 && !m_density) {
       // The union of the samples' reach discs, opaque in a layer, laid over at one alpha.
       ensureTransform();
       QImage layer(m_cache.size(), QImage::Format_ARGB32_Premultiplied);

@@ -13,6 +13,7 @@
 // during a press, so frames that overlap at the map's scale can be told apart and dragged over
 // slowly; the wheel changes its power d. Every map ↔ pixel conversion (toWidget, toMap) goes
 // through the lens, so hover, click, drag and sketch work inside it.
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -35,9 +36,20 @@ class MapView : public QWidget {
   /// Shows `coords` (#samples by ≥ 2, copied) with the clip starts and plot options.
   void setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segmentStarts,
               const render::MapPlotOptions& options);
+  /// A saved map of many points: `points` (#points by ≥ 2, shared, not copied) drawn as a density
+  /// image (render::density_image: a log-scaled 2-D histogram binned once per size into an image),
+  /// framed as a whole, with `trajectory` — the current clip's rows — drawn over it red → blue
+  /// (and the pointer on top). setMap() afterwards replaces both.
+  void setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
+                     const Eigen::MatrixXd& trajectory, const render::MapPlotOptions& options);
+  /// Replaces the trajectory over the density image (another clip of the saved map).
+  void setTrajectory(const Eigen::MatrixXd& trajectory);
+  bool hasDensity() const { return m_density != nullptr; }
+  /// The density image at the widget's size (binned when stale); null without a density map.
+  const QImage& densityImage() const;
   /// Removes the map (shows a hint text instead).
   void clearMap(const QString& hint = {});
-  bool hasMap() const { return m_coords.rows() > 0; }
+  bool hasMap() const { return m_coords.rows() > 0 || m_density != nullptr; }
   /// The pointer's map position (nothing hides it).
   void setPointer(const std::optional<Eigen::Vector2d>& point);
   std::optional<Eigen::Vector2d> pointer() const { return m_pointer; }
@@ -105,6 +117,9 @@ class MapView : public QWidget {
 
   Eigen::MatrixXd m_coords;
   std::vector<int> m_segmentStarts;
+  std::shared_ptr<const Eigen::MatrixXd> m_density;  ///< a saved map's points, or none
+  mutable QImage m_densityImage;                     ///< binned at m_densitySize; null when stale
+  mutable QSize m_densitySize;
   render::MapPlotOptions m_options;
   QString m_hint;
   QPixmap m_cache;  ///< the painted trajectory at the current size; null when stale

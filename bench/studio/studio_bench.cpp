@@ -8,6 +8,18 @@
 //    kinematics, pointer) and both views drawn; DragUpdateLogic: the same without drawing.
 //  - PlaybackFrame: one playback step (setFrame) and both views drawn: well under 16.7 ms means
 //    60 fps playback.
+// On a saved map (MOTIONMAP_STUDIO_BENCH_MAP=lib.mmap.h5, e.g. the 10⁶-frame library of
+// docs/studio.md; skipped with a message without it):
+//  - SavedMapOpen: File → Open map end to end (read_map_file, the 2-D index, the first clip
+//    loaded and hash-checked, the density image binned and the view painted once);
+//    SavedMapRead, SavedMapIndex, SavedMapDensity: its parts.
+//  - SavedMapHover: one mouse move over the map (index lookup, hover text) and the view drawn.
+//  - SavedMapClickCached: a click on a sample of a clip in the cache, the jump, both views drawn.
+//  - SavedMapClickLoad: a click on a sample of a clip not in the cache: the event asks the
+//    loader's thread for the clip and returns; SavedMapClipLoad: what that load takes (SHA-256
+//    and parse of one clip file), the wait before the jump.
+//  - SavedMapDrag: one mouse move of a drag (k-nearest lookup, the samples' clips asked for when
+//    not cached, the blend when they are) and both views drawn; "loads" counts clips loaded.
 // Data (argument 0/1): CMU 64_08 (365 frames), and a 10 000-frame concatenation of 64_08 and
 // 64_09 (same subject, same skeleton) as one clip; the built-in swing sample stands in (said on
 // stderr) when ../shared/data is absent. Maps are PCA (the drawing costs do not depend on the
@@ -28,6 +40,7 @@
 #include "main_window.h"
 #include "map_view.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/saved_map.h"
 #include "motionmap/sample/sample_clip.h"
 #include "skeleton_view.h"
 
@@ -229,6 +242,243 @@ void PlaybackFrame(benchmark::State& state) {
   }
   label(state, w);
 }
+
+// ---- Saved maps -------------------------------------------------------------------------------
+
+QString savedMapPath() {
+  return qEnvironmentVariable("MOTIONMAP_STUDIO_BENCH_MAP");
+}
+
+bool needSavedMap(benchmark::State& state) {
+  if (!savedMapPath().isEmpty()) return true;
+  state.SkipWithError("set MOTIONMAP_STUDIO_BENCH_MAP to a saved map (docs/studio.md)");
+  return false;
+}
+
+/// One shown window with the saved map open (made on first use, kept).
+MainWindow& savedWindow() {
+  auto& w = windows()[100];
+  if (!w) {
+    w = std::make_unique<MainWindow>();
+    w->setInteractive(false);
+    w->resize(1280, 720);
+    w->show();
+    if (!w->openMapFile(savedMapPath())) {
+      std::fprintf(stderr, "studio bench: %s\n", qPrintable(w->lastError()));
+      std::exit(1);
+    }
+    QCoreApplication::processEvents();
+    w->pause();
+  }
+  return *w;
+}
+
+void savedLabel(benchmark::State& state, const mapfile::SavedMap& map) {
+  state.SetLabel(std::to_string(map.file().num_samples()) + " points, " +
+                 std::to_string(map.num_clips()) + " clips");
+}
+
+void SavedMapOpen(benchmark::State& state) {
+  if (!needSavedMap(state)) return;
+  int points = 0;
+  for (auto _ : state) {
+    state.PauseTiming();  // a new window is not part of opening
+    auto w = std::make_unique<MainWindow>();
+    w->setInteractive(false);
+    w->resize(1280, 720);
+    w->show();
+    state.ResumeTiming();
+    if (!w->openMapFile(savedMapPath())) {
+      state.SkipWithError(qPrintable(w->lastError()));
+      return;
+    }
+    QImage image = canvas(w->mapView());
+    w->mapView()->render(&image);  // the density binned and the view painted
+    benchmark::DoNotOptimize(image.constBits());
+    points = w->savedMap()->file().num_samples();
+    state.PauseTiming();  // nor is closing it
+    w.reset();
+    state.ResumeTiming();
+  }
+  state.SetLabel(std::to_string(points) + " points");
+}
+
+void SavedMapRead(benchmark::State& state) {
+  if (!needSavedMap(state)) return;
+  for (auto _ : state) {
+    const mapfile::MapFile file =
+        mapfile::read_map_file(savedMapPath().toStdString(), {.model = false});
+    benchmark::DoNotOptimize(file.coordinates.data());
+  }
+}
+
+void SavedMapIndex(benchmark::State& state) {
+  if (!needSavedMap(state)) return;
+  const mapfile::SavedMap& map = *savedWindow().savedMap();
+  for (auto _ : state) {
+    const mapfile::PointIndex index(map.file().coordinates);
+    benchmark::DoNotOptimize(index.indexed());
+  }
+  savedLabel(state, map);
+}
+
+void SavedMapDensity(benchmark::State& state) {
+  if (!needSavedMap(state)) return;
+  MainWindow& w = savedWindow();
+  const QSize size = w.mapView()->size();
+  const QTransform toPixel =
+      render::map_transform(Eigen::MatrixXd(0, 2), QRectF(QPointF(0, 0), QSizeF(size)), [&] {
+        render::MapPlotOptions o;
+        const auto& idx = w.savedMap()->index();
+        o.extent = QRectF(QPointF(idx.lower().x(), idx.lower().y()),
+                          QPointF(idx.upper().x(), idx.upper().y()));
+        return o;
+      }());
+  for (auto _ : state) {
+    const QImage image = render::density_image(w.savedMap()->file().coordinates, toPixel, size);
+    benchmark::DoNotOptimize(image.constBits());
+  }
+  state.SetLabel(std::to_string(size.width()) + "x" + std::to_string(size.height()) + " px, " +
+                 std::to_string(w.savedMap()->file().num_samples()) + " points");
+}
+
+/// `count` pixels of samples spread over the map (every n/count-th row), a pixel off.
+std::vector<QPointF> samplePixels(MainWindow& w, int count) {
+  const mapfile::MapFile& file = w.savedMap()->file();
+  std::vector<QPointF> out;
+  const int n = file.num_samples();
+  for (int i = 0; i < count; ++i) {
+    const int r = int((long long)(i)*n / count);
+    out.push_back(
+        w.mapView()->toWidget(Eigen::Vector2d(file.coordinates(r, 0), file.coordinates(r, 1))) +
+        QPointF(0.7, -0.4));
+  }
+  return out;
+}
+
+void SavedMapHover(benchmark::State& state) {
+  if (!needSavedMap(state)) return;
+  MainWindow& w = savedWindow();
+  MapView* view = w.mapView();
+  const std::vector<QPointF> pixels = samplePixels(w, 997);
+  QImage image = canvas(view);
+  view->render(&image);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    sendMouse(view, QEvent::MouseMove, pixels[i]);
+    i = (i + 1) % pixels.size();
+    view->render(&image);
+    benchmark::DoNotOptimize(image.constBits());
+  }
+  savedLabel(state, *w.savedMap());
+}
+
+void click(benchmark::State& state, bool cached) {
+  if (!needSavedMap(state)) return;
+  MainWindow& w = savedWindow();
+  const mapfile::SavedMap& map = *w.savedMap();
+  MapView* view = w.mapView();
+  QImage mapImage = canvas(view), skeletonImage = canvas(w.skeletonView());
+  const mapfile::MapFile& file = map.file();
+  // Cached: samples of the current clip and the one before (both stay in the cache). Load: a
+  // sample of a different clip every time, cycling through more clips than the cache holds.
+  const int current = std::max(0, w.currentClip());
+  const int other = (current + 1) % map.num_clips();
+  std::vector<QPointF> pixels;
+  for (int i = 0; i < 64; ++i) {
+    const int c = cached ? (i % 2 ? current : other) : (current + 1 + i) % map.num_clips();
+    const mapfile::ClipRecord& r = file.clips[std::size_t(c)];
+    const int row = r.first_sample + (i * 97) % std::max(1, r.samples);
+    pixels.push_back(
+        view->toWidget(Eigen::Vector2d(file.coordinates(row, 0), file.coordinates(row, 1))));
+  }
+  if (cached) map.clip(other);
+  const int before = map.loads();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    sendMouse(view, QEvent::MouseButtonPress, pixels[i]);
+    sendMouse(view, QEvent::MouseButtonRelease, pixels[i]);
+    i = (i + 1) % pixels.size();
+    w.skeletonView()->render(&skeletonImage);
+    view->render(&mapImage);
+    benchmark::DoNotOptimize(mapImage.constBits());
+  }
+  // Loads run on the loader's thread: the events above only asked for them. Wait for them so the
+  // next benchmark starts quiet.
+  while (w.isLoadingClip()) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
+    QThread::msleep(5);
+  }
+  QCoreApplication::processEvents();
+  state.counters["loads"] =
+      benchmark::Counter(double(map.loads() - before), benchmark::Counter::kAvgIterations);
+  savedLabel(state, map);
+}
+
+/// What a click on a clip not in the cache waits for (on the loader's thread): SHA-256 check and
+/// parse of one clip file, on a SavedMap of its own (so the cache is cold).
+void SavedMapClipLoad(benchmark::State& state) {
+  if (!needSavedMap(state)) return;
+  const mapfile::SavedMap& shown = *savedWindow().savedMap();
+  const mapfile::SavedMap cold(shown.file(), 1);
+  int c = 0;
+  for (auto _ : state) {
+    const auto clip = cold.clip(c);
+    benchmark::DoNotOptimize(clip->motion.rotations.data());
+    c = (c + 1) % cold.num_clips();
+  }
+  state.SetLabel(std::to_string(cold.file().clips.front().frames) + "-frame clips");
+}
+
+void SavedMapClickCached(benchmark::State& state) {
+  click(state, true);
+}
+void SavedMapClickLoad(benchmark::State& state) {
+  click(state, false);
+}
+
+void SavedMapDrag(benchmark::State& state) {
+  if (!needSavedMap(state)) return;
+  MainWindow& w = savedWindow();
+  const mapfile::SavedMap& map = *w.savedMap();
+  MapView* view = w.mapView();
+  SkeletonView* skeleton = w.skeletonView();
+  // A slow drag: 256 points 1 px apart along a line through the middle of the map.
+  const QPointF centre = view->toWidget(0.5 * (map.index().lower() + map.index().upper()));
+  std::vector<QPointF> pixels;
+  for (int i = 0; i < 256; ++i) pixels.push_back(centre + QPointF(i - 128, 0.5 * (i - 128)));
+  QImage mapImage = canvas(view), skeletonImage = canvas(skeleton);
+  sendMouse(view, QEvent::MouseButtonPress, pixels.front() + QPointF(-20, 0));
+  sendMouse(view, QEvent::MouseMove, pixels.front());
+  const int before = map.loads();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    sendMouse(view, QEvent::MouseMove, pixels[i]);
+    i = (i + 1) % pixels.size();
+    skeleton->render(&skeletonImage);
+    view->render(&mapImage);
+    benchmark::DoNotOptimize(skeletonImage.constBits());
+  }
+  sendMouse(view, QEvent::MouseButtonRelease, pixels[i]);
+  while (w.isLoadingClip()) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
+    QThread::msleep(5);
+  }
+  QCoreApplication::processEvents();
+  state.counters["loads"] =
+      benchmark::Counter(double(map.loads() - before), benchmark::Counter::kAvgIterations);
+  savedLabel(state, map);
+}
+
+BENCHMARK(SavedMapOpen)->Iterations(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(SavedMapRead)->Iterations(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(SavedMapIndex)->Iterations(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(SavedMapDensity)->Unit(benchmark::kMillisecond);
+BENCHMARK(SavedMapHover)->Unit(benchmark::kMicrosecond);
+BENCHMARK(SavedMapClickCached)->Unit(benchmark::kMicrosecond);
+BENCHMARK(SavedMapClickLoad)->Iterations(32)->Unit(benchmark::kMicrosecond);
+BENCHMARK(SavedMapClipLoad)->Iterations(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(SavedMapDrag)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(MapViewFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(MapViewFullRepaint)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);

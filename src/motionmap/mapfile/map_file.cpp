@@ -441,7 +441,7 @@ void write_map_file(const std::string& path, const MapFile& f) {
 
 // ---- read_map_file --------------------------------------------------------------------------
 
-MapFile read_map_file(const std::string& path) {
+MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   const detail::Reader reader(path);
   const Input in(reader);
 
@@ -602,6 +602,7 @@ MapFile read_map_file(const std::string& path) {
   // The map.
   const int dims = eo.dimensions;
   f.coordinates = in.matrix("/coordinates", N, dims, "#samples by dims");
+  if (!options.model) return f;  // showing or blending the map: the model is not needed
 
   // The model: every item whose method uses it, each checked against the others' sizes, so
   // that embed::place() reads only what is there.

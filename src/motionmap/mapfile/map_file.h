@@ -106,11 +106,20 @@ MapFile make_map_file(std::span<const Clip> clips, const pipeline::ClipMap& map,
 /// leaves no file. @throws Error naming the path.
 void write_map_file(const std::string& path, const MapFile& file);
 
+/// What read_map_file() reads.
+struct ReadOptions {
+  /// Read and check /model (what placing new frames needs). False leaves MapFile::model empty:
+  /// for showing and blending a map (MotionMap Studio, `pose`/`synth --map`), whose model may be
+  /// far larger than its coordinates (a landmark Isomap map of 10⁶ frames holds an L × N
+  /// geodesic matrix; an LLE map every sample's X row).
+  bool model = true;
+};
+
 /// Reads and checks a map file. @throws Error naming the path and what was expected: missing
 /// or unreadable, not HDF5, another format, a newer or unknown layout version, a missing group,
 /// dataset or attribute, a wrong shape or element type, an unknown name (method, metric, …),
 /// an index out of range, or a non-finite value.
-MapFile read_map_file(const std::string& path);
+MapFile read_map_file(const std::string& path, const ReadOptions& options = {});
 
 /// Which frames of the new clips place_clips() places (the map's own clips' selection was for
 /// them). The feature definition (kind, distance, up axis, excluded and shared joints) always

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -112,6 +113,13 @@ UnitMapping unit_mapping(const Eigen::MatrixXd& coords) {
 
 // The extent a panel frames: the coordinates, and the backdrop's points when there are any.
 UnitMapping panel_mapping(const Eigen::MatrixXd& coords, const MapPlotOptions& options) {
+  const QRectF& e = options.extent;
+  if (e.width() >= 0 && e.height() >= 0 && std::isfinite(e.left()) && std::isfinite(e.right()) &&
+      std::isfinite(e.top()) && std::isfinite(e.bottom())) {
+    Eigen::MatrixXd corners(2, 2);
+    corners << e.left(), e.top(), e.right(), e.bottom();
+    return unit_mapping(corners);
+  }
   if (options.backdrop.size() == 0) return unit_mapping(coords);
   check_columns(coords);
   check_columns(options.backdrop, "backdrop");
@@ -454,6 +462,50 @@ QRectF data_area(const QRectF& rect, const MapPlotOptions& options) {
 
 QTransform unit_transform(const QRectF& rect, const MapPlotOptions& options) {
   return unit_to_rect(data_area(rect, options));
+}
+
+QImage density_image(const Eigen::MatrixXd& points, const QTransform& data_to_pixel,
+                     const QSize& size, const QColor& ink) {
+  check_columns(points, "density points");
+  if (size.isEmpty()) return {};
+  const int w = size.width(), h = size.height();
+  std::vector<std::uint32_t> counts(std::size_t(w) * std::size_t(h), 0);
+  // The transform is a similarity (scale, translate, maybe flip): its affine part, applied here.
+  const double m11 = data_to_pixel.m11(), m12 = data_to_pixel.m12(), m21 = data_to_pixel.m21(),
+               m22 = data_to_pixel.m22(), dx = data_to_pixel.dx(), dy = data_to_pixel.dy();
+  const Eigen::Index n = points.rows();
+  const double* xs = points.data();
+  const double* ys = points.data() + n;  // column-major: column 1 follows column 0
+  std::uint32_t most = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double px = m11 * xs[i] + m21 * ys[i] + dx, py = m12 * xs[i] + m22 * ys[i] + dy;
+    if (!(px >= 0.0 && px < w && py >= 0.0 && py < h)) continue;  // outside, or NaN
+    std::uint32_t& c = counts[std::size_t(int(py)) * std::size_t(w) + std::size_t(int(px))];
+    most = std::max(most, ++c);
+  }
+  QImage image(size, QImage::Format_ARGB32_Premultiplied);
+  image.fill(Qt::transparent);
+  if (most == 0) return image;
+  // Opacity per count through a table: counts repeat, logarithms are dear.
+  const double scale = 1.0 / std::log1p(double(most));
+  auto pixel = [&](std::uint32_t c) {
+    const double a = 0.12 + 0.88 * std::log1p(double(c)) * scale;
+    const int alpha = std::clamp(int(std::lround(255.0 * a)), 0, 255);
+    return qRgba(ink.red() * alpha / 255, ink.green() * alpha / 255, ink.blue() * alpha / 255,
+                 alpha);
+  };
+  std::vector<QRgb> table(std::min<std::uint32_t>(most, 4096) + 1);
+  for (std::uint32_t c = 1; c < table.size(); ++c) table[c] = pixel(c);
+  for (int y = 0; y < h; ++y) {
+    auto* line = reinterpret_cast<QRgb*>(image.scanLine(y));
+    const std::uint32_t* row = counts.data() + std::size_t(y) * std::size_t(w);
+    for (int x = 0; x < w; ++x) {
+      const std::uint32_t c = row[x];
+      if (c == 0) continue;
+      line[x] = c < table.size() ? table[c] : pixel(c);
+    }
+  }
+  return image;
 }
 
 QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,

@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 #include <QColor>
+#include <QImage>
 #include <QPainter>
 #include <QPointF>
 #include <QRectF>
@@ -58,6 +59,11 @@ struct MapPlotOptions {
   /// Non-finite rows are skipped.
   Eigen::MatrixXd backdrop;
   QColor backdrop_color = QColor(190, 190, 190);
+  /// When valid (width and height ≥ 0, both finite): the data extent the panel frames — a box in
+  /// map coordinates, x from left() to right(), y from top() to bottom() — in place of the
+  /// extent of the coordinates and backdrop. For a trajectory drawn over a density_image() of a
+  /// whole map, framed as the whole map.
+  QRectF extent = QRectF(0, 0, -1, -1);
 };
 
 /// One piece of a trajectory, from sample `sample` to sample `sample + 1` of the same clip, in
@@ -105,6 +111,16 @@ QTransform unit_transform(const QRectF& rect, const MapPlotOptions& options = {}
 /// below 10⁶ × the data area's side in pixels: Qt's fuzzy determinant test).
 QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
                          const MapPlotOptions& options = {});
+
+/// A 2-D histogram of `points` (#points by ≥ 2, columns 0 and 1) as an image of `size` pixels:
+/// each point falls in the pixel `data_to_pixel` maps it to (points outside the image and
+/// non-finite rows are skipped); a pixel holding c > 0 points is `ink` at opacity
+/// 0.12 + 0.88 · log(1 + c) / log(1 + max c), others transparent (so it lies over any
+/// background). A map of millions of points drawn in one pass: O(#points + #pixels), about
+/// 5 ms for 10⁶ points. Format_ARGB32_Premultiplied; a null image for an empty size.
+/// @throws ParameterError if points has < 2 columns.
+QImage density_image(const Eigen::MatrixXd& points, const QTransform& data_to_pixel,
+                     const QSize& size, const QColor& ink = QColor(40, 50, 90));
 
 /// Draws one panel into `rect`: background, title on top, a square data area with a thin frame,
 /// the backdrop's dots, the trajectory coloured by each clip's own time, start markers, notes at

@@ -1,0 +1,271 @@
+#include "motionmap/mapfile/saved_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <system_error>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/core/sha256.h"
+#include "motionmap/core/stats.h"
+#include "motionmap/io/load.h"
+
+namespace motionmap::mapfile {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Samples closer than this fraction of the map's extent share a map point (as in the blender).
+constexpr double kMergeFraction = 1e-9;
+// A distance below this fraction of the partition radius is a hit on the sample (as the blender's
+// partition weights take it).
+constexpr double kHitFraction = 1e-12;
+
+// "lib.mmap.h5: clip 3 (walk.bvh)" for messages.
+std::string clip_label(const MapFile& file, int c) {
+  return (file.path.empty() ? std::string("map") : file.path) + ": clip " + std::to_string(c) +
+         " (" + file.clips[std::size_t(c)].path + ")";
+}
+
+// The first difference between a clip's joints and the map's recorded skeleton, or "".
+std::string skeleton_difference(const Skeleton& s, const SkeletonRecord& r) {
+  if (s.joints.size() != r.names.size()) {
+    return "it has " + std::to_string(s.joints.size()) + " joints, the map's skeleton " +
+           std::to_string(r.names.size());
+  }
+  for (std::size_t j = 0; j < r.names.size(); ++j) {
+    const Joint& joint = s.joints[j];
+    if (joint.name != r.names[j] || joint.parent != r.parents[j] ||
+        static_cast<int>(joint.end_sites.size()) != r.end_sites[j]) {
+      return "joint " + std::to_string(j) + " is '" + joint.name + "' where the map has '" +
+             r.names[j] + "'" +
+             (joint.name == r.names[j] ? " with another parent or End Site count" : "");
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+SavedMap::SavedMap(MapFile file, int cached_clips)
+    : m_file(std::move(file)), m_index(m_file.coordinates), m_capacity(std::max(1, cached_clips)) {
+  const int n = m_file.num_samples();
+  if (n < 1 || m_file.clips.empty())
+    throw ParameterError((m_file.path.empty() ? "map" : m_file.path) + ": the map has no samples");
+  // The blender's median step: consecutive samples of a clip, steps above the merge tolerance.
+  const double tol = kMergeFraction * (m_index.upper() - m_index.lower()).norm();
+  std::vector<double> steps;
+  steps.reserve(std::size_t(n));
+  for (int i = 0; i + 1 < n; ++i) {
+    if (m_file.clip_of[std::size_t(i)] != m_file.clip_of[std::size_t(i) + 1] ||
+        m_file.frame_of[std::size_t(i) + 1] <= m_file.frame_of[std::size_t(i)])
+      continue;
+    const double step =
+        (m_file.coordinates.row(i + 1).head<2>() - m_file.coordinates.row(i).head<2>()).norm();
+    if (std::isfinite(step) && step > tol && step != 0.0) steps.push_back(step);
+  }
+  m_median_step = steps.empty() ? 0.0 : upper_median(std::move(steps));
+}
+
+SavedMap::~SavedMap() = default;
+
+std::string SavedMap::resolve_path(int c) const {
+  if (c < 0 || c >= num_clips()) {
+    throw ParameterError((m_file.path.empty() ? std::string("map") : m_file.path) + ": clip " +
+                         std::to_string(c) + " is out of range [0, " + std::to_string(num_clips()) +
+                         ")");
+  }
+  const fs::path recorded(m_file.clips[std::size_t(c)].path);
+  std::error_code ec;
+  if (recorded.is_absolute() || fs::exists(recorded, ec) || m_file.path.empty())
+    return recorded.string();
+  const fs::path beside = fs::path(m_file.path).parent_path() / recorded;
+  return fs::exists(beside, ec) ? beside.string() : recorded.string();
+}
+
+std::shared_ptr<const Clip> SavedMap::load(int c) const {
+  const ClipRecord& record = m_file.clips[std::size_t(c)];
+  const std::string path = resolve_path(c);
+  const std::string what = clip_label(m_file, c);
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    throw Error(what + ": the clip file " + path +
+                " is missing (expected the file the map was made from, SHA-256 " + record.sha256 +
+                "; paths are taken as given to `motionmap map`, relative to the current folder or "
+                "to the map file's)");
+  }
+  const std::string hash = sha256_file(path);
+  if (hash != record.sha256) {
+    throw Error(what + ": the clip file " + path + " has changed since the map was made (SHA-256 " +
+                hash + ", the map expects " + record.sha256 +
+                "); its frames no longer match the map's points — map the clips again with "
+                "`motionmap map … --save`");
+  }
+  io::LoadOptions options;
+  const std::string ext = fs::path(path).extension().string();
+  if ((ext == ".amc" || ext == ".AMC") && record.frame_time > 0.0)
+    options.fps = 1.0 / record.frame_time;
+  auto clip = std::make_shared<Clip>(io::load_clip(path, options));
+  clip->path = record.path;
+  if (clip->motion.num_frames != record.frames) {
+    throw Error(what + ": the clip file " + path + " has " +
+                std::to_string(clip->motion.num_frames) + " frames, the map expects " +
+                std::to_string(record.frames));
+  }
+  if (std::abs(clip->motion.frame_time - record.frame_time) > 1e-9 * record.frame_time) {
+    throw Error(what + ": the clip file " + path + " has a frame time of " +
+                format_number(clip->motion.frame_time) + " s, the map expects " +
+                format_number(record.frame_time) + " s");
+  }
+  if (m_file.options.features.joints == features::JointSelection::All) {
+    if (const std::string why = skeleton_difference(clip->skeleton, m_file.skeleton);
+        !why.empty()) {
+      throw Error(what + ": the clip file " + path +
+                  " does not have the skeleton the map recorded (" + why + ")");
+    }
+  }
+  return clip;
+}
+
+std::shared_ptr<const Clip> SavedMap::clip(int c) const {
+  if (c < 0 || c >= num_clips()) resolve_path(c);  // throws the range error
+  {
+    const std::lock_guard lock(m_mutex);
+    const auto hit = std::find_if(m_cache.begin(), m_cache.end(),
+                                  [c](const auto& entry) { return entry.first == c; });
+    if (hit != m_cache.end()) {
+      std::rotate(hit, hit + 1, m_cache.end());  // most recently used last
+      return m_cache.back().second;
+    }
+  }
+  std::shared_ptr<const Clip> loaded = load(c);  // outside the lock: other clips stay available
+  const std::lock_guard lock(m_mutex);
+  ++m_loads;
+  const auto again = std::find_if(m_cache.begin(), m_cache.end(),
+                                  [c](const auto& entry) { return entry.first == c; });
+  if (again != m_cache.end()) return again->second;
+  if (static_cast<int>(m_cache.size()) >= m_capacity) m_cache.erase(m_cache.begin());
+  m_cache.emplace_back(c, loaded);
+  return loaded;
+}
+
+bool SavedMap::is_loaded(int c) const {
+  const std::lock_guard lock(m_mutex);
+  return std::any_of(m_cache.begin(), m_cache.end(),
+                     [c](const auto& entry) { return entry.first == c; });
+}
+
+int SavedMap::loads() const {
+  const std::lock_guard lock(m_mutex);
+  return m_loads;
+}
+
+std::vector<Clip> SavedMap::load_all_clips(const Control& control) const {
+  std::vector<Clip> clips;
+  clips.reserve(m_file.clips.size());
+  for (int c = 0; c < num_clips(); ++c) {
+    control.stage("loading clips", double(c) / num_clips(), double(c + 1) / num_clips()).check();
+    clips.push_back(*load(c));
+  }
+  return clips;
+}
+
+features::FeatureSet SavedMap::samples() const {
+  features::FeatureSet set;
+  set.clip_of = m_file.clip_of;
+  set.frame_of = m_file.frame_of;
+  for (const ClipRecord& r : m_file.clips) set.segment_starts.push_back(r.first_sample);
+  return set;
+}
+
+std::vector<int> SavedMap::clips_near(const Eigen::Vector2d& p, int neighbors) const {
+  std::vector<int> out;
+  for (const Neighbor& n : m_index.nearest(p, std::max(1, neighbors))) {
+    const int c = m_file.clip_of[std::size_t(n.sample)];
+    if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+  }
+  return out;
+}
+
+SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) const {
+  if (!p.allFinite()) {
+    throw ParameterError("map point (" + format_number(p.x()) + ", " + format_number(p.y()) +
+                         ") is not finite");
+  }
+  if (neighbors < 1)
+    throw ParameterError("neighbors: " + std::to_string(neighbors) + " is not in [1, #samples]");
+  SavedPose out;
+  std::vector<Neighbor> found = m_index.nearest(p, neighbors + 1);
+  if (found.empty()) throw ParameterError("map: no finite sample to blend");
+  // Franke–Little weights ((R − d)/(R·d))², normalised, as synth::MapBlender's idw blend: R is
+  // the (K+1)-th distance (with no (K+1)-th sample, twice the farthest); a sample within
+  // 1e-12·R of p takes all the weight; samples all at R share it equally among the nearest.
+  const bool has_far = static_cast<int>(found.size()) > neighbors;
+  const double R = has_far ? found.back().distance
+                           : 2.0 * found.back().distance + std::numeric_limits<double>::min();
+  if (has_far) found.pop_back();
+  out.outside = found.front().distance > reach_distance();
+  const std::size_t count = found.size();
+  std::vector<double> w(count, 0.0);
+  if (count == 1 || found.front().distance <= kHitFraction * R) {
+    w[0] = 1.0;
+  } else {
+    double total = 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const double t = std::max(R - found[i].distance, 0.0) / (R * found[i].distance);
+      w[i] = t * t;
+      total += w[i];
+    }
+    if (total > 0.0) {
+      for (double& v : w) v /= total;
+    } else {
+      std::size_t ties = 0;
+      while (ties < count && found[ties].distance == found.front().distance) ++ties;
+      for (std::size_t i = 0; i < ties; ++i) w[i] = 1.0 / double(ties);
+    }
+  }
+
+  // A blender over just these samples: each becomes a one-frame clip cut from its clip (loaded
+  // on demand), so a pose copies K frames, not K clips.
+  std::vector<Clip> clips;
+  clips.reserve(found.size());
+  features::FeatureSet set;
+  Eigen::MatrixXd coords(static_cast<Eigen::Index>(found.size()), 2);
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    const int s = found[i].sample;
+    const std::shared_ptr<const Clip> source = clip(m_file.clip_of[std::size_t(s)]);
+    const int f = m_file.frame_of[std::size_t(s)];
+    Clip one;
+    one.path = source->path;
+    one.skeleton = source->skeleton;
+    one.motion.frame_time = source->motion.frame_time;
+    one.motion.resize(1, source->motion.num_joints);
+    const PoseView view = source->motion.pose(f);
+    std::copy(view.rotations.begin(), view.rotations.end(), one.motion.rotations.begin());
+    std::copy(view.translations.begin(), view.translations.end(), one.motion.translations.begin());
+    clips.push_back(std::move(one));
+    set.clip_of.push_back(static_cast<int>(i));
+    set.frame_of.push_back(0);
+    set.segment_starts.push_back(static_cast<int>(i));
+    coords.row(static_cast<Eigen::Index>(i)) = m_file.coordinates.row(s).head<2>();
+  }
+  synth::BlendOptions options;
+  options.mode = synth::BlendMode::Idw;
+  options.neighbors = 1;
+  options.up = up;
+  const synth::MapBlender blender(clips, set, coords, options);
+  synth::MapWeights weights;
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    weights.samples.push_back(static_cast<int>(i));
+    weights.weights.push_back(w[i]);
+  }
+  out.pose = blender.pose(weights);
+  out.around = std::move(found);
+  out.weights = std::move(w);
+  return out;
+}
+
+}  // namespace motionmap::mapfile

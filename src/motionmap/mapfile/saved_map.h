@@ -1,0 +1,114 @@
+#pragma once
+// A saved map opened for use: its file, a 2-D index over its points, and its clips loaded on
+// demand — each checked against the SHA-256 the map file recorded, a few kept in a cache — so
+// that a map of 10⁶ frames opens in the time it takes to read its coordinates, and a hover, a
+// click or a blended pose costs a lookup plus, at most, loading the clips it touches. What
+// MotionMap Studio opens with File → Open map, and what `motionmap pose/synth --map
+// lib.mmap.h5` blend from. No Qt.
+//
+//   motionmap::mapfile::SavedMap map(motionmap::mapfile::read_map_file("lib.mmap.h5", {.model =
+//   false})); const auto hit = map.index().nearest({0.3, -1.2});        // the sample under a point
+//   std::shared_ptr<const motionmap::Clip> clip = map.clip(map.file().clip_of[hit.sample]);
+//   const auto pose = map.pose_at({0.3, -1.2});                 // blended from the K nearest
+//
+// Clip paths are resolved as `motionmap map` was given them: relative paths against the current
+// folder, and when no file is there, against the map file's folder (a library moved together
+// with its map). A clip whose file is missing, unreadable, changed since the map was made (another
+// SHA-256) or no longer the clip the map recorded (frame count, frame time, skeleton) is an Error
+// naming the map file, the clip file and what was expected — never a pose of other data.
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motionmap/mapfile/map_file.h"
+#include "motionmap/mapfile/point_index.h"
+#include "motionmap/skeleton/skeleton.h"
+#include "motionmap/synth/blender.h"
+
+namespace motionmap::mapfile {
+
+/// A pose blended from the samples nearest a map point (SavedMap::pose_at).
+struct SavedPose {
+  Motion pose;                   ///< one frame of the clips' skeleton, as MapBlender::pose
+  std::vector<Neighbor> around;  ///< the samples blended (nearest first) with their distances
+  std::vector<double> weights;   ///< one per entry of `around`, summing to 1
+  /// The nearest sample is farther than SavedMap::reach_distance(): the point is outside the
+  /// data and the pose is (mostly) that of its nearest samples.
+  bool outside = false;
+};
+
+class SavedMap {
+ public:
+  /// Default number of loaded clips kept (least recently used dropped first).
+  static constexpr int kDefaultCachedClips = 8;
+
+  /// Takes `file` (as read_map_file returns it) and indexes its coordinates (PointIndex).
+  /// `cached_clips` ≥ 1 clips stay loaded. @throws ParameterError for a map with no samples.
+  explicit SavedMap(MapFile file, int cached_clips = kDefaultCachedClips);
+  ~SavedMap();
+
+  const MapFile& file() const { return m_file; }
+  const PointIndex& index() const { return m_index; }
+  int num_clips() const { return static_cast<int>(m_file.clips.size()); }
+
+  /// Where clip `c`'s file is looked for: its recorded path when that exists (or is absolute),
+  /// else the same relative path under the map file's folder.
+  std::string resolve_path(int c) const;
+  /// Clip `c` of the map, loaded on demand (io::load_clip; an .amc at the recorded frame time)
+  /// and checked: the file's SHA-256, its frame count and frame time, and — for maps of one
+  /// skeleton — its joint hierarchy. Kept in the cache. Thread-safe.
+  /// @throws Error naming the map file, the clip file and what was expected; ParameterError for
+  ///   c out of range.
+  std::shared_ptr<const Clip> clip(int c) const;
+  /// Whether clip `c` is in the cache now (clip(c) then costs no file access).
+  bool is_loaded(int c) const;
+  /// Clip loads from files so far (cache misses), for tests and benchmarks.
+  int loads() const;
+
+  /// Every clip of the map, loaded and checked (not cached), in the map's order: what
+  /// make_blender() blends. @throws as clip().
+  std::vector<Clip> load_all_clips(const Control& control = {}) const;
+  /// The samples of the map as a FeatureSet for synth::MapBlender: clip_of, frame_of and
+  /// segment_starts from the file (no X, no D).
+  features::FeatureSet samples() const;
+
+  /// The median map distance between consecutive samples of a clip (non-zero ones; 0 if none),
+  /// as synth::MapBlender::median_step() computes it for the same map.
+  double median_step() const { return m_median_step; }
+  /// reach × median_step(): beyond it from every sample a point is outside the data.
+  double reach_distance(double reach = 3.0) const { return reach * m_median_step; }
+
+  /// The pose at map point `p` blended from its `neighbors` nearest samples with Franke–Little
+  /// inverse-distance weights (R = the distance of the (neighbors + 1)-th nearest; a sample at p
+  /// takes all the weight) — synth::BlendMode::Idw's weights, found by the index, blended by
+  /// synth::MapBlender::pose over the clips those samples belong to (loaded on demand). Only
+  /// those clips are read, so a pose costs O(log N) plus their loading when not cached. The
+  /// blender's idw merges samples that share a map point (within 1e-9 of the map's extent) and
+  /// takes the K nearest points; this takes the K nearest samples: the same where no two samples
+  /// of the neighbourhood share a point. A point outside the data is not moved to its edge
+  /// (`outside` says so); the pose is then mostly its nearest samples'.
+  /// @throws ParameterError for a non-finite p or neighbors < 1; as clip().
+  SavedPose pose_at(const Eigen::Vector2d& p, int neighbors = 12, Axis up = Axis::Y) const;
+
+  /// The clips pose_at(p, neighbors) reads (of its `neighbors` nearest samples), each once, in
+  /// order of first use: what a caller that must not wait for files loads first (is_loaded()).
+  std::vector<int> clips_near(const Eigen::Vector2d& p, int neighbors = 12) const;
+
+ private:
+  std::shared_ptr<const Clip> load(int c) const;
+
+  MapFile m_file;
+  PointIndex m_index;
+  double m_median_step = 0.0;
+  int m_capacity;
+  mutable std::mutex m_mutex;
+  mutable std::vector<std::pair<int, std::shared_ptr<const Clip>>> m_cache;  ///< most recent last
+  mutable int m_loads = 0;
+};
+
+}  // namespace motionmap::mapfile

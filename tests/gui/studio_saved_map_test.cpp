@@ -1,0 +1,258 @@
+// Studio on a saved map (File → Open map, `motionmap-studio lib.mmap.h5`): the map file opens
+// without refitting and is drawn as a density image with the current clip's trajectory; hovering
+// names the clip and frame under the mouse, a click loads the clicked clip on demand and jumps to
+// the frame, a drag blends the nearest samples (mapfile::SavedMap::pose_at), and a clip changed
+// since the map was made is refused with the library's message. Map files are made in the test's
+// temporary folder from the real clips in ../shared/data.
+#include <unistd.h>
+
+#include <QImage>
+#include <QTest>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "map_view.h"
+#include "motionmap/io/load.h"
+#include "motionmap/mapfile/saved_map.h"
+#include "motionmap/pipeline/clip_map.h"
+#include "skeleton_view.h"
+#include "studio_test_util.h"
+
+namespace motionmap::studio {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kData = MOTIONMAP_SHARED_DATA;
+
+// A folder of its own per test with copies of 64_08 and 64_09 (so a test may change one) and
+// their mds map saved as lib.mmap.h5.
+class SavedMapFixture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    for (const char* name : {"64_08.bvh", "64_09.bvh"}) {
+      if (!fs::exists(kData + "/cmu/" + name)) GTEST_SKIP() << "no " << name << " in " << kData;
+    }
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    m_dir = fs::temp_directory_path() /
+            ("motionmap-studio-saved-" + std::to_string(::getpid()) + "-" + info->name());
+    fs::remove_all(m_dir);
+    fs::create_directories(m_dir);
+    std::vector<Clip> clips;
+    for (const char* name : {"64_08.bvh", "64_09.bvh"}) {
+      fs::copy_file(kData + "/cmu/" + name, m_dir / name);
+      clips.push_back(io::load_clip((m_dir / name).string()));
+    }
+    pipeline::ClipMapOptions options;
+    options.embed.method = embed::Method::Mds;
+    const pipeline::ClipMap map = pipeline::map_clips(clips, options);
+    m_file = (m_dir / "lib.mmap.h5").string();
+    mapfile::write_map_file(m_file, mapfile::make_map_file(clips, map, options));
+    m_clips = std::move(clips);
+    m_window = std::make_unique<MainWindow>();
+    m_window->setInteractive(false);
+    m_window->resize(1000, 600);
+    m_window->show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(m_window.get()));
+  }
+  void TearDown() override {
+    m_window.reset();
+    if (!m_dir.empty()) fs::remove_all(m_dir);
+  }
+
+  /// The widget pixel of map row `row`.
+  QPoint pixelOf(int row) const {
+    const auto& xy = m_window->savedMap()->file().coordinates;
+    return m_window->mapView()->toWidget(Eigen::Vector2d(xy(row, 0), xy(row, 1))).toPoint();
+  }
+
+  fs::path m_dir;
+  std::string m_file;
+  std::vector<Clip> m_clips;
+  std::unique_ptr<MainWindow> m_window;
+};
+
+bool sameRotations(const Motion& a, const Motion& b, int frameOfB = 0) {
+  if (a.num_joints != b.num_joints || a.num_frames < 1 || b.num_frames <= frameOfB) return false;
+  for (int j = 0; j < a.num_joints; ++j) {
+    if (std::abs(a.rotation(0, j).dot(b.rotation(frameOfB, j))) < 1.0 - 1e-12) return false;
+  }
+  return true;
+}
+
+TEST_F(SavedMapFixture, OpensWithoutRefittingAsADensityImageWithTheFirstClipOnTop) {
+  ASSERT_TRUE(m_window->openFile(QString::fromStdString(m_file)))
+      << m_window->lastError().toStdString();
+  const mapfile::SavedMap* saved = m_window->savedMap();
+  ASSERT_NE(saved, nullptr);
+  EXPECT_FALSE(m_window->isComputing());  // nothing is mapped again
+  EXPECT_EQ(m_window->currentMap(), nullptr);
+  EXPECT_EQ(m_window->clipCount(), 2);
+  EXPECT_EQ(m_window->currentClip(), 0);
+  ASSERT_NE(m_window->clip(), nullptr);
+  EXPECT_EQ(m_window->clip()->motion.num_frames, m_clips[0].motion.num_frames);
+  EXPECT_TRUE(saved->is_loaded(0));
+  EXPECT_FALSE(saved->is_loaded(1));  // loaded when needed
+  EXPECT_TRUE(m_window->statusText().contains("map file")) << m_window->statusText().toStdString();
+  EXPECT_TRUE(m_window->statusText().contains("method=mds"));
+  // The density image holds every point: as many inked pixels as distinct pixels under samples.
+  MapView* view = m_window->mapView();
+  ASSERT_TRUE(view->hasDensity());
+  const QImage& density = view->densityImage();
+  ASSERT_FALSE(density.isNull());
+  std::set<std::pair<int, int>> under;
+  const qreal dpr = density.devicePixelRatio();
+  for (int r = 0; r < saved->file().num_samples(); ++r) {
+    const auto& xy = saved->file().coordinates;
+    const QPointF p = view->toWidget(Eigen::Vector2d(xy(r, 0), xy(r, 1))) * dpr;
+    under.insert({int(p.x()), int(p.y())});
+  }
+  int inked = 0;
+  for (int y = 0; y < density.height(); ++y)
+    for (int x = 0; x < density.width(); ++x) inked += qAlpha(density.pixel(x, y)) > 0;
+  EXPECT_EQ(inked, int(under.size()));
+  // The pointer is on the current frame's sample.
+  ASSERT_TRUE(view->pointer().has_value());
+  const int row0 = saved->file().clips[0].first_sample;
+  m_window->setFrame(saved->file().frame_of[std::size_t(row0) + 5]);
+  EXPECT_EQ(*view->pointer(), Eigen::Vector2d(saved->file().coordinates(row0 + 5, 0),
+                                              saved->file().coordinates(row0 + 5, 1)));
+  // The screenshot shows the density and the red → blue trajectory.
+  const QImage shot = m_window->screenshot();
+  EXPECT_FALSE(shot.isNull());
+}
+
+TEST_F(SavedMapFixture, HoverNamesTheClipAndFrameUnderTheMouse) {
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  const mapfile::MapFile& file = m_window->savedMap()->file();
+  MapView* view = m_window->mapView();
+  const int row = file.clips[1].first_sample + file.clips[1].samples / 2;  // a frame of clip 2
+  QTest::mouseMove(view, pixelOf(row));
+  const QString text = view->hoverText();
+  ASSERT_TRUE(text.startsWith("clip ")) << text.toStdString();
+  // The sample named lies under the mouse (within 2 px: the pixel rounding of two samples).
+  const int clip = text.section(' ', 1, 1).toInt() - 1;
+  const int frame = text.section("frame ", 1).toInt();
+  int named = -1;
+  for (int r = file.clips[std::size_t(clip)].first_sample;
+       r < file.clips[std::size_t(clip)].first_sample + file.clips[std::size_t(clip)].samples; ++r)
+    if (file.frame_of[std::size_t(r)] == frame) named = r;
+  ASSERT_GE(named, 0) << text.toStdString();
+  EXPECT_LE((QPointF(pixelOf(named)) - QPointF(pixelOf(row))).manhattanLength(), 2.0);
+  EXPECT_TRUE(text.contains(".bvh"));
+  QTest::mouseMove(view, QPoint(2, 2));
+  EXPECT_TRUE(view->hoverText().isEmpty());
+}
+
+TEST_F(SavedMapFixture, ClickLoadsTheClickedClipAndJumpsToItsFrame) {
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  const mapfile::SavedMap* saved = m_window->savedMap();
+  const mapfile::MapFile& file = saved->file();
+  const int row = file.clips[1].first_sample + 40;
+  ASSERT_FALSE(saved->is_loaded(1));
+  QTest::mouseClick(m_window->mapView(), Qt::LeftButton, Qt::NoModifier, pixelOf(row));
+  // The click returns at once; the clip loads on the loader's thread, then the jump happens.
+  EXPECT_TRUE(m_window->isLoadingClip());
+  EXPECT_TRUE(m_window->statusText().startsWith("Loading clip 2 of 2"))
+      << m_window->statusText().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
+  ASSERT_EQ(m_window->currentClip(), 1) << m_window->lastError().toStdString();
+  EXPECT_TRUE(saved->is_loaded(1));
+  const int frame = m_window->currentFrame();
+  // The frame jumped to is a sample of clip 2 drawn within 2 px of the click.
+  int jumped = -1;
+  for (int r = file.clips[1].first_sample; r < file.clips[1].first_sample + file.clips[1].samples;
+       ++r)
+    if (file.frame_of[std::size_t(r)] == frame) jumped = r;
+  ASSERT_GE(jumped, 0);
+  EXPECT_LE((QPointF(pixelOf(jumped)) - QPointF(pixelOf(row))).manhattanLength(), 2.0);
+  EXPECT_EQ(m_window->clip()->motion.num_frames, m_clips[1].motion.num_frames);
+  EXPECT_TRUE(sameRotations(m_window->skeletonView()->currentPose(), m_clips[1].motion, frame));
+  EXPECT_TRUE(m_window->statusText().contains("clip 2 of 2"));
+  // Far from every sample nothing happens.
+  QTest::mouseClick(m_window->mapView(), Qt::LeftButton, Qt::NoModifier, QPoint(2, 2));
+  EXPECT_EQ(m_window->currentClip(), 1);
+  EXPECT_EQ(m_window->currentFrame(), frame);
+}
+
+TEST_F(SavedMapFixture, DragBlendsTheNearestSamples) {
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  m_window->pause();
+  const mapfile::SavedMap* saved = m_window->savedMap();
+  const mapfile::MapFile& file = saved->file();
+  MapView* view = m_window->mapView();
+  const QPoint a = pixelOf(file.clips[0].first_sample + 20);
+  const QPoint b = pixelOf(file.clips[1].first_sample + 60);
+  const QPoint mid = (a + b) / 2 + QPoint(3, 2);
+  QTest::mousePress(view, Qt::LeftButton, Qt::NoModifier, a);
+  QTest::mouseMove(view, mid);
+  // Clips not loaded yet are loaded on the worker; the drag's point is blended when they arrive.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
+  QCoreApplication::processEvents();
+  const mapfile::SavedPose expected = saved->pose_at(view->toMap(QPointF(mid)), 12);
+  EXPECT_TRUE(sameRotations(m_window->skeletonView()->currentPose(), expected.pose));
+  EXPECT_TRUE(view->hoverText().startsWith("blend of 12 samples"))
+      << view->hoverText().toStdString();
+  EXPECT_EQ(view->hoverText().contains("outside"), expected.outside);
+  QTest::mouseMove(view, b);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
+  QCoreApplication::processEvents();
+  const mapfile::SavedPose atB = saved->pose_at(view->toMap(QPointF(b)), 12);
+  EXPECT_TRUE(sameRotations(m_window->skeletonView()->currentPose(), atB.pose));
+  QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, b);
+  EXPECT_TRUE(saved->is_loaded(1));  // its clip was loaded to blend it
+}
+
+TEST_F(SavedMapFixture, AClipChangedSinceTheMapWasMadeIsRefusedClearly) {
+  { std::ofstream(m_dir / "64_09.bvh", std::ios::app) << "\n"; }
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));  // clip 1 is intact
+  const mapfile::MapFile& file = m_window->savedMap()->file();
+  const int frame = m_window->currentFrame();
+  QTest::mouseClick(m_window->mapView(), Qt::LeftButton, Qt::NoModifier,
+                    pixelOf(file.clips[1].first_sample + 40));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
+  EXPECT_EQ(m_window->currentClip(), 0);  // the clip before stays
+  EXPECT_EQ(m_window->currentFrame(), frame);
+  const std::string error = m_window->lastError().toStdString();
+  EXPECT_NE(error.find("64_09.bvh"), std::string::npos) << error;
+  EXPECT_NE(error.find("has changed since the map was made"), std::string::npos) << error;
+  EXPECT_NE(error.find(file.clips[1].sha256), std::string::npos) << error;
+  // Asked again (a click, a drag over its samples): the same refusal at once, no new load.
+  QTest::mouseClick(m_window->mapView(), Qt::LeftButton, Qt::NoModifier,
+                    pixelOf(file.clips[1].first_sample + 40));
+  EXPECT_FALSE(m_window->isLoadingClip());
+  EXPECT_EQ(m_window->currentClip(), 0);
+  const QPoint on = pixelOf(file.clips[1].first_sample + 80);
+  QTest::mousePress(m_window->mapView(), Qt::LeftButton, Qt::NoModifier, on + QPoint(-6, 0));
+  QTest::mouseMove(m_window->mapView(), on);
+  QTest::mouseMove(m_window->mapView(), on + QPoint(1, 0));
+  EXPECT_FALSE(m_window->isLoadingClip());
+  EXPECT_FALSE(m_window->mapView()->hoverText().startsWith("blend"));
+  EXPECT_NE(m_window->lastError().toStdString().find("has changed since the map was made"),
+            std::string::npos);
+  QTest::mouseRelease(m_window->mapView(), Qt::LeftButton, Qt::NoModifier, on + QPoint(1, 0));
+  // The first clip missing: the map does not open, and says why.
+  fs::remove(m_dir / "64_08.bvh");
+  MainWindow other;
+  other.setInteractive(false);
+  EXPECT_FALSE(other.openMapFile(QString::fromStdString(m_file)));
+  EXPECT_NE(other.lastError().toStdString().find("is missing"), std::string::npos);
+  EXPECT_EQ(other.savedMap(), nullptr);
+  // Not a map file at all.
+  { std::ofstream(m_dir / "junk.h5") << "not hdf5"; }
+  EXPECT_FALSE(other.openFile(QString::fromStdString((m_dir / "junk.h5").string())));
+  EXPECT_NE(other.lastError().toStdString().find("junk.h5"), std::string::npos);
+}
+
+TEST_F(SavedMapFixture, OpeningAClipLeavesTheSavedMap) {
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  m_window->openClip(testing::swing());
+  EXPECT_EQ(m_window->savedMap(), nullptr);
+  EXPECT_FALSE(m_window->mapView()->hasDensity());
+  EXPECT_TRUE(
+      QTest::qWaitFor([&] { return m_window->currentMap() != nullptr; }, testing::kTimeoutMs));
+}
+
+}  // namespace
+}  // namespace motionmap::studio

@@ -5,6 +5,10 @@
 #include <cstdio>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
@@ -92,6 +96,72 @@ void check_points(const RowMatrix& P, std::string_view method) {
   }
 }
 
+// Touches the cache lines of `count` doubles from `p` ahead of use.
+void prefetch_run(const double* p, Eigen::Index count) {
+  for (Eigen::Index i = 0; i < count; i += 8) __builtin_prefetch(p + i);
+  __builtin_prefetch(p + count - 1);
+}
+
+// check_distances' statistics of entry pairs (x, y) = (D_rc, D_cr): whether all are finite (the
+// sum of x − x and y − y, 0 exactly when they are), the smallest of x and y, the largest |x|, the
+// largest |x − y|; in independent lanes, which change nothing (minima and maxima are exact).
+struct Lanes {
+#if defined(__SSE2__)
+  __m128d poison[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
+          smallest[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
+          largest[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
+          asymmetry[2] = {_mm_setzero_pd(), _mm_setzero_pd()};
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+  void pair(int l, __m128d x, __m128d y) {
+    poison[l] = _mm_add_pd(poison[l], _mm_add_pd(_mm_sub_pd(x, x), _mm_sub_pd(y, y)));
+    smallest[l] = _mm_min_pd(smallest[l], _mm_min_pd(x, y));
+    largest[l] = _mm_max_pd(largest[l], _mm_and_pd(x, magnitude));
+    asymmetry[l] = _mm_max_pd(asymmetry[l], _mm_and_pd(_mm_sub_pd(x, y), magnitude));
+  }
+  // x: any alignment; y: 16-byte aligned.
+  void visit(const double* x, const double* y, Eigen::Index count) {
+    Eigen::Index i = 0;
+    for (; i + 4 <= count; i += 4) {
+      pair(0, _mm_loadu_pd(x + i), _mm_load_pd(y + i));
+      pair(1, _mm_loadu_pd(x + i + 2), _mm_load_pd(y + i + 2));
+    }
+    for (; i < count; ++i) pair(0, _mm_set1_pd(x[i]), _mm_set1_pd(y[i]));
+  }
+  void finish(bool& finite, double& small, double& large, double& asym) const {
+    alignas(16) double v[4][4];
+    for (int l = 0; l < 2; ++l) {
+      _mm_store_pd(v[0] + 2 * l, poison[l]);
+      _mm_store_pd(v[1] + 2 * l, smallest[l]);
+      _mm_store_pd(v[2] + 2 * l, largest[l]);
+      _mm_store_pd(v[3] + 2 * l, asymmetry[l]);
+    }
+    finite = true;
+    for (int l = 0; l < 4; ++l) {
+      finite = finite && v[0][l] == 0.0;
+      small = std::min(small, v[1][l]);
+      large = std::max(large, v[2][l]);
+      asym = std::max(asym, v[3][l]);
+    }
+  }
+#else
+  double poison = 0.0, smallest = 0.0, largest = 0.0, asymmetry = 0.0;
+  void visit(const double* x, const double* y, Eigen::Index count) {
+    for (Eigen::Index i = 0; i < count; ++i) {
+      poison += (x[i] - x[i]) + (y[i] - y[i]);
+      smallest = std::min(smallest, std::min(x[i], y[i]));
+      largest = std::max(largest, std::abs(x[i]));
+      asymmetry = std::max(asymmetry, std::abs(x[i] - y[i]));
+    }
+  }
+  void finish(bool& finite, double& small, double& large, double& asym) const {
+    finite = poison == 0.0;
+    small = std::min(small, smallest);
+    large = std::max(large, largest);
+    asym = std::max(asym, asymmetry);
+  }
+#endif
+};
+
 // D must be a distance matrix: square, finite, ≥ 0, zero diagonal, symmetric (to 1e-10 of its
 // largest entry).
 void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress& progress) {
@@ -113,43 +183,39 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
   };
   std::vector<TileStats> stats(static_cast<std::size_t>(tiles));
   // The per-entry work is one fused loop over the lower tile and a transposed copy of its mirror
-  // (both contiguous), with kLanes independent partial results per statistic; x − x is 0 for a
-  // finite x and NaN otherwise, so `poison` stays 0 exactly when every entry is finite.
-  constexpr int kLanes = 4;
+  // (both contiguous), with independent partial results per statistic; x − x is 0 for a finite x
+  // and NaN otherwise, so `poison` stays 0 exactly when every entry is finite. (Minima and maxima
+  // do not depend on the order they are taken in, so the lanes change no result.) The mirror is
+  // copied column by column of D (contiguous reads, strided writes into the cache-resident
+  // buffer), and the next tile's columns are prefetched while this one is reduced: D is too
+  // large for the cache above a few thousand frames, and a tile reads 2·64 runs of 512 bytes
+  // 64 KB apart (at 8000 frames), which the hardware prefetchers do not follow.
   parallel_chunks(
       tiles,
       [&](int t, int) {
         TileStats& s = stats[t];
         const Eigen::Index c0 = Eigen::Index(t) * kTile, w = std::min<Eigen::Index>(kTile, n - c0);
-        Eigen::Matrix<double, kTile, kTile> mirror;
-        double poison[kLanes] = {}, smallest[kLanes] = {}, largest[kLanes] = {},
-               asymmetry[kLanes] = {};
-        auto visit = [&](int l, double x, double y) {
-          poison[l] += (x - x) + (y - y);
-          smallest[l] = std::min(smallest[l], std::min(x, y));
-          largest[l] = std::max(largest[l], std::abs(x));
-          asymmetry[l] = std::max(asymmetry[l], std::abs(x - y));
+        alignas(16) double mirror[kTile * kTile];  // mirror[c·kTile + r] = D(c0 + c, r0 + r)
+        Lanes lanes;
+        auto prefetch = [&](Eigen::Index r0) {
+          if (r0 >= n) return;
+          const Eigen::Index h = std::min<Eigen::Index>(kTile, n - r0);
+          for (Eigen::Index c = 0; c < w; ++c) prefetch_run(&D(r0, c0 + c), h);
+          for (Eigen::Index r = 0; r < h; ++r) prefetch_run(&D(c0, r0 + r), w);
         };
+        prefetch(c0);
         for (Eigen::Index r0 = c0; r0 < n; r0 += kTile) {
           const Eigen::Index h = std::min<Eigen::Index>(kTile, n - r0);
-          mirror.topLeftCorner(h, w) = D.block(c0, r0, w, h).transpose();
+          prefetch(r0 + kTile);
+          for (Eigen::Index r = 0; r < h; ++r) {
+            const double* from = &D(c0, r0 + r);
+            for (Eigen::Index c = 0; c < w; ++c) mirror[c * kTile + r] = from[c];
+          }
           for (Eigen::Index c = 0; c < w; ++c) {
-            const double* x = D.col(c0 + c).data() + r0;
-            const double* y = mirror.col(c).data();
-            Eigen::Index r = 0;
-            for (; r + kLanes <= h; r += kLanes) {
-              for (int l = 0; l < kLanes; ++l) visit(l, x[r + l], y[r + l]);
-            }
-            for (; r < h; ++r) visit(0, x[r], y[r]);
+            lanes.visit(D.col(c0 + c).data() + r0, mirror + c * kTile, h);
           }
         }
-        s.finite = true;
-        for (int l = 0; l < kLanes; ++l) {
-          s.finite = s.finite && poison[l] == 0.0;
-          s.smallest = std::min(s.smallest, smallest[l]);
-          s.largest = std::max(s.largest, largest[l]);
-          s.asymmetry = std::max(s.asymmetry, asymmetry[l]);
-        }
+        lanes.finish(s.finite, s.smallest, s.largest, s.asymmetry);
         s.diagonal = D.diagonal().segment(c0, w).cwiseAbs().maxCoeff() != 0.0;
       },
       [&](int done) { progress.update(double(done) / tiles); });

@@ -96,12 +96,6 @@ void check_points(const RowMatrix& P, std::string_view method) {
   }
 }
 
-// Touches the cache lines of `count` doubles from `p` ahead of use.
-void prefetch_run(const double* p, Eigen::Index count) {
-  for (Eigen::Index i = 0; i < count; i += 8) __builtin_prefetch(p + i);
-  __builtin_prefetch(p + count - 1);
-}
-
 // check_distances' statistics of entry pairs (x, y) = (D_rc, D_cr): whether all are finite (the
 // sum of x − x and y − y, 0 exactly when they are), the smallest of x and y, the largest |x|, the
 // largest |x − y|; in independent lanes, which change nothing (minima and maxima are exact).
@@ -111,15 +105,22 @@ struct Lanes {
           smallest[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
           largest[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
           asymmetry[2] = {_mm_setzero_pd(), _mm_setzero_pd()};
-  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+  const __m128d sign_off = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
   void pair(int l, __m128d x, __m128d y) {
     poison[l] = _mm_add_pd(poison[l], _mm_add_pd(_mm_sub_pd(x, x), _mm_sub_pd(y, y)));
     smallest[l] = _mm_min_pd(smallest[l], _mm_min_pd(x, y));
-    largest[l] = _mm_max_pd(largest[l], _mm_and_pd(x, magnitude));
-    asymmetry[l] = _mm_max_pd(asymmetry[l], _mm_and_pd(_mm_sub_pd(x, y), magnitude));
+    largest[l] = _mm_max_pd(largest[l], _mm_and_pd(x, sign_off));
+    asymmetry[l] = _mm_max_pd(asymmetry[l], _mm_and_pd(_mm_sub_pd(x, y), sign_off));
   }
-  // x: any alignment; y: 16-byte aligned.
-  void visit(const double* x, const double* y, Eigen::Index count) {
+  // x: any alignment; y: 16-byte aligned. `magnitude`: whether |x| counts for the largest.
+  void visit(const double* x, const double* y, Eigen::Index count, bool magnitude) {
+    if (!magnitude) {
+      const __m128d keep[2] = {largest[0], largest[1]};
+      visit(x, y, count, true);
+      largest[0] = keep[0];
+      largest[1] = keep[1];
+      return;
+    }
     Eigen::Index i = 0;
     for (; i + 4 <= count; i += 4) {
       pair(0, _mm_loadu_pd(x + i), _mm_load_pd(y + i));
@@ -145,11 +146,11 @@ struct Lanes {
   }
 #else
   double poison = 0.0, smallest = 0.0, largest = 0.0, asymmetry = 0.0;
-  void visit(const double* x, const double* y, Eigen::Index count) {
+  void visit(const double* x, const double* y, Eigen::Index count, bool magnitude) {
     for (Eigen::Index i = 0; i < count; ++i) {
       poison += (x[i] - x[i]) + (y[i] - y[i]);
       smallest = std::min(smallest, std::min(x[i], y[i]));
-      largest = std::max(largest, std::abs(x[i]));
+      if (magnitude) largest = std::max(largest, std::abs(x[i]));
       asymmetry = std::max(asymmetry, std::abs(x[i] - y[i]));
     }
   }
@@ -171,11 +172,12 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
                          std::to_string(D.cols()) + "; expected #frames by #frames with ≥ 1 frame");
   }
   const Eigen::Index n = D.rows();
-  // One pass over 64 by 64 tiles of the lower triangle and their mirrors (both fit in cache),
-  // reduced without branches per tile: finiteness, smallest entry, largest magnitude, largest
-  // asymmetry, non-zero diagonal.
-  constexpr int kTile = 64;
-  const int tiles = static_cast<int>((n + kTile - 1) / kTile);
+  // One pass over the lower triangle in panels of kPanel columns, a kPanel by kPanel tile at a
+  // time, each with its mirror, reduced without branches per tile: finiteness, smallest entry,
+  // largest magnitude (of the entries on or below the diagonal 64 by 64 blocks, as it has always
+  // been), largest asymmetry, non-zero diagonal.
+  constexpr int kPanel = 256, kBlock = 64;
+  const int tiles = static_cast<int>((n + kPanel - 1) / kPanel);
   struct TileStats {
     bool finite = true;
     double smallest = 0.0, largest = 0.0, asymmetry = 0.0;
@@ -185,34 +187,35 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
   // The per-entry work is one fused loop over the lower tile and a transposed copy of its mirror
   // (both contiguous), with independent partial results per statistic; x − x is 0 for a finite x
   // and NaN otherwise, so `poison` stays 0 exactly when every entry is finite. (Minima and maxima
-  // do not depend on the order they are taken in, so the lanes change no result.) The mirror is
-  // copied column by column of D (contiguous reads, strided writes into the cache-resident
-  // buffer), and the next tile's columns are prefetched while this one is reduced: D is too
-  // large for the cache above a few thousand frames, and a tile reads 2·64 runs of 512 bytes
-  // 64 KB apart (at 8000 frames), which the hardware prefetchers do not follow.
+  // do not depend on the order they are taken in, so the lanes change no result.) D is too large
+  // for the caches above a few thousand frames: tiles of 256 rows read runs of 2 KB, which the
+  // hardware prefetchers follow (64-row tiles read runs of 512 bytes, 64 KB apart at 8000 frames,
+  // and waited on memory), and the mirror is copied 8 columns of D at a time (contiguous reads,
+  // whole cache lines written).
   parallel_chunks(
       tiles,
       [&](int t, int) {
         TileStats& s = stats[t];
-        const Eigen::Index c0 = Eigen::Index(t) * kTile, w = std::min<Eigen::Index>(kTile, n - c0);
-        alignas(16) double mirror[kTile * kTile];  // mirror[c·kTile + r] = D(c0 + c, r0 + r)
+        const Eigen::Index c0 = Eigen::Index(t) * kPanel;
+        const Eigen::Index w = std::min<Eigen::Index>(kPanel, n - c0);
+        std::vector<double> buffer(std::size_t(kPanel) * kPanel);
+        double* mirror = buffer.data();  // mirror[c·kPanel + r] = D(c0 + c, r0 + r)
         Lanes lanes;
-        auto prefetch = [&](Eigen::Index r0) {
-          if (r0 >= n) return;
-          const Eigen::Index h = std::min<Eigen::Index>(kTile, n - r0);
-          for (Eigen::Index c = 0; c < w; ++c) prefetch_run(&D(r0, c0 + c), h);
-          for (Eigen::Index r = 0; r < h; ++r) prefetch_run(&D(c0, r0 + r), w);
-        };
-        prefetch(c0);
-        for (Eigen::Index r0 = c0; r0 < n; r0 += kTile) {
-          const Eigen::Index h = std::min<Eigen::Index>(kTile, n - r0);
-          prefetch(r0 + kTile);
-          for (Eigen::Index r = 0; r < h; ++r) {
-            const double* from = &D(c0, r0 + r);
-            for (Eigen::Index c = 0; c < w; ++c) mirror[c * kTile + r] = from[c];
+        for (Eigen::Index r0 = c0; r0 < n; r0 += kPanel) {
+          const Eigen::Index h = std::min<Eigen::Index>(kPanel, n - r0);
+          for (Eigen::Index r = 0; r < h; r += 8) {
+            const Eigen::Index q = std::min<Eigen::Index>(8, h - r);
+            for (Eigen::Index c = 0; c < w; ++c) {
+              for (Eigen::Index k = 0; k < q; ++k) mirror[c * kPanel + r + k] = D(c0 + c, r0 + r + k);
+            }
           }
           for (Eigen::Index c = 0; c < w; ++c) {
-            lanes.visit(D.col(c0 + c).data() + r0, mirror + c * kTile, h);
+            // In the diagonal tile, the rows above column c's 64-block count for all but the
+            // largest magnitude.
+            const Eigen::Index above = r0 == c0 ? (c / kBlock) * kBlock : 0;
+            const double* x = D.col(c0 + c).data() + r0;
+            if (above > 0) lanes.visit(x, mirror + c * kPanel, above, false);
+            lanes.visit(x + above, mirror + c * kPanel + above, h - above, true);
           }
         }
         lanes.finish(s.finite, s.smallest, s.largest, s.asymmetry);

@@ -206,7 +206,8 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
           for (Eigen::Index r = 0; r < h; r += 8) {
             const Eigen::Index q = std::min<Eigen::Index>(8, h - r);
             for (Eigen::Index c = 0; c < w; ++c) {
-              for (Eigen::Index k = 0; k < q; ++k) mirror[c * kPanel + r + k] = D(c0 + c, r0 + r + k);
+              for (Eigen::Index k = 0; k < q; ++k)
+                mirror[c * kPanel + r + k] = D(c0 + c, r0 + r + k);
             }
           }
           for (Eigen::Index c = 0; c < w; ++c) {

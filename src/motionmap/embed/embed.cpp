@@ -5,6 +5,10 @@
 #include <cstdio>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
@@ -92,6 +96,73 @@ void check_points(const RowMatrix& P, std::string_view method) {
   }
 }
 
+// check_distances' statistics of entry pairs (x, y) = (D_rc, D_cr): whether all are finite (the
+// sum of x − x and y − y, 0 exactly when they are), the smallest of x and y, the largest |x|, the
+// largest |x − y|; in independent lanes, which change nothing (minima and maxima are exact).
+struct Lanes {
+#if defined(__SSE2__)
+  __m128d poison[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
+          smallest[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
+          largest[2] = {_mm_setzero_pd(), _mm_setzero_pd()},
+          asymmetry[2] = {_mm_setzero_pd(), _mm_setzero_pd()};
+  const __m128d sign_off = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+  void pair(int l, __m128d x, __m128d y) {
+    poison[l] = _mm_add_pd(poison[l], _mm_add_pd(_mm_sub_pd(x, x), _mm_sub_pd(y, y)));
+    smallest[l] = _mm_min_pd(smallest[l], _mm_min_pd(x, y));
+    largest[l] = _mm_max_pd(largest[l], _mm_and_pd(x, sign_off));
+    asymmetry[l] = _mm_max_pd(asymmetry[l], _mm_and_pd(_mm_sub_pd(x, y), sign_off));
+  }
+  // x: any alignment; y: 16-byte aligned. `magnitude`: whether |x| counts for the largest.
+  void visit(const double* x, const double* y, Eigen::Index count, bool magnitude) {
+    if (!magnitude) {
+      const __m128d keep[2] = {largest[0], largest[1]};
+      visit(x, y, count, true);
+      largest[0] = keep[0];
+      largest[1] = keep[1];
+      return;
+    }
+    Eigen::Index i = 0;
+    for (; i + 4 <= count; i += 4) {
+      pair(0, _mm_loadu_pd(x + i), _mm_load_pd(y + i));
+      pair(1, _mm_loadu_pd(x + i + 2), _mm_load_pd(y + i + 2));
+    }
+    for (; i < count; ++i) pair(0, _mm_set1_pd(x[i]), _mm_set1_pd(y[i]));
+  }
+  void finish(bool& finite, double& small, double& large, double& asym) const {
+    alignas(16) double v[4][4];
+    for (int l = 0; l < 2; ++l) {
+      _mm_store_pd(v[0] + 2 * l, poison[l]);
+      _mm_store_pd(v[1] + 2 * l, smallest[l]);
+      _mm_store_pd(v[2] + 2 * l, largest[l]);
+      _mm_store_pd(v[3] + 2 * l, asymmetry[l]);
+    }
+    finite = true;
+    for (int l = 0; l < 4; ++l) {
+      finite = finite && v[0][l] == 0.0;
+      small = std::min(small, v[1][l]);
+      large = std::max(large, v[2][l]);
+      asym = std::max(asym, v[3][l]);
+    }
+  }
+#else
+  double poison = 0.0, smallest = 0.0, largest = 0.0, asymmetry = 0.0;
+  void visit(const double* x, const double* y, Eigen::Index count, bool magnitude) {
+    for (Eigen::Index i = 0; i < count; ++i) {
+      poison += (x[i] - x[i]) + (y[i] - y[i]);
+      smallest = std::min(smallest, std::min(x[i], y[i]));
+      if (magnitude) largest = std::max(largest, std::abs(x[i]));
+      asymmetry = std::max(asymmetry, std::abs(x[i] - y[i]));
+    }
+  }
+  void finish(bool& finite, double& small, double& large, double& asym) const {
+    finite = poison == 0.0;
+    small = std::min(small, smallest);
+    large = std::max(large, largest);
+    asym = std::max(asym, asymmetry);
+  }
+#endif
+};
+
 // D must be a distance matrix: square, finite, ≥ 0, zero diagonal, symmetric (to 1e-10 of its
 // largest entry).
 void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress& progress) {
@@ -101,11 +172,12 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
                          std::to_string(D.cols()) + "; expected #frames by #frames with ≥ 1 frame");
   }
   const Eigen::Index n = D.rows();
-  // One pass over 64 by 64 tiles of the lower triangle and their mirrors (both fit in cache),
-  // reduced without branches per tile: finiteness, smallest entry, largest magnitude, largest
-  // asymmetry, non-zero diagonal.
-  constexpr int kTile = 64;
-  const int tiles = static_cast<int>((n + kTile - 1) / kTile);
+  // One pass over the lower triangle in panels of kPanel columns, a kPanel by kPanel tile at a
+  // time, each with its mirror, reduced without branches per tile: finiteness, smallest entry,
+  // largest magnitude (of the entries on or below the diagonal 64 by 64 blocks, as it has always
+  // been), largest asymmetry, non-zero diagonal.
+  constexpr int kPanel = 256, kBlock = 64;
+  const int tiles = static_cast<int>((n + kPanel - 1) / kPanel);
   struct TileStats {
     bool finite = true;
     double smallest = 0.0, largest = 0.0, asymmetry = 0.0;
@@ -113,43 +185,41 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
   };
   std::vector<TileStats> stats(static_cast<std::size_t>(tiles));
   // The per-entry work is one fused loop over the lower tile and a transposed copy of its mirror
-  // (both contiguous), with kLanes independent partial results per statistic; x − x is 0 for a
-  // finite x and NaN otherwise, so `poison` stays 0 exactly when every entry is finite.
-  constexpr int kLanes = 4;
+  // (both contiguous), with independent partial results per statistic; x − x is 0 for a finite x
+  // and NaN otherwise, so `poison` stays 0 exactly when every entry is finite. (Minima and maxima
+  // do not depend on the order they are taken in, so the lanes change no result.) D is too large
+  // for the caches above a few thousand frames: tiles of 256 rows read runs of 2 KB, which the
+  // hardware prefetchers follow (64-row tiles read runs of 512 bytes, 64 KB apart at 8000 frames,
+  // and waited on memory), and the mirror is copied 8 columns of D at a time (contiguous reads,
+  // whole cache lines written).
   parallel_chunks(
       tiles,
       [&](int t, int) {
         TileStats& s = stats[t];
-        const Eigen::Index c0 = Eigen::Index(t) * kTile, w = std::min<Eigen::Index>(kTile, n - c0);
-        Eigen::Matrix<double, kTile, kTile> mirror;
-        double poison[kLanes] = {}, smallest[kLanes] = {}, largest[kLanes] = {},
-               asymmetry[kLanes] = {};
-        auto visit = [&](int l, double x, double y) {
-          poison[l] += (x - x) + (y - y);
-          smallest[l] = std::min(smallest[l], std::min(x, y));
-          largest[l] = std::max(largest[l], std::abs(x));
-          asymmetry[l] = std::max(asymmetry[l], std::abs(x - y));
-        };
-        for (Eigen::Index r0 = c0; r0 < n; r0 += kTile) {
-          const Eigen::Index h = std::min<Eigen::Index>(kTile, n - r0);
-          mirror.topLeftCorner(h, w) = D.block(c0, r0, w, h).transpose();
-          for (Eigen::Index c = 0; c < w; ++c) {
-            const double* x = D.col(c0 + c).data() + r0;
-            const double* y = mirror.col(c).data();
-            Eigen::Index r = 0;
-            for (; r + kLanes <= h; r += kLanes) {
-              for (int l = 0; l < kLanes; ++l) visit(l, x[r + l], y[r + l]);
+        const Eigen::Index c0 = Eigen::Index(t) * kPanel;
+        const Eigen::Index w = std::min<Eigen::Index>(kPanel, n - c0);
+        std::vector<double> buffer(std::size_t(kPanel) * kPanel);
+        double* mirror = buffer.data();  // mirror[c·kPanel + r] = D(c0 + c, r0 + r)
+        Lanes lanes;
+        for (Eigen::Index r0 = c0; r0 < n; r0 += kPanel) {
+          const Eigen::Index h = std::min<Eigen::Index>(kPanel, n - r0);
+          for (Eigen::Index r = 0; r < h; r += 8) {
+            const Eigen::Index q = std::min<Eigen::Index>(8, h - r);
+            for (Eigen::Index c = 0; c < w; ++c) {
+              for (Eigen::Index k = 0; k < q; ++k)
+                mirror[c * kPanel + r + k] = D(c0 + c, r0 + r + k);
             }
-            for (; r < h; ++r) visit(0, x[r], y[r]);
+          }
+          for (Eigen::Index c = 0; c < w; ++c) {
+            // In the diagonal tile, the rows above column c's 64-block count for all but the
+            // largest magnitude.
+            const Eigen::Index above = r0 == c0 ? (c / kBlock) * kBlock : 0;
+            const double* x = D.col(c0 + c).data() + r0;
+            if (above > 0) lanes.visit(x, mirror + c * kPanel, above, false);
+            lanes.visit(x + above, mirror + c * kPanel + above, h - above, true);
           }
         }
-        s.finite = true;
-        for (int l = 0; l < kLanes; ++l) {
-          s.finite = s.finite && poison[l] == 0.0;
-          s.smallest = std::min(s.smallest, smallest[l]);
-          s.largest = std::max(s.largest, largest[l]);
-          s.asymmetry = std::max(s.asymmetry, asymmetry[l]);
-        }
+        lanes.finish(s.finite, s.smallest, s.largest, s.asymmetry);
         s.diagonal = D.diagonal().segment(c0, w).cwiseAbs().maxCoeff() != 0.0;
       },
       [&](int done) { progress.update(double(done) / tiles); });

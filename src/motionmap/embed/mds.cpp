@@ -25,6 +25,63 @@ constexpr int kProductChunks = 16;
 // Below this many frames a product is too quick to be worth starting threads for.
 constexpr int kParallelFrames = 1500;
 
+// One column of the lower triangle in one pass: p[i] += uj·t[i]² for i < m, and the return value
+// Σ t[i]²·u[i], summed exactly as Eigen sums (t.square() * u).sum() with 2-double packets (its
+// vectorised reduction: two packet accumulators over blocks of 4, a last packet, the packet's two
+// lanes, then the odd element), so the products, and so the maps, stay those of the two-pass
+// Eigen expression it replaces while T is read once, not twice.
+double column_product(const double* t, const double* u, double uj, double* p, Eigen::Index m) {
+  if (m < 2) {
+    const double s = t[0] * t[0];
+    p[0] += uj * s;
+    return s * u[0];
+  }
+  const Eigen::Index packets = m & ~Eigen::Index(1), blocks = m & ~Eigen::Index(3);
+  double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
+  Eigen::Index i = 0;
+  if (packets > 2) {
+    // The first block starts the accumulators (Eigen loads it; 0 + x would equal x anyway).
+    const double s0 = t[0] * t[0], s1 = t[1] * t[1], s2 = t[2] * t[2], s3 = t[3] * t[3];
+    p[0] += uj * s0;
+    p[1] += uj * s1;
+    p[2] += uj * s2;
+    p[3] += uj * s3;
+    a0 = s0 * u[0];
+    a1 = s1 * u[1];
+    a2 = s2 * u[2];
+    a3 = s3 * u[3];
+    for (i = 4; i < blocks; i += 4) {
+      const double s0 = t[i] * t[i], s1 = t[i + 1] * t[i + 1], s2 = t[i + 2] * t[i + 2],
+                   s3 = t[i + 3] * t[i + 3];
+      p[i] += uj * s0;
+      p[i + 1] += uj * s1;
+      p[i + 2] += uj * s2;
+      p[i + 3] += uj * s3;
+      a0 += s0 * u[i];
+      a1 += s1 * u[i + 1];
+      a2 += s2 * u[i + 2];
+      a3 += s3 * u[i + 3];
+    }
+    a0 += a2;
+    a1 += a3;
+  }
+  if (packets > i) {  // the last whole packet (or, for m < 4, the only one)
+    const double s0 = t[i] * t[i], s1 = t[i + 1] * t[i + 1];
+    p[i] += uj * s0;
+    p[i + 1] += uj * s1;
+    a0 = i == 0 ? s0 * u[i] : a0 + s0 * u[i];
+    a1 = i == 0 ? s1 * u[i + 1] : a1 + s1 * u[i + 1];
+    i += 2;
+  }
+  double sum = a0 + a1;
+  if (i < m) {
+    const double s = t[i] * t[i];
+    p[i] += uj * s;
+    sum += s * u[i];
+  }
+  return sum;
+}
+
 // y = B·x = −½·J·S·J·x with S_ij = T_ij² read from T's lower triangle, without forming S or B:
 // one pass over the lower triangle per product (the product is memory-bound, squaring on the
 // fly is free), split into column chunks of equal area with a partial sum each.
@@ -56,9 +113,8 @@ class DoubleCentredProduct {
           for (Eigen::Index j = m_bounds[c]; j < m_bounds[c + 1]; ++j) {
             const Eigen::Index m = m_n - 1 - j;
             if (m == 0) continue;
-            const auto s = m_T.col(j).tail(m).array().square();
-            part.tail(m).array() += m_u[j] * s;
-            part[j] += (s * m_u.tail(m).array()).sum();
+            part[j] += column_product(m_T.col(j).data() + j + 1, m_u.data() + j + 1, m_u[j],
+                                      part.data() + j + 1, m);
           }
         },
         {}, m_n < kParallelFrames);
@@ -76,6 +132,54 @@ class DoubleCentredProduct {
   std::vector<Eigen::VectorXd> m_partial;
   Eigen::VectorXd m_u;
 };
+
+// Σⱼ T_xj² for every frame x over the lower triangle (j ≠ x), each summed from 0 in one fixed
+// order: row x left to right, then column x top to bottom (the order of a serial pass over the
+// columns, which this replaces). In two parallel passes: the rows' parts a block of rows at a
+// time, column by column (contiguous runs, every row's sum still left to right), then the
+// columns' parts kColumns columns at a time, whose sums (each a chain of dependent additions)
+// advance together.
+Eigen::VectorXd squared_sums(const Eigen::MatrixXd& T) {
+  constexpr Eigen::Index kRows = 256, kColumns = 8;
+  const Eigen::Index n = T.rows();
+  Eigen::VectorXd sums = Eigen::VectorXd::Zero(n);
+  double* acc = sums.data();
+  const bool serial = n < kParallelFrames;
+  parallel_chunks(
+      static_cast<int>((n + kRows - 1) / kRows),
+      [&](int b, int) {
+        const Eigen::Index r0 = b * kRows, r1 = std::min(n, r0 + kRows);
+        for (Eigen::Index j = 0; j + 1 < r1; ++j) {
+          const double* t = T.col(j).data();
+          for (Eigen::Index i = std::max(r0, j + 1); i < r1; ++i) acc[i] += t[i] * t[i];
+        }
+      },
+      {}, serial);
+  parallel_chunks(
+      static_cast<int>((n + kColumns - 1) / kColumns),
+      [&](int b, int) {
+        const Eigen::Index c0 = b * kColumns, c1 = std::min(n, c0 + kColumns);
+        double s[kColumns];
+        const double* t[kColumns];
+        for (Eigen::Index c = c0; c < c1; ++c) {
+          s[c - c0] = acc[c];
+          t[c - c0] = T.col(c).data();
+          for (Eigen::Index i = c + 1; i < c1; ++i) s[c - c0] += t[c - c0][i] * t[c - c0][i];
+        }
+        if (c1 - c0 == kColumns) {
+          for (Eigen::Index i = c1; i < n; ++i) {
+            for (Eigen::Index q = 0; q < kColumns; ++q) s[q] += t[q][i] * t[q][i];
+          }
+        } else {
+          for (Eigen::Index q = 0; q < c1 - c0; ++q) {
+            for (Eigen::Index i = c1; i < n; ++i) s[q] += t[q][i] * t[q][i];
+          }
+        }
+        for (Eigen::Index c = c0; c < c1; ++c) acc[c] = s[c - c0];
+      },
+      {}, serial);
+  return sums;
+}
 
 }  // namespace
 
@@ -143,14 +247,7 @@ void classical_mds(const Eigen::MatrixXd& T, const EmbedOptions& options, Embedd
                                 ? (out.coordinates.col(a) / top.values[a]).transpose().eval()
                                 : Eigen::RowVectorXd::Zero(n).eval();
   }
-  all.mean_squared = Eigen::VectorXd::Zero(n);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    for (Eigen::Index i = j + 1; i < n; ++i) {
-      const double s = T(i, j) * T(i, j);
-      all.mean_squared[i] += s;
-      all.mean_squared[j] += s;
-    }
-  }
+  all.mean_squared = squared_sums(T);
   all.mean_squared /= double(n);
   all.offset = Eigen::VectorXd::Zero(dims);
   out.landmarks = std::move(all);

@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "motionmap/core/error.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/core/stats.h"
@@ -16,6 +20,52 @@ namespace motionmap::embed {
 namespace {
 
 constexpr int kRowsPerChunk = 64;
+
+// Σ term(i) over i < m for K terms at once, each summed exactly as Eigen sums a vectorised
+// expression of m doubles with 2-double packets: two packet accumulators over blocks of 4
+// elements, then the last whole packet, then the packet's two lanes, then the odd element. One
+// pass gives what K separate .sum() calls over K temporary arrays gave, bit for bit.
+// pair(i, v) writes the K terms of elements i and i + 1 as packets, one(i, v) those of element i.
+#if defined(__SSE2__)
+template <int K, class Pair, class One>
+void packet_sums(Eigen::Index m, const Pair& pair, const One& one, double* out) {
+  if (m < 2) {
+    one(0, out);
+    return;
+  }
+  const Eigen::Index packets = m & ~Eigen::Index(1), blocks = m & ~Eigen::Index(3);
+  __m128d a[K], b[K], v[K];
+  Eigen::Index i = 0;
+  pair(0, a);
+  if (packets > 2) {
+    pair(2, b);
+    for (i = 4; i < blocks; i += 4) {
+      pair(i, v);
+      for (int k = 0; k < K; ++k) a[k] = _mm_add_pd(a[k], v[k]);
+      pair(i + 2, v);
+      for (int k = 0; k < K; ++k) b[k] = _mm_add_pd(b[k], v[k]);
+    }
+    for (int k = 0; k < K; ++k) a[k] = _mm_add_pd(a[k], b[k]);
+    if (packets > i) {
+      pair(i, v);
+      for (int k = 0; k < K; ++k) a[k] = _mm_add_pd(a[k], v[k]);
+      i += 2;
+    }
+  } else {
+    i = 2;
+  }
+  for (int k = 0; k < K; ++k) {
+    alignas(16) double lanes[2];
+    _mm_store_pd(lanes, a[k]);
+    out[k] = lanes[0] + lanes[1];
+  }
+  if (i < m) {
+    double last[K];
+    one(i, last);
+    for (int k = 0; k < K; ++k) out[k] += last[k];
+  }
+}
+#endif
 
 void check_pair(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y, const char* what) {
   if (T.rows() != T.cols() || T.rows() != Y.rows()) {
@@ -121,24 +171,82 @@ double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y,
     parallel_chunks(
         chunks,
         [&](int c, int) {
-          Eigen::ArrayXd e;
+          const Eigen::Index dims = Y.cols();
+          const double* y = Y.data();
+          const Eigen::Index ld = Y.rows();
           const int end = std::min(n, (c + 1) * kRowsPerChunk);
           for (int j = c * kRowsPerChunk; j < end; ++j) {
             const Eigen::Index m = n - 1 - j;
             if (m == 0) continue;
-            e.setZero(m);
-            for (Eigen::Index a = 0; a < Y.cols(); ++a) {
-              e += (Y.col(a).tail(m).array() - Y(j, a)).square();
-            }
-            e = e.sqrt();
-            const auto t = T.col(j).tail(m).array();
+            const double* t = T.col(j).data() + j + 1;
+            // e_i: the map distance of the pair (j + 1 + i, j), as ((0 + d₀²) + d₁²)…, then √.
+            auto map_distance = [&](Eigen::Index i) {
+              double e = 0.0;
+              for (Eigen::Index a = 0; a < dims; ++a) {
+                const double d = y[a * ld + j + 1 + i] - y[a * ld + j];
+                e += d * d;
+              }
+              return std::sqrt(e);
+            };
+#if defined(__SSE2__)
+            auto map_distances = [&](Eigen::Index i) {
+              __m128d e = _mm_setzero_pd();
+              for (Eigen::Index a = 0; a < dims; ++a) {
+                const __m128d d =
+                    _mm_sub_pd(_mm_loadu_pd(y + a * ld + j + 1 + i), _mm_set1_pd(y[a * ld + j]));
+                e = _mm_add_pd(e, _mm_mul_pd(d, d));
+              }
+              return _mm_sqrt_pd(e);
+            };
             if (residual) {
-              rr[c] += (t - s * e).square().sum();
+              const __m128d sp = _mm_set1_pd(s);
+              double sum[1];
+              packet_sums<1>(
+                  m,
+                  [&](Eigen::Index i, __m128d* v) {
+                    const __m128d r =
+                        _mm_sub_pd(_mm_loadu_pd(t + i), _mm_mul_pd(sp, map_distances(i)));
+                    v[0] = _mm_mul_pd(r, r);
+                  },
+                  [&](Eigen::Index i, double* v) {
+                    const double r = t[i] - s * map_distance(i);
+                    v[0] = r * r;
+                  },
+                  sum);
+              rr[c] += sum[0];
             } else {
-              tt[c] += t.square().sum();
-              te[c] += (t * e).sum();
+              double sum[3];
+              packet_sums<3>(
+                  m,
+                  [&](Eigen::Index i, __m128d* v) {
+                    const __m128d e = map_distances(i), ti = _mm_loadu_pd(t + i);
+                    v[0] = _mm_mul_pd(ti, ti);
+                    v[1] = _mm_mul_pd(ti, e);
+                    v[2] = _mm_mul_pd(e, e);
+                  },
+                  [&](Eigen::Index i, double* v) {
+                    const double e = map_distance(i);
+                    v[0] = t[i] * t[i];
+                    v[1] = t[i] * e;
+                    v[2] = e * e;
+                  },
+                  sum);
+              tt[c] += sum[0];
+              te[c] += sum[1];
+              ee[c] += sum[2];
+            }
+#else
+            const auto tv = Eigen::Map<const Eigen::ArrayXd>(t, m);
+            Eigen::ArrayXd e(m);
+            for (Eigen::Index i = 0; i < m; ++i) e[i] = map_distance(i);
+            if (residual) {
+              rr[c] += (tv - s * e).square().sum();
+            } else {
+              tt[c] += tv.square().sum();
+              te[c] += (tv * e).sum();
               ee[c] += e.square().sum();
             }
+#endif
           }
         },
         [&](int done) { control.update((residual ? 0.5 : 0.0) + 0.5 * double(done) / chunks); });

@@ -4,6 +4,10 @@
 #include <limits>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "motionmap/core/error.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/methods.h"
@@ -39,8 +43,29 @@ void k_nearest(const double* values, int n, int self, int k, int* index, double*
   for (int j = lo; j < hi; ++j) {
     if (j != self) offer(j);
   }
-  for (int j = 0; j < lo; ++j) offer(j);
-  for (int j = hi; j < n; ++j) offer(j);
+  // Then the rest, skipping four candidates at a time while all are beyond the current k-th
+  // (offer would reject each; the k-th only ever decreases): the same offers in the same order.
+  auto scan = [&](int from, int to) {
+    int j = from;
+    while (j < to && size < k) offer(j++);
+    for (; j + 4 <= to; j += 4) {
+#if defined(__SSE2__)
+      const __m128d kth = _mm_set1_pd(nearest[k - 1]);
+      const int beyond = _mm_movemask_pd(_mm_cmpgt_pd(_mm_loadu_pd(values + j), kth)) &
+                         _mm_movemask_pd(_mm_cmpgt_pd(_mm_loadu_pd(values + j + 2), kth));
+      if (beyond == 3) continue;
+#else
+      const double kth = nearest[k - 1];
+      if (values[j] > kth && values[j + 1] > kth && values[j + 2] > kth && values[j + 3] > kth) {
+        continue;
+      }
+#endif
+      for (int q = 0; q < 4; ++q) offer(j + q);
+    }
+    for (; j < to; ++j) offer(j);
+  };
+  scan(0, lo);
+  scan(hi, n);
 }
 
 NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, const Control& control) {

@@ -94,6 +94,14 @@ def features(clips, features="quat", distance="pointcloud", exclude=None, *, up=
     return out[0] if len(out) == 1 else tuple(out)
 
 
+def _keep_arguments(estimator, arguments):
+    """Stores an __init__'s arguments as attributes of the same names (scikit-learn's
+    convention: get_params reads them back by the signature's names)."""
+    for name, value in arguments.items():
+        if name != "self":
+            setattr(estimator, name, value)
+
+
 class _MapEstimator:
     """What the six estimators share. Parameters are stored by __init__ as given (scikit-learn's
     rule: no validation there); fit validates them, through the library."""
@@ -248,17 +256,7 @@ class PCA(_MapEstimator):
     def __init__(self, n_components=2, *, standardize=False, features="quat",
                  distance="pointcloud", exclude=None, up="y", joints="all", frames=None,
                  stride=1, keep_first=False, path="auto"):
-        self.n_components = n_components
-        self.standardize = standardize
-        self.features = features
-        self.distance = distance
-        self.exclude = exclude
-        self.up = up
-        self.joints = joints
-        self.frames = frames
-        self.stride = stride
-        self.keep_first = keep_first
-        self.path = path
+        _keep_arguments(self, locals())
 
 
 class SVD(_MapEstimator):
@@ -267,16 +265,7 @@ class SVD(_MapEstimator):
 
     def __init__(self, n_components=2, *, features="quat", distance="pointcloud", exclude=None,
                  up="y", joints="all", frames=None, stride=1, keep_first=False, path="auto"):
-        self.n_components = n_components
-        self.features = features
-        self.distance = distance
-        self.exclude = exclude
-        self.up = up
-        self.joints = joints
-        self.frames = frames
-        self.stride = stride
-        self.keep_first = keep_first
-        self.path = path
+        _keep_arguments(self, locals())
 
 
 class MDS(_MapEstimator):
@@ -289,18 +278,7 @@ class MDS(_MapEstimator):
     def __init__(self, n_components=2, *, metric="euclidean", n_landmarks=None,
                  features="quat", distance="pointcloud", exclude=None, up="y", joints="all",
                  frames=None, stride=1, keep_first=False, path="auto"):
-        self.n_components = n_components
-        self.metric = metric
-        self.n_landmarks = n_landmarks
-        self.features = features
-        self.distance = distance
-        self.exclude = exclude
-        self.up = up
-        self.joints = joints
-        self.frames = frames
-        self.stride = stride
-        self.keep_first = keep_first
-        self.path = path
+        _keep_arguments(self, locals())
 
 
 class Isomap(_MapEstimator):
@@ -314,20 +292,7 @@ class Isomap(_MapEstimator):
     def __init__(self, n_neighbors=20, n_components=2, *, metric="euclidean", strict=False,
                  n_landmarks=None, features="quat", distance="pointcloud", exclude=None, up="y",
                  joints="all", frames=None, stride=1, keep_first=False, path="auto"):
-        self.n_neighbors = n_neighbors
-        self.n_components = n_components
-        self.metric = metric
-        self.strict = strict
-        self.n_landmarks = n_landmarks
-        self.features = features
-        self.distance = distance
-        self.exclude = exclude
-        self.up = up
-        self.joints = joints
-        self.frames = frames
-        self.stride = stride
-        self.keep_first = keep_first
-        self.path = path
+        _keep_arguments(self, locals())
 
 
 class LaplacianEigenmap(_MapEstimator):
@@ -341,20 +306,7 @@ class LaplacianEigenmap(_MapEstimator):
     def __init__(self, n_neighbors=20, n_components=2, *, heat=None, metric="euclidean",
                  strict=False, features="quat", distance="pointcloud", exclude=None, up="y",
                  joints="all", frames=None, stride=1, keep_first=False, path="auto"):
-        self.n_neighbors = n_neighbors
-        self.n_components = n_components
-        self.heat = heat
-        self.metric = metric
-        self.strict = strict
-        self.features = features
-        self.distance = distance
-        self.exclude = exclude
-        self.up = up
-        self.joints = joints
-        self.frames = frames
-        self.stride = stride
-        self.keep_first = keep_first
-        self.path = path
+        _keep_arguments(self, locals())
 
 
 class LLE(_MapEstimator):
@@ -367,19 +319,7 @@ class LLE(_MapEstimator):
     def __init__(self, n_neighbors=20, n_components=2, *, reg=1e-3, strict=False,
                  features="quat", distance="pointcloud", exclude=None, up="y", joints="all",
                  frames=None, stride=1, keep_first=False, path="auto"):
-        self.n_neighbors = n_neighbors
-        self.n_components = n_components
-        self.reg = reg
-        self.strict = strict
-        self.features = features
-        self.distance = distance
-        self.exclude = exclude
-        self.up = up
-        self.joints = joints
-        self.frames = frames
-        self.stride = stride
-        self.keep_first = keep_first
-        self.path = path
+        _keep_arguments(self, locals())
 
 
 _ESTIMATORS = {cls._method: cls for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE)}

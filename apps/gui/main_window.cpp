@@ -179,12 +179,7 @@ bool MainWindow::openMapFile(const QString& path) {
     m_files->remember(path);
     m_maps.stop();
     m_maps.setClips(nullptr);
-    m_synthesis.stop();
-    m_synthesis.clear();
-    pause();
-    m_unsaved = false;
-    m_playingSynth = false;
-    m_files->exportMotionAction()->setEnabled(false);
+    dropSynthesizedMotion();
     m_files->exportMapAction()->setEnabled(false);
     m_saved = saved;
     m_savedClip.reset();
@@ -228,14 +223,18 @@ bool MainWindow::openFile(const QString& path) {
   });
 }
 
-void MainWindow::openClip(Clip clip) {
-  closeSavedMap();
+void MainWindow::dropSynthesizedMotion() {
   m_synthesis.stop();
   m_synthesis.clear();
   pause();
   m_unsaved = false;
   m_playingSynth = false;
   m_files->exportMotionAction()->setEnabled(false);
+}
+
+void MainWindow::openClip(Clip clip) {
+  closeSavedMap();
+  dropSynthesizedMotion();
   auto clips = std::make_shared<std::vector<Clip>>();
   clips->push_back(std::move(clip));
   m_maps.setClips(std::move(clips));

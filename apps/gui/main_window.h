@@ -202,6 +202,9 @@ class MainWindow : public QMainWindow {
   int m_wantFrame = 0;
   /// Leaves the saved map (another clip opened).
   void closeSavedMap();
+  // Stops playback and any synthesis, and forgets the synthesized motion (for new content; the
+  // caller has asked before discarding an unexported one).
+  void dropSynthesizedMotion();
   SynthesisController m_synthesis;
   Playback m_playback;
   bool m_playingSynth = false;  ///< the synthesized motion plays (else the clip)

@@ -29,7 +29,7 @@ def main():
     parser.add_argument("--path", default="landmarks",
                         help="the map's path: landmarks (placement by the landmark "
                              "triangulation) or auto/dense (a dense Isomap places every frame "
-                             "by Dijkstra over the sample graph, about 25x slower)")
+                             "by Dijkstra over the sample graph, much slower)")
     args = parser.parse_args()
     paths = sorted(glob.glob(os.path.join(args.library, "*.bvh")))
     if args.clips:

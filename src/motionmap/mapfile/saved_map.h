@@ -6,10 +6,11 @@
 // MotionMap Studio opens with File → Open map, and what `motionmap pose/synth --map
 // lib.mmap.h5` blend from. No Qt.
 //
-//   motionmap::mapfile::SavedMap map(motionmap::mapfile::read_map_file("lib.mmap.h5", {.model =
-//   false})); const auto hit = map.index().nearest({0.3, -1.2});        // the sample under a point
+//   using namespace motionmap::mapfile;
+//   SavedMap map(read_map_file("lib.mmap.h5", {.model = false}));
+//   const auto hit = map.index().nearest({0.3, -1.2});  // the sample under a point
 //   std::shared_ptr<const motionmap::Clip> clip = map.clip(map.file().clip_of[hit.sample]);
-//   const auto pose = map.pose_at({0.3, -1.2});                 // blended from the K nearest
+//   const auto pose = map.pose_at({0.3, -1.2});         // blended from the K nearest
 //
 // Clip paths are resolved as `motionmap map` was given them: relative paths against the current
 // folder, and when no file is there, against the map file's folder (a library moved together

@@ -67,10 +67,11 @@ struct ClipMap {
 };
 
 /// Builds the features of `clips` (or takes them from `cache`) and maps them. D is built only
-/// on the dense path, when the method or the metrics read it. Before anything of #frames² or
-/// #frames·L size is allocated, its memory is estimated and compared with what the machine has
-/// available. `control` hears the stages "features", "pose distances", the method's own stages
-/// and "metrics".
+/// on the dense path, when the method or the metrics read it. Without a cache this is
+/// map_features(clip_features(…)): the result's X then has no rows for mds, isomap and le. Before
+/// anything of #frames² or #frames·L size is allocated, its memory is estimated and compared with
+/// what the machine has available. `control` hears the stages "features", "pose distances", the
+/// method's own stages and "metrics".
 /// @throws as build_features() and embed(); ParameterError if metrics are asked for a clip too
 ///   short for metrics_k, or if the map would need more memory than is available (the message
 ///   gives the estimate, what is available and the option that would fit); Cancelled.

@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <mutex>
 #include <sstream>
 
 #include "common.h"
@@ -134,6 +136,22 @@ struct TempFile {
   }
 };
 
+// The nearest-sample search of a fitted map's placement model (embed::make_search), built by the
+// first transform that needs it and kept: placing many clips on one map, as a Dask worker does
+// one clip per task, pays the k-d tree over the samples once (~4 s at 10⁶ samples). Not copyable,
+// as the state it lives in: the search reads that state's model.
+class SearchOnce {
+ public:
+  const embed::SampleSearch* get(const embed::MapModel& model, const Control& control) {
+    std::call_once(m_once, [&] { m_search = embed::make_search(model, control); });
+    return m_search.get();
+  }
+
+ private:
+  std::once_flag m_once;
+  std::unique_ptr<embed::SampleSearch> m_search;
+};
+
 // ---- maps of clips ----------------------------------------------------------------------------
 
 struct ClipMapState {
@@ -145,6 +163,7 @@ struct ClipMapState {
   /// synthesis blends them); a map read back or unpickled loads them again from `paths`.
   std::vector<Clip> clips;
   std::vector<std::string> paths;
+  SearchOnce search;  ///< over file.model's samples
 };
 
 std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict& options,
@@ -282,9 +301,8 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
   });
 }
 
-Eigen::MatrixXd transform_clips(const ClipMapState& s, const py::object& clips,
-                                const py::dict& options, const std::string& asf, double fps,
-                                py::object progress) {
+Eigen::MatrixXd transform_clips(ClipMapState& s, const py::object& clips, const py::dict& options,
+                                const std::string& asf, double fps, py::object progress) {
   const features::FeatureOptions f = feature_options(options);
   mapfile::PlaceOptions place;
   place.first_frame = f.first_frame;
@@ -293,7 +311,9 @@ Eigen::MatrixXd transform_clips(const ClipMapState& s, const py::object& clips,
   place.keep_first = f.keep_first;
   const std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
   return run_released(std::move(progress), [&](const Control& control) {
-    return mapfile::place_clips(loaded, s.file, place, control).coordinates;
+    const embed::SampleSearch* search =
+        s.search.get(s.file.model, control.stage("search", 0.0, 0.3));
+    return mapfile::place_clips(loaded, s.file, place, control.part(0.3, 1.0), search).coordinates;
   });
 }
 
@@ -346,7 +366,8 @@ struct MatrixMapState {
   embed::Embedding embedding;
   bool precomputed = false;  ///< fitted from D: nothing to place new frames with
   embed::MapModel model;
-  int columns = 0;  ///< of X
+  int columns = 0;    ///< of X
+  SearchOnce search;  ///< over model's samples
 };
 
 std::shared_ptr<MatrixMapState> fit_matrix(const InputArray& array, bool precomputed,
@@ -390,8 +411,7 @@ std::shared_ptr<MatrixMapState> fit_matrix(const InputArray& array, bool precomp
   return s;
 }
 
-Eigen::MatrixXd transform_matrix(const MatrixMapState& s, const InputArray& array,
-                                 py::object progress) {
+Eigen::MatrixXd transform_matrix(MatrixMapState& s, const InputArray& array, py::object progress) {
   if (s.precomputed) {
     throw ParameterError(
         "transform: a map fitted from precomputed distances cannot place new frames (it has no "
@@ -404,7 +424,8 @@ Eigen::MatrixXd transform_matrix(const MatrixMapState& s, const InputArray& arra
   }
   return run_released(std::move(progress), [&](const Control& control) {
     const Eigen::MatrixXd X = rows;
-    return embed::place(s.model, {.features = &X, .points = &rows}, control);
+    const embed::SampleSearch* search = s.search.get(s.model, control.stage("search", 0.0, 0.3));
+    return embed::place(s.model, {.features = &X, .points = &rows}, control.part(0.3, 1.0), search);
   });
 }
 

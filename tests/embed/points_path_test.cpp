@@ -220,12 +220,12 @@ TEST(PointsPath, TriangulationPlacesEachFrameOnItsOwn) {
 TEST(PointsPath, DistancesToLandmarksAreTheMetricsToRounding) {
   const ClipData d = clip_data("cmu/02_03.bvh");
   const PointSet points{&d.set.distance_input};
-  const std::vector<int> chosen = {0, 5, 17, 300, 301};
+  const int n = d.set.num_samples();
+  const std::vector<int> chosen = {0, 5, 17, n / 2, n / 2 + 1, n - 1};
   RowMatrix landmarks(Eigen::Index(chosen.size()), d.set.distance_input.cols());
   for (std::size_t l = 0; l < chosen.size(); ++l) {
     landmarks.row(Eigen::Index(l)) = d.set.distance_input.row(chosen[l]);
   }
-  const int n = d.set.num_samples();
   Eigen::MatrixXd distances(Eigen::Index(chosen.size()), n);
   EuclideanToLandmarks(landmarks).compute(d.set.distance_input, 0, n, distances);
   const double size = d.set.distance_input.cwiseAbs().maxCoeff();

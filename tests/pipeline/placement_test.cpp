@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -103,6 +104,31 @@ TEST_P(Placement, AFrameLandsTheSameHoweverManyArePlacedWithIt) {
   EXPECT_TRUE((((hi + margin) - all.colwise().maxCoeff()).array() >= 0.0).all())
       << "map " << lo << " … " << hi << ", placed " << all.colwise().minCoeff() << " … "
       << all.colwise().maxCoeff();
+}
+
+TEST_P(Placement, AKeptSearchPlacesAsAFreshOne) {
+  const ClipMapOptions options = options_for(GetParam());
+  const ClipMap map = map_clips(std::span(&clip_64_08(), 1), options);
+  const embed::MapModel model = map_model(map, options);
+  const std::unique_ptr<embed::SampleSearch> search = embed::make_search(model);
+  // Only the methods that look up nearest samples have one: pca, svd and landmark mds do not.
+  const bool searches = embed::reads_distances(options.embed.method) &&
+                        !(options.embed.method == Method::Mds && map.embedding.from_points);
+  ASSERT_EQ(search != nullptr, searches);
+  const features::FeatureSet other = features::build_features(
+      std::span(&clip_64_09(), 1), options.features, {}, features::Distances::Later);
+  const embed::PlaceInput input{&other.X, &other.distance_input};
+  const Eigen::MatrixXd fresh = embed::place(model, input);
+  EXPECT_EQ(embed::place(model, input, {}, search.get()), fresh);
+  // Twice with the same search: nothing of one call stays in it.
+  EXPECT_EQ(embed::place(model, input, {}, search.get()), fresh);
+  if (search) {
+    // A search over other samples (a copy of the model holds its own points) is refused.
+    const embed::MapModel copy = model;
+    EXPECT_THAT(
+        test::error_message<ParameterError>([&] { embed::place(copy, input, {}, search.get()); }),
+        HasSubstr("the search given is not one over this map's samples"));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryMethodAndPath, Placement, ::testing::ValuesIn(all_cases()),

@@ -167,7 +167,21 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const 
   return model;
 }
 
-Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Control& control) {
+namespace {
+
+bool searches(const MapModel& model) {
+  return model.method != Method::Pca && model.method != Method::Svd && !model.points_are_landmarks;
+}
+
+}  // namespace
+
+std::unique_ptr<SampleSearch> make_search(const MapModel& model, const Control& control) {
+  if (!searches(model)) return nullptr;
+  return std::make_unique<SampleSearch>(PointSet{&model.points, model.metric}, control);
+}
+
+Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Control& control,
+                      const SampleSearch* search) {
   const Method method = model.method;
   const int dims = model.dimensions;
   const bool projection = method == Method::Pca || method == Method::Svd;
@@ -198,15 +212,24 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
   // sample exactly by the triangulation anyway).
   const bool landmark_mds = model.points_are_landmarks;
   const int k = method == Method::Mds ? 1 : std::max(model.k, 1);
-  const bool searches = needs_points && !landmark_mds;
+  const bool searching = searches(model);
+  if (search && (!searching || search->samples().rows != &model.points ||
+                 search->samples().metric != model.metric)) {
+    throw ParameterError(who(method) + "the search given is not one over this map's samples");
+  }
   NeighborLists nearest;
-  if (searches) {
+  if (searching) {
     std::vector<int> all(static_cast<std::size_t>(frames));
     for (int f = 0; f < static_cast<int>(frames); ++f) all[std::size_t(f)] = f;
-    nearest = knn_to_samples(PointSet{&model.points, model.metric},
-                             PointSet{input.points, model.metric}, all, k, control.part(0.0, 0.5));
+    const PointSet queries{input.points, model.metric};
+    if (search) {
+      nearest = search->nearest(queries, all, k, control.part(0.0, 0.5));
+    } else {
+      nearest = knn_to_samples(PointSet{&model.points, model.metric}, queries, all, k,
+                               control.part(0.0, 0.5));
+    }
   }
-  const Control placing = searches ? control.part(0.5, 1.0) : control;
+  const Control placing = searching ? control.part(0.5, 1.0) : control;
   static const RowMatrix no_points;
   const RowMatrix& points = needs_points ? *input.points : no_points;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> features =

@@ -72,6 +72,8 @@ void exact_all_pairs(const PointSet& points, NeighborLists& out, const Control& 
       [&](int done) { control.update(double(done) / chunks); });
 }
 
+}  // namespace
+
 // An exact k-d tree over the points turned into their principal axes. A rotation keeps every
 // distance, and mocap poses lie near a low-dimensional manifold: in the principal frame the
 // splits fall on the few axes that separate poses, and a partial distance over the leading
@@ -315,6 +317,8 @@ class PrincipalKdTree {
   Eigen::MatrixXd m_axes;
 };
 
+namespace {
+
 // The average number of points the tree scans for one frame's k + 2 nearest, over `queries`
 // frames spread evenly over the set: what an exact search of every frame will cost.
 double scanned_per_query(const PrincipalKdTree& tree, int k, int queries) {
@@ -525,11 +529,20 @@ NeighborLists knn_from_points(const PointSet& points, int k, NeighborSearch sear
   return out;
 }
 
-NeighborLists knn_to_samples(const PointSet& samples, const PointSet& queries,
-                             std::span<const int> frames, int k, const Control& control) {
-  if (samples.rows == nullptr || queries.rows == nullptr) {
-    throw ParameterError("knn: no samples or no queries were given");
+SampleSearch::SampleSearch(const PointSet& samples, const Control& control) : m_samples(samples) {
+  if (samples.rows == nullptr) throw ParameterError("knn: no samples were given");
+  if (samples.metric == Metric::Euclidean) {
+    m_tree = std::make_unique<PrincipalKdTree>(*samples.rows, control);
   }
+  control.update(1.0);
+}
+
+SampleSearch::~SampleSearch() = default;
+
+NeighborLists SampleSearch::nearest(const PointSet& queries, std::span<const int> frames, int k,
+                                    const Control& control) const {
+  const PointSet& samples = m_samples;
+  if (queries.rows == nullptr) throw ParameterError("knn: no queries were given");
   const int m = samples.frames();
   if (k < 1 || k > m) {
     throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
@@ -545,10 +558,7 @@ NeighborLists knn_to_samples(const PointSet& samples, const PointSet& queries,
   out.distance.resize(frames.size() * std::size_t(k));
   const int count = static_cast<int>(frames.size());
   const int chunks = (count + kFramesPerChunk - 1) / kFramesPerChunk;
-  const bool euclidean = samples.metric == Metric::Euclidean;
-  std::unique_ptr<PrincipalKdTree> tree;
-  if (euclidean) tree = std::make_unique<PrincipalKdTree>(*samples.rows, control.part(0.0, 0.1));
-  const Control queries_control = euclidean ? control.part(0.1, 1.0) : control;
+  const PrincipalKdTree* tree = m_tree.get();
   const int want = std::min(m, k + 1);  // the k nearest and the first one left out
   parallel_chunks(
       chunks,
@@ -591,9 +601,16 @@ NeighborLists knn_to_samples(const PointSet& samples, const PointSet& queries,
           }
         }
       },
-      [&](int done) { queries_control.update(double(done) / chunks); });
+      [&](int done) { control.update(double(done) / chunks); });
   control.update(1.0);
   return out;
+}
+
+NeighborLists knn_to_samples(const PointSet& samples, const PointSet& queries,
+                             std::span<const int> frames, int k, const Control& control) {
+  const bool tree = samples.metric == Metric::Euclidean;
+  const SampleSearch search(samples, tree ? control.part(0.0, 0.1) : Control());
+  return search.nearest(queries, frames, k, tree ? control.part(0.1, 1.0) : control);
 }
 
 }  // namespace motionmap::embed

@@ -730,7 +730,7 @@ std::string name_list(const std::vector<std::string>& names, std::size_t most = 
 }  // namespace
 
 Placement place_clips(std::span<const Clip> clips, const MapFile& map, const PlaceOptions& options,
-                      const Control& control) {
+                      const Control& control, const embed::SampleSearch* search) {
   if (clips.empty()) throw ParameterError("place_clips: no clip given");
   const std::string onto = map.path.empty() ? std::string("the map") : map.path;
   const std::string first_clip = base_name(map.clips.front().path);
@@ -821,7 +821,7 @@ Placement place_clips(std::span<const Clip> clips, const MapFile& map, const Pla
                          std::to_string(map.point_columns) + " (End Sites or roots differ)");
   }
   const embed::PlaceInput input{&set.X, &set.distance_input};
-  out.coordinates = embed::place(map.model, input, control.stage("placing", 0.2, 1.0));
+  out.coordinates = embed::place(map.model, input, control.stage("placing", 0.2, 1.0), search);
   control.finish();
   return out;
 }

@@ -142,11 +142,13 @@ struct Placement {
 /// Places every selected frame of `clips` on `map` without refitting it: builds their features
 /// with the map's feature options, checks that they are comparable with the map's (joint
 /// hierarchy, or for a --joints common map the shared joint names; the columns of X and of the
-/// points), then embed::place(). A frame's place depends on that frame only.
+/// points), then embed::place() (with `search`, embed::make_search(map.model), when the caller
+/// keeps one for placing many clips on the same map). A frame's place depends on that frame only.
 /// @throws ParameterError naming the clip and what differs from the map (its skeleton, a joint
 ///   the map needs, the columns); as features::build_features() and embed::place(); Cancelled.
 Placement place_clips(std::span<const Clip> clips, const MapFile& map,
-                      const PlaceOptions& options = {}, const Control& control = {});
+                      const PlaceOptions& options = {}, const Control& control = {},
+                      const embed::SampleSearch* search = nullptr);
 
 /// The map's Embedding as far as describe_parameters() and the CSV writer read it (method,
 /// coordinates, k, heat, landmark count, neighbour search, components), with `coordinates` in

@@ -138,8 +138,8 @@ struct TempFile {
 
 // The nearest-sample search of a fitted map's placement model (embed::make_search), built by the
 // first transform that needs it and kept: placing many clips on one map, as a Dask worker does
-// one clip per task, pays the k-d tree over the samples once (~4 s at 10⁶ samples). Not copyable,
-// as the state it lives in: the search reads that state's model.
+// one clip per task, pays the k-d tree over the samples once (about 1 s at 10⁵ samples). Not
+// copyable, as the state it lives in: the search reads that state's model.
 class SearchOnce {
  public:
   const embed::SampleSearch* get(const embed::MapModel& model, const Control& control) {

@@ -81,7 +81,7 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const 
 /// placed and may cancel. isomap, le, lle and a dense mds map look up each frame's nearest
 /// samples: in `search` when given — a SampleSearch over model.points, kept by a caller that
 /// places frames on the same model many times (make_search) — otherwise in one built for this
-/// call (its k-d tree costs ~4 s at 10⁶ samples). The result is the same either way.
+/// call (its k-d tree costs about 1 s at 10⁵ samples). The result is the same either way.
 /// @throws ParameterError when the input the method needs is missing, has a different number of
 ///   columns than the map's, or holds non-finite values (naming the frame), or `search` is not
 ///   over model.points; Cancelled.

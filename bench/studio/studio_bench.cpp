@@ -373,6 +373,19 @@ void SavedMapHover(benchmark::State& state) {
   savedLabel(state, *w.savedMap());
 }
 
+// Clip loads run on the loader's thread: the events of a benchmark only asked for them. Waits for
+// them so the next benchmark starts quiet, then counts the loads per iteration since `before`.
+void finishLoads(benchmark::State& state, MainWindow& w, const mapfile::SavedMap& map, int before) {
+  while (w.isLoadingClip()) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
+    QThread::msleep(5);
+  }
+  QCoreApplication::processEvents();
+  state.counters["loads"] =
+      benchmark::Counter(double(map.loads() - before), benchmark::Counter::kAvgIterations);
+  savedLabel(state, map);
+}
+
 void click(benchmark::State& state, bool cached) {
   if (!needSavedMap(state)) return;
   MainWindow& w = savedWindow();
@@ -403,16 +416,7 @@ void click(benchmark::State& state, bool cached) {
     view->render(&mapImage);
     benchmark::DoNotOptimize(mapImage.constBits());
   }
-  // Loads run on the loader's thread: the events above only asked for them. Wait for them so the
-  // next benchmark starts quiet.
-  while (w.isLoadingClip()) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
-    QThread::msleep(5);
-  }
-  QCoreApplication::processEvents();
-  state.counters["loads"] =
-      benchmark::Counter(double(map.loads() - before), benchmark::Counter::kAvgIterations);
-  savedLabel(state, map);
+  finishLoads(state, w, map, before);
 }
 
 /// What a click on a clip not in the cache waits for (on the loader's thread): SHA-256 check and
@@ -460,14 +464,7 @@ void SavedMapDrag(benchmark::State& state) {
     benchmark::DoNotOptimize(skeletonImage.constBits());
   }
   sendMouse(view, QEvent::MouseButtonRelease, pixels[i]);
-  while (w.isLoadingClip()) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
-    QThread::msleep(5);
-  }
-  QCoreApplication::processEvents();
-  state.counters["loads"] =
-      benchmark::Counter(double(map.loads() - before), benchmark::Counter::kAvgIterations);
-  savedLabel(state, map);
+  finishLoads(state, w, map, before);
 }
 
 BENCHMARK(SavedMapOpen)->Iterations(3)->Unit(benchmark::kMillisecond);

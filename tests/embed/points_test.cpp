@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "embed/embed_test_util.h"
+#include "motionmap/core/error.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/embed.h"
@@ -218,6 +219,52 @@ TEST(EmbedPoints, NearestSamplesAreThoseOfEveryPair) {
       }
     }
   }
+}
+
+// Searching prepared samples, or with bad arguments: the lists of a fresh search, or a clear
+// error.
+TEST(EmbedPoints, APreparedSearchAndBadArguments) {
+  const RowMatrix P = sheet_points(300, 12, 3, 5u, false);
+  const RowMatrix S = P.topRows(100);
+  const RowMatrix narrow = P.leftCols(6);
+  std::vector<int> frames(300);
+  std::iota(frames.begin(), frames.end(), 0);
+  const SampleSearch search({&S, Metric::Euclidean});
+  const NeighborLists fresh =
+      knn_to_samples({&S, Metric::Euclidean}, {&P, Metric::Euclidean}, frames, 5);
+  for (int round = 0; round < 2; ++round) {
+    const NeighborLists kept = search.nearest({&P, Metric::Euclidean}, frames, 5);
+    EXPECT_EQ(kept.index, fresh.index);
+    EXPECT_EQ(kept.distance, fresh.distance);
+  }
+  auto message = [](auto&& call) {
+    try {
+      call();
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no ParameterError");
+  };
+  EXPECT_EQ(message([&] {
+              SampleSearch({nullptr, Metric::Euclidean});
+            }),
+            "knn: no samples were given");
+  EXPECT_EQ(message([&] {
+              search.nearest({nullptr, Metric::Euclidean}, frames, 5);
+            }),
+            "knn: no queries were given");
+  EXPECT_EQ(message([&] {
+              search.nearest({&P, Metric::Euclidean}, frames, 101);
+            }),
+            "k = 101 neighbours is out of range: with 100 samples it must be in [1, 100]");
+  EXPECT_EQ(message([&] {
+              search.nearest({&narrow, Metric::Euclidean}, frames, 5);
+            }),
+            "knn: the samples and the queries are points of different kinds");
+  EXPECT_EQ(message([&] {
+              knn_to_samples({&S, Metric::Euclidean}, {&P, Metric::QuaternionAngles}, frames, 5);
+            }),
+            "knn: the samples and the queries are points of different kinds");
 }
 
 // The sampled le and lle (embed.h, kGraphSampleLimit) are the method on the sample plus the

@@ -7,28 +7,15 @@ usage: cli_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
 import json
 import os
 import re
-import subprocess
 import sys
-import tempfile
-import traceback
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference"))
 import mocap  # noqa: E402  (independent numpy BVH reader)
 
-BIN = sys.argv[1]
-DATA = sys.argv[2]
-TMP = tempfile.mkdtemp(prefix="motionmap-cli-")
-
-
-def run(*args, env=None):
-    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=300, env=env)
-    return p.returncode, p.stdout, p.stderr
-
-
-def data(rel):
-    return os.path.join(DATA, rel)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from clirun import DATA, TMP, data, main, run, test  # noqa: E402
 
 
 def have(rel):
@@ -40,14 +27,6 @@ def write(name, text):
     with open(path, "w", newline="") as f:
         f.write(text)
     return path
-
-
-TESTS = []
-
-
-def test(fn):
-    TESTS.append(fn)
-    return fn
 
 
 @test
@@ -490,21 +469,6 @@ def pose_and_synth_errors():
         assert code == want, (args, code, err)
         assert word in err, (args, err)
         assert stdout == "", (args, stdout)
-
-
-def main():
-    passed = failed = 0
-    for fn in TESTS:
-        try:
-            fn()
-            passed += 1
-            print(f"PASS {fn.__name__}")
-        except Exception:
-            failed += 1
-            print(f"FAIL {fn.__name__}")
-            traceback.print_exc()
-    print(f"{passed} passed, {failed} failed")
-    return 1 if failed else 0
 
 
 if __name__ == "__main__":

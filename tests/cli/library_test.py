@@ -8,15 +8,11 @@ usage: library_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
 """
 import os
 import pty
-import shutil
 import subprocess
 import sys
-import tempfile
-import traceback
 
-BIN = os.path.abspath(sys.argv[1])
-DATA = os.path.abspath(sys.argv[2])
-TMP = tempfile.mkdtemp(prefix="motionmap-library-")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from clirun import BIN, TMP, data, main, needs, read_map, run, test, tmp  # noqa: E402
 
 GOLF = "cmu/64_08.bvh"
 GOLF2 = "cmu/64_09.bvh"
@@ -49,27 +45,6 @@ Frame Time: 0.0333333
 BROKEN_BVH = TINY_BVH.replace("1 90 0 0 5", "x 90 0 0 5")
 
 
-def run(*args):
-    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=300)
-    return p.returncode, p.stdout, p.stderr
-
-
-def data(rel):
-    return os.path.join(DATA, rel)
-
-
-def needs(*rels):
-    for rel in rels:
-        if not os.path.exists(data(rel)):
-            print(f"  skipped: {rel} absent from the shared data")
-            return False
-    return True
-
-
-def tmp(*parts):
-    return os.path.join(TMP, *parts)
-
-
 def folder(name, links=(), files=()):
     """A fresh folder under TMP with `links` (relative path, shared data file) as symbolic links
     and `files` (relative path, text) written; returns its path."""
@@ -85,14 +60,6 @@ def folder(name, links=(), files=()):
     return root
 
 
-def read_map(path):
-    with open(path) as f:
-        lines = f.read().splitlines()
-    comments = [l for l in lines if l.startswith("#")]
-    rows = [l.split(",") for l in lines if not l.startswith("#")]
-    return comments, rows[0], rows[1:]
-
-
 def files_of(comments):
     """The files= list of the CSV's parameter line."""
     first = comments[0]
@@ -104,14 +71,6 @@ def clip_counts(rows):
     for r in rows:
         counts[int(r[0])] = counts.get(int(r[0]), 0) + 1
     return counts
-
-
-TESTS = []
-
-
-def test(fn):
-    TESTS.append(fn)
-    return fn
 
 
 @test
@@ -336,23 +295,6 @@ def loading_progress_counts_clips_and_frames_on_a_terminal():
     assert "loading 1/3 clips (0 frames)" in text, text
     assert "loading 3/3 clips (539 frames)" in text, text
     assert "loaded 3 clips (992 frames)" in text, text
-
-
-def main():
-    passed = failed = 0
-    for fn in TESTS:
-        try:
-            fn()
-            passed += 1
-            print(f"PASS {fn.__name__}")
-        except Exception:
-            failed += 1
-            print(f"FAIL {fn.__name__}")
-            traceback.print_exc()
-    print(f"{passed} passed, {failed} failed")
-    if not failed:
-        shutil.rmtree(TMP, ignore_errors=True)  # kept for a look when something failed
-    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -10,10 +10,7 @@ usage: mapfile_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
 import hashlib
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
-import traceback
 
 try:
     import h5py
@@ -21,34 +18,12 @@ try:
 except ImportError:  # scripts/install-deps.sh installs python3-h5py
     h5py = None
 
-BIN = os.path.abspath(sys.argv[1])
-DATA = os.path.abspath(sys.argv[2])
-TMP = tempfile.mkdtemp(prefix="motionmap-mapfile-")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from clirun import data, main, needs, read_map, run, test, tmp  # noqa: E402
 
 GOLF = "cmu/64_08.bvh"
 GOLF2 = "cmu/64_09.bvh"
 OTHER = "other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh"  # another skeleton (23 joints)
-
-
-def run(*args):
-    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=300)
-    return p.returncode, p.stdout, p.stderr
-
-
-def data(rel):
-    return os.path.join(DATA, rel)
-
-
-def tmp(name):
-    return os.path.join(TMP, name)
-
-
-def needs(*rels):
-    for rel in rels:
-        if not os.path.exists(data(rel)):
-            print(f"  skipped: {rel} absent from the shared data")
-            return False
-    return True
 
 
 def needs_h5py():
@@ -56,15 +31,6 @@ def needs_h5py():
         print("  skipped: h5py is not installed (apt-get install python3-h5py)")
         return False
     return True
-
-
-def read_map(path):
-    """(comment lines, header, rows as lists of strings) of a map CSV."""
-    with open(path) as f:
-        lines = f.read().splitlines()
-    comments = [l for l in lines if l.startswith("#")]
-    rows = [l.split(",") for l in lines if not l.startswith("#")]
-    return comments, rows[0], rows[1:]
 
 
 def parameters_of(comments):
@@ -80,14 +46,6 @@ def save(name, *options, clip=GOLF):
     code, _, err = run("map", data(clip), "-q", "-o", csv, "--save", h5, *options)
     assert code == 0, err
     return h5, csv
-
-
-TESTS = []
-
-
-def test(fn):
-    TESTS.append(fn)
-    return fn
 
 
 @test
@@ -310,24 +268,6 @@ def bad_map_files_and_clips_are_errors_naming_them():
                   ["--landmarks", "0"], ["--save", tmp("x.mmap.h5")]):
         code, _, err = onto(h5, GOLF, *extra)
         assert code == 2 and "--onto" in err and "excludes" in err, (extra, code, err)
-
-
-def main():
-    passed = failed = 0
-    try:
-        for fn in TESTS:
-            try:
-                fn()
-                passed += 1
-                print(f"PASS {fn.__name__}")
-            except Exception:
-                failed += 1
-                print(f"FAIL {fn.__name__}")
-                traceback.print_exc()
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print(f"{passed} passed, {failed} failed")
-    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -11,26 +11,13 @@ usage: saved_map_synthesis_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
 import csv
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
-import traceback
 
-BIN = os.path.abspath(sys.argv[1])
-DATA = os.path.abspath(sys.argv[2])
-TMP = tempfile.mkdtemp(prefix="motionmap-savedsynth-")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from clirun import DATA, main, run, test, tmp  # noqa: E402
 
 GOLF = os.path.join(DATA, "cmu/64_08.bvh")
 GOLF2 = os.path.join(DATA, "cmu/64_09.bvh")
-
-
-def run(*args):
-    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=300)
-    return p.returncode, p.stdout, p.stderr
-
-
-def tmp(name):
-    return os.path.join(TMP, name)
 
 
 def read(path):
@@ -44,14 +31,6 @@ def map_rows(csv_path):
     header, body = rows[0], rows[1:]
     ix, iy = header.index("x"), header.index("y")
     return [(float(r[ix]), float(r[iy])) for r in body]
-
-
-TESTS = []
-
-
-def test(fn):
-    TESTS.append(fn)
-    return fn
 
 
 def have_clips():
@@ -154,24 +133,6 @@ def a_changed_or_missing_clip_is_a_clear_error():
         f.write("x,y\n0,0\n1,1\n")
     code, _, err = run("synth", "--map", h5, "--path", tmp("p2.csv"), "-o", tmp("y.bvh"))
     assert code == 1 and "is missing" in err and copy in err, err
-
-
-def main():
-    passed = failed = 0
-    try:
-        for fn in TESTS:
-            try:
-                fn()
-                passed += 1
-                print(f"PASS {fn.__name__}")
-            except Exception:
-                failed += 1
-                print(f"FAIL {fn.__name__}")
-                traceback.print_exc()
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print(f"{passed} passed, {failed} failed")
-    return 1 if failed else 0
 
 
 if __name__ == "__main__":

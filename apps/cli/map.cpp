@@ -29,11 +29,12 @@ struct MapCommand {
   std::string onto;
 };
 
-// The options a saved map fixes: with --onto they are usage errors (docs/map-file.md).
+// The options a saved map fixes: with --onto they are usage errors (docs/map-file.md). --save
+// is not one of them: with --onto it writes the placed clips as a map file (placed_map_file).
 constexpr const char* kFixedByTheMap[] = {
-    "--method", "--dims",      "--neighbors", "--heat",    "--reg", "--standardize",
-    "--strict", "--features",  "--distance",  "--exclude", "--up",  "--joints",
-    "--exact",  "--landmarks", "--metrics",   "--save"};
+    "--method",      "--dims",   "--neighbors", "--heat",      "--reg",
+    "--standardize", "--strict", "--features",  "--distance",  "--exclude",
+    "--up",          "--joints", "--exact",     "--landmarks", "--metrics"};
 
 void write_csv(const std::string& output, const pipeline::ClipMap& map,
                const pipeline::ClipMapOptions& options, const std::vector<Clip>& clips) {
@@ -74,6 +75,11 @@ void place_onto(const MapCommand& cmd) {
   const std::string method(embed::method_name(saved.options.embed.method));
   mapfile::Placement placed =
       mapfile::place_clips(clips, saved, place, progress_line(cmd.map, method));
+  if (!cmd.save.empty()) {
+    const std::vector<mapfile::PlacedClip> records = mapfile::placed_clips(clips, placed);
+    mapfile::write_map_file(cmd.save,
+                            mapfile::placed_map_file(saved, records, base_name(cmd.onto)));
+  }
 
   pipeline::ClipMapOptions options = saved.options;
   options.features.first_frame = place.first_frame;
@@ -158,7 +164,9 @@ void setup_map(CLI::App& app) {
   sub->add_option("--save", cmd->save,
                   "Also write the map as an HDF5 map file (.mmap.h5; docs/map-file.md): the clips "
                   "(paths, frames, SHA-256), the parameters, the coordinates and what placing new "
-                  "clips on it with --onto needs");
+                  "clips on it with --onto needs. With --onto: the placed clips as a map file of "
+                  "their own (their frames are its rows; the saved map's model places further "
+                  "clips)");
   auto* onto =
       sub->add_option(
              "--onto", cmd->onto,

@@ -200,6 +200,15 @@ class _MapEstimator:
                         "or a list of them)")
         return self.map_.transform(X, progress)
 
+    def _placed_clips(self, clips, *, asf=None, fps=None, progress=None):
+        """transform(clips) with each clip's record (path, SHA-256, frames placed): the
+        _PlacedClip objects motionmap.dask.map_library gathers into one map file."""
+        self._check_fitted()
+        if not isinstance(self.map_, _motionmap._ClipMap):
+            raise Error("this map was fitted on an array; only maps of clips place clips")
+        return self.map_.place_clips(clips, self._options(), "" if asf is None else os.fspath(asf),
+                                     0.0 if fps is None else float(fps), progress)
+
     def fit_transform(self, X, y=None, **fit_params):
         """fit(X), then the map of X's frames (embedding_)."""
         return self.fit(X, y, **fit_params).embedding_

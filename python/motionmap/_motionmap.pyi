@@ -83,6 +83,10 @@ class _ClipMap:
     options: dict[str, Any]
     def transform(self, clips: _Clips, options: dict[str, Any], asf: str, fps: float,
                   progress: _Progress) -> npt.NDArray[np.float64]: ...
+    def place_clips(self, clips: _Clips, options: dict[str, Any], asf: str, fps: float,
+                    progress: _Progress) -> list[_PlacedClip]: ...
+    def write_placed_map(self, placed: list[_PlacedClip], path: _Path,
+                         fitted_name: str) -> None: ...
     def write_csv(self, path: _Path) -> None: ...
     def poses_at(self, Y: npt.ArrayLike, blend: str, neighbors: int, reach: float,
                  progress: _Progress) -> Clip: ...
@@ -90,6 +94,12 @@ class _ClipMap:
                    fps: float, smooth: float, blend: str, neighbors: int, reach: float,
                    progress: _Progress) -> Clip: ...
     def write_map(self, path: _Path) -> None: ...
+
+class _PlacedClip:
+    """A clip placed on a map, with its record (map_library's tasks)."""
+    path: str
+    frames: list[int]
+    coordinates: npt.NDArray[np.float64]
 
 class _MatrixMap:
     coordinates: npt.NDArray[np.float64]

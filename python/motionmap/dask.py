@@ -15,14 +15,19 @@ on another worker):
  3. one task per clip loads it on a worker and places its frames on the fitted map
     (`transform`, which places each frame on its own), so the result equals, bit for bit, the
     single-process `estimator.fit(sample).transform(path)` for every path;
- 4. the coordinates are gathered in the order of `paths`.
+ 4. the coordinates are gathered in the order of `paths` and, with `save`, written as one map
+    file of the whole library: every placed frame a row (what MotionMap Studio draws and
+    `motionmap pose/synth --map` blend), the model the sample's, so that placing a new clip on
+    the file gives what `transform` gives (docs/map-file.md, layout version 2).
 Workers need the module (`import motionmap`) and the clip files at the same paths (shared
 storage).
 """
 
 from collections import namedtuple
 
-from . import Error, _is_clips, write_map
+import numpy as np
+
+from . import Error, _is_clips
 
 LibraryMap = namedtuple("LibraryMap", "estimator paths sample coordinates failures")
 LibraryMap.__doc__ = """What map_library returns.
@@ -54,7 +59,7 @@ def _fit(estimator, sample):
 
 def _place(path, fitted, keep_going):
     try:
-        return fitted.transform(path)
+        return fitted._placed_clips(path)[0]
     except Error as e:
         if not keep_going:
             raise
@@ -64,25 +69,29 @@ def _place(path, fitted, keep_going):
 def map_library(paths, client, estimator, sample=None, *, save=None, keep_going=False):
     """Maps a library of clips on a Dask cluster: fits `estimator` (a motionmap estimator, not
     fitted: it is cloned by pickling) on `sample` (see choose_sample), then places every clip of
-    `paths` on that map, one task per clip. `save`: also write the fitted map as a map file.
-    keep_going=True: a clip that fails to load or to place is reported in `failures` instead of
-    raising. Returns a LibraryMap. Raises motionmap.Error for a failing clip (without
-    keep_going) or a sample that cannot be fitted."""
+    `paths` on that map, one task per clip. `save`: also write the library's map file (every
+    clip placed, on the sample's model). keep_going=True: a clip that fails to load or to place
+    is reported in `failures` instead of raising (and left out of the map file). Returns a
+    LibraryMap. Raises motionmap.Error for a failing clip (without keep_going), a sample that
+    cannot be fitted, or nothing placed to save."""
     paths = [str(p) for p in paths]
     if not paths:
         raise Error("map_library: no clip given")
     chosen = choose_sample(paths, sample)
     fitted = client.submit(_fit, estimator, chosen, pure=False).result()
-    if save is not None:
-        write_map(fitted, save)
     shared = client.scatter(fitted, broadcast=True)
     futures = client.map(_place, paths, fitted=shared, keep_going=keep_going)
     results = client.gather(futures)
-    coordinates, failures = [], {}
+    coordinates, placed, failures = [], [], {}
     for path, result in zip(paths, results):
         if isinstance(result, Exception):
             failures[path] = str(result)
             coordinates.append(None)
         else:
-            coordinates.append(result)
+            coordinates.append(np.asarray(result.coordinates))
+            placed.append(result)
+    if save is not None:
+        if not placed:
+            raise Error("map_library: no clip could be placed; no map file written")
+        fitted.map_.write_placed_map(placed, save, "of the sample")
     return LibraryMap(fitted, paths, chosen, coordinates, failures)

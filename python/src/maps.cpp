@@ -301,20 +301,37 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
   });
 }
 
-Eigen::MatrixXd transform_clips(ClipMapState& s, const py::object& clips, const py::dict& options,
-                                const std::string& asf, double fps, py::object progress) {
+// `loaded` placed on the map, the frames chosen by the estimator's frame options.
+mapfile::Placement place_loaded(ClipMapState& s, const std::vector<Clip>& loaded,
+                                const py::dict& options, py::object progress) {
   const features::FeatureOptions f = feature_options(options);
   mapfile::PlaceOptions place;
   place.first_frame = f.first_frame;
   place.end_frame = f.end_frame;
   place.stride = f.stride;
   place.keep_first = f.keep_first;
-  const std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
   return run_released(std::move(progress), [&](const Control& control) {
     const embed::SampleSearch* search =
         s.search.get(s.file.model, control.stage("search", 0.0, 0.3));
-    return mapfile::place_clips(loaded, s.file, place, control.part(0.3, 1.0), search).coordinates;
+    return mapfile::place_clips(loaded, s.file, place, control.part(0.3, 1.0), search);
   });
+}
+
+Eigen::MatrixXd transform_clips(ClipMapState& s, const py::object& clips, const py::dict& options,
+                                const std::string& asf, double fps, py::object progress) {
+  const std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
+  return place_loaded(s, loaded, options, std::move(progress)).coordinates;
+}
+
+// The clips placed, with their records (path, SHA-256, frames): what a Dask task sends back for
+// the map file of the whole library (write_placed_map).
+std::vector<mapfile::PlacedClip> place_clip_records(ClipMapState& s, const py::object& clips,
+                                                    const py::dict& options, const std::string& asf,
+                                                    double fps, py::object progress) {
+  const std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
+  const mapfile::Placement placed = place_loaded(s, loaded, options, std::move(progress));
+  py::gil_scoped_release release;
+  return mapfile::placed_clips(loaded, placed);
 }
 
 void write_csv(const ClipMapState& s, const py::object& path) {
@@ -552,6 +569,17 @@ void bind_maps(py::module_& m) {
                              [](const ClipMapState& s) { return option_dict(s.file.options); })
       .def("transform", &transform_clips, py::arg("clips"), py::arg("options"), py::arg("asf"),
            py::arg("fps"), py::arg("progress"))
+      .def("place_clips", &place_clip_records, py::arg("clips"), py::arg("options"), py::arg("asf"),
+           py::arg("fps"), py::arg("progress"))
+      .def(
+          "write_placed_map",
+          [](const ClipMapState& s, const std::vector<mapfile::PlacedClip>& placed,
+             const py::object& path, const std::string& fitted_name) {
+            const std::string out = py::str(py::module_::import("os").attr("fspath")(path));
+            py::gil_scoped_release release;
+            mapfile::write_map_file(out, mapfile::placed_map_file(s.file, placed, fitted_name));
+          },
+          py::arg("placed"), py::arg("path"), py::arg("fitted_name"))
       .def("write_csv", &write_csv, py::arg("path"))
       .def("poses_at", &poses_at, py::arg("Y"), py::arg("blend"), py::arg("neighbors"),
            py::arg("reach"), py::arg("progress"))
@@ -576,6 +604,30 @@ void bind_maps(py::module_& m) {
             auto s = state_from_bytes(t[1].cast<std::string>(), t[2].cast<std::string>());
             s->paths = t[3].cast<std::vector<std::string>>();
             return s;
+          }));
+
+  py::class_<mapfile::PlacedClip>(m, "_PlacedClip",
+                                  "A clip placed on a map, with its record (map_library's tasks).")
+      .def_property_readonly("path", [](const mapfile::PlacedClip& p) { return p.record.path; })
+      .def_property_readonly("frames", [](const mapfile::PlacedClip& p) { return p.frames; })
+      .def_property_readonly("coordinates",
+                             [](const mapfile::PlacedClip& p) { return p.coordinates; })
+      .def(py::pickle(
+          [](const mapfile::PlacedClip& p) {
+            return py::make_tuple(1, p.record.path, p.record.sha256, p.record.frames,
+                                  p.record.frame_time, p.frames, p.coordinates);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 7 || t[0].cast<int>() != 1)
+              throw Error("unpickling a placed clip: unknown state layout");
+            mapfile::PlacedClip p;
+            p.record.path = t[1].cast<std::string>();
+            p.record.sha256 = t[2].cast<std::string>();
+            p.record.frames = t[3].cast<int>();
+            p.record.frame_time = t[4].cast<double>();
+            p.frames = t[5].cast<std::vector<int>>();
+            p.coordinates = t[6].cast<Eigen::MatrixXd>();
+            return p;
           }));
 
   py::class_<MatrixMapState, std::shared_ptr<MatrixMapState>>(

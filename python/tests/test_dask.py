@@ -47,7 +47,12 @@ def test_equals_the_single_process_run(client, golf, golf2, tmp_path):
     with pytest.raises(motionmap.Error) as local:
         motionmap.load(str(bad))
     assert result.failures[str(bad)] == str(local.value)  # bad.bvh:5:1: error: file ends early…
-    np.testing.assert_array_equal(motionmap.read_map(saved).embedding_, single.embedding_)
+    # The map file holds every placed clip's frames, and places as the sample's map does.
+    library = motionmap.read_map(saved)
+    np.testing.assert_array_equal(library.embedding_,
+                                  np.vstack([xy for xy in result.coordinates if xy is not None]))
+    assert library.map_.paths == [golf, golf2, golf]
+    np.testing.assert_array_equal(library.transform(golf2), single.transform(golf2))
 
     with pytest.raises(motionmap.Error, match="bad.bvh:5:1: error: file ends early"):
         motionmap.dask.map_library(paths, client, est, sample=[golf2])

@@ -168,6 +168,37 @@ def new_clip_placed_onto_a_saved_map():
 
 
 @test
+def placed_clips_saved_as_a_map_of_their_own():
+    # `--onto fitted --save lib`: the placed frames are lib's rows (what Studio shows and
+    # pose/synth --map blend); placing on lib is placing on the fitted map.
+    if not needs(GOLF, GOLF2):
+        return
+    fitted, _ = save("golf-le", "--method", "le")
+    lib, lib_csv = tmp("lib.mmap.h5"), tmp("lib.csv")
+    code, _, err = run("map", data(GOLF), data(GOLF2), "--onto", fitted, "-q", "-o", lib_csv,
+                       "--save", lib)
+    assert code == 0, err
+    _, _, rows = read_map(lib_csv)
+    again, direct = tmp("again.csv"), tmp("direct.csv")
+    assert run("map", data(GOLF2), "--onto", lib, "-q", "-o", again)[0] == 0
+    assert run("map", data(GOLF2), "--onto", fitted, "-q", "-o", direct)[0] == 0
+    assert read_map(again)[2] == read_map(direct)[2]
+    if needs_h5py():
+        with h5py.File(lib, "r") as f:
+            assert f.attrs["format_version"] == 2
+            coords = f["coordinates"][()]
+            assert coords.shape == (len(rows), 2)
+            assert [float(v) for v in rows[0][2:]] == list(coords[0])
+            assert list(f["clips/samples"][()]) == [364, 452]
+            assert f["model/coordinates"].shape == (364, 2)
+            assert "without refitting it (fitted on 364 frames of 64_08.bvh)" in f["notes"][-1].decode()
+    # A saved map fixes the clips pose/synth blend from: the placed library's.
+    code, out, err = run("pose", "--map", lib, "--at=%s,%s" % tuple(rows[500][2:]), "-o",
+                         tmp("pose.bvh"))
+    assert code == 0, err
+
+
+@test
 def a_clip_placed_onto_its_own_map_lands_on_its_rows():
     if not needs(GOLF):
         return
@@ -226,11 +257,11 @@ def bad_map_files_and_clips_are_errors_naming_them():
         newer = tmp("newer.mmap.h5")
         shutil.copy(h5, newer)
         with h5py.File(newer, "r+") as f:
-            f.attrs["format_version"] = 2
+            f.attrs["format_version"] = 3
         code, _, err = onto(newer)
         assert code == 1
-        assert err == ("motionmap: " + newer + ": error: map file layout version 2 is newer than "
-                       "this MotionMap reads (1); read it with a newer MotionMap\n"), err
+        assert err == ("motionmap: " + newer + ": error: map file layout version 3 is newer than "
+                       "this MotionMap reads (2); read it with a newer MotionMap\n"), err
         other = tmp("other.mmap.h5")
         shutil.copy(h5, other)
         with h5py.File(other, "r+") as f:
@@ -265,7 +296,7 @@ def bad_map_files_and_clips_are_errors_naming_them():
     assert stdout == ""
     # Options the map fixes are usage errors.
     for extra in (["--method", "pca"], ["-k", "5"], ["--features", "positions"], ["--metrics"],
-                  ["--landmarks", "0"], ["--save", tmp("x.mmap.h5")]):
+                  ["--landmarks", "0"]):
         code, _, err = onto(h5, GOLF, *extra)
         assert code == 2 and "--onto" in err and "excludes" in err, (extra, code, err)
 

@@ -538,11 +538,11 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
 
   EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format", "other-format"); }),
             "not a MotionMap map file: its format is 'other-format', expected 'motionmap-map'");
-  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 2); }),
-            "map file layout version 2 is newer than this MotionMap reads (1); read it with a "
+  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 3); }),
+            "map file layout version 3 is newer than this MotionMap reads (2); read it with a "
             "newer MotionMap");
   EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 0); }),
-            "unknown map file layout version 0 (this MotionMap reads version 1)");
+            "unknown map file layout version 0 (this MotionMap reads versions 1 to 2)");
   EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format_version", "1"); }),
             "attribute format_version of / is not an integer");
   EXPECT_EQ(refused([](Edit& e) { e.remove("/coordinates"); }),
@@ -564,10 +564,10 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
   EXPECT_EQ(refused([](Edit& e) { e.remove("/model/points"); }),
             "missing dataset /model/points (the isomap map places new frames with it)");
   EXPECT_EQ(refused([](Edit& e) { e.replace("/model/points", 40, 8, H5T_IEEE_F64LE, 0); }),
-            "/model/points has shape 40×8, expected 40×9 (#samples by #point values)");
+            "/model/points has shape 40×8, expected 40×9 (#model samples by #point values)");
   EXPECT_EQ(
       refused([](Edit& e) { e.replace("/model/landmarks/frames", 12, 0, H5T_STD_I32LE, 40); }),
-      "/model/landmarks/frames holds 40 at index 0, expected a sample index in [0, 40)");
+      "/model/landmarks/frames holds 40 at index 0, expected a model sample index in [0, 40)");
   EXPECT_EQ(refused([](Edit& e) { e.replace("/model/graph/offsets", 41, 0, H5T_STD_I32LE, 0); }),
             "/model/graph/offsets is not a CSR offset list (from 0, never decreasing, to the 80 "
             "targets)");
@@ -578,6 +578,80 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
             "attribute k of /model is 0, expected 1 to 40 for the isomap map");
   EXPECT_EQ(refused([](Edit& e) { e.remove("/parameters"); }),
             "missing group /parameters (the effective parameters)");
+}
+
+// A map of clips placed on a saved map (`map --onto fitted --save`, Dask's map_library): the
+// placed frames are its rows, bit for bit, and placing on it is placing on the fitted map.
+TEST(MapFile, AMapOfPlacedClipsKeepsTheFittedModel) {
+  const TempDir dir;
+  const std::vector<Clip> clips{swing_clip(dir)};
+  const int frames = clips.front().motion.num_frames;
+  const Case cases[] = {{Method::Pca, false, 0},
+                        {Method::Mds, true, 0},
+                        {Method::Isomap, false, 0},
+                        {Method::Isomap, true, 0},
+                        {Method::LaplacianEigenmap, false, 0},
+                        {Method::Lle, true, 0}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string(embed::method_name(c.method)) +
+                 (c.landmarks ? " landmarks" : " dense"));
+    // Fitted on the first half of the swing; the whole swing placed on it.
+    pipeline::ClipMapOptions options;
+    options.embed.method = c.method;
+    options.embed.k = 8;
+    options.features.end_frame = frames / 2;
+    if (c.landmarks) options.path = pipeline::MapPath::Landmarks;
+    const MapFile fitted = make_map_file(clips, pipeline::map_clips(clips, options), options);
+    const Placement placed = place_clips(clips, fitted);
+    ASSERT_GT(placed.coordinates.rows(), fitted.num_samples());
+    const std::vector<PlacedClip> records = placed_clips(clips, placed);
+    ASSERT_EQ(records.size(), 1u);
+    EXPECT_EQ(records[0].record.sha256, sha256_file(clips[0].path));
+    EXPECT_EQ(records[0].frames, placed.features.frame_of);
+
+    const std::string path = dir.file("placed.mmap.h5");
+    write_map_file(path, placed_map_file(fitted, records, "fitted.mmap.h5"));
+    const MapFile read = read_map_file(path);
+    EXPECT_TRUE(bit_equal(read.coordinates, placed.coordinates));
+    EXPECT_EQ(read.frame_of, placed.features.frame_of);
+    EXPECT_EQ(read.clips[0].samples, placed.coordinates.rows());
+    EXPECT_EQ(read.parameters, fitted.parameters);
+    EXPECT_TRUE(bit_equal(read.model.coordinates, fitted.model.coordinates));
+    EXPECT_NE(read.notes.back().find("placed on the " + std::string(embed::method_name(c.method)) +
+                                     " map fitted.mmap.h5 without refitting it (fitted on " +
+                                     std::to_string(fitted.num_samples()) + " frames"),
+              std::string::npos)
+        << read.notes.back();
+    // Placing on it is placing on the fitted map.
+    EXPECT_TRUE(bit_equal(place_clips(clips, read).coordinates, placed.coordinates));
+  }
+  // Layout 2: a reader of layout 1 refuses it as newer instead of misreading the model.
+  pipeline::ClipMapOptions options;
+  options.features.end_frame = frames / 2;
+  const MapFile fitted = make_map_file(clips, pipeline::map_clips(clips, options), options);
+  const std::string path = dir.file("v2.mmap.h5");
+  write_map_file(path,
+                 placed_map_file(fitted, placed_clips(clips, place_clips(clips, fitted)), "f"));
+  EXPECT_EQ(read_map_file(path).model.coordinates.rows(), fitted.num_samples());
+  {
+    Edit e(path);
+    e.int_attribute("/", "format_version", 1);
+  }
+  EXPECT_NE(test::error_message([&] { read_map_file(path); }).find("/model/coordinates has shape"),
+            std::string::npos);
+  // A map of the fitted map's own shape stays layout 1.
+  const std::string v1 = dir.file("v1.mmap.h5");
+  write_map_file(v1, fitted);
+  EXPECT_EQ(read_map_file(v1).num_samples(), fitted.num_samples());
+
+  EXPECT_THROW(placed_map_file(fitted, {}, "f"), ParameterError);
+  PlacedClip wrong = placed_clips(clips, place_clips(clips, fitted)).front();
+  wrong.frames.pop_back();
+  EXPECT_THROW(placed_map_file(fitted, {&wrong, 1}, "f"), ParameterError);
+  MapFile without_model = fitted;
+  without_model.model = {};
+  EXPECT_THROW(placed_map_file(without_model, placed_clips(clips, place_clips(clips, fitted)), "f"),
+               ParameterError);
 }
 
 TEST(MapFile, StringsAreReadInEveryEncodingHdf5Writes) {

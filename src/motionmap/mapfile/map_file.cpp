@@ -326,7 +326,10 @@ void write_map_file(const std::string& path, const MapFile& f) {
   }
   detail::Writer w(path);
   w.attribute("/", "format", std::string(kFormatName));
-  w.attribute("/", "format_version", kFormatVersion);
+  // Layout 1 unless the file needs 2 (a model of other samples than its rows), so that a
+  // MotionMap that reads only layout 1 still reads every map it could read before.
+  const bool placed = f.model.coordinates.rows() > 0 && f.model.coordinates.rows() != n;
+  w.attribute("/", "format_version", placed ? kFormatVersion : 1);
   w.attribute("/", "generator", generator_name());
 
   w.group("/clips");
@@ -457,7 +460,8 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   }
   const std::optional<std::int64_t> version = reader.int_attribute("/", "format_version");
   if (!version)
-    in.fail("missing root attribute format_version (an integer; this MotionMap reads 1)");
+    in.fail("missing root attribute format_version (an integer; this MotionMap reads 1 to " +
+            std::to_string(kFormatVersion) + ")");
   if (*version > kFormatVersion) {
     in.fail("map file layout version " + std::to_string(*version) +
             " is newer than this MotionMap reads (" + std::to_string(kFormatVersion) +
@@ -465,7 +469,7 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   }
   if (*version < 1) {
     in.fail("unknown map file layout version " + std::to_string(*version) +
-            " (this MotionMap reads version " + std::to_string(kFormatVersion) + ")");
+            " (this MotionMap reads versions 1 to " + std::to_string(kFormatVersion) + ")");
   }
 
   MapFile f;
@@ -620,7 +624,12 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   m.k = in.integer32(g, "k", 0, "neighbours a new frame joins through");
   m.heat = in.real(g, "heat", "the heat-kernel width");
   m.reg = in.real(g, "reg", "LLE's regularisation");
-  m.coordinates = in.matrix(g + "/coordinates", N, dims, "#samples by dims");
+  // The model's samples: the map's rows (layout 1), or — a map of clips placed on a model fitted
+  // on other frames (layout 2, placed_map_file) — as many as /model/coordinates has.
+  m.coordinates =
+      in.matrix(g + "/coordinates", *version >= 2 ? -1 : N, dims, "#model samples by dims");
+  const std::int64_t M = m.coordinates.rows();
+  if (M == 0) in.fail(g + "/coordinates has no rows (a model has at least one sample)");
 
   const Method method = m.method;
   const bool projection = method == Method::Pca || method == Method::Svd;
@@ -642,8 +651,8 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   if (need(g + "/points", !projection)) {
     // A landmark mds map keeps the landmarks' rows; the others every sample's.
     m.points = in.row_matrix(
-        g + "/points", m.points_are_landmarks ? -1 : N, V,
-        m.points_are_landmarks ? "#landmarks by #point values" : "#samples by #point values");
+        g + "/points", m.points_are_landmarks ? -1 : M, V,
+        m.points_are_landmarks ? "#landmarks by #point values" : "#model samples by #point values");
   }
   if (need(g + "/eigenvalues", method == Method::LaplacianEigenmap)) {
     m.eigenvalues = in.vector(g + "/eigenvalues", dims, "one per axis");
@@ -652,11 +661,11 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
     }
   }
   if (need(g + "/features", method == Method::Lle)) {
-    m.features = in.row_matrix(g + "/features", N, X, "#samples by #features");
+    m.features = in.row_matrix(g + "/features", M, X, "#model samples by #features");
   }
-  if (uses_graph_method(method) && (m.k < 1 || m.k > N)) {
+  if (uses_graph_method(method) && (m.k < 1 || m.k > M)) {
     in.fail("attribute k of " + g + " is " + std::to_string(m.k) + ", expected 1 to " +
-            std::to_string(N) + " for " + who);
+            std::to_string(M) + " for " + who);
   }
   if (m.points_are_landmarks && method != Method::Mds) {
     in.fail("attribute points_are_landmarks of " + g +
@@ -667,7 +676,7 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   if (need(l, method == Method::Mds || method == Method::Isomap)) {
     embed::LandmarkFit fit;
     // Landmarks index the rows of /model/points (a landmark mds map: its own rows, in order).
-    fit.frames = in.ints(l + "/frames", -1, 0, N, "a sample index");
+    fit.frames = in.ints(l + "/frames", -1, 0, M, "a model sample index");
     const auto L = static_cast<std::int64_t>(fit.frames.size());
     if (L == 0) in.fail(l + "/frames is empty");
     if (m.points_are_landmarks && m.points.rows() != L) {
@@ -678,7 +687,7 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
     fit.mean_squared = in.vector(l + "/mean_squared", L, "#landmarks");
     fit.offset = in.vector(l + "/offset", dims, "dims");
     if (in.has(l + "/geodesic")) {
-      fit.geodesic = in.matrix(l + "/geodesic", L, N, "#landmarks by #samples");
+      fit.geodesic = in.matrix(l + "/geodesic", L, M, "#landmarks by #model samples");
     }
     m.landmarks = std::move(fit);
   }
@@ -687,8 +696,8 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
       method == Method::Isomap && m.landmarks && m.landmarks->geodesic.size() == 0;
   if (need(gr, dense_isomap)) {
     embed::Graph& graph = m.graph;
-    graph.offsets = in.ints(gr + "/offsets", N + 1, 0, INT32_MAX, "an offset into targets");
-    graph.targets = in.ints(gr + "/targets", -1, 0, N, "a sample index");
+    graph.offsets = in.ints(gr + "/offsets", M + 1, 0, INT32_MAX, "an offset into targets");
+    graph.targets = in.ints(gr + "/targets", -1, 0, M, "a model sample index");
     const auto E = static_cast<std::int64_t>(graph.targets.size());
     const Eigen::VectorXd weights = in.vector(gr + "/weights", E, "one per target");
     graph.weights.assign(weights.data(), weights.data() + weights.size());
@@ -824,6 +833,74 @@ Placement place_clips(std::span<const Clip> clips, const MapFile& map, const Pla
   out.coordinates = embed::place(map.model, input, control.stage("placing", 0.2, 1.0), search);
   control.finish();
   return out;
+}
+
+std::vector<PlacedClip> placed_clips(std::span<const Clip> clips, const Placement& placement) {
+  const features::FeatureSet& set = placement.features;
+  if (clips.size() != set.segment_starts.size() ||
+      placement.coordinates.rows() != set.num_samples()) {
+    throw ParameterError("placed_clips: the placement is not of these " +
+                         std::to_string(clips.size()) + " clips");
+  }
+  std::vector<PlacedClip> out(clips.size());
+  for (std::size_t c = 0; c < clips.size(); ++c) {
+    PlacedClip& p = out[c];
+    p.record.path = clips[c].path;
+    p.record.sha256 = sha256_file(clips[c].path);
+    p.record.frames = clips[c].motion.num_frames;
+    p.record.frame_time = clips[c].motion.frame_time;
+    const int first = set.segment_starts[c];
+    const int end = c + 1 < clips.size() ? set.segment_starts[c + 1] : set.num_samples();
+    p.frames.assign(set.frame_of.begin() + first, set.frame_of.begin() + end);
+    p.coordinates = placement.coordinates.middleRows(first, end - first);
+  }
+  return out;
+}
+
+MapFile placed_map_file(const MapFile& fitted, std::span<const PlacedClip> placed,
+                        const std::string& fitted_name) {
+  if (placed.empty()) throw ParameterError("placed_map_file: no clip placed");
+  if (fitted.model.coordinates.rows() == 0) {
+    throw ParameterError("placed_map_file: the map " + fitted_name +
+                         " was read without its model (ReadOptions::model)");
+  }
+  MapFile file = fitted;  // parameters, skeleton, joints and model stay the fitted map's
+  file.path.clear();
+  file.clips.clear();
+  file.clip_of.clear();
+  file.frame_of.clear();
+  const int dims = static_cast<int>(fitted.coordinates.cols());
+  Eigen::Index rows = 0;
+  for (const PlacedClip& p : placed) {
+    if (p.frames.empty() || p.coordinates.rows() != Eigen::Index(p.frames.size()) ||
+        p.coordinates.cols() != dims) {
+      throw ParameterError(
+          "placed_map_file: " + p.record.path + " has " + std::to_string(p.frames.size()) +
+          " frames and " + std::to_string(p.coordinates.rows()) + " by " +
+          std::to_string(p.coordinates.cols()) + " coordinates; expected " +
+          "at least one frame and one row of " + std::to_string(dims) + " per frame");
+    }
+    rows += p.coordinates.rows();
+  }
+  file.coordinates.resize(rows, dims);
+  for (const PlacedClip& p : placed) {
+    ClipRecord record = p.record;
+    record.first_sample = file.num_samples();
+    record.samples = static_cast<int>(p.frames.size());
+    file.coordinates.middleRows(record.first_sample, record.samples) = p.coordinates;
+    file.clip_of.insert(file.clip_of.end(), p.frames.size(), static_cast<int>(file.clips.size()));
+    file.frame_of.insert(file.frame_of.end(), p.frames.begin(), p.frames.end());
+    file.clips.push_back(std::move(record));
+  }
+  const std::size_t fitted_clips = fitted.clips.size();
+  file.notes.push_back("every frame placed on the " +
+                       std::string(embed::method_name(fitted.model.method)) + " map " +
+                       fitted_name + " without refitting it (fitted on " +
+                       std::to_string(fitted.model.coordinates.rows()) + " frames of " +
+                       (fitted_clips == 1 ? base_name(fitted.clips.front().path)
+                                          : std::to_string(fitted_clips) + " clips") +
+                       ")");
+  return file;
 }
 
 embed::Embedding embedding_for_csv(const MapFile& map, const Eigen::MatrixXd& coordinates) {

@@ -32,8 +32,10 @@ namespace motionmap::mapfile {
 
 /// The root attribute `format` of every map file.
 inline constexpr std::string_view kFormatName = "motionmap-map";
-/// The layout this library writes and the newest it reads (root attribute `format_version`).
-inline constexpr int kFormatVersion = 1;
+/// The newest layout this library reads and writes (root attribute `format_version`): 1, or 2
+/// for a map whose rows were placed on a model fitted on other frames (placed_map_file). A file
+/// is written as version 1 whenever it can be, so that older readers still read it.
+inline constexpr int kFormatVersion = 2;
 
 /// One clip the map was made from.
 struct ClipRecord {
@@ -88,7 +90,9 @@ struct MapFile {
 
   /// #samples by dims: the map (the CSV's x, y[, z]).
   Eigen::MatrixXd coordinates;
-  /// What placing frames needs (its `coordinates` equal the ones above).
+  /// What placing frames needs. Its samples are the map's rows (its `coordinates` equal the
+  /// ones above), except in a map of placed clips (placed_map_file), where they are the frames
+  /// the model was fitted on.
   embed::MapModel model;
 
   int num_samples() const { return static_cast<int>(clip_of.size()); }
@@ -149,6 +153,31 @@ struct Placement {
 Placement place_clips(std::span<const Clip> clips, const MapFile& map,
                       const PlaceOptions& options = {}, const Control& control = {},
                       const embed::SampleSearch* search = nullptr);
+
+/// One clip placed on a saved map, as a map of placed clips records it: what a Dask worker sends
+/// back (motionmap.dask.map_library) and placed_map_file() gathers.
+struct PlacedClip {
+  /// Its path, SHA-256, frames and frame time (first_sample and samples are set when gathered).
+  ClipRecord record;
+  std::vector<int> frames;      ///< the file frame of each placed row
+  Eigen::MatrixXd coordinates;  ///< where each of those frames landed (#frames by dims)
+};
+
+/// The PlacedClip of each of `clips` in `placement` (their place_clips() result), with the clip
+/// files' SHA-256 (reading each file once more). @throws Error if a clip file cannot be read;
+/// ParameterError if `placement` is not of `clips`.
+std::vector<PlacedClip> placed_clips(std::span<const Clip> clips, const Placement& placement);
+
+/// A map of clips placed on `fitted` without refitting it (`motionmap map LIB --onto
+/// fitted.mmap.h5 --save lib.mmap.h5`, motionmap.dask.map_library(save=)): its rows are the
+/// placed clips' frames, in order — what Studio draws and `pose`/`synth --map` blend — and its
+/// parameters, skeleton, joints and model are `fitted`'s, so that placing a frame on it gives what
+/// placing it on `fitted` gives. A note names `fitted_name` and how many frames the model was
+/// fitted on. Layout version 2 when the model's samples are not as many as the rows.
+/// @throws ParameterError for no clips, a clip without frames or with coordinates of another
+///   shape than `fitted`'s dimensions.
+MapFile placed_map_file(const MapFile& fitted, std::span<const PlacedClip> placed,
+                        const std::string& fitted_name);
 
 /// The map's Embedding as far as describe_parameters() and the CSV writer read it (method,
 /// coordinates, k, heat, landmark count, neighbour search, components), with `coordinates` in

@@ -131,7 +131,9 @@ ClipMap map_set(std::shared_ptr<const features::FeatureSet> set,
   result.dense = options.path == MapPath::Dense ||
                  (options.path == MapPath::Auto && frames <= options.dense_limit);
   const int values = static_cast<int>(result.features->distance_input.cols());
-  const int columns = static_cast<int>(result.features->X.cols());
+  // X counts only while its rows are held (map_features drops them for mds, isomap and le).
+  const int columns =
+      result.features->X.rows() > 0 ? static_cast<int>(result.features->X.cols()) : 0;
   check_memory(options, frames, values, columns, result.dense);
   if (result.dense && (reads_d || options.metrics) && !result.features->has_distances()) {
     result.features = with_distances(control.stage("pose distances", 0.05, before));

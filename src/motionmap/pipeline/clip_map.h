@@ -102,7 +102,8 @@ MapMetrics map_metrics(const features::FeatureSet& features, const embed::Embedd
 
 /// Estimated peak memory of mapping `frames` frames with `method` on the dense path (dense =
 /// true) or the points path; `values` is the width of the points (features::FeatureSet::
-/// distance_input) and `columns` of X. An estimate (within a factor of about 1.5), for refusing
+/// distance_input) and `columns` of X (0 when X's rows are not held: map_features drops them for
+/// the methods that do not read X). An estimate (within a factor of about 1.5), for refusing
 /// requests that cannot fit before they start.
 double estimate_map_bytes(embed::Method method, int frames, int values, int columns, bool dense,
                           const embed::EmbedOptions& options, bool metrics);

@@ -11,7 +11,7 @@ packages=(
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
   clang libclang-rt-14-dev
   python3 python3-numpy python3-scipy python3-sklearn python3-h5py
-  pybind11-dev python3-pybind11 python3-pytest python3-dask python3-distributed
+  pybind11-dev python3-pybind11 python3-pytest python3-dask python3-distributed python3-tqdm
   xvfb xauth
 )
 

@@ -56,11 +56,12 @@ PyControl::PyControl(py::object progress) : m_state(std::make_shared<State>()) {
       try {
         py::object& p = state->progress;
         if (py::hasattr(p, "update") && py::hasattr(p, "n")) {
-          // tqdm: total = 100 (set by the caller or here), advance to the fraction's percent.
+          // tqdm: total = 100 (set by the caller or here), advance in whole steps to the
+          // fraction's share of it (a bar then reads 47/100, not 47.956…/100).
           if (py::hasattr(p, "set_description")) p.attr("set_description")(std::string(stage));
           const double total = p.attr("total").is_none() ? 100.0 : p.attr("total").cast<double>();
-          const double done = fraction * total - p.attr("n").cast<double>();
-          if (done > 0) p.attr("update")(done);
+          const double done = std::floor(fraction * total) - p.attr("n").cast<double>();
+          if (done >= 1) p.attr("update")(static_cast<long long>(done));
         } else {
           p(fraction, std::string(stage));
         }

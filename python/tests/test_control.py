@@ -45,6 +45,19 @@ def test_progress_bar(golf):
     assert bar.n == pytest.approx(100.0) and bar.descriptions
 
 
+def test_progress_with_a_real_tqdm_bar(golf):
+    tqdm = pytest.importorskip("tqdm")  # Debian's python3-tqdm (scripts/install-deps.sh)
+    import io
+
+    out = io.StringIO()
+    with tqdm.tqdm(total=100, file=out, mininterval=0) as bar:
+        motionmap.Isomap().fit(golf, progress=bar)
+        assert bar.n == pytest.approx(100.0)
+    text = out.getvalue()
+    # Whole steps: 47/100, never 47.956…/100.
+    assert "100/100" in text and "shortest paths" in text and ".0/100" not in text, text
+
+
 def test_callback_exception_stops_the_call(X):
     class Stop(Exception):
         pass

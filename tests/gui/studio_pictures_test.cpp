@@ -357,6 +357,36 @@ TEST(StudioAnimation, AnMp4WithTheMotionsFramesSizeAndRate) {
   EXPECT_EQ(probe(both.filePath("swing.mp4")).value("nb_read_frames").toInt(), 12);
 }
 
+TEST(StudioAnimation, AnMp4OfA30FpsWalkRunsAt30Fps) {
+  if (ffmpegProgram().isEmpty() || QStandardPaths::findExecutable("ffprobe").isEmpty())
+    GTEST_SKIP() << "SKIPPED: ffmpeg/ffprobe not on PATH (Debian package ffmpeg)";
+  const QString clip = QString(MOTIONMAP_SHARED_DATA) +
+                       "/other/BandaiNamcoResearchInc_dataset-1_walk_normal_001.bvh";
+  if (!QFileInfo::exists(clip)) GTEST_SKIP() << "SKIPPED: " << clip.toStdString() << " not found";
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(640, 360);
+  w.show();
+  w.setMethod(embed::Method::Pca);
+  ASSERT_TRUE(w.openFile(clip)) << w.lastError().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return w.currentMap() != nullptr; }, kTimeoutMs));
+  const ExportContext c = w.exportContext();
+  EXPECT_EQ(animationName(c.naming), "BandaiNamcoResearchInc_dataset-1_walk_normal_001-pca");
+  EXPECT_EQ(c.last, 194);
+  QTemporaryDir dir;
+  AnimationSettings s;
+  s.folder = dir.path();
+  s.name = animationName(c.naming);
+  s.images = false;
+  s.video = true;
+  s.first = 100;
+  s.last = 159;  // two seconds
+  ASSERT_TRUE(w.exportAnimation(s)) << w.lastError().toStdString();
+  const auto info = probe(dir.filePath(s.name + ".mp4"));
+  EXPECT_EQ(info.value("r_frame_rate"), "30/1");  // Frame Time: 0.0333333
+  EXPECT_EQ(info.value("nb_read_frames").toInt(), 60);
+}
+
 TEST(StudioAnimation, CancelLeavesNothingBehind) {
   auto w = smallWindow(2.0);
   QTemporaryDir dir;

@@ -130,6 +130,14 @@ class Encoder {
   QByteArray m_stderr;
 };
 
+/// `result` of an export cancelled: its files are removed (Outputs), so none is listed.
+AnimationResult cancelled(AnimationResult result) {
+  result.cancelled = true;
+  result.images.clear();
+  result.video.clear();
+  return result;
+}
+
 }  // namespace
 
 QString ffmpegProgram() {
@@ -188,10 +196,7 @@ AnimationResult writeAnimation(const AnimationSettings& settings, int motionFram
   const QString videoPath = dir.absoluteFilePath(settings.name + ".mp4");
   const QString partPath = videoPath + ".part";
   for (int i = 0; i < count; ++i) {
-    if (!progress(i, count)) {
-      result.cancelled = true;
-      return result;  // Outputs removes what was written; the encoder is killed
-    }
+    if (!progress(i, count)) return cancelled(result);  // Outputs removes what was written
     const QImage image = render(first + i);
     if (image.isNull()) throw Error("frame " + std::to_string(first + i) + " rendered empty");
     if (settings.images) {
@@ -219,10 +224,7 @@ AnimationResult writeAnimation(const AnimationSettings& settings, int motionFram
     ++result.frames;
   }
   if (encoder) {
-    if (!encoder->finish([&] { return progress(count, count); })) {
-      result.cancelled = true;
-      return result;
-    }
+    if (!encoder->finish([&] { return progress(count, count); })) return cancelled(result);
     QFile::remove(videoPath);  // rename does not overwrite
     if (!QFile::rename(partPath, videoPath))
       throw Error("cannot rename " + str(partPath) + " to " + str(videoPath));

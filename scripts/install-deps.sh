@@ -13,6 +13,8 @@ packages=(
   python3 python3-numpy python3-scipy python3-sklearn python3-h5py
   pybind11-dev python3-pybind11 python3-pytest python3-dask python3-distributed python3-tqdm
   xvfb xauth
+  # Studio's File → Export animation encodes MP4 with ffmpeg (its tests check it with ffprobe).
+  ffmpeg
 )
 
 missing=()

@@ -1,6 +1,7 @@
 #include "file_menu.h"
 
 #include <QAction>
+#include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QMainWindow>
@@ -8,10 +9,13 @@
 #include <QMenuBar>
 #include <QSettings>
 
+#include "export_dialogs.h"
+
 namespace motionmap::studio {
 
 FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
   m_lastDir = QSettings().value("lastDir").toString();
+  m_exportDir = QSettings().value("lastExportDir").toString();
   const QString clips = tr("Motion capture (*.bvh *.amc);;All files (*)");
   QMenu* file = window->menuBar()->addMenu(tr("&File"));
   file->addAction(tr("&Open…"), QKeySequence::Open, this, [this, clips] {
@@ -32,22 +36,71 @@ FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
                         m_window, tr("Add clips of the same skeleton"), m_lastDir, clips);
                     if (!paths.isEmpty()) emit addRequested(paths);
                   });
+  file->addSeparator();
+  // The export dialogs start with a name suggested from what is shown (64_08-synth.bvh, …).
   m_exportMotion = file->addAction(tr("&Export motion…"), QKeySequence(tr("Ctrl+E")), this, [this] {
-    const QString path =
-        QFileDialog::getSaveFileName(m_window, tr("Export motion"), m_lastDir, tr("BVH (*.bvh)"));
-    if (!path.isEmpty()) emit exportMotionRequested(path);
+    const ExportContext c = context();
+    const QString path = QFileDialog::getSaveFileName(
+        m_window, tr("Export motion"), QDir(c.folder).filePath(motionFileName(c.naming)),
+        tr("BVH (*.bvh)"));
+    if (path.isEmpty()) return;
+    rememberExportDir(QFileInfo(path).absolutePath());
+    emit exportMotionRequested(path);
   });
   m_exportMotion->setEnabled(false);
   m_exportMap = file->addAction(tr("Export &map…"), QKeySequence(tr("Ctrl+Shift+E")), this, [this] {
+    const ExportContext c = context();
     const QString path = QFileDialog::getSaveFileName(
-        m_window, tr("Export map"), m_lastDir,
+        m_window, tr("Export map"), QDir(c.folder).filePath(mapFileName(c.naming, "png")),
         tr("PNG image (*.png);;SVG drawing (*.svg);;CSV table (*.csv)"));
-    if (!path.isEmpty()) emit exportMapRequested(path);
+    if (path.isEmpty()) return;
+    rememberExportDir(QFileInfo(path).absolutePath());
+    emit exportMapRequested(path);
   });
   m_exportMap->setEnabled(false);
+  m_exportPicture =
+      file->addAction(tr("Export &picture…"), QKeySequence(tr("Ctrl+Shift+P")), this, [this] {
+        PictureDialog dialog(m_window, context());
+        if (dialog.exec() != QDialog::Accepted || dialog.path().isEmpty()) return;
+        rememberExportDir(QFileInfo(dialog.path()).absolutePath());
+        emit exportPictureRequested(dialog.path(), dialog.kind());
+      });
+  m_exportPicture->setToolTip(tr("Save the 3-D view, the map or both side by side as PNG"));
+  m_exportPicture->setStatusTip(m_exportPicture->toolTip());
+  m_exportPicture->setEnabled(false);
+  m_exportAnimation =
+      file->addAction(tr("Export &animation…"), QKeySequence(tr("Ctrl+Shift+A")), this, [this] {
+        AnimationDialog dialog(m_window, context(), ffmpegProgram());
+        if (dialog.exec() != QDialog::Accepted) return;
+        rememberExportDir(QFileInfo(dialog.settings().folder).absoluteFilePath());
+        emit exportAnimationRequested(dialog.settings());
+      });
+  m_exportAnimation->setToolTip(
+      tr("Write the playback (3-D view and map) as a PNG image sequence and, with ffmpeg, as MP4"));
+  m_exportAnimation->setStatusTip(m_exportAnimation->toolTip());
+  m_exportAnimation->setEnabled(false);
   file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, window, &QWidget::close);
   updateRecentMenu();
+}
+
+void FileMenu::setMotionShown(bool shown) {
+  m_exportPicture->setEnabled(shown);
+  m_exportAnimation->setEnabled(shown);
+}
+
+ExportContext FileMenu::context() const {
+  ExportContext c = m_context ? m_context() : ExportContext{};
+  // Pictures go where the last ones went; before any, beside the clips.
+  c.folder = !m_exportDir.isEmpty() ? m_exportDir
+             : !m_lastDir.isEmpty() ? m_lastDir
+                                    : QDir::currentPath();
+  return c;
+}
+
+void FileMenu::rememberExportDir(const QString& dir) {
+  m_exportDir = dir;
+  QSettings().setValue("lastExportDir", dir);
 }
 
 QStringList FileMenu::recentFiles() const {

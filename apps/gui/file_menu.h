@@ -1,12 +1,19 @@
 #pragma once
 // The window's File menu: Open…, Open map… (a saved .mmap.h5), Open sample golf swing, Open recent,
-// Add clip to the map…, Export motion…, Export map… and Quit. It runs the file dialogs (they start
-// in the folder of the last file opened), keeps the recent files, and hands what the user chose to
-// the window as signals. Both lists live in QSettings ("recentFiles", "lastDir"), shared with the
-// next session.
+// Add clip to the map…, Export motion…, Export map…, Export picture…, Export animation… and Quit.
+// It runs the file dialogs (they start in the folder of the last file opened; the export dialogs
+// in the folder of the last picture or animation exported, with a name suggested from the clip,
+// method and frame shown), keeps the recent files, and hands what the user chose to the window as
+// signals. The recent files and folders live in QSettings ("recentFiles", "lastDir",
+// "lastExportDir"), shared with the next session.
+#include <functional>
+
 #include <QObject>
 #include <QString>
 #include <QStringList>
+
+#include "animation_export.h"
+#include "export_names.h"
 
 class QAction;
 class QMainWindow;
@@ -34,6 +41,15 @@ class FileMenu : public QObject {
   QAction* exportMotionAction() const { return m_exportMotion; }
   /// Disabled until there is a map.
   QAction* exportMapAction() const { return m_exportMap; }
+  /// Export picture… (Ctrl+Shift+P) and Export animation… (Ctrl+Shift+A): disabled until a motion
+  /// is shown (setMotionShown).
+  QAction* exportPictureAction() const { return m_exportPicture; }
+  QAction* exportAnimationAction() const { return m_exportAnimation; }
+  void setMotionShown(bool shown);
+  /// What the export dialogs ask of the window when they open: the names to suggest, the folder,
+  /// the animation's frames and rate (without a source: no suggestion, the last folder).
+  void setContextSource(std::function<ExportContext()> source) { m_context = std::move(source); }
+  ExportContext context() const;
 
  signals:
   /// Open…, Open map… or a recent file (a clip, or a map file: MainWindow::openFile tells).
@@ -43,15 +59,23 @@ class FileMenu : public QObject {
   void addRequested(const QStringList& paths);
   void exportMotionRequested(const QString& path);
   void exportMapRequested(const QString& path);
+  void exportPictureRequested(const QString& path, motionmap::studio::PictureKind kind);
+  void exportAnimationRequested(const motionmap::studio::AnimationSettings& settings);
 
  private:
   void updateRecentMenu();
+  /// The folder the export dialogs start in next time (QSettings "lastExportDir").
+  void rememberExportDir(const QString& dir);
 
   QMainWindow* m_window;
   QMenu* m_recentMenu = nullptr;
   QAction* m_exportMotion = nullptr;
   QAction* m_exportMap = nullptr;
+  QAction* m_exportPicture = nullptr;
+  QAction* m_exportAnimation = nullptr;
+  std::function<ExportContext()> m_context;
   QString m_lastDir;
+  QString m_exportDir;  ///< where the last picture or animation was exported
 };
 
 }  // namespace motionmap::studio

@@ -27,6 +27,7 @@
 #include "motionmap/mapfile/saved_map.h"
 #include "motionmap/sample/sample_clip.h"
 #include "parameter_dialogs.h"
+#include "picture_export.h"
 #include "skeleton_view.h"
 #include "transport_bar.h"
 
@@ -106,6 +107,9 @@ void MainWindow::buildMenus() {
   });
   connect(m_files, &FileMenu::exportMotionRequested, this, &MainWindow::exportMotion);
   connect(m_files, &FileMenu::exportMapRequested, this, &MainWindow::exportMap);
+  connect(m_files, &FileMenu::exportPictureRequested, this, &MainWindow::exportPicture);
+  connect(m_files, &FileMenu::exportAnimationRequested, this, &MainWindow::exportAnimation);
+  m_files->setContextSource([this] { return exportContext(); });
 
   m_motionMenu = new MotionMenu(this, m_method);
   connect(m_motionMenu, &MotionMenu::methodChosen, this, &MainWindow::setMethod);
@@ -500,6 +504,7 @@ const Motion* MainWindow::playingMotion() const {
 void MainWindow::updateMotion() {
   const Motion* motion = playingMotion();
   m_playback.setMotion(motion ? motion->num_frames : 0, motion ? motion->frame_time : 0.0);
+  m_files->setMotionShown(motion != nullptr);
 }
 
 void MainWindow::showFrame(int frame) {
@@ -619,6 +624,69 @@ QImage MainWindow::screenshot() {
                       view);
   }
   return image;
+}
+
+QImage MainWindow::renderPicture(PictureKind kind) {
+  return studio::renderPicture(m_skeletonView, m_mapView, kind);
+}
+
+QImage MainWindow::renderFrameImage(int frame, PictureKind kind) {
+  pause();
+  setFrame(frame);  // shows the pose and moves the pointer now (Playback::frameChanged)
+  return renderPicture(kind);
+}
+
+bool MainWindow::exportPicture(const QString& path, PictureKind kind) {
+  return attempt([&] {
+    const QImage image = renderPicture(kind);
+    savePicture(image, path);
+    m_status->setText(tr("Wrote %1 (%2 × %3)").arg(path).arg(image.width()).arg(image.height()));
+  });
+}
+
+bool MainWindow::exportAnimation(const AnimationSettings& settings) {
+  const Motion* motion = playingMotion();
+  if (!motion) {
+    showError(tr("Open a clip first: the animation is the motion playing"));
+    return false;
+  }
+  const bool wasPlaying = isPlaying();
+  const int frameBefore = currentFrame();
+  AnimationResult result;
+  const bool ok = attempt([&] {
+    result = writeAnimationWithProgress(
+        this, settings, motion->num_frames, 1.0 / motion->frame_time, [&](int frame) {
+          // The progress dialog lets events through: a synthesis finishing would swap the motion.
+          if (playingMotion() != motion)
+            throw Error("the motion playing changed during the export (a synthesis finished)");
+          return renderFrameImage(frame, PictureKind::Both);
+        });
+  });
+  if (playingMotion() == motion) {
+    setFrame(frameBefore);
+    if (wasPlaying) play();
+  }
+  if (ok) m_status->setText(animationSummary(result, settings));
+  return ok && !result.cancelled;
+}
+
+ExportContext MainWindow::exportContext() const {
+  ExportContext c;
+  if (const Clip* shown = clip()) c.naming.clip = clipBaseName(shown->path);
+  if (const MapResult* map = currentMap())
+    c.naming.method = QString::fromUtf8(embed::method_name(map->options.embed.method).data());
+  else if (m_saved)
+    c.naming.method =
+        QString::fromUtf8(embed::method_name(m_saved->file().options.embed.method).data());
+  c.naming.frame = currentFrame();
+  c.naming.synthesized = m_playingSynth && synthesized();
+  if (const Motion* motion = playingMotion()) {
+    // The whole motion playing (an in/out range of the playback, when there is one, goes here).
+    c.first = 0;
+    c.last = motion->num_frames - 1;
+    c.fps = 1.0 / motion->frame_time;
+  }
+  return c;
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {

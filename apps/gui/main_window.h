@@ -13,6 +13,8 @@
 
 #include <QMainWindow>
 
+#include "animation_export.h"
+#include "export_names.h"
 #include "map_controller.h"
 #include "parameters.h"
 #include "playback.h"
@@ -137,6 +139,21 @@ class MainWindow : public QMainWindow {
   SkeletonView* skeletonView() const { return m_skeletonView; }
   /// Both views as one image (the GL view through grabFramebuffer when it has a context).
   QImage screenshot();
+  /// File → Export picture and Export animation (picture_export.h, animation_export.h).
+  /// The picture of `kind` as the views show it now.
+  QImage renderPicture(PictureKind kind);
+  /// Shows `frame` of the motion playing (pausing playback) and renders it.
+  QImage renderFrameImage(int frame, PictureKind kind);
+  /// Writes renderPicture(kind) as PNG. False (error shown) on failure.
+  bool exportPicture(const QString& path, PictureKind kind);
+  /// Writes the motion playing, frames settings.first..last (−1: its first / last), as the
+  /// window shows it (both views), with a progress dialog and Cancel; the frame shown and
+  /// playback are restored afterwards. False when cancelled (status says so) or on an error
+  /// (shown; nothing is left written).
+  bool exportAnimation(const AnimationSettings& settings);
+  /// The names, frames and rate the export dialogs start from.
+  ExportContext exportContext() const;
+  FileMenu* fileMenu() const { return m_files; }
 
  signals:
   void mapReady(motionmap::embed::Method method);

@@ -15,12 +15,15 @@
 #include <QPainter>
 #include <QProcess>
 #include <QStandardPaths>
+#include <QTemporaryDir>
 #include <QTest>
 #include <cmath>
 
+#include "animation_export.h"
 #include "main_window.h"
 #include "map_view.h"
 #include "motionmap/sample/sample_clip.h"
+#include "picture_export.h"
 #include "scene.h"
 #include "skeleton_view.h"
 
@@ -227,6 +230,71 @@ TEST(StudioGl, WindowScreenshotHasTheGlViewAndTheMap) {
   };
   EXPECT_GT(count(w.skeletonView()), 1500);
   EXPECT_GT(count(w.mapView()), 1500);  // the coloured trajectory
+}
+
+// File → Export picture and Export animation with the OpenGL view: its framebuffer, not a blank
+// GL child, in the pictures and in every frame of an animation.
+TEST(StudioGl, ExportedPicturesAndAnimationFramesHaveTheGlView) {
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(1000, 560);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  w.setMethod(embed::Method::Isomap);
+  sample::SampleOptions half;
+  half.seconds = 0.5;
+  w.openClip(sample::make_sample_clip(sample::SampleKind::Swing, half));
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return w.currentMap() != nullptr || !w.isComputing(); }, kTimeoutMs));
+  ASSERT_NE(w.currentMap(), nullptr) << w.lastError().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return w.skeletonView()->glReady(); }, kTimeoutMs));
+  w.setFrame(40);
+  const QString view3d = artefact("studio-gl-export-3d.png"),
+                both = artefact("studio-gl-export-both.png");
+  ASSERT_TRUE(w.exportPicture(view3d, PictureKind::View3D)) << w.lastError().toStdString();
+  ASSERT_TRUE(w.exportPicture(both, PictureKind::Both)) << w.lastError().toStdString();
+  std::printf("saved studio-gl-export-3d.png and studio-gl-export-both.png in %s\n",
+              MOTIONMAP_TEST_ARTIFACT_DIR);
+  const QImage picture = QImage(view3d).convertToFormat(QImage::Format_RGB32);
+  const QImage sideBySide = QImage(both).convertToFormat(QImage::Format_RGB32);
+  const QSize viewSize = w.skeletonView()->size(), mapSize = w.mapView()->size();
+  ASSERT_EQ(picture.size(), viewSize);
+  EXPECT_EQ(sideBySide.size(), QSize(viewSize.width() + mapSize.width(),
+                                     std::max(viewSize.height(), mapSize.height())));
+  auto skeletonPixels = [](const QImage& image, QRect r) {
+    int n = 0;
+    for (int y = r.top(); y <= r.bottom(); ++y) {
+      for (int x = r.left(); x <= r.right(); ++x) n += isSkeletonPixel(image.pixel(x, y));
+    }
+    return n;
+  };
+  EXPECT_GT(skeletonPixels(picture, picture.rect()), 1500);
+  EXPECT_NEAR(picture.pixelColor(1, 1).redF(), 0.93, 0.01);  // the GL clear colour, not black
+  EXPECT_EQ(sideBySide.copy(QRect(QPoint(0, 0), viewSize)), picture);
+
+  // Three frames as an image sequence (and as MP4 when ffmpeg is there): the GL view in each,
+  // the pose moving from one to the next.
+  QTemporaryDir dir;
+  AnimationSettings settings;
+  settings.folder = dir.path();
+  settings.name = "gl";
+  settings.first = 10;
+  settings.last = 50;
+  settings.video = !ffmpegProgram().isEmpty();
+  ASSERT_TRUE(w.exportAnimation(settings)) << w.lastError().toStdString();
+  const QRect left(QPoint(0, 0), viewSize);
+  const QImage first = QImage(dir.filePath("gl_0000.png")).convertToFormat(QImage::Format_RGB32);
+  const QImage last = QImage(dir.filePath("gl_0040.png")).convertToFormat(QImage::Format_RGB32);
+  ASSERT_FALSE(first.isNull());
+  ASSERT_FALSE(last.isNull());
+  EXPECT_FALSE(QFileInfo::exists(dir.filePath("gl_0041.png")));
+  EXPECT_GT(skeletonPixels(first, left), 1500);
+  EXPECT_GT(skeletonPixels(last, left), 1500);
+  EXPECT_NE(first.copy(left), last.copy(left));
+  if (settings.video) {
+    EXPECT_GT(QFileInfo(dir.filePath("gl.mp4")).size(), 1000);
+  }
+  EXPECT_EQ(w.currentFrame(), 40);  // the frame shown before is back
 }
 
 // The picture in docs/studio.png: the screenshot mode on the golf swing, under this display.

@@ -4,7 +4,6 @@
 #include <QCloseEvent>
 #include <QDragEnterEvent>
 #include <QFileInfo>
-#include <QKeyEvent>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -17,6 +16,7 @@
 
 #include "clip_loader.h"
 #include "file_menu.h"
+#include "help_dialogs.h"
 #include "job_progress.h"
 #include "map_export.h"
 #include "map_gestures.h"
@@ -27,6 +27,7 @@
 #include "motionmap/mapfile/saved_map.h"
 #include "motionmap/sample/sample_clip.h"
 #include "parameter_dialogs.h"
+#include "playback_actions.h"
 #include "skeleton_view.h"
 #include "transport_bar.h"
 
@@ -51,6 +52,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   restoreGeometry(settings.value("geometry").toByteArray());
   m_splitter->restoreState(settings.value("splitter").toByteArray());
   setAcceptDrops(true);
+  showMenuToolTips(this);
 }
 
 // The controllers stop their workers as they go.
@@ -113,6 +115,8 @@ void MainWindow::buildMenus() {
   connect(m_motionMenu, &MotionMenu::synthesisRequested, this, &MainWindow::synthesisDialog);
   connect(m_motionMenu, &MotionMenu::showClipRequested, this, &MainWindow::showClipMotion);
   addViewMenu(this, m_skeletonView, m_mapView);
+  new PlaybackActions(this, &m_playback);  // Space, arrows, Home/End, I/O: window shortcuts
+  addHelpMenu(this);
 }
 
 void MainWindow::buildStatusBar() {
@@ -645,22 +649,6 @@ void MainWindow::dropEvent(QDropEvent* event) {
     if (!url.isLocalFile()) continue;
     if (!(add ? addFile(url.toLocalFile()) : openFile(url.toLocalFile()))) break;
     add = true;
-  }
-}
-
-void MainWindow::keyPressEvent(QKeyEvent* event) {
-  switch (event->key()) {
-    case Qt::Key_Space:
-      isPlaying() ? pause() : play();
-      break;
-    case Qt::Key_Left:
-      m_playback.step(-1);
-      break;
-    case Qt::Key_Right:
-      m_playback.step(+1);
-      break;
-    default:
-      QMainWindow::keyPressEvent(event);
   }
 }
 

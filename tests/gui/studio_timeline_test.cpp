@@ -239,6 +239,9 @@ TEST(StudioTimelineBar, ShowsAndEditsTheFrameTimeLengthAndRange) {
 
 /// The window of `w`, active, as a user's would be after it was shown (no click into it).
 void activate(MainWindow* w) {
+  // activateWindow asks the platform (under a bare X server without a window manager nothing
+  // else would give the window the input focus); setActiveWindow is enough offscreen.
+  w->activateWindow();
   QApplication::setActiveWindow(w);
   ASSERT_TRUE(QTest::qWaitForWindowActive(w));
 }
@@ -333,7 +336,8 @@ TEST(StudioTimelineKeys, PlaybackKeysWorkWhateverViewHasTheFocus) {
     // Playing stays within it: without loop, from the in point when at its end, to its end.
     w->setLoop(false);
     press(w.get(), Qt::Key_Space);
-    EXPECT_EQ(w->currentFrame(), 30);
+    EXPECT_GE(w->currentFrame(), 30);  // (a slow display may have shown a frame or two since)
+    EXPECT_LT(w->currentFrame(), 45);
     EXPECT_TRUE(QTest::qWaitFor([&] { return !w->isPlaying(); }, kTimeoutMs));
     EXPECT_EQ(w->currentFrame(), 90);
     w->setLoop(true);
@@ -441,6 +445,7 @@ TEST(StudioTimelineHelp, TheShortcutListHasEveryActionsKeysAndTheGestures) {
   MainWindow w;
   w.setInteractive(false);
   w.show();
+  w.activateWindow();
   QApplication::setActiveWindow(&w);
   ASSERT_TRUE(QTest::qWaitForWindowActive(&w));
   press(&w, Qt::Key_F1);

@@ -10,6 +10,7 @@
 #include <QSettings>
 
 #include "export_dialogs.h"
+#include "help_dialogs.h"
 
 namespace motionmap::studio {
 
@@ -18,24 +19,32 @@ FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
   m_exportDir = QSettings().value("lastExportDir").toString();
   const QString clips = tr("Motion capture (*.bvh *.amc);;All files (*)");
   QMenu* file = window->menuBar()->addMenu(tr("&File"));
-  file->addAction(tr("&Open…"), QKeySequence::Open, this, [this, clips] {
-    const QString path = QFileDialog::getOpenFileName(m_window, tr("Open clip"), m_lastDir, clips);
-    if (!path.isEmpty()) emit openRequested(path);
-  });
-  file->addAction(tr("Open &map…"), QKeySequence(tr("Ctrl+M")), this, [this] {
-    const QString path =
-        QFileDialog::getOpenFileName(m_window, tr("Open map file"), m_lastDir,
-                                     tr("Map files (*.mmap.h5 *.h5 *.hdf5);;All files (*)"));
-    if (!path.isEmpty()) emit openRequested(path);  // the window tells maps from clips
-  });
-  file->addAction(tr("Open &sample golf swing"), this, &FileMenu::sampleRequested);
+  explain(file->addAction(tr("&Open…"), QKeySequence::Open, this,
+                          [this, clips] {
+                            const QString path = QFileDialog::getOpenFileName(
+                                m_window, tr("Open clip"), m_lastDir, clips);
+                            if (!path.isEmpty()) emit openRequested(path);
+                          }),
+          tr("Opens a clip (.bvh, or .amc with its .asf) and computes its map"));
+  explain(file->addAction(tr("Open &map…"), QKeySequence(tr("Ctrl+M")), this,
+                          [this] {
+                            const QString path = QFileDialog::getOpenFileName(
+                                m_window, tr("Open map file"), m_lastDir,
+                                tr("Map files (*.mmap.h5 *.h5 *.hdf5);;All files (*)"));
+                            // The window tells maps from clips.
+                            if (!path.isEmpty()) emit openRequested(path);
+                          }),
+          tr("Opens a map saved by `motionmap map --save` without computing it again"));
+  explain(file->addAction(tr("Open &sample golf swing"), this, &FileMenu::sampleRequested),
+          tr("Opens the built-in golf swing (no file needed)"));
   m_recentMenu = file->addMenu(tr("Open &recent"));
-  file->addAction(tr("&Add clip to the map…"), QKeySequence(tr("Ctrl+Shift+O")), this,
-                  [this, clips] {
-                    const QStringList paths = QFileDialog::getOpenFileNames(
-                        m_window, tr("Add clips of the same skeleton"), m_lastDir, clips);
-                    if (!paths.isEmpty()) emit addRequested(paths);
-                  });
+  explain(file->addAction(tr("&Add clip to the map…"), QKeySequence(tr("Ctrl+Shift+O")), this,
+                          [this, clips] {
+                            const QStringList paths = QFileDialog::getOpenFileNames(
+                                m_window, tr("Add clips of the same skeleton"), m_lastDir, clips);
+                            if (!paths.isEmpty()) emit addRequested(paths);
+                          }),
+          tr("Adds clips of the same skeleton to the open clip's map"));
   file->addSeparator();
   // The export dialogs start with a name suggested from what is shown (64_08-synth.bvh, …).
   m_exportMotion = file->addAction(tr("&Export motion…"), QKeySequence(tr("Ctrl+E")), this, [this] {
@@ -47,6 +56,7 @@ FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
     rememberExportDir(QFileInfo(path).absolutePath());
     emit exportMotionRequested(path);
   });
+  explain(m_exportMotion, tr("Writes the synthesized motion as BVH"));
   m_exportMotion->setEnabled(false);
   m_exportMap = file->addAction(tr("Export &map…"), QKeySequence(tr("Ctrl+Shift+E")), this, [this] {
     const ExportContext c = context();
@@ -57,6 +67,7 @@ FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
     rememberExportDir(QFileInfo(path).absolutePath());
     emit exportMapRequested(path);
   });
+  explain(m_exportMap, tr("Writes the map shown as PNG, SVG or CSV"));
   m_exportMap->setEnabled(false);
   m_exportPicture =
       file->addAction(tr("Export &picture…"), QKeySequence(tr("Ctrl+Shift+P")), this, [this] {
@@ -65,8 +76,7 @@ FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
         rememberExportDir(QFileInfo(dialog.path()).absolutePath());
         emit exportPictureRequested(dialog.path(), dialog.kind());
       });
-  m_exportPicture->setToolTip(tr("Save the 3-D view, the map or both side by side as PNG"));
-  m_exportPicture->setStatusTip(m_exportPicture->toolTip());
+  explain(m_exportPicture, tr("Saves the 3-D view, the map or both side by side as PNG"));
   m_exportPicture->setEnabled(false);
   m_exportAnimation =
       file->addAction(tr("Export &animation…"), QKeySequence(tr("Ctrl+Shift+A")), this, [this] {
@@ -75,12 +85,12 @@ FileMenu::FileMenu(QMainWindow* window) : QObject(window), m_window(window) {
         rememberExportDir(QFileInfo(dialog.settings().folder).absoluteFilePath());
         emit exportAnimationRequested(dialog.settings());
       });
-  m_exportAnimation->setToolTip(
-      tr("Write the playback (3-D view and map) as a PNG image sequence and, with ffmpeg, as MP4"));
-  m_exportAnimation->setStatusTip(m_exportAnimation->toolTip());
+  explain(m_exportAnimation, tr("Writes the playback (3-D view and map) as a PNG image sequence "
+                                "and, with ffmpeg, as MP4"));
   m_exportAnimation->setEnabled(false);
   file->addSeparator();
-  file->addAction(tr("&Quit"), QKeySequence::Quit, window, &QWidget::close);
+  explain(file->addAction(tr("&Quit"), QKeySequence::Quit, window, &QWidget::close),
+          tr("Closes the window (asks first about a synthesized motion not exported)"));
   updateRecentMenu();
 }
 

@@ -2,41 +2,98 @@
 // Opens FILE (a .bvh, or an .amc with its .asf) and shows its map (MORE: clips of the same
 // skeleton added to that map), or a saved map file (lib.mmap.h5, from `motionmap map --save`)
 // without refitting it; with --screenshot, renders the window once to a PNG and exits (1
-// with a message on any error).
+// with a message on any error), leaving the user's settings as they were.
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QEventLoop>
+#include <QSettings>
+#include <QTemporaryDir>
 #include <QTimer>
 #include <cstdio>
 
+#include "help_dialogs.h"
 #include "main_window.h"
 #include "skeleton_view.h"
 
 using motionmap::studio::MainWindow;
 
+namespace {
+
+/// The command line; `parser` holds the options once this returns.
+struct Options {
+  QCommandLineOption help;     // -h, --help (and --help-all)
+  QCommandLineOption version;  // -v, --version
+  QCommandLineOption method{"method", "Embedding method: pca, svd, mds, isomap, le, lle", "M"};
+  QCommandLineOption frame{"frame", "Frame to show", "N"};
+  QCommandLineOption shot{"screenshot",
+                          "Render the window to a PNG and exit (the settings are left as they "
+                          "were)",
+                          "PNG"};
+
+  explicit Options(QCommandLineParser& parser)
+      : help(parser.addHelpOption()), version(parser.addVersionOption()) {
+    parser.setApplicationDescription(
+        "MotionMap Studio: every frame of a motion-capture clip as a point on a map");
+    parser.addPositionalArgument(
+        "file",
+        "Clip to open (.bvh, or .amc with its .asf); more files of the same skeleton join its "
+        "map. Or a saved map file (.mmap.h5, from `motionmap map --save`), opened without "
+        "refitting",
+        "[FILE [MORE…]]");
+    parser.addOptions({method, frame, shot});
+  }
+};
+
+void setNames() {
+  QCoreApplication::setOrganizationName("MotionMap");
+  QCoreApplication::setApplicationName("MotionMap Studio");
+  QCoreApplication::setApplicationVersion(motionmap::studio::studioVersion());
+}
+
+/// --help and --version need no display, and a QApplication aborts without one: they are
+/// answered here, by a QCoreApplication, before any QApplication exists (exits when asked).
+void answerHelpAndVersion(int& argc, char** argv) {
+  const QCoreApplication core(argc, argv);
+  setNames();
+  QCommandLineParser parser;
+  const Options options(parser);
+  // Errors are left to the QApplication's parse, which knows Qt's own options (-platform …).
+  (void)parser.parse(QCoreApplication::arguments());
+  if (parser.isSet(options.help) || parser.isSet("help-all")) parser.showHelp(0);
+  if (parser.isSet(options.version)) parser.showVersion();
+}
+
+/// A screenshot run reads the user's settings (the same map and synthesis parameters as a
+/// normal start) but must not change them: what the window writes (the method, the parameters,
+/// recent files, geometry) goes to a copy in `dir`, dropped when the run ends.
+void useScratchSettings(const QString& dir) {
+  QVariantMap values;
+  {
+    const QSettings user;
+    for (const QString& key : user.allKeys()) values.insert(key, user.value(key));
+  }
+  QSettings::setDefaultFormat(QSettings::IniFormat);
+  QSettings::setPath(QSettings::IniFormat, QSettings::UserScope, dir);
+  QSettings copy;
+  for (auto it = values.cbegin(); it != values.cend(); ++it) copy.setValue(it.key(), it.value());
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   // The 3-D view needs OpenGL 3.3 core; the default format must be set before any widget exists.
   motionmap::studio::SkeletonView::installSurfaceFormat();
 
+  answerHelpAndVersion(argc, argv);
   QApplication app(argc, argv);
-  QApplication::setOrganizationName("MotionMap");
-  QApplication::setApplicationName("MotionMap Studio");
+  setNames();
 
   QCommandLineParser parser;
-  parser.setApplicationDescription(
-      "MotionMap Studio: every frame of a motion-capture clip as a point on a map");
-  parser.addHelpOption();
-  parser.addPositionalArgument(
-      "file",
-      "Clip to open (.bvh, or .amc with its .asf); more files of the same skeleton join its map. "
-      "Or a saved map file (.mmap.h5, from `motionmap map --save`), opened without refitting",
-      "[FILE [MORE…]]");
-  QCommandLineOption methodOption("method", "Embedding method: pca, svd, mds, isomap, le, lle",
-                                  "M");
-  QCommandLineOption frameOption("frame", "Frame to show", "N");
-  QCommandLineOption shotOption("screenshot", "Render the window to a PNG and exit", "PNG");
-  parser.addOptions({methodOption, frameOption, shotOption});
+  const Options options(parser);
   parser.process(app);
+  const QCommandLineOption& methodOption = options.method;
+  const QCommandLineOption& frameOption = options.frame;
+  const QCommandLineOption& shotOption = options.shot;
 
   auto fail = [](const QString& message) {
     std::fprintf(stderr, "motionmap-studio: %s\n", qPrintable(message));
@@ -45,6 +102,11 @@ int main(int argc, char** argv) {
   const bool screenshot = parser.isSet(shotOption);
   const QStringList files = parser.positionalArguments();
   if (screenshot && files.isEmpty()) return fail("--screenshot needs a FILE");
+  const QTemporaryDir scratch;
+  if (screenshot) {
+    if (!scratch.isValid()) return fail("cannot make a temporary folder for the settings");
+    useScratchSettings(scratch.path());
+  }
 
   MainWindow window;
   if (screenshot) {

@@ -4,7 +4,6 @@
 #include <QCloseEvent>
 #include <QDragEnterEvent>
 #include <QFileInfo>
-#include <QKeyEvent>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -17,6 +16,7 @@
 
 #include "clip_loader.h"
 #include "file_menu.h"
+#include "help_dialogs.h"
 #include "job_progress.h"
 #include "map_export.h"
 #include "map_gestures.h"
@@ -28,6 +28,7 @@
 #include "motionmap/sample/sample_clip.h"
 #include "parameter_dialogs.h"
 #include "picture_export.h"
+#include "playback_actions.h"
 #include "skeleton_view.h"
 #include "transport_bar.h"
 
@@ -52,6 +53,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   restoreGeometry(settings.value("geometry").toByteArray());
   m_splitter->restoreState(settings.value("splitter").toByteArray());
   setAcceptDrops(true);
+  showMenuToolTips(this);
 }
 
 // The controllers stop their workers as they go.
@@ -117,6 +119,8 @@ void MainWindow::buildMenus() {
   connect(m_motionMenu, &MotionMenu::synthesisRequested, this, &MainWindow::synthesisDialog);
   connect(m_motionMenu, &MotionMenu::showClipRequested, this, &MainWindow::showClipMotion);
   addViewMenu(this, m_skeletonView, m_mapView);
+  new PlaybackActions(this, &m_playback);  // Space, arrows, Home/End, I/O: window shortcuts
+  addHelpMenu(this);
 }
 
 void MainWindow::buildStatusBar() {
@@ -713,22 +717,6 @@ void MainWindow::dropEvent(QDropEvent* event) {
     if (!url.isLocalFile()) continue;
     if (!(add ? addFile(url.toLocalFile()) : openFile(url.toLocalFile()))) break;
     add = true;
-  }
-}
-
-void MainWindow::keyPressEvent(QKeyEvent* event) {
-  switch (event->key()) {
-    case Qt::Key_Space:
-      isPlaying() ? pause() : play();
-      break;
-    case Qt::Key_Left:
-      m_playback.step(-1);
-      break;
-    case Qt::Key_Right:
-      m_playback.step(+1);
-      break;
-    default:
-      QMainWindow::keyPressEvent(event);
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // MotionMap Studio's main window: the 3-D view and the map side by side, the transport bar under
-// them (play, frame slider, speed, loop; Space and ←/→ too), the File, Motion and View menus, and
+// them (play, frame slider, frame and time, speed, loop), the File, Motion, View, Playback and Help
+// menus (the playback keys are window shortcuts: PlaybackActions), and
 // the map gestures (hover and click to find a frame, drag to blend a pose, Shift-drag or sketch
 // mode to sketch a new motion, a magnifying lens). The window computes nothing itself: it wires
 // the widgets to three controllers without widgets, MapController (maps computed by
@@ -169,7 +170,6 @@ class MainWindow : public QMainWindow {
   void closeEvent(QCloseEvent* event) override;
   void dragEnterEvent(QDragEnterEvent* event) override;
   void dropEvent(QDropEvent* event) override;
-  void keyPressEvent(QKeyEvent* event) override;
 
  private:
   void buildUi();

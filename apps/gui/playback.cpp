@@ -14,9 +14,17 @@ Playback::Playback(QObject* parent) : QObject(parent) {
 
 void Playback::setMotion(int frames, double frameTime) {
   const int before = m_frames;
+  const double timeBefore = m_frameTime;
   m_frames = std::max(0, frames);
   m_frameTime = frameTime;
+  // In/out points belong to a motion: another length or rate is another motion.
+  const bool hadRange = m_in || m_out;
+  if (m_frames != before || m_frameTime != timeBefore) {
+    m_in.reset();
+    m_out.reset();
+  }
   if (m_frames != before) emit frameCountChanged(m_frames);
+  if (m_frames != before || hadRange != bool(m_in || m_out)) emit rangeChanged();
 }
 
 void Playback::setClock(Clock clock) {
@@ -45,9 +53,54 @@ void Playback::step(int delta) {
   setFrame(m_frame + delta);
 }
 
+void Playback::goToStart() {
+  setFrame(m_frame != rangeStart() ? rangeStart() : 0);
+}
+
+void Playback::goToEnd() {
+  setFrame(m_frame != rangeEnd() ? rangeEnd() : m_frames - 1);
+}
+
+void Playback::setInPoint(int frame) {
+  if (m_frames <= 0) return;
+  m_in = std::clamp(frame, 0, m_frames - 1);
+  if (m_out && *m_out < *m_in) m_out.reset();
+  emit rangeChanged();
+}
+
+void Playback::setOutPoint(int frame) {
+  if (m_frames <= 0) return;
+  m_out = std::clamp(frame, 0, m_frames - 1);
+  if (m_in && *m_in > *m_out) m_in.reset();
+  emit rangeChanged();
+}
+
+void Playback::clearInPoint() {
+  if (!m_in) return;
+  m_in.reset();
+  emit rangeChanged();
+}
+
+void Playback::clearOutPoint() {
+  if (!m_out) return;
+  m_out.reset();
+  emit rangeChanged();
+}
+
+int Playback::rangeStart() const {
+  return m_in.value_or(0);
+}
+
+int Playback::rangeEnd() const {
+  return m_out.value_or(std::max(0, m_frames - 1));
+}
+
 void Playback::play() {
-  if (m_frames < 2) return;
-  if (!m_loop && m_frame >= m_frames - 1) show(0);  // play again from the start
+  const int first = rangeStart();
+  const int last = rangeEnd();
+  if (m_frames < 2 || last <= first) return;
+  // Outside the range, or stopped at its end without loop: play the range from its start.
+  if (m_frame < first || m_frame > last || (!m_loop && m_frame >= last)) show(first);
   anchor();
   m_timer.setInterval(std::clamp(int(std::lround(m_frameTime * 1000.0 / m_speed)), 1, kMaxTickMs));
   const bool wasPlaying = isPlaying();
@@ -79,12 +132,15 @@ void Playback::tick() {
   // The frame is the clock's, so playback keeps the motion's rate whatever the tick rate.
   const double elapsed = m_clock() - m_startTime;
   const long long target = m_startFrame + (long long)std::floor(elapsed * m_speed / m_frameTime);
-  if (target < m_frames) {
+  const int first = rangeStart();
+  const int last = rangeEnd();
+  if (target <= last) {
     if (target != m_frame) show(int(target));
   } else if (m_loop) {
-    show(int(target % m_frames));
+    // Back to the in point, keeping the clock's phase (target > last >= first).
+    show(int(first + (target - first) % (last - first + 1)));
   } else {
-    show(m_frames - 1);
+    show(last);
     pause();
   }
 }

@@ -1,8 +1,10 @@
 #pragma once
-// The playback clock of the motion shown: the current frame, play/pause, speed and loop. While
-// playing, a timer ticks at least every 16 ms and the frame shown is the one the clock has
-// reached (start frame + elapsed × speed ÷ frame time), never a count of ticks, so playback keeps
-// the motion's rate whatever the tick rate. No widgets: the window shows frameChanged.
+// The playback clock of the motion shown: the current frame, play/pause, speed, loop and an
+// in/out range. While playing, a timer ticks at least every 16 ms and the frame shown is the one
+// the clock has reached (start frame + elapsed × speed ÷ frame time), never a count of ticks, so
+// playback keeps the motion's rate whatever the tick rate. Playing and looping stay within the
+// in/out range (the whole motion when none is set); stepping and jumps may go anywhere. No
+// widgets: the window shows frameChanged.
 //
 //   Playback playback;
 //   connect(&playback, &Playback::frameChanged, [&](int f) { view.setPose(motion, f); });
@@ -10,6 +12,7 @@
 //   playback.setFrame(0);
 //   playback.play();
 #include <functional>
+#include <optional>
 
 #include <QElapsedTimer>
 #include <QObject>
@@ -28,7 +31,9 @@ class Playback : public QObject {
   explicit Playback(QObject* parent = nullptr);
 
   /// The motion played: `frames` frames, `frameTime` seconds apart. The frame number stays (the
-  /// next setFrame clamps it); frameCountChanged is emitted when the count changes.
+  /// next setFrame clamps it); frameCountChanged is emitted when the count changes. The in/out
+  /// points stay while the count and the frame time stay (the window tells the same clip again
+  /// when clips join its map), and are cleared for a motion of another length or rate.
   void setMotion(int frames, double frameTime);
   int frameCount() const { return m_frames; }
   double frameTime() const { return m_frameTime; }
@@ -38,18 +43,36 @@ class Playback : public QObject {
   /// from there. frameChanged is emitted even when the number stays: the motion behind it may
   /// be another one.
   void setFrame(int frame);
-  /// Pauses and moves `delta` frames (the arrow keys).
+  /// Pauses and moves `delta` frames (the arrow keys), anywhere in the motion.
   void step(int delta);
+  /// Home: to the first frame of the in/out range; from there (or without an in point) to the
+  /// motion's first frame. Goes on playing when playing.
+  void goToStart();
+  /// End: to the last frame of the range; from there (or without an out point) to the motion's
+  /// last frame. Goes on playing when playing.
+  void goToEnd();
 
-  /// Plays from the current frame (from the first when stopped at the end without loop). Needs
-  /// a motion of two frames or more.
+  /// The in point (I): playback starts and loops back here. An out point before it is cleared.
+  void setInPoint(int frame);
+  /// The out point (O): playback stops or loops here. An in point after it is cleared.
+  void setOutPoint(int frame);
+  void clearInPoint();
+  void clearOutPoint();
+  std::optional<int> inPoint() const { return m_in; }
+  std::optional<int> outPoint() const { return m_out; }
+  /// The frames playback stays within: [in point or 0, out point or the last frame].
+  int rangeStart() const;
+  int rangeEnd() const;
+
+  /// Plays from the current frame; from the range's start when the frame is outside the range,
+  /// or stopped at its end without loop. Needs a range of two frames or more.
   void play();
   void pause();
   bool isPlaying() const { return m_timer.isActive(); }
   /// 1 = the motion's frame rate; clamped to [0.05, 8] (not finite: 1).
   void setSpeed(double speed);
   double speed() const { return m_speed; }
-  /// Whether playback starts over at the end (else it stops on the last frame).
+  /// Whether playback starts over at the range's end (else it stops on its last frame).
   void setLoop(bool loop);
   bool loop() const { return m_loop; }
 
@@ -67,6 +90,8 @@ class Playback : public QObject {
   void playingChanged(bool playing);
   void speedChanged(double speed);
   void loopChanged(bool loop);
+  /// The in or out point was set or cleared, or the motion changed (rangeStart(), rangeEnd()).
+  void rangeChanged();
 
  private:
   /// Sets and emits `frame` (clamped), without touching the clock's anchor.
@@ -77,6 +102,8 @@ class Playback : public QObject {
   int m_frames = 0;
   double m_frameTime = 1.0 / 30.0;
   int m_frame = 0;
+  std::optional<int> m_in;   ///< the in point (I), within the motion
+  std::optional<int> m_out;  ///< the out point (O), within the motion, never before m_in
   double m_speed = 1.0;
   bool m_loop = true;
   QTimer m_timer;

@@ -6,6 +6,7 @@
 
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QMainWindow>
 #include <QMenu>
@@ -13,6 +14,7 @@
 #include <QSettings>
 #include <QSignalSpy>
 #include <QSlider>
+#include <QSpinBox>
 #include <QTest>
 #include <cmath>
 
@@ -491,8 +493,15 @@ TEST(StudioTransportBar, FollowsThePlaybackBothWays) {
   EXPECT_FALSE(bar.loopBox()->isChecked());
   bar.loopBox()->setChecked(true);
   EXPECT_TRUE(playback.loop());
-  // None of them takes the keyboard focus (Space and the arrows are the window's).
-  for (QWidget* w : bar.findChildren<QWidget*>()) EXPECT_EQ(w->focusPolicy(), Qt::NoFocus);
+  // Only the number fields take the keyboard focus, and only by a click (to type in them);
+  // Space and the arrows are the window's everywhere else.
+  for (QWidget* w : bar.findChildren<QWidget*>()) {
+    const bool field = w == static_cast<QWidget*>(bar.frameBox()) ||
+                       w == static_cast<QWidget*>(bar.timeBox()) ||
+                       bar.frameBox()->isAncestorOf(w) || bar.timeBox()->isAncestorOf(w);
+    EXPECT_EQ(w->focusPolicy(), field ? Qt::ClickFocus : Qt::NoFocus)
+        << w->metaObject()->className();
+  }
 }
 
 TEST(StudioFileMenu, RemembersTheLastFilesNewestFirst) {

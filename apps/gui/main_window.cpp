@@ -685,9 +685,9 @@ ExportContext MainWindow::exportContext() const {
   c.naming.frame = currentFrame();
   c.naming.synthesized = m_playingSynth && synthesized();
   if (const Motion* motion = playingMotion()) {
-    // The whole motion playing (an in/out range of the playback, when there is one, goes here).
-    c.first = 0;
-    c.last = motion->num_frames - 1;
+    // The playback's in/out range (I / O), else the whole motion playing.
+    c.first = m_playback.inPoint().value_or(0);
+    c.last = m_playback.outPoint().value_or(motion->num_frames - 1);
     c.fps = 1.0 / motion->frame_time;
   }
   return c;

@@ -99,6 +99,8 @@ class MainWindow : public QMainWindow {
   void cancelComputation() { m_maps.cancel(); }
 
   /// Frame of the motion playing (the clip, or a synthesized motion).
+  /// The playback clock (frame, in/out range, speed, loop), for scripts and tests.
+  Playback& playback() { return m_playback; }
   int currentFrame() const { return m_playback.frame(); }
   void setFrame(int frame) { m_playback.setFrame(frame); }
   void play() { m_playback.play(); }

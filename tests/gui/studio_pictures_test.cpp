@@ -373,6 +373,11 @@ TEST(StudioAnimation, AnMp4OfA30FpsWalkRunsAt30Fps) {
   const ExportContext c = w.exportContext();
   EXPECT_EQ(animationName(c.naming), "BandaiNamcoResearchInc_dataset-1_walk_normal_001-pca");
   EXPECT_EQ(c.last, 194);
+  // An in/out range of the playback (I / O) is what the animation dialog offers.
+  w.playback().setInPoint(100);
+  w.playback().setOutPoint(159);
+  EXPECT_EQ(w.exportContext().first, 100);
+  EXPECT_EQ(w.exportContext().last, 159);
   QTemporaryDir dir;
   AnimationSettings s;
   s.folder = dir.path();

@@ -402,9 +402,11 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
                                   : std::numeric_limits<int>::max());
   });
   if (!valid) return false;
-  m_takes->recordMapChange(mapState(), {m_method, m_parameters, parameters},
-                           tr("synthesis parameters"),
-                           [this](const MapState& state) { applyMapState(state); });
+  if (!sameSynthParameters(parameters, m_synthParameters)) {
+    m_takes->recordMapChange(mapState(), {m_method, m_parameters, parameters},
+                             tr("synthesis parameters"),
+                             [this](const MapState& state) { applyMapState(state); });
+  }
   if (m_saved) {
     m_synthParameters = parameters;
     m_gestures->setSavedMap(m_saved, parameters.blend.neighbors, m_loader);

@@ -2,6 +2,8 @@
 
 #include <QCoreApplication>
 
+#include "map_controller.h"
+
 namespace motionmap::studio {
 
 namespace {
@@ -9,6 +11,14 @@ QString tr(const char* text) {
   return QCoreApplication::translate("UndoCommands", text);
 }
 }  // namespace
+
+bool sameSynthParameters(const SynthParameters& a, const SynthParameters& b) {
+  const MapParameters map;
+  return MapController::cacheKey(embed::Method::Pca, map, a.blend) ==
+             MapController::cacheKey(embed::Method::Pca, map, b.blend) &&
+         a.motion.speed == b.motion.speed && a.motion.fps == b.motion.fps &&
+         a.motion.smooth == b.motion.smooth && a.timedAsDrawn == b.timedAsDrawn;
+}
 
 AddTakeCommand::AddTakeCommand(TakeList* takes, Take take, int row)
     : m_takes(takes), m_take(std::move(take)), m_row(row) {

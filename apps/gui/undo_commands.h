@@ -20,6 +20,10 @@ struct MapState {
   SynthParameters synth;
 };
 
+/// Whether `a` and `b` synthesize alike (the blend as the map cache tells blenders apart, the
+/// motion options, the timing), so that an unchanged dialog leaves no undo step.
+bool sameSynthParameters(const SynthParameters& a, const SynthParameters& b);
+
 /// A sketch's take added at `row` (made current by redo).
 class AddTakeCommand : public QUndoCommand {
  public:

@@ -347,6 +347,10 @@ TEST(StudioTakes, MethodAndParameterChangesUndoFromTheCache) {
   const double fps = s.motion.fps;
   s.motion.fps = 30.0;
   ASSERT_TRUE(w->setSynthParameters(s));
+  const int steps = w->takes()->undoStack().count();
+  ASSERT_TRUE(w->setSynthParameters(s));  // unchanged: no step
+  EXPECT_EQ(w->takes()->undoStack().count(), steps);
+  EXPECT_EQ(editAction(*w, "&Undo")->text(), "&Undo synthesis parameters");
   w->takes()->undo();
   EXPECT_EQ(w->synthParameters().motion.fps, fps);
   w->takes()->redo();

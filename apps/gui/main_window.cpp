@@ -30,6 +30,7 @@
 #include "picture_export.h"
 #include "playback_actions.h"
 #include "skeleton_view.h"
+#include "takes_panel.h"
 #include "transport_bar.h"
 
 namespace motionmap::studio {
@@ -75,6 +76,10 @@ void MainWindow::buildUi() {
   layout->addWidget(m_splitter, 1);
   layout->addWidget(new TransportBar(&m_playback));
   setCentralWidget(central);
+  m_takes = new TakesController(&m_synthesis, this);
+  m_takesPanel = new TakesPanel(m_takes);
+  addDockWidget(Qt::RightDockWidgetArea, m_takesPanel);
+  m_takesPanel->hide();  // until the first sketch (Edit → Takes panel shows it)
 
   buildMenus();
   buildStatusBar();
@@ -94,6 +99,10 @@ void MainWindow::buildUi() {
   connect(m_gestures, &MapGestures::frameClicked, this, &MainWindow::setCurrentClip);
   connect(m_gestures, &MapGestures::failed, this, &MainWindow::showError);
   connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
+  connect(m_mapView, &MapView::controlPointMoved, this, &MainWindow::moveControlPoint);
+  connect(m_takes, &TakesController::changed, this, &MainWindow::updateTakePaths);
+  connect(&m_takes->list(), &TakeList::currentMotionChanged, this, &MainWindow::playCurrentTake);
+  connect(m_takesPanel, &TakesPanel::exportRequested, this, &MainWindow::exportTake);
 }
 
 void MainWindow::buildMenus() {
@@ -112,6 +121,7 @@ void MainWindow::buildMenus() {
   connect(m_files, &FileMenu::exportPictureRequested, this, &MainWindow::exportPicture);
   connect(m_files, &FileMenu::exportAnimationRequested, this, &MainWindow::exportAnimation);
   m_files->setContextSource([this] { return exportContext(); });
+  addEditMenu(this, m_takes, m_takesPanel);
 
   m_motionMenu = new MotionMenu(this, m_method);
   connect(m_motionMenu, &MotionMenu::methodChosen, this, &MainWindow::setMethod);
@@ -235,8 +245,8 @@ void MainWindow::dropSynthesizedMotion() {
   m_synthesis.stop();
   m_synthesis.clear();
   pause();
-  m_unsaved = false;
   m_playingSynth = false;
+  m_takes->clear();  // the takes and their history belong to the clips before
   m_files->exportMotionAction()->setEnabled(false);
 }
 
@@ -352,8 +362,13 @@ void MainWindow::setMethod(embed::Method method) {
                   .arg(QString::fromStdString(m_saved->file().parameters)));
     return;
   }
+  const MapState before = mapState();
   m_method = method;
   m_motionMenu->setMethod(method);
+  if (method != before.method) {
+    m_takes->recordMapChange(before, mapState(), tr("method %1").arg(methodLabel(method)),
+                             [this](const MapState& state) { applyMapState(state); });
+  }
   QSettings().setValue("method", QString::fromUtf8(embed::method_name(method).data()));
   if (m_maps.request(method, m_parameters, m_synthParameters.blend)) {  // cached
     saveParameters();
@@ -363,8 +378,27 @@ void MainWindow::setMethod(embed::Method method) {
 }
 
 void MainWindow::setParameters(const MapParameters& parameters) {
+  const MapState before = mapState();
   m_parameters = parameters;
+  if (!m_saved && !(parameters == before.parameters)) {
+    m_takes->recordMapChange(before, mapState(), tr("map parameters"),
+                             [this](const MapState& state) { applyMapState(state); });
+  }
   setMethod(m_method);
+}
+
+MapState MainWindow::mapState() const {
+  return {m_method, m_parameters, m_synthParameters};
+}
+
+void MainWindow::applyMapState(const MapState& state) {
+  m_parameters = state.parameters;
+  m_synthParameters = state.synth;
+  if (m_saved) {
+    m_gestures->setSavedMap(m_saved, m_synthParameters.blend.neighbors, m_loader);
+    return saveParameters();
+  }
+  setMethod(state.method);  // its map from the cache when it was shown before
 }
 
 bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
@@ -376,6 +410,11 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
                                   : std::numeric_limits<int>::max());
   });
   if (!valid) return false;
+  if (!sameSynthParameters(parameters, m_synthParameters)) {
+    m_takes->recordMapChange(mapState(), {m_method, m_parameters, parameters},
+                             tr("synthesis parameters"),
+                             [this](const MapState& state) { applyMapState(state); });
+  }
   if (m_saved) {
     m_synthParameters = parameters;
     m_gestures->setSavedMap(m_saved, parameters.blend.neighbors, m_loader);
@@ -428,6 +467,7 @@ void MainWindow::showMap() {
   // A blend is computed from the data where a sample lies within the blender's reach; farther
   // out, MapBlender::locate moves the point to the data's edge (PointValidity::clamped).
   m_mapView->setShadingReach(map->blender->reach_distance());
+  updateTakePaths();
   m_files->exportMapAction()->setEnabled(true);
   updatePointer();
   updateStatus();
@@ -493,11 +533,19 @@ void MainWindow::showError(const QString& message) {
 }
 
 bool MainWindow::confirmDiscard() {
-  if (!hasUnsavedMotion() || !m_interactive) return true;
-  return QMessageBox::question(
-             this, tr("MotionMap Studio"),
-             tr("The synthesized motion (%1 frames) has not been exported. Discard it?")
-                 .arg(synthesized()->motion.num_frames)) == QMessageBox::Yes;
+  const QStringList unexported = m_takes->list().unexportedNames();
+  if (unexported.isEmpty() || !m_interactive) return true;
+  const QString text = unexported.size() == 1
+                           ? tr("%1 has not been exported. Discard it?").arg(unexported.front())
+                           : tr("%1 takes have not been exported (%2). Discard them?")
+                                 .arg(unexported.size())
+                                 .arg(unexported.join(", "));
+  return QMessageBox::question(this, tr("MotionMap Studio"), text) == QMessageBox::Yes;
+}
+
+const synth::SynthResult* MainWindow::synthesized() const {
+  const Take* take = m_takes->list().currentTake();
+  return take ? take->result.get() : nullptr;
 }
 
 const Motion* MainWindow::playingMotion() const {
@@ -535,7 +583,8 @@ void MainWindow::updatePointer() {
   if (m_playingSynth && synthesized()) {
     // Its map points belong to the map it was sketched on.
     const auto& validity = synthesized()->validity;
-    const bool sameMap = m_synthesis.resultMap().get() == map && frame < int(validity.size());
+    const bool sameMap =
+        m_takes->list().currentTake()->map.get() == map && frame < int(validity.size());
     m_mapView->setPointer(sameMap ? std::optional(validity[std::size_t(frame)].point)
                                   : std::nullopt);
     return;
@@ -560,35 +609,64 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
     return false;
   }
   std::shared_ptr<const MapResult> map = m_maps.current();
-  if (!map || !confirmDiscard()) return false;
-  // A newer sketch replaces one still being synthesized.
+  if (!map) return false;
+  // A newer sketch replaces one still being synthesized; the takes before stay.
   if (!m_synthesis.start(std::move(map), path, m_synthParameters)) return false;
+  m_takes->sketchStarted();
   m_synthProgress->start();
   updateStatus();
   return true;
 }
 
 void MainWindow::onSynthesized() {
-  // The user agreed to replace an unexported motion when the sketch ended (synthesizeAlong).
-  pause();
-  m_unsaved = true;
-  m_playingSynth = true;
-  m_files->exportMotionAction()->setEnabled(true);
-  updateMotion();
-  setFrame(0);
+  // A new take (made current) or an edited one: playCurrentTake follows when it is current.
+  const bool first = m_takes->list().count() == 0;
+  m_takes->takeResult(m_synthesis.resultMap()->parameters);
+  if (first) m_takesPanel->show();
   updateStatus();
   emit motionSynthesized();
   emit synthesisFinished(true);
+}
+
+void MainWindow::playCurrentTake() {
+  const Take* take = m_takes->list().currentTake();
+  m_files->exportMotionAction()->setEnabled(take != nullptr);
+  if (!take) {
+    if (m_playingSynth) setCurrentClip(m_clipIndex, 0);  // its take is gone: the clip again
+    return;
+  }
+  pause();
+  m_playingSynth = true;
+  updateMotion();
+  setFrame(0);
+  updateStatus();
   play();
 }
 
+void MainWindow::updateTakePaths() {
+  m_mapView->setTakePaths(m_saved ? std::vector<MapView::TakePath>{}
+                                  : m_takes->pathsOn(currentMap()));
+}
+
+bool MainWindow::moveControlPoint(int control, const Eigen::Vector2d& to) {
+  if (!m_takes->editControlPoint(control, to, m_synthParameters)) return false;
+  m_synthProgress->start();
+  updateStatus();
+  return true;
+}
+
 bool MainWindow::exportMotion(const QString& path) {
-  const std::shared_ptr<const MapResult>& map = m_synthesis.resultMap();
-  if (!synthesized() || !map) return false;
+  return exportTake(m_takes->list().current(), path);
+}
+
+bool MainWindow::exportTake(int row, const QString& path) {
+  if (row < 0 || row >= m_takes->list().count()) return false;
+  const Take& take = m_takes->list().at(row);
+  if (!take.result || !take.map) return false;
   return attempt([&] {
-    io::write_bvh(io::from_motion(map->blender->skeleton(), synthesized()->motion),
+    io::write_bvh(io::from_motion(take.map->blender->skeleton(), take.result->motion),
                   path.toStdString());
-    m_unsaved = false;
+    m_takes->list().setExported(row, true);
     m_status->setText(tr("Wrote %1").arg(path));
   });
 }

@@ -20,6 +20,7 @@
 #include "parameters.h"
 #include "playback.h"
 #include "synthesis_controller.h"
+#include "takes_controller.h"
 
 class QLabel;
 class QSplitter;
@@ -37,6 +38,7 @@ class JobProgress;
 class MapView;
 class MotionMenu;
 class SkeletonView;
+class TakesPanel;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -114,21 +116,32 @@ class MainWindow : public QMainWindow {
   bool loop() const { return m_playback.loop(); }
   const Motion* playingMotion() const;
 
-  /// The last synthesized motion (nothing before the first sketch).
-  const synth::SynthResult* synthesized() const { return m_synthesis.result(); }
-  bool hasUnsavedMotion() const { return m_synthesis.result() && m_unsaved; }
-  /// Asks before a synthesized motion that was not exported is replaced or dropped; true to go
-  /// on (always when there is none, or when not interactive).
+  /// The current take's motion (nothing before the first sketch, or with no take selected).
+  const synth::SynthResult* synthesized() const;
+  /// Some take was not exported since its motion last changed.
+  bool hasUnsavedMotion() const { return !m_takes->list().unexportedNames().isEmpty(); }
+  /// Asks before takes that were not exported are dropped (another clip, closing); true to go
+  /// on (always when there are none, or when not interactive).
   bool confirmDiscard();
   /// Starts synthesizing the motion along `path` (synth::synthesize with the synthesis
-  /// parameters; without its times unless timedAsDrawn) on a worker; when done it
-  /// replaces the last one (asked first, see confirmDiscard) and plays. False if nothing started.
+  /// parameters; without its times unless timedAsDrawn) on a worker; when done it becomes a new
+  /// take (the takes before stay), the current one, and plays. False if nothing started.
   bool synthesizeAlong(const synth::MapPath& path);
+  /// The takes and the undo history (Edit → Undo / Redo).
+  TakesController* takes() const { return m_takes; }
+  TakesPanel* takesPanel() const { return m_takesPanel; }
+  /// Drags the current take's control point `control` to map point `to` (as the mouse does):
+  /// the take is re-synthesized on the worker and, when done, its motion replaced (one undo
+  /// step). False if nothing started.
+  bool moveControlPoint(int control, const Eigen::Vector2d& to);
   bool isSynthesizing() const { return m_synthesis.isRunning(); }
   /// Stops a running synthesis; the previous synthesized motion (if any) stays.
   void cancelSynthesis() { m_synthesis.cancel(); }
-  /// Writes the synthesized motion as BVH. False (error shown) on failure.
+  /// Writes the current take's motion as BVH. False (error shown) on failure.
   bool exportMotion(const QString& path);
+  /// Writes the motion of the take at `row` as BVH; it then counts as exported. False (error
+  /// shown) on failure.
+  bool exportTake(int row, const QString& path);
   /// Writes the map shown: .csv (pipeline::write_map_csv), .png, .svg or .pdf
   /// (render::save_map_plot). False (error shown) on failure.
   bool exportMap(const QString& path);
@@ -184,8 +197,15 @@ class MainWindow : public QMainWindow {
   void onMapFinished(std::shared_ptr<const MapResult> result);
   void onMapFailed(const QString& message);
   void onMapCancelled();
-  /// A synthesized motion is ready: it replaces the one before and plays.
+  /// A synthesized motion is ready: a new take, or an edited one; it plays.
   void onSynthesized();
+  /// The current take (or its motion) changed: it plays (the clip when there is none).
+  void playCurrentTake();
+  /// The map view draws the takes sketched on the map shown.
+  void updateTakePaths();
+  /// The method and parameters, for undo (applyMapState goes back to them, map from the cache).
+  MapState mapState() const;
+  void applyMapState(const MapState& state);
   /// Shows frame `frame` of the playing motion (Playback::frameChanged).
   void showFrame(int frame);
   /// Tells the playback clock the length and rate of the playing motion.
@@ -227,7 +247,8 @@ class MainWindow : public QMainWindow {
   SynthesisController m_synthesis;
   Playback m_playback;
   bool m_playingSynth = false;  ///< the synthesized motion plays (else the clip)
-  bool m_unsaved = false;       ///< the synthesized motion was not exported
+  TakesController* m_takes = nullptr;
+  TakesPanel* m_takesPanel = nullptr;
   bool m_interactive = true;
   QString m_lastError;
 

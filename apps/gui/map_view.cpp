@@ -106,6 +106,54 @@ void MapView::setHoverText(const QString& text) {
   update();
 }
 
+void MapView::setTakePaths(std::vector<TakePath> paths) {
+  m_takes = std::move(paths);
+  if (m_gesture == Gesture::Control) m_gesture = Gesture::None;  // its take changed under it
+  update();
+}
+
+int MapView::controlPointAt(const QPointF& pixel) const {
+  for (const TakePath& take : m_takes) {
+    if (!take.current) continue;
+    int best = -1;
+    double bestDistance = kControlPickPixels;
+    for (std::size_t c = 0; c < take.controls.size(); ++c) {
+      const double d = QLineF(toWidget(take.points[std::size_t(take.controls[c])]), pixel).length();
+      if (d <= bestDistance) {
+        bestDistance = d;
+        best = int(c);
+      }
+    }
+    return best;
+  }
+  return -1;
+}
+
+void MapView::paintTakes(QPainter& painter) const {
+  const QColor color = takeColor();
+  for (const TakePath& take : m_takes) {
+    const bool dragging = take.current && m_gesture == Gesture::Control;
+    const std::vector<Eigen::Vector2d>& points = dragging ? m_controlPreview.points : take.points;
+    if (points.size() < 2) continue;
+    QPainterPath path(toWidget(points.front()));
+    for (const auto& p : points) path.lineTo(toWidget(p));
+    QColor line = color;
+    if (!take.current) line.setAlpha(110);  // the other takes of this map, behind
+    painter.setPen(
+        QPen(line, take.current ? 2.5 : 1.5, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+    painter.setBrush(Qt::NoBrush);
+    painter.drawPath(path);
+    const QPointF end = toWidget(points.back());
+    painter.setPen(take.current ? QColor(120, 60, 0) : QColor(120, 60, 0, 140));
+    painter.drawText(end + QPointF(6, -6), take.name);
+    for (const int i : take.controls) {
+      painter.setPen(QPen(QColor(120, 60, 0), 1.5));
+      painter.setBrush(Qt::white);
+      painter.drawRect(QRectF(toWidget(points[std::size_t(i)]) - QPointF(4, 4), QSizeF(8, 8)));
+    }
+  }
+}
+
 void MapView::setSketchMode(bool on) {
   m_sketchMode = on;
 }
@@ -263,6 +311,7 @@ void MapView::paintEvent(QPaintEvent*) {
   painter.drawPixmap(0, 0, m_cache);
   painter.setRenderHint(QPainter::Antialiasing);
   if (lensShown()) paintLens(painter);
+  paintTakes(painter);
   if (m_sketch.points.size() >= 2) {
     QPainterPath path(toWidget(m_sketch.points.front()));
     for (const auto& p : m_sketch.points) path.lineTo(toWidget(p));
@@ -334,7 +383,18 @@ void MapView::addSketchPoint(const QPointF& pixel) {
 void MapView::mousePressEvent(QMouseEvent* event) {
   if (!hasMap() || event->button() != Qt::LeftButton) return;
   m_pressPixel = event->position();
-  if ((event->modifiers() & Qt::ShiftModifier) || m_sketchMode) {
+  // A control point of the current take is dragged even in sketch mode (Shift always sketches).
+  const int control =
+      (event->modifiers() & Qt::ShiftModifier) ? -1 : controlPointAt(event->position());
+  if (control >= 0) {
+    const TakePath* current = nullptr;
+    for (const TakePath& take : m_takes)
+      if (take.current) current = &take;
+    m_gesture = Gesture::Control;
+    m_control = control;
+    m_controlPreview = {};
+    m_controlPreview.points = current->points;
+  } else if ((event->modifiers() & Qt::ShiftModifier) || m_sketchMode) {
     m_gesture = Gesture::Sketch;
     m_sketch = {};
     m_sketchClock.start();
@@ -350,6 +410,15 @@ void MapView::mouseMoveEvent(QMouseEvent* event) {
   switch (m_gesture) {
     case Gesture::Sketch:
       addSketchPoint(pixel);
+      update();
+      break;
+    case Gesture::Control:
+      for (const TakePath& take : m_takes) {
+        if (!take.current) continue;
+        synth::MapPath original;
+        original.points = take.points;
+        m_controlPreview = deformPath(original, take.controls, m_control, toMap(pixel));
+      }
       update();
       break;
     case Gesture::Press:
@@ -380,6 +449,13 @@ void MapView::mouseReleaseEvent(QMouseEvent* event) {
     emit clicked(toMap(event->position()), event->position());
   } else if (gesture == Gesture::Drag) {
     emit dragFinished();
+  } else if (gesture == Gesture::Control) {
+    const int control = m_control;
+    m_control = -1;
+    update();
+    // A click without a move is no edit.
+    if ((event->position() - m_pressPixel).manhattanLength() >= 2)
+      emit controlPointMoved(control, toMap(event->position()));
   }
 }
 

@@ -8,6 +8,10 @@
 //  - Shift + left drag, or any left drag
 //    in sketch mode                      → a sketch path, sketchFinished(path) on release
 //                                          (times in seconds, from the gesture's own clock)
+//  - left drag on a control point of the
+//    current take (setTakePaths)         → it follows the mouse, controlPointMoved on release
+// The takes' paths stay drawn over the map (orange; the current one solid with its control points,
+// the others thinner and translucent, each named at its end).
 // The magnifier is a fisheye lens (Sarkar & Brown's g(x) = (d + 1)·x / (d·x + 1) on the distance
 // to its centre, within its radius) that follows the mouse while no button is down and stays put
 // during a press, so frames that overlap at the map's scale can be told apart and dragged over
@@ -25,6 +29,7 @@
 
 #include "motionmap/render/map_plot.h"
 #include "motionmap/synth/path.h"
+#include "takes.h"
 
 namespace motionmap::studio {
 
@@ -32,6 +37,25 @@ class MapView : public QWidget {
   Q_OBJECT
  public:
   explicit MapView(QWidget* parent = nullptr);
+
+  /// A take's path as drawn (map coordinates).
+  struct TakePath {
+    QString name;
+    std::vector<Eigen::Vector2d> points;
+    std::vector<int> controls;  ///< indices into points: drawn and draggable (current take only)
+    bool current = false;
+  };
+  /// How close (pixels) a press must be to a control point to drag it.
+  static constexpr double kControlPickPixels = 9.0;
+  /// The colour of the current take's path (the others are drawn in it, translucent).
+  static QColor takeColor() { return QColor(255, 130, 0); }
+  /// The takes drawn over the map (replacing those before).
+  void setTakePaths(std::vector<TakePath> paths);
+  const std::vector<TakePath>& takePaths() const { return m_takes; }
+  /// The index of the current take's control point within kControlPickPixels of `pixel`, or −1.
+  int controlPointAt(const QPointF& pixel) const;
+  /// The control point being dragged (−1: none).
+  int draggedControlPoint() const { return m_gesture == Gesture::Control ? m_control : -1; }
 
   /// Shows `coords` (#samples by ≥ 2, copied) with the clip starts and plot options.
   void setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segmentStarts,
@@ -95,6 +119,8 @@ class MapView : public QWidget {
   void dragged(const Eigen::Vector2d& point);
   void dragFinished();
   void sketchFinished(const motionmap::synth::MapPath& path);
+  /// A control point of the current take was dragged to `point` (map coordinates).
+  void controlPointMoved(int control, const Eigen::Vector2d& point);
 
  protected:
   void paintEvent(QPaintEvent* event) override;
@@ -106,7 +132,8 @@ class MapView : public QWidget {
   void leaveEvent(QEvent* event) override;
 
  private:
-  enum class Gesture { None, Press, Drag, Sketch };
+  enum class Gesture { None, Press, Drag, Sketch, Control };
+  void paintTakes(QPainter& painter) const;
   void addSketchPoint(const QPointF& pixel);
   /// Recomputes the data ↔ pixel transforms (and the trajectory in pixels) when stale.
   void ensureTransform() const;
@@ -133,6 +160,9 @@ class MapView : public QWidget {
   Gesture m_gesture = Gesture::None;
   QPointF m_pressPixel;
   synth::MapPath m_sketch;
+  std::vector<TakePath> m_takes;
+  int m_control = -1;               ///< the control point being dragged
+  synth::MapPath m_controlPreview;  ///< the current take's path as it follows the drag
   QElapsedTimer m_sketchClock;
   bool m_sketchMode = false;
   double m_shadingReach = 0.0;

@@ -9,7 +9,6 @@
 //   connect(&synthesis, &SynthesisController::finished, [&] { play(synthesis.result()->motion); });
 //   synthesis.start(maps.current(), sketch, synthParameters);
 #include <memory>
-#include <optional>
 
 #include <QObject>
 #include <QString>
@@ -31,9 +30,10 @@ class SynthesisController : public QObject {
   /// Starts synthesizing the motion along `path` on `map` with `parameters.motion`, keeping the
   /// path's times only when parameters.timedAsDrawn, on the worker thread. A synthesis still
   /// running is stopped first (a newer sketch replaces it). progress, then finished, failed or
-  /// cancelled follow. False (nothing started) without a map or its blender.
+  /// cancelled follow. False (nothing started) without a map or its blender. `take` tags the
+  /// result (resultTake()): −1 for a new sketch, else the id of the take being re-synthesized.
   bool start(std::shared_ptr<const MapResult> map, const synth::MapPath& path,
-             const SynthParameters& parameters);
+             const SynthParameters& parameters, int take = -1);
   bool isRunning() const { return m_job.running(); }
   /// Stops a running synthesis without a signal; its result is dropped. Returns whether one
   /// was running.
@@ -43,7 +43,15 @@ class SynthesisController : public QObject {
   void cancel();
 
   /// The last motion synthesized (nullptr before the first, or after clear()).
-  const synth::SynthResult* result() const { return m_result ? &*m_result : nullptr; }
+  const synth::SynthResult* result() const { return m_result.get(); }
+  /// The same, shared (a take keeps it without a copy).
+  const std::shared_ptr<const synth::SynthResult>& sharedResult() const { return m_result; }
+  /// The path result() follows, as given to start() (its times even when not timed as drawn).
+  const synth::MapPath& resultPath() const { return m_resultPath; }
+  /// The `take` given to start() for result().
+  int resultTake() const { return m_resultTake; }
+  /// The `take` of the synthesis running (or of the last one started).
+  int runningTake() const { return m_runningTake; }
   /// The map result() was sketched on.
   const std::shared_ptr<const MapResult>& resultMap() const { return m_resultMap; }
   /// Forgets the last motion (a new clip). A running synthesis goes on.
@@ -62,10 +70,13 @@ class SynthesisController : public QObject {
   void cancelled();
 
  private:
-  void onResult(std::shared_ptr<const MapResult> map,
+  void onResult(std::shared_ptr<const MapResult> map, synth::MapPath path, int take,
                 const JobOutcome<synth::SynthResult>& outcome);
 
-  std::optional<synth::SynthResult> m_result;
+  std::shared_ptr<const synth::SynthResult> m_result;
+  synth::MapPath m_resultPath;
+  int m_resultTake = -1;
+  int m_runningTake = -1;
   std::shared_ptr<const MapResult> m_resultMap;
   BackgroundJob m_job;  ///< the motion being synthesized
 };

@@ -146,37 +146,35 @@ TEST(StudioSynthesis, AsksBeforeDiscardingAnUnexportedMotion) {
 
   {
     QuestionAnswerer no(QMessageBox::No);
-    // A new sketch: asked, refused, nothing started, the motion kept.
-    EXPECT_FALSE(w->synthesizeAlong(pathAlong(*map, 100, 180, 2.0)));
-    EXPECT_EQ(no.asked, 1);
-    EXPECT_TRUE(no.lastText.contains("not been exported")) << no.lastText.toStdString();
-    EXPECT_FALSE(w->isSynthesizing());
+    // A new sketch: not asked, it is another take (the first is kept).
+    EXPECT_TRUE(w->synthesizeAlong(pathAlong(*map, 100, 180, 2.0)));
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->isSynthesizing(); }, kTimeoutMs));
+    w->pause();
+    EXPECT_EQ(no.asked, 0);
+    ASSERT_EQ(w->takes()->list().count(), 2);
+    EXPECT_EQ(w->takes()->list().at(0).result->motion.num_frames, frames);
+    EXPECT_EQ(w->synthesized()->motion.num_frames, 241);
     // Another clip (File → Open, recent, drop all go through openFile): asked, refused.
     QTemporaryDir dir;
     const QString other = dir.filePath("walk.bvh");
     const Clip walk = sample::make_sample_clip(sample::SampleKind::Walk);
     io::write_bvh(io::from_motion(walk.skeleton, walk.motion), other.toStdString());
     EXPECT_FALSE(w->openFile(other));
-    EXPECT_EQ(no.asked, 2);
+    EXPECT_EQ(no.asked, 1);
+    EXPECT_TRUE(no.lastText.contains("not been exported")) << no.lastText.toStdString();
     EXPECT_EQ(w->clip()->motion.num_frames, 240);
     // Closing the window: asked, refused, still open.
     EXPECT_FALSE(w->close());
-    EXPECT_EQ(no.asked, 3);
+    EXPECT_EQ(no.asked, 2);
     EXPECT_TRUE(w->isVisible());
-    ASSERT_NE(w->synthesized(), nullptr);
-    EXPECT_EQ(w->synthesized()->motion.num_frames, frames);
+    EXPECT_EQ(w->takes()->list().count(), 2);
   }
   {
-    QuestionAnswerer yes(QMessageBox::Yes);
-    EXPECT_TRUE(w->synthesizeAlong(pathAlong(*map, 100, 180, 2.0)));
-    EXPECT_EQ(yes.asked, 1);
-    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->isSynthesizing(); }, kTimeoutMs));
-    EXPECT_EQ(w->synthesized()->motion.num_frames, 241);
-  }
-  {
-    // Exported: nothing to lose, nothing asked.
+    // Every take exported: nothing to lose, nothing asked.
     QTemporaryDir dir;
     ASSERT_TRUE(w->exportMotion(dir.filePath("kept.bvh")));
+    EXPECT_TRUE(w->hasUnsavedMotion());  // the first take is not
+    ASSERT_TRUE(w->exportTake(0, dir.filePath("first.bvh")));
     QuestionAnswerer none(QMessageBox::No);
     EXPECT_TRUE(w->confirmDiscard());
     EXPECT_EQ(none.asked, 0);

@@ -1,0 +1,46 @@
+#pragma once
+// The Takes dock: the list of takes (select one to play it, double-click or F2 to rename, Delete
+// to remove it while the list has focus) with Export… and Delete buttons, and the Edit menu's
+// Undo and Redo (Ctrl+Z; Ctrl+Shift+Z and Ctrl+Y), whose text says what they undo. Changes go
+// through TakesController, so each is one step of its undo history.
+#include <QDockWidget>
+
+class QListView;
+class QMainWindow;
+class QMenu;
+class QPushButton;
+
+namespace motionmap::studio {
+
+class TakesController;
+
+class TakesPanel : public QDockWidget {
+  Q_OBJECT
+ public:
+  explicit TakesPanel(TakesController* takes, QWidget* parent = nullptr);
+  QListView* listView() const { return m_view; }
+  /// A file name for exporting `name`: its letters, digits, '-' and '_' kept, other runs as
+  /// one '_', with ".bvh" ("take.bvh" when nothing is left).
+  static QString suggestedFileName(const QString& name);
+
+ signals:
+  /// Export… chose `path` for the take at `row`.
+  void exportRequested(int row, const QString& path);
+
+ private:
+  void syncSelection();
+  int selectedRow() const;
+  void updateButtons();
+
+  TakesController* m_takes;
+  QListView* m_view;
+  QPushButton* m_export;
+  QPushButton* m_delete;
+  QString m_lastDir;
+};
+
+/// Adds the Edit menu (Undo, Redo, and the Takes panel's toggle) to `window`'s menu bar; undo
+/// and redo go through `takes` (TakesController::undo, redo).
+QMenu* addEditMenu(QMainWindow* window, TakesController* takes, QDockWidget* panel);
+
+}  // namespace motionmap::studio

@@ -13,6 +13,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
+#include "motionmap/features/point_cloud.h"
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/root_motion.h"
@@ -411,6 +412,36 @@ Motion MapBlender::pose(const MapWeights& weights) const {
   pose.rotations = b.rotations;
   pose.translations = b.translations;
   return pose;
+}
+
+Motion MapBlender::pose(const MapWeights& weights, const RootPlacement& placement) const {
+  if (!std::isfinite(placement.heading) || !placement.floor.allFinite())
+    throw ParameterError("pose: the root placement is not finite");
+  Motion out = pose(weights);
+  const auto root = static_cast<std::size_t>(m->motion_root);
+  const int up = static_cast<int>(m->options.up);
+  // The blend faces heading 0 (its tilt has no heading), so turning it by the placement's
+  // heading gives exactly that heading.
+  out.rotations[root] =
+      (axis_rotation(m->options.up, placement.heading) * out.rotations[root]).normalized();
+  const double height = out.translations[root][up];
+  out.translations[root] = placement.floor;
+  out.translations[root][up] = height;
+  return out;
+}
+
+RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up) {
+  if (frame < 0 || frame >= motion.num_frames || root < 0 || root >= motion.num_joints) {
+    throw ParameterError("root_placement: frame " + std::to_string(frame) + " or joint " +
+                         std::to_string(root) + " is out of range (" +
+                         std::to_string(motion.num_frames) + " frames, " +
+                         std::to_string(motion.num_joints) + " joints)");
+  }
+  RootPlacement p;
+  p.heading = features::heading_angle(motion.rotation(frame, root).normalized(), up);
+  p.floor = motion.translation(frame, root);
+  p.floor[static_cast<int>(up)] = 0.0;
+  return p;
 }
 
 const Skeleton& MapBlender::skeleton() const {

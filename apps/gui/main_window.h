@@ -94,6 +94,8 @@ class MainWindow : public QMainWindow {
   const MapResult* currentMap() const { return m_maps.current().get(); }
   bool isComputing() const { return m_maps.isComputing(); }
   void cancelComputation() { m_maps.cancel(); }
+  /// The map controller (its signals, e.g. progress with the stage's name; tests).
+  const MapController& maps() const { return m_maps; }
 
   /// Frame of the motion playing (the clip, or a synthesized motion).
   int currentFrame() const { return m_playback.frame(); }
@@ -165,6 +167,9 @@ class MainWindow : public QMainWindow {
   void onMapFinished(std::shared_ptr<const MapResult> result);
   void onMapFailed(const QString& message);
   void onMapCancelled();
+  /// After a failure or cancel: the map current before (if any) shown again with its method and
+  /// parameters. False when there is none.
+  bool restoreShownMap();
   /// A synthesized motion is ready: it replaces the one before and plays.
   void onSynthesized();
   /// Shows frame `frame` of the playing motion (Playback::frameChanged).

@@ -386,7 +386,14 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
 }
 
 void MainWindow::onMapStarted(embed::Method method) {
-  m_mapView->clearMap(tr("Computing the %1 map…").arg(methodLabel(method)));
+  // The map before stays on screen, greyed, until the new one replaces it (or fails: it is back).
+  const QString text = tr("Computing the %1 map…").arg(methodLabel(method));
+  if (m_mapView->hasMap()) {
+    m_mapView->setBusyText(text);
+    m_mapView->setPointer(std::nullopt);
+  } else {
+    m_mapView->clearMap(text);
+  }
   m_mapProgress->start();
   m_files->exportMapAction()->setEnabled(false);
   updateStatus();

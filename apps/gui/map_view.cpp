@@ -83,6 +83,7 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_coords = coords.leftCols(std::min<Eigen::Index>(2, coords.cols()));
   m_segmentStarts = segmentStarts;
   m_options = options;
+  m_busyText.clear();
   invalidate();
   update();
 }
@@ -92,6 +93,7 @@ void MapView::clearMap(const QString& hint) {
   m_coords.resize(0, 2);
   m_segmentStarts.clear();
   m_pointer.reset();
+  m_busyText.clear();
   if (!hint.isEmpty()) m_hint = hint;
   invalidate();
   update();
@@ -241,6 +243,7 @@ void MapView::paintEvent(QPaintEvent*) {
   }
   painter.drawPixmap(0, 0, m_cache);
   painter.setRenderHint(QPainter::Antialiasing);
+  if (!m_busyText.isEmpty()) paintBusy(painter);
   if (lensShown()) paintLens(painter);
   if (m_sketch.points.size() >= 2) {
     QPainterPath path(toWidget(m_sketch.points.front()));
@@ -341,6 +344,28 @@ void MapView::paintShading(QPainter& painter) const {
   painter.drawText(QRectF(key.left() + 2 * pad + swatch, key.top() + pad, textWidth, swatch),
                    Qt::AlignVCenter | Qt::AlignLeft,
                    fm.elidedText(text, Qt::ElideRight, textWidth));
+  painter.restore();
+}
+
+void MapView::setBusyText(const QString& text) {
+  if (text == m_busyText) return;
+  m_busyText = text;
+  update();
+}
+
+void MapView::paintBusy(QPainter& painter) const {
+  painter.save();
+  painter.fillRect(rect(), QColor(255, 255, 255, 150));  // the map before, greyed
+  const QRectF plot = plotRect();
+  const QFontMetricsF fm(painter.font());
+  const double width = std::min(fm.horizontalAdvance(m_busyText) + 24.0, plot.width() - 8.0);
+  const QRectF box(plot.center().x() - width / 2, plot.top() + 8, width, fm.height() + 12);
+  painter.setPen(QPen(QColor(150, 150, 150), 1));
+  painter.setBrush(QColor(255, 255, 255, 235));
+  painter.drawRoundedRect(box, 4, 4);
+  painter.setPen(QColor(40, 40, 40));
+  painter.drawText(box, Qt::AlignCenter,
+                   fm.elidedText(m_busyText, Qt::ElideRight, box.width() - 12));
   painter.restore();
 }
 

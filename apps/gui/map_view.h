@@ -55,6 +55,11 @@ class MapView : public QWidget {
   /// The pointer's map position (nothing hides it).
   void setPointer(const std::optional<Eigen::Vector2d>& point);
   std::optional<Eigen::Vector2d> pointer() const { return m_pointer; }
+  /// A line drawn over the map shown, which is greyed behind it (e.g. "Computing the Isomap
+  /// map…" while the map before stays on screen until a new one replaces it); empty: none.
+  /// setMap and clearMap remove it.
+  void setBusyText(const QString& text);
+  QString busyText() const { return m_busyText; }
   /// Text drawn in the top-right corner (e.g. "frame 120" under the mouse).
   void setHoverText(const QString& text);
   QString hoverText() const { return m_hoverText; }
@@ -134,6 +139,8 @@ class MapView : public QWidget {
   void paintLens(QPainter& painter) const;
   /// The shading and its key, into the cached trajectory (see setShadingAvailable).
   void paintShading(QPainter& painter) const;
+  /// The busy text over the greyed map (see setBusyText).
+  void paintBusy(QPainter& painter) const;
 
   Eigen::MatrixXd m_coords;
   std::vector<int> m_segmentStarts;
@@ -156,6 +163,7 @@ class MapView : public QWidget {
   QElapsedTimer m_sketchClock;
   bool m_sketchMode = false;
   bool m_shadingAvailable = false;
+  QString m_busyText;
   bool m_shadingVisible = false;
   bool m_lensEnabled = false;
   bool m_lensVisible = false;

@@ -196,6 +196,11 @@ TEST(StudioMapfix, ABadParameterKeepsTheMapBefore) {
   bad.exclude = "Left(Arm";  // not a regular expression
   QSignalSpy finished(w.get(), &MainWindow::computationFinished);
   w->setParameters(bad);
+  // While it is computed the map before stays on screen, greyed, saying so.
+  EXPECT_EQ(w->mapView()->coordinates(), coords);
+  EXPECT_TRUE(w->mapView()->busyText().startsWith("Computing"))
+      << w->mapView()->busyText().toStdString();
+  w->mapView()->grab().save("studio-mapfix-busy.png");
   ASSERT_TRUE(QTest::qWaitFor([&] { return finished.count() > 0; }, kTimeoutMs));
   EXPECT_FALSE(finished.front().front().toBool());
   std::printf("error shown: %s\n", qPrintable(w->lastError()));
@@ -207,6 +212,7 @@ TEST(StudioMapfix, ABadParameterKeepsTheMapBefore) {
   EXPECT_EQ(w->method(), embed::Method::Isomap);
   EXPECT_TRUE(w->mapView()->hasMap());
   EXPECT_EQ(w->mapView()->coordinates(), coords);
+  EXPECT_TRUE(w->mapView()->busyText().isEmpty());
   expectShowsFrame(*w, 30);
   // A valid one replaces it.
   MapParameters good = old;
@@ -236,10 +242,12 @@ TEST(StudioMapfix, CancelAtEveryStageKeepsTheMapAndParametersBefore) {
       window.setMethod(method);
     };
   };
+  // A new feature set (features, then the pose distances a method of distances needs).
   const auto newFeatures = [](MainWindow& window, int i) {
     MapParameters p = window.parameters();
-    p.exclude = "NoSuchJoint" + std::to_string(i);  // a new feature set: features and distances
+    p.exclude = "NoSuchJoint" + std::to_string(i);
     window.setParameters(p);
+    window.setMethod(embed::Method::Mds);
   };
   const auto kriging = [](MainWindow& window, int) {
     SynthParameters s = window.synthParameters();

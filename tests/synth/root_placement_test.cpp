@@ -71,6 +71,9 @@ TEST(SynthRootPlacement, BadArgumentsAreRefused) {
   RootPlacement bad;
   bad.heading = NAN;
   EXPECT_THROW(blender.pose(blender.locate({0.5, 0.1}), bad), ParameterError);
+  Motion pose = blender.pose(blender.locate({0.5, 0.1}));
+  EXPECT_THROW(place_root(pose, 5, RootPlacement{}), ParameterError);
+  EXPECT_THROW(place_root(pose, -1, RootPlacement{}), ParameterError);
 }
 
 }  // namespace

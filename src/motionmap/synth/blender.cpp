@@ -415,19 +415,28 @@ Motion MapBlender::pose(const MapWeights& weights) const {
 }
 
 Motion MapBlender::pose(const MapWeights& weights, const RootPlacement& placement) const {
-  if (!std::isfinite(placement.heading) || !placement.floor.allFinite())
-    throw ParameterError("pose: the root placement is not finite");
   Motion out = pose(weights);
-  const auto root = static_cast<std::size_t>(m->motion_root);
-  const int up = static_cast<int>(m->options.up);
-  // The blend faces heading 0 (its tilt has no heading), so turning it by the placement's
-  // heading gives exactly that heading.
-  out.rotations[root] =
-      (axis_rotation(m->options.up, placement.heading) * out.rotations[root]).normalized();
-  const double height = out.translations[root][up];
-  out.translations[root] = placement.floor;
-  out.translations[root][up] = height;
+  place_root(out, m->motion_root, placement, m->options.up);
   return out;
+}
+
+void place_root(Motion& pose, int root, const RootPlacement& placement, Axis up) {
+  if (!std::isfinite(placement.heading) || !placement.floor.allFinite())
+    throw ParameterError("place_root: the root placement is not finite");
+  if (pose.num_frames < 1 || root < 0 || root >= pose.num_joints) {
+    throw ParameterError("place_root: joint " + std::to_string(root) + " of a pose of " +
+                         std::to_string(pose.num_frames) + " frames and " +
+                         std::to_string(pose.num_joints) + " joints");
+  }
+  const int u = static_cast<int>(up);
+  // The pose faces heading 0 (its root's tilt has no heading), so turning it by the placement's
+  // heading gives exactly that heading.
+  Eigen::Quaterniond& q = pose.rotation(0, root);
+  q = (axis_rotation(up, placement.heading) * q).normalized();
+  Eigen::Vector3d& t = pose.translation(0, root);
+  const double height = t[u];
+  t = placement.floor;
+  t[u] = height;
 }
 
 RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up) {

@@ -131,6 +131,12 @@ struct RootPlacement {
 /// @throws ParameterError if `frame` or `root` is out of range.
 RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up = Axis::Y);
 
+/// Turns the one-frame `pose`, whose joint `root` faces heading 0 at the floor origin (as
+/// MapBlender::pose and mapfile::SavedMap::pose_at make it), to `placement.heading` about `up` and
+/// moves it to `placement.floor`; its height and tilt stay.
+/// @throws ParameterError if `root` is out of range, pose has no frame, or placement is not finite.
+void place_root(Motion& pose, int root, const RootPlacement& placement, Axis up = Axis::Y);
+
 class MapBlender {
  public:
   /// Prepares blending for a map of `samples` (the features the map was built from: their

@@ -129,8 +129,20 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
         }
       }
       m_waitingDrag.reset();
-      const mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors);
+      mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors);
+      // pose_at's root (the joint motion_root finds in a one-frame pose, the same as the shown
+      // pose's) faces heading 0 at the origin: placed like a computed map's blends.
+      const int root = motion_root(m_skeletonView->skeleton(), pose.pose);
+      if (!m_inDrag || !m_placement) {
+        m_inDrag = true;
+        const Motion& shown = m_skeletonView->currentPose();
+        m_placement = shown.num_frames > 0 && shown.num_joints == pose.pose.num_joints
+                          ? synth::root_placement(shown, 0, root)
+                          : synth::RootPlacement{};
+      }
+      synth::place_root(pose.pose, root, *m_placement);
       m_skeletonView->setPose(pose.pose, 0);
+      m_showsDrag = true;
       m_mapView->setPointer(point);
       m_mapView->setHoverText(
           pose.outside ? tr("blend of %1 samples (outside the data)").arg(pose.around.size())

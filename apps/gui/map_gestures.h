@@ -5,11 +5,12 @@
 // (they start a synthesis).
 //
 // A dragged pose stands where the pose shown when the drag began stood: the blender's pose faces
-// heading 0 at the origin (synth::MapBlender::pose), so it is turned to that pose's heading and
-// moved to its floor position (synth::RootPlacement), and the body never spins or jumps while
-// dragging. On release the dragged pose stays, with the pointer at the map point it was blended
-// at (the point under the mouse, or where the library moved it); the next frame shown (play, a
-// step, the slider, a click, a new map) puts the pose and the pointer back on that frame.
+// heading 0 at the origin (synth::MapBlender::pose, mapfile::SavedMap::pose_at), so it is turned
+// to that pose's heading and moved to its floor position (synth::RootPlacement), and the body
+// never spins or jumps while dragging, on a computed or a saved map. On release the dragged pose
+// stays, with the pointer at the map point it was blended at (the point under the mouse, or where
+// the library moved it); the next frame shown (play, a step, the slider, a click, a new map) puts
+// the pose and the pointer back on that frame.
 #include <memory>
 #include <optional>
 

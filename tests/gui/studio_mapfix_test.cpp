@@ -14,9 +14,14 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <unistd.h>
 
 #include "map_view.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/map_file.h"
+#include "motionmap/pipeline/clip_map.h"
 #include "motionmap/render/map_plot.h"
 #include "skeleton_view.h"
 #include "studio_test_util.h"
@@ -182,6 +187,54 @@ TEST(StudioMapfix, DragKeepsTheHeadingAndFloorPositionOfTheBandaiWalk) {
   const int root = motion_root(clip->skeleton, clip->motion);
   EXPECT_GT(root, 0) << "the static joint_Root above the hips";
   dragKeepsPlacement(std::move(*clip));
+}
+
+TEST(StudioMapfix, DragOnASavedMapKeepsTheHeadingAndFloorPosition) {
+  std::optional<Clip> clip = sharedClip(kWalk);
+  if (!clip) GTEST_SKIP() << "no " << kData << kWalk;
+  // The walk's map, saved as `motionmap map --save` writes it, opened without refitting.
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("motionmap-mapfix-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string file = (dir / "walk.mmap.h5").string();
+  pipeline::ClipMapOptions options;
+  options.embed.method = embed::Method::Pca;
+  std::vector<Clip> clips{*clip};
+  mapfile::write_map_file(
+      file, mapfile::make_map_file(clips, pipeline::map_clips(clips, options), options));
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(1000, 600);
+  w.show();
+  ASSERT_TRUE(w.openMapFile(QString::fromStdString(file))) << w.lastError().toStdString();
+  const Motion& motion = w.clip()->motion;
+  const int frame = motion.num_frames / 2;
+  w.setFrame(frame);
+  const int root = motion_root(w.clip()->skeleton, motion);
+  const synth::RootPlacement before = synth::root_placement(motion, frame, root);
+  MapView* view = w.mapView();
+  ASSERT_TRUE(view->pointer().has_value());
+  const QPointF start = view->toWidget(*view->pointer());
+  const QPointF corner = view->plotRect().topLeft() + QPointF(6, 6);
+  QTest::mousePress(view, Qt::LeftButton, Qt::NoModifier, start.toPoint());
+  int moves = 0;
+  double worst = 0.0;
+  for (int i = 1; i <= 40; ++i) {
+    const QPoint at = (start + (corner - start) * (i / 40.0)).toPoint();
+    QTest::mouseMove(view, at);
+    if (!view->hoverText().startsWith("blend")) continue;
+    ++moves;
+    const synth::RootPlacement now =
+        synth::root_placement(w.skeletonView()->currentPose(), 0, root);
+    worst = std::max({worst, angleBetween(now.heading, before.heading),
+                      std::abs(now.floor.x() - before.floor.x()),
+                      std::abs(now.floor.z() - before.floor.z())});
+  }
+  QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, corner.toPoint());
+  std::printf("saved map: %d drag moves, heading and floor off by at most %.2e\n", moves, worst);
+  EXPECT_GT(moves, 30);
+  EXPECT_LT(worst, 1e-6);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(StudioMapfix, ABadParameterKeepsTheMapBefore) {

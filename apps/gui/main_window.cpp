@@ -210,7 +210,7 @@ bool MainWindow::openMapFile(const QString& path) {
     options.line_width = 1.0;  // the density shows between the strokes
     m_mapView->setDensityMap(std::shared_ptr<const Eigen::MatrixXd>(m_saved, &file.coordinates),
                              Eigen::MatrixXd(0, 2), options);
-    m_mapView->setShadingReach(0.0);
+    m_mapView->setShadingAvailable(false);
     setWindowTitle(tr("MotionMap Studio — %1 (%2 points, %3 clips)")
                        .arg(QFileInfo(path).fileName())
                        .arg(file.num_samples())
@@ -433,7 +433,14 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
 }
 
 void MainWindow::onMapStarted(embed::Method method) {
-  m_mapView->clearMap(tr("Computing the %1 map…").arg(methodLabel(method)));
+  // The map before stays on screen, greyed, until the new one replaces it (or fails: it is back).
+  const QString text = tr("Computing the %1 map…").arg(methodLabel(method));
+  if (m_mapView->hasMap()) {
+    m_mapView->setBusyText(text);
+    m_mapView->setPointer(std::nullopt);
+  } else {
+    m_mapView->clearMap(text);
+  }
   m_mapProgress->start();
   m_files->exportMapAction()->setEnabled(false);
   updateStatus();
@@ -447,16 +454,32 @@ void MainWindow::onMapFinished(std::shared_ptr<const MapResult> result) {
 }
 
 void MainWindow::onMapFailed(const QString& message) {
-  m_mapView->clearMap(tr("The map could not be computed"));
+  if (!restoreShownMap()) m_mapView->clearMap(tr("The map could not be computed"));
   showError(message);
-  updateStatus();
   emit computationFinished(false);
 }
 
 void MainWindow::onMapCancelled() {
-  m_mapView->clearMap(tr("Cancelled. Choose a method in the Motion menu to compute the map."));
+  if (!restoreShownMap())
+    m_mapView->clearMap(tr("Cancelled. Choose a method in the Motion menu to compute the map."));
   m_status->setText(tr("Computation cancelled"));
   emit computationFinished(false);
+}
+
+bool MainWindow::restoreShownMap() {
+  // The map before a failed or cancelled computation is current again (MapController): its
+  // method and parameters come back with it, so what is shown is what the menus say.
+  const std::optional<MapRequest> shown = m_maps.shownRequest();
+  if (shown) {
+    m_method = shown->method;
+    m_motionMenu->setMethod(m_method);
+    QSettings().setValue("method", QString::fromUtf8(embed::method_name(m_method).data()));
+    m_parameters = shown->parameters;
+    m_synthParameters.blend = shown->blend;
+    showMap();
+  }
+  updateStatus();
+  return shown.has_value();
 }
 
 void MainWindow::showMap() {
@@ -464,12 +487,11 @@ void MainWindow::showMap() {
   if (!map) return;
   m_mapView->setMap(map->map.embedding.coordinates, map->map.features->segment_starts,
                     mapPlotOptions(*map, *m_maps.clips()));
-  // A blend is computed from the data where a sample lies within the blender's reach; farther
-  // out, MapBlender::locate moves the point to the data's edge (PointValidity::clamped).
-  m_mapView->setShadingReach(map->blender->reach_distance());
+  m_mapView->setShadingAvailable(true);
   updateTakePaths();
   m_files->exportMapAction()->setEnabled(true);
-  updatePointer();
+  // The frame again (a dragged pose is replaced), with the pointer on its point of this map.
+  showFrame(currentFrame());
   updateStatus();
 }
 

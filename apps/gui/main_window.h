@@ -99,6 +99,8 @@ class MainWindow : public QMainWindow {
   const MapResult* currentMap() const { return m_maps.current().get(); }
   bool isComputing() const { return m_maps.isComputing(); }
   void cancelComputation() { m_maps.cancel(); }
+  /// The map controller (its signals, e.g. progress with the stage's name; tests).
+  const MapController& maps() const { return m_maps; }
 
   /// Frame of the motion playing (the clip, or a synthesized motion).
   /// The playback clock (frame, in/out range, speed, loop), for scripts and tests.
@@ -197,6 +199,9 @@ class MainWindow : public QMainWindow {
   void onMapFinished(std::shared_ptr<const MapResult> result);
   void onMapFailed(const QString& message);
   void onMapCancelled();
+  /// After a failure or cancel: the map current before (if any) shown again with its method and
+  /// parameters. False when there is none.
+  bool restoreShownMap();
   /// A synthesized motion is ready: a new take, or an edited one; it plays.
   void onSynthesized();
   /// The current take (or its motion) changed: it plays (the clip when there is none).

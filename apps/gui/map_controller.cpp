@@ -43,6 +43,9 @@ void MapController::setClips(std::shared_ptr<const std::vector<Clip>> clips) {
   stop();
   m_clips = std::move(clips);
   m_maps.clear();  // maps (and blenders) belong to one set of clips
+  m_currentKey.clear();
+  m_shownKey.clear();
+  m_shownRequest.reset();
   m_featureCache = std::make_shared<pipeline::FeatureCache>();
 }
 
@@ -69,8 +72,14 @@ std::shared_ptr<const MapResult> MapController::current() const {
   return it == m_maps.end() ? nullptr : it->second;
 }
 
+std::optional<MapRequest> MapController::shownRequest() const {
+  if (!current()) return std::nullopt;
+  return m_shownRequest;
+}
+
 bool MapController::stop() {
   if (!m_job.stop()) return false;  // results still queued from it are ignored from now on
+  m_currentKey = m_shownKey;        // the map before the computation is current again
   emit stopped();
   return true;
 }
@@ -83,12 +92,14 @@ void MapController::cancel() {
 bool MapController::request(embed::Method method, const MapParameters& parameters,
                             const synth::BlendOptions& blendOptions) {
   if (!m_clips) return false;
+  stop();
   m_currentKey = cacheKey(method, parameters, blendOptions);
+  m_asked = MapRequest{method, parameters, blendOptions};
   if (m_maps.count(m_currentKey)) {
-    stop();
+    m_shownKey = m_currentKey;
+    m_shownRequest = m_asked;
     return true;
   }
-  stop();
   emit started(method);
   std::shared_ptr<const std::vector<Clip>> clips = m_clips;
   std::shared_ptr<pipeline::FeatureCache> cache = m_featureCache;
@@ -130,11 +141,17 @@ bool MapController::request(embed::Method method, const MapParameters& parameter
 }
 
 void MapController::onResult(const std::string& key, const JobOutcome<MapResult>& outcome) {
+  if (outcome.cancelled || !outcome.error.isEmpty()) {
+    m_currentKey = m_shownKey;  // the map before is current again
+    emit stopped();
+    if (outcome.cancelled) return emit cancelled();
+    return emit failed(outcome.error);
+  }
   emit stopped();
-  if (outcome.cancelled) return emit cancelled();
-  if (!outcome.error.isEmpty()) return emit failed(outcome.error);
   const std::shared_ptr<MapResult> result = outcome.value;
   m_maps[key] = result;
+  m_shownKey = key;
+  m_shownRequest = m_asked;
   emit finished(std::move(result));
 }
 

@@ -9,8 +9,13 @@
 //   maps.setClips(clips);
 //   if (maps.request(embed::Method::Isomap, parameters, blend)) show(maps.current());  // cached
 //   // else: started, progress…, then finished, failed or cancelled
+//
+// A computation that fails or is cancelled (or stopped) leaves the map current before it current
+// again, with the method and parameters it was made with (shownRequest()): a bad parameter or a
+// cancel never leaves the window without its map.
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +37,13 @@ struct MapResult {
   std::string parameters;                    ///< pipeline::describe_parameters
   double seconds = 0.0;                      ///< wall time of map_clips and the blender's set-up
   std::vector<std::vector<int>> rowOfFrame;  ///< [clip][frame]: the map row shown for that frame
+};
+
+/// What a map was asked for with (MapController::request's arguments).
+struct MapRequest {
+  embed::Method method = embed::Method::Isomap;
+  MapParameters parameters;
+  synth::BlendOptions blend;
 };
 
 class MapController : public QObject {
@@ -58,12 +70,16 @@ class MapController : public QObject {
   bool request(embed::Method method, const MapParameters& parameters,
                const synth::BlendOptions& blend);
 
-  /// The map asked for last, once computed; nullptr while computing, after a failure or cancel,
-  /// and without clips.
+  /// The map asked for last, once computed; nullptr while computing and without clips. After a
+  /// failure, a cancel or a stop: the map current before that computation began (nullptr if
+  /// there was none).
   std::shared_ptr<const MapResult> current() const;
+  /// What current() was asked for with: the method, parameters and blend to show beside it (and
+  /// to go back to when a computation fails or is cancelled). Nothing while current() is nullptr.
+  std::optional<MapRequest> shownRequest() const;
   bool isComputing() const { return m_job.running(); }
-  /// Stops a running computation without a signal; its results are dropped. Returns whether
-  /// one was running.
+  /// Stops a running computation (emits stopped() only); its results are dropped and the map
+  /// current before it is current again. Returns whether one was running.
   bool stop();
   /// Stops a running computation and emits cancelled() (nothing when none is running).
   void cancel();
@@ -84,9 +100,9 @@ class MapController : public QObject {
   void stopped();
   /// The map asked for is ready: it is current() from now on.
   void finished(std::shared_ptr<const motionmap::studio::MapResult> result);
-  /// The library's error message: there is no current map.
+  /// The library's error message; current() is the map before the computation (if any) again.
   void failed(const QString& message);
-  /// The computation was cancelled: there is no current map.
+  /// The computation was cancelled; current() is the map before it (if any) again.
   void cancelled();
 
  private:
@@ -95,6 +111,11 @@ class MapController : public QObject {
   std::shared_ptr<const std::vector<Clip>> m_clips;                ///< shared with the worker
   std::map<std::string, std::shared_ptr<const MapResult>> m_maps;  ///< by cacheKey
   std::string m_currentKey;                                        ///< of the map asked for last
+  /// The map made current last by a finish or the cache, and its request: what a failed,
+  /// cancelled or stopped computation goes back to.
+  std::string m_shownKey;
+  std::optional<MapRequest> m_shownRequest;
+  MapRequest m_asked;  ///< the request being computed (becomes m_shownRequest when it finishes)
   /// The feature sets of m_clips, one per feature key, shared by the maps of every method.
   std::shared_ptr<pipeline::FeatureCache> m_featureCache =
       std::make_shared<pipeline::FeatureCache>();

@@ -24,7 +24,13 @@ MapGestures::MapGestures(const MapController* maps, MapView* mapView, SkeletonVi
   connect(mapView, &MapView::hovered, this, &MapGestures::onHover);
   connect(mapView, &MapView::clicked, this, &MapGestures::onClick);
   connect(mapView, &MapView::dragged, this, &MapGestures::onDrag);
-  connect(mapView, &MapView::dragFinished, this, [this] { m_dragFailed = false; });
+  connect(mapView, &MapView::dragFinished, this, [this] {
+    m_dragFailed = false;
+    m_inDrag = false;
+  });
+  // Any other pose shown (a frame, a new map's frame) ends the dragged pose; onDrag sets the flag
+  // again after its own setPose.
+  connect(skeletonView, &SkeletonView::poseChanged, this, [this] { m_showsDrag = false; });
 }
 
 void MapGestures::setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors,
@@ -123,8 +129,20 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
         }
       }
       m_waitingDrag.reset();
-      const mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors);
+      mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors);
+      // pose_at's root (the joint motion_root finds in a one-frame pose, the same as the shown
+      // pose's) faces heading 0 at the origin: placed like a computed map's blends.
+      const int root = motion_root(m_skeletonView->skeleton(), pose.pose);
+      if (!m_inDrag || !m_placement) {
+        m_inDrag = true;
+        const Motion& shown = m_skeletonView->currentPose();
+        m_placement = shown.num_frames > 0 && shown.num_joints == pose.pose.num_joints
+                          ? synth::root_placement(shown, 0, root)
+                          : synth::RootPlacement{};
+      }
+      synth::place_root(pose.pose, root, *m_placement);
       m_skeletonView->setPose(pose.pose, 0);
+      m_showsDrag = true;
       m_mapView->setPointer(point);
       m_mapView->setHoverText(
           pose.outside ? tr("blend of %1 samples (outside the data)").arg(pose.around.size())
@@ -139,7 +157,24 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
   if (!map || m_playback->isPlaying() || !point.allFinite()) return;
   try {
     const synth::MapWeights weights = map->blender->locate(point);
-    m_skeletonView->setPose(map->blender->pose(weights), 0);
+    if (!m_inDrag || !m_placement) {
+      // The drag's placement: the pose shown now (a frame, or the last dragged pose, which stands
+      // where its own drag began), else the nearest sample's frame.
+      m_inDrag = true;
+      const synth::MapBlender& blender = *map->blender;
+      const Motion& shown = m_skeletonView->currentPose();
+      if (shown.num_frames > 0 && shown.num_joints == blender.skeleton().num_joints()) {
+        m_placement = synth::root_placement(shown, 0, blender.motion_root(), blender.options().up);
+      } else {
+        const features::FeatureSet& set = *map->map.features;
+        const auto row = std::size_t(weights.validity.nearest_sample);
+        m_placement =
+            synth::root_placement((*m_maps->clips())[std::size_t(set.clip_of[row])].motion,
+                                  set.frame_of[row], blender.motion_root(), blender.options().up);
+      }
+    }
+    m_skeletonView->setPose(map->blender->pose(weights, *m_placement), 0);
+    m_showsDrag = true;
     const synth::PointValidity& validity = weights.validity;
     m_mapView->setPointer(validity.point);
     m_mapView->setHoverText(validity.clamped ? tr("blend (outside the data: moved to its edge)")

@@ -3,6 +3,14 @@
 // asks to play that frame, and a drag shows the pose the map's blender makes at the mouse (with
 // where the library took it: inside the data, or moved to its edge). Sketches are the window's
 // (they start a synthesis).
+//
+// A dragged pose stands where the pose shown when the drag began stood: the blender's pose faces
+// heading 0 at the origin (synth::MapBlender::pose, mapfile::SavedMap::pose_at), so it is turned
+// to that pose's heading and moved to its floor position (synth::RootPlacement), and the body
+// never spins or jumps while dragging, on a computed or a saved map. On release the dragged pose
+// stays, with the pointer at the map point it was blended at (the point under the mouse, or where
+// the library moved it); the next frame shown (play, a step, the slider, a click, a new map) puts
+// the pose and the pointer back on that frame.
 #include <memory>
 #include <optional>
 
@@ -10,6 +18,8 @@
 #include <QObject>
 #include <QPointF>
 #include <QString>
+
+#include "motionmap/synth/blender.h"
 
 namespace motionmap::studio {}  // namespace motionmap::studio
 namespace motionmap::mapfile {
@@ -44,6 +54,12 @@ class MapGestures : public QObject {
   /// drag's last point is blended when they arrive, so no mouse event waits for a file.
   void setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors, ClipLoader* loader);
 
+  /// Whether the 3-D view shows a dragged pose (from the first move of a drag until another frame
+  /// is shown).
+  bool showsDraggedPose() const { return m_showsDrag; }
+  /// Where the dragged poses stand (the pose shown when the drag began); nothing before a drag.
+  const std::optional<synth::RootPlacement>& dragPlacement() const { return m_placement; }
+
  signals:
   /// A click near the trajectory: frame `frame` of clip `clip`.
   void frameClicked(int clip, int frame);
@@ -65,6 +81,9 @@ class MapGestures : public QObject {
   ClipLoader* m_loader = nullptr;
   std::optional<Eigen::Vector2d> m_waitingDrag;  ///< a drag point whose clips are loading
   bool m_dragFailed = false;  ///< a saved map's blend failed: this drag is ignored (one message)
+  bool m_inDrag = false;      ///< a drag is under way (its placement is taken)
+  bool m_showsDrag = false;   ///< the 3-D view shows a dragged pose
+  std::optional<synth::RootPlacement> m_placement;  ///< of the pose shown when the drag began
 };
 
 }  // namespace motionmap::studio

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <QHelpEvent>
 #include <QMouseEvent>
 #include <QPainter>
 #include <QPainterPath>
+#include <QToolTip>
 #include <QWheelEvent>
 
 namespace motionmap::studio {
@@ -81,6 +83,7 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_coords = coords.leftCols(std::min<Eigen::Index>(2, coords.cols()));
   m_segmentStarts = segmentStarts;
   m_options = options;
+  m_busyText.clear();
   invalidate();
   update();
 }
@@ -90,6 +93,7 @@ void MapView::clearMap(const QString& hint) {
   m_coords.resize(0, 2);
   m_segmentStarts.clear();
   m_pointer.reset();
+  m_busyText.clear();
   if (!hint.isEmpty()) m_hint = hint;
   invalidate();
   update();
@@ -158,8 +162,8 @@ void MapView::setSketchMode(bool on) {
   m_sketchMode = on;
 }
 
-void MapView::setShadingReach(double reach) {
-  m_shadingReach = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
+void MapView::setShadingAvailable(bool available) {
+  m_shadingAvailable = available;
   m_cache = QPixmap();
   update();
 }
@@ -282,34 +286,12 @@ void MapView::paintEvent(QPaintEvent*) {
     } else {
       render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, m_options);
     }
-    if (m_shadingVisible && m_shadingReach > 0.0 && !m_density) {
-      // The union of the samples' reach discs, opaque in a layer, laid over at one alpha.
-      ensureTransform();
-      QImage layer(m_cache.size(), QImage::Format_ARGB32_Premultiplied);
-      layer.setDevicePixelRatio(dpr);
-      layer.fill(Qt::transparent);
-      QPainter discs(&layer);
-      discs.setRenderHint(QPainter::Antialiasing);
-      discs.setPen(Qt::NoPen);
-      discs.setBrush(QColor(30, 170, 70));
-      const double radius =
-          m_shadingReach * std::hypot(m_toWidget.m11(), m_toWidget.m12());  // pixels
-      for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
-        const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
-        if (std::isfinite(p.x()) && std::isfinite(p.y())) discs.drawEllipse(p, radius, radius);
-      }
-      discs.end();
-      cachePainter.setOpacity(0.3);
-      cachePainter.drawImage(QPointF(0, 0), layer);
-      cachePainter.setOpacity(1.0);
-      // The trajectory stays on top, in its own colours.
-      render::MapPlotOptions over = m_options;
-      over.background = QColor();
-      render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, over);
-    }
+    if (m_shadingVisible && m_shadingAvailable && !m_density && m_coords.rows() > 0)
+      paintShading(cachePainter);
   }
   painter.drawPixmap(0, 0, m_cache);
   painter.setRenderHint(QPainter::Antialiasing);
+  if (!m_busyText.isEmpty()) paintBusy(painter);
   if (lensShown()) paintLens(painter);
   paintTakes(painter);
   if (m_sketch.points.size() >= 2) {
@@ -329,6 +311,133 @@ void MapView::paintEvent(QPaintEvent*) {
     painter.drawText(QRectF(rect()).adjusted(8, 4, -8, -4), Qt::AlignTop | Qt::AlignRight,
                      m_hoverText);
   }
+}
+
+QRectF MapView::plotRect() const {
+  // render::layout_panel's frame: the data square plus a margin of 5 % of the frame's side on
+  // each side, i.e. 1/18 of the data square's.
+  const QRectF data = render::data_area(QRectF(rect()), m_options);
+  const double margin = data.width() / 18.0;
+  return data.adjusted(-margin, -margin, margin, margin);
+}
+
+double MapView::shadingRadius() const {
+  if (m_coords.rows() == 0) return 0.0;
+  ensureTransform();
+  // The samples' bounding box in pixels: its larger side is the map's size on screen.
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
+    const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+    x0 = std::min(x0, p.x());
+    x1 = std::max(x1, p.x());
+    y0 = std::min(y0, p.y());
+    y1 = std::max(y1, p.y());
+  }
+  if (!(x0 <= x1)) return 0.0;
+  return kShadingFraction * std::max(x1 - x0, y1 - y0);
+}
+
+void MapView::paintShading(QPainter& painter) const {
+  ensureTransform();
+  const QRectF plot = plotRect();
+  const double radius = shadingRadius();
+  if (radius <= 0.0) return;
+  const QColor green(30, 170, 70);
+  constexpr double kOpacity = 0.3;
+  // The union of the samples' discs, opaque in a layer, laid over at one alpha.
+  const qreal dpr = m_cache.devicePixelRatio();
+  QImage layer(m_cache.size(), QImage::Format_ARGB32_Premultiplied);
+  layer.setDevicePixelRatio(dpr);
+  layer.fill(Qt::transparent);
+  QPainter discs(&layer);
+  discs.setRenderHint(QPainter::Antialiasing);
+  discs.setClipRect(plot);  // never over the title, the colour bar or the notes
+  discs.setPen(Qt::NoPen);
+  discs.setBrush(green);
+  for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
+    const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
+    if (std::isfinite(p.x()) && std::isfinite(p.y())) discs.drawEllipse(p, radius, radius);
+  }
+  discs.end();
+  painter.save();
+  painter.setOpacity(kOpacity);
+  painter.drawImage(QPointF(0, 0), layer);
+  painter.setOpacity(1.0);
+  // The trajectory stays on top, in its own colours (clipped: the title, colour bar and notes
+  // are not drawn twice).
+  painter.setClipRect(plot);
+  render::MapPlotOptions over = m_options;
+  over.background = QColor();
+  render::paint_map(painter, QRectF(rect()), m_coords, m_segmentStarts, over);
+  // The key, inside the plot's lower-left corner.
+  QFont font = painter.font();
+  font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
+  painter.setFont(font);
+  const QFontMetricsF fm(font);
+  const QString text =
+      tr("within %1 % of the map's size of a frame").arg(kShadingFraction * 100.0, 0, 'g', 3);
+  const double pad = 4.0, swatch = fm.height();
+  const double textWidth = std::min(fm.horizontalAdvance(text), plot.width() - swatch - 5 * pad);
+  const QRectF key(plot.left() + pad, plot.bottom() - pad - swatch - 2 * pad,
+                   swatch + 3 * pad + textWidth, swatch + 2 * pad);
+  painter.setPen(QPen(QColor(150, 150, 150), 1));
+  painter.setBrush(QColor(255, 255, 255, 220));
+  painter.drawRect(key);
+  QColor fill = green;
+  fill.setAlphaF(kOpacity);
+  painter.setPen(Qt::NoPen);
+  painter.setBrush(fill);
+  painter.drawRect(QRectF(key.left() + pad, key.top() + pad, swatch, swatch));
+  painter.setPen(QColor(40, 40, 40));
+  painter.drawText(QRectF(key.left() + 2 * pad + swatch, key.top() + pad, textWidth, swatch),
+                   Qt::AlignVCenter | Qt::AlignLeft,
+                   fm.elidedText(text, Qt::ElideRight, textWidth));
+  painter.restore();
+}
+
+void MapView::setBusyText(const QString& text) {
+  if (text == m_busyText) return;
+  m_busyText = text;
+  update();
+}
+
+void MapView::paintBusy(QPainter& painter) const {
+  painter.save();
+  painter.fillRect(rect(), QColor(255, 255, 255, 150));  // the map before, greyed
+  const QRectF plot = plotRect();
+  const QFontMetricsF fm(painter.font());
+  const double width = std::min(fm.horizontalAdvance(m_busyText) + 24.0, plot.width() - 8.0);
+  const QRectF box(plot.center().x() - width / 2, plot.top() + 8, width, fm.height() + 12);
+  painter.setPen(QPen(QColor(150, 150, 150), 1));
+  painter.setBrush(QColor(255, 255, 255, 235));
+  painter.drawRoundedRect(box, 4, 4);
+  painter.setPen(QColor(40, 40, 40));
+  painter.drawText(box, Qt::AlignCenter,
+                   fm.elidedText(m_busyText, Qt::ElideRight, box.width() - 12));
+  painter.restore();
+}
+
+QString MapView::noteToolTip(const QPointF& pixel) const {
+  if (!hasMap() || m_options.notes.isEmpty()) return {};
+  if (pixel.y() <= plotRect().bottom()) return {};
+  return m_options.notes.join(QLatin1Char('\n'));
+}
+
+bool MapView::event(QEvent* event) {
+  if (event->type() == QEvent::ToolTip) {
+    // The notes under the plot are elided to the panel's width: hovering them shows them whole.
+    auto* help = static_cast<QHelpEvent*>(event);
+    const QString text = noteToolTip(help->pos());
+    if (text.isEmpty()) {
+      QToolTip::hideText();
+      event->ignore();
+    } else {
+      QToolTip::showText(help->globalPos(), text, this);
+    }
+    return true;
+  }
+  return QWidget::event(event);
 }
 
 void MapView::paintLens(QPainter& painter) const {

@@ -74,9 +74,16 @@ class MapView : public QWidget {
   /// Removes the map (shows a hint text instead).
   void clearMap(const QString& hint = {});
   bool hasMap() const { return m_coords.rows() > 0 || m_density != nullptr; }
+  /// The map's points drawn (the trajectory: #samples by 2; empty without a map).
+  const Eigen::MatrixXd& coordinates() const { return m_coords; }
   /// The pointer's map position (nothing hides it).
   void setPointer(const std::optional<Eigen::Vector2d>& point);
   std::optional<Eigen::Vector2d> pointer() const { return m_pointer; }
+  /// A line drawn over the map shown, which is greyed behind it (e.g. "Computing the Isomap
+  /// map…" while the map before stays on screen until a new one replaces it); empty: none.
+  /// setMap and clearMap remove it.
+  void setBusyText(const QString& text);
+  QString busyText() const { return m_busyText; }
   /// Text drawn in the top-right corner (e.g. "frame 120" under the mouse).
   void setHoverText(const QString& text);
   QString hoverText() const { return m_hoverText; }
@@ -94,12 +101,27 @@ class MapView : public QWidget {
   void setSketchMode(bool on);
   bool sketchMode() const { return m_sketchMode; }
 
-  /// Trustworthy-blend shading: a translucent green over every map point within `reach` (map
-  /// units; synth::MapBlender::reach_distance) of a sample, i.e. where MapBlender::locate does not
-  /// clamp. Drawn into the cached trajectory; 0 = none.
-  void setShadingReach(double reach);
+  /// Trustworthy-blend shading: a translucent green over every map point within
+  /// kShadingFraction of the map's size (the larger side of its samples' bounding box) of a
+  /// sample, i.e. where a drag's blend is made from frames close to the point. A share of the
+  /// map's own size reads the same at any frame rate (a step between frames would not: 4× finer
+  /// at 120 fps than at 30) and whatever the map's units; the blender's reach (which decides
+  /// where locate() clamps) is a multiple of the median step, so it is not used here. Drawn into
+  /// the cached trajectory, clipped to plotRect(), with a key in the plot's lower-left corner.
+  static constexpr double kShadingFraction = 0.05;
+  /// Whether the shading can be drawn (a map computed here; not a saved map's density).
+  void setShadingAvailable(bool available);
   void setShadingVisible(bool on);
   bool shadingVisible() const { return m_shadingVisible; }
+  /// The shading's radius in pixels (0 without a map).
+  double shadingRadius() const;
+  /// The plot's frame in widget pixels (render::data_area with its margin): the trajectory,
+  /// shading and key lie inside it; the title above, the colour bar and notes below.
+  QRectF plotRect() const;
+  /// The text of the tooltip at `pixel`: every note of the plot in full (render::paint_map elides
+  /// a note wider than the panel) when the pixel is below the plot (colour bar and notes); empty
+  /// elsewhere or without notes.
+  QString noteToolTip(const QPointF& pixel) const;
 
   /// The magnifier: on/off, its centre (widget pixels; the mouse moves it), power d ∈ [0.5, 30]
   /// (magnification d + 1 at the centre) and radius in pixels.
@@ -130,6 +152,7 @@ class MapView : public QWidget {
   void mouseReleaseEvent(QMouseEvent* event) override;
   void wheelEvent(QWheelEvent* event) override;
   void leaveEvent(QEvent* event) override;
+  bool event(QEvent* event) override;
 
  private:
   enum class Gesture { None, Press, Drag, Sketch, Control };
@@ -141,6 +164,10 @@ class MapView : public QWidget {
   QPointF lens(const QPointF& pixel) const;    ///< undistorted → shown
   QPointF unlens(const QPointF& pixel) const;  ///< shown → undistorted
   void paintLens(QPainter& painter) const;
+  /// The shading and its key, into the cached trajectory (see setShadingAvailable).
+  void paintShading(QPainter& painter) const;
+  /// The busy text over the greyed map (see setBusyText).
+  void paintBusy(QPainter& painter) const;
 
   Eigen::MatrixXd m_coords;
   std::vector<int> m_segmentStarts;
@@ -165,7 +192,8 @@ class MapView : public QWidget {
   synth::MapPath m_controlPreview;  ///< the current take's path as it follows the drag
   QElapsedTimer m_sketchClock;
   bool m_sketchMode = false;
-  double m_shadingReach = 0.0;
+  bool m_shadingAvailable = false;
+  QString m_busyText;
   bool m_shadingVisible = false;
   bool m_lensEnabled = false;
   bool m_lensVisible = false;

@@ -85,10 +85,9 @@ QMenu* addViewMenu(QMainWindow* window, SkeletonView* skeleton, MapView* map) {
   QObject::connect(lens, &QAction::toggled, map, &MapView::setLensEnabled);
   QAction* shading = view->addAction(QMainWindow::tr("Shade &trustworthy blends"));
   shading->setCheckable(true);
-  explain(shading,
-          QMainWindow::tr(
-              "Green where a dragged or sketched point is within the blender's reach of the data; "
-              "outside, the blend is taken at the data's edge"));
+  explain(shading, QMainWindow::tr("Green where a map point is within 5 % of the map's size of a "
+                                   "frame: a drag there blends frames close to it. The same "
+                                   "meaning at any frame rate; a key in the plot says so"));
   QObject::connect(shading, &QAction::toggled, map, &MapView::setShadingVisible);
   view->addSeparator();
   QAction* full = view->addAction(QMainWindow::tr("F&ull screen"));

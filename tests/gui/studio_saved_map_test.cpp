@@ -185,12 +185,22 @@ TEST_F(SavedMapFixture, DragBlendsTheNearestSamples) {
   const QPoint a = pixelOf(file.clips[0].first_sample + 20);
   const QPoint b = pixelOf(file.clips[1].first_sample + 60);
   const QPoint mid = (a + b) / 2 + QPoint(3, 2);
+  // The blends stand where the frame shown before the drag stood (its heading and floor position).
+  const Motion& motion = m_window->clip()->motion;
+  const int root = motion_root(m_window->clip()->skeleton, motion);
+  const synth::RootPlacement placement =
+      synth::root_placement(motion, m_window->currentFrame(), root);
+  const auto placedAt = [&](const QPoint& pixel) {
+    mapfile::SavedPose pose = saved->pose_at(view->toMap(QPointF(pixel)), 12);
+    synth::place_root(pose.pose, root, placement);
+    return pose;
+  };
   QTest::mousePress(view, Qt::LeftButton, Qt::NoModifier, a);
   QTest::mouseMove(view, mid);
   // Clips not loaded yet are loaded on the worker; the drag's point is blended when they arrive.
   ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
   QCoreApplication::processEvents();
-  const mapfile::SavedPose expected = saved->pose_at(view->toMap(QPointF(mid)), 12);
+  const mapfile::SavedPose expected = placedAt(mid);
   EXPECT_TRUE(sameRotations(m_window->skeletonView()->currentPose(), expected.pose));
   EXPECT_TRUE(view->hoverText().startsWith("blend of 12 samples"))
       << view->hoverText().toStdString();
@@ -198,7 +208,7 @@ TEST_F(SavedMapFixture, DragBlendsTheNearestSamples) {
   QTest::mouseMove(view, b);
   ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isLoadingClip(); }, testing::kTimeoutMs));
   QCoreApplication::processEvents();
-  const mapfile::SavedPose atB = saved->pose_at(view->toMap(QPointF(b)), 12);
+  const mapfile::SavedPose atB = placedAt(b);
   EXPECT_TRUE(sameRotations(m_window->skeletonView()->currentPose(), atB.pose));
   QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, b);
   EXPECT_TRUE(saved->is_loaded(1));  // its clip was loaded to blend it

@@ -129,9 +129,15 @@ TEST(Studio, DraggingOnTheMapShowsTheBlendedPoseUnderTheMouse) {
   const QPoint a = view->toWidget(map->blender->sample_point(40)).toPoint();
   const QPoint b = view->toWidget(map->blender->sample_point(80)).toPoint();
   const QPoint mid = (a + b) / 2 + QPoint(3, 2);
+  // The blends stand where the frame shown before the drag stood (its heading and floor position).
+  const synth::RootPlacement placement =
+      synth::root_placement(w->clip()->motion, w->currentFrame(), map->blender->motion_root());
+  const auto placedAt = [&](const QPoint& pixel) {
+    return map->blender->pose(map->blender->locate(view->toMap(QPointF(pixel))), placement);
+  };
   QTest::mousePress(view, Qt::LeftButton, Qt::NoModifier, a);
   QTest::mouseMove(view, mid);
-  const Motion expected = map->blender->pose_at(view->toMap(QPointF(mid)));
+  const Motion expected = placedAt(mid);
   EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(), expected));
   // The text says whether the library moved the point into the data's reach.
   EXPECT_EQ(view->hoverText().contains("outside"),
@@ -139,12 +145,10 @@ TEST(Studio, DraggingOnTheMapShowsTheBlendedPoseUnderTheMouse) {
   const QPoint onSample = view->toWidget(map->blender->sample_point(60)).toPoint();
   QTest::mouseMove(view, onSample);
   EXPECT_EQ(view->hoverText(), "blend");  // within half a pixel of a sample: inside the data
-  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(),
-                            map->blender->pose_at(view->toMap(QPointF(onSample)))));
+  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(), placedAt(onSample)));
   QTest::mouseMove(view, b);
   QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, b);
-  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(),
-                            map->blender->pose_at(view->toMap(QPointF(b)))));
+  EXPECT_TRUE(sameRotations(w->skeletonView()->currentPose(), placedAt(b)));
 }
 
 TEST(Studio, HoveringTheTrajectoryShowsTheFrameNumber) {

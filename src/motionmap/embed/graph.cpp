@@ -151,18 +151,22 @@ Eigen::MatrixXd shortest_paths(const Graph& graph, const Control& control) {
         block_paths(graph, c * kLanes, heaps[worker], scratch[worker], out);
       },
       [&](int done) { control.update(double(done) / chunks); });
-  // Mirror the lower triangle into the upper one, in cache-sized tiles.
+  // Mirror the lower triangle into the upper one, in cache-sized tiles, polling for cancellation
+  // between tiles: n² copies, which would otherwise run to the end after a Cancel.
   constexpr int kTile = 64;
   const int tiles = (n + kTile - 1) / kTile;
-  parallel_chunks(tiles, [&](int t, int) {
-    const int c0 = t * kTile, w = std::min(kTile, n - c0);
-    for (int r0 = c0; r0 < n; r0 += kTile) {
-      const int h = std::min(kTile, n - r0);
-      for (int c = c0; c < c0 + w; ++c) {
-        for (int r = std::max(r0, c + 1); r < r0 + h; ++r) out(c, r) = out(r, c);
-      }
-    }
-  });
+  parallel_chunks(
+      tiles,
+      [&](int t, int) {
+        const int c0 = t * kTile, w = std::min(kTile, n - c0);
+        for (int r0 = c0; r0 < n; r0 += kTile) {
+          const int h = std::min(kTile, n - r0);
+          for (int c = c0; c < c0 + w; ++c) {
+            for (int r = std::max(r0, c + 1); r < r0 + h; ++r) out(c, r) = out(r, c);
+          }
+        }
+      },
+      [&](int) { control.check(); });
   return out;
 }
 

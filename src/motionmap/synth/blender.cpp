@@ -13,6 +13,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
+#include "motionmap/features/point_cloud.h"
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/root_motion.h"
@@ -411,6 +412,45 @@ Motion MapBlender::pose(const MapWeights& weights) const {
   pose.rotations = b.rotations;
   pose.translations = b.translations;
   return pose;
+}
+
+Motion MapBlender::pose(const MapWeights& weights, const RootPlacement& placement) const {
+  Motion out = pose(weights);
+  place_root(out, m->motion_root, placement, m->options.up);
+  return out;
+}
+
+void place_root(Motion& pose, int root, const RootPlacement& placement, Axis up) {
+  if (!std::isfinite(placement.heading) || !placement.floor.allFinite())
+    throw ParameterError("place_root: the root placement is not finite");
+  if (pose.num_frames < 1 || root < 0 || root >= pose.num_joints) {
+    throw ParameterError("place_root: joint " + std::to_string(root) + " of a pose of " +
+                         std::to_string(pose.num_frames) + " frames and " +
+                         std::to_string(pose.num_joints) + " joints");
+  }
+  const int u = static_cast<int>(up);
+  // The pose faces heading 0 (its root's tilt has no heading), so turning it by the placement's
+  // heading gives exactly that heading.
+  Eigen::Quaterniond& q = pose.rotation(0, root);
+  q = (axis_rotation(up, placement.heading) * q).normalized();
+  Eigen::Vector3d& t = pose.translation(0, root);
+  const double height = t[u];
+  t = placement.floor;
+  t[u] = height;
+}
+
+RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up) {
+  if (frame < 0 || frame >= motion.num_frames || root < 0 || root >= motion.num_joints) {
+    throw ParameterError("root_placement: frame " + std::to_string(frame) + " or joint " +
+                         std::to_string(root) + " is out of range (" +
+                         std::to_string(motion.num_frames) + " frames, " +
+                         std::to_string(motion.num_joints) + " joints)");
+  }
+  RootPlacement p;
+  p.heading = features::heading_angle(motion.rotation(frame, root).normalized(), up);
+  p.floor = motion.translation(frame, root);
+  p.floor[static_cast<int>(up)] = 0.0;
+  return p;
 }
 
 const Skeleton& MapBlender::skeleton() const {

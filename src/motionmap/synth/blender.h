@@ -118,6 +118,25 @@ struct BlendedFrame {
   double yaw_rate = 0.0;  ///< blended heading change, radians per second about the up axis
 };
 
+/// Where a one-frame pose's motion root stands on the floor: its heading (yaw about the up axis,
+/// radians, as features::heading_angle of the root's local rotation) and its floor position (the
+/// root's local translation; the component along the up axis is not used).
+struct RootPlacement {
+  double heading = 0.0;
+  Eigen::Vector3d floor = Eigen::Vector3d::Zero();
+};
+
+/// The placement of the motion root `root` in frame `frame` of `motion` (a viewer keeps it while
+/// the user drags over a map, so the body does not turn to heading 0 or jump to the origin).
+/// @throws ParameterError if `frame` or `root` is out of range.
+RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up = Axis::Y);
+
+/// Turns the one-frame `pose`, whose joint `root` faces heading 0 at the floor origin (as
+/// MapBlender::pose and mapfile::SavedMap::pose_at make it), to `placement.heading` about `up` and
+/// moves it to `placement.floor`; its height and tilt stay.
+/// @throws ParameterError if `root` is out of range, pose has no frame, or placement is not finite.
+void place_root(Motion& pose, int root, const RootPlacement& placement, Axis up = Axis::Y);
+
 class MapBlender {
  public:
   /// Prepares blending for a map of `samples` (the features the map was built from: their
@@ -160,6 +179,9 @@ class MapBlender {
   /// The one-frame pose blended with `weights` (from locate(), whose validity a caller may want
   /// too: then locate once and call this). @throws as blend().
   Motion pose(const MapWeights& weights) const;
+  /// pose(weights) turned to `placement.heading` about the up axis and moved to its floor
+  /// position; the blended height and tilt stay. pose(weights) is this with a zero placement.
+  Motion pose(const MapWeights& weights, const RootPlacement& placement) const;
 
   const Skeleton& skeleton() const;
   const BlendOptions& options() const;

@@ -247,6 +247,7 @@ void MainWindow::dropSynthesizedMotion() {
   pause();
   m_playingSynth = false;
   m_takes->clear();  // the takes and their history belong to the clips before
+  m_pendingMapChange.reset();
   m_files->exportMotionAction()->setEnabled(false);
 }
 
@@ -365,12 +366,10 @@ void MainWindow::setMethod(embed::Method method) {
   const MapState before = mapState();
   m_method = method;
   m_motionMenu->setMethod(method);
-  if (method != before.method) {
-    m_takes->recordMapChange(before, mapState(), tr("method %1").arg(methodLabel(method)),
-                             [this](const MapState& state) { applyMapState(state); });
-  }
+  if (method != before.method) recordMapChange(before, tr("method %1").arg(methodLabel(method)));
   QSettings().setValue("method", QString::fromUtf8(embed::method_name(method).data()));
   if (m_maps.request(method, m_parameters, m_synthParameters.blend)) {  // cached
+    commitMapChange();
     saveParameters();
     showMap();
     emit mapReady(method);
@@ -380,11 +379,28 @@ void MainWindow::setMethod(embed::Method method) {
 void MainWindow::setParameters(const MapParameters& parameters) {
   const MapState before = mapState();
   m_parameters = parameters;
-  if (!m_saved && !(parameters == before.parameters)) {
-    m_takes->recordMapChange(before, mapState(), tr("map parameters"),
-                             [this](const MapState& state) { applyMapState(state); });
-  }
+  if (!m_saved && !(parameters == before.parameters)) recordMapChange(before, tr("map parameters"));
   setMethod(m_method);
+}
+
+void MainWindow::recordMapChange(const MapState& before, const QString& text) {
+  if (m_takes->applying()) return;  // an undo or redo: already in the history
+  if (m_pendingMapChange) {
+    m_pendingMapChange->text = text;  // from the map still shown, to the latest asked for
+  } else {
+    m_pendingMapChange = PendingMapChange{before, text};
+  }
+}
+
+void MainWindow::commitMapChange() {
+  if (!m_pendingMapChange) return;
+  const PendingMapChange change = *std::exchange(m_pendingMapChange, std::nullopt);
+  const MapState now = mapState();
+  if (change.before.method == now.method && change.before.parameters == now.parameters &&
+      sameSynthParameters(change.before.synth, now.synth))
+    return;
+  m_takes->recordMapChange(change.before, now, change.text,
+                           [this](const MapState& state) { applyMapState(state); });
 }
 
 MapState MainWindow::mapState() const {
@@ -410,14 +426,12 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
                                   : std::numeric_limits<int>::max());
   });
   if (!valid) return false;
-  if (!sameSynthParameters(parameters, m_synthParameters)) {
-    m_takes->recordMapChange(mapState(), {m_method, m_parameters, parameters},
-                             tr("synthesis parameters"),
-                             [this](const MapState& state) { applyMapState(state); });
-  }
+  if (!sameSynthParameters(parameters, m_synthParameters))
+    recordMapChange(mapState(), tr("synthesis parameters"));
   if (m_saved) {
     m_synthParameters = parameters;
     m_gestures->setSavedMap(m_saved, parameters.blend.neighbors, m_loader);
+    commitMapChange();
     saveParameters();
     return true;
   }
@@ -427,6 +441,7 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
   if (newBlend) {
     setMethod(m_method);  // a blender with the new options: computed, or from the cache
   } else {
+    commitMapChange();
     saveParameters();
   }
   return true;
@@ -447,6 +462,7 @@ void MainWindow::onMapStarted(embed::Method method) {
 }
 
 void MainWindow::onMapFinished(std::shared_ptr<const MapResult> result) {
+  commitMapChange();
   saveParameters();  // the parameters of a map computed without error are the next session's
   showMap();
   emit computationFinished(true);
@@ -454,12 +470,14 @@ void MainWindow::onMapFinished(std::shared_ptr<const MapResult> result) {
 }
 
 void MainWindow::onMapFailed(const QString& message) {
+  m_pendingMapChange.reset();
   if (!restoreShownMap()) m_mapView->clearMap(tr("The map could not be computed"));
   showError(message);
   emit computationFinished(false);
 }
 
 void MainWindow::onMapCancelled() {
+  m_pendingMapChange.reset();
   if (!restoreShownMap())
     m_mapView->clearMap(tr("Cancelled. Choose a method in the Motion menu to compute the map."));
   m_status->setText(tr("Computation cancelled"));

@@ -11,6 +11,7 @@
 // thread only ever runs short calls (a locate + blend per mouse move).
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include <QMainWindow>
 
@@ -210,6 +211,16 @@ class MainWindow : public QMainWindow {
   void updateTakePaths();
   /// The method and parameters, for undo (applyMapState goes back to them, map from the cache).
   MapState mapState() const;
+  /// A change of method or parameters from `before`, recorded for undo (`text`) once its map is
+  /// shown: a map that fails or is cancelled leaves no undo step (the map and parameters before
+  /// are shown again). Changes made while one is pending join it.
+  void recordMapChange(const MapState& before, const QString& text);
+  void commitMapChange();
+  struct PendingMapChange {
+    MapState before;
+    QString text;
+  };
+  std::optional<PendingMapChange> m_pendingMapChange;
   void applyMapState(const MapState& state);
   /// Shows frame `frame` of the playing motion (Playback::frameChanged).
   void showFrame(int frame);

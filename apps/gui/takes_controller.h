@@ -29,6 +29,8 @@ class TakesController : public QObject {
   TakeList& list() { return m_list; }
   const TakeList& list() const { return m_list; }
   QUndoStack& undoStack() { return m_stack; }
+  /// An undo or redo of a map change is being applied (its own changes are not recorded).
+  bool applying() const { return m_applying; }
 
   /// The synthesis' result (resultTake() −1: a new take, made current; else the edit of that
   /// take). Called by the window when the synthesis finished.

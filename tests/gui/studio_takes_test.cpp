@@ -358,6 +358,32 @@ TEST(StudioTakes, MethodAndParameterChangesUndoFromTheCache) {
   w->pause();
 }
 
+TEST(StudioTakes, AMapThatFailsOrIsCancelledLeavesNoUndoStep) {
+  auto w = windowWithMap(embed::Method::Isomap);
+  const int steps = w->takes()->undoStack().count();
+  // Refused parameters: the map and parameters before stay, and nothing is there to undo.
+  MapParameters bad = w->parameters();
+  bad.exclude = "Left(Arm";
+  w->setParameters(bad);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !w->isComputing(); }, kTimeoutMs));
+  EXPECT_NE(w->parameters().exclude, bad.exclude);
+  EXPECT_EQ(w->takes()->undoStack().count(), steps);
+  // A method change cancelled while its map is computed: the same.
+  w->setMethod(embed::Method::Lle);
+  ASSERT_TRUE(w->isComputing());
+  w->cancelComputation();
+  EXPECT_EQ(w->method(), embed::Method::Isomap);
+  EXPECT_EQ(w->takes()->undoStack().count(), steps);
+  // Two changes while the first map computes make one step, from the map shown to the last.
+  w->setMethod(embed::Method::Lle);
+  w->setMethod(embed::Method::Mds);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return w->currentMap() && !w->isComputing(); }, kTimeoutMs));
+  EXPECT_EQ(w->takes()->undoStack().count(), steps + 1);
+  EXPECT_EQ(editAction(*w, "&Undo")->text(), "&Undo method MDS");
+  w->takes()->undo();
+  EXPECT_EQ(w->method(), embed::Method::Isomap);
+}
+
 TEST(StudioTakes, EachTakeExportsAndTheScriptedSessionWorks) {
   // The scripted session: sketch, edit one control point, undo, export.
   auto w = windowWithMap();

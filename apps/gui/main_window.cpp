@@ -15,9 +15,11 @@
 #include <QStatusBar>
 #include <QVBoxLayout>
 
+#include "camera_menu.h"
 #include "clip_loader.h"
 #include "file_menu.h"
 #include "job_progress.h"
+#include "joint_panel.h"
 #include "map_export.h"
 #include "map_gestures.h"
 #include "map_view.h"
@@ -112,7 +114,9 @@ void MainWindow::buildMenus() {
   connect(m_motionMenu, &MotionMenu::parametersRequested, this, &MainWindow::parametersDialog);
   connect(m_motionMenu, &MotionMenu::synthesisRequested, this, &MainWindow::synthesisDialog);
   connect(m_motionMenu, &MotionMenu::showClipRequested, this, &MainWindow::showClipMotion);
-  addViewMenu(this, m_skeletonView, m_mapView);
+  QMenu* view = addViewMenu(this, m_skeletonView, m_mapView);
+  addCameraMenu(view, m_skeletonView);
+  addJointsPanel(this, m_skeletonView, view);
 }
 
 void MainWindow::buildStatusBar() {
@@ -500,6 +504,7 @@ const Motion* MainWindow::playingMotion() const {
 void MainWindow::updateMotion() {
   const Motion* motion = playingMotion();
   m_playback.setMotion(motion ? motion->num_frames : 0, motion ? motion->frame_time : 0.0);
+  if (motion) m_skeletonView->setMotion(*motion);  // bones, clip bounds, trails
 }
 
 void MainWindow::showFrame(int frame) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <memory>
 
 #include <QKeyEvent>
@@ -283,6 +284,16 @@ void SkeletonView::setSkeleton(const Skeleton& skeleton, bool keepCamera) {
 
 void SkeletonView::setMotion(const Motion& motion) {
   if (motion.num_joints != m_skeleton.num_joints() || motion.num_frames <= 0) return;
+  // The window hands the motion over on every jump into the clip (a click on the map): the same
+  // motion again needs no new bounds or trail.
+  const auto same = [](const Motion& a, const Motion& b) {
+    return a.num_frames == b.num_frames && a.frame_time == b.frame_time &&
+           std::memcmp(a.rotations.data(), b.rotations.data(),
+                       a.rotations.size() * sizeof(Eigen::Quaterniond)) == 0 &&
+           std::memcmp(a.translations.data(), b.translations.data(),
+                       a.translations.size() * sizeof(Eigen::Vector3d)) == 0;
+  };
+  if (m_motion && !m_needsFraming && same(*m_motion, motion)) return;
   m_motion = std::make_shared<const Motion>(motion);
   m_detached = detachedJoints(m_skeleton, motion);
   m_body = bodyJoints(m_skeleton, m_detached);

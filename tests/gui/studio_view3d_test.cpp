@@ -169,6 +169,15 @@ TEST(StudioView3d, FramesTheWholeClipInAnyUnitAndShape) {
   // A crab: four times as wide, a third as high.
   expectFramed(scaled(testing::swing(), {4.0, 0.3, 1.0}), "wide, low swing");
   if (exists(kSwing)) expectFramed(io::load_clip(kSwing), "64_08");
+  // Other exporters' files: nothing detached, everything framed.
+  for (const std::string& other :
+       {kData + "/asfamc/02_02.amc", kData + "/other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh"}) {
+    if (!exists(other)) continue;
+    const Clip clip = io::load_clip(other);
+    const auto detached = detachedJoints(clip.skeleton, clip.motion);
+    EXPECT_EQ(std::count(detached.begin(), detached.end(), true), 0) << other;
+    expectFramed(clip, other);
+  }
   if (!exists(kBandai)) GTEST_SKIP() << "SKIPPED: " << kBandai << " not found";
   const Clip walk = io::load_clip(kBandai);
   expectFramed(walk, "Bandai walk (cm)");
@@ -240,6 +249,20 @@ TEST(StudioView3d, FramesTheCharacterResetsAndPresets) {
   EXPECT_TRUE(view.camera().pan.isZero());
   EXPECT_NEAR(view.camera().distance, framed.distance, 1e-9 * framed.distance);
   EXPECT_LT((view.camera().target - framed.target).norm(), 1e-9 * view.extent());
+
+  // Another motion of the same skeleton (a synthesized one) keeps the camera, but its bounds and
+  // the selected joint's trail are its own.
+  view.setCamera(away);
+  view.setSelectedJoint(3);
+  Clip other = testing::swing(1.0);
+  const int root = other.skeleton.roots().front();
+  for (int f = 0; f < other.motion.num_frames; ++f)
+    other.motion.translation(f, root) += Eigen::Vector3d(10 * view.extent(), 0, 0);
+  view.setMotion(other.motion);
+  EXPECT_DOUBLE_EQ(view.camera().yaw, away.yaw);
+  EXPECT_DOUBLE_EQ(view.camera().distance, away.distance);
+  EXPECT_EQ(int(view.trail().size()), other.motion.num_frames);
+  EXPECT_GT(view.bounds().boxMin.x(), 8 * view.extent());
 }
 
 TEST(StudioView3d, WindowKeysFrameAndPresetsAndHomeOnTheViewResetsTheCamera) {

@@ -29,8 +29,11 @@ JointPanel::JointPanel(SkeletonView* view, QWidget* parent)
     : QDockWidget(tr("Joints"), parent), m_view(view), m_tree(new QTreeWidget) {
   setObjectName("jointsPanel");  // saveState/restoreState need it
   m_tree->setHeaderLabels({tr("Joint"), tr("Side")});
+  // CMU's hands sit ten levels deep: a narrow indent and a column as wide as its names (a
+  // scroll bar rather than cut names).
+  m_tree->setIndentation(12);
   m_tree->header()->setStretchLastSection(false);
-  m_tree->header()->setSectionResizeMode(0, QHeaderView::Stretch);
+  m_tree->header()->setSectionResizeMode(0, QHeaderView::ResizeToContents);
   m_tree->header()->setSectionResizeMode(1, QHeaderView::ResizeToContents);
   m_tree->setToolTip(
       tr("The skeleton's joints as their hierarchy: select one to highlight it in the 3-D view "

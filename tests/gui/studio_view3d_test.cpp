@@ -524,7 +524,11 @@ TEST(StudioView3d, JointsPanelSelectsAndTheViewHighlightsAndDrawsTheTrail) {
   EXPECT_EQ(view->selectedJoint(), j);
   EXPECT_EQ(int(view->trail().size()), clip.motion.num_frames);
   const QImage after = view->grab().toImage();
-  after.save("/tmp/view3d/selected-fallback.png");
+  if (!qEnvironmentVariableIsEmpty("MOTIONMAP_TEST_PNG_DIR")) {  // to look at by hand
+    const QString dir = qEnvironmentVariable("MOTIONMAP_TEST_PNG_DIR");
+    after.save(dir + "/view3d-selected-fallback.png");
+    w->grab().save(dir + "/view3d-window-joints-panel.png");
+  }
   const QPointF at = view->jointPixels()[std::size_t(j)];
   const auto orange = [](QColor c) {
     return c.red() > 200 && c.green() > 90 && c.green() < 190 && c.blue() < 90;
@@ -563,7 +567,8 @@ TEST(StudioView3d, FallbackDrawingHasSideColoursAndAGroundShadow) {
   view.setMotion(clip.motion);
   view.setPose(clip.motion, 0);
   const QImage image = view.grab().toImage();
-  image.save("/tmp/view3d/fallback.png");
+  if (!qEnvironmentVariableIsEmpty("MOTIONMAP_TEST_PNG_DIR"))
+    image.save(qEnvironmentVariable("MOTIONMAP_TEST_PNG_DIR") + "/view3d-fallback.png");
   int blue = 0, red = 0;
   for (int y = 0; y < image.height(); ++y) {
     for (int x = 0; x < image.width(); ++x) {

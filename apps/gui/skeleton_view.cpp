@@ -50,7 +50,7 @@ void main() {
     vec3 n = normalize(v_normal);
     float key = max(dot(n, normalize(vec3(0.4, 0.9, 0.5))), 0.0);
     float fill = max(dot(n, normalize(vec3(-0.6, 0.2, -0.4))), 0.0);
-    c = v_color * (0.3 + 0.6 * key + 0.25 * fill);
+    c = v_color * (0.4 + 0.55 * key + 0.25 * fill);  // no black sides: bones stay their colour
   }
   frag = vec4(c, 1.0);
 })";

@@ -14,10 +14,12 @@
 #include <QStatusBar>
 #include <QVBoxLayout>
 
+#include "camera_menu.h"
 #include "clip_loader.h"
 #include "file_menu.h"
 #include "help_dialogs.h"
 #include "job_progress.h"
+#include "joint_panel.h"
 #include "map_export.h"
 #include "map_gestures.h"
 #include "map_view.h"
@@ -128,7 +130,9 @@ void MainWindow::buildMenus() {
   connect(m_motionMenu, &MotionMenu::parametersRequested, this, &MainWindow::parametersDialog);
   connect(m_motionMenu, &MotionMenu::synthesisRequested, this, &MainWindow::synthesisDialog);
   connect(m_motionMenu, &MotionMenu::showClipRequested, this, &MainWindow::showClipMotion);
-  addViewMenu(this, m_skeletonView, m_mapView);
+  QMenu* view = addViewMenu(this, m_skeletonView, m_mapView);
+  addCameraMenu(view, m_skeletonView);
+  addJointsPanel(this, m_skeletonView, view);
   new PlaybackActions(this, &m_playback);  // Space, arrows, Home/End, I/O: window shortcuts
   addHelpMenu(this);
 }
@@ -597,6 +601,7 @@ void MainWindow::updateMotion() {
   const Motion* motion = playingMotion();
   m_playback.setMotion(motion ? motion->num_frames : 0, motion ? motion->frame_time : 0.0);
   m_files->setMotionShown(motion != nullptr);
+  if (motion) m_skeletonView->setMotion(*motion);  // bones, clip bounds, trails
 }
 
 void MainWindow::showFrame(int frame) {

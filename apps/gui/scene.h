@@ -1,7 +1,10 @@
 #pragma once
 // Drawing data of the 3-D view as plain functions, testable without OpenGL: bone segments from
-// forward kinematics, box meshes for shaded bones and joints, the ground grid, and an orbit
-// camera with its matrices and the projection of world points to pixels.
+// forward kinematics (none to a child that moves by its own translation channels), capsule meshes
+// for shaded bones and joints coloured by body side, a soft ground shadow, a joint's trail, the
+// ground grid, the clip's bounding volume, and an orbit camera with its matrices, framing and
+// presets, and the projection of world points to pixels.
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,15 +21,58 @@ namespace motionmap::studio {
 struct BoneSegment {
   Eigen::Vector3d from;
   Eigen::Vector3d to;
+  int joint = -1;  ///< the joint whose side colours it: the child, or the end site's joint
 };
 
+/// Joints that move by their own translation channels: j (not a root) whose local translation
+/// somewhere in `motion` is more than 0.25·|offset| + 1 % of the rest pose's extent away from its
+/// rest offset (Bandai Namco's Hips under a static joint_Root, translated across the floor). Such
+/// a joint is not where its parent's offset puts it, so it gets no bone from its parent. Joints
+/// whose translation channels only repeat their offsets (files with 6 channels on every joint)
+/// are not detached. One entry per joint; all false for a motion that does not fit.
+std::vector<bool> detachedJoints(const Skeleton& skeleton, const Motion& motion);
+
 /// Every parent→child and joint→end-site segment of `pose` (a WorldPose of `skeleton`), skipping
-/// zero-length ones (CMU's dummy joints).
-std::vector<BoneSegment> boneSegments(const Skeleton& skeleton, const WorldPose& pose);
+/// zero-length ones (CMU's dummy joints) and the parent→child bones of `detached` joints (empty:
+/// none detached).
+std::vector<BoneSegment> boneSegments(const Skeleton& skeleton, const WorldPose& pose,
+                                      const std::vector<bool>& detached = {});
+
+/// Joints drawn and framed: every joint with at least one bone (to its parent, a child or an end
+/// site) given `detached`, or every joint of a one-joint skeleton. A static root whose only child
+/// is detached (joint_Root at the origin under a walking character) is not part of the body.
+std::vector<bool> bodyJoints(const Skeleton& skeleton, const std::vector<bool>& detached);
+
+/// Body side of a joint, read from its name.
+enum class JointSide { Center, Left, Right };
+/// Sides of every joint. A name is Left when it starts with "Left"/"left" or "L_", "L.", "L-",
+/// "l_", …, or ends with "_L", ".L", "-L", " L", "_l", …, or contains "Left"/"left"; or when it is
+/// "L"/"l" followed by the rest of a name that the skeleton also has with "R"/"r" in its place
+/// (CMU's LHipJoint beside RHipJoint, ASF's lfemur beside rfemur, but not lowerback). Right
+/// likewise. A joint with no mark takes its parent's side (fingers under a hand); roots and the
+/// spine are Center.
+std::vector<JointSide> jointSides(const Skeleton& skeleton);
+/// Joint colours: left blue, right red, centre ochre (bones: the same hue, lighter).
+Eigen::Vector3f sideColor(JointSide side, bool bone = false);
 
 /// Diagonal of the bounding box of the pose's joints and end sites (1 when degenerate), the scale
 /// the view sizes bones, grid and camera distance by.
 double poseExtent(const WorldPose& pose);
+
+/// Bounding boxes of a whole clip (joints of bodyJoints and end sites, every finite frame): `box*`
+/// in world coordinates, `follow*` relative to the root's floor point (x, 0, z) of each frame, the
+/// volume a camera following the root must keep in view.
+struct MotionBounds {
+  Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();
+  Eigen::Vector3d followMin = Eigen::Vector3d::Zero(), followMax = Eigen::Vector3d::Zero();
+  bool valid = false;  ///< false when no frame had a finite point
+};
+/// `rootJoint`: the joint followed (motion_root).
+MotionBounds motionBounds(const Skeleton& skeleton, const Motion& motion,
+                          const std::vector<bool>& body, int rootJoint);
+
+/// World positions of `joint` in every frame of `motion` (its trail).
+std::vector<Eigen::Vector3d> jointTrail(const Skeleton& skeleton, const Motion& motion, int joint);
 
 /// A vertex of the view's single vertex layout: position, normal, colour.
 struct MeshVertex {
@@ -39,9 +85,47 @@ struct MeshVertex {
 void appendBox(std::vector<MeshVertex>& out, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                double radius, const Eigen::Vector3f& color);
 
-/// Shaded skeleton: a box per bone (radius = 1.2 % of `extent`) and a cube per joint.
+/// Segments around a capsule and latitude bands per hemispherical cap of appendCapsule.
+constexpr int kCapsuleSegments = 20;
+constexpr int kCapsuleBands = 5;
+/// Vertices appendCapsule adds: 6 per quad, kCapsuleSegments·(1 + 2·kCapsuleBands) quads
+/// (without caps: kCapsuleSegments quads).
+constexpr int capsuleVertexCount(bool caps = true) {
+  return 6 * kCapsuleSegments * (caps ? 1 + 2 * kCapsuleBands : 1);
+}
+
+/// Triangles of a capsule (a cylinder of `radius` from `from` to `to` with hemispherical caps;
+/// a sphere when they coincide) with unit outward normals, appended to `out`. Without `caps`,
+/// the open cylinder only (the trail's tube).
+void appendCapsule(std::vector<MeshVertex>& out, const Eigen::Vector3d& from,
+                   const Eigen::Vector3d& to, double radius, const Eigen::Vector3f& color,
+                   bool caps = true);
+
+/// Bone radius for a skeleton of rest extent `extent` (1.2 %).
+inline double boneRadius(double extent) {
+  return 0.012 * extent;
+}
+
+/// Shaded skeleton: a capsule per bone (radius boneRadius(extent), lighter side colour of its
+/// joint) and a sphere (1.25 radii) per joint of `body` (empty: all), coloured by `sides` (empty:
+/// all centre). `selected` (≥ 0) is drawn as a larger orange sphere.
 std::vector<MeshVertex> skeletonMesh(const std::vector<BoneSegment>& bones, const WorldPose& pose,
-                                     double extent);
+                                     double extent, const std::vector<JointSide>& sides = {},
+                                     const std::vector<bool>& body = {}, int selected = -1);
+
+/// The soft ground shadow of `bones` under a light straight above, on the plane y = floor:
+/// for each bone a strip along its floor projection, darkest (`background` × 0.55) on its axis
+/// and fading to `background` at 2.5 bone radii, with a radial fan of the same fall-off around
+/// each end. Drawn with glBlendEquation(GL_MIN), so overlaps do not darken twice. Shadows of
+/// points higher above the floor are fainter.
+std::vector<MeshVertex> shadowMesh(const std::vector<BoneSegment>& bones, double extent,
+                                   double floor, const Eigen::Vector3f& background);
+
+/// A joint's trail as a thin tube (0.35 bone radii) through `points`, coloured red → blue over
+/// time like the map's trajectory; non-finite points break it.
+std::vector<MeshVertex> trailMesh(const std::vector<Eigen::Vector3d>& points, double extent);
+/// Red → blue colour of time t ∈ [0, 1] (the map's trajectory colours).
+Eigen::Vector3f trailColor(double t);
 
 /// Ground grid lines (pairs of vertices) on y = 0 around `center`'s floor position, 21 lines each
 /// way, `step` apart, snapped to multiples of `step` so the grid stays put while the camera
@@ -53,7 +137,7 @@ struct OrbitCamera {
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< followed point (the root)
   Eigen::Vector3d pan = Eigen::Vector3d::Zero();     ///< user offset added to target
   double yaw = 0.6;                                  ///< radians about +Y
-  double pitch = 0.3;                                ///< radians above the horizon, |pitch| < 1.5
+  double pitch = 0.3;  ///< radians above the horizon, |pitch| ≤ π/2
   double distance = 400.0;
   double fovDegrees = 40.0;
 
@@ -67,7 +151,23 @@ struct OrbitCamera {
   void panBy(double dx, double dy, QSize size);
   /// Wheel zoom: `steps` > 0 moves closer (×0.85 per step).
   void zoom(double steps);
+  /// Unit vectors of the camera frame (right, up; forward = up × right).
+  Eigen::Vector3d right() const;
+  Eigen::Vector3d up() const;
+  /// Distance at which a sphere of `radius` around the look-at point fills the smaller of the
+  /// two fields of view of a `size` viewport (with 8 % margin), whatever the yaw and pitch.
+  double fitDistance(double radius, QSize size) const;
+
+  static constexpr double kDefaultYaw = 0.6;
+  static constexpr double kDefaultPitch = 0.3;
+  static constexpr double kMaxPitch = 1.5707963267948966;  ///< straight down (top view)
 };
+
+/// Camera presets (View → Camera): yaw and pitch only, the look-at point and distance stay.
+enum class CameraPreset { Front, Side, Top };
+/// Front: from +Z (yaw 0, pitch 0); Side: from +X (yaw π/2, pitch 0); Top: from +Y (yaw 0,
+/// pitch π/2, +Z down the screen).
+void applyPreset(OrbitCamera& camera, CameraPreset preset);
 
 /// Pixel position (origin top-left) of world point `p` seen by `camera` in a `size` viewport;
 /// nothing useful for points behind the camera (w ≤ 0 gives (NaN, NaN)).

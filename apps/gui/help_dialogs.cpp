@@ -115,7 +115,8 @@ std::vector<ShortcutRow> gestureRows() {
       {QObject::tr("Wheel"), QObject::tr("Zooms"), view3d},
       {QObject::tr("Hover a joint"), QObject::tr("Names the joint (within 12 px)"), view3d},
       {QObject::tr("Click a joint"),
-       QObject::tr("Selects it (as in the Joints panel): highlighted, with its trail over the clip"),
+       QObject::tr(
+           "Selects it (as in the Joints panel): highlighted, with its trail over the clip"),
        view3d},
       {QObject::tr("Home (3-D view focused)"),
        QObject::tr("Resets the camera (the window's Home goes to the first frame otherwise)"),

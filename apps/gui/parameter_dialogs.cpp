@@ -37,24 +37,39 @@ std::optional<MapParameters> editMapParameters(QWidget* parent, const MapParamet
   auto* k = new QSpinBox;
   k->setRange(1, 1000);
   k->setValue(now.k);
+  k->setToolTip(
+      QDialog::tr("Neighbours per frame in the k-NN graph that Isomap, the Laplacian "
+                  "eigenmap and LLE build (too small: the graph falls apart)"));
   form->addRow(QDialog::tr("Neighbours k (Isomap, LE, LLE)"), k);
   auto* heat = new QLineEdit(now.heat ? QString::number(*now.heat, 'g', 17) : QString());
   heat->setPlaceholderText(QDialog::tr("auto"));
+  heat->setToolTip(
+      QDialog::tr("Width t of the Laplacian eigenmap's heat kernel exp(−d²/t); "
+                  "empty: chosen from the data; ≤ 0: every edge weighs 1"));
   form->addRow(QDialog::tr("Heat t (LE; ≤ 0: unit weights)"), heat);
   auto* featureBox = new QComboBox;
   for (auto f : features::all_feature_kinds()) {
     featureBox->addItem(fromName(features::feature_kind_name(f)), int(f));
   }
   featureBox->setCurrentIndex(featureBox->findData(int(now.features)));
+  featureBox->setToolTip(
+      QDialog::tr("What a frame is as a vector: its joints' rotations as "
+                  "quaternions (quat) or their heading-local positions"));
   form->addRow(QDialog::tr("Features (PCA, SVD, LLE)"), featureBox);
   auto* distanceBox = new QComboBox;
   for (auto d : features::all_distance_kinds()) {
     distanceBox->addItem(fromName(features::distance_kind_name(d)), int(d));
   }
   distanceBox->setCurrentIndex(distanceBox->findData(int(now.distance)));
+  distanceBox->setToolTip(
+      QDialog::tr("How far apart two poses are: the point clouds of their joints (pointcloud), "
+                  "the angles between their joints' rotations (geodesic), or the features"));
   form->addRow(QDialog::tr("Distance (MDS, Isomap, LE)"), distanceBox);
   auto* exclude = new QLineEdit(QString::fromStdString(now.exclude));
   exclude->setPlaceholderText(QDialog::tr("e.g. .*(Thumb|Finger).*"));
+  exclude->setToolTip(
+      QDialog::tr("Joints whose names match this regular expression are left "
+                  "out of the features (e.g. fingers that flip)"));
   form->addRow(QDialog::tr("Excluded joints (regex)"), exclude);
   if (!execWithButtons(dialog, form)) return std::nullopt;
 
@@ -93,6 +108,7 @@ std::optional<SynthParameters> editSynthParameters(QWidget* parent, const SynthP
   auto* neighbors = new QSpinBox;
   neighbors->setRange(1, 10000);
   neighbors->setValue(now.blend.neighbors);
+  neighbors->setToolTip(QDialog::tr("How many map-nearest samples a local or idw blend uses"));
   form->addRow(QDialog::tr("Neighbours K (local, idw)"), neighbors);
   auto* reach = new QDoubleSpinBox;
   reach->setRange(0.01, 1000.0);
@@ -106,6 +122,9 @@ std::optional<SynthParameters> editSynthParameters(QWidget* parent, const SynthP
   timing->addItem(QDialog::tr("as drawn"), true);
   timing->addItem(QDialog::tr("at a steady speed"), false);
   timing->setCurrentIndex(timing->findData(now.timedAsDrawn));
+  timing->setToolTip(
+      QDialog::tr("A sketch's motion takes as long as the gesture did (as "
+                  "drawn), or runs along it at a steady speed"));
   form->addRow(QDialog::tr("Sketch timing"), timing);
   auto* speed = new QDoubleSpinBox;
   speed->setRange(0.0, 1e9);
@@ -124,6 +143,7 @@ std::optional<SynthParameters> editSynthParameters(QWidget* parent, const SynthP
   fps->setDecimals(2);
   fps->setSpecialValueText(QDialog::tr("the clip's"));
   fps->setValue(now.motion.fps);
+  fps->setToolTip(QDialog::tr("Frame rate of a synthesized motion; the clip's at 0"));
   form->addRow(QDialog::tr("Frames per second of the motion"), fps);
   auto* smooth = new QDoubleSpinBox;
   smooth->setRange(0.0, synth::kMaxSmoothSeconds);

@@ -7,12 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <QAbstractButton>
+#include <QAbstractSpinBox>
 #include <QAction>
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDialog>
 #include <QDir>
 #include <QDirIterator>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QLabel>
@@ -30,6 +33,7 @@
 #include <QTableWidget>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QTimer>
 #include <cmath>
 #include <cstdio>
 
@@ -439,6 +443,41 @@ TEST(StudioTimelineHelp, EveryActionAndTransportControlHasATooltip) {
     EXPECT_FALSE(c->toolTip().isEmpty()) << c->metaObject()->className();
   for (const QPushButton* b : w.statusBar()->findChildren<QPushButton*>())
     EXPECT_FALSE(b->toolTip().isEmpty()) << b->text().toStdString();
+}
+
+TEST(StudioTimelineHelp, EveryFieldOfTheParameterDialogsAndEveryPanelButtonHasATooltip) {
+  MainWindow w;
+  w.setInteractive(false);
+  w.show();
+  // Each dialog is opened from its Motion-menu entry; a timer reads its fields, then closes it.
+  for (const QString& entry : {QStringLiteral("&Parameters…"), QStringLiteral("S&ynthesis…")}) {
+    QAction* open = nullptr;
+    for (QAction* a : w.findChildren<QAction*>())
+      if (a->text() == entry) open = a;
+    ASSERT_NE(open, nullptr) << entry.toStdString();
+    int fields = 0;
+    QTimer::singleShot(0, [&] {
+      QWidget* dialog = QApplication::activeModalWidget();
+      ASSERT_NE(dialog, nullptr);
+      for (const QWidget* field : dialog->findChildren<QWidget*>()) {
+        if (!qobject_cast<const QAbstractSpinBox*>(field) &&
+            !qobject_cast<const QComboBox*>(field) && !qobject_cast<const QLineEdit*>(field))
+          continue;
+        if (qobject_cast<const QAbstractSpinBox*>(field->parentWidget())) continue;  // its editor
+        ++fields;
+        EXPECT_FALSE(field->toolTip().isEmpty())
+            << entry.toStdString() << ": " << field->metaObject()->className();
+      }
+      static_cast<QDialog*>(dialog)->reject();
+    });
+    open->trigger();
+    EXPECT_GE(fields, 5) << entry.toStdString();
+  }
+  for (const QDockWidget* dock : w.findChildren<QDockWidget*>()) {
+    for (const QAbstractButton* b : dock->widget()->findChildren<QAbstractButton*>())
+      EXPECT_FALSE(b->toolTip().isEmpty())
+          << dock->windowTitle().toStdString() << ": " << b->text().toStdString();
+  }
 }
 
 TEST(StudioTimelineHelp, TheShortcutListHasEveryActionsKeysAndTheGestures) {

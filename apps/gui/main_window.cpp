@@ -343,6 +343,7 @@ void MainWindow::setCurrentClip(int index, int frame) {
       m_mapView->setTrajectory(file.coordinates.middleRows(record.first_sample, record.samples));
     }
     m_playingSynth = false;
+    m_takes->list().setCurrent(-1);  // the clip plays: no take is current
     updateMotion();
     setFrame(frame);
     updateStatus();
@@ -354,6 +355,7 @@ void MainWindow::setCurrentClip(int index, int frame) {
     m_skeletonView->setSkeleton(clip()->skeleton, /*keepCamera=*/true);  // its own bone lengths
   }
   m_playingSynth = false;
+  m_takes->list().setCurrent(-1);  // the clip plays: no take is current
   updateMotion();
   setFrame(frame);
   updateStatus();
@@ -412,6 +414,7 @@ MapState MainWindow::mapState() const {
 }
 
 void MainWindow::applyMapState(const MapState& state) {
+  m_pendingMapChange.reset();  // an undo or redo replaces a change whose map was still computing
   m_parameters = state.parameters;
   m_synthParameters = state.synth;
   if (m_saved) {
@@ -443,8 +446,8 @@ bool MainWindow::setSynthParameters(const SynthParameters& parameters) {
                         MapController::cacheKey(m_method, m_parameters, m_synthParameters.blend);
   m_synthParameters = parameters;
   if (newBlend) {
-    setMethod(m_method);  // a blender with the new options: computed, or from the cache
-  } else {
+    setMethod(m_method);        // a blender with the new options: computed, or from the cache
+  } else if (!isComputing()) {  // else it joins the change whose map is being computed
     commitMapChange();
     saveParameters();
   }

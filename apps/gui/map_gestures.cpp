@@ -129,7 +129,8 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
         }
       }
       m_waitingDrag.reset();
-      mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors);
+      const Axis up = m_saved->file().options.features.up;
+      mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors, up);
       // pose_at's root (the joint motion_root finds in a one-frame pose, the same as the shown
       // pose's) faces heading 0 at the origin: placed like a computed map's blends.
       const int root = motion_root(m_skeletonView->skeleton(), pose.pose);
@@ -137,10 +138,10 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
         m_inDrag = true;
         const Motion& shown = m_skeletonView->currentPose();
         m_placement = shown.num_frames > 0 && shown.num_joints == pose.pose.num_joints
-                          ? synth::root_placement(shown, 0, root)
+                          ? synth::root_placement(shown, 0, root, up)
                           : synth::RootPlacement{};
       }
-      synth::place_root(pose.pose, root, *m_placement);
+      synth::place_root(pose.pose, root, *m_placement, up);
       m_skeletonView->setPose(pose.pose, 0);
       m_showsDrag = true;
       m_mapView->setPointer(point);

@@ -384,6 +384,20 @@ TEST(StudioTakes, AMapThatFailsOrIsCancelledLeavesNoUndoStep) {
   EXPECT_EQ(w->method(), embed::Method::Isomap);
 }
 
+TEST(StudioTakes, ATakeLeftForTheClipPlaysAgainWhenPicked) {
+  auto w = windowWithMap();
+  sketch(*w, 20, 120, 1.0);
+  ASSERT_EQ(w->takes()->list().current(), 0);
+  // A click on the clip's trajectory (or Motion → Show clip) shows the clip: no take is current.
+  w->setCurrentClip(0, 30);
+  EXPECT_EQ(w->takes()->list().current(), -1);
+  EXPECT_EQ(w->playingMotion(), &w->clip()->motion);
+  // Picking the take again plays it.
+  w->takes()->list().setCurrent(0);
+  EXPECT_EQ(w->playingMotion(), &w->takes()->list().at(0).result->motion);
+  w->pause();
+}
+
 TEST(StudioTakes, EachTakeExportsAndTheScriptedSessionWorks) {
   // The scripted session: sketch, edit one control point, undo, export.
   auto w = windowWithMap();

@@ -1,6 +1,7 @@
 #include "export_names.h"
 
 #include <QFileInfo>
+#include <QRegularExpression>
 
 namespace motionmap::studio {
 
@@ -11,6 +12,13 @@ QString clipOrDefault(const ExportNaming& naming) {
 /// "64_08" or "64_08-synth": the motion playing.
 QString motionName(const ExportNaming& naming) {
   return clipOrDefault(naming) + (naming.synthesized ? QStringLiteral("-synth") : QString());
+}
+/// A take's name as part of a file name: "Take 1" → "Take_1" ("take" when nothing is left).
+QString takeTag(const QString& take) {
+  QString tag = take.trimmed();
+  tag.replace(QRegularExpression("[^A-Za-z0-9_-]+"), "_");
+  tag.remove(QRegularExpression("^_+|_+$"));
+  return tag.isEmpty() ? QStringLiteral("take") : tag;
 }
 QString frameTag(int frame) {
   return QStringLiteral("frame%1").arg(frame, 4, 10, QLatin1Char('0'));
@@ -34,7 +42,8 @@ QString mapFileName(const ExportNaming& naming, const QString& suffix) {
 }
 
 QString motionFileName(const ExportNaming& naming) {
-  return clipOrDefault(naming) + QStringLiteral("-synth.bvh");
+  return clipOrDefault(naming) + "-" +
+         (naming.take.isEmpty() ? QStringLiteral("synth") : takeTag(naming.take)) + ".bvh";
 }
 
 QString pictureFileName(const ExportNaming& naming, PictureKind kind) {

@@ -21,6 +21,7 @@ struct ExportNaming {
   QString method;            ///< the map's method ("isomap"); empty without a map
   int frame = 0;             ///< the frame shown
   bool synthesized = false;  ///< the synthesized motion plays (else the clip)
+  QString take;              ///< the take exported or playing ("Take 1"); empty: none
 };
 
 /// What the File menu's export dialogs need to know of the window (MainWindow::exportContext).
@@ -38,7 +39,8 @@ struct ExportContext {
 QString clipBaseName(const std::string& path);
 /// The map export: "64_08-isomap.<suffix>" ("64_08-map.<suffix>" without a method).
 QString mapFileName(const ExportNaming& naming, const QString& suffix);
-/// The synthesized motion: "64_08-synth.bvh".
+/// A synthesized motion: "64_08-Take_1.bvh" for the take "Take 1" (of its name, letters, digits,
+/// '-' and '_' kept and other runs as one '_'), "64_08-synth.bvh" without a take.
 QString motionFileName(const ExportNaming& naming);
 /// A picture of the frame shown: both views "64_08-frame0190.png", the 3-D view
 /// "64_08-3d-frame0190.png", the map "64_08-isomap-frame0190.png"; "-synth" follows the clip's

@@ -50,6 +50,8 @@ class FileMenu : public QObject {
   /// the animation's frames and rate (without a source: no suggestion, the last folder).
   void setContextSource(std::function<ExportContext()> source) { m_context = std::move(source); }
   ExportContext context() const;
+  /// The folder the export dialogs start in next time (QSettings "lastExportDir").
+  void rememberExportDir(const QString& dir);
 
  signals:
   /// Open…, Open map… or a recent file (a clip, or a map file: MainWindow::openFile tells).
@@ -64,8 +66,6 @@ class FileMenu : public QObject {
 
  private:
   void updateRecentMenu();
-  /// The folder the export dialogs start in next time (QSettings "lastExportDir").
-  void rememberExportDir(const QString& dir);
 
   QMainWindow* m_window;
   QMenu* m_recentMenu = nullptr;

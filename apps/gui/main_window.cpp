@@ -2,6 +2,7 @@
 
 #include <QAction>
 #include <QCloseEvent>
+#include <QDir>
 #include <QDragEnterEvent>
 #include <QFileInfo>
 #include <QLabel>
@@ -105,6 +106,11 @@ void MainWindow::buildUi() {
   connect(m_takes, &TakesController::changed, this, &MainWindow::updateTakePaths);
   connect(&m_takes->list(), &TakeList::currentMotionChanged, this, &MainWindow::playCurrentTake);
   connect(m_takesPanel, &TakesPanel::exportRequested, this, &MainWindow::exportTake);
+  m_takesPanel->setSuggestion([this](int row) {
+    ExportContext c = m_files->context();  // the export folder, the clip's name
+    c.naming.take = m_takes->list().at(row).name;
+    return QDir(c.folder).filePath(motionFileName(c.naming));
+  });
 }
 
 void MainWindow::buildMenus() {
@@ -714,6 +720,7 @@ bool MainWindow::exportTake(int row, const QString& path) {
   return attempt([&] {
     io::write_bvh(io::from_motion(take.map->blender->skeleton(), take.result->motion),
                   path.toStdString());
+    m_files->rememberExportDir(QFileInfo(path).absolutePath());
     m_takes->list().setExported(row, true);
     m_status->setText(tr("Wrote %1").arg(path));
   });
@@ -810,6 +817,7 @@ ExportContext MainWindow::exportContext() const {
         QString::fromUtf8(embed::method_name(m_saved->file().options.embed.method).data());
   c.naming.frame = currentFrame();
   c.naming.synthesized = m_playingSynth && synthesized();
+  if (const Take* take = m_takes->list().currentTake()) c.naming.take = take->name;
   if (const Motion* motion = playingMotion()) {
     // The playback's in/out range (I / O), else the whole motion playing.
     c.first = m_playback.inPoint().value_or(0);

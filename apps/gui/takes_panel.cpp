@@ -48,17 +48,12 @@ TakesPanel::TakesPanel(TakesController* takes, QWidget* parent)
   auto* remove = new QShortcut(QKeySequence::Delete, m_view, nullptr, nullptr, Qt::WidgetShortcut);
   connect(remove, &QShortcut::activated, this, [this] { m_takes->remove(selectedRow()); });
   connect(m_delete, &QPushButton::clicked, this, [this] { m_takes->remove(selectedRow()); });
-  m_lastDir = QSettings().value("lastDir").toString();
   connect(m_export, &QPushButton::clicked, this, [this] {
     const int row = selectedRow();
     if (row < 0) return;
     const QString path = QFileDialog::getSaveFileName(
-        this, tr("Export take"),
-        QDir(m_lastDir).filePath(suggestedFileName(m_takes->list().at(row).name)),
-        tr("BVH (*.bvh)"));
-    if (path.isEmpty()) return;
-    m_lastDir = QFileInfo(path).absolutePath();
-    emit exportRequested(row, path);
+        this, tr("Export take"), m_suggestion ? m_suggestion(row) : QString(), tr("BVH (*.bvh)"));
+    if (!path.isEmpty()) emit exportRequested(row, path);
   });
   connect(m_view->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
           [this](const QModelIndex& index) {
@@ -69,13 +64,6 @@ TakesPanel::TakesPanel(TakesController* takes, QWidget* parent)
           });
   connect(&takes->list(), &TakeList::changed, this, &TakesPanel::syncSelection);
   updateButtons();
-}
-
-QString TakesPanel::suggestedFileName(const QString& name) {
-  QString base = name.trimmed();
-  base.replace(QRegularExpression("[^A-Za-z0-9_-]+"), "_");
-  base.remove(QRegularExpression("^_+|_+$"));
-  return (base.isEmpty() ? QStringLiteral("take") : base) + ".bvh";
 }
 
 int TakesPanel::selectedRow() const {

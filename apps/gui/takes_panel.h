@@ -3,6 +3,8 @@
 // to remove it while the list has focus) with Export… and Delete buttons, and the Edit menu's
 // Undo and Redo (Ctrl+Z; Ctrl+Shift+Z and Ctrl+Y), whose text says what they undo. Changes go
 // through TakesController, so each is one step of its undo history.
+#include <functional>
+
 #include <QDockWidget>
 
 class QListView;
@@ -19,9 +21,11 @@ class TakesPanel : public QDockWidget {
  public:
   explicit TakesPanel(TakesController* takes, QWidget* parent = nullptr);
   QListView* listView() const { return m_view; }
-  /// A file name for exporting `name`: its letters, digits, '-' and '_' kept, other runs as
-  /// one '_', with ".bvh" ("take.bvh" when nothing is left).
-  static QString suggestedFileName(const QString& name);
+  /// Where Export… suggests writing the take at `row` (the window's export folder and naming:
+  /// "64_08-Take_1.bvh").
+  void setSuggestion(std::function<QString(int row)> suggestion) {
+    m_suggestion = std::move(suggestion);
+  }
 
  signals:
   /// Export… chose `path` for the take at `row`.
@@ -36,7 +40,7 @@ class TakesPanel : public QDockWidget {
   QListView* m_view;
   QPushButton* m_export;
   QPushButton* m_delete;
-  QString m_lastDir;
+  std::function<QString(int)> m_suggestion;
 };
 
 /// Adds the Edit menu (Undo, Redo, and the Takes panel's toggle) to `window`'s menu bar; undo

@@ -125,7 +125,7 @@ TEST(StudioExportNames, AreSuggestedFromTheClipMethodAndFrame) {
   EXPECT_EQ(clipBaseName("sample:swing"), "sample-swing");
   EXPECT_EQ(clipBaseName("/d/BandaiNamcoResearchInc_dataset-1_walk_normal_001.bvh"),
             "BandaiNamcoResearchInc_dataset-1_walk_normal_001");
-  ExportNaming n{"64_08", "isomap", 190, false};
+  ExportNaming n{"64_08", "isomap", 190, false, {}};
   EXPECT_EQ(mapFileName(n, "png"), "64_08-isomap.png");
   EXPECT_EQ(mapFileName(n, "csv"), "64_08-isomap.csv");
   EXPECT_EQ(motionFileName(n), "64_08-synth.bvh");
@@ -562,14 +562,14 @@ TEST(StudioExportNames, MapAndMotionDialogsStartWithASuggestedName) {
   EXPECT_EQ(offered.value(0), QDir(dir.path()).filePath("64_08-pca.png"));
   EXPECT_EQ(pictureFileName(w.exportContext().naming, PictureKind::Both), "64_08-frame0190.png");
 
-  // A synthesized motion: 64_08-synth.bvh, and its animation is 64_08-synth.
+  // A take: 64_08-Take_1.bvh (the clip's and the take's name), and its animation is 64_08-synth.
   ASSERT_TRUE(w.synthesizeAlong(pathAlong(*w.currentMap(), 20, 40, 0.2)));
   ASSERT_TRUE(QTest::qWaitFor([&] { return !w.isSynthesizing(); }, kTimeoutMs));
   w.pause();
   ASSERT_TRUE(w.fileMenu()->exportMotionAction()->isEnabled());
   w.fileMenu()->exportMotionAction()->trigger();
   ASSERT_EQ(answer.seen, 2);
-  EXPECT_EQ(offered.value(1), QDir(dir.path()).filePath("64_08-synth.bvh"));
+  EXPECT_EQ(offered.value(1), QDir(dir.path()).filePath("64_08-Take_1.bvh"));
   const ExportContext c = w.exportContext();
   EXPECT_EQ(animationName(c.naming), "64_08-synth");
   EXPECT_EQ(c.last, w.synthesized()->motion.num_frames - 1);

@@ -19,6 +19,8 @@
 #include <cmath>
 #include <limits>
 
+#include "export_names.h"
+#include "file_menu.h"
 #include "main_window.h"
 #include "map_view.h"
 #include "motionmap/io/bvh.h"
@@ -410,14 +412,22 @@ TEST(StudioTakes, EachTakeExportsAndTheScriptedSessionWorks) {
   ASSERT_EQ(w->takes()->list().at(0).result, before.result);
   sketch(*w, 100, 180, 1.0);
 
-  EXPECT_EQ(TakesPanel::suggestedFileName("Take 1"), "Take_1.bvh");
-  EXPECT_EQ(TakesPanel::suggestedFileName("swing / up!"), "swing_up.bvh");
-  EXPECT_EQ(TakesPanel::suggestedFileName("///"), "take.bvh");
+  // File → Export motion and the panel's Export… suggest the clip's and the take's name.
+  ExportNaming naming;
+  naming.clip = "sample-swing";
+  naming.take = "Take 1";
+  EXPECT_EQ(motionFileName(naming), "sample-swing-Take_1.bvh");
+  naming.take = "swing / up!";
+  EXPECT_EQ(motionFileName(naming), "sample-swing-swing_up.bvh");
+  naming.take = "///";
+  EXPECT_EQ(motionFileName(naming), "sample-swing-take.bvh");
+  EXPECT_EQ(w->fileMenu()->context().naming.take, w->takes()->list().currentTake()->name);
   QTemporaryDir dir;
   const TakeList& takes = w->takes()->list();
   EXPECT_TRUE(w->hasUnsavedMotion());
   for (int row = 0; row < takes.count(); ++row) {
-    const QString path = dir.filePath(TakesPanel::suggestedFileName(takes.at(row).name));
+    naming.take = takes.at(row).name;
+    const QString path = dir.filePath(motionFileName(naming));
     ASSERT_TRUE(w->exportTake(row, path)) << w->lastError().toStdString();
     EXPECT_TRUE(takes.at(row).exported);
     const Clip back = io::load_clip(path.toStdString());

@@ -3,6 +3,7 @@
 // a drag and a recompute; Cancel at every stage of a map stops it at once and keeps the map and
 // parameters before; a bad parameter keeps the map before; the validity shading stays inside the
 // plot with one meaning at any frame rate; the plot's notes can be read whole.
+#include <QDir>
 #include <QElapsedTimer>
 #include <QHelpEvent>
 #include <QSignalSpy>
@@ -28,6 +29,13 @@
 
 namespace motionmap::studio::testing {
 namespace {
+
+/// Saves `image` as `name` in $MOTIONMAP_TEST_PNG_DIR when that is set (pictures to look at by
+/// hand; a test run leaves no files behind otherwise).
+void savePicture(const QImage& image, const QString& name) {
+  if (qEnvironmentVariableIsEmpty("MOTIONMAP_TEST_PNG_DIR")) return;
+  image.save(QDir(qEnvironmentVariable("MOTIONMAP_TEST_PNG_DIR")).filePath(name));
+}
 
 const std::string kData = MOTIONMAP_SHARED_DATA;
 const char* const kSwing = "/cmu/64_08.bvh";                                              // 120 fps
@@ -253,7 +261,7 @@ TEST(StudioMapfix, ABadParameterKeepsTheMapBefore) {
   EXPECT_EQ(w->mapView()->coordinates(), coords);
   EXPECT_TRUE(w->mapView()->busyText().startsWith("Computing"))
       << w->mapView()->busyText().toStdString();
-  w->mapView()->grab().save("studio-mapfix-busy.png");
+  savePicture(w->mapView()->grab().toImage(), "studio-mapfix-busy.png");
   ASSERT_TRUE(QTest::qWaitFor([&] { return finished.count() > 0; }, kTimeoutMs));
   EXPECT_FALSE(finished.front().front().toBool());
   std::printf("error shown: %s\n", qPrintable(w->lastError()));
@@ -417,8 +425,8 @@ void shadingStaysInThePlot(Clip clip) {
   w->mapView()->setShadingVisible(true);
   w->mapView()->render(&image);
   w->mapView()->setShadingVisible(false);
-  image.save(QString::fromStdString("studio-mapfix-shading-" +
-                                    std::filesystem::path(name).stem().string() + ".png"));
+  savePicture(image, QString::fromStdString("studio-mapfix-shading-" +
+                                            std::filesystem::path(name).stem().string() + ".png"));
 }
 
 TEST(StudioMapfix, ShadingStaysInThePlotOnASwingAt120Fps) {

@@ -15,7 +15,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import mocap  # noqa: E402  (independent numpy BVH reader)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from clirun import DATA, TMP, data, main, run, test  # noqa: E402
+from clirun import DATA, TMP, data, main, needs, run, test  # noqa: E402
 
 
 def have(rel):
@@ -166,14 +166,8 @@ def convert_amc_to_bvh():
 GOLF = "cmu/64_08.bvh"
 
 
-def needs(rel):
-    if not have(rel):
-        print(f"  skipped: {rel} absent from the shared data")
-        return False
-    return True
-
-
 def read_map(path):
+    """(comment lines, header, values as a numpy array) of a map CSV."""
     with open(path) as f:
         lines = f.read().splitlines()
     comments = [l for l in lines if l.startswith("#")]

@@ -131,8 +131,7 @@ class PrincipalKdTree {
     //    so a leaf's points are contiguous.
     m_order.resize(std::size_t(n));
     std::iota(m_order.begin(), m_order.end(), 0);
-    m_nodes.reserve(std::size_t(2 * n / kLeafSize + 2));
-    build(0, static_cast<int>(n));
+    build_tree(static_cast<int>(n), control);
     Rows ordered(n, m_dims);
     for (Eigen::Index p = 0; p < n; ++p) ordered.row(p) = m_turned.row(m_order[p]);
     m_turned.swap(ordered);
@@ -205,42 +204,110 @@ class PrincipalKdTree {
     std::int64_t scanned = 0;
   };
 
-  int build(int begin, int end) {
-    const int id = static_cast<int>(m_nodes.size());
-    m_nodes.push_back({begin, end});
-    if (end - begin <= kLeafSize) return id;
+  // Splits node.begin … node.end (positions in m_order) at the median of its axis of largest
+  // spread, filling node.axis, low and high; false for a leaf. Reads the rows in memory order.
+  bool split(Node& node, std::vector<float>& lo, std::vector<float>& hi) {
+    const int begin = node.begin, end = node.end;
+    if (end - begin <= kLeafSize) return false;
+    lo.assign(std::size_t(m_dims), std::numeric_limits<float>::infinity());
+    hi.assign(std::size_t(m_dims), -std::numeric_limits<float>::infinity());
+    for (int p = begin; p < end; ++p) {
+      const float* y = m_turned.row(m_order[p]).data();
+      for (int a = 0; a < m_dims; ++a) {
+        lo[a] = std::min(lo[a], y[a]);
+        hi[a] = std::max(hi[a], y[a]);
+      }
+    }
     int axis = 0;
     double spread = -1.0;
     for (int a = 0; a < m_dims; ++a) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (int p = begin; p < end; ++p) {
-        const double v = m_turned(m_order[p], a);
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-      }
-      if (hi - lo > spread) {
-        spread = hi - lo;
+      if (double(hi[a]) - double(lo[a]) > spread) {
+        spread = double(hi[a]) - double(lo[a]);
         axis = a;
       }
     }
     const int mid = begin + (end - begin) / 2;
-    auto value = [&](int f) { return double(m_turned(f, axis)); };
+    auto value = [&](int f) { return m_turned(f, axis); };
     std::nth_element(
         m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end,
         [&](int a, int b) { return value(a) < value(b) || (value(a) == value(b) && a < b); });
     double low = -std::numeric_limits<double>::infinity();
-    for (int p = begin; p < mid; ++p) low = std::max(low, value(m_order[p]));
+    for (int p = begin; p < mid; ++p) low = std::max(low, double(value(m_order[p])));
     double high = std::numeric_limits<double>::infinity();
-    for (int p = mid; p < end; ++p) high = std::min(high, value(m_order[p]));
-    const int left = build(begin, mid);
-    const int right = build(mid, end);
-    Node& node = m_nodes[id];
+    for (int p = mid; p < end; ++p) high = std::min(high, double(value(m_order[p])));
     node.axis = axis;
-    node.left = left;
-    node.right = right;
     node.low = low;
     node.high = high;
+    return true;
+  }
+
+  // The subtree over positions [begin, end) into `nodes` (its root first), depth first.
+  int build(std::vector<Node>& nodes, int begin, int end, std::vector<float>& lo,
+            std::vector<float>& hi) {
+    const int id = static_cast<int>(nodes.size());
+    Node node{begin, end};
+    const bool inner = split(node, lo, hi);
+    nodes.push_back(node);
+    if (!inner) return id;
+    const int mid = begin + (end - begin) / 2;
+    const int left = build(nodes, begin, mid, lo, hi);
+    const int right = build(nodes, mid, end, lo, hi);
+    nodes[std::size_t(id)].left = left;
+    nodes[std::size_t(id)].right = right;
     return id;
+  }
+
+  // The whole tree: the top levels breadth first on this thread, until there are enough
+  // subtrees to share, then each subtree on a thread of its own, spliced in. The splits are
+  // the same as one depth-first build's: only the nodes' numbering depends on the order.
+  void build_tree(int n, const Control& control) {
+    std::vector<float> lo, hi;
+    m_nodes.clear();
+    m_nodes.reserve(std::size_t(2 * n / kLeafSize + 2));
+    m_nodes.push_back({0, n});
+    std::vector<int> frontier{0};
+    const std::size_t wanted = std::size_t(8 * std::max(1, worker_count()));
+    while (frontier.size() < wanted) {
+      std::vector<int> next;
+      for (const int id : frontier) {
+        Node node = m_nodes[std::size_t(id)];
+        if (!split(node, lo, hi)) continue;
+        const int mid = node.begin + (node.end - node.begin) / 2;
+        node.left = static_cast<int>(m_nodes.size());
+        node.right = node.left + 1;
+        m_nodes[std::size_t(id)] = node;
+        m_nodes.push_back({node.begin, mid});
+        m_nodes.push_back({mid, node.end});
+        next.push_back(node.left);
+        next.push_back(node.right);
+      }
+      if (next.empty()) return;
+      frontier.swap(next);
+      control.check();
+    }
+    std::vector<std::vector<Node>> parts(frontier.size());
+    parallel_chunks(static_cast<int>(frontier.size()), [&](int i, int) {
+      std::vector<float> part_lo, part_hi;
+      const Node& root = m_nodes[std::size_t(frontier[std::size_t(i)])];
+      build(parts[std::size_t(i)], root.begin, root.end, part_lo, part_hi);
+    });
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      // Local node j ≥ 1 becomes node offset + j − 1; local node 0 is the frontier's node.
+      const int offset = static_cast<int>(m_nodes.size());
+      auto global = [&](int j) { return j == 0 ? frontier[i] : offset + j - 1; };
+      for (std::size_t j = 0; j < parts[i].size(); ++j) {
+        Node node = parts[i][j];
+        if (node.axis >= 0) {
+          node.left = global(node.left);
+          node.right = global(node.right);
+        }
+        if (j == 0) {
+          m_nodes[std::size_t(frontier[i])] = node;
+        } else {
+          m_nodes.push_back(node);
+        }
+      }
+    }
   }
 
   void descend(int id, double bound, std::vector<double>& offsets, Search& s) const {

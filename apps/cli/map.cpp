@@ -188,16 +188,13 @@ void setup_map(CLI::App& app) {
     std::shared_ptr<features::FeatureSet> features =
         pipeline::clip_features(clips, options, progress);
     forget_poses(clips);
-    const pipeline::ClipMap map = pipeline::map_features(std::move(features), options, progress);
+    pipeline::ClipMap map = pipeline::map_features(std::move(features), options, progress);
     print_diagnostics(map);
     if (map.embedding.method == embed::Method::LaplacianEigenmap) {
       std::cerr << "heat " << map.embedding.heat_used
                 << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
     }
     write_csv(cmd->output, map, options, clips);
-    if (!cmd->save.empty()) {
-      mapfile::write_map_file(cmd->save, mapfile::make_map_file(clips, map, options));
-    }
     if (map.metrics) {
       const bool csv_on_stdout = cmd->output.empty() || cmd->output == "-";
       print_metrics_table(csv_on_stdout ? std::cerr : std::cout, map, options.metrics_k);
@@ -216,6 +213,10 @@ void setup_map(CLI::App& app) {
                             cmd->axes == "fill" ? render::fill_axes(map.embedding.coordinates)
                                                 : map.embedding.coordinates,
                             map.features->segment_starts, plot);
+    }
+    // Last, so that the map file's model takes the map's landmark fit instead of a copy.
+    if (!cmd->save.empty()) {
+      mapfile::write_map_file(cmd->save, mapfile::make_map_file(clips, std::move(map), options));
     }
   });
 }

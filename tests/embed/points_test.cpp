@@ -321,6 +321,21 @@ TEST(EmbedPoints, SampledGraphMethodsAreTheSampleMapPlusPlacement) {
             << method_name(method) << " frame " << others[j];
       }
     }
+    // The map's model is the sample's map (the frames it was fitted on, not every frame), and
+    // placing any frame of the map again lands exactly on its row.
+    EXPECT_EQ(sampled.fitted_frames, sample);
+    const EmbedInput all{
+        .features = &set.X, .points = &set.distance_input, .metric = Metric::Euclidean};
+    const MapModel model = make_model(all, options, sampled);
+    EXPECT_EQ(model.points.rows(), Eigen::Index(sample.size()));
+    EXPECT_EQ(model.coordinates.rows(), Eigen::Index(sample.size()));
+    if (method == Method::Lle) {
+      EXPECT_EQ(model.features.rows(), Eigen::Index(sample.size()));
+    }
+    const Eigen::MatrixXd again = place(model, {&set.X, &set.distance_input});
+    for (int f = 0; f < n; ++f) {
+      ASSERT_EQ(again.row(f), sampled.coordinates.row(f)) << method_name(method) << " frame " << f;
+    }
   }
 }
 

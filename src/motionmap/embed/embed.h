@@ -168,6 +168,10 @@ struct Embedding {
   std::string neighbor_search;
   /// Whether the points path made the map (EmbedInput::points instead of D).
   bool from_points = false;
+  /// le and lle on the points path above kGraphSampleLimit frames: the frames the method was
+  /// fitted on (every s-th, ascending); every other frame was placed on their map (placement.h),
+  /// which is what make_model() keeps. Empty when every frame was fitted.
+  std::vector<int> fitted_frames;
   /// mds and isomap: what placing frames needs (placement.h). On the points path the landmarks
   /// (the stress is then measured over the landmark pairs); on the dense path every frame is a
   /// landmark.

@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -92,12 +93,12 @@ void check_rows(const Eigen::Ref<const Eigen::MatrixXd>& rows, Eigen::Index colu
 
 }  // namespace
 
-MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const Embedding& map) {
+MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedding map) {
   MapModel model;
   model.method = map.method;
   model.dimensions = static_cast<int>(map.coordinates.cols());
-  model.coordinates = map.coordinates;
-  const Eigen::Index n = map.coordinates.rows();
+  model.coordinates = std::move(map.coordinates);
+  const Eigen::Index n = model.coordinates.rows();
   const std::string w = who(map.method);
   auto require = [&](bool ok, const std::string& what) {
     if (!ok) throw ParameterError(w + what + " of the " + std::to_string(n) + " mapped frames");
@@ -115,9 +116,9 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const 
       Eigen::MatrixXd Z = X;
       if (model.mean.size() > 0) Z.rowwise() -= model.mean;
       if (model.scale.size() > 0) Z = Z.array().rowwise() / model.scale.array();
-      model.axes = Z.transpose() * map.coordinates;
+      model.axes = Z.transpose() * model.coordinates;
       for (int a = 0; a < model.dimensions; ++a) {
-        const double s2 = map.coordinates.col(a).squaredNorm();
+        const double s2 = model.coordinates.col(a).squaredNorm();
         model.axes.col(a) = s2 > 0.0 ? (model.axes.col(a) / s2).eval()
                                      : Eigen::VectorXd::Zero(model.axes.rows()).eval();
       }
@@ -132,14 +133,24 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const 
       model.metric = input.metric;
       if (map.method == Method::Mds || map.method == Method::Isomap) {
         require(map.landmarks.has_value(), "make_model needs the map's landmark fit");
-        model.landmarks = map.landmarks;
+        model.landmarks = std::move(map.landmarks);
       }
+      // The rows `frames` of `all` (all of them when `frames` is empty).
+      auto rows_of = [](const auto& all, const std::vector<int>& frames) {
+        std::decay_t<decltype(all)> rows(Eigen::Index(frames.size()), all.cols());
+        for (std::size_t r = 0; r < frames.size(); ++r) {
+          rows.row(Eigen::Index(r)) = all.row(frames[r]);
+        }
+        return rows;
+      };
+      const std::vector<int>& fitted = map.fitted_frames;
       if (map.method == Method::Mds && map.from_points) {
         model.points_are_landmarks = true;
-        model.points.resize(Eigen::Index(model.landmarks->frames.size()), input.points->cols());
-        for (std::size_t l = 0; l < model.landmarks->frames.size(); ++l) {
-          model.points.row(Eigen::Index(l)) = input.points->row(model.landmarks->frames[l]);
-        }
+        model.points = rows_of(*input.points, model.landmarks->frames);
+      } else if (!fitted.empty()) {
+        // A sampled le or lle map: its model is the sample's map, which placed the others.
+        model.points = rows_of(*input.points, fitted);
+        model.coordinates = rows_of(model.coordinates, fitted);
       } else {
         model.points = *input.points;
       }
@@ -158,7 +169,8 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const 
       }
       if (map.method == Method::Lle) {
         require(input.features && input.features->rows() == n, "make_model needs the features X");
-        model.features = *input.features;
+        model.features = fitted.empty() ? RowMatrix(*input.features)
+                                        : RowMatrix(rows_of(*input.features, fitted));
         model.reg = options.reg;
       }
       break;

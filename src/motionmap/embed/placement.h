@@ -74,8 +74,10 @@ struct PlaceInput {
 
 /// The model of `map`, which embed(input, options) returned. Reads input as embed() did (a dense
 /// mds map reads D once more for the landmark means; a dense isomap map rebuilds its k-NN graph).
+/// Takes the map's coordinates and landmark fit (a landmark Isomap map's L × #frames geodesic
+/// distances: 2 GB at 10⁶ frames) from `map`: pass std::move(map) when done with it.
 /// @throws ParameterError if `input` is not what the map was made from (row counts).
-MapModel make_model(const EmbedInput& input, const EmbedOptions& options, const Embedding& map);
+MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedding map);
 
 /// The map positions of new frames (#frames by dims). In parallel; `control` hears the fraction
 /// placed and may cancel. isomap, le, lle and a dense mds map look up each frame's nearest

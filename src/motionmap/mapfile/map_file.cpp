@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
@@ -257,7 +258,7 @@ std::string generator_name() {
 
 // ---- make_map_file --------------------------------------------------------------------------
 
-MapFile make_map_file(std::span<const Clip> clips, const pipeline::ClipMap& map,
+MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,
                       const pipeline::ClipMapOptions& options) {
   if (!map.features) throw ParameterError("make_map_file: the map has no feature set");
   const features::FeatureSet& set = *map.features;
@@ -310,7 +311,7 @@ MapFile make_map_file(std::span<const Clip> clips, const pipeline::ClipMap& map,
   file.point_columns = static_cast<int>(set.distance_input.cols());
 
   file.coordinates = e.coordinates;
-  file.model = pipeline::map_model(map, options);
+  file.model = pipeline::map_model(std::move(map), options);
   return file;
 }
 

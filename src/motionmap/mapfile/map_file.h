@@ -100,10 +100,11 @@ struct MapFile {
 
 /// The file record of `map`, a map_clips() result for `clips` with `options`: the clips' hashes
 /// (reading each file once more), the parameters, the joints and the placement model
-/// (pipeline::map_model).
+/// (pipeline::map_model, which takes the map's landmark fit: pass std::move(map) when done with
+/// it, so that a 10⁶-frame landmark Isomap map's 2 GB of geodesic distances are not copied).
 /// @throws Error if a clip file cannot be read for its hash; ParameterError if `map` is not a
 ///   map of `clips`; as embed::make_model().
-MapFile make_map_file(std::span<const Clip> clips, const pipeline::ClipMap& map,
+MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,
                       const pipeline::ClipMapOptions& options);
 
 /// Writes `file` to `path` as HDF5 (docs/map-file.md), replacing what is there; a failed write

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <functional>
 #include <random>
+#include <utility>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
@@ -187,8 +188,9 @@ ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipM
       options, control);
 }
 
-embed::MapModel map_model(const ClipMap& map, const ClipMapOptions& options) {
-  return embed::make_model(embed_input(*map.features, map.dense), options.embed, map.embedding);
+embed::MapModel map_model(ClipMap map, const ClipMapOptions& options) {
+  return embed::make_model(embed_input(*map.features, map.dense), options.embed,
+                           std::move(map.embedding));
 }
 
 MapMetrics map_metrics(const features::FeatureSet& features, const Embedding& embedding, int k,

@@ -108,9 +108,10 @@ MapMetrics map_metrics(const features::FeatureSet& features, const embed::Embedd
 double estimate_map_bytes(embed::Method method, int frames, int values, int columns, bool dense,
                           const embed::EmbedOptions& options, bool metrics);
 
-/// What placing new frames on `map` needs (embed/placement.h), from the map and its features.
+/// What placing new frames on `map` needs (embed/placement.h), from the map and its features;
+/// takes the embedding's coordinates and landmark fit (pass std::move(map) when done with it).
 /// @throws as embed::make_model().
-embed::MapModel map_model(const ClipMap& map, const ClipMapOptions& options);
+embed::MapModel map_model(ClipMap map, const ClipMapOptions& options);
 
 /// The effective parameters of a map in one line, for CSV comments, titles and status bars:
 /// "method=isomap dims=2 k=20 features=quat distance=pointcloud up=y".

@@ -188,6 +188,7 @@ ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipM
 }
 
 embed::MapModel map_model(const ClipMap& map, const ClipMapOptions& options) {
+  if (map.model) return *map.model;
   return embed::make_model(embed_input(*map.features, map.dense), options.embed, map.embedding);
 }
 

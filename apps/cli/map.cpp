@@ -135,12 +135,10 @@ bool streams(const MapCliOptions& opt, const pipeline::ClipMapOptions& options,
     if (!why.empty()) throw CLI::ValidationError("--stream", why);
     return true;
   }
-  if (!why.empty()) return false;
   const std::optional<std::int64_t> available = available_memory();
-  if (!available) return false;
-  const double needed = pipeline::estimate_load_bytes(paths);
-  if (needed <= double(*available)) return false;
-  std::cerr << "note: the clips and their features would take ~" << format_bytes(needed)
+  if (!pipeline::streams_by_default(options, paths, available)) return false;
+  std::cerr << "note: the clips and their features would take ~"
+            << format_bytes(pipeline::estimate_load_bytes(paths))
             << " in memory (estimated from the files' sizes), more than the "
             << format_bytes(double(*available))
             << " available: reading them from their files one at a time, twice (--stream)\n";

@@ -220,7 +220,7 @@ TEST(StreamMap, BadInputIsAClearError) {
   }
 }
 
-TEST(StreamMap, LoadEstimateScalesWithTheFiles) {
+TEST(StreamMap, StreamsByDefaultWhenTheFilesWouldNotFit) {
   MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
   const std::vector<std::string> one = cmu({"64_08.bvh"});
   const std::vector<std::string> two = cmu({"64_08.bvh", "64_08.bvh"});
@@ -229,6 +229,19 @@ TEST(StreamMap, LoadEstimateScalesWithTheFiles) {
   EXPECT_EQ(estimate_load_bytes(two), 2.0 * kLoadBytesPerFileByte * bytes);
   const std::vector<std::string> missing{"no/such/clip.bvh"};
   EXPECT_EQ(estimate_load_bytes(missing), 0.0);
+
+  // Streamed by default exactly when pca or svd would not fit.
+  ClipMapOptions pca;
+  pca.embed.method = Method::Pca;
+  const auto need = static_cast<std::int64_t>(estimate_load_bytes(two));
+  EXPECT_TRUE(streams_by_default(pca, two, need - 1));
+  EXPECT_FALSE(streams_by_default(pca, two, need));
+  EXPECT_FALSE(streams_by_default(pca, two, std::nullopt));
+  ClipMapOptions isomap;
+  isomap.embed.method = Method::Isomap;
+  EXPECT_FALSE(streams_by_default(isomap, two, need - 1));
+  pca.metrics = true;
+  EXPECT_FALSE(streams_by_default(pca, two, need - 1));
 }
 
 }  // namespace

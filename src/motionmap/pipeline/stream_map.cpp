@@ -38,6 +38,12 @@ std::string why_not_streamed(const ClipMapOptions& options) {
   return {};
 }
 
+bool streams_by_default(const ClipMapOptions& options, std::span<const std::string> paths,
+                        std::optional<std::int64_t> available) {
+  return available && why_not_streamed(options).empty() &&
+         estimate_load_bytes(paths) > double(*available);
+}
+
 namespace {
 
 // A clip without its poses: what the CSV, the map file and the caller read of it afterwards.

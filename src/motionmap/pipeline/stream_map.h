@@ -14,6 +14,8 @@
 //   auto streamed = motionmap::pipeline::stream_map(paths, {}, opt, control);
 //   // streamed.map as map_clips() returns it (X with no rows; streamed.map.model places new
 //   // frames); streamed.clips: the clips mapped, without their poses (paths, frame counts)
+#include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -37,6 +39,12 @@ double estimate_load_bytes(std::span<const std::string> paths);
 /// Why `options` cannot be streamed (stream_map() would refuse them), or an empty string when
 /// they can: the method must be pca or svd, the joints JointSelection::All, and no metrics.
 std::string why_not_streamed(const ClipMapOptions& options);
+
+/// Whether a map of the clips at `paths` should be streamed although not asked to: the options
+/// can be (why_not_streamed()) and loading the clips whole would need more than `available`
+/// bytes (estimate_load_bytes(); never when `available` is unknown).
+bool streams_by_default(const ClipMapOptions& options, std::span<const std::string> paths,
+                        std::optional<std::int64_t> available);
 
 /// A streamed map and the clips it maps.
 struct StreamedMap {

@@ -141,7 +141,7 @@ bool streams(const MapCliOptions& opt, const pipeline::ClipMapOptions& options,
             << format_bytes(pipeline::estimate_load_bytes(paths))
             << " in memory (estimated from the files' sizes), more than the "
             << format_bytes(double(*available))
-            << " available: reading them from their files one at a time, twice (--stream)\n";
+            << " available: reading them from their files a few at a time, twice (--stream)\n";
   return true;
 }
 

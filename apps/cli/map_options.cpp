@@ -132,7 +132,8 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
   if (use == MapOptionsFor::Map) {
     sub->add_flag(
         "--stream", opt.stream,
-        "pca and svd: read the clips from their files one at a time, twice (features and XᵀX, "
+        "pca and svd: read the clips from their files a few at a time (one per thread), twice "
+        "(features and XᵀX, "
         "then the projection), holding neither the clips nor X: memory for the #features² "
         "matrix, one clip and the coordinates. The map equals the in-memory one to rounding. "
         "Automatic when the clips and X would not fit in the available memory (estimated from "

@@ -31,45 +31,66 @@ ProjectionStream::ProjectionStream(const EmbedOptions& options) : m_options(opti
 }
 
 void ProjectionStream::accumulate(const Eigen::Ref<const Eigen::MatrixXd>& rows) {
+  merge(summarize(rows));
+}
+
+ProjectionStream::Block ProjectionStream::summarize(const Eigen::Ref<const Eigen::MatrixXd>& rows) {
+  Block block;
+  block.rows = rows.rows();
+  block.cols = rows.cols();
+  if (!rows.allFinite()) {
+    for (Eigen::Index c = 0; c < rows.cols() && block.bad_row < 0; ++c) {
+      for (Eigen::Index r = 0; r < rows.rows(); ++r) {
+        if (!std::isfinite(rows(r, c))) {
+          block.bad_row = r;
+          block.bad_col = c;
+          block.bad_value = rows(r, c);
+          break;
+        }
+      }
+    }
+    return block;
+  }
+  block.mean = rows.rows() > 0 ? Eigen::RowVectorXd(rows.colwise().mean())
+                               : Eigen::RowVectorXd::Zero(rows.cols());
+  const Eigen::MatrixXd centred = rows.rowwise() - block.mean;
+  block.scatter = Eigen::MatrixXd::Zero(rows.cols(), rows.cols());
+  block.scatter.selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
+  return block;
+}
+
+void ProjectionStream::merge(const Block& block) {
   if (m_fitted) throw ParameterError(who(m_options) + "accumulate() after fit()");
   if (m_mean.size() == 0) {
-    if (rows.cols() == 0) {
+    if (block.cols == 0) {
       throw ParameterError(who(m_options) +
                            "the feature matrix X has no columns; expected #frames by #features "
                            "with both ≥ 1");
     }
-    m_mean = Eigen::RowVectorXd::Zero(rows.cols());
-    m_scatter = Eigen::MatrixXd::Zero(rows.cols(), rows.cols());
-  } else if (rows.cols() != m_mean.size()) {
-    throw ParameterError(who(m_options) + "a block of X has " + std::to_string(rows.cols()) +
+    m_mean = Eigen::RowVectorXd::Zero(block.cols);
+    m_scatter = Eigen::MatrixXd::Zero(block.cols, block.cols);
+  } else if (block.cols != m_mean.size()) {
+    throw ParameterError(who(m_options) + "a block of X has " + std::to_string(block.cols) +
                          " columns; the rows before it have " + std::to_string(m_mean.size()));
   }
-  if (rows.rows() == 0) return;
-  if (!rows.allFinite()) {
-    for (Eigen::Index c = 0; c < rows.cols(); ++c) {
-      for (Eigen::Index r = 0; r < rows.rows(); ++r) {
-        if (!std::isfinite(rows(r, c))) {
-          throw ParameterError(who(m_options) + "X(" + std::to_string(m_rows + r) + ", " +
-                               std::to_string(c) + ") is " + format_number(rows(r, c)) +
-                               "; every feature must be finite");
-        }
-      }
-    }
+  if (block.bad_row >= 0) {
+    throw ParameterError(who(m_options) + "X(" + std::to_string(m_rows + block.bad_row) + ", " +
+                         std::to_string(block.bad_col) + ") is " + format_number(block.bad_value) +
+                         "; every feature must be finite");
   }
+  if (block.rows == 0) return;
   // The block's mean and centred scatter, merged with the rows before it (Chan, Golub and
   // LeVeque's pairwise update): no sum of squares minus a squared sum, so a column's spread
   // keeps its digits however far its values are from 0.
-  const double before = double(m_rows), added = double(rows.rows());
+  const double before = double(m_rows), added = double(block.rows);
   const double total = before + added;
-  const Eigen::RowVectorXd block_mean = rows.colwise().mean();
-  const Eigen::MatrixXd centred = rows.rowwise() - block_mean;
-  m_scatter.selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
-  const Eigen::RowVectorXd delta = block_mean - m_mean;
+  m_scatter.triangularView<Eigen::Lower>() += block.scatter;
+  const Eigen::RowVectorXd delta = block.mean - m_mean;
   if (before > 0.0) {
     m_scatter.selfadjointView<Eigen::Lower>().rankUpdate(delta.transpose(), before * added / total);
   }
   m_mean += delta * (added / total);
-  m_rows += rows.rows();
+  m_rows += block.rows;
 }
 
 void ProjectionStream::fit() {

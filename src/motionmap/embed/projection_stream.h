@@ -27,9 +27,24 @@ class ProjectionStream {
   explicit ProjectionStream(const EmbedOptions& options);
 
   /// Pass 1: the next rows of X (any number, each block #rows by #features, the same #features
-  /// every time). @throws ParameterError for a non-finite value (naming its row among all rows
-  /// given so far and its column) or a block of another width.
+  /// every time): merge(summarize(rows)). @throws as merge().
   void accumulate(const Eigen::Ref<const Eigen::MatrixXd>& rows);
+
+  /// What pass 1 keeps of a block of rows: its row count, column means and centred scatter
+  /// matrix, and its first non-finite value if any.
+  struct Block {
+    Eigen::Index rows = 0, cols = 0;
+    Eigen::RowVectorXd mean;
+    Eigen::MatrixXd scatter;  ///< lower triangle
+    Eigen::Index bad_row = -1, bad_col = -1;
+    double bad_value = 0.0;
+  };
+  /// A block's summary, on its own: several blocks can be summarised at once (on several
+  /// threads) and merged in order; the result does not depend on how they were computed.
+  static Block summarize(const Eigen::Ref<const Eigen::MatrixXd>& rows);
+  /// Adds the next block (in row order). @throws ParameterError for a non-finite value (naming its
+  /// row among all rows given so far and its column) or a block of another width.
+  void merge(const Block& block);
 
   /// Between the passes: the axes, from what pass 1 accumulated.
   /// @throws ParameterError for too few rows or columns for the map (as embed()); NumericalError

@@ -426,13 +426,7 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options,
   if (clips.empty()) throw ParameterError("no clip given");
   const Skeleton& skeleton = clips.front().skeleton;
   for (const Clip& clip : clips) {
-    if (options.joints == JointSelection::All && !clip.skeleton.same_hierarchy(skeleton)) {
-      throw ParameterError(clip.path + ": its joint hierarchy differs from " + clips.front().path +
-                           "'s (" + hierarchy_difference(clips.front(), clip) +
-                           "); clips mapped together must share one (joint names and parents), "
-                           "or be mapped by the joints whose names they all have: --joints "
-                           "common");
-    }
+    if (options.joints == JointSelection::All) check_same_hierarchy(clip, clips.front());
     if (clip.motion.num_frames == 0) throw ParameterError(clip.path + ": the clip has no frames");
     check_clip(clip);
   }
@@ -504,6 +498,14 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options,
 
 FeatureSet select_samples(std::span<const Clip> clips, const FeatureOptions& options) {
   return select(clips, options).set;
+}
+
+void check_same_hierarchy(const Clip& clip, const Clip& first) {
+  if (clip.skeleton.same_hierarchy(first.skeleton)) return;
+  throw ParameterError(clip.path + ": its joint hierarchy differs from " + first.path + "'s (" +
+                       hierarchy_difference(first, clip) +
+                       "); clips mapped together must share one (joint names and parents), or be "
+                       "mapped by the joints whose names they all have: --joints common");
 }
 
 namespace {
@@ -604,13 +606,7 @@ FeatureSet clip_rows(const Clip& clip, const Clip& first, const FeatureOptions& 
         "joints common: the joints all clips share are known only once every clip is read; a "
         "library read a clip at a time maps by all joints (--joints all)");
   }
-  if (!clip.skeleton.same_hierarchy(first.skeleton)) {
-    throw ParameterError(clip.path + ": its joint hierarchy differs from " + first.path + "'s (" +
-                         hierarchy_difference(first, clip) +
-                         "); clips mapped together must share one (joint names and parents), "
-                         "or be mapped by the joints whose names they all have: --joints "
-                         "common");
-  }
+  check_same_hierarchy(clip, first);
   return build_rows(std::span<const Clip>(&clip, 1), options, false);
 }
 

@@ -130,6 +130,11 @@ enum class Distances { Now, Later };
 FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
                           const Control& control = {}, Distances distances = Distances::Now);
 
+/// JointSelection::All's test of a clip against the set's first clip. @throws ParameterError
+///   naming `clip` and how its joint hierarchy differs from `first`'s, and suggesting --joints
+///   common.
+void check_same_hierarchy(const Clip& clip, const Clip& first);
+
 /// One clip of a larger set, for a library read a clip at a time (pipeline/stream_map.h): its
 /// rows of X and of distance_input, frame_of, segment_starts {0}, joints and its own notes (its
 /// bind pose) exactly as build_features() of the whole set gives them for that clip (a clip's

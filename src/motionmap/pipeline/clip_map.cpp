@@ -53,7 +53,11 @@ void check_memory(const ClipMapOptions& options, int frames, int values, int col
                         format_count(frames) + " frames needs ~" + format_bytes(bytes) +
                         (dense ? " dense" : "") + "; available " +
                         format_bytes(double(*available)) + "; ";
-  if (dense) {
+  if ((options.embed.method == Method::Pca || options.embed.method == Method::Svd) &&
+      !options.metrics) {
+    // X itself does not fit: stream_map() never holds it.
+    message += "read the clips a clip at a time (--stream, pipeline::stream_map)";
+  } else if (dense) {
     message +=
         "use --landmarks (the default above " + std::to_string(options.dense_limit) + " frames)";
   } else {

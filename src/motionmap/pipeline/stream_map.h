@@ -1,12 +1,13 @@
 #pragma once
 // pca and svd maps of libraries whose clips and features X need not fit in memory: the clips are
-// read from their files one at a time, twice. Pass 1 builds each clip's rows of X and
-// accumulates the row count, the column means and the #features by #features scatter matrix
+// read from their files a few at a time (one per thread, merged in clip order, so the map does
+// not depend on the thread count), twice. Pass 1 builds each clip's rows of X and accumulates the
+// row count, the column means and the #features by #features scatter matrix
 // (embed::ProjectionStream); the axes come from that small matrix; pass 2 reads the clips again
-// and places each clip's rows on the axes. Memory: O(#features² + one clip + the #frames by dims
-// coordinates and the per-frame bookkeeping). The map is map_clips()'s of the same clips to
-// rounding (Procrustes disparity ~1e-20, same signs: tests/pipeline/stream_map_test.cpp), with
-// the same notes and warnings.
+// and places each clip's rows on the axes. Memory: O(#features² + a clip per thread + the
+// #frames by dims coordinates and the per-frame bookkeeping). The map is map_clips()'s of the
+// same clips to rounding (Procrustes disparity ~1e-27, same signs:
+// tests/pipeline/stream_map_test.cpp), with the same notes and warnings.
 //
 //   auto paths = motionmap::io::expand_clip_inputs(inputs);
 //   motionmap::pipeline::ClipMapOptions opt;
@@ -58,7 +59,7 @@ struct StreamedMap {
   std::vector<std::string> failures;
 };
 
-/// The map of the clips at `paths`, read one at a time in two passes (see the top of this file).
+/// The map of the clips at `paths`, read a few at a time in two passes (see the top of this file).
 /// `control` hears the stages "pass 1: features and XᵀX", "eigen" and "pass 2: features and
 /// projection", with progress in clips, and is polled for cancellation between clips.
 /// @throws ParameterError for options that cannot be streamed (why_not_streamed()) or are

@@ -133,9 +133,9 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
     sub->add_flag(
         "--stream", opt.stream,
         "pca and svd: read the clips from their files a few at a time (one per thread), twice "
-        "(features and XᵀX, "
-        "then the projection), holding neither the clips nor X: memory for the #features² "
-        "matrix, one clip and the coordinates. The map equals the in-memory one to rounding. "
+        "(features and XᵀX, then the projection), holding neither the clips nor X: memory for "
+        "the #features² matrix, a clip per thread and the coordinates. The map equals the "
+        "in-memory one to rounding. "
         "Automatic when the clips and X would not fit in the available memory (estimated from "
         "the files' sizes); not with --joints common or --metrics");
   }

@@ -327,8 +327,9 @@ def stream_gives_the_in_memory_pca_and_svd_maps():
         return
     code, out, _ = run("map", "--help")
     assert code == 0 and "--stream" in out, out
-    for method, extra in (("pca", []), ("svd", []), ("pca", ["--standardize", "--dims", "3"])):
-        whole, streamed = tmp("whole-%s.csv" % method), tmp("streamed-%s.csv" % method)
+    for i, (method, extra) in enumerate((("pca", []), ("svd", []),
+                                         ("pca", ["--standardize", "--dims", "3"]))):
+        whole, streamed = tmp("whole-%d.csv" % i), tmp("streamed-%d.csv" % i)
         code, _, err_whole = run("map", data("cmu"), "-m", method, *extra, "-q", "-o", whole)
         assert code == 0, err_whole
         code, _, err = run("map", data("cmu"), "-m", method, *extra, "--stream", "-q",
@@ -336,6 +337,14 @@ def stream_gives_the_in_memory_pca_and_svd_maps():
         assert code == 0, err
         assert err == err_whole, (err, err_whole)  # the same notes and warnings on stderr
         same_map_within(whole, streamed)
+
+    # A clip per thread, merged in clip order: the same bytes on one thread.
+    one_thread = tmp("streamed-one-thread.csv")
+    code, _, err = run("map", data("cmu"), "-m", "pca", "--stream", "-q", "-o", one_thread,
+                       env=dict(os.environ, MOTIONMAP_THREADS="1"))
+    assert code == 0, err
+    with open(tmp("streamed-0.csv"), "rb") as a, open(one_thread, "rb") as b:
+        assert a.read() == b.read()
 
     # A streamed map saved as a map file places new frames as the in-memory one's does.
     for mode in ("whole", "streamed"):

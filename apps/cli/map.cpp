@@ -13,6 +13,7 @@
 #include "motionmap/core/memory.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/map_csv.h"
+#include "motionmap/pipeline/stream_map.h"
 #include "motionmap/render/map_plot.h"
 
 namespace motionmap::cli {
@@ -123,6 +124,49 @@ void place_onto(const MapCommand& cmd) {
   render::save_map_plot(cmd.plot, coords, features->segment_starts, plot);
 }
 
+// Whether `map` reads the clips a clip at a time (pipeline/stream_map.h): on request (--stream;
+// a usage error for options that cannot be), or for pca and svd when loading the clips whole and
+// building their features would take more memory than is available (estimated from the files'
+// sizes), where the in-memory map could not be made.
+bool streams(const MapCliOptions& opt, const pipeline::ClipMapOptions& options,
+             const std::vector<std::string>& paths) {
+  const std::string why = pipeline::why_not_streamed(options);
+  if (opt.stream) {
+    if (!why.empty()) throw CLI::ValidationError("--stream", why);
+    return true;
+  }
+  const std::optional<std::int64_t> available = available_memory();
+  if (!pipeline::streams_by_default(options, paths, available)) return false;
+  std::cerr << "note: the clips and their features would take ~"
+            << format_bytes(pipeline::estimate_load_bytes(paths))
+            << " in memory (estimated from the files' sizes), more than the "
+            << format_bytes(double(*available))
+            << " available: reading them from their files a few at a time, twice (--stream)\n";
+  return true;
+}
+
+// The streamed map of the clips at `paths`: the clips' warnings and the skipped clips' errors
+// printed as load_inputs() prints them; the clips returned without their poses.
+pipeline::ClipMap stream_clips(const MapCliOptions& opt, const std::vector<std::string>& paths,
+                               const pipeline::ClipMapOptions& options, const Control& progress,
+                               std::vector<Clip>& clips) {
+  io::LoadClipsOptions load;
+  load.load.asf_path = opt.asf;
+  load.load.fps = opt.fps;
+  load.keep_going = opt.keep_going;
+  pipeline::StreamedMap streamed = pipeline::stream_map(paths, load, options, progress);
+  for (const Clip& clip : streamed.clips) {
+    for (const auto& w : clip.warnings) std::cerr << w << '\n';
+  }
+  for (const auto& failure : streamed.failures) std::cerr << failure << '\n';
+  if (!streamed.failures.empty()) {
+    std::cerr << "note: skipped " << streamed.failures.size() << " of " << paths.size()
+              << " clips that failed to load (--keep-going)\n";
+  }
+  clips = std::move(streamed.clips);
+  return std::move(streamed.map);
+}
+
 void print_metrics_table(std::ostream& out, const pipeline::ClipMap& map, int k) {
   const auto& m = *map.metrics;
   char line[160];
@@ -176,19 +220,27 @@ void setup_map(CLI::App& app) {
              "and --keep-first choose the frames placed")
           ->check(CLI::ExistingFile);
   for (const char* name : kFixedByTheMap) onto->excludes(sub->get_option(name));
+  onto->excludes(sub->get_option("--stream"));
   sub->callback([cmd] {
     if (!cmd->onto.empty()) {
       place_onto(*cmd);
       return;
     }
-    std::vector<Clip> clips = load_inputs(cmd->map);
+    const std::vector<std::string> paths = input_paths(cmd->map);
     const pipeline::ClipMapOptions options =
         clip_map_options(cmd->map, cmd->map.method, cmd->metrics);
     const Control progress = progress_line(cmd->map, embed::method_name(cmd->map.method));
-    std::shared_ptr<features::FeatureSet> features =
-        pipeline::clip_features(clips, options, progress);
-    forget_poses(clips);
-    pipeline::ClipMap map = pipeline::map_features(std::move(features), options, progress);
+    std::vector<Clip> clips;
+    pipeline::ClipMap map;
+    if (streams(cmd->map, options, paths)) {
+      map = stream_clips(cmd->map, paths, options, progress, clips);
+    } else {
+      clips = load_inputs(cmd->map, paths);
+      std::shared_ptr<features::FeatureSet> features =
+          pipeline::clip_features(clips, options, progress);
+      forget_poses(clips);
+      map = pipeline::map_features(std::move(features), options, progress);
+    }
     print_diagnostics(map);
     if (map.embedding.method == embed::Method::LaplacianEigenmap) {
       std::cerr << "heat " << map.embedding.heat_used

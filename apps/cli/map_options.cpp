@@ -129,15 +129,32 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                       std::to_string(pipeline::kDenseFrameLimit) + " frames")
       ->check(CLI::NonNegativeNumber)
       ->excludes(exact);
+  if (use == MapOptionsFor::Map) {
+    sub->add_flag(
+        "--stream", opt.stream,
+        "pca and svd: read the clips from their files a few at a time (one per thread), twice "
+        "(features and XᵀX, then the projection), holding neither the clips nor X: memory for "
+        "the #features² matrix, a clip per thread and the coordinates. The map equals the "
+        "in-memory one to rounding. "
+        "Automatic when the clips and X would not fit in the available memory (estimated from "
+        "the files' sizes); not with --joints common or --metrics");
+  }
   sub->add_flag("--verbose", opt.verbose,
                 "Print each stage's time and the peak memory so far to standard error");
   sub->add_flag("-q,--quiet", opt.quiet, "No progress line");
 }
 
-std::vector<Clip> load_inputs(const MapCliOptions& opt) {
+std::vector<std::string> input_paths(const MapCliOptions& opt) {
   io::ExpandOptions expand;
   expand.recursive = opt.recursive;
-  const std::vector<std::string> paths = io::expand_clip_inputs(opt.files, expand);
+  return io::expand_clip_inputs(opt.files, expand);
+}
+
+std::vector<Clip> load_inputs(const MapCliOptions& opt) {
+  return load_inputs(opt, input_paths(opt));
+}
+
+std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths) {
   io::LoadClipsOptions load;
   load.load.asf_path = opt.asf;
   load.load.fps = opt.fps;

@@ -42,6 +42,9 @@ struct MapCliOptions {
   bool exact = false;
   int landmarks = -1;  ///< −1: not given (automatic path); 0: the default count; else L
   bool verbose = false;
+  /// map only: pca and svd read the clips from their files one at a time, twice, instead of
+  /// holding them and X (pipeline/stream_map.h); automatic when they would not fit.
+  bool stream = false;
 };
 
 /// Which command the map options are for: `map` (all of them), `figure` (no --method: it runs
@@ -65,6 +68,13 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use);
 /// their warnings, and with --keep-going the errors of the clips skipped, on stderr.
 /// @throws Error / ParseError (the first clip that fails without --keep-going, or every one).
 std::vector<Clip> load_inputs(const MapCliOptions& opt);
+
+/// The clip paths the inputs name (io::expand_clip_inputs with --recursive).
+/// @throws as io::expand_clip_inputs().
+std::vector<std::string> input_paths(const MapCliOptions& opt);
+
+/// load_inputs() of the paths input_paths() gave.
+std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths);
 
 /// The clips' paths, in order (the CSV's files= list).
 std::vector<std::string> clip_paths(const std::vector<Clip>& clips);

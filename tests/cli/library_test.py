@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """End-to-end tests of libraries of clips in the `motionmap` tool: folders (--recursive), @list
 files, clips of different skeletons (--joints common), clips that fail to load (--keep-going),
-and the loading progress line. The clips are the real ones in ../shared/data, linked (never
+the loading progress line, and pca/svd maps read a clip at a time (--stream). The clips are the real ones in ../shared/data, linked (never
 copied) into temporary folders; the tests skip, with a message, when a file is absent.
 
 usage: library_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
@@ -295,6 +295,101 @@ def loading_progress_counts_clips_and_frames_on_a_terminal():
     assert "loading 1/3 clips (0 frames)" in text, text
     assert "loading 3/3 clips (539 frames)" in text, text
     assert "loaded 3 clips (992 frames)" in text, text
+
+
+def same_map_within(a_csv, b_csv, tolerance=1e-10):
+    """Asserts two map CSVs have the same comment lines, header and clip/frame columns, and
+    coordinates within `tolerance` of the map's extent (Procrustes disparity too), each axis
+    with the same sign."""
+    import numpy as np
+
+    ca, ha, ra = read_map(a_csv)
+    cb, hb, rb = read_map(b_csv)
+    assert ca == cb, (ca, cb)
+    assert ha == hb, (ha, hb)
+    dims = sum(1 for h in ha if h in ("x", "y", "z"))
+    assert [r[:-dims] for r in ra] == [r[:-dims] for r in rb]
+    a = np.array([[float(v) for v in r[-dims:]] for r in ra])
+    b = np.array([[float(v) for v in r[-dims:]] for r in rb])
+    extent = np.abs(a).max()
+    assert np.abs(a - b).max() <= tolerance * extent, np.abs(a - b).max() / extent
+    a0, b0 = a - a.mean(0), b - b.mean(0)
+    a0, b0 = a0 / np.linalg.norm(a0), b0 / np.linalg.norm(b0)
+    u, s, vt = np.linalg.svd(b0.T @ a0)
+    disparity = ((a0 - s.sum() * b0 @ (u @ vt)) ** 2).sum()
+    assert disparity <= tolerance, disparity
+    assert ((a * b).sum(0) > 0).all(), "an axis flipped"
+
+
+@test
+def stream_gives_the_in_memory_pca_and_svd_maps():
+    if not needs(GOLF, GOLF2, RUN):
+        return
+    code, out, _ = run("map", "--help")
+    assert code == 0 and "--stream" in out, out
+    for i, (method, extra) in enumerate((("pca", []), ("svd", []),
+                                         ("pca", ["--standardize", "--dims", "3"]))):
+        whole, streamed = tmp("whole-%d.csv" % i), tmp("streamed-%d.csv" % i)
+        code, _, err_whole = run("map", data("cmu"), "-m", method, *extra, "-q", "-o", whole)
+        assert code == 0, err_whole
+        code, _, err = run("map", data("cmu"), "-m", method, *extra, "--stream", "-q",
+                           "-o", streamed)
+        assert code == 0, err
+        assert err == err_whole, (err, err_whole)  # the same notes and warnings on stderr
+        same_map_within(whole, streamed)
+
+    # A clip per thread, merged in clip order: the same bytes on one thread.
+    one_thread = tmp("streamed-one-thread.csv")
+    code, _, err = run("map", data("cmu"), "-m", "pca", "--stream", "-q", "-o", one_thread,
+                       env=dict(os.environ, MOTIONMAP_THREADS="1"))
+    assert code == 0, err
+    with open(tmp("streamed-0.csv"), "rb") as a, open(one_thread, "rb") as b:
+        assert a.read() == b.read()
+
+    # A streamed map saved as a map file places new frames as the in-memory one's does.
+    for mode in ("whole", "streamed"):
+        flags = ["--stream"] if mode == "streamed" else []
+        code, _, err = run("map", data(GOLF), data(GOLF2), "-m", "pca", *flags, "-q",
+                           "--save", tmp(mode + ".mmap.h5"), "-o", tmp(mode + "-saved.csv"))
+        assert code == 0, err
+        code, _, err = run("map", data(RUN), "--onto", tmp(mode + ".mmap.h5"), "-q",
+                           "-o", tmp(mode + "-placed.csv"))
+        assert code == 0, err
+    same_map_within(tmp("whole-saved.csv"), tmp("streamed-saved.csv"))
+    # The placed frames (the CSVs' notes name the two map files).
+    _, _, ra = read_map(tmp("whole-placed.csv"))
+    _, _, rb = read_map(tmp("streamed-placed.csv"))
+    assert len(ra) == len(rb) == 173
+    assert max(abs(float(x) - float(y)) for p, q in zip(ra, rb) for x, y in zip(p, q)) < 1e-9
+
+
+@test
+def stream_skips_broken_clips_with_keep_going_and_refuses_what_it_cannot_stream():
+    if not needs(GOLF):
+        return
+    root = folder("broken-stream", links=[("64_08.bvh", GOLF)],
+                  files=[("a-broken.bvh", BROKEN_BVH)])
+    broken = os.path.join(root, "a-broken.bvh")
+    out = tmp("broken-stream.csv")
+    code, _, err = run("map", root, "-m", "pca", "--stream", "-q", "-o", out)
+    assert code == 1, (code, err)
+    assert broken + ":20:1: error: expected a number" in err, err
+    code, _, err = run("map", root, "-m", "pca", "--stream", "--keep-going", "-q", "-o", out)
+    assert code == 0, err
+    assert broken + ":20:1: error: expected a number" in err, err
+    assert "note: skipped 1 of 2 clips that failed to load (--keep-going)" in err, err
+    comments, header, rows = read_map(out)
+    assert files_of(comments) == ["64_08.bvh"] and header == ["frame", "x", "y"], comments
+    assert len(rows) == 364
+
+    # Usage errors (exit 2) saying why.
+    for args, why in ((["-m", "isomap"], "only pca and svd"),
+                      (["-m", "pca", "--metrics"], "no metrics"),
+                      (["-m", "pca", "--joints", "common"], "--joints common")):
+        code, _, err = run("map", data(GOLF), *args, "--stream", "-q", "-o", out)
+        assert code == 2 and "--stream" in err and why in err, (args, code, err)
+    code, _, err = run("map", data(GOLF), "--onto", tmp("whole.mmap.h5"), "--stream", "-q")
+    assert code == 2, (code, err)
 
 
 if __name__ == "__main__":

@@ -317,6 +317,10 @@ EigenPairs smallest_eigenpairs_excluding(const Eigen::SparseMatrix<double>& A,
   return sorted;
 }
 
+EigenPairs gram_eigenpairs(const Eigen::MatrixXd& gram, int count, std::string_view what) {
+  return largest_eigenpairs(gram, count, what, kDenseGramLimit);
+}
+
 Eigen::MatrixXd top_singular_scores(const Eigen::MatrixXd& A, const Eigen::RowVectorXd& shift,
                                     const Eigen::RowVectorXd& scale, int count,
                                     std::string_view what,

@@ -100,6 +100,12 @@ Eigen::MatrixXd top_singular_scores(const Eigen::MatrixXd& A, const Eigen::RowVe
                                     std::string_view what,
                                     Eigen::VectorXd& squared_singular_values);
 
+/// The `count` largest eigenpairs of a Gram matrix ZᵀZ (p by p, its lower triangle read), as
+/// top_singular_scores() solves its own: the dense solver up to a small size, Lanczos above.
+/// For callers that accumulate ZᵀZ themselves (embed/projection_stream.h). @throws as
+/// largest_eigenpairs.
+EigenPairs gram_eigenpairs(const Eigen::MatrixXd& gram, int count, std::string_view what);
+
 /// Flips each column of M so that its entry of largest magnitude (the first such) is positive.
 void normalize_signs(Eigen::MatrixXd& M);
 

@@ -16,11 +16,17 @@ Eigen::RowVectorXd standardization_scale(const Eigen::MatrixXd& X, const Eigen::
   // (scale 1, so it stays 0 after centring) by StandardScaler's rule: var ≤ n·ε·var +
   // (n·mean·ε)².
   const double n = double(X.rows());
-  const double eps = std::numeric_limits<double>::epsilon();
   const Eigen::RowVectorXd var = (X.rowwise() - mean).array().square().colwise().sum() / n;
+  return standardization_scale(var, mean, n, constant_columns);
+}
+
+Eigen::RowVectorXd standardization_scale(const Eigen::RowVectorXd& var,
+                                         const Eigen::RowVectorXd& mean, double n,
+                                         int* constant_columns) {
+  const double eps = std::numeric_limits<double>::epsilon();
   Eigen::RowVectorXd scale = var.cwiseSqrt();
   int constant = 0;
-  for (Eigen::Index c = 0; c < X.cols(); ++c) {
+  for (Eigen::Index c = 0; c < var.size(); ++c) {
     const double bound = n * eps * var[c] + (n * mean[c] * eps) * (n * mean[c] * eps);
     if (var[c] <= bound) {
       scale[c] = 1.0;

@@ -426,13 +426,7 @@ Selection select(std::span<const Clip> clips, const FeatureOptions& options,
   if (clips.empty()) throw ParameterError("no clip given");
   const Skeleton& skeleton = clips.front().skeleton;
   for (const Clip& clip : clips) {
-    if (options.joints == JointSelection::All && !clip.skeleton.same_hierarchy(skeleton)) {
-      throw ParameterError(clip.path + ": its joint hierarchy differs from " + clips.front().path +
-                           "'s (" + hierarchy_difference(clips.front(), clip) +
-                           "); clips mapped together must share one (joint names and parents), "
-                           "or be mapped by the joints whose names they all have: --joints "
-                           "common");
-    }
+    if (options.joints == JointSelection::All) check_same_hierarchy(clip, clips.front());
     if (clip.motion.num_frames == 0) throw ParameterError(clip.path + ": the clip has no frames");
     check_clip(clip);
   }
@@ -506,8 +500,19 @@ FeatureSet select_samples(std::span<const Clip> clips, const FeatureOptions& opt
   return select(clips, options).set;
 }
 
-FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
-                          const Control& control, Distances distances) {
+void check_same_hierarchy(const Clip& clip, const Clip& first) {
+  if (clip.skeleton.same_hierarchy(first.skeleton)) return;
+  throw ParameterError(clip.path + ": its joint hierarchy differs from " + first.path + "'s (" +
+                       hierarchy_difference(first, clip) +
+                       "); clips mapped together must share one (joint names and parents), or be "
+                       "mapped by the joints whose names they all have: --joints common");
+}
+
+namespace {
+
+// build_features() without D; `whole_set`: the clips are the whole set, so the set's "same pose"
+// note is decided here (clip_rows() gives one clip of a larger set).
+FeatureSet build_rows(std::span<const Clip> clips, const FeatureOptions& options, bool whole_set) {
   RowMatrix cloud;
   Selection selection = select(clips, options, &cloud);
   FeatureSet set = std::move(selection.set);
@@ -547,9 +552,15 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
     set.X = Eigen::MatrixXd(quats);
   }
 
+  set.distance = options.distance;
+  if (!whole_set) {
+    set.distance_input = options.distance == DistanceKind::PointCloud ? std::move(cloud)
+                         : options.distance == DistanceKind::Geodesic ? std::move(quats)
+                                                                      : RowMatrix(set.X);
+    return set;
+  }
   // Every frame as far from the first as rounding goes (point clouds: relative to their size,
   // since removing a moving root's floor translation is not exact in floating point).
-  set.distance = options.distance;
   double farthest = 0.0;
   switch (options.distance) {
     case DistanceKind::PointCloud:
@@ -571,13 +582,52 @@ FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& opt
   const double same = 1e-9 * (options.distance == DistanceKind::PointCloud
                                   ? 1.0 + set.distance_input.cwiseAbs().maxCoeff()
                                   : 1.0);
-  if (n > 1 && farthest <= same) {
-    set.notes.push_back("every frame has the same pose (distance " +
-                        std::string(distance_kind_name(options.distance)) +
-                        " 0 between all of them): a map can only show one point");
-  }
+  if (n > 1 && farthest <= same) set.notes.push_back(same_pose_note(options.distance));
+  return set;
+}
+
+}  // namespace
+
+std::string same_pose_note(DistanceKind distance) {
+  return "every frame has the same pose (distance " + std::string(distance_kind_name(distance)) +
+         " 0 between all of them): a map can only show one point";
+}
+
+FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
+                          const Control& control, Distances distances) {
+  FeatureSet set = build_rows(clips, options, true);
   if (distances == Distances::Now) add_distances(set, control);
   return set;
+}
+
+FeatureSet clip_rows(const Clip& clip, const Clip& first, const FeatureOptions& options) {
+  if (options.joints != JointSelection::All) {
+    throw ParameterError(
+        "joints common: the joints all clips share are known only once every clip is read; a "
+        "library read a clip at a time maps by all joints (--joints all)");
+  }
+  check_same_hierarchy(clip, first);
+  return build_rows(std::span<const Clip>(&clip, 1), options, false);
+}
+
+void SamePoseCheck::add(const FeatureSet& rows) {
+  const RowMatrix& points = rows.distance_input;
+  if (points.rows() == 0) return;
+  if (m_first.size() == 0) m_first = points.row(0);
+  for (Eigen::Index j = 0; j < points.rows(); ++j) {
+    const double d = rows.distance == DistanceKind::Geodesic
+                         ? quaternion_angle_distance(m_first, points.row(j))
+                         : euclidean_distance(m_first, points.row(j));
+    m_farthest = std::max(m_farthest, d);
+  }
+  m_largest = std::max(m_largest, points.cwiseAbs().maxCoeff());
+  m_samples += points.rows();
+}
+
+std::optional<std::string> SamePoseCheck::note(DistanceKind distance) const {
+  const double same = 1e-9 * (distance == DistanceKind::PointCloud ? 1.0 + m_largest : 1.0);
+  if (m_samples > 1 && m_farthest <= same) return same_pose_note(distance);
+  return std::nullopt;
 }
 
 void add_distances(FeatureSet& set, const Control& control) {

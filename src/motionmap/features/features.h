@@ -130,6 +130,39 @@ enum class Distances { Now, Later };
 FeatureSet build_features(std::span<const Clip> clips, const FeatureOptions& options,
                           const Control& control = {}, Distances distances = Distances::Now);
 
+/// JointSelection::All's test of a clip against the set's first clip. @throws ParameterError
+///   naming `clip` and how its joint hierarchy differs from `first`'s, and suggesting --joints
+///   common.
+void check_same_hierarchy(const Clip& clip, const Clip& first);
+
+/// One clip of a larger set, for a library read a clip at a time (pipeline/stream_map.h): its
+/// rows of X and of distance_input, frame_of, segment_starts {0}, joints and its own notes (its
+/// bind pose) exactly as build_features() of the whole set gives them for that clip (a clip's
+/// rows depend on that clip only). `first` is the set's first clip, whose joint hierarchy every
+/// clip must share; the set's "every frame has the same pose" note needs every clip:
+/// SamePoseCheck. @throws as build_features(); ParameterError for JointSelection::Common (the
+///   joints shared are known only once every clip is read) or a clip of another hierarchy
+///   (naming it and how it differs from `first`).
+FeatureSet clip_rows(const Clip& clip, const Clip& first, const FeatureOptions& options);
+
+/// The note build_features() adds when every frame of a set has the same pose.
+std::string same_pose_note(DistanceKind distance);
+
+/// build_features()'s "every frame has the same pose" test over a set given a clip at a time
+/// (clip_rows() of each clip, in order): every frame's distance from the set's first frame, to
+/// rounding.
+class SamePoseCheck {
+ public:
+  void add(const FeatureSet& rows);
+  /// same_pose_note() when every frame added has the first one's pose.
+  std::optional<std::string> note(DistanceKind distance) const;
+
+ private:
+  Eigen::RowVectorXd m_first;
+  double m_farthest = 0.0, m_largest = 0.0;
+  Eigen::Index m_samples = 0;
+};
+
 /// Computes D of a set built with Distances::Later (nothing when D is there already). What it is
 /// computed from stays (it is #samples by a few hundred at most; the maps that never form D read
 /// it). @throws Cancelled if `control` says so.

@@ -54,7 +54,11 @@ void check_memory(const ClipMapOptions& options, int frames, int values, int col
                         format_count(frames) + " frames needs ~" + format_bytes(bytes) +
                         (dense ? " dense" : "") + "; available " +
                         format_bytes(double(*available)) + "; ";
-  if (dense) {
+  if ((options.embed.method == Method::Pca || options.embed.method == Method::Svd) &&
+      !options.metrics) {
+    // X itself does not fit: stream_map() never holds it.
+    message += "read the clips a clip at a time (--stream, pipeline::stream_map)";
+  } else if (dense) {
     message +=
         "use --landmarks (the default above " + std::to_string(options.dense_limit) + " frames)";
   } else {
@@ -189,6 +193,7 @@ ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipM
 }
 
 embed::MapModel map_model(ClipMap map, const ClipMapOptions& options) {
+  if (map.model) return std::move(*map.model);
   return embed::make_model(embed_input(*map.features, map.dense), options.embed,
                            std::move(map.embedding));
 }

@@ -64,6 +64,9 @@ struct ClipMap {
   std::optional<MapMetrics> metrics;
   /// Whether the map was computed from D (the dense path) or from the points.
   bool dense = true;
+  /// A map streamed from its clips' files (stream_map.h), whose features hold no rows: what
+  /// placing new frames needs, kept as the map was made (map_model() returns it).
+  std::optional<embed::MapModel> model;
 };
 
 /// Builds the features of `clips` (or takes them from `cache`) and maps them. D is built only
@@ -108,9 +111,9 @@ MapMetrics map_metrics(const features::FeatureSet& features, const embed::Embedd
 double estimate_map_bytes(embed::Method method, int frames, int values, int columns, bool dense,
                           const embed::EmbedOptions& options, bool metrics);
 
-/// What placing new frames on `map` needs (embed/placement.h), from the map and its features;
-/// takes the embedding's coordinates and landmark fit (pass std::move(map) when done with it).
-/// @throws as embed::make_model().
+/// What placing new frames on `map` needs (embed/placement.h), from the map and its features, or
+/// map.model, kept by a streamed map; takes the embedding's coordinates and landmark fit (pass
+/// std::move(map) when done with it). @throws as embed::make_model().
 embed::MapModel map_model(ClipMap map, const ClipMapOptions& options);
 
 /// The effective parameters of a map in one line, for CSV comments, titles and status bars:

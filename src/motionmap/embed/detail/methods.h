@@ -22,6 +22,11 @@ void run_pca(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& o
 /// constant column (StandardScaler's rule); counts those in *constant_columns when given.
 Eigen::RowVectorXd standardization_scale(const Eigen::MatrixXd& X, const Eigen::RowVectorXd& mean,
                                          int* constant_columns);
+/// The same from the columns' population variances `var` and means over n rows (PCA streamed a
+/// block of rows at a time, projection_stream.h).
+Eigen::RowVectorXd standardization_scale(const Eigen::RowVectorXd& var,
+                                         const Eigen::RowVectorXd& mean, double n,
+                                         int* constant_columns);
 /// Truncated SVD of X, not centred: X times its top right-singular vectors.
 void run_svd(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
              Progress& progress);

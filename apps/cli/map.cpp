@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "commands.h"
 #include "map_options.h"
@@ -187,6 +188,9 @@ void setup_map(CLI::App& app) {
     const Control progress = progress_line(cmd->map, embed::method_name(cmd->map.method));
     std::shared_ptr<features::FeatureSet> features =
         pipeline::clip_features(clips, options, progress);
+    // What `pose`/`synth --map` need of all the clips, taken while their poses are here.
+    const std::optional<mapfile::BlendRecord> blend =
+        cmd->save.empty() ? std::nullopt : mapfile::blend_record(clips, *features);
     forget_poses(clips);
     const pipeline::ClipMap map = pipeline::map_features(std::move(features), options, progress);
     print_diagnostics(map);
@@ -196,7 +200,9 @@ void setup_map(CLI::App& app) {
     }
     write_csv(cmd->output, map, options, clips);
     if (!cmd->save.empty()) {
-      mapfile::write_map_file(cmd->save, mapfile::make_map_file(clips, map, options));
+      mapfile::MapFile file = mapfile::make_map_file(clips, map, options);
+      file.blend = blend;
+      mapfile::write_map_file(cmd->save, file);
     }
     if (map.metrics) {
       const bool csv_on_stdout = cmd->output.empty() || cmd->output == "-";

@@ -170,6 +170,15 @@ ClipsSummary summarize_clips(int num_clips,
                              const features::FeatureSet& samples, const Control& control) {
   if (num_clips < 1) throw ParameterError("map: no clip given");
   const int n = samples.num_samples();
+  if (n < 1 || samples.clip_of.size() != samples.frame_of.size())
+    throw ParameterError("map: the feature set has no samples, or not one clip per frame index");
+  for (int i = 0; i < n; ++i) {
+    if (samples.clip_of[i] < 0 || samples.clip_of[i] >= num_clips) {
+      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " +
+                           std::to_string(samples.clip_of[i]) + " but only " +
+                           std::to_string(num_clips) + " clip(s) were given");
+    }
+  }
   ClipsSummary out;
   // Translations are compared with the first sample's (as the blender keeps them).
   const std::shared_ptr<const Clip> first = clip_at(samples.clip_of[0]);
@@ -201,6 +210,11 @@ ClipsSummary summarize_clips(int num_clips,
     root = std::min(root, motion_root(clip->skeleton, clip->motion));
     for (int k = start[c]; k < start[c + 1]; ++k) {
       const int i = order[k];
+      if (samples.frame_of[i] < 0 || samples.frame_of[i] >= clip->motion.num_frames) {
+        throw ParameterError("map: sample " + std::to_string(i) + " is frame " +
+                             std::to_string(samples.frame_of[i]) + " of " + clip->path +
+                             ", which has " + std::to_string(clip->motion.num_frames) + " frames");
+      }
       for (int j = 0; j < J; ++j) {
         if (!varies[j])
           varies[j] = !same_translation(clip->motion.translation(samples.frame_of[i], j), t0[j]);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "commands.h"
 #include "map_options.h"
@@ -232,12 +233,15 @@ void setup_map(CLI::App& app) {
     const Control progress = progress_line(cmd->map, embed::method_name(cmd->map.method));
     std::vector<Clip> clips;
     pipeline::ClipMap map;
+    std::optional<mapfile::BlendRecord> blend;  // a streamed map's file has none
     if (streams(cmd->map, options, paths)) {
       map = stream_clips(cmd->map, paths, options, progress, clips);
     } else {
       clips = load_inputs(cmd->map, paths);
       std::shared_ptr<features::FeatureSet> features =
           pipeline::clip_features(clips, options, progress);
+      // What `pose`/`synth --map` need of all the clips, taken while their poses are here.
+      if (!cmd->save.empty()) blend = mapfile::blend_record(clips, *features);
       forget_poses(clips);
       map = pipeline::map_features(std::move(features), options, progress);
     }
@@ -268,7 +272,9 @@ void setup_map(CLI::App& app) {
     }
     // Last, so that the map file's model takes the map's landmark fit instead of a copy.
     if (!cmd->save.empty()) {
-      mapfile::write_map_file(cmd->save, mapfile::make_map_file(clips, std::move(map), options));
+      mapfile::MapFile file = mapfile::make_map_file(clips, std::move(map), options);
+      file.blend = std::move(blend);
+      mapfile::write_map_file(cmd->save, file);
     }
   });
 }

@@ -94,10 +94,12 @@ synth::BlendOptions blend_options(const BlendCommand& cmd, Axis up) {
   return blend;
 }
 
-/// A saved map's clips (loaded from the paths it records, each checked against its SHA-256), its
-/// samples and coordinates, and a blender over them: the blender `prepare` makes for the same
-/// clips mapped directly with the map's options.
-synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<Clip>& clips,
+/// A blender over a saved map: the blender `prepare` makes for the same clips mapped directly
+/// with the map's options, blending bit for bit the same. The local and idw modes read the clips
+/// on demand (mapfile::make_blender: only those of the samples a blend uses, each checked against
+/// its recorded SHA-256); kriging blends every sample and loads every clip. `clip_paths` receives
+/// the clips' paths as the map records them.
+synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<std::string>& clip_paths,
                                 features::FeatureSet& samples) {
   for (const char* name : kFixedBySavedMap) {
     const CLI::Option* option = cmd.sub->get_option_no_throw(name);
@@ -109,14 +111,34 @@ synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<Clip>& clip
                                             : "leave " + option->get_name() + " out"));
     }
   }
-  const mapfile::SavedMap saved(mapfile::read_map_file(cmd.map_csv, {.model = false}));
-  if (saved.file().num_samples() > 100000 && !cmd.map.quiet) {
-    std::cerr << "note: " << cmd.map_csv << " has " << saved.file().num_samples() << " samples in "
-              << saved.num_clips()
-              << " clips: all are loaded and blended over (about 0.1 s per 6 000-frame clip "
-                 "and 5 KB per sample; 11 s and 0.5 GB at 100 000 samples)\n";
+  mapfile::MapFile file = mapfile::read_map_file(cmd.map_csv, {.model = false});
+  for (const mapfile::ClipRecord& record : file.clips) clip_paths.push_back(record.path);
+  const synth::BlendOptions blend = blend_options(cmd, file.options.features.up);
+  // The blender keeps the states of the samples it blended, not their clips: a few clips cached.
+  const int num_clips = static_cast<int>(file.clips.size());
+  const auto saved = std::make_shared<const mapfile::SavedMap>(std::move(file));
+  samples = saved->samples();
+  if (blend.mode != synth::BlendMode::Kriging) {
+    if (!saved->file().blend && !cmd.map.quiet) {
+      std::cerr << "note: " << cmd.map_csv
+                << " does not record what blending needs of all its clips (saved by an older "
+                   "MotionMap, or a map of placed clips): each of its "
+                << num_clips
+                << " clips is read once first (about 0.1 s per 6 000 frames); `motionmap map "
+                   "--save` records it\n";
+    }
+    try {
+      return mapfile::make_blender(saved, blend, progress_line(cmd.map, "blend"));
+    } catch (const ParameterError& e) {
+      // Clips of several skeletons (a --joints common map) cannot be blended together.
+      if (std::string(e.what()).find("joint hierarchy differs") == std::string::npos) throw;
+      throw Error(cmd.map_csv + ": " + e.what() +
+                  " (pose and synth blend clips of one skeleton; a --joints common map holds "
+                  "clips of several, but cannot blend them)");
+    }
   }
-  clips = saved.load_all_clips();
+  // Kriging blends every sample: every clip is loaded.
+  const std::vector<Clip> clips = saved->load_all_clips();
   for (const Clip& clip : clips) {
     if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
       throw Error(cmd.map_csv + ": " + clip.path + ": its joint hierarchy differs from " +
@@ -124,26 +146,26 @@ synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<Clip>& clip
                   "); pose and synth blend clips of one skeleton (a --joints common map holds "
                   "clips of several, but cannot blend them)");
   }
-  samples = saved.samples();
-  const synth::BlendOptions blend = blend_options(cmd, saved.file().options.features.up);
-  if (blend.mode == synth::BlendMode::Kriging && samples.num_samples() > 2000 && !cmd.map.quiet) {
+  if (samples.num_samples() > 2000 && !cmd.map.quiet) {
     std::cerr << "note: factoring the kriging system of " << samples.num_samples()
               << " samples (O(N³): tens of seconds at 10 000; --blend local takes a fraction of a "
                  "second)\n";
   }
-  return synth::MapBlender(clips, samples, saved.file().coordinates, blend,
+  return synth::MapBlender(clips, samples, saved->file().coordinates, blend,
                            progress_line(cmd.map, "blend"));
 }
 
 /// The clips, their map (recomputed, or read with --map and checked) and a blender over it.
-synth::MapBlender prepare(const BlendCommand& cmd, std::vector<Clip>& clips,
+/// `clip_paths` receives the clips' paths.
+synth::MapBlender prepare(const BlendCommand& cmd, std::vector<std::string>& clip_paths,
                           features::FeatureSet& samples) {
-  if (!cmd.map_csv.empty() && is_hdf5(cmd.map_csv)) return prepare_saved(cmd, clips, samples);
+  if (!cmd.map_csv.empty() && is_hdf5(cmd.map_csv)) return prepare_saved(cmd, clip_paths, samples);
   if (cmd.map.files.empty()) {
     throw CLI::ValidationError("files",
                                "give the clips (FILE…), or a saved map with --map lib.mmap.h5");
   }
-  clips = load_inputs(cmd.map);
+  const std::vector<Clip> clips = load_inputs(cmd.map);
+  for (const Clip& clip : clips) clip_paths.push_back(clip.path);
   // A new pose has one skeleton: say so before a map of several (--joints common) is computed.
   for (const Clip& clip : clips) {
     if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
@@ -223,9 +245,9 @@ void setup_pose(CLI::App& app) {
       ->required();
   sub->callback([cmd] {
     const Eigen::Vector2d p = parse_point(cmd->at);
-    std::vector<Clip> clips;
+    std::vector<std::string> clip_paths;
     features::FeatureSet samples;
-    const synth::MapBlender blender = prepare(*cmd, clips, samples);
+    const synth::MapBlender blender = prepare(*cmd, clip_paths, samples);
     const synth::MapWeights weights = blender.locate(p);
     const synth::PointValidity& v = weights.validity;
     if (v.clamped) {
@@ -238,7 +260,7 @@ void setup_pose(CLI::App& app) {
     const int nearest = v.nearest_sample;
     std::cerr << "wrote " << cmd->output << ": 1 frame blended from " << weights.samples.size()
               << " samples (" << synth::blend_mode_name(blender.options().mode)
-              << "); nearest sample: " << clips[samples.clip_of[nearest]].path << " frame "
+              << "); nearest sample: " << clip_paths[samples.clip_of[nearest]] << " frame "
               << samples.frame_of[nearest] << " at " << approx(v.distance) << "\n";
   });
 }
@@ -271,9 +293,9 @@ void setup_synth(CLI::App& app) {
     options.fps = cmd->fps;
     options.smooth = cmd->smooth;
     options.validate();
-    std::vector<Clip> clips;
+    std::vector<std::string> clip_paths;
     features::FeatureSet samples;
-    const synth::MapBlender blender = prepare(*cmd, clips, samples);
+    const synth::MapBlender blender = prepare(*cmd, clip_paths, samples);
     const Control line = progress_line(cmd->map, "synth");
     const synth::SynthResult result = synth::synthesize(
         blender, path, options, line.reports() ? line.stage("blending frames", 0, 1) : line);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """End-to-end tests of `motionmap pose/synth --map lib.mmap.h5`: blending on a saved map equals
 blending on the same clips mapped directly (the BVH written is the same, byte for byte, for every
-blend mode), a saved map fixes its clips and options (giving them is a usage error), and a clip
+blend mode, with and without smoothing, though the saved map's clips are read on demand), a saved map fixes its clips and options (giving them is a usage error), and a clip
 file changed or removed since the map was made is an error naming the file and what was expected.
 The clips are the real ones in ../shared/data; map files are made in a temporary folder (a clip is
 copied there only to be changed). Skips, with a message, when a clip is absent.
@@ -97,6 +97,36 @@ def synth_on_a_saved_map_equals_synth_on_the_clips():
     assert c1 == 0 and c2 == 0, (e1, e2)
     assert read(direct) == read(saved)
     assert read(saved).startswith(b"HIERARCHY")
+
+
+@test
+def synth_on_demand_equals_synth_on_the_clips_for_every_blend():
+    if not have_clips():
+        return
+    h5, csv_path = save_map("two-pca", GOLF, GOLF2, method="pca")
+    xy = map_rows(csv_path)
+    timed, untimed = tmp("timed.csv"), tmp("untimed.csv")
+    with open(timed, "w") as f, open(untimed, "w") as g:
+        f.write("t,x,y\n")
+        for k, row in enumerate(range(400, 700, 15)):
+            f.write(f"{k * 0.08!r},{xy[row][0]!r},{xy[row][1]!r}\n")
+            g.write(f"{xy[row][0]!r},{xy[row][1]!r}\n")
+    for blend in ("local", "idw", "kriging"):
+        for path, extra in ((timed, []), (timed, ["--smooth", "0.05"]), (untimed, [])):
+            direct, saved = tmp(f"d-{blend}.bvh"), tmp(f"s-{blend}.bvh")
+            c1, _, e1 = run("synth", GOLF, GOLF2, "--method", "pca", "--map", csv_path, "--path",
+                            path, "--blend", blend, *extra, "-o", direct)
+            c2, _, e2 = run("synth", "--map", h5, "--path", path, "--blend", blend, *extra,
+                            "-o", saved)
+            assert c1 == 0 and c2 == 0, (e1, e2)
+            assert read(direct) == read(saved), (blend, path, extra)
+        x, y = xy[555]
+        c1, _, e1 = run("pose", GOLF, GOLF2, "--method", "pca", "--map", csv_path,
+                        f"--at={x + 1e-4!r},{y!r}", "--blend", blend, "-o", tmp("dp.bvh"))
+        c2, _, e2 = run("pose", "--map", h5, f"--at={x + 1e-4!r},{y!r}", "--blend", blend,
+                        "-o", tmp("sp.bvh"))
+        assert c1 == 0 and c2 == 0, (e1, e2)
+        assert read(tmp("dp.bvh")) == read(tmp("sp.bvh")), blend
 
 
 @test

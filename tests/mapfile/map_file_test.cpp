@@ -108,6 +108,11 @@ void expect_same_file(const MapFile& a, const MapFile& b) {
   }
   EXPECT_EQ(a.clip_of, b.clip_of);
   EXPECT_EQ(a.frame_of, b.frame_of);
+  ASSERT_EQ(a.blend.has_value(), b.blend.has_value());
+  if (a.blend) {
+    EXPECT_EQ(a.blend->motion_root, b.blend->motion_root);
+    EXPECT_EQ(a.blend->moving, b.blend->moving);
+  }
   EXPECT_EQ(a.parameters, b.parameters);
   const auto &fa = a.options.features, &fb = b.options.features;
   EXPECT_EQ(fa.features, fb.features);
@@ -200,6 +205,7 @@ MapFile synthetic_file(int n = 40, int dims = 3) {
   f.notes = {"a.bvh: frame 0 looks like a bind pose (…): left out", "ünïcode"};
   f.warnings = {"the graph had 2 components"};
   f.skeleton = {{"Hips", "Spine", "Head"}, {-1, 0, 1}, {0, 0, 1}};
+  f.blend = BlendRecord{0, {1, 2}};
   f.joints = {"Spine", "Head"};
   f.shared_joints = {"Hips", "Spine", "Head"};
   f.x_columns = 8;
@@ -545,6 +551,11 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
             "unknown map file layout version 0 (this MotionMap reads versions 1 to 2)");
   EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format_version", "1"); }),
             "attribute format_version of / is not an integer");
+  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/blend", "motion_root", 3); }),
+            "attribute motion_root of /blend is 3, expected the joint carrying the root motion in "
+            "[0, 2]");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/blend/moving_joints", 2, 0, H5T_STD_I32LE, 1); }),
+            "/blend/moving_joints is not increasing or names the motion root 0");
   EXPECT_EQ(refused([](Edit& e) { e.remove("/coordinates"); }),
             "missing dataset /coordinates (#samples by dims, float64)");
   EXPECT_EQ(refused([](Edit& e) { e.replace("/coordinates", 40, 3, H5T_IEEE_F64LE, 0.5); }),

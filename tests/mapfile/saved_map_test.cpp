@@ -1,16 +1,19 @@
 // Saved maps opened for use (mapfile::SavedMap, mapfile::PointIndex): the 2-D index against a
 // brute-force search on real maps, clips loaded on demand and checked against the SHA-256 the
 // map file recorded (a changed, missing or wrong clip is an error naming the file and what was
-// expected), and poses blended on a saved map equal to the idw blend of the same clips mapped
-// directly.
+// expected), poses blended on a saved map equal to the idw blend of the same clips mapped
+// directly, and a blender reading a saved map's clips on demand (make_blender) equal to one given
+// every clip, bit for bit, while reading only the clips of the samples it blends.
 #include "motionmap/mapfile/saved_map.h"
 
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -19,6 +22,7 @@
 #include "motionmap/io/load.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/synth/blender.h"
+#include "motionmap/synth/synthesize.h"
 
 namespace motionmap::mapfile {
 namespace {
@@ -279,6 +283,141 @@ TEST(SavedMap, PoseEqualsTheIdwBlendOfTheClipsMappedDirectly) {
   EXPECT_THROW(map.pose_at(Eigen::Vector2d(0.0, 0.0), 0), ParameterError);
   // The blender's reach and the saved map's agree.
   EXPECT_DOUBLE_EQ(map.median_step(), reference.median_step());
+}
+
+// Bit for bit: the same doubles (== on every coefficient, so -0 and +0 would differ only in sign).
+void expect_same_motion(const Motion& a, const Motion& b, const std::string& what) {
+  ASSERT_EQ(a.num_frames, b.num_frames) << what;
+  ASSERT_EQ(a.num_joints, b.num_joints) << what;
+  ASSERT_EQ(a.rotations.size(), b.rotations.size()) << what;
+  EXPECT_EQ(a.frame_time, b.frame_time) << what;
+  EXPECT_EQ(std::memcmp(a.rotations.data(), b.rotations.data(),
+                        a.rotations.size() * sizeof(Eigen::Quaterniond)),
+            0)
+      << what;
+  EXPECT_EQ(std::memcmp(a.translations.data(), b.translations.data(),
+                        a.translations.size() * sizeof(Eigen::Vector3d)),
+            0)
+      << what;
+}
+
+TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
+  if (!have_data() || !fs::exists(kData + "/cmu/02_03.bvh"))
+    GTEST_SKIP() << "no shared data in " << kData;
+  TempDir dir;
+  // Two subjects: their offsets differ, so some joints' translations are blended.
+  const SavedLibrary lib =
+      save_library(dir, {"cmu/64_08.bvh", "cmu/64_09.bvh", "cmu/02_03.bvh"}, embed::Method::Mds);
+  const Eigen::MatrixXd& xy = lib.map.embedding.coordinates;
+  const features::FeatureSet& set = *lib.map.features;
+  const MapFile file = read_map_file(lib.file, {.model = false});
+  ASSERT_TRUE(file.blend.has_value());
+  const synth::ClipsSummary full_summary = synth::summarize_clips(lib.clips, set);
+  EXPECT_EQ(file.blend->motion_root, full_summary.motion_root);
+  EXPECT_EQ(file.blend->moving, full_summary.moving);
+  EXPECT_FALSE(full_summary.moving.empty());  // 02 and 64 have other bone lengths
+
+  // Points on samples of the last clip, between samples, and far outside (clamped).
+  const int n = static_cast<int>(xy.rows());
+  const int last = file.clips.back().first_sample;
+  const std::vector<Eigen::Vector2d> points = {
+      xy.row(last + 40).head<2>().transpose(),
+      0.5 * (xy.row(last + 100).head<2>() + xy.row(last + 101).head<2>()).transpose(),
+      xy.row(n / 3).head<2>().transpose() + Eigen::Vector2d(1e-3, -2e-3),
+      xy.row(5).head<2>().transpose() + Eigen::Vector2d(1e4, 0.0)};
+  synth::MapPath path;
+  for (int i = 60; i < 200; i += 10) path.points.push_back(xy.row(i).head<2>().transpose());
+
+  for (const synth::BlendMode mode : {synth::BlendMode::Local, synth::BlendMode::Idw}) {
+    const std::string name(synth::blend_mode_name(mode));
+    synth::BlendOptions options;
+    options.mode = mode;
+    const synth::MapBlender full(lib.clips, set, xy, options);
+    auto saved = std::make_shared<const SavedMap>(file, static_cast<int>(file.clips.size()));
+    const synth::MapBlender lazy = make_blender(saved, options);
+    // Set-up reads the first clip only (its skeleton) and builds no local system.
+    EXPECT_EQ(saved->loads(), 1) << name;
+    EXPECT_EQ(lazy.num_local_systems(), 0) << name;
+    EXPECT_EQ(lazy.motion_root(), full.motion_root()) << name;
+    EXPECT_EQ(lazy.median_speed(), full.median_speed()) << name;
+    EXPECT_EQ(lazy.num_points(), full.num_points()) << name;
+
+    std::set<int> read = {0};
+    for (std::size_t q = 0; q < points.size(); ++q) {
+      const std::string what = name + " point " + std::to_string(q);
+      const synth::MapWeights a = full.locate(points[q]), b = lazy.locate(points[q]);
+      EXPECT_EQ(a.samples, b.samples) << what;
+      EXPECT_EQ(a.weights, b.weights) << what;
+      EXPECT_EQ(a.validity.point, b.validity.point) << what;
+      EXPECT_EQ(a.validity.clamped, b.validity.clamped) << what;
+      expect_same_motion(full.pose(a), lazy.pose(b), what);
+      // Only the clips of the samples blended were read, each once.
+      for (int s : b.samples) read.insert(set.clip_of[s]);
+      EXPECT_EQ(saved->loads(), static_cast<int>(read.size())) << what;
+    }
+    if (mode == synth::BlendMode::Local) {
+      EXPECT_GT(lazy.num_local_systems(), 0);
+      EXPECT_LT(lazy.num_local_systems(), full.num_local_systems());
+    }
+
+    // A synthesis along a path, with and without smoothing of the weights.
+    for (const double smooth : {0.0, 0.05}) {
+      synth::SynthOptions so;
+      so.smooth = smooth;
+      const synth::SynthResult a = synth::synthesize(full, path, so);
+      const synth::SynthResult b = synth::synthesize(lazy, path, so);
+      expect_same_motion(a.motion, b.motion, name + " synth, smooth " + std::to_string(smooth));
+      EXPECT_EQ(a.clamped_frames, b.clamped_frames);
+    }
+  }
+
+  // A map file without the blend record (an older one): every clip is read once for it, and the
+  // blender is the same.
+  MapFile old = file;
+  old.blend.reset();
+  const std::string old_path = dir.file("old.mmap.h5");
+  write_map_file(old_path, old);
+  auto saved_old = std::make_shared<const SavedMap>(read_map_file(old_path, {.model = false}), 1);
+  ASSERT_FALSE(saved_old->file().blend.has_value());
+  const synth::ClipsSummary scanned = saved_old->clips_summary();
+  EXPECT_EQ(saved_old->loads(), 3);
+  EXPECT_EQ(scanned.motion_root, full_summary.motion_root);
+  EXPECT_EQ(scanned.moving, full_summary.moving);
+  EXPECT_EQ(scanned.frames, full_summary.frames);
+  EXPECT_EQ(scanned.frame_times, full_summary.frame_times);
+  const synth::MapBlender full(lib.clips, set, xy, {});
+  const synth::MapBlender lazy = make_blender(saved_old, {});
+  expect_same_motion(full.pose_at(points[1]), lazy.pose_at(points[1]), "older map file");
+
+  // A clip no blend touches is never read: with 02_03.bvh (clip 2, a walk among golf swings)
+  // removed, a pose on a golf sample blended from golf samples only is still made.
+  int golf = -1;
+  for (int i = 0; i < file.clips[2].first_sample && golf < 0; i += 7) {
+    const synth::MapWeights w = full.locate(xy.row(i).head<2>().transpose());
+    if (std::none_of(w.samples.begin(), w.samples.end(),
+                     [&](int s) { return set.clip_of[s] == 2; }))
+      golf = i;
+  }
+  ASSERT_GE(golf, 0);
+  fs::remove(dir.file("02_03.bvh"));
+  auto without = std::make_shared<const SavedMap>(file, 3);
+  const synth::MapBlender partial = make_blender(without, {});
+  const Eigen::Vector2d at = xy.row(golf).head<2>().transpose();
+  expect_same_motion(full.pose_at(at), partial.pose_at(at), "with a clip removed");
+  EXPECT_FALSE(without->is_loaded(2));
+  // One that needs it says which file is missing.
+  try {
+    (void)partial.pose_at(xy.row(file.clips[2].first_sample + 30).head<2>().transpose());
+    ADD_FAILURE() << "no error for a missing clip";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("02_03.bvh"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is missing"), std::string::npos) << e.what();
+  }
+
+  // Kriging blends every sample: refused on demand.
+  synth::BlendOptions kriging;
+  kriging.mode = synth::BlendMode::Kriging;
+  EXPECT_THROW(make_blender(saved_old, kriging), ParameterError);
 }
 
 }  // namespace

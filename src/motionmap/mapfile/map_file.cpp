@@ -13,6 +13,7 @@
 #include "motionmap/core/sha256.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/mapfile/detail/hdf5.h"
+#include "motionmap/synth/blender.h"
 
 namespace motionmap::mapfile {
 
@@ -258,6 +259,26 @@ std::string generator_name() {
 
 // ---- make_map_file --------------------------------------------------------------------------
 
+std::optional<BlendRecord> blend_record(std::span<const Clip> clips,
+                                        const features::FeatureSet& samples) {
+  if (clips.empty() || samples.num_samples() < 1) return std::nullopt;
+  const Skeleton& skeleton = clips.front().skeleton;
+  for (const Clip& c : clips) {
+    const auto values = std::size_t(c.motion.num_frames) * std::size_t(c.skeleton.num_joints());
+    if (!c.skeleton.same_hierarchy(skeleton) || c.motion.rotations.size() != values ||
+        c.motion.translations.size() != values)
+      return std::nullopt;
+  }
+  for (int i = 0; i < samples.num_samples(); ++i) {
+    const int c = samples.clip_of[std::size_t(i)], f = samples.frame_of[std::size_t(i)];
+    if (c < 0 || c >= int(clips.size()) || f < 0 || f >= clips[std::size_t(c)].motion.num_frames)
+      throw ParameterError("blend_record: sample " + std::to_string(i) + " is not a frame of the " +
+                           std::to_string(clips.size()) + " clips");
+  }
+  const synth::ClipsSummary summary = synth::summarize_clips(clips, samples);
+  return BlendRecord{summary.motion_root, summary.moving};
+}
+
 MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,
                       const pipeline::ClipMapOptions& options) {
   if (!map.features) throw ParameterError("make_map_file: the map has no feature set");
@@ -304,6 +325,7 @@ MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,
     file.skeleton.end_sites.push_back(static_cast<int>(j.end_sites.size()));
   }
   for (const int j : set.joints) file.joints.push_back(skeleton.joints[std::size_t(j)].name);
+  file.blend = blend_record(clips, set);
   if (options.features.joints == features::JointSelection::Common) {
     file.shared_joints = features::common_joint_names(clips);
   }
@@ -396,6 +418,11 @@ void write_map_file(const std::string& path, const MapFile& f) {
   w.strings("/skeleton/names", f.skeleton.names);
   write_ints(w, "/skeleton/parents", f.skeleton.parents);
   write_ints(w, "/skeleton/end_sites", f.skeleton.end_sites);
+  if (f.blend) {
+    w.group("/blend");
+    w.attribute("/blend", "motion_root", f.blend->motion_root);
+    if (!f.blend->moving.empty()) write_ints(w, "/blend/moving_joints", f.blend->moving);
+  }
   w.group("/joints");
   w.strings("/joints/used", f.joints);
   if (!f.shared_joints.empty()) w.strings("/joints/shared", f.shared_joints);
@@ -595,6 +622,20 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
     }
   }
   f.skeleton.end_sites = in.ints("/skeleton/end_sites", J, 0, INT32_MAX, "End Sites per joint");
+  if (in.has("/blend")) {
+    BlendRecord b;
+    b.motion_root = static_cast<int>(
+        in.integer("/blend", "motion_root", 0, J - 1, "the joint carrying the root motion"));
+    if (in.has("/blend/moving_joints")) {
+      b.moving = in.ints("/blend/moving_joints", -1, 0, J, "a joint the blend averages");
+      for (std::size_t k = 0; k < b.moving.size(); ++k) {
+        if (b.moving[k] == b.motion_root || (k > 0 && b.moving[k] <= b.moving[k - 1]))
+          in.fail("/blend/moving_joints is not increasing or names the motion root " +
+                  std::to_string(b.motion_root));
+      }
+    }
+    f.blend = std::move(b);
+  }
   in.require_group("/joints", "the joints the features use");
   f.joints = in.strings("/joints/used", -1, "the joints the features use");
   if (in.has("/joints/shared")) f.shared_joints = in.strings("/joints/shared", -1, "shared joints");
@@ -867,6 +908,7 @@ MapFile placed_map_file(const MapFile& fitted, std::span<const PlacedClip> place
   }
   MapFile file = fitted;  // parameters, skeleton, joints and model stay the fitted map's
   file.path.clear();
+  file.blend.reset();  // of the fitted map's clips, not of these
   file.clips.clear();
   file.clip_of.clear();
   file.frame_of.clear();

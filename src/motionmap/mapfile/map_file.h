@@ -16,6 +16,7 @@
 // item, an item of the wrong shape or type, or values out of range (indices, non-finite numbers)
 // is refused with an error naming the file and what was expected: what read_map_file() returns
 // can be placed on without further checks.
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -54,6 +55,14 @@ struct SkeletonRecord {
   std::vector<int> end_sites;  ///< End Sites per joint
 };
 
+/// What a blender reading the clips on demand needs to know of all of them together (the rest of
+/// synth::ClipsSummary is in the clip records): recorded when the map is made from clips of one
+/// joint hierarchy, so that `pose`/`synth --map` read only the clips they blend.
+struct BlendRecord {
+  int motion_root = 0;      ///< synth::MapBlender::motion_root() of the map's clips
+  std::vector<int> moving;  ///< joints whose translation the blend averages, increasing
+};
+
 /// Everything a map file holds. make_map_file() fills it from a map; read_map_file() from a file.
 struct MapFile {
   /// The file it was read from (for messages); empty for a map made in memory.
@@ -80,6 +89,9 @@ struct MapFile {
   std::vector<std::string> warnings;
 
   SkeletonRecord skeleton;
+  /// Absent for clips of several hierarchies, for a map of placed clips, and in files written
+  /// before MotionMap recorded it (SavedMap::clips_summary() then reads every clip once).
+  std::optional<BlendRecord> blend;
   /// The joints the features use (features::FeatureSet::joints, by name, in order): with
   /// quaternion features X holds their rotations, 4 columns per joint (w, x, y, z).
   std::vector<std::string> joints;
@@ -98,10 +110,18 @@ struct MapFile {
   int num_samples() const { return static_cast<int>(clip_of.size()); }
 };
 
+/// The blend record of the map rows `samples` of `clips` (synth::summarize_clips), or nothing for
+/// clips of several joint hierarchies or clips whose poses were freed (no frames held).
+/// @throws ParameterError if `samples` does not index `clips`.
+std::optional<BlendRecord> blend_record(std::span<const Clip> clips,
+                                        const features::FeatureSet& samples);
+
 /// The file record of `map`, a map_clips() result for `clips` with `options`: the clips' hashes
-/// (reading each file once more), the parameters, the joints and the placement model
+/// (reading each file once more), the parameters, the joints, the placement model
 /// (pipeline::map_model, which takes the map's landmark fit: pass std::move(map) when done with
-/// it, so that a 10⁶-frame landmark Isomap map's 2 GB of geodesic distances are not copied).
+/// it, so that a 10⁶-frame landmark Isomap map's 2 GB of geodesic distances are not copied) and,
+/// when the clips still hold their poses, the blend record (a caller that frees them first sets
+/// MapFile::blend from blend_record()).
 /// @throws Error if a clip file cannot be read for its hash; ParameterError if `map` is not a
 ///   map of `clips`; as embed::make_model().
 MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,

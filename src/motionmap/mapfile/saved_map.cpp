@@ -48,6 +48,12 @@ std::string skeleton_difference(const Skeleton& s, const SkeletonRecord& r) {
   return {};
 }
 
+// Whether load() reads the clip at `path` as an .amc at its recorded frame time.
+bool is_amc(const std::string& path, const ClipRecord& record) {
+  const std::string ext = fs::path(path).extension().string();
+  return (ext == ".amc" || ext == ".AMC") && record.frame_time > 0.0;
+}
+
 }  // namespace
 
 SavedMap::SavedMap(MapFile file, int cached_clips)
@@ -105,9 +111,7 @@ std::shared_ptr<const Clip> SavedMap::load(int c) const {
                 "`motionmap map … --save`");
   }
   io::LoadOptions options;
-  const std::string ext = fs::path(path).extension().string();
-  if ((ext == ".amc" || ext == ".AMC") && record.frame_time > 0.0)
-    options.fps = 1.0 / record.frame_time;
+  if (is_amc(path, record)) options.fps = 1.0 / record.frame_time;
   auto clip = std::make_shared<Clip>(io::load_clip(path, options));
   clip->path = record.path;
   if (clip->motion.num_frames != record.frames) {
@@ -179,6 +183,48 @@ features::FeatureSet SavedMap::samples() const {
   set.frame_of = m_file.frame_of;
   for (const ClipRecord& r : m_file.clips) set.segment_starts.push_back(r.first_sample);
   return set;
+}
+
+synth::ClipsSummary SavedMap::clips_summary(const Control& control) const {
+  if (!m_file.blend) {
+    // Not recorded: read every clip once, one at a time (not cached).
+    return synth::summarize_clips(
+        num_clips(),
+        [this](int c) {
+          std::shared_ptr<const Clip> clip = load(c);
+          const std::lock_guard lock(m_mutex);
+          ++m_loads;
+          return clip;
+        },
+        samples(), control);
+  }
+  synth::ClipsSummary out;
+  for (int c = 0; c < num_clips(); ++c) {
+    const ClipRecord& r = m_file.clips[std::size_t(c)];
+    out.frames.push_back(r.frames);
+    // The frame time load() gives the clip: an .amc's is computed from the recorded one.
+    out.frame_times.push_back(is_amc(resolve_path(c), r) ? 1.0 / (1.0 / r.frame_time)
+                                                         : r.frame_time);
+  }
+  out.motion_root = m_file.blend->motion_root;
+  out.moving = m_file.blend->moving;
+  control.check();
+  return out;
+}
+
+synth::MapBlender make_blender(std::shared_ptr<const SavedMap> map,
+                               const synth::BlendOptions& options, const Control& control) {
+  if (!map) throw ParameterError("make_blender: no map given");
+  if (options.mode == synth::BlendMode::Kriging) {
+    throw ParameterError(
+        "blend: kriging blends every sample of the map; load every clip (load_all_clips) and "
+        "give them to synth::MapBlender");
+  }
+  const synth::ClipsSummary summary = map->clips_summary(control.part(0.0, 0.5));
+  const features::FeatureSet samples = map->samples();
+  const Eigen::MatrixXd& coords = map->file().coordinates;
+  return synth::MapBlender(std::move(map), summary, samples, coords, options,
+                           control.part(0.5, 1.0));
 }
 
 std::vector<int> SavedMap::clips_near(const Eigen::Vector2d& p, int neighbors) const {

@@ -43,7 +43,8 @@ struct SavedPose {
   bool outside = false;
 };
 
-class SavedMap {
+/// A SavedMap is the synth::ClipSource of a blender over the map (make_blender()).
+class SavedMap : public synth::ClipSource {
  public:
   /// Default number of loaded clips kept (least recently used dropped first).
   static constexpr int kDefaultCachedClips = 8;
@@ -51,7 +52,7 @@ class SavedMap {
   /// Takes `file` (as read_map_file returns it) and indexes its coordinates (PointIndex).
   /// `cached_clips` ≥ 1 clips stay loaded. @throws ParameterError for a map with no samples.
   explicit SavedMap(MapFile file, int cached_clips = kDefaultCachedClips);
-  ~SavedMap();
+  ~SavedMap() override;
 
   const MapFile& file() const { return m_file; }
   const PointIndex& index() const { return m_index; }
@@ -65,18 +66,26 @@ class SavedMap {
   /// skeleton — its joint hierarchy. Kept in the cache. Thread-safe.
   /// @throws Error naming the map file, the clip file and what was expected; ParameterError for
   ///   c out of range.
-  std::shared_ptr<const Clip> clip(int c) const;
+  std::shared_ptr<const Clip> clip(int c) const override;
   /// Whether clip `c` is in the cache now (clip(c) then costs no file access).
   bool is_loaded(int c) const;
-  /// Clip loads from files so far (cache misses), for tests and benchmarks.
+  /// Clip loads from files so far (cache misses, and clips_summary()'s reads), for tests and
+  /// benchmarks.
   int loads() const;
 
-  /// Every clip of the map, loaded and checked (not cached), in the map's order: what
-  /// make_blender() blends. @throws as clip().
+  /// Every clip of the map, loaded and checked (not cached), in the map's order: what a
+  /// synth::MapBlender given every clip blends (the kriging mode). @throws as clip().
   std::vector<Clip> load_all_clips(const Control& control = {}) const;
   /// The samples of the map as a FeatureSet for synth::MapBlender: clip_of, frame_of and
   /// segment_starts from the file (no X, no D).
   features::FeatureSet samples() const;
+  /// What a blender reading the clips on demand needs of all of them (synth::summarize_clips):
+  /// the frame counts and times the file records, and the motion root and moving joints it
+  /// recorded when the map was made (MapFile::blend); a map without that record (made before
+  /// MotionMap recorded it, or a map of placed clips) has every clip read once for it, one at a
+  /// time and not cached. @throws as clip(); ParameterError for clips of different hierarchies;
+  /// Cancelled.
+  synth::ClipsSummary clips_summary(const Control& control = {}) const;
 
   /// The median map distance between consecutive samples of a clip (non-zero ones; 0 if none),
   /// as synth::MapBlender::median_step() computes it for the same map.
@@ -111,5 +120,15 @@ class SavedMap {
   mutable std::vector<std::pair<int, std::shared_ptr<const Clip>>> m_cache;  ///< most recent last
   mutable int m_loads = 0;
 };
+
+/// A blender over `map`'s samples that reads the clips on demand (synth::MapBlender's ClipSource
+/// constructor with clips_summary()): a pose reads only the clips of the samples it blends (and
+/// the first clip, for the skeleton), and blends exactly as a blender given every clip. The
+/// blender keeps the states of the samples it read, not their clips, and a synthesis reads each
+/// block of frames' samples one clip at a time, so the default cache is enough. @throws as
+/// clips_summary() and synth::MapBlender (the kriging mode is refused: it blends every sample; use
+/// load_all_clips()).
+synth::MapBlender make_blender(std::shared_ptr<const SavedMap> map,
+                               const synth::BlendOptions& options, const Control& control = {});
 
 }  // namespace motionmap::mapfile

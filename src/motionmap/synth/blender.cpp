@@ -7,7 +7,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <mutex>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "motionmap/core/error.h"
@@ -30,6 +32,9 @@ constexpr double kSeparationFraction = 0.25;
 constexpr double kHitFraction = 1e-12;
 // Kriging queries are solved in blocks of this many points (bounds the right-hand-side memory).
 constexpr int kKrigingBlock = 64;
+// Sample states a blender reading its clips on demand keeps (about 1 KB each for 30 joints);
+// beyond this it starts afresh.
+constexpr std::size_t kMaxKeptStates = 200000;
 
 // Franke–Little partition-of-unity weights of `count` points at sorted distances d (not squared),
 // falling to 0 at radius R: ((R − d)/(R·d))², normalised; 1 on a point hit exactly.
@@ -141,6 +146,98 @@ void BlendOptions::validate(int num_samples) const {
   if (up != Axis::X && up != Axis::Y && up != Axis::Z) throw ParameterError("up: not an axis");
 }
 
+namespace {
+
+// One sample's state as the blend reads it: its #joints rotations (the motion root's its tilt),
+// its moving joints' translations, its height and root motion.
+void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int> moving,
+                  Eigen::Quaterniond* rotations, Eigen::Vector3d* translations, double& height,
+                  Eigen::Vector3d& velocity, double& yaw_rate) {
+  const int J = m.num_joints;
+  for (int j = 0; j < J; ++j) rotations[j] = m.rotation(f, j).normalized();
+  const detail::RootSample r = detail::root_sample(m, f, root, up);
+  rotations[root] = r.tilt;
+  height = r.height;
+  velocity = r.velocity;
+  yaw_rate = r.yaw_rate;
+  for (std::size_t k = 0; k < moving.size(); ++k) translations[k] = m.translation(f, moving[k]);
+}
+
+}  // namespace
+
+ClipsSummary summarize_clips(int num_clips,
+                             const std::function<std::shared_ptr<const Clip>(int)>& clip_at,
+                             const features::FeatureSet& samples, const Control& control) {
+  if (num_clips < 1) throw ParameterError("map: no clip given");
+  const int n = samples.num_samples();
+  if (n < 1 || samples.clip_of.size() != samples.frame_of.size())
+    throw ParameterError("map: the feature set has no samples, or not one clip per frame index");
+  for (int i = 0; i < n; ++i) {
+    if (samples.clip_of[i] < 0 || samples.clip_of[i] >= num_clips) {
+      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " +
+                           std::to_string(samples.clip_of[i]) + " but only " +
+                           std::to_string(num_clips) + " clip(s) were given");
+    }
+  }
+  ClipsSummary out;
+  // Translations are compared with the first sample's (as the blender keeps them).
+  const std::shared_ptr<const Clip> first = clip_at(samples.clip_of[0]);
+  const std::shared_ptr<const Clip> clip0 = samples.clip_of[0] == 0 ? first : clip_at(0);
+  const Skeleton& skeleton = clip0->skeleton;
+  const int J = skeleton.num_joints();
+  std::vector<Eigen::Vector3d> t0(static_cast<std::size_t>(J));
+  for (int j = 0; j < J; ++j) t0[j] = first->motion.translation(samples.frame_of[0], j);
+  std::vector<char> varies(static_cast<std::size_t>(J), 0);
+  // The samples of each clip (counting sort by clip).
+  std::vector<int> start(static_cast<std::size_t>(num_clips) + 1, 0);
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) ++start[static_cast<std::size_t>(samples.clip_of[i]) + 1];
+  for (int c = 0; c < num_clips; ++c) start[c + 1] += start[c];
+  {
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(next[samples.clip_of[i]]++)] = i;
+  }
+  int root = std::numeric_limits<int>::max();
+  for (int c = 0; c < num_clips; ++c) {
+    control.stage("summarising clips", double(c) / num_clips, double(c + 1) / num_clips).check();
+    const std::shared_ptr<const Clip> clip = c == 0 ? clip0 : clip_at(c);
+    if (!clip->skeleton.same_hierarchy(skeleton)) {
+      throw ParameterError(clip->path + ": its joint hierarchy differs from " + clip0->path +
+                           "'s; clips blended together must share one");
+    }
+    out.frames.push_back(clip->motion.num_frames);
+    out.frame_times.push_back(clip->motion.frame_time);
+    root = std::min(root, motion_root(clip->skeleton, clip->motion));
+    for (int k = start[c]; k < start[c + 1]; ++k) {
+      const int i = order[k];
+      if (samples.frame_of[i] < 0 || samples.frame_of[i] >= clip->motion.num_frames) {
+        throw ParameterError("map: sample " + std::to_string(i) + " is frame " +
+                             std::to_string(samples.frame_of[i]) + " of " + clip->path +
+                             ", which has " + std::to_string(clip->motion.num_frames) + " frames");
+      }
+      for (int j = 0; j < J; ++j) {
+        if (!varies[j])
+          varies[j] = !same_translation(clip->motion.translation(samples.frame_of[i], j), t0[j]);
+      }
+    }
+  }
+  out.motion_root = root;
+  for (int j = 0; j < J; ++j) {
+    if (j != root && varies[j]) out.moving.push_back(j);
+  }
+  return out;
+}
+
+ClipsSummary summarize_clips(std::span<const Clip> clips, const features::FeatureSet& samples) {
+  return summarize_clips(
+      static_cast<int>(clips.size()),
+      [&](int c) {
+        // Not owned: the clips outlive the call.
+        return std::shared_ptr<const Clip>(std::shared_ptr<const Clip>(), &clips[c]);
+      },
+      samples);
+}
+
 struct MapBlender::Impl {
   BlendOptions options;
   Skeleton skeleton;
@@ -149,7 +246,7 @@ struct MapBlender::Impl {
   int motion_root = 0;
   int n = 0;  // samples
 
-  // Per sample, precomputed so a query only sums.
+  // Per sample, precomputed so a query only sums (given every clip; empty with a source).
   std::vector<Eigen::Quaterniond> rotations;  // #samples × #joints; the motion root's is its tilt
   std::vector<int> moving;  // joints other than the motion root whose translation varies
   std::vector<Eigen::Vector3d> moving_translations;  // #samples × moving.size()
@@ -158,6 +255,20 @@ struct MapBlender::Impl {
   std::vector<double> height;
   std::vector<Eigen::Vector3d> velocity;  // heading-local floor velocity, units/s
   std::vector<double> yaw_rate;           // rad/s
+
+  // Made from a ClipSource: the clips, read when a blend needs their frames, and each sample's
+  // clip and frame.
+  std::shared_ptr<const ClipSource> source;
+  std::vector<int> clip_of, frame_of, clip_frames;
+  // The states of the samples blended so far (read from their clips), by sample.
+  struct SampleState {
+    std::vector<Eigen::Quaterniond> rotations;
+    std::vector<Eigen::Vector3d> translations;  // the moving joints'
+    double height = 0.0, yaw_rate = 0.0;
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  };
+  mutable std::mutex state_mutex;
+  mutable std::unordered_map<int, SampleState> states;
 
   std::optional<detail::MapIndex> index;
   std::optional<detail::LocalKriging> local;     // local mode
@@ -168,56 +279,142 @@ struct MapBlender::Impl {
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
   // Kriging weights of the points out[c].validity.point, into out.
   void kriging_block(std::span<MapWeights> out) const;
+  // With a source: the state of `samples` (as sample_state() gives it, one after another),
+  // reading the clips of those not read before, one clip at a time, and keeping their states.
+  void read_samples(std::span<const int> samples, std::vector<Eigen::Quaterniond>& rotations,
+                    std::vector<Eigen::Vector3d>& translations, std::vector<double>& heights,
+                    std::vector<Eigen::Vector3d>& velocities, std::vector<double>& yaw_rates) const;
+  // The index, and the local systems or the kriging system (`lazy`: local systems on demand).
+  void build_systems(const Eigen::MatrixXd& coords, const features::FeatureSet& samples,
+                     std::span<const double> frame_times, bool lazy, const Control& control);
 };
 
 void MapBlender::Impl::build_samples(std::span<const Clip> clips,
                                      const features::FeatureSet& samples) {
   const int J = joints;
   const auto uJ = static_cast<std::size_t>(J);
-  motion_root = detail::shared_motion_root(clips);
+  const ClipsSummary summary = summarize_clips(clips, samples);
+  motion_root = summary.motion_root;
+  moving = summary.moving;
   const int r = motion_root;
 
   const auto un = static_cast<std::size_t>(n);
+  const std::size_t mv = moving.size();
   rotations.resize(un * uJ);
   height.resize(un);
   velocity.resize(un);
   yaw_rate.resize(un);
-  for (int i = 0; i < n; ++i) {
-    const Motion& m = clips[samples.clip_of[i]].motion;
-    const int f = samples.frame_of[i];
-    const auto row = static_cast<std::size_t>(i) * uJ;
-    for (int j = 0; j < J; ++j)
-      rotations[row + static_cast<std::size_t>(j)] = m.rotation(f, j).normalized();
-    const detail::RootSample root = detail::root_sample(m, f, r, options.up);
-    rotations[row + static_cast<std::size_t>(r)] = root.tilt;
-    height[i] = root.height;
-    velocity[i] = root.velocity;
-    yaw_rate[i] = root.yaw_rate;
-  }
-
-  // Translations: blend only joints whose translation differs between samples (animated
-  // position channels, or clips with different offsets).
-  const Motion& m0 = clips[samples.clip_of[0]].motion;
-  fixed_translations.resize(uJ);
-  for (int j = 0; j < J; ++j) {
-    fixed_translations[j] = m0.translation(samples.frame_of[0], j);
-    if (j == r) continue;
-    bool varies = false;
-    for (int i = 1; i < n && !varies; ++i) {
-      const Motion& m = clips[samples.clip_of[i]].motion;
-      varies = !same_translation(m.translation(samples.frame_of[i], j), fixed_translations[j]);
-    }
-    if (varies) moving.push_back(j);
-  }
-  fixed_translations[r] = Eigen::Vector3d::Zero();
-  const std::size_t mv = moving.size();
   moving_translations.resize(un * mv);
   for (int i = 0; i < n; ++i) {
-    const Motion& m = clips[samples.clip_of[i]].motion;
-    for (std::size_t k = 0; k < mv; ++k) {
-      moving_translations[static_cast<std::size_t>(i) * mv + k] =
-          m.translation(samples.frame_of[i], moving[k]);
+    const auto ui = static_cast<std::size_t>(i);
+    sample_state(clips[samples.clip_of[i]].motion, samples.frame_of[i], r, options.up, moving,
+                 rotations.data() + ui * uJ, moving_translations.data() + ui * mv, height[ui],
+                 velocity[ui], yaw_rate[ui]);
+  }
+  const Motion& m0 = clips[samples.clip_of[0]].motion;
+  fixed_translations.resize(uJ);
+  for (int j = 0; j < J; ++j) fixed_translations[j] = m0.translation(samples.frame_of[0], j);
+  fixed_translations[r] = Eigen::Vector3d::Zero();
+}
+
+void MapBlender::Impl::read_samples(std::span<const int> samples,
+                                    std::vector<Eigen::Quaterniond>& rots,
+                                    std::vector<Eigen::Vector3d>& translations,
+                                    std::vector<double>& heights,
+                                    std::vector<Eigen::Vector3d>& velocities,
+                                    std::vector<double>& yaw_rates) const {
+  const std::size_t count = samples.size(), uJ = static_cast<std::size_t>(joints),
+                    mv = moving.size();
+  rots.resize(count * uJ);
+  translations.resize(count * mv);
+  heights.resize(count);
+  velocities.resize(count);
+  yaw_rates.resize(count);
+  // The states read before; the others, by clip.
+  std::vector<std::pair<int, std::size_t>> missing;  // (clip, entry)
+  {
+    const std::lock_guard lock(state_mutex);
+    for (std::size_t k = 0; k < count; ++k) {
+      const auto hit = states.find(samples[k]);
+      if (hit == states.end()) {
+        missing.emplace_back(clip_of[static_cast<std::size_t>(samples[k])], k);
+        continue;
+      }
+      const SampleState& st = hit->second;
+      std::copy(st.rotations.begin(), st.rotations.end(), rots.begin() + k * uJ);
+      std::copy(st.translations.begin(), st.translations.end(), translations.begin() + k * mv);
+      heights[k] = st.height;
+      velocities[k] = st.velocity;
+      yaw_rates[k] = st.yaw_rate;
     }
+  }
+  if (missing.empty()) return;
+  std::sort(missing.begin(), missing.end());
+  std::vector<std::pair<int, SampleState>> read;
+  for (std::size_t b = 0; b < missing.size();) {
+    const int c = missing[b].first;
+    // Each clip is held only while its samples' states are taken.
+    const std::shared_ptr<const Clip> clip = source->clip(c);
+    if (!clip->skeleton.same_hierarchy(skeleton)) {
+      throw ParameterError(clip->path +
+                           ": its joint hierarchy differs from the map's first clip's; clips "
+                           "blended together must share one");
+    }
+    if (clip->motion.num_frames != clip_frames[static_cast<std::size_t>(c)]) {
+      throw ParameterError(clip->path + ": it has " + std::to_string(clip->motion.num_frames) +
+                           " frames, the map's clip " + std::to_string(c) + " " +
+                           std::to_string(clip_frames[static_cast<std::size_t>(c)]));
+    }
+    for (; b < missing.size() && missing[b].first == c; ++b) {
+      const std::size_t k = missing[b].second;
+      const int f = frame_of[static_cast<std::size_t>(samples[k])];
+      sample_state(clip->motion, f, motion_root, options.up, moving, rots.data() + k * uJ,
+                   translations.data() + k * mv, heights[k], velocities[k], yaw_rates[k]);
+      // The values blended must be finite (a blender given the clips checks every frame).
+      bool finite =
+          std::isfinite(heights[k]) && std::isfinite(yaw_rates[k]) && velocities[k].allFinite();
+      for (std::size_t j = 0; j < uJ && finite; ++j) finite = rots[k * uJ + j].coeffs().allFinite();
+      for (std::size_t j = 0; j < mv && finite; ++j) finite = translations[k * mv + j].allFinite();
+      if (!finite) {
+        throw NumericalError(clip->path + ": frame " + std::to_string(f) +
+                             " (or the next) holds a NaN or infinite value");
+      }
+      SampleState st;
+      st.rotations.assign(rots.begin() + k * uJ, rots.begin() + (k + 1) * uJ);
+      st.translations.assign(translations.begin() + k * mv, translations.begin() + (k + 1) * mv);
+      st.height = heights[k];
+      st.velocity = velocities[k];
+      st.yaw_rate = yaw_rates[k];
+      read.emplace_back(samples[k], std::move(st));
+    }
+  }
+  const std::lock_guard lock(state_mutex);
+  if (states.size() + read.size() > kMaxKeptStates) states.clear();
+  for (auto& [i, st] : read) states.emplace(i, std::move(st));
+}
+
+void MapBlender::Impl::build_systems(const Eigen::MatrixXd& coords,
+                                     const features::FeatureSet& samples,
+                                     std::span<const double> frame_times, bool lazy,
+                                     const Control& control) {
+  std::vector<Eigen::Vector2d> points(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) points[i] = Eigen::Vector2d(coords(i, 0), coords(i, 1));
+  index.emplace(frame_times, samples, std::move(points), options.reach);
+
+  if (options.mode == BlendMode::Local) {
+    local.emplace(*index, options.neighbors, kSeparationFraction * index->median_step(),
+                  control.stage("kriging set-up", 0.0, 1.0), lazy);
+  } else if (options.mode == BlendMode::Kriging) {
+    const int np = index->num_points();
+    if (np > kMaxKrigingSamples) {
+      throw ParameterError("blend: kriging over " + std::to_string(np) +
+                           " distinct map points exceeds the limit of " +
+                           std::to_string(kMaxKrigingSamples) +
+                           " (a dense (N+1)² system); use the local mode or a frame stride");
+    }
+    kriging.emplace(index->points(), control.stage("kriging set-up", 0.0, 1.0));
+  } else {
+    control.check();
   }
 }
 
@@ -285,25 +482,105 @@ MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& 
   s.joints = skeleton.num_joints();
   s.n = n;
   s.build_samples(clips, samples);
-  std::vector<Eigen::Vector2d> points(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) points[i] = Eigen::Vector2d(coords(i, 0), coords(i, 1));
-  s.index.emplace(clips, samples, std::move(points), options.reach);
+  std::vector<double> frame_times;
+  for (const Clip& clip : clips) frame_times.push_back(clip.motion.frame_time);
+  s.build_systems(coords, samples, frame_times, /*lazy=*/false, control);
+}
 
-  if (options.mode == BlendMode::Local) {
-    s.local.emplace(*s.index, options.neighbors, kSeparationFraction * s.index->median_step(),
-                    control.stage("kriging set-up", 0.0, 1.0));
-  } else if (options.mode == BlendMode::Kriging) {
-    const int np = s.index->num_points();
-    if (np > kMaxKrigingSamples) {
-      throw ParameterError("blend: kriging over " + std::to_string(np) +
-                           " distinct map points exceeds the limit of " +
-                           std::to_string(kMaxKrigingSamples) +
-                           " (a dense (N+1)² system); use the local mode or a frame stride");
-    }
-    s.kriging.emplace(s.index->points(), control.stage("kriging set-up", 0.0, 1.0));
-  } else {
-    control.check();
+MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSummary& summary,
+                       const features::FeatureSet& samples, const Eigen::MatrixXd& coords,
+                       const BlendOptions& options, const Control& control)
+    : m(std::make_unique<Impl>()) {
+  const int n = samples.num_samples();
+  if (n < 1) throw ParameterError("map: the feature set has no samples");
+  options.validate(n);
+  if (options.mode == BlendMode::Kriging) {
+    throw ParameterError(
+        "blend: kriging blends every sample of the map; give the clips (not a clip source)");
   }
+  if (!source) throw ParameterError("map: no clip source given");
+  const int num_clips = static_cast<int>(summary.frames.size());
+  if (num_clips < 1 || summary.frame_times.size() != summary.frames.size()) {
+    throw ParameterError("map: the clips' summary has " + std::to_string(summary.frames.size()) +
+                         " frame counts and " + std::to_string(summary.frame_times.size()) +
+                         " frame times (need as many, at least one)");
+  }
+  if (static_cast<int>(samples.clip_of.size()) != n ||
+      static_cast<int>(samples.frame_of.size()) != n) {
+    throw ParameterError("map: the feature set has " + std::to_string(samples.clip_of.size()) +
+                         " clip and " + std::to_string(samples.frame_of.size()) +
+                         " frame indices for " + std::to_string(n) + " samples");
+  }
+  if (coords.rows() != n) {
+    throw ParameterError("map: it has " + std::to_string(coords.rows()) +
+                         " rows but the features have " + std::to_string(n) +
+                         " samples; the map does not belong to these clips");
+  }
+  if (coords.cols() < 2) {
+    throw ParameterError("map: it has " + std::to_string(coords.cols()) +
+                         " column(s); at least 2 are needed");
+  }
+  for (int i = 0; i < n; ++i) {
+    const int c = samples.clip_of[i];
+    if (c < 0 || c >= num_clips) {
+      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " +
+                           std::to_string(c) + " but the map has " + std::to_string(num_clips) +
+                           " clip(s)");
+    }
+    const int f = samples.frame_of[i];
+    if (f < 0 || f >= summary.frames[c]) {
+      throw ParameterError("map: sample " + std::to_string(i) + " is frame " + std::to_string(f) +
+                           " of clip " + std::to_string(c) + ", which has " +
+                           std::to_string(summary.frames[c]) +
+                           " frames; the map does not belong to these clips");
+    }
+    if (!std::isfinite(coords(i, 0)) || !std::isfinite(coords(i, 1))) {
+      throw NumericalError("map: row " + std::to_string(i) + " holds a NaN or infinite coordinate");
+    }
+  }
+  Impl& s = *m;
+  s.options = options;
+  s.n = n;
+  const std::shared_ptr<const Clip> first = source->clip(0);
+  check_clip(*first);
+  if (first->motion.num_frames != summary.frames[0]) {
+    throw ParameterError(first->path + ": it has " + std::to_string(first->motion.num_frames) +
+                         " frames, the clips' summary " + std::to_string(summary.frames[0]));
+  }
+  s.skeleton = first->skeleton;
+  s.frame_time = first->motion.frame_time;
+  s.joints = s.skeleton.num_joints();
+  const int J = s.joints;
+  if (summary.motion_root < 0 || summary.motion_root >= J) {
+    throw ParameterError("map: the clips' summary names joint " +
+                         std::to_string(summary.motion_root) + " as the motion root, but " +
+                         first->path + " has " + std::to_string(J) + " joints");
+  }
+  for (std::size_t k = 0; k < summary.moving.size(); ++k) {
+    const int j = summary.moving[k];
+    if (j < 0 || j >= J || j == summary.motion_root || (k > 0 && j <= summary.moving[k - 1])) {
+      throw ParameterError("map: the clips' summary lists joint " + std::to_string(j) +
+                           " as moving; expected increasing joints of " + first->path +
+                           " other than the motion root");
+    }
+  }
+  s.motion_root = summary.motion_root;
+  s.moving = summary.moving;
+  const std::shared_ptr<const Clip> clip0 =
+      samples.clip_of[0] == 0 ? first : source->clip(samples.clip_of[0]);
+  if (!clip0->skeleton.same_hierarchy(s.skeleton)) {
+    throw ParameterError(clip0->path + ": its joint hierarchy differs from " + first->path +
+                         "'s; clips blended together must share one");
+  }
+  s.fixed_translations.resize(static_cast<std::size_t>(J));
+  for (int j = 0; j < J; ++j)
+    s.fixed_translations[j] = clip0->motion.translation(samples.frame_of[0], j);
+  s.fixed_translations[s.motion_root] = Eigen::Vector3d::Zero();
+  s.source = std::move(source);
+  s.clip_of = samples.clip_of;
+  s.frame_of = samples.frame_of;
+  s.clip_frames = summary.frames;
+  s.build_systems(coords, samples, summary.frame_times, /*lazy=*/true, control);
 }
 
 MapBlender::~MapBlender() = default;
@@ -362,15 +639,26 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
 
   const auto J = static_cast<std::size_t>(s.joints);
   const std::size_t count = w.samples.size();
+  const std::size_t mv = s.moving.size();
+  // Per entry k of the weights: its sample's rotations (J), moving translations (mv), height,
+  // yaw rate and velocity — the blender's tables, or (with a source) read from the clips now.
+  std::vector<Eigen::Quaterniond> read_rotations;
+  std::vector<Eigen::Vector3d> read_translations, read_velocity;
+  std::vector<double> read_height, read_yaw;
+  if (s.source)
+    s.read_samples(w.samples, read_rotations, read_translations, read_height, read_velocity,
+                   read_yaw);
+  auto rotations_of = [&](std::size_t k) {
+    return s.source ? read_rotations.data() + k * J
+                    : s.rotations.data() + static_cast<std::size_t>(w.samples[k]) * J;
+  };
   BlendedFrame out;
   // Rotations: per joint, the weighted average aligned to the largest-weight sample's.
-  const Eigen::Quaterniond* qref =
-      s.rotations.data() + static_cast<std::size_t>(w.samples[ref]) * J;
+  const Eigen::Quaterniond* qref = rotations_of(ref);
   std::vector<Eigen::Quaterniond> q(count);
   out.rotations.resize(J);
   for (std::size_t j = 0; j < J; ++j) {
-    for (std::size_t k = 0; k < count; ++k)
-      q[k] = s.rotations[static_cast<std::size_t>(w.samples[k]) * J + j];
+    for (std::size_t k = 0; k < count; ++k) q[k] = rotations_of(k)[j];
     out.rotations[j] = weighted_average(q, w.weights, qref[j]);
   }
   // A blend of heading-free tilts can keep a trace of heading: remove it, so the pose faces
@@ -379,18 +667,18 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   tilt = detail::remove_heading(tilt, s.options.up);
 
   // Translations, height and root motion: weighted sums.
-  const std::size_t mv = s.moving.size();
   std::vector<Eigen::Vector3d> tsum(mv, Eigen::Vector3d::Zero());
   double height = 0.0, yaw = 0.0;
   Eigen::Vector3d vel = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < count; ++k) {
     const auto i = static_cast<std::size_t>(w.samples[k]);
     const double wk = w.weights[k];
-    const Eigen::Vector3d* t = s.moving_translations.data() + i * mv;
+    const Eigen::Vector3d* t =
+        s.source ? read_translations.data() + k * mv : s.moving_translations.data() + i * mv;
     for (std::size_t k2 = 0; k2 < mv; ++k2) tsum[k2] += wk * t[k2];
-    height += wk * s.height[i];
-    yaw += wk * s.yaw_rate[i];
-    vel += wk * s.velocity[i];
+    height += wk * (s.source ? read_height[k] : s.height[i]);
+    yaw += wk * (s.source ? read_yaw[k] : s.yaw_rate[i]);
+    vel += wk * (s.source ? read_velocity[k] : s.velocity[i]);
   }
   out.translations = s.fixed_translations;
   for (std::size_t k = 0; k < mv; ++k) out.translations[s.moving[k]] = tsum[k] / total;
@@ -479,6 +767,33 @@ double MapBlender::reach_distance() const {
 }
 double MapBlender::median_speed() const {
   return m->index->median_speed();
+}
+void MapBlender::prefetch(std::span<const MapWeights> weights) const {
+  if (!m->source) return;
+  std::vector<int> samples;
+  for (const MapWeights& w : weights) {
+    for (const int i : w.samples) {
+      if (i < 0 || i >= m->n) {
+        throw ParameterError("prefetch: sample index " + std::to_string(i) +
+                             " is out of range [0, " + std::to_string(m->n) + ")");
+      }
+      samples.push_back(i);
+    }
+  }
+  std::sort(samples.begin(), samples.end());
+  samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
+  std::vector<Eigen::Quaterniond> rotations;
+  std::vector<Eigen::Vector3d> translations, velocities;
+  std::vector<double> heights, yaw_rates;
+  m->read_samples(samples, rotations, translations, heights, velocities, yaw_rates);
+}
+
+bool MapBlender::reads_on_demand() const {
+  return m->source != nullptr;
+}
+
+int MapBlender::num_local_systems() const {
+  return m->local ? m->local->num_built() : 0;
 }
 Eigen::Vector2d MapBlender::sample_point(int i) const {
   if (i < 0 || i >= m->n) {

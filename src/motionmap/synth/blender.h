@@ -40,6 +40,11 @@
 // rate are blended too, for synthesize() to integrate (synth/detail/root_motion.h).
 //
 // A MapBlender copies what it needs from the clips; its const member functions are thread-safe.
+// One made from a ClipSource instead (a saved map of 10⁶ frames: mapfile::make_blender) copies
+// nothing up front: it reads the frames a blend uses from the source when it blends them and
+// builds a local kriging system the first time a query needs it, and blends exactly (bit for
+// bit) as one given every clip.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -137,6 +142,38 @@ RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up 
 /// @throws ParameterError if `root` is out of range, pose has no frame, or placement is not finite.
 void place_root(Motion& pose, int root, const RootPlacement& placement, Axis up = Axis::Y);
 
+/// The clips of a map read on demand (a saved map's, loaded from files): what a MapBlender made
+/// without the clips asks for the frames it blends.
+class ClipSource {
+ public:
+  virtual ~ClipSource() = default;
+  /// Clip `c` of the map, the same data every time. Thread-safe. @throws what loading throws.
+  virtual std::shared_ptr<const Clip> clip(int c) const = 0;
+};
+
+/// What a MapBlender needs to know of all its clips together: with it, one that reads frames on
+/// demand blends as one given every clip. summarize_clips() computes it; a saved map records it.
+struct ClipsSummary {
+  std::vector<int> frames;          ///< per clip: its frame count
+  std::vector<double> frame_times;  ///< per clip: seconds per frame
+  /// The joint carrying the root motion (MapBlender::motion_root()): the shallowest of the
+  /// clips' motion_root()s.
+  int motion_root = 0;
+  /// The joints other than motion_root whose translation differs between the map's samples
+  /// (beyond 1e-12 relative to the first sample's), increasing: the ones a blend averages.
+  std::vector<int> moving;
+};
+
+/// The summary of `clips` (sharing one hierarchy) for the map rows `samples` (clip_of, frame_of
+/// checked by the caller). @throws ParameterError for no clips or clips of different hierarchies.
+ClipsSummary summarize_clips(std::span<const Clip> clips, const features::FeatureSet& samples);
+/// The same, reading clip c as `clip_at(c)` (c = 0 … num_clips − 1, once each, plus the first
+/// sample's clip once more), so that only one clip need be in memory at a time. Polls `control`
+/// between clips. @throws as summarize_clips() and clip_at; Cancelled.
+ClipsSummary summarize_clips(int num_clips,
+                             const std::function<std::shared_ptr<const Clip>(int)>& clip_at,
+                             const features::FeatureSet& samples, const Control& control = {});
+
 class MapBlender {
  public:
   /// Prepares blending for a map of `samples` (the features the map was built from: their
@@ -156,6 +193,19 @@ class MapBlender {
   MapBlender(std::span<const Clip> clips, const features::FeatureSet& samples,
              const Eigen::MatrixXd& coords, const BlendOptions& options = {},
              const Control& control = {});
+  /// A blender over the clips of `source`, read on demand: here only its first clip (for the
+  /// skeleton and frame time) and the first sample's; a blend reads the clips of the samples it
+  /// blends; the local mode builds each sample's kriging system the first time a query needs it
+  /// (kept, and the same as the constructor above builds). `summary` is the clips' (as
+  /// summarize_clips() gives it). Set-up is O(N log N) in the samples and holds no per-sample
+  /// pose. Blends equal those of the constructor above for the same clips, bit for bit; a clip
+  /// of another hierarchy, a non-finite value or a singular local system is then an error of the
+  /// query that reads it rather than of construction.
+  /// @throws ParameterError as above, for a summary that does not fit the samples or the first
+  ///         clip, or for the kriging mode (it blends every sample: give the clips); as `source`.
+  MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSummary& summary,
+             const features::FeatureSet& samples, const Eigen::MatrixXd& coords,
+             const BlendOptions& options = {}, const Control& control = {});
   ~MapBlender();
   MapBlender(MapBlender&&) noexcept;
   MapBlender& operator=(MapBlender&&) noexcept;
@@ -203,6 +253,15 @@ class MapBlender {
   double median_speed() const;
   /// Map point of sample i (first two columns of its coords row).
   Eigen::Vector2d sample_point(int i) const;
+  /// Made from a ClipSource: reads the states of every sample these weights blend, one clip at
+  /// a time (each clip read once), so that blending them reads no clip; a synthesis calls it for
+  /// each block of frames. Does nothing for a blender given the clips. @throws as blend().
+  void prefetch(std::span<const MapWeights> weights) const;
+  /// Whether this blender was made from a ClipSource (reads clips on demand).
+  bool reads_on_demand() const;
+  /// Local kriging systems built so far: all of them (eager), or those queries touched (made
+  /// from a ClipSource); 0 in the other modes.
+  int num_local_systems() const;
 
  private:
   struct Impl;

@@ -49,7 +49,7 @@ struct MapIndex::Tree {
       : set{std::move(points)}, index(2, set, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
 };
 
-MapIndex::MapIndex(std::span<const Clip> clips, const features::FeatureSet& samples,
+MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureSet& samples,
                    std::vector<Eigen::Vector2d> sample_points, double reach)
     : m_sample_points(std::move(sample_points)) {
   const int n = num_samples();
@@ -106,7 +106,7 @@ MapIndex::MapIndex(std::span<const Clip> clips, const features::FeatureSet& samp
     const double step = (m_sample_points[i + 1] - m_sample_points[i]).norm();
     if (step <= tol || step == 0.0) continue;
     const double dt = (samples.frame_of[i + 1] - samples.frame_of[i]) *
-                      clips[samples.clip_of[i]].motion.frame_time;
+                      frame_times[static_cast<std::size_t>(samples.clip_of[i])];
     steps.push_back(step);
     speeds.push_back(step / dt);
   }

@@ -142,6 +142,12 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
       });
       for (auto& w : fresh) raw.push_back(std::move(w));
     }
+    // A blender reading its clips on demand reads this block's samples now, each clip once.
+    if (blender.reads_on_demand()) {
+      blender.prefetch(
+          std::vector<MapWeights>(raw.begin() + static_cast<std::ptrdiff_t>(need_first - raw_first),
+                                  raw.begin() + static_cast<std::ptrdiff_t>(need_end - raw_first)));
+    }
     parallel_for(static_cast<int>(k1 - k0), [&](int i) {
       const long long k = k0 + i;
       const MapWeights& own = raw[static_cast<std::size_t>(k - raw_first)];

@@ -11,6 +11,7 @@
 // (itself included), inverted once; the blender blends the predictions of nearby points'
 // systems with partition-of-unity weights (see blender.h).
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
@@ -49,28 +50,49 @@ class LocalKriging {
   /// lie at least `separation` from each other (greedily, nearest first; fewer when a crowd of
   /// points closer than that leaves too few), itself included. O(N·K·log N). Reports fractions
   /// 0…1 of `control`'s range and polls it every few dozen points.
+  /// With `lazy`, no system is built here: each is built the first time predict() needs it
+  /// (the same system, bit for bit) and kept, so that a map of 10⁶ points costs only the systems
+  /// its queries touch; `control` is then only polled once.
   /// @throws NumericalError "local kriging system of map point j is singular (reciprocal
-  ///         condition …)" when one's reciprocal condition estimate is not > 1e-13; Cancelled.
-  LocalKriging(const MapIndex& index, int neighbors, double separation,
-               const Control& control = {});
+  ///         condition …)" when one's reciprocal condition estimate is not > 1e-13 (lazy: from
+  ///         the predict() that builds it); Cancelled.
+  LocalKriging(const MapIndex& index, int neighbors, double separation, const Control& control = {},
+               bool lazy = false);
+  ~LocalKriging();
+  LocalKriging(LocalKriging&&) noexcept;
+  LocalKriging& operator=(LocalKriging&&) noexcept;
 
-  /// Largest neighbourhood (the size of scratch space predict() needs, plus one).
+  /// Largest neighbourhood (the size of scratch space predict() needs, plus one): K when lazy.
   int max_hood() const { return m_max_hood; }
+  /// Systems built so far (all points unless lazy).
+  int num_built() const;
 
   /// Adds point j's system's weights at p, times `scale`, to `out` (point index, weight) and
   /// returns its kriging variance at p. `index` is the one the systems were built from; `rhs`
-  /// and `sol` are scratch space of at least max_hood() + 1 values.
+  /// and `sol` are scratch space of at least max_hood() + 1 values. Thread-safe.
   double predict(const MapIndex& index, int j, const Eigen::Vector2d& p, double scale,
                  std::vector<std::pair<int, double>>& out, std::span<double> rhs,
                  std::span<double> sol) const;
 
  private:
-  // Per point: its neighbourhood (point indices) and the inverse of its bordered variogram
-  // matrix ((k+1)², column-major).
+  // One point's neighbourhood (point indices) and the inverse of its bordered variogram matrix
+  // ((k+1)², column-major).
+  struct System {
+    std::vector<int> hood;
+    std::vector<double> inverse;
+  };
+  System build(const MapIndex& index, int j) const;
+
+  int m_neighbors = 0;
+  double m_separation = 0.0;
+  // Eager: every point's system, packed.
   std::vector<int> m_hood_start, m_hood;
   std::vector<std::size_t> m_inverse_start;
   std::vector<double> m_inverses;
   int m_max_hood = 0;
+  // Lazy: the systems built so far, by point.
+  struct Lazy;
+  std::unique_ptr<Lazy> m_lazy;
 };
 
 }  // namespace motionmap::synth::detail

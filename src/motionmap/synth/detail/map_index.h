@@ -4,7 +4,7 @@
 // trajectory (consecutive samples of a clip), its median step and speed, and what lies outside
 // the data (farther than reach × median step from every sample) and where such a point is moved.
 //
-//   MapIndex index(clips, samples, sample_points, /*reach=*/3.0);
+//   MapIndex index(frame_times, samples, sample_points, /*reach=*/3.0);
 //   PointValidity v = index.validate({0.3, -1.2});  // nearest sample, clamped point
 //   index.nearest(v.point, 5, idx, dist);           // the 5 nearest map points
 //
@@ -26,8 +26,9 @@ namespace motionmap::synth::detail {
 class MapIndex {
  public:
   /// Indexes `sample_points` (one map point per sample of `samples`, whose clip_of and frame_of
-  /// say which frame of `clips` each is; checked by the caller). `reach` > 0.
-  MapIndex(std::span<const Clip> clips, const features::FeatureSet& samples,
+  /// say which frame of which clip each is; checked by the caller). `frame_times`: seconds per
+  /// frame of each clip. `reach` > 0.
+  MapIndex(std::span<const double> frame_times, const features::FeatureSet& samples,
            std::vector<Eigen::Vector2d> sample_points, double reach);
   ~MapIndex();
   MapIndex(MapIndex&&) noexcept;

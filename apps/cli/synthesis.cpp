@@ -122,10 +122,10 @@ synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<std::string
     if (!saved->file().blend && !cmd.map.quiet) {
       std::cerr << "note: " << cmd.map_csv
                 << " does not record what blending needs of all its clips (saved by an older "
-                   "MotionMap, or a map of placed clips): each of its "
+                   "MotionMap, with --stream, or a map of placed clips): each of its "
                 << num_clips
                 << " clips is read once first (about 0.1 s per 6 000 frames); `motionmap map "
-                   "--save` records it\n";
+                   "--save` without --stream records it\n";
     }
     try {
       return mapfile::make_blender(saved, blend, progress_line(cmd.map, "blend"));

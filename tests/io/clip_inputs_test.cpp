@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -179,9 +180,14 @@ TEST_F(ClipInputs, LoadClipsReportsClipsAndFrames) {
   EXPECT_EQ(loaded.clips[1].path, paths[1]);
   EXPECT_EQ(loaded.frames, 9);
   EXPECT_TRUE(loaded.failures.empty());
-  EXPECT_EQ(stages, (std::vector<std::string>{
-                        "loading 1/3 clips (0 frames)", "loading 2/3 clips (3 frames)",
-                        "loading 3/3 clips (6 frames)", "loaded 3 clips (9 frames)"}));
+  // Clips load a clip per thread, so the frames counted when the k-th starts vary with the timing.
+  ASSERT_GE(stages.size(), 2u);
+  EXPECT_EQ(stages.front(), "loading 1/3 clips (0 frames)");
+  EXPECT_EQ(stages.back(), "loaded 3 clips (9 frames)");
+  for (std::size_t i = 1; i + 1 < stages.size(); ++i) {
+    EXPECT_TRUE(std::regex_match(stages[i], std::regex(R"(loading [23]/3 clips \([036] frames\))")))
+        << stages[i];
+  }
   EXPECT_EQ(fractions.back(), 1.0);
   EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
 }

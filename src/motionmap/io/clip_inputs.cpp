@@ -1,12 +1,16 @@
 #include "motionmap/io/clip_inputs.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <exception>
 #include <filesystem>
+#include <optional>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 
 namespace motionmap::io {
 
@@ -152,22 +156,50 @@ std::vector<std::string> expand_clip_inputs(std::span<const std::string> inputs,
 LoadedClips load_clips(std::span<const std::string> paths, const LoadClipsOptions& options,
                        const Control& control) {
   if (paths.empty()) throw ParameterError("load_clips: no clip given");
-  LoadedClips out;
-  const auto n = static_cast<double>(paths.size());
+  // A clip per thread (parsing is most of a library's loading); the results are taken in path
+  // order, so the clips, the failures and the error thrown are those of a serial loop. Without
+  // keep_going, no file after one that failed is started.
+  const int n = static_cast<int>(paths.size());
+  std::vector<std::optional<Clip>> loaded(paths.size());
+  std::vector<std::exception_ptr> errors(paths.size());
+  std::atomic<int> first_failure{n};
+  std::atomic<long long> frames{0};
   const std::string total = std::to_string(paths.size());
+  control.stage("loading 1/" + total + " clips (0 frames)", 0.0, 1.0 / n);
+  parallel_chunks(
+      n,
+      [&](int i, int) {
+        if (!options.keep_going && i > first_failure.load()) return;
+        try {
+          Clip clip = load_clip(paths[std::size_t(i)], options.load);
+          frames += clip.motion.num_frames;
+          loaded[std::size_t(i)] = std::move(clip);
+        } catch (const Error&) {
+          errors[std::size_t(i)] = std::current_exception();
+          int seen = first_failure.load();
+          while (i < seen && !first_failure.compare_exchange_weak(seen, i)) {
+          }
+        }
+      },
+      [&](int done) {  // "loaded …" follows the last
+        if (done < n) {
+          control.stage("loading " + std::to_string(done + 1) + "/" + total + " clips (" +
+                            format_count(frames.load()) + " frames)",
+                        double(done) / n, double(done + 1) / n);
+        }
+      });
+  LoadedClips out;
   for (std::size_t i = 0; i < paths.size(); ++i) {
-    control.stage("loading " + std::to_string(i + 1) + "/" + total + " clips (" +
-                      format_count(out.frames) + " frames)",
-                  static_cast<double>(i) / n, static_cast<double>(i + 1) / n);
-    try {
-      Clip clip = load_clip(paths[i], options.load);
-      out.frames += clip.motion.num_frames;
-      out.clips.push_back(std::move(clip));
-    } catch (const Cancelled&) {
-      throw;
-    } catch (const Error& e) {
-      if (!options.keep_going) throw;
-      out.failures.emplace_back(e.what());
+    if (errors[i]) {
+      if (!options.keep_going) std::rethrow_exception(errors[i]);
+      try {
+        std::rethrow_exception(errors[i]);
+      } catch (const Error& e) {
+        out.failures.emplace_back(e.what());
+      }
+    } else {
+      out.frames += loaded[i]->motion.num_frames;
+      out.clips.push_back(std::move(*loaded[i]));
     }
   }
   if (out.clips.empty()) {

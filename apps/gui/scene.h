@@ -59,7 +59,11 @@ Eigen::Vector3f sideColor(JointSide side, bool bone = false);
 /// the view sizes bones, grid and camera distance by.
 double poseExtent(const WorldPose& pose);
 
-/// Bounding boxes of a whole clip (joints of bodyJoints and end sites, every finite frame): `box*`
+/// Frames motionBounds() looks at, at most (evenly spaced, and the last).
+inline constexpr int kMaxBoundsFrames = 2000;
+
+/// Bounding boxes of a whole clip (joints of bodyJoints and end sites, every finite point of up to
+/// kMaxBoundsFrames evenly spaced frames and the last): `box*`
 /// in world coordinates, `follow*` relative to the root's floor point (x, 0, z) of each frame, the
 /// volume a camera following the root must keep in view.
 struct MotionBounds {

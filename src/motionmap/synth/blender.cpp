@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -64,16 +65,18 @@ bool same_translation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return (a - b).norm() <= 1e-12 * (1.0 + a.norm());
 }
 
-// The constructor's checks of its arguments (see blender.h for what they reject).
-void check_inputs(std::span<const Clip> clips, const features::FeatureSet& samples,
-                  const Eigen::MatrixXd& coords, const BlendOptions& options) {
+// The map rows' checks of both constructors: as many clip and frame indices and coordinate rows as
+// samples, each sample a frame of a clip there is (`frames(c)`: clip c's frame count; `name(c)`:
+// how an error names it; `clips_held`: the clips there are, in words), finite coordinates.
+void check_rows(const features::FeatureSet& samples, const Eigen::MatrixXd& coords, int num_clips,
+                const std::function<int(int)>& frames, const std::function<std::string(int)>& name,
+                const std::string& clips_held) {
   const int n = samples.num_samples();
-  if (n < 1) throw ParameterError("map: the feature set has no samples");
-  options.validate(n);
-  if (clips.empty()) throw ParameterError("map: no clip given");
-  if (static_cast<int>(samples.clip_of.size()) != n) {
+  if (static_cast<int>(samples.clip_of.size()) != n ||
+      static_cast<int>(samples.frame_of.size()) != n) {
     throw ParameterError("map: the feature set has " + std::to_string(samples.clip_of.size()) +
-                         " clip indices for " + std::to_string(n) + " samples");
+                         " clip and " + std::to_string(samples.frame_of.size()) +
+                         " frame indices for " + std::to_string(n) + " samples");
   }
   if (coords.rows() != n) {
     throw ParameterError("map: it has " + std::to_string(coords.rows()) +
@@ -84,6 +87,31 @@ void check_inputs(std::span<const Clip> clips, const features::FeatureSet& sampl
     throw ParameterError("map: it has " + std::to_string(coords.cols()) +
                          " column(s); at least 2 are needed");
   }
+  for (int i = 0; i < n; ++i) {
+    const int c = samples.clip_of[std::size_t(i)];
+    if (c < 0 || c >= num_clips) {
+      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " +
+                           std::to_string(c) + " but " + clips_held);
+    }
+    const int f = samples.frame_of[std::size_t(i)];
+    if (f < 0 || f >= frames(c)) {
+      throw ParameterError("map: sample " + std::to_string(i) + " is frame " + std::to_string(f) +
+                           " of " + name(c) + ", which has " + std::to_string(frames(c)) +
+                           " frames; the map does not belong to these clips");
+    }
+    if (!std::isfinite(coords(i, 0)) || !std::isfinite(coords(i, 1))) {
+      throw NumericalError("map: row " + std::to_string(i) + " holds a NaN or infinite coordinate");
+    }
+  }
+}
+
+// The constructor's checks of its arguments (see blender.h for what they reject).
+void check_inputs(std::span<const Clip> clips, const features::FeatureSet& samples,
+                  const Eigen::MatrixXd& coords, const BlendOptions& options) {
+  const int n = samples.num_samples();
+  if (n < 1) throw ParameterError("map: the feature set has no samples");
+  options.validate(n);
+  if (clips.empty()) throw ParameterError("map: no clip given");
   const Skeleton& skeleton = clips.front().skeleton;
   for (const Clip& clip : clips) {
     if (!clip.skeleton.same_hierarchy(skeleton)) {
@@ -92,25 +120,11 @@ void check_inputs(std::span<const Clip> clips, const features::FeatureSet& sampl
     }
     check_clip(clip);
   }
-  for (int i = 0; i < n; ++i) {
-    const int c = samples.clip_of[i];
-    if (c < 0 || c >= static_cast<int>(clips.size())) {
-      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " +
-                           std::to_string(c) + " but only " + std::to_string(clips.size()) +
-                           " clip(s) were given");
-    }
-    const int f = samples.frame_of[i];
-    const Clip& clip = clips[c];
-    if (f < 0 || f >= clip.motion.num_frames) {
-      throw ParameterError("map: sample " + std::to_string(i) + " is frame " + std::to_string(f) +
-                           " of " + clip.path + ", which has " +
-                           std::to_string(clip.motion.num_frames) +
-                           " frames; the map does not belong to these clips");
-    }
-    if (!std::isfinite(coords(i, 0)) || !std::isfinite(coords(i, 1))) {
-      throw NumericalError("map: row " + std::to_string(i) + " holds a NaN or infinite coordinate");
-    }
-  }
+  check_rows(
+      samples, coords, static_cast<int>(clips.size()),
+      [&](int c) { return clips[std::size_t(c)].motion.num_frames; },
+      [&](int c) { return clips[std::size_t(c)].path; },
+      "only " + std::to_string(clips.size()) + " clip(s) were given");
 }
 
 }  // namespace
@@ -505,39 +519,10 @@ MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSumm
                          " frame counts and " + std::to_string(summary.frame_times.size()) +
                          " frame times (need as many, at least one)");
   }
-  if (static_cast<int>(samples.clip_of.size()) != n ||
-      static_cast<int>(samples.frame_of.size()) != n) {
-    throw ParameterError("map: the feature set has " + std::to_string(samples.clip_of.size()) +
-                         " clip and " + std::to_string(samples.frame_of.size()) +
-                         " frame indices for " + std::to_string(n) + " samples");
-  }
-  if (coords.rows() != n) {
-    throw ParameterError("map: it has " + std::to_string(coords.rows()) +
-                         " rows but the features have " + std::to_string(n) +
-                         " samples; the map does not belong to these clips");
-  }
-  if (coords.cols() < 2) {
-    throw ParameterError("map: it has " + std::to_string(coords.cols()) +
-                         " column(s); at least 2 are needed");
-  }
-  for (int i = 0; i < n; ++i) {
-    const int c = samples.clip_of[i];
-    if (c < 0 || c >= num_clips) {
-      throw ParameterError("map: sample " + std::to_string(i) + " belongs to clip " +
-                           std::to_string(c) + " but the map has " + std::to_string(num_clips) +
-                           " clip(s)");
-    }
-    const int f = samples.frame_of[i];
-    if (f < 0 || f >= summary.frames[c]) {
-      throw ParameterError("map: sample " + std::to_string(i) + " is frame " + std::to_string(f) +
-                           " of clip " + std::to_string(c) + ", which has " +
-                           std::to_string(summary.frames[c]) +
-                           " frames; the map does not belong to these clips");
-    }
-    if (!std::isfinite(coords(i, 0)) || !std::isfinite(coords(i, 1))) {
-      throw NumericalError("map: row " + std::to_string(i) + " holds a NaN or infinite coordinate");
-    }
-  }
+  check_rows(
+      samples, coords, num_clips, [&](int c) { return summary.frames[std::size_t(c)]; },
+      [](int c) { return "clip " + std::to_string(c); },
+      "the map has " + std::to_string(num_clips) + " clip(s)");
   Impl& s = *m;
   s.options = options;
   s.n = n;

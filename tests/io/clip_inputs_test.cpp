@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -184,10 +183,16 @@ TEST_F(ClipInputs, LoadClipsReportsClipsAndFrames) {
   ASSERT_GE(stages.size(), 2u);
   EXPECT_EQ(stages.front(), "loading 1/3 clips (0 frames)");
   EXPECT_EQ(stages.back(), "loaded 3 clips (9 frames)");
-  for (std::size_t i = 1; i + 1 < stages.size(); ++i) {
-    EXPECT_TRUE(std::regex_match(stages[i], std::regex(R"(loading [23]/3 clips \([036] frames\))")))
-        << stages[i];
+  std::vector<std::string> between;  // a clip's frames are counted once it has loaded
+  for (const char* started : {"2", "3"}) {
+    for (const char* frames : {"3", "6", "9"}) {
+      between.push_back(std::string("loading ") + started + "/3 clips (" + frames + " frames)");
+    }
   }
+  for (std::size_t i = 1; i + 1 < stages.size(); ++i) {
+    EXPECT_NE(std::find(between.begin(), between.end(), stages[i]), between.end()) << stages[i];
+  }
+
   EXPECT_EQ(fractions.back(), 1.0);
   EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
 }

@@ -151,19 +151,9 @@ bool streams(const MapCliOptions& opt, const pipeline::ClipMapOptions& options,
 pipeline::ClipMap stream_clips(const MapCliOptions& opt, const std::vector<std::string>& paths,
                                const pipeline::ClipMapOptions& options, const Control& progress,
                                std::vector<Clip>& clips) {
-  io::LoadClipsOptions load;
-  load.load.asf_path = opt.asf;
-  load.load.fps = opt.fps;
-  load.keep_going = opt.keep_going;
-  pipeline::StreamedMap streamed = pipeline::stream_map(paths, load, options, progress);
-  for (const Clip& clip : streamed.clips) {
-    for (const auto& w : clip.warnings) std::cerr << w << '\n';
-  }
-  for (const auto& failure : streamed.failures) std::cerr << failure << '\n';
-  if (!streamed.failures.empty()) {
-    std::cerr << "note: skipped " << streamed.failures.size() << " of " << paths.size()
-              << " clips that failed to load (--keep-going)\n";
-  }
+  pipeline::StreamedMap streamed =
+      pipeline::stream_map(paths, load_options(opt), options, progress);
+  print_loading(streamed.clips, streamed.failures, paths.size());
   clips = std::move(streamed.clips);
   return std::move(streamed.map);
 }

@@ -154,20 +154,30 @@ std::vector<Clip> load_inputs(const MapCliOptions& opt) {
   return load_inputs(opt, input_paths(opt));
 }
 
-std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths) {
+io::LoadClipsOptions load_options(const MapCliOptions& opt) {
   io::LoadClipsOptions load;
   load.load.asf_path = opt.asf;
   load.load.fps = opt.fps;
   load.keep_going = opt.keep_going;
-  io::LoadedClips loaded = io::load_clips(paths, load, loading_line(opt, paths.size()));
-  for (const Clip& clip : loaded.clips) {
+  return load;
+}
+
+void print_loading(const std::vector<Clip>& clips, const std::vector<std::string>& failures,
+                   std::size_t paths) {
+  for (const Clip& clip : clips) {
     for (const auto& w : clip.warnings) std::cerr << w << '\n';
   }
-  for (const auto& failure : loaded.failures) std::cerr << failure << '\n';
-  if (!loaded.failures.empty()) {
-    std::cerr << "note: skipped " << loaded.failures.size() << " of " << paths.size()
+  for (const auto& failure : failures) std::cerr << failure << '\n';
+  if (!failures.empty()) {
+    std::cerr << "note: skipped " << failures.size() << " of " << paths
               << " clips that failed to load (--keep-going)\n";
   }
+}
+
+std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths) {
+  io::LoadedClips loaded =
+      io::load_clips(paths, load_options(opt), loading_line(opt, paths.size()));
+  print_loading(loaded.clips, loaded.failures, paths.size());
   return std::move(loaded.clips);
 }
 

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "motionmap/core/control.h"
+#include "motionmap/io/clip_inputs.h"
 #include "motionmap/pipeline/clip_map.h"
 
 namespace motionmap::cli {
@@ -75,6 +76,14 @@ std::vector<std::string> input_paths(const MapCliOptions& opt);
 
 /// load_inputs() of the paths input_paths() gave.
 std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths);
+
+/// The io::load_clips() options of --asf, --amc-fps and --keep-going.
+io::LoadClipsOptions load_options(const MapCliOptions& opt);
+
+/// What load_inputs() prints of a loading of `paths` clips: the clips' warnings, and the failures
+/// skipped with --keep-going with a note counting them.
+void print_loading(const std::vector<Clip>& clips, const std::vector<std::string>& failures,
+                   std::size_t paths);
 
 /// The clips' paths, in order (the CSV's files= list).
 std::vector<std::string> clip_paths(const std::vector<Clip>& clips);

@@ -213,6 +213,18 @@ def common_joints_map_clips_of_different_skeletons():
     assert data(OTHER) + ": its joint hierarchy differs" in err and "cannot blend" in err, err
 
 
+def map_skipping_the_broken_clip(root, broken, out, *options):
+    """`map root --keep-going` with 64_08.bvh and the broken clip `broken` in `root`: the error
+    and a note on stderr, and the map of 64_08 alone in `out`."""
+    code, _, err = run("map", root, *options, "--keep-going", "-q", "-o", out)
+    assert code == 0, err
+    assert broken + ":20:1: error: expected a number" in err, err
+    assert "note: skipped 1 of 2 clips that failed to load (--keep-going)" in err, err
+    comments, header, rows = read_map(out)
+    assert files_of(comments) == ["64_08.bvh"] and header == ["frame", "x", "y"], comments
+    assert len(rows) == 364
+
+
 @test
 def keep_going_skips_a_broken_clip_and_without_it_the_error_stops_the_map():
     if not needs(GOLF):
@@ -225,13 +237,7 @@ def keep_going_skips_a_broken_clip_and_without_it_the_error_stops_the_map():
     assert broken + ":20:1: error: expected a number" in err, err
     assert stdout == ""
 
-    code, _, err = run("map", root, "--keep-going", "--method", "pca", "-q", "-o", out)
-    assert code == 0, err
-    assert broken + ":20:1: error: expected a number" in err, err
-    assert "note: skipped 1 of 2 clips that failed to load (--keep-going)" in err, err
-    comments, header, rows = read_map(out)
-    assert files_of(comments) == ["64_08.bvh"] and header == ["frame", "x", "y"], comments
-    assert len(rows) == 364
+    map_skipping_the_broken_clip(root, broken, out, "--method", "pca")
 
     # Every clip failing is an error with --keep-going too.
     only_broken = folder("only-broken", files=[("x.bvh", BROKEN_BVH), ("y.bvh", "HIERARCHY\n")])
@@ -379,13 +385,7 @@ def stream_skips_broken_clips_with_keep_going_and_refuses_what_it_cannot_stream(
     code, _, err = run("map", root, "-m", "pca", "--stream", "-q", "-o", out)
     assert code == 1, (code, err)
     assert broken + ":20:1: error: expected a number" in err, err
-    code, _, err = run("map", root, "-m", "pca", "--stream", "--keep-going", "-q", "-o", out)
-    assert code == 0, err
-    assert broken + ":20:1: error: expected a number" in err, err
-    assert "note: skipped 1 of 2 clips that failed to load (--keep-going)" in err, err
-    comments, header, rows = read_map(out)
-    assert files_of(comments) == ["64_08.bvh"] and header == ["frame", "x", "y"], comments
-    assert len(rows) == 364
+    map_skipping_the_broken_clip(root, broken, out, "-m", "pca", "--stream")
 
     # Usage errors (exit 2) saying why.
     for args, why in ((["-m", "isomap"], "only pca and svd"),

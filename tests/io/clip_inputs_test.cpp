@@ -222,6 +222,18 @@ TEST_F(ClipInputs, ABrokenClipIsAnErrorUnlessKeepGoing) {
   EXPECT_NE(message.find("no clip could be loaded (2 of 2 failed)"), std::string::npos) << message;
   EXPECT_NE(message.find(paths[1] + ":20:1: error:"), std::string::npos) << message;
   EXPECT_THROW(load_clips(std::vector<std::string>{}), ParameterError);
+
+  // Clips load a clip per thread; of several failures, the first in path order is the error,
+  // whichever thread met it first.
+  const std::vector<std::string> two_broken{paths[0], write("b-empty.bvh", ""), paths[1], paths[2]};
+  for (int run = 0; run < 5; ++run) {
+    const std::string first = error_message([&] { load_clips(two_broken); });
+    EXPECT_EQ(first.rfind(two_broken[1] + ":", 0), 0u) << first;
+  }
+  const LoadedClips skipped = load_clips(two_broken, keep_going);
+  ASSERT_EQ(skipped.failures.size(), 2u);
+  EXPECT_EQ(skipped.failures[0].rfind(two_broken[1] + ":", 0), 0u) << skipped.failures[0];
+  EXPECT_EQ(skipped.failures[1].rfind(paths[1] + ":20:1: error:", 0), 0u) << skipped.failures[1];
 }
 
 TEST_F(ClipInputs, LoadingCanBeCancelledBetweenClips) {

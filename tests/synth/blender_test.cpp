@@ -465,6 +465,10 @@ TEST(SynthBlender, RejectsAMapOfOtherClips) {
   two_clips.clip_of[5] = 1;
   EXPECT_EQ(message([&] { MapBlender(clips, two_clips, curve_map(20)); }),
             "map: sample 5 belongs to clip 1 but only 1 clip(s) were given");
+  features::FeatureSet short_clips = all_frames(20);
+  short_clips.clip_of.pop_back();
+  EXPECT_EQ(message([&] { MapBlender(clips, short_clips, curve_map(20)); }),
+            "map: the feature set has 19 clip and 20 frame indices for 20 samples");
   EXPECT_EQ(message([&] { MapBlender(clips, features::FeatureSet{}, Eigen::MatrixXd(0, 2)); }),
             "map: the feature set has no samples");
   EXPECT_EQ(message([&] { MapBlender(std::span<const Clip>(), all_frames(20), curve_map(20)); }),

@@ -375,7 +375,8 @@ Eigen::MatrixXd top_singular_scores(const Eigen::MatrixXd& A, const Eigen::RowVe
   return scores;
 }
 
-void normalize_signs(Eigen::MatrixXd& M) {
+std::vector<bool> normalize_signs(Eigen::MatrixXd& M) {
+  std::vector<bool> flipped(std::size_t(M.cols()), false);
   for (Eigen::Index c = 0; c < M.cols(); ++c) {
     Eigen::Index arg = 0;
     double best = -1.0;
@@ -386,8 +387,12 @@ void normalize_signs(Eigen::MatrixXd& M) {
       }
     }
     // (+ 0.0 turns the −0 of a flipped zero back into +0, for byte-identical text output.)
-    if (M.rows() > 0 && M(arg, c) < 0.0) M.col(c) = (-M.col(c)).array() + 0.0;
+    if (M.rows() > 0 && M(arg, c) < 0.0) {
+      M.col(c) = (-M.col(c)).array() + 0.0;
+      flipped[std::size_t(c)] = true;
+    }
   }
+  return flipped;
 }
 
 }  // namespace motionmap::embed

@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -106,7 +107,8 @@ Eigen::MatrixXd top_singular_scores(const Eigen::MatrixXd& A, const Eigen::RowVe
 /// largest_eigenpairs.
 EigenPairs gram_eigenpairs(const Eigen::MatrixXd& gram, int count, std::string_view what);
 
-/// Flips each column of M so that its entry of largest magnitude (the first such) is positive.
-void normalize_signs(Eigen::MatrixXd& M);
+/// Flips each column of M so that its entry of largest magnitude (the first such) is positive;
+/// returns which columns it flipped (for what must flip with them, such as projection axes).
+std::vector<bool> normalize_signs(Eigen::MatrixXd& M);
 
 }  // namespace motionmap::embed

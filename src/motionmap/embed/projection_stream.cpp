@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
@@ -174,21 +175,11 @@ Embedding ProjectionStream::finish(Eigen::MatrixXd coordinates, MapModel* model)
                         ? Eigen::VectorXd(m_squared / (double(m_rows) - 1.0))
                         : m_squared;
   out.warnings = m_warnings;
-  // normalize_signs(), remembering which axes it flips.
+  // The axes flip with the coordinates, so that the model places frames on this map.
   Eigen::MatrixXd axes = m_axes;
-  for (Eigen::Index a = 0; a < coordinates.cols(); ++a) {
-    Eigen::Index at = 0;
-    double best = -1.0;
-    for (Eigen::Index r = 0; r < coordinates.rows(); ++r) {
-      if (std::abs(coordinates(r, a)) > best) {
-        best = std::abs(coordinates(r, a));
-        at = r;
-      }
-    }
-    if (coordinates(at, a) < 0.0) {
-      coordinates.col(a) = (-coordinates.col(a)).array() + 0.0;
-      axes.col(a) = (-axes.col(a)).array() + 0.0;
-    }
+  const std::vector<bool> flipped = normalize_signs(coordinates);
+  for (Eigen::Index a = 0; a < axes.cols(); ++a) {
+    if (flipped[std::size_t(a)]) axes.col(a) = (-axes.col(a)).array() + 0.0;
   }
   out.coordinates = std::move(coordinates);
   if (model) {

@@ -105,6 +105,11 @@ class Reader {
   std::vector<double> doubles(const std::string& name) const;
   std::vector<std::int64_t> ints(const std::string& name) const;
   std::vector<std::string> strings(const std::string& name) const;
+  /// Rows [first, first + count) of a float dataset of rank 1 or 2, as double, row-major, into
+  /// `out` (count × the row's values): large matrices read straight into their storage, or in
+  /// slabs, without a second whole copy.
+  void double_rows(const std::string& name, std::uint64_t first, std::uint64_t count,
+                   double* out) const;
 
  private:
   struct State;

@@ -241,10 +241,11 @@ def keep_going_skips_a_broken_clip_and_without_it_the_error_stops_the_map():
 
     # Every clip failing is an error with --keep-going too.
     only_broken = folder("only-broken", files=[("x.bvh", BROKEN_BVH), ("y.bvh", "HIERARCHY\n")])
-    code, _, err = run("map", only_broken, "--keep-going", "-q", "-o", out)
-    assert code == 1, (code, err)
-    assert "no clip could be loaded (2 of 2 failed)" in err, err
-    assert os.path.join(only_broken, "x.bvh") + ":20:1: error:" in err, err
+    for streamed in ([], ["--stream", "--method", "pca"]):
+        code, _, err = run("map", only_broken, "--keep-going", "-q", "-o", out, *streamed)
+        assert code == 1, (streamed, code, err)
+        assert "no clip could be loaded (2 of 2 failed)" in err, (streamed, err)
+        assert os.path.join(only_broken, "x.bvh") + ":20:1: error:" in err, (streamed, err)
 
 
 @test

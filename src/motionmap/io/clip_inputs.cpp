@@ -202,10 +202,7 @@ LoadedClips load_clips(std::span<const std::string> paths, const LoadClipsOption
       out.clips.push_back(std::move(*loaded[i]));
     }
   }
-  if (out.clips.empty()) {
-    throw Error("no clip could be loaded (" + std::to_string(out.failures.size()) + " of " + total +
-                " failed); the first: " + out.failures.front());
-  }
+  if (out.clips.empty()) throw no_clip_loaded(out.failures, paths.size());
   control.stage(
       "loaded " + std::to_string(out.clips.size()) + " clips (" + format_count(out.frames) +
           " frames)" +
@@ -213,6 +210,12 @@ LoadedClips load_clips(std::span<const std::string> paths, const LoadClipsOption
                                 : ", " + std::to_string(out.failures.size()) + " skipped"),
       1.0, 1.0);
   return out;
+}
+
+Error no_clip_loaded(const std::vector<std::string>& failures, std::size_t paths) {
+  return Error("no clip could be loaded (" + std::to_string(failures.size()) + " of " +
+               std::to_string(paths) + " failed); the first: " +
+               (failures.empty() ? std::string("(none recorded)") : failures.front()));
 }
 
 }  // namespace motionmap::io

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "motionmap/core/control.h"
+#include "motionmap/core/error.h"
 #include "motionmap/io/load.h"
 #include "motionmap/skeleton/skeleton.h"
 
@@ -84,10 +85,14 @@ struct LoadedClips {
 /// Loads every path with load_clip(). Progress goes to `control` as one stage per clip, named
 /// "loading 12/40 clips (183 000 frames)" (clips started of all, frames loaded so far), with the
 /// fraction of clips done; cancellation is polled between clips.
-/// @throws what load_clip() throws for the first clip that fails (without keep_going); Error
-///         "no clip could be loaded: …" when every clip fails (keep_going), with the first
-///         failure; ParameterError for no path; Cancelled.
+/// @throws what load_clip() throws for the first clip that fails (without keep_going);
+///         no_clip_loaded() when every clip fails (keep_going); ParameterError for no path;
+///         Cancelled.
 LoadedClips load_clips(std::span<const std::string> paths, const LoadClipsOptions& options = {},
                        const Control& control = {});
+
+/// The error when none of `paths` clips loaded with keep_going, `failures` their what()s in
+/// order: "no clip could be loaded (3 of 3 failed); the first: …".
+Error no_clip_loaded(const std::vector<std::string>& failures, std::size_t paths);
 
 }  // namespace motionmap::io

@@ -145,10 +145,7 @@ StreamedMap stream_map(std::span<const std::string> paths, const io::LoadClipsOp
       out.clips.push_back(header_of(std::move(*slot.clip)));
     }
   }
-  if (out.clips.empty()) {
-    throw Error("no clip could be loaded (" + std::to_string(out.failures.size()) + " of " +
-                std::to_string(paths.size()) + " failed); the first: " + out.failures.front());
-  }
+  if (out.clips.empty()) throw io::no_clip_loaded(out.failures, paths.size());
   if (const auto note = same_pose.note(options.features.distance)) set->notes.push_back(*note);
   set->X.resize(0, x_columns);
   set->distance_input.resize(0, point_columns);

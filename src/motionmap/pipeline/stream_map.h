@@ -65,7 +65,7 @@ struct StreamedMap {
 /// @throws ParameterError for options that cannot be streamed (why_not_streamed()) or are
 ///   invalid, for clips of different hierarchies (naming the first that differs), and as
 ///   embed::ProjectionStream; what io::load_clip() throws (the first clip that fails without
-///   load.keep_going; in pass 2 always); Error "no clip could be loaded" when every clip fails;
+///   load.keep_going; in pass 2 always); io::no_clip_loaded() when every clip fails;
 ///   Error naming the file when a clip gives other frames in pass 2 than in pass 1 (it changed
 ///   in between); Cancelled.
 StreamedMap stream_map(std::span<const std::string> paths, const io::LoadClipsOptions& load,

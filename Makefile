@@ -63,14 +63,14 @@ test-sanitize: deps
 	  ctest --output-on-failure -j $(JOBS)
 
 # libFuzzer targets (clang, ASan+UBSan) seeded with the real files in ../shared/data; each runs
-# FUZZ_SECONDS as a ctest test.
+# FUZZ_SECONDS as a ctest test, one per core.
 test-fuzz: deps
 	cmake -S . -B build-fuzz $(call cmake_gen,build-fuzz) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_COMPILER=clang++ -DMOTIONMAP_FUZZ=ON -DMOTIONMAP_FUZZ_SECONDS=$(FUZZ_SECONDS) \
 	  -DMOTIONMAP_BUILD_TESTS=OFF -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_CLI=OFF \
 	  -DMOTIONMAP_BUILD_GUI=OFF -DMOTIONMAP_BUILD_RENDER=OFF
 	cmake --build build-fuzz -j $(JOBS)
-	cd build-fuzz && ctest --output-on-failure
+	cd build-fuzz && ctest --output-on-failure -j $(JOBS)
 
 bench: build
 	$(BUILD)/bench/motionmap_bench

@@ -102,7 +102,7 @@ BENCHMARK(BM_SynthPoseLocal)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecon
 BENCHMARK(BM_SynthPoseIdw)->Arg(1000)->Arg(10000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SynthPoseKriging)->Arg(1000)->Arg(2000)->Unit(benchmark::kMicrosecond);
 
-// Weights only, and the O(#samples) clamp of a point outside the data.
+// Weights only, and the clamp of a point outside the data (radius searches over the segments).
 void BM_SynthLocateLocal(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const MapBlender& b = blender(n, BlendMode::Local);

@@ -15,6 +15,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/features/point_cloud.h"
+#include "motionmap/synth/detail/map_index.h"
 #include "support/error_message.h"
 #include "synth/synth_fixtures.h"
 
@@ -229,6 +230,85 @@ TEST(SynthBlender, ClampsPointsOutsideTheData) {
     const Eigen::Vector2d inside =
         map.row(0).transpose() - Eigen::Vector2d(0.9 * blender.reach_distance(), 0);
     EXPECT_FALSE(blender.locate(inside).validity.clamped);
+  }
+}
+
+// The clamp looks only at segments near the point (radius searches); it must give what a scan of
+// every segment in order gives, bit for bit: three clips with jumps, repeated points, isolated
+// samples (a frame stride break) and long segments, at points near and far.
+TEST(SynthBlender, ClampingSearchesNearbySegmentsAndFindsWhatAScanOfAllFinds) {
+  // Segments of many lengths (clamp() searches each length tier with its own radius): jumps
+  // every 53 frames, then every 13.
+  for (const int jump_every : {53, 13}) {
+    SCOPED_TRACE(jump_every);
+    std::mt19937_64 random(11);
+    std::normal_distribution<double> normal;
+    features::FeatureSet samples;
+    std::vector<Eigen::Vector2d> points;
+    Eigen::Vector2d at(0.0, 0.0);
+    for (int clip = 0; clip < 3; ++clip) {
+      for (int f = 0; f < 400; ++f) {
+        samples.clip_of.push_back(clip);
+        samples.frame_of.push_back(f % 97 == 50 ? f + 5 : f);  // a gap: isolated samples
+        if (f % jump_every == 0) {
+          at += Eigen::Vector2d(3.0 * normal(random), 3.0 * normal(random));  // a jump
+        } else if (f % 31 != 0) {                                             // else repeated
+          at += Eigen::Vector2d(0.05 * normal(random), 0.05 * normal(random));
+        }
+        points.push_back(at);
+      }
+    }
+    const std::vector<double> frame_times{1.0 / 120, 1.0 / 60, 1.0 / 30};
+    const detail::MapIndex index(frame_times, samples, points, 3.0);
+
+    // The scan of every segment, as clamp() was written before it searched.
+    std::vector<std::pair<int, int>> segments;
+    const int n = static_cast<int>(points.size());
+    std::vector<char> on(static_cast<std::size_t>(n), 0);
+    for (int i = 0; i + 1 < n; ++i) {
+      if (samples.clip_of[i] == samples.clip_of[i + 1] &&
+          samples.frame_of[i + 1] > samples.frame_of[i]) {
+        segments.emplace_back(i, i + 1);
+        on[i] = on[i + 1] = 1;
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      if (!on[i]) segments.emplace_back(i, i);
+    }
+    auto scan = [&](const Eigen::Vector2d& p) {
+      double best = std::numeric_limits<double>::infinity(), e = 0.0;
+      Eigen::Vector2d q = p;
+      for (const auto& [a, b] : segments) {
+        const Eigen::Vector2d& ca = points[a];
+        const Eigen::Vector2d d = points[b] - ca;
+        const double len2 = d.squaredNorm();
+        const double t = len2 > 0.0 ? std::clamp((p - ca).dot(d) / len2, 0.0, 1.0) : 0.0;
+        const Eigen::Vector2d foot = ca + t * d;
+        const double dist2 = (p - foot).squaredNorm();
+        if (dist2 < best) {
+          best = dist2;
+          q = foot;
+          e = std::min(t, 1.0 - t) * std::sqrt(len2);
+        }
+      }
+      const double r = index.reach_distance();
+      const double s = std::sqrt(std::max(0.0, r * r - e * e));
+      const double dist = std::sqrt(best);
+      return dist > s ? Eigen::Vector2d(q + (p - q) * (s / dist)) : p;
+    };
+    int clamped = 0;
+    for (int i = 0; i < 3000; ++i) {
+      const double scale = i < 1000 ? 0.3 : i < 2000 ? 5.0 : 1e4;
+      const Eigen::Vector2d p = points[std::size_t(i) % points.size()] +
+                                Eigen::Vector2d(scale * normal(random), scale * normal(random));
+      const PointValidity v = index.validate(p);
+      if (!v.clamped) continue;
+      ++clamped;
+      const Eigen::Vector2d expected = scan(p);
+      ASSERT_EQ(v.point.x(), expected.x()) << i;
+      ASSERT_EQ(v.point.y(), expected.y()) << i;
+    }
+    EXPECT_GT(clamped, 1500);
   }
 }
 

@@ -119,6 +119,36 @@ MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureS
   for (int i = 0; i < n; ++i) {
     if (!on_segment[i]) m_segments.emplace_back(i, i);
   }
+  // clamp()'s search: the segments in tiers of length (each up to twice the last), a k-d tree
+  // over each tier's midpoints.
+  const double base = extent > 0.0 ? extent * 1e-6 : 1.0;
+  double magnitude = 0.0;
+  for (const auto& c : m_sample_points) magnitude = std::max(magnitude, c.cwiseAbs().maxCoeff());
+  // Well above the rounding of a midpoint or of a distance between map points.
+  m_search_slack = 1e-12 * (magnitude + extent) + std::numeric_limits<double>::min();
+  std::vector<std::vector<int>> tier_segments;
+  std::vector<std::vector<Eigen::Vector2d>> tier_midpoints;
+  std::vector<double> tier_half;
+  for (std::size_t s = 0; s < m_segments.size(); ++s) {
+    const Eigen::Vector2d& a = m_sample_points[m_segments[s].first];
+    const Eigen::Vector2d& b = m_sample_points[m_segments[s].second];
+    const double length = (b - a).norm();
+    const std::size_t t =
+        length > base ? static_cast<std::size_t>(std::ceil(std::log2(length / base))) : 0;
+    if (t >= tier_segments.size()) {
+      tier_segments.resize(t + 1);
+      tier_midpoints.resize(t + 1);
+      tier_half.resize(t + 1, 0.0);
+    }
+    tier_segments[t].push_back(static_cast<int>(s));
+    tier_midpoints[t].push_back(0.5 * (a + b));
+    tier_half[t] = std::max(tier_half[t], 0.5 * length);
+  }
+  for (std::size_t t = 0; t < tier_segments.size(); ++t) {
+    if (tier_segments[t].empty()) continue;
+    m_tiers.push_back(SegmentTier{std::move(tier_segments[t]), tier_half[t],
+                                  std::make_unique<Tree>(std::move(tier_midpoints[t]))});
+  }
   m_median_step = median_or_zero(std::move(steps));
   m_median_speed = median_or_zero(std::move(speeds));
   m_reach_distance = reach * m_median_step;
@@ -135,16 +165,32 @@ int MapIndex::nearest(const Eigen::Vector2d& p, int k, std::uint32_t* idx, doubl
   return found;
 }
 
-Eigen::Vector2d MapIndex::clamp(const Eigen::Vector2d& p) const {
+Eigen::Vector2d MapIndex::clamp(const Eigen::Vector2d& p, double nearest_distance) const {
   // The nearest point q of the trajectory, then back towards p by s(q) = √(r² − e²), e = the
   // distance from q to the nearer end of its segment: at most r from that sample, and
   // continuous in p (unlike the nearest point of the union of reach disks, which jumps at every
   // boundary between two samples' Voronoi cells); it jumps only where two stretches of
-  // trajectory are equally near. Linear in #samples, for outside points only.
+  // trajectory are equally near.
+  //
+  // Only segments that can be nearest are looked at, in the order of m_segments, so the first of
+  // equally near ones wins as in a scan of all of them: the nearest sample's own segment is at
+  // most `nearest_distance` away, and a segment that near has its midpoint within that plus half
+  // its length of p.
+  std::vector<int> candidates;
+  std::vector<std::pair<std::uint32_t, double>> found;
+  for (const SegmentTier& tier : m_tiers) {
+    const double radius = (nearest_distance + tier.half_length) * (1.0 + 1e-9) + m_search_slack;
+    tier.midpoints->index.radiusSearch(p.data(), radius * radius, found,
+                                       nanoflann::SearchParams(32, 0.0f, false));
+    for (const auto& [i, d2] : found) candidates.push_back(tier.segments[i]);
+  }
+  std::sort(candidates.begin(), candidates.end());
+
   double best = std::numeric_limits<double>::infinity();
   Eigen::Vector2d q = p;
   double e = 0.0;
-  for (const auto& [a, b] : m_segments) {
+  for (const int segment : candidates) {
+    const auto [a, b] = m_segments[static_cast<std::size_t>(segment)];
     const Eigen::Vector2d& ca = m_sample_points[a];
     const Eigen::Vector2d d = m_sample_points[b] - ca;
     const double len2 = d.squaredNorm();
@@ -176,7 +222,7 @@ PointValidity MapIndex::validate(const Eigen::Vector2d& p) const {
   v.nearest_sample = m_members[m_member_start[idx]];
   v.point = p;
   if (d > m_reach_distance) {
-    v.point = clamp(p);
+    v.point = clamp(p, d);
     v.clamped = true;
   }
   return v;

@@ -70,8 +70,9 @@ class MapIndex {
   void to_sample_weights(const double* point_weights, double* sample_weights) const;
 
  private:
-  // The point of the trajectory nearest p, moved back towards p (see validate()).
-  Eigen::Vector2d clamp(const Eigen::Vector2d& p) const;
+  // The point of the trajectory nearest p, moved back towards p (see validate());
+  // `nearest_distance`: p's distance to its nearest map point.
+  Eigen::Vector2d clamp(const Eigen::Vector2d& p, double nearest_distance) const;
 
   struct Tree;  // nanoflann's k-d tree over m_points
   std::vector<Eigen::Vector2d> m_sample_points;
@@ -82,6 +83,14 @@ class MapIndex {
   // The trajectory: segments between consecutive samples of a clip, and isolated samples as
   // segments of length 0 (start, end sample).
   std::vector<std::pair<int, int>> m_segments;
+  // clamp()'s search: the segments by length, each tier's midpoints in a k-d tree.
+  struct SegmentTier {
+    std::vector<int> segments;  // indices into m_segments, increasing
+    double half_length = 0.0;   // the longest one's, halved
+    std::unique_ptr<Tree> midpoints;
+  };
+  std::vector<SegmentTier> m_tiers;
+  double m_search_slack = 0.0;
   double m_median_step = 0.0, m_median_speed = 0.0, m_reach_distance = 0.0;
 };
 

@@ -273,8 +273,9 @@ class Input {
         }
       }
     });
+    if (blocks == 0) return;
     const std::uint64_t i = *std::min_element(first.begin(), first.end());
-    if (blocks == 0 || i == count) return;
+    if (i == count) return;
     const std::string at = cols > 1 ? "row " + std::to_string(first_row + i / cols) + ", column " +
                                           std::to_string(i % cols)
                                     : "index " + std::to_string(first_row + i);

@@ -66,12 +66,13 @@ bool same_translation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 }
 
 // The map rows' checks of both constructors: as many clip and frame indices and coordinate rows as
-// samples, each sample a frame of a clip there is (`frames(c)`: clip c's frame count; `name(c)`:
+// samples, each sample a frame of a clip there is (`frames[c]`: clip c's frame count; `name(c)`:
 // how an error names it; `clips_held`: the clips there are, in words), finite coordinates.
-void check_rows(const features::FeatureSet& samples, const Eigen::MatrixXd& coords, int num_clips,
-                const std::function<int(int)>& frames, const std::function<std::string(int)>& name,
+void check_rows(const features::FeatureSet& samples, const Eigen::MatrixXd& coords,
+                std::span<const int> frames, const std::function<std::string(int)>& name,
                 const std::string& clips_held) {
   const int n = samples.num_samples();
+  const int num_clips = static_cast<int>(frames.size());
   if (static_cast<int>(samples.clip_of.size()) != n ||
       static_cast<int>(samples.frame_of.size()) != n) {
     throw ParameterError("map: the feature set has " + std::to_string(samples.clip_of.size()) +
@@ -94,9 +95,10 @@ void check_rows(const features::FeatureSet& samples, const Eigen::MatrixXd& coor
                            std::to_string(c) + " but " + clips_held);
     }
     const int f = samples.frame_of[std::size_t(i)];
-    if (f < 0 || f >= frames(c)) {
+    if (f < 0 || f >= frames[std::size_t(c)]) {
       throw ParameterError("map: sample " + std::to_string(i) + " is frame " + std::to_string(f) +
-                           " of " + name(c) + ", which has " + std::to_string(frames(c)) +
+                           " of " + name(c) + ", which has " +
+                           std::to_string(frames[std::size_t(c)]) +
                            " frames; the map does not belong to these clips");
     }
     if (!std::isfinite(coords(i, 0)) || !std::isfinite(coords(i, 1))) {
@@ -120,10 +122,10 @@ void check_inputs(std::span<const Clip> clips, const features::FeatureSet& sampl
     }
     check_clip(clip);
   }
+  std::vector<int> frames;
+  for (const Clip& clip : clips) frames.push_back(clip.motion.num_frames);
   check_rows(
-      samples, coords, static_cast<int>(clips.size()),
-      [&](int c) { return clips[std::size_t(c)].motion.num_frames; },
-      [&](int c) { return clips[std::size_t(c)].path; },
+      samples, coords, frames, [&](int c) { return clips[std::size_t(c)].path; },
       "only " + std::to_string(clips.size()) + " clip(s) were given");
 }
 
@@ -520,8 +522,7 @@ MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSumm
                          " frame times (need as many, at least one)");
   }
   check_rows(
-      samples, coords, num_clips, [&](int c) { return summary.frames[std::size_t(c)]; },
-      [](int c) { return "clip " + std::to_string(c); },
+      samples, coords, summary.frames, [](int c) { return "clip " + std::to_string(c); },
       "the map has " + std::to_string(num_clips) + " clip(s)");
   Impl& s = *m;
   s.options = options;

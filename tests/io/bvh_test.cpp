@@ -295,6 +295,41 @@ constexpr const char* kChannelsZeroLeaf =
     "1 2 3 10 20\n"
     "4 5 6 30 40\n";
 
+// A root declared with JOINT and end sites written as leaf `JOINT Site` blocks with CHANNELS 0,
+// as one real exporter's T-pose files do: every end site has the same name.
+constexpr const char* kJointSiteEndSites =
+    "HIERARCHY\n"
+    "JOINT Hips\n"
+    "{\n"
+    "  OFFSET 0 90 0\n"
+    "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+    "  JOINT Head\n"
+    "  {\n"
+    "    OFFSET 0 60 0\n"
+    "    CHANNELS 3 Zrotation Xrotation Yrotation\n"
+    "    JOINT Site\n"
+    "    {\n"
+    "      OFFSET 0 15 0\n"
+    "      CHANNELS 0\n"
+    "    }\n"
+    "  }\n"
+    "  JOINT LeftFoot\n"
+    "  {\n"
+    "    OFFSET 10 -80 0\n"
+    "    CHANNELS 3 Zrotation Xrotation Yrotation\n"
+    "    JOINT Site\n"
+    "    {\n"
+    "      OFFSET 0 0 12\n"
+    "      CHANNELS 0\n"
+    "    }\n"
+    "  }\n"
+    "}\n"
+    "MOTION\n"
+    "Frames: 2\n"
+    "Frame Time: 0.0333333\n"
+    "0 90 0 0 0 0 0 0 0 0 0 0\n"
+    "1 90 0 0 10 0 5 0 0 0 0 -5\n";
+
 // Cut inside a joint's block.
 constexpr const char* kEndsInHierarchy =
     "HIERARCHY\n"
@@ -451,13 +486,101 @@ TEST(BvhTolerant, EveryCutBetweenTokensSaysFileEndsEarlyAtTheEnd) {
   }
 }
 
+// Leaf joints with no channels and no children are end sites whatever they are called, so their
+// names need not be unique: "JOINT Site" thirteen times is thirteen end sites.
+TEST(BvhTolerant, LeafJointsNamedSiteAreEndSitesSharingTheName) {
+  const BvhDocument small = parse_bvh(kJointSiteEndSites, "t.bvh");
+  EXPECT_EQ(small.skeleton.num_joints(), 3);
+  EXPECT_EQ(small.skeleton.num_end_sites(), 2);
+  EXPECT_EQ(small.skeleton.num_channels(), 12);
+  EXPECT_EQ(small.skeleton.joints[2].end_sites.at(0), Eigen::Vector3d(0, 0, 12));
+
+  // The exporter's T-pose file: a JOINT root, 13 chains of 4 joints each ending in `JOINT Site`.
+  std::string text =
+      "HIERARCHY\nJOINT Root\n{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition "
+      "Zposition Zrotation Xrotation Yrotation\n";
+  for (int chain = 0; chain < 13; ++chain) {
+    for (int j = 0; j < 4; ++j) {
+      text += "JOINT C" + std::to_string(chain) + "_" + std::to_string(j) +
+              "\n{\n OFFSET 0 1 0\n CHANNELS 3 Zrotation Xrotation Yrotation\n";
+    }
+    text += "JOINT Site\n{\n OFFSET 0 1 0\n CHANNELS 0\n}\n";
+    for (int j = 0; j < 4; ++j) text += "}\n";
+  }
+  text += "}\nMOTION\nFrames: 1\nFrame Time: 0.0333333\n";
+  for (int c = 0; c < 162; ++c) text += c == 0 ? "0" : " 0";
+  text += "\n";
+  const BvhDocument doc = parse_bvh(text, "tpose.bvh");
+  EXPECT_EQ(doc.skeleton.num_joints(), 53);
+  EXPECT_EQ(doc.skeleton.num_end_sites(), 13);
+  EXPECT_EQ(doc.skeleton.num_channels(), 162);
+  EXPECT_EQ(doc.warnings.size(), 14u);  // the JOINT root and the 13 end sites
+
+  // A joint that stays a joint (it has channels) still needs a name of its own, named where
+  // it is written, with the line of the first use.
+  const std::string twice = replace(kJointSiteEndSites, "JOINT LeftFoot", "JOINT Head");
+  try {
+    parse_bvh(twice, "t.bvh");
+    ADD_FAILURE() << "a second joint 'Head' was accepted";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 16u);
+    EXPECT_EQ(e.column(), 9u);
+    EXPECT_NE(e.message().find("a joint name not used before (line 6)"), std::string::npos)
+        << e.what();
+  }
+  // And a joint may take the name an end site had.
+  const std::string site_then_joint = replace(kJointSiteEndSites, "JOINT LeftFoot", "JOINT Site");
+  EXPECT_EQ(parse_bvh(site_then_joint, "t.bvh").skeleton.joints[2].name, "Site");
+}
+
+// A file cut inside a keyword (`CHANNELS` cut to `C`) says "file ends early", at the end of the
+// text, as a file cut between words does.
+TEST(BvhTolerant, EveryCutInsideAKeywordSaysFileEndsEarly) {
+  const std::vector<std::string> keywords = {
+      "HIERARCHY", "ROOT",      "JOINT",     "OFFSET",    "CHANNELS", "End",
+      "Site",      "MOTION",    "Frames:",   "Frame",     "Time:",    "Xposition",
+      "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+  int cuts = 0;
+  for (const std::string& full :
+       {std::string(kSmall), std::string(kJointRoot), std::string(kChannelsZeroLeaf),
+        std::string(kJointSiteEndSites)}) {
+    for (std::size_t start = 0; start < full.size(); ++start) {
+      if (start > 0 && !is_space(full[start - 1])) continue;
+      std::size_t end = start;
+      while (end < full.size() && !is_space(full[end])) ++end;
+      const std::string word = full.substr(start, end - start);
+      if (std::find(keywords.begin(), keywords.end(), word) == keywords.end()) continue;
+      for (std::size_t n = start + 1; n < end; ++n) {
+        const std::string cut = full.substr(0, n);
+        try {
+          parse_bvh(cut, "t.bvh");
+          ADD_FAILURE() << "parsed:\n" << cut;
+        } catch (const ParseError& e) {
+          ++cuts;
+          EXPECT_EQ(e.message().rfind("file ends early: expected ", 0), 0u) << e.what();
+          EXPECT_EQ(e.line(),
+                    static_cast<std::size_t>(std::count(cut.begin(), cut.end(), '\n')) + 1)
+              << e.what();
+        }
+      }
+    }
+  }
+  EXPECT_GT(cuts, 100);
+  try {
+    parse_bvh(std::string(kSmall).substr(0, std::string(kSmall).find("CHANNELS") + 1), "t.bvh");
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.message(), "file ends early: expected 'CHANNELS' of joint 'Hips'");
+  }
+}
+
 TEST(BvhTolerant, SeedFilesAreTheseTexts) {
   const std::filesystem::path dir = std::filesystem::path(MOTIONMAP_SOURCE_DIR) / "fuzz/seeds/bvh";
   const std::pair<const char*, const char*> seeds[] = {
       {"joint_root.bvh", kJointRoot},
       {"channels_zero_leaf.bvh", kChannelsZeroLeaf},
       {"ends_in_hierarchy.bvh", kEndsInHierarchy},
-      {"ends_in_motion.bvh", kEndsInMotion}};
+      {"ends_in_motion.bvh", kEndsInMotion},
+      {"joint_site_end_sites.bvh", kJointSiteEndSites}};
   for (const auto& [name, text] : seeds) {
     std::ifstream in(dir / name, std::ios::binary);
     ASSERT_TRUE(in) << dir / name;

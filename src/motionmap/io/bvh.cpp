@@ -10,6 +10,7 @@
 #include <fstream>
 #include <ostream>
 #include <unordered_map>
+#include <vector>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
@@ -56,7 +57,9 @@ class BvhParser {
   struct OpenJoint {
     int index = 0;
     TextCursor::Mark keyword;    // where its ROOT/JOINT keyword starts
+    TextCursor::Mark name;       // where its name starts
     bool zero_channels = false;  // declared with `CHANNELS 0`
+    std::size_t first_use = 0;   // the line of an earlier joint of the same name; 0: none
   };
 
   // True when nothing but whitespace is left from the cursor on (stops at the first other byte).
@@ -72,9 +75,41 @@ class BvhParser {
   }
 
   // Fails at the next token; if the text has run out, says so, naming `at_end` (or `expected`).
+  // A file cut inside one of the quoted keywords of `expected` (`'CHANNELS'` cut to `C`) has run
+  // out too.
   [[noreturn]] void fail(const std::string& expected, const std::string& at_end = {}) {
-    if (only_space_left()) fail_early(at_end.empty() ? expected : at_end);
+    if (only_space_left() || cut_inside(quoted_words(expected))) {
+      fail_early(at_end.empty() ? expected : at_end);
+    }
     m_cur.fail_expected(expected);
+  }
+
+  // The 'quoted' words of an expected-list: "'JOINT', 'End Site' or '}'" gives JOINT, End Site, }.
+  static std::vector<std::string_view> quoted_words(std::string_view expected) {
+    std::vector<std::string_view> words;
+    for (std::size_t open = expected.find('\''); open != std::string_view::npos;) {
+      const std::size_t close = expected.find('\'', open + 1);
+      if (close == std::string_view::npos) break;
+      words.push_back(expected.substr(open + 1, close - open - 1));
+      open = expected.find('\'', close + 1);
+    }
+    return words;
+  }
+
+  // True when the next token is the last thing in the text and a strict prefix of one of `words`:
+  // the file was cut inside that word. The cursor is then left at the end of the text.
+  bool cut_inside(const std::vector<std::string_view>& words) {
+    const TextCursor::Mark at = m_cur.mark();
+    const std::string_view token = m_cur.peek_token();
+    const bool prefix = !token.empty() && std::any_of(words.begin(), words.end(), [&](auto w) {
+      return w.size() > token.size() && w.substr(0, token.size()) == token;
+    });
+    if (prefix) {
+      m_cur.next_token();
+      if (only_space_left()) return true;
+    }
+    m_cur.reset(at);
+    return false;
   }
 
   // Before a number or count that must be on the current line: the text may not end there.
@@ -93,6 +128,7 @@ class BvhParser {
   }
 
   void parse_hierarchy() {
+    if (cut_inside({"HIERARCHY"})) fail_early("'HIERARCHY'");
     m_cur.expect("HIERARCHY");
     for (;;) {
       const std::string_view token = m_cur.peek_token();
@@ -107,6 +143,8 @@ class BvhParser {
         parse_joint_bodies();
       } else if (token == "MOTION" && !m_doc.skeleton.joints.empty()) {
         return;
+      } else if (cut_inside({"ROOT", "JOINT", "MOTION"})) {
+        fail_early(m_doc.skeleton.joints.empty() ? "'ROOT'" : "'MOTION'");
       } else if (m_doc.skeleton.joints.empty()) {
         fail("'ROOT'");
       } else {
@@ -159,9 +197,20 @@ class BvhParser {
     std::vector<Joint>& joints = m_doc.skeleton.joints;
     const Joint& joint = joints[open.index];
     const bool leaf = open.index + 1 == static_cast<int>(joints.size()) && joint.end_sites.empty();
-    if (!open.zero_channels || !leaf || joint.parent < 0) return;
+    if (!open.zero_channels || !leaf || joint.parent < 0) {
+      // A joint that stays one needs a name of its own. Checked here, not where the name is read,
+      // because end sites written as `JOINT Site { ... CHANNELS 0 }` share theirs.
+      if (open.first_use != 0) {
+        m_cur.reset(open.name);
+        m_cur.fail_expected("a joint name not used before (line " + std::to_string(open.first_use) +
+                            ")");
+      }
+      return;
+    }
     warn(open.keyword,
          joint_label(open.index) + " has CHANNELS 0 and no children; read as an end site");
+    // An end site's name is no joint's: a later joint may use it.
+    if (open.first_use == 0) m_name_lines.erase(joint.name);
     joints[joint.parent].end_sites.push_back(joint.offset);
     joints.pop_back();
   }
@@ -174,7 +223,11 @@ class BvhParser {
     }
     Joint joint;
     joint.parent = parent;
+    m_cur.skip_inline_space();
+    const TextCursor::Mark name_at = m_cur.mark();
     joint.name = read_name();
+    const auto [earlier, inserted] = m_name_lines.emplace(joint.name, name_at.line);
+    const std::size_t first_use = inserted ? 0 : earlier->second;
     if (m_cur.peek_token() != "{") {
       fail("'{'", "'{' opening joint '" + quote_token(joint.name) + "'");
     }
@@ -194,8 +247,11 @@ class BvhParser {
       }
     }
     if (!have_offset) fail("'OFFSET'", "'OFFSET' of joint '" + quote_token(joint.name) + "'");
-    m_open.push_back(
-        {m_doc.skeleton.num_joints(), keyword, have_channels && joint.channels.empty()});
+    if (!have_channels && cut_inside({"CHANNELS"})) {
+      fail_early("'CHANNELS' of joint '" + quote_token(joint.name) + "'");
+    }
+    m_open.push_back({m_doc.skeleton.num_joints(), keyword, name_at,
+                      have_channels && joint.channels.empty(), first_use});
     m_doc.skeleton.joints.push_back(std::move(joint));
   }
 
@@ -214,11 +270,6 @@ class BvhParser {
     if (name.empty()) {
       m_cur.reset(at);
       fail("a joint name");
-    }
-    const auto [it, inserted] = m_name_lines.emplace(std::string(name), at.line);
-    if (!inserted) {
-      m_cur.reset(at);
-      m_cur.fail_expected("a joint name not used before (line " + std::to_string(it->second) + ")");
     }
     return std::string(name);
   }
@@ -255,7 +306,8 @@ class BvhParser {
       const auto channel = parse_channel_name(m_cur.next_token_on_line());
       if (!channel) {
         m_cur.reset(at);
-        if (m_cur.at_line_end()) {
+        if (m_cur.at_line_end() || cut_inside({"Xposition", "Yposition", "Zposition", "Xrotation",
+                                               "Yrotation", "Zrotation"})) {
           fail(std::to_string(count) + " channel names as CHANNELS declares");
         }
         m_cur.fail_expected(kChannelNames);

@@ -218,7 +218,7 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   features::FeatureOptions& f = out.features;
   f.features = opt.features;
   f.distance = opt.distance;
-  f.up = (opt.up == "z" || opt.up == "Z") ? Axis::Z : Axis::Y;
+  f.up = parse_axis(opt.up).value_or(Axis::Y);  // --up accepts only y and z
   f.exclude = opt.exclude;
   f.stride = opt.stride;
   f.keep_first = opt.keep_first;
@@ -309,6 +309,7 @@ Control progress_line(const MapCliOptions& opt, std::string_view label) {
 
 void print_diagnostics(const pipeline::ClipMap& map) {
   for (const auto& n : map.features->notes) std::cerr << "note: " << n << '\n';
+  for (const auto& n : map.embedding.notes) std::cerr << "note: " << n << '\n';
   for (const auto& w : map.embedding.warnings) std::cerr << "warning: " << w << '\n';
 }
 

@@ -23,6 +23,7 @@ render::MapPlotOptions mapPlotOptions(const MapResult& map, const std::vector<Cl
     for (const Clip& clip : clips) options.clip_names << fileName(clip);
   }
   for (const auto& note : map.map.features->notes) options.notes << QString::fromStdString(note);
+  for (const auto& note : map.map.embedding.notes) options.notes << QString::fromStdString(note);
   for (const auto& warning : map.map.embedding.warnings)
     options.notes << QString::fromStdString(warning);
   return options;

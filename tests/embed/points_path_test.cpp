@@ -12,7 +12,7 @@
 
 #include "embed/embed_test_util.h"
 #include "motionmap/core/error.h"
-#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/embed.h"
 #include "motionmap/embed/points.h"
 #include "motionmap/features/features.h"

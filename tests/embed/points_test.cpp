@@ -14,6 +14,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/embed.h"
 #include "motionmap/embed/graph.h"
 #include "motionmap/embed/neighbors.h"

@@ -116,7 +116,8 @@ def make_cases():
     cases.append(Case("closed_loop", X, None, k=8,
                       runs=all_runs([Run("pca", "pca_std", standardize=True)])))
     # Duplicate frames (a held pose repeats frames exactly): 60 poses on a curve, each twice,
-    # some three times. Small (120 frames), so the C++ side takes its dense eigen path.
+    # some three times. Small (120 frames), so the C++ side takes its dense eigen path. The graph
+    # methods map the 60 distinct poses (graph_map).
     s = np.linspace(0, 3, 60)
     poses = np.stack([np.cos(s), np.sin(1.5 * s), 0.5 * s, 0.2 * np.cos(3 * s)], axis=1)
     reps = [3 if i % 10 == 0 else 2 for i in range(60)]
@@ -325,6 +326,43 @@ def write_matrix(path, M, header=()):
             f.write(fmt(row) + "\n")
 
 
+REPEAT_TOLERANCE = 1e-6  # motionmap::embed::kRepeatTolerance
+
+
+def distinct_poses(D):
+    """The graph methods' repeated poses (embed/detail/distinct.h): frame f repeats the earliest
+    first occurrence r < f with D[r, f] <= 1e-6 * sqrt(sum D^2 / (2 n^2)); returns the first
+    occurrences and every frame's pose (an index into them)."""
+    n = D.shape[0]
+    tol = REPEAT_TOLERANCE * np.sqrt(np.sum(D * D) / (2.0 * n * n))
+    first, pose_of = [], np.zeros(n, dtype=int)
+    for f in range(n):
+        near = [p for p, r in enumerate(first) if D[r, f] <= tol]
+        if near:
+            pose_of[f] = near[0]  # first occurrences are in frame order
+        else:
+            pose_of[f] = len(first)
+            first.append(f)
+    return np.array(first), pose_of
+
+
+def graph_map(method, X, D, k, run, case, dims):
+    """isomap, le or lle on the distinct poses (each once, k capped at their number - 1), every
+    frame given its pose's place, as MotionMap maps frames that repeat poses."""
+    first, pose_of = distinct_poses(D)
+    if len(first) < len(D) and len(first) >= dims + 2:
+        Y, w, extra = graph_map(method, X[first], D[np.ix_(first, first)],
+                                min(k, len(first) - 1), run, case, dims)
+        return Y[pose_of], w, extra
+    if method == "isomap":
+        Y, w, geo = ref_isomap(D, k, dims)
+        return Y, w, normalized_stress(geo, Y)
+    if method == "le":
+        Y, w, heat = ref_le(D, k, run.heat, dims)
+        return Y, w, heat
+    return (*ref_lle(X, D, k, case.reg, dims), None)
+
+
 def run_case(case):
     X = np.asarray(case.X, dtype=float)
     D = euclidean(X) if case.D is None else np.asarray(case.D, dtype=float)
@@ -347,18 +385,17 @@ def run_case(case):
             Y, w = classical_mds(D, dims)
             stress = normalized_stress(D, Y)
         elif run.method == "isomap":
-            Y, w, geo = ref_isomap(D, case.k, dims)
-            stress = normalized_stress(geo, Y)
+            Y, w, stress = graph_map("isomap", X, D, case.k, run, case, dims)
             if not case.ties:
                 sk = Isomap(n_neighbors=case.k, n_components=dims, metric="precomputed",
                             eigen_solver="dense").fit_transform(D)
                 assert procrustes(Y, sk) < 1e-12, procrustes(Y, sk)
         elif run.method == "le":
-            Y, w, heat = ref_le(D, case.k, run.heat, dims)
+            Y, w, heat = graph_map("le", X, D, case.k, run, case, dims)
             header.append("heat %s" % ("auto" if run.heat is None else "%.17g" % run.heat))
             header.append("heat_used %.17g" % max(heat, 0.0))
         elif run.method == "lle":
-            Y, w = ref_lle(X, D, case.k, case.reg, dims)
+            Y, w, _ = graph_map("lle", X, D, case.k, run, case, dims)
             header.append("reg %.17g" % case.reg)
             if not case.ties and case.D is None:
                 sk = LocallyLinearEmbedding(n_neighbors=case.k, n_components=dims, reg=case.reg,

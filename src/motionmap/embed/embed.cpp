@@ -13,8 +13,10 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/embed/detail/distinct.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/eigen.h"
 
 namespace motionmap::embed {
@@ -29,6 +31,11 @@ constexpr EnumName<Method> kMethodNames[] = {
     {Method::LaplacianEigenmap, "le"},
     {Method::Lle, "lle"},
 };
+
+constexpr EnumName<EmbedOptions::Search> kSearchNames[] = {
+    {EmbedOptions::Search::Auto, "auto"},
+    {EmbedOptions::Search::Exact, "exact"},
+    {EmbedOptions::Search::Approximate, "approximate"}};
 
 struct MethodInfo {
   Method method;
@@ -263,7 +270,135 @@ void check_distances(const Eigen::MatrixXd& D, std::string_view method, Progress
   }
 }
 
+// The method's map of validated inputs, with embed()'s sign convention.
+void run_method(const EmbedInput& input, const EmbedOptions& options, int frames, bool on_points,
+                Embedding& out, Progress& progress) {
+  const PointSet points{input.points, input.metric};
+  switch (options.method) {
+    case Method::Pca:
+      run_pca(*input.features, options, out, progress);
+      break;
+    case Method::Svd:
+      run_svd(*input.features, options, out, progress);
+      break;
+    case Method::Mds:
+      if (on_points) {
+        run_landmark_mds(points, options, out, progress);
+      } else {
+        run_mds(*input.distances, options, out, progress);
+      }
+      break;
+    case Method::Isomap:
+      if (on_points) {
+        run_landmark_isomap(points, options, out, progress);
+      } else {
+        run_isomap(*input.distances, options, out, progress);
+      }
+      break;
+    case Method::LaplacianEigenmap:
+      if (on_points && frames > kGraphSampleLimit && input.metric == Metric::Euclidean) {
+        run_sampled_graph_method(nullptr, points, options, out, progress);
+      } else if (on_points) {
+        laplacian_eigenmap_on(build_neighbor_graph(points, options, out, progress, 0.02, 0.3),
+                              options, out, progress, 0.3);
+      } else {
+        run_laplacian_eigenmap(*input.distances, options, out, progress);
+      }
+      break;
+    case Method::Lle:
+      if (on_points && frames > kGraphSampleLimit && input.metric == Metric::Euclidean) {
+        run_sampled_graph_method(input.features, points, options, out, progress);
+      } else if (on_points) {
+        lle_on(*input.features, build_neighbor_graph(points, options, out, progress, 0.02, 0.2),
+               options, out, progress, 0.2);
+      } else {
+        run_lle(*input.features, *input.distances, options, out, progress);
+      }
+      break;
+  }
+  const Eigen::MatrixXd unsigned_coordinates = out.landmarks ? out.coordinates : Eigen::MatrixXd();
+  normalize_signs(out.coordinates);
+  if (out.landmarks) {
+    // The landmark fit maps to the coordinates as they were: flip its axes with them.
+    for (Eigen::Index a = 0; a < out.coordinates.cols(); ++a) {
+      Eigen::Index at = 0;
+      unsigned_coordinates.col(a).cwiseAbs().maxCoeff(&at);
+      if (out.coordinates(at, a) != unsigned_coordinates(at, a)) {
+        out.landmarks->projection.row(a) *= -1.0;
+        out.landmarks->offset[a] *= -1.0;
+      }
+    }
+  }
+}
+
+// The graph methods on frames that repeat poses (detail/distinct.h): the map of the distinct
+// poses, each repeat given its first occurrence's place. The distinct poses are the same input
+// as a clip without the repeats, so they get that clip's map, bit for bit.
+void map_distinct(const EmbedInput& input, const EmbedOptions& options,
+                  const DistinctPoses& distinct, bool on_points, Embedding& out,
+                  Progress& progress) {
+  const int frames = static_cast<int>(distinct.pose_of.size());
+  const int poses = static_cast<int>(distinct.first.size());
+  const Eigen::Map<const Eigen::VectorXi> first(distinct.first.data(), poses);
+  Eigen::MatrixXd X, D;
+  RowMatrix points;
+  EmbedInput reduced = input;
+  if (reads_features(options.method)) {  // a caller may pass an X it has emptied (pipeline)
+    X = (*input.features)(first, Eigen::all);
+    reduced.features = &X;
+  }
+  if (on_points) {
+    points = (*input.points)(first, Eigen::all);
+    reduced.points = &points;
+  } else {
+    D = (*input.distances)(first, first);
+    reduced.distances = &D;
+  }
+  EmbedOptions o = options;
+  o.k = std::min(options.k, poses - 1);
+  run_method(reduced, o, poses, on_points, out, progress);
+  if (o.k != options.k) {
+    out.warnings.push_back("k = " + std::to_string(options.k) + " is more than the " +
+                           std::to_string(poses) +
+                           " distinct poses allow; k = " + std::to_string(o.k) + " used");
+  }
+  out.notes.push_back(std::to_string(distinct.repeats()) + " of the " + std::to_string(frames) +
+                      " frames repeat an earlier frame's pose (within 1e-6 of the data's scale): "
+                      "the " +
+                      std::to_string(poses) +
+                      " distinct poses were mapped, each repeat placed on its first occurrence");
+  out.repeated_frames = distinct.repeats();
+  // Back to every frame.
+  Eigen::MatrixXd all(frames, out.coordinates.cols());
+  for (int f = 0; f < frames; ++f) all.row(f) = out.coordinates.row(distinct.pose_of[f]);
+  out.coordinates = std::move(all);
+  // The model (placement.h) keeps the fitted frames: the distinct poses (or a sample of them).
+  if (out.fitted_frames.empty()) {
+    out.fitted_frames = distinct.first;
+  } else {
+    for (int& f : out.fitted_frames) f = distinct.first[f];
+  }
+  if (out.landmarks) {
+    for (int& f : out.landmarks->frames) f = distinct.first[f];
+    if (out.landmarks->geodesic.size() > 0) {
+      Eigen::MatrixXd geodesic(out.landmarks->geodesic.rows(), frames);
+      for (int f = 0; f < frames; ++f) {
+        geodesic.col(f) = out.landmarks->geodesic.col(distinct.pose_of[f]);
+      }
+      out.landmarks->geodesic = std::move(geodesic);
+    }
+  }
+}
+
 }  // namespace
+
+std::string_view search_name(EmbedOptions::Search search) {
+  return enum_name(kSearchNames, search);
+}
+
+std::optional<EmbedOptions::Search> parse_search(std::string_view name) {
+  return parse_enum(kSearchNames, name);
+}
 
 std::string_view method_name(Method method) {
   return info(method).name;
@@ -325,6 +460,36 @@ void EmbedOptions::validate(int num_frames) const {
   }
 }
 
+double estimate_bytes(Method method, int frames, int values, int columns, bool dense,
+                      const EmbedOptions& options) {
+  const double F = frames, k = options.k;
+  const double base = F * (values + columns) * 8.0;  // the points and X
+  if (dense) {
+    // D, and Isomap's geodesic distances beside it.
+    const double squares = !reads_distances(method) ? 0.0 : method == Method::Isomap ? 2.0 : 1.0;
+    return base + squares * 8.0 * F * F + F * k * 64.0;
+  }
+  const double L =
+      std::min<double>(F, options.landmarks > 0 ? options.landmarks : kDefaultLandmarks);
+  double bytes = base;
+  // le and lle above kGraphSampleLimit frames build their graph and eigenproblem on a sample of
+  // that many (Euclidean points; a copy of their rows), placing the others after.
+  const bool sampled =
+      (method == Method::LaplacianEigenmap || method == Method::Lle) && frames > kGraphSampleLimit;
+  const double G = sampled ? double(kGraphSampleLimit) : F;
+  if (sampled) bytes += G * (values + columns) * 8.0;
+  if (uses_graph(method)) {
+    // k-NN lists, the flat pair array and the CSR graph; above the exact limit, the float rows
+    // of the k-d tree or of HNSW (and its links).
+    bytes += G * k * (12.0 + 2 * 16.0 + 2 * 12.0);
+    if (G > kExactNeighborLimit) bytes += G * (values * 4.0 + 32 * 4.0 + 64.0);
+  }
+  if (method == Method::Mds || method == Method::Isomap) bytes += 8.0 * F * L;
+  if (method == Method::LaplacianEigenmap) bytes += G * (2 * k + 1) * 12.0 * 6.0;
+  if (method == Method::Lle) bytes += G * k * k * 12.0 * 6.0;
+  return bytes;
+}
+
 Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Control& control) {
   const MethodInfo& m = info(options.method);
   Embedding out;
@@ -366,64 +531,21 @@ Embedding embed(const EmbedInput& input, const EmbedOptions& options, const Cont
                          " column(s); a " + std::to_string(options.dimensions) +
                          "-D map needs at least " + std::to_string(options.dimensions));
   }
-
-  const PointSet points{input.points, input.metric};
   out.from_points = on_points;
-  switch (options.method) {
-    case Method::Pca:
-      run_pca(*input.features, options, out, progress);
-      break;
-    case Method::Svd:
-      run_svd(*input.features, options, out, progress);
-      break;
-    case Method::Mds:
-      if (on_points) {
-        run_landmark_mds(points, options, out, progress);
-      } else {
-        run_mds(*input.distances, options, out, progress);
-      }
-      break;
-    case Method::Isomap:
-      if (on_points) {
-        run_landmark_isomap(points, options, out, progress);
-      } else {
-        run_isomap(*input.distances, options, out, progress);
-      }
-      break;
-    case Method::LaplacianEigenmap:
-      if (on_points && frames > kGraphSampleLimit && input.metric == Metric::Euclidean) {
-        run_sampled_graph_method(nullptr, points, options, out, progress);
-      } else if (on_points) {
-        laplacian_eigenmap_on(build_neighbor_graph(points, options, out, progress, 0.02, 0.3),
-                              options, out, progress, 0.3);
-      } else {
-        run_laplacian_eigenmap(*input.distances, options, out, progress);
-      }
-      break;
-    case Method::Lle:
-      if (on_points && frames > kGraphSampleLimit && input.metric == Metric::Euclidean) {
-        run_sampled_graph_method(input.features, points, options, out, progress);
-      } else if (on_points) {
-        lle_on(*input.features, build_neighbor_graph(points, options, out, progress, 0.02, 0.2),
-               options, out, progress, 0.2);
-      } else {
-        run_lle(*input.features, *input.distances, options, out, progress);
-      }
-      break;
-  }
-  const Eigen::MatrixXd unsigned_coordinates = out.landmarks ? out.coordinates : Eigen::MatrixXd();
-  normalize_signs(out.coordinates);
-  if (out.landmarks) {
-    // The landmark fit maps to the coordinates as they were: flip its axes with them.
-    for (Eigen::Index a = 0; a < out.coordinates.cols(); ++a) {
-      Eigen::Index at = 0;
-      unsigned_coordinates.col(a).cwiseAbs().maxCoeff(&at);
-      if (out.coordinates(at, a) != unsigned_coordinates(at, a)) {
-        out.landmarks->projection.row(a) *= -1.0;
-        out.landmarks->offset[a] *= -1.0;
-      }
+  if (m.uses_graph) {
+    const DistinctPoses distinct =
+        on_points ? distinct_rows({input.points, input.metric}, progress.control())
+                  : distinct_in_distances(*input.distances, progress.control());
+    // Too few distinct poses for a map (a static clip): the frames are mapped as they are, as
+    // degenerate as they are.
+    if (distinct.repeats() > 0 &&
+        static_cast<int>(distinct.first.size()) >= options.dimensions + 2) {
+      map_distinct(input, options, distinct, on_points, out, progress);
+      progress.finish();
+      return out;
     }
   }
+  run_method(input, options, frames, on_points, out, progress);
   progress.finish();
   return out;
 }

@@ -11,6 +11,7 @@
 
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/placement.h"
 #include "motionmap/embed/points.h"
 

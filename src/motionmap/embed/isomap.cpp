@@ -2,6 +2,7 @@
 // classical MDS. Unrolls a curved manifold when k is small enough not to short-cut it.
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/graph.h"
 #include "motionmap/embed/neighbors.h"
 

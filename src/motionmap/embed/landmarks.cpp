@@ -19,6 +19,7 @@
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/metrics.h"
 

@@ -15,6 +15,7 @@
 #include "motionmap/core/stats.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/graph.h"
 #include "motionmap/embed/neighbors.h"

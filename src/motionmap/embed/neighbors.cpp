@@ -10,8 +10,8 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/parallel.h"
-#include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 
 namespace motionmap::embed {
 
@@ -70,11 +70,7 @@ void k_nearest(const double* values, int n, int self, int k, int* index, double*
 
 NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, const Control& control) {
   const int n = static_cast<int>(D.rows());
-  if (k < 1 || k > n - 1) {
-    throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
-                         std::to_string(n) + " frames it must be in [1, " + std::to_string(n - 1) +
-                         "]");
-  }
+  check_neighbor_count(k, n - 1, n, "frames");
   NeighborLists out;
   out.k = k;
   out.index.resize(std::size_t(n) * k);
@@ -206,6 +202,36 @@ std::vector<Edge> joining_edges(const Eigen::MatrixXd& D, const Components& comp
   return edges;
 }
 
+void check_neighbor_count(int k, int most, int count, std::string_view what) {
+  if (k < 1 || k > most) {
+    throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
+                         std::to_string(count) + " " + std::string(what) + " it must be in [1, " +
+                         std::to_string(most) + "]");
+  }
+}
+
+void join_components(NeighborGraph& ng, const EmbedOptions& options, Embedding& out,
+                     Progress& progress, double begin, double end, const Joiner& joiner) {
+  const Components components = connected_components(ng.graph);
+  out.k_used = options.k;
+  out.graph_components = components.count;
+  if (components.count <= 1) return;
+  const std::string what = "the k-NN graph (k = " + std::to_string(options.k) + ") has " +
+                           std::to_string(components.count) + " connected components";
+  if (options.strict) {
+    throw NumericalError(std::string(method_name(options.method)) + ": " + what +
+                         "; use a larger k (or turn strict off to join them" +
+                         std::string(joiner.strict_hint) + ")");
+  }
+  progress.stage("joining components", begin, end);
+  ng.joins = joiner.join(components);
+  ng.graph = joiner.rebuild(ng.joins);
+  out.connecting_edges = static_cast<int>(ng.joins.size());
+  out.warnings.push_back(what + "; joined them with " + std::to_string(ng.joins.size()) +
+                         " edge(s) " + std::string(joiner.how) +
+                         ". Distances across the joins are unreliable; a larger k avoids them");
+}
+
 NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions& options,
                                    Embedding& out, Progress& progress, double begin, double end) {
   const double mid = begin + 0.8 * (end - begin);
@@ -213,25 +239,10 @@ NeighborGraph build_neighbor_graph(const Eigen::MatrixXd& D, const EmbedOptions&
   NeighborGraph ng;
   ng.lists = knn_from_distances(D, options.k, progress.control());
   ng.graph = knn_graph(ng.lists, D);
-  const Components components = connected_components(ng.graph);
-  out.k_used = options.k;
-  out.graph_components = components.count;
-  if (components.count > 1) {
-    const std::string what = "the k-NN graph (k = " + std::to_string(options.k) + ") has " +
-                             std::to_string(components.count) + " connected components";
-    if (options.strict) {
-      throw NumericalError(std::string(method_name(options.method)) + ": " + what +
-                           "; use a larger k (or turn strict off to join them through their "
-                           "closest pairs)");
-    }
-    progress.stage("joining components", mid, end);
-    ng.joins = joining_edges(D, components, progress.control());
-    ng.graph = knn_graph(ng.lists, D, ng.joins);
-    out.connecting_edges = static_cast<int>(ng.joins.size());
-    out.warnings.push_back(what + "; joined them with " + std::to_string(ng.joins.size()) +
-                           " edge(s) between their closest frames. Distances across the joins "
-                           "are unreliable; a larger k avoids them");
-  }
+  join_components(ng, options, out, progress, mid, end,
+                  {"between their closest frames", " through their closest pairs",
+                   [&](const Components& c) { return joining_edges(D, c, progress.control()); },
+                   [&](const std::vector<Edge>& joins) { return knn_graph(ng.lists, D, joins); }});
   return ng;
 }
 

@@ -7,12 +7,13 @@
 //   Graph g = knn_graph(nn, D);                     // i–j when either chose the other
 //   Components c = connected_components(g);        // c.count == 1: connected
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "motionmap/core/control.h"
-#include "motionmap/embed/embed.h"
+#include "motionmap/embed/types.h"
 
 namespace motionmap::embed {
 
@@ -46,6 +47,11 @@ void k_nearest(const double* values, int n, int self, int k, int* index, double*
 /// Runs in parallel; `control` gets the fraction of frames done and may throw
 /// Cancelled. @throws ParameterError unless 1 ≤ k ≤ #frames − 1.
 NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, const Control& control = {});
+
+/// The one check of a neighbour count: k neighbours among `count` `what` ("frames", "samples")
+/// must be in [1, most]. @throws ParameterError "k = 0 neighbours is out of range: with 364
+/// frames it must be in [1, 363]".
+void check_neighbor_count(int k, int most, int count, std::string_view what);
 
 /// An undirected edge between frames a and b of the given length.
 struct Edge {

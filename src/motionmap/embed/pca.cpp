@@ -6,6 +6,7 @@
 
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/eigen.h"
 
 namespace motionmap::embed {

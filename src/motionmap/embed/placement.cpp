@@ -15,8 +15,8 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
-#include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/points.h"
 
 namespace motionmap::embed {
@@ -144,11 +144,23 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
         return rows;
       };
       const std::vector<int>& fitted = map.fitted_frames;
+      if (model.landmarks && !fitted.empty()) {
+        // The model's samples are the fitted frames: landmarks and geodesic columns index them.
+        for (int& f : model.landmarks->frames) {
+          f = static_cast<int>(std::lower_bound(fitted.begin(), fitted.end(), f) - fitted.begin());
+        }
+        Eigen::MatrixXd& geodesic = model.landmarks->geodesic;
+        if (geodesic.cols() == n) {
+          const Eigen::Map<const Eigen::VectorXi> at(fitted.data(), Eigen::Index(fitted.size()));
+          geodesic = geodesic(Eigen::all, at).eval();
+        }
+      }
       if (map.method == Method::Mds && map.from_points) {
         model.points_are_landmarks = true;
         model.points = rows_of(*input.points, model.landmarks->frames);
       } else if (!fitted.empty()) {
-        // A sampled le or lle map: its model is the sample's map, which placed the others.
+        // A sampled le or lle map, or a map of frames that repeat poses: its model is the map of
+        // the sample (of the distinct poses), which placed the others.
         model.points = rows_of(*input.points, fitted);
         model.coordinates = rows_of(model.coordinates, fitted);
       } else {
@@ -160,8 +172,17 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
                 "make_model needs D for a dense isomap map");
         Embedding scratch;
         Progress none;
-        model.graph =
-            build_neighbor_graph(*input.distances, options, scratch, none, 0.0, 1.0).graph;
+        if (fitted.empty()) {
+          model.graph =
+              build_neighbor_graph(*input.distances, options, scratch, none, 0.0, 1.0).graph;
+        } else {
+          // The distinct poses' graph, with the k the fit used (at most their number − 1).
+          EmbedOptions fit_options = options;
+          fit_options.k = map.k_used;
+          const Eigen::Map<const Eigen::VectorXi> at(fitted.data(), Eigen::Index(fitted.size()));
+          const Eigen::MatrixXd D = (*input.distances)(at, at);
+          model.graph = build_neighbor_graph(D, fit_options, scratch, none, 0.0, 1.0).graph;
+        }
       }
       if (map.method == Method::LaplacianEigenmap) {
         model.heat = map.heat_used;

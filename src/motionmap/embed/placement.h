@@ -28,9 +28,9 @@
 
 #include "motionmap/core/control.h"
 #include "motionmap/core/metric.h"
-#include "motionmap/embed/embed.h"
 #include "motionmap/embed/neighbors.h"
 #include "motionmap/embed/points.h"
+#include "motionmap/embed/types.h"
 
 namespace motionmap::embed {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "motionmap/core/error.h"
-#include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
 
 namespace motionmap::embed {
 
@@ -137,27 +137,16 @@ NeighborGraph build_neighbor_graph(const PointSet& points, const EmbedOptions& o
       knn_from_points(points, options.k, to_search(options.search), progress.control(), &report);
   out.neighbor_search = report.description();
   ng.graph = knn_graph_from_lists(ng.lists, {});
-  const Components components = connected_components(ng.graph);
-  out.k_used = options.k;
-  out.graph_components = components.count;
-  if (components.count > 1) {
-    const std::string what = "the k-NN graph (k = " + std::to_string(options.k) + ") has " +
-                             std::to_string(components.count) + " connected components";
-    if (options.strict) {
-      throw NumericalError(std::string(method_name(options.method)) + ": " + what +
-                           "; use a larger k (or turn strict off to join them)");
-    }
-    progress.stage("joining components", mid, end);
-    Eigen::MatrixXd distances;
-    const std::vector<int> landmarks = maxmin_landmarks(
-        points, std::min(points.frames(), kDefaultLandmarks), distances, progress.control());
-    ng.joins = joining_edges(components, landmarks, distances);
-    ng.graph = knn_graph_from_lists(ng.lists, ng.joins);
-    out.connecting_edges = static_cast<int>(ng.joins.size());
-    out.warnings.push_back(what + "; joined them with " + std::to_string(ng.joins.size()) +
-                           " edge(s) between a frame and a landmark of another component. "
-                           "Distances across the joins are unreliable; a larger k avoids them");
-  }
+  join_components(
+      ng, options, out, progress, mid, end,
+      {"between a frame and a landmark of another component", "",
+       [&](const Components& components) {
+         Eigen::MatrixXd distances;
+         const std::vector<int> landmarks = maxmin_landmarks(
+             points, std::min(points.frames(), kDefaultLandmarks), distances, progress.control());
+         return joining_edges(components, landmarks, distances);
+       },
+       [&](const std::vector<Edge>& joins) { return knn_graph_from_lists(ng.lists, joins); }});
   return ng;
 }
 

@@ -561,11 +561,7 @@ NeighborLists knn_from_points(const PointSet& points, int k, NeighborSearch sear
                               const Control& control, NeighborSearchReport* report) {
   if (points.rows == nullptr) throw ParameterError("knn: no points were given");
   const int n = points.frames();
-  if (k < 1 || k > n - 1) {
-    throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
-                         std::to_string(n) + " frames it must be in [1, " + std::to_string(n - 1) +
-                         "]");
-  }
+  check_neighbor_count(k, n - 1, n, "frames");
   NeighborLists out;
   out.k = k;
   out.index.resize(std::size_t(n) * k);
@@ -611,11 +607,7 @@ NeighborLists SampleSearch::nearest(const PointSet& queries, std::span<const int
   const PointSet& samples = m_samples;
   if (queries.rows == nullptr) throw ParameterError("knn: no queries were given");
   const int m = samples.frames();
-  if (k < 1 || k > m) {
-    throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
-                         std::to_string(m) + " samples it must be in [1, " + std::to_string(m) +
-                         "]");
-  }
+  check_neighbor_count(k, m, m, "samples");
   if (samples.rows->cols() != queries.rows->cols() || samples.metric != queries.metric) {
     throw ParameterError("knn: the samples and the queries are points of different kinds");
   }

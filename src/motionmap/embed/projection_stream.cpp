@@ -6,7 +6,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
-#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/eigen.h"
 
 namespace motionmap::embed {

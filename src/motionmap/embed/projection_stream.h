@@ -16,8 +16,8 @@
 //   Embedding map = stream.finish(std::move(Y), &model);
 #include <Eigen/Core>
 
-#include "motionmap/embed/embed.h"
 #include "motionmap/embed/placement.h"
+#include "motionmap/embed/types.h"
 
 namespace motionmap::embed {
 

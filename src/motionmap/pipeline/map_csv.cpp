@@ -37,6 +37,7 @@ void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& 
   for (std::size_t i = 0; i < files.size(); ++i) out << (i ? "," : "") << base_name(files[i]);
   out << '\n';
   for (const auto& note : map.features->notes) out << "# note: " << note << '\n';
+  for (const auto& note : map.embedding.notes) out << "# note: " << note << '\n';
   for (const auto& w : map.embedding.warnings) out << "# warning: " << w << '\n';
   if (map.metrics) out << "# metrics " << describe_metrics(*map.metrics) << '\n';
   const bool several = map.features->segment_starts.size() > 1;

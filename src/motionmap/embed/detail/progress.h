@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "motionmap/core/control.h"
-#include "motionmap/embed/embed.h"
+#include "motionmap/embed/types.h"
 
 namespace motionmap::embed {
 

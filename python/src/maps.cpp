@@ -68,16 +68,12 @@ pipeline::ClipMapOptions clip_map_options(const py::dict& o) {
       if (!value.is_none()) e.landmarks = value.cast<int>();
     } else if (k == "path") {
       const std::string path = value.cast<std::string>();
-      if (path == "auto") {
-        out.path = pipeline::MapPath::Auto;
-      } else if (path == "dense") {
-        out.path = pipeline::MapPath::Dense;
-      } else if (path == "landmarks") {
-        out.path = pipeline::MapPath::Landmarks;
-      } else {
+      const std::optional<pipeline::MapPath> parsed = pipeline::parse_map_path(path);
+      if (!parsed) {
         throw ParameterError("path: unknown name '" + path +
                              "' (expected one of auto, dense, landmarks)");
       }
+      out.path = *parsed;
     } else if (std::find(std::begin(kFeatureKeys), std::end(kFeatureKeys), k) ==
                std::end(kFeatureKeys)) {
       throw ParameterError("unknown option '" + k + "'");
@@ -103,13 +99,11 @@ py::dict option_dict(const pipeline::ClipMapOptions& o) {
   d["standardize"] = e.standardize;
   d["strict"] = e.strict;
   d["n_landmarks"] = e.landmarks;
-  d["path"] = o.path == pipeline::MapPath::Dense       ? "dense"
-              : o.path == pipeline::MapPath::Landmarks ? "landmarks"
-                                                       : "auto";
+  d["path"] = std::string(pipeline::map_path_name(o.path));
   d["features"] = std::string(features::feature_kind_name(f.features));
   d["distance"] = std::string(features::distance_kind_name(f.distance));
   d["joints"] = std::string(features::joint_selection_name(f.joints));
-  d["up"] = f.up == Axis::Z ? "z" : "y";
+  d["up"] = std::string(axis_name(f.up));
   d["exclude"] = f.exclude.empty() ? py::none() : py::cast(f.exclude);
   d["frames"] = py::make_tuple(f.first_frame, f.end_frame < 0 ? py::none() : py::cast(f.end_frame));
   d["stride"] = f.stride;

@@ -278,9 +278,10 @@ features::FeatureOptions feature_options(const py::dict& o) {
                             features::all_joint_selections(), features::joint_selection_name);
     } else if (k == "up") {
       const std::string up = value.cast<std::string>();
-      if (up != "y" && up != "z" && up != "Y" && up != "Z")
+      const std::optional<Axis> axis = parse_axis(up);
+      if (!axis || *axis == Axis::X)
         throw ParameterError("up: '" + up + "' is not an axis (expected 'y' or 'z')");
-      f.up = (up == "z" || up == "Z") ? Axis::Z : Axis::Y;
+      f.up = *axis;
     } else if (k == "exclude") {
       f.exclude = value.is_none() ? std::string() : value.cast<std::string>();
     } else if (k == "frames") {

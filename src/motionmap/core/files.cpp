@@ -10,13 +10,18 @@
 
 namespace motionmap {
 
-std::string read_text_file(const std::string& path) {
+std::ifstream open_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw Error(path + ": error: is a directory, expected a file");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": error: cannot open: " + std::strerror(errno));
+  return in;
+}
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in = open_file(path);
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) throw Error(path + ": error: cannot read: " + std::strerror(errno));

@@ -2,11 +2,13 @@
 // Numbers in messages: whole numbers below 1e15 in full ("100000", not "1e+05"), others in their
 // shortest round-trip form, so a message shows exactly the value that was rejected; or rounded to
 // a few digits where the value is a measurement.
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace motionmap {
 
@@ -37,6 +39,16 @@ inline std::string format_count(long long n) {
     out += digits[i];
   }
   return n < 0 ? "-" + out : out;
+}
+
+/// "a", "a, b, c": at most `most` names, then " and N more", for messages that list joints or
+/// clips.
+inline std::string name_list(const std::vector<std::string>& names, std::size_t most = 12) {
+  std::string out;
+  const std::size_t shown = std::min(names.size(), most);
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > shown) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
 }
 
 }  // namespace motionmap

@@ -4,9 +4,23 @@
 
 #include <Eigen/Geometry>
 
+#include "motionmap/core/names.h"
 #include "motionmap/core/rotation.h"
 
 namespace motionmap {
+
+namespace {
+constexpr EnumName<Metric> kMetricNames[] = {{Metric::Euclidean, "euclidean"},
+                                             {Metric::QuaternionAngles, "quaternion-angles"}};
+}  // namespace
+
+std::string_view metric_name(Metric metric) {
+  return enum_name(kMetricNames, metric);
+}
+
+std::optional<Metric> parse_metric(std::string_view name) {
+  return parse_enum(kMetricNames, name);
+}
 
 double quaternion_angle_distance(PoseRow a, PoseRow b) {
   double sum = 0.0;

@@ -4,6 +4,9 @@
 // the scalable maps, and the placement of new frames all call these, so they agree to the bit.
 //
 //   double d = pose_distance(points.row(i), points.row(j), Metric::Euclidean);
+#include <optional>
+#include <string_view>
+
 #include <Eigen/Core>
 
 namespace motionmap {
@@ -20,6 +23,11 @@ enum class Metric {
   /// the rotation between the two: the geodesic distance of joint rotations.
   QuaternionAngles,
 };
+
+/// "euclidean", "quaternion-angles" (as map files write them).
+std::string_view metric_name(Metric metric);
+/// The metric named `name` (metric_name's names); nullopt for anything else.
+std::optional<Metric> parse_metric(std::string_view name);
 
 /// ‖a − b‖.
 inline double euclidean_distance(PoseRow a, PoseRow b) {

@@ -4,8 +4,25 @@
 #include <string>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/names.h"
 
 namespace motionmap {
+
+namespace {
+constexpr EnumName<Axis> kAxisNames[] = {{Axis::X, "x"}, {Axis::Y, "y"}, {Axis::Z, "z"}};
+}  // namespace
+
+std::string_view axis_name(Axis axis) {
+  return enum_name(kAxisNames, axis);
+}
+
+std::optional<Axis> parse_axis(std::string_view name) {
+  if (name.size() == 1 && name[0] >= 'X' && name[0] <= 'Z') {
+    const char lower[1] = {static_cast<char>(name[0] - 'X' + 'x')};
+    return parse_enum(kAxisNames, std::string_view(lower, 1));
+  }
+  return parse_enum(kAxisNames, name);
+}
 
 Eigen::Quaterniond axis_rotation(Axis axis, double radians) {
   const double h = 0.5 * radians;

@@ -6,13 +6,20 @@
 // order they are written in a file, and the rotation is composed in that order:
 // order {Z, Y, X} with angles (a, b, c) means R = Rz(a)·Ry(b)·Rx(c).
 #include <array>
+#include <optional>
 #include <span>
+#include <string_view>
 
 #include <Eigen/Geometry>
 
 namespace motionmap {
 
 enum class Axis { X = 0, Y = 1, Z = 2 };
+
+/// "x", "y", "z".
+std::string_view axis_name(Axis axis);
+/// The axis named `name` ("x", "y" or "z", either case); nullopt for anything else.
+std::optional<Axis> parse_axis(std::string_view name);
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double deg_to_rad(double d) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
 
 namespace motionmap {
 
@@ -136,12 +137,7 @@ std::string sha256_hex(std::string_view bytes) {
 }
 
 std::string sha256_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw Error(path + ": error: is a directory, expected a file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": error: cannot open: " + std::strerror(errno));
+  std::ifstream in = open_file(path);
   Sha256 h;
   std::vector<char> buffer(std::size_t(1) << 20);
   while (in) {

@@ -6,6 +6,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/features/detail/point_cloud.h"
@@ -229,15 +230,6 @@ struct JointPlan {
     return point_columns.size() == 1 ? point_columns.front() : point_columns[clip];
   }
 };
-
-// "a", "a and b", "a, b and c" — at most `most` names, then "and N more".
-std::string name_list(const std::vector<std::string>& names, std::size_t most = 12) {
-  std::string out;
-  const std::size_t shown = std::min(names.size(), most);
-  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + names[i];
-  if (names.size() > shown) out += " and " + std::to_string(names.size() - shown) + " more";
-  return out;
-}
 
 // JointSelection::Common: the shared joint names, matched in every clip (see FeatureOptions),
 // with the notes that say what was kept and dropped.

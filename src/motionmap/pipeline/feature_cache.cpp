@@ -6,7 +6,7 @@ std::string feature_key(const features::FeatureOptions& o) {
   // The exclude pattern last and length-prefixed: it may hold any character.
   return std::string(features::feature_kind_name(o.features)) + "|" +
          std::string(features::distance_kind_name(o.distance)) + "|" +
-         (o.up == Axis::Z ? "z" : "y") + "|" + std::to_string(o.first_frame) + "|" +
+         std::string(axis_name(o.up)) + "|" + std::to_string(o.first_frame) + "|" +
          std::to_string(o.end_frame) + "|" + std::to_string(o.stride) + "|" +
          (o.keep_first ? "1" : "0") + "|" + std::string(features::joint_selection_name(o.joints)) +
          "|" + std::to_string(o.exclude.size()) + ":" + o.exclude;

@@ -102,6 +102,10 @@ void setup_figure(CLI::App& app) {
         if (m.stress) line += "   stress " + format("%.3f", *m.stress);
         line += "   jump " + format("%.1f", m.jump);
         panel.options.notes << line;
+        if (!m.degenerate.empty()) {
+          panel.options.notes << "degenerate, not comparable: " +
+                                     QString::fromStdString(m.degenerate);
+        }
         if (m.sample > 0) {
           panel.options.notes << "T, C on " + QString::number(m.sample) + " random frames" +
                                      (m.stress ? ", stress on the landmarks" : "");
@@ -112,11 +116,12 @@ void setup_figure(CLI::App& app) {
         } else if (e.k_used > 0) {
           panel.options.notes << "k = " + QString::number(e.k_used);
         }
-        std::printf("%-7s %16.4f %11.4f %8s %7.2f %9.3f\n",
-                    std::string(embed::method_name(methods[i])).c_str(),
-                    m.neighborhood.trustworthiness, m.neighborhood.continuity,
-                    m.stress ? format("%.4f", *m.stress).toStdString().c_str() : "-", m.jump,
-                    seconds);
+        std::printf(
+            "%-7s %16.4f %11.4f %8s %7.2f %9.3f%s\n",
+            std::string(embed::method_name(methods[i])).c_str(), m.neighborhood.trustworthiness,
+            m.neighborhood.continuity,
+            m.stress ? format("%.4f", *m.stress).toStdString().c_str() : "-", m.jump, seconds,
+            m.degenerate.empty() ? "" : ("  degenerate, not comparable: " + m.degenerate).c_str());
       } catch (const Cancelled&) {
         throw;
       } catch (const Error& e) {

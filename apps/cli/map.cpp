@@ -170,6 +170,9 @@ void print_metrics_table(std::ostream& out, const pipeline::ClipMap& map, int k)
                 m.stress ? std::to_string(*m.stress).substr(0, 6).c_str() : "-", m.jump);
   out << line << "(trustworthiness and continuity at k = " << k
       << " against the pose distance D)\n";
+  if (!m.degenerate.empty()) {
+    out << "degenerate map, its figures not comparable with other maps': " << m.degenerate << '\n';
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/memory.h"
+#include "motionmap/core/names.h"
 #include "motionmap/embed/points.h"
 
 namespace motionmap::pipeline {
@@ -19,6 +20,21 @@ using embed::jump_score;
 using embed::Method;
 using embed::neighborhood_quality;
 using motionmap::Metric;
+
+namespace {
+
+constexpr EnumName<MapPath> kMapPathNames[] = {
+    {MapPath::Auto, "auto"}, {MapPath::Dense, "dense"}, {MapPath::Landmarks, "landmarks"}};
+
+}  // namespace
+
+std::string_view map_path_name(MapPath path) {
+  return enum_name(kMapPathNames, path);
+}
+
+std::optional<MapPath> parse_map_path(std::string_view name) {
+  return parse_enum(kMapPathNames, name);
+}
 
 namespace {
 std::string fmt(double v, const char* format = "%.4g") {
@@ -87,31 +103,9 @@ std::vector<int> random_sample(int n, int count) {
 
 double estimate_map_bytes(Method method, int frames, int values, int columns, bool dense,
                           const embed::EmbedOptions& options, bool metrics) {
-  const double F = frames, k = options.k;
-  const double base = F * (values + columns) * 8.0;  // the points and X
-  if (dense) {
-    const bool needs_d = embed::reads_distances(method) || metrics;
-    const double squares = !needs_d ? 0.0 : method == Method::Isomap ? 2.0 : 1.0;
-    return base + squares * 8.0 * F * F + F * k * 64.0;
-  }
-  const double L =
-      std::min<double>(F, options.landmarks > 0 ? options.landmarks : embed::kDefaultLandmarks);
-  double bytes = base;
-  // le and lle above embed::kGraphSampleLimit frames build their graph and eigenproblem on a
-  // sample of that many (Euclidean points; a copy of their rows), placing the others after.
-  const bool sampled = (method == Method::LaplacianEigenmap || method == Method::Lle) &&
-                       frames > embed::kGraphSampleLimit;
-  const double G = sampled ? double(embed::kGraphSampleLimit) : F;
-  if (sampled) bytes += G * (values + columns) * 8.0;
-  if (embed::uses_graph(method)) {
-    // k-NN lists, the flat pair array and the CSR graph; above the exact limit, the float rows
-    // of the k-d tree or of HNSW (and its links).
-    bytes += G * k * (12.0 + 2 * 16.0 + 2 * 12.0);
-    if (G > embed::kExactNeighborLimit) bytes += G * (values * 4.0 + 32 * 4.0 + 64.0);
-  }
-  if (method == Method::Mds || method == Method::Isomap) bytes += 8.0 * F * L;
-  if (method == Method::LaplacianEigenmap) bytes += G * (2 * k + 1) * 12.0 * 6.0;
-  if (method == Method::Lle) bytes += G * k * k * 12.0 * 6.0;
+  double bytes = embed::estimate_bytes(method, frames, values, columns, dense, options);
+  // The metrics' neighbourhood quality reads D on the dense path.
+  if (dense && metrics && !embed::reads_distances(method)) bytes += 8.0 * frames * double(frames);
   return bytes;
 }
 
@@ -226,7 +220,28 @@ MapMetrics map_metrics(const features::FeatureSet& features, const Embedding& em
   }
   m.stress = embedding.stress;
   m.jump = jump_score(embedding.coordinates);
+  m.degenerate = degeneracy(embedding);
   return m;
+}
+
+std::string degeneracy(const Embedding& embedding) {
+  if (embedding.connecting_edges > 0) {
+    return "the k-NN graph fell into " + std::to_string(embedding.graph_components) +
+           " components joined by " + std::to_string(embedding.connecting_edges) +
+           " bridges; raise k";
+  }
+  // Spread of each axis around its mean: a map whose last axis holds < 0.1 % of the first's has
+  // collapsed onto fewer axes.
+  const Eigen::MatrixXd& Y = embedding.coordinates;
+  if (Y.rows() < 2 || Y.cols() < 2) return {};
+  const Eigen::RowVectorXd spread =
+      (Y.rowwise() - Y.colwise().mean()).colwise().norm() / std::sqrt(double(Y.rows()));
+  if (spread.maxCoeff() == 0.0) return "every frame lands on one point";
+  if (spread.minCoeff() < 1e-3 * spread.maxCoeff()) {
+    return "the map collapses onto " + std::to_string(Y.cols() - 1) + " axis" +
+           (Y.cols() - 1 == 1 ? "" : "es");
+  }
+  return {};
 }
 
 std::string describe_parameters(const Embedding& e, const ClipMapOptions& options) {
@@ -242,7 +257,7 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   if (e.method == Method::Pca && options.embed.standardize) s += " standardize";
   s += " features=" + std::string(features::feature_kind_name(f.features)) +
        " distance=" + std::string(features::distance_kind_name(f.distance));
-  s += " up=" + std::string(f.up == Axis::Z ? "z" : "y");
+  s += " up=" + std::string(axis_name(f.up));
   if (f.joints != features::JointSelection::All) {
     s += " joints=" + std::string(features::joint_selection_name(f.joints));
   }
@@ -277,6 +292,7 @@ std::string describe_metrics(const MapMetrics& m) {
     if (m.stress) s += ", stress over the landmark pairs";
     s += ")";
   }
+  if (!m.degenerate.empty()) s += " (degenerate: " + m.degenerate + "; not comparable)";
   return s;
 }
 

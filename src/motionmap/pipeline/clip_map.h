@@ -34,6 +34,11 @@ enum class MapPath {
   Landmarks,  ///< always the points path (landmarks, sparse graphs)
 };
 
+/// "auto", "dense", "landmarks".
+std::string_view map_path_name(MapPath path);
+/// The path named `name` (map_path_name's names); nullopt for anything else.
+std::optional<MapPath> parse_map_path(std::string_view name);
+
 struct ClipMapOptions {
   features::FeatureOptions features;
   embed::EmbedOptions embed;
@@ -54,6 +59,11 @@ struct MapMetrics {
   /// Frames the neighbourhood quality was measured on: 0 = all of them; otherwise a random
   /// sample of that many (the points path), and the stress is over the landmark pairs.
   int sample = 0;
+  /// Why these figures do not rank the map against others (empty when they do): a k-NN graph
+  /// that fell apart and was joined by bridges, or a map that collapsed onto fewer axes. Such
+  /// a map keeps neighbours trivially (a line of the components strung together) and its
+  /// trustworthiness can beat every honest map.
+  std::string degenerate;
 };
 
 struct ClipMap {
@@ -102,6 +112,11 @@ ClipMap map_features(std::shared_ptr<features::FeatureSet> features, const ClipM
 ///   D nor its points; Cancelled.
 MapMetrics map_metrics(const features::FeatureSet& features, const embed::Embedding& embedding,
                        int k = 10, const Control& control = {}, int sample = 0);
+
+/// Why the metrics of `embedding` cannot rank it against other maps (MapMetrics::degenerate):
+/// its graph needed bridges, an axis holds < 0.1 % of the largest axis's spread (RMS about the
+/// mean), or every frame lands on one point. Empty otherwise.
+std::string degeneracy(const embed::Embedding& embedding);
 
 /// Estimated peak memory of mapping `frames` frames with `method` on the dense path (dense =
 /// true) or the points path; `values` is the width of the points (features::FeatureSet::

@@ -17,8 +17,11 @@
 
 #include "common/parameters.h"
 #include "export/animation_export.h"
+#include "export/export_controller.h"
 #include "export/export_names.h"
+#include "map/map_choice.h"
 #include "map/map_controller.h"
+#include "map/map_source.h"
 #include "playback/playback.h"
 #include "takes/synthesis_controller.h"
 #include "takes/takes_controller.h"
@@ -26,13 +29,11 @@
 class QLabel;
 class QSplitter;
 
-namespace motionmap::studio {}  // namespace motionmap::studio
 namespace motionmap::mapfile {
 class SavedMap;
 }
 namespace motionmap::studio {
 
-class ClipLoader;
 class FileMenu;
 class MapGestures;
 class JobProgress;
@@ -60,9 +61,9 @@ class MainWindow : public QMainWindow {
   /// a file read_map_file refuses or whose first clip cannot be loaded.
   bool openMapFile(const QString& path);
   /// The saved map shown (nullptr when the map is one computed here).
-  const mapfile::SavedMap* savedMap() const { return m_saved.get(); }
+  const mapfile::SavedMap* savedMap() const;
   /// A saved map's clip is being loaded (on a worker thread) for a click or a drag.
-  bool isLoadingClip() const;
+  bool isLoadingClip() const { return m_source->isLoadingClip(); }
   /// Shows `clip` and starts its map (tests, the built-in sample). Does not ask: callers that
   /// replace a clip on a user's action call confirmDiscard() first.
   void openClip(Clip clip);
@@ -74,9 +75,9 @@ class MainWindow : public QMainWindow {
   /// is kept. False (error shown) for a clip of another hierarchy or without a clip open.
   bool addClip(Clip clip);
   /// The clip playing (the one whose frames the slider shows).
-  const Clip* clip() const;
-  int clipCount() const;
-  int currentClip() const { return m_clipIndex; }
+  const Clip* clip() const { return m_source->clip(); }
+  int clipCount() const { return m_source->clipCount(); }
+  int currentClip() const { return m_source->currentClip(); }
   /// Plays clip `index` (of the map's clips) from `frame`. On a saved map a clip not in the cache
   /// is loaded on a worker thread first (isLoadingClip(); the jump happens when it arrives); one
   /// that cannot be loaded (missing, changed since the map was made) is shown as an error and the
@@ -85,17 +86,19 @@ class MainWindow : public QMainWindow {
 
   /// Shows the map of `method` with the current parameters: at once when cached, else computed
   /// on the worker thread.
-  void setMethod(embed::Method method);
-  embed::Method method() const { return m_method; }
+  void setMethod(embed::Method method) { m_choice->setMethod(method); }
+  embed::Method method() const { return m_choice->method(); }
   /// Changes the map parameters and shows (computes, or takes from the cache) the current
   /// method's map with them.
-  void setParameters(const MapParameters& parameters);
-  const MapParameters& parameters() const { return m_parameters; }
+  void setParameters(const MapParameters& parameters) { m_choice->setParameters(parameters); }
+  const MapParameters& parameters() const { return m_choice->parameters(); }
   /// Changes how drags blend and sketches are synthesized. A value the library rejects (K
   /// checked against the map shown) is shown as its error and false returned; the previous
   /// parameters then stay. A new blend recomputes the map, or takes it from the cache.
-  bool setSynthParameters(const SynthParameters& parameters);
-  const SynthParameters& synthParameters() const { return m_synthParameters; }
+  bool setSynthParameters(const SynthParameters& parameters) {
+    return m_choice->setSynthParameters(parameters);
+  }
+  const SynthParameters& synthParameters() const { return m_choice->synthParameters(); }
   /// The map shown (nullptr while computing or without a clip).
   const MapResult* currentMap() const { return m_maps.current().get(); }
   bool isComputing() const { return m_maps.isComputing(); }
@@ -141,13 +144,13 @@ class MainWindow : public QMainWindow {
   /// Stops a running synthesis; the previous synthesized motion (if any) stays.
   void cancelSynthesis() { m_synthesis.cancel(); }
   /// Writes the current take's motion as BVH. False (error shown) on failure.
-  bool exportMotion(const QString& path);
+  bool exportMotion(const QString& path) { return exportTake(m_takes->list().current(), path); }
   /// Writes the motion of the take at `row` as BVH; it then counts as exported. False (error
   /// shown) on failure.
-  bool exportTake(int row, const QString& path);
+  bool exportTake(int row, const QString& path) { return m_exports->exportTake(row, path); }
   /// Writes the map shown: .csv (pipeline::write_map_csv), .png, .svg or .pdf
   /// (render::save_map_plot). False (error shown) on failure.
-  bool exportMap(const QString& path);
+  bool exportMap(const QString& path) { return m_exports->exportMap(path); }
 
   /// When false, errors go to the status line only and discard questions are skipped
   /// (tests; also MOTIONMAP_STUDIO_NO_CONFIRM=1).
@@ -157,19 +160,25 @@ class MainWindow : public QMainWindow {
   MapView* mapView() const { return m_mapView; }
   SkeletonView* skeletonView() const { return m_skeletonView; }
   /// Both views as one image (the GL view through grabFramebuffer when it has a context).
-  QImage screenshot();
+  QImage screenshot() { return m_exports->screenshot(); }
   /// File → Export picture and Export animation (picture_export.h, animation_export.h).
   /// The picture of `kind` as the views show it now.
-  QImage renderPicture(PictureKind kind);
+  QImage renderPicture(PictureKind kind) { return m_exports->renderPicture(kind); }
   /// Shows `frame` of the motion playing (pausing playback) and renders it.
-  QImage renderFrameImage(int frame, PictureKind kind);
+  QImage renderFrameImage(int frame, PictureKind kind) {
+    return m_exports->renderFrameImage(frame, kind);
+  }
   /// Writes renderPicture(kind) as PNG. False (error shown) on failure.
-  bool exportPicture(const QString& path, PictureKind kind);
+  bool exportPicture(const QString& path, PictureKind kind) {
+    return m_exports->exportPicture(path, kind);
+  }
   /// Writes the motion playing, frames settings.first..last (−1: its first / last), as the
   /// window shows it (both views), with a progress dialog and Cancel; the frame shown and
   /// playback are restored afterwards. False when cancelled (status says so) or on an error
   /// (shown; nothing is left written).
-  bool exportAnimation(const AnimationSettings& settings);
+  bool exportAnimation(const AnimationSettings& settings) {
+    return m_exports->exportAnimation(settings);
+  }
   /// The names, frames and rate the export dialogs start from.
   ExportContext exportContext() const;
   FileMenu* fileMenu() const { return m_files; }
@@ -200,61 +209,37 @@ class MainWindow : public QMainWindow {
   void onMapFinished(std::shared_ptr<const MapResult> result);
   void onMapFailed(const QString& message);
   void onMapCancelled();
-  /// After a failure or cancel: the map current before (if any) shown again with its method and
-  /// parameters. False when there is none.
-  bool restoreShownMap();
   /// A synthesized motion is ready: a new take, or an edited one; it plays.
   void onSynthesized();
   /// The current take (or its motion) changed: it plays (the clip when there is none).
   void playCurrentTake();
   /// The map view draws the takes sketched on the map shown.
   void updateTakePaths();
-  /// The method and parameters, for undo (applyMapState goes back to them, map from the cache).
-  MapState mapState() const;
-  /// A change of method or parameters from `before`, recorded for undo (`text`) once its map is
-  /// shown: a map that fails or is cancelled leaves no undo step (the map and parameters before
-  /// are shown again). Changes made while one is pending join it.
-  void recordMapChange(const MapState& before, const QString& text);
-  void commitMapChange();
-  struct PendingMapChange {
-    MapState before;
-    QString text;
-  };
-  std::optional<PendingMapChange> m_pendingMapChange;
-  void applyMapState(const MapState& state);
+  /// The map shown comes from `source` (its clip, its frames' points, its status, what it
+  /// refuses).
+  void useSource(MapSource* source);
   /// Shows frame `frame` of the playing motion (Playback::frameChanged).
   void showFrame(int frame);
   /// Tells the playback clock the length and rate of the playing motion.
   void updateMotion();
-  void showMap();
+  /// The controller's current map drawn (after a failure or cancel: the one before, back with
+  /// its method and parameters). False when there is none.
+  bool showMap();
   void showError(const QString& message);
   /// Runs `work`; false, with the error it threw shown, when it throws.
   bool attempt(const std::function<void()>& work);
   void updateStatus();
   void updatePointer();
-  void showClipMotion();
   void parametersDialog();
   void synthesisDialog();
-  /// Map and synthesis parameters to QSettings: the ones of the last map computed without error
-  /// are the next session's (read back in the constructor).
-  void saveParameters() const;
   /// The clips changed (opened or added): a new title, the clip shown from `frame`, a new map.
   void clipsChanged(int frame);
 
-  int m_clipIndex = 0;
-  embed::Method m_method = embed::Method::Isomap;
-  MapParameters m_parameters;
-  SynthParameters m_synthParameters;
-  MapController m_maps;  ///< the clips, their maps and the map being computed
-  /// A saved map shown instead of m_maps' (File → Open map), its clip playing, and the map row
-  /// of each of that clip's frames (−1: not a sample of the map).
-  std::shared_ptr<const mapfile::SavedMap> m_saved;
-  std::shared_ptr<const Clip> m_savedClip;
-  std::vector<int> m_savedRowOfFrame;
+  MapController m_maps;                     ///< the clips, their maps and the map being computed
+  ComputedMapSource* m_computed = nullptr;  ///< m_maps' clips and maps, as a source
+  SavedMapSource* m_saved = nullptr;        ///< a map file shown (File → Open map), or none
+  MapSource* m_source = nullptr;            ///< the one shown: m_saved, else m_computed
   MapGestures* m_gestures = nullptr;
-  ClipLoader* m_loader = nullptr;
-  int m_wantClip = -1;  ///< a saved map's clip being loaded to be shown, from m_wantFrame
-  int m_wantFrame = 0;
   /// Leaves the saved map (another clip opened).
   void closeSavedMap();
   // Stops playback and any synthesis, and forgets the synthesized motion (for new content; the
@@ -264,6 +249,7 @@ class MainWindow : public QMainWindow {
   Playback m_playback;
   bool m_playingSynth = false;  ///< the synthesized motion plays (else the clip)
   TakesController* m_takes = nullptr;
+  MapChoice* m_choice = nullptr;  ///< the method and parameters (Motion menu), their undo
   TakesPanel* m_takesPanel = nullptr;
   bool m_interactive = true;
   QString m_lastError;
@@ -276,6 +262,7 @@ class MainWindow : public QMainWindow {
   JobProgress* m_synthProgress = nullptr;
   MotionMenu* m_motionMenu = nullptr;
   FileMenu* m_files = nullptr;
+  ExportController* m_exports = nullptr;
 };
 
 }  // namespace motionmap::studio

@@ -53,6 +53,8 @@ class MapGestures : public QObject {
   /// loaded: clips not in the map's cache are asked of `loader` (on its worker thread) and the
   /// drag's last point is blended when they arrive, so no mouse event waits for a file.
   void setSavedMap(std::shared_ptr<const mapfile::SavedMap> map, int neighbors, ClipLoader* loader);
+  /// A saved map's drags blend `neighbors` samples from now on.
+  void setNeighbors(int neighbors) { m_neighbors = neighbors; }
 
   /// Whether the 3-D view shows a dragged pose (from the first move of a drag until another frame
   /// is shown).

@@ -113,4 +113,12 @@ std::vector<MapView::TakePath> TakesController::pathsOn(const MapResult* map) co
   return paths;
 }
 
+std::optional<Eigen::Vector2d> TakesController::pointOn(const MapResult* map, int frame) const {
+  const Take* take = m_list.currentTake();
+  if (!map || !take || !take->result || take->map.get() != map || frame < 0 ||
+      frame >= int(take->result->validity.size()))
+    return std::nullopt;
+  return take->result->validity[std::size_t(frame)].point;
+}
+
 }  // namespace motionmap::studio

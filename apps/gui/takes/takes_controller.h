@@ -62,6 +62,9 @@ class TakesController : public QObject {
   /// The takes sketched on `map` (nullptr: none) as the map view draws them: the current one with
   /// its control points, an edit being synthesized as its new path.
   std::vector<MapView::TakePath> pathsOn(const MapResult* map) const;
+  /// The map point of frame `frame` of the current take's motion, when it was sketched on `map`
+  /// (a take's map points belong to the map it was sketched on); nothing otherwise.
+  std::optional<Eigen::Vector2d> pointOn(const MapResult* map, int frame) const;
 
  signals:
   /// Anything drawn changed (takes, the current one, a pending edit).

@@ -1,8 +1,11 @@
 #include "takes/undo_commands.h"
 
+#include <utility>
+
 #include <QCoreApplication>
 
 #include "map/map_controller.h"
+#include "takes/takes_controller.h"
 
 namespace motionmap::studio {
 
@@ -109,6 +112,29 @@ void MapStateCommand::redo() {
 
 void MapStateCommand::undo() {
   m_apply(m_before);
+}
+
+MapChangeRecorder::MapChangeRecorder(TakesController* takes, std::function<MapState()> state,
+                                     std::function<void(const MapState&)> apply)
+    : m_takes(takes), m_state(std::move(state)), m_apply(std::move(apply)) {}
+
+void MapChangeRecorder::record(const MapState& before, const QString& text) {
+  if (m_takes->applying()) return;  // an undo or redo: already in the history
+  if (m_pending) {
+    m_pending->text = text;  // from the map still shown, to the latest asked for
+  } else {
+    m_pending = Pending{before, text};
+  }
+}
+
+void MapChangeRecorder::commit() {
+  if (!m_pending) return;
+  const Pending change = *std::exchange(m_pending, std::nullopt);
+  const MapState now = m_state();
+  if (change.before.method == now.method && change.before.parameters == now.parameters &&
+      sameSynthParameters(change.before.synth, now.synth))
+    return;
+  m_takes->recordMapChange(change.before, now, change.text, m_apply);
 }
 
 }  // namespace motionmap::studio

@@ -5,6 +5,7 @@
 // redoing is instant: an edit keeps the take's previous path and motion, a parameter change the
 // previous method and parameters (their map comes back from the map cache).
 #include <functional>
+#include <optional>
 
 #include <QUndoCommand>
 
@@ -12,6 +13,8 @@
 #include "takes/takes.h"
 
 namespace motionmap::studio {
+
+class TakesController;
 
 /// What the Motion menu sets: the method and both parameter sets.
 struct MapState {
@@ -94,6 +97,34 @@ class MapStateCommand : public QUndoCommand {
   std::function<void(const MapState&)> m_apply;
   MapState m_before, m_after;
   bool m_done = true;  ///< already applied when pushed
+};
+
+/// Method and parameter changes as undo steps. A change is recorded when it is asked for and
+/// pushed (a MapStateCommand on the takes' history) once its map is shown, so a map that fails or
+/// is cancelled leaves no step; changes asked while one is pending join it, and a change that ends
+/// where it began leaves none. Undo and redo call `apply` with the state before or after (changes
+/// made while applying are not recorded).
+class MapChangeRecorder {
+ public:
+  /// `takes` (its history) must outlive this; `state` reads the state now.
+  MapChangeRecorder(TakesController* takes, std::function<MapState()> state,
+                    std::function<void(const MapState&)> apply);
+  /// A change from `before`, called `text` in the Edit menu, is being made.
+  void record(const MapState& before, const QString& text);
+  /// Its map is shown: the change becomes an undo step.
+  void commit();
+  /// Its map failed or was cancelled, or the history was dropped: no step.
+  void drop() { m_pending.reset(); }
+
+ private:
+  struct Pending {
+    MapState before;
+    QString text;
+  };
+  TakesController* m_takes;
+  std::function<MapState()> m_state;
+  std::function<void(const MapState&)> m_apply;
+  std::optional<Pending> m_pending;
 };
 
 }  // namespace motionmap::studio

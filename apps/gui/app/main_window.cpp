@@ -447,7 +447,9 @@ bool MainWindow::moveControlPoint(int control, const Eigen::Vector2d& to) {
 void MainWindow::parametersDialog() {
   QString error;
   // The library validates: a bad value comes back as its error message.
-  if (const auto p = editMapParameters(this, parameters(), error)) return setParameters(*p);
+  const MapResult* map = currentMap();  // k's range: the frames mapped (unknown before a map)
+  const int frames = map ? map->map.features->num_samples() : 0;
+  if (const auto p = editMapParameters(this, parameters(), frames, error)) return setParameters(*p);
   if (!error.isEmpty()) showError(error);
 }
 

@@ -1,14 +1,19 @@
 #include "app/parameter_dialogs.h"
 
 #include <cmath>
+#include <limits>
 
 #include <QComboBox>
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QLabel>
 #include <QLineEdit>
+#include <QPushButton>
 #include <QSpinBox>
+
+#include "motionmap/embed/k_range.h"
 
 namespace motionmap::studio {
 
@@ -29,66 +34,111 @@ bool execWithButtons(QDialog& dialog, QFormLayout* form) {
 
 }  // namespace
 
-std::optional<MapParameters> editMapParameters(QWidget* parent, const MapParameters& now,
-                                               QString& error) {
-  QDialog dialog(parent);
-  dialog.setWindowTitle(QDialog::tr("Map parameters"));
-  auto* form = new QFormLayout(&dialog);
-  auto* k = new QSpinBox;
-  k->setRange(1, 1000);
-  k->setValue(now.k);
-  k->setToolTip(
-      QDialog::tr("Neighbours per frame in the k-NN graph that Isomap, the Laplacian "
-                  "eigenmap and LLE build (too small: the graph falls apart)"));
-  form->addRow(QDialog::tr("Neighbours k (Isomap, LE, LLE)"), k);
-  auto* heat = new QLineEdit(now.heat ? QString::number(*now.heat, 'g', 17) : QString());
-  heat->setPlaceholderText(QDialog::tr("auto"));
-  heat->setToolTip(
-      QDialog::tr("Width t of the Laplacian eigenmap's heat kernel exp(−d²/t); "
-                  "empty: chosen from the data; ≤ 0: every edge weighs 1"));
-  form->addRow(QDialog::tr("Heat t (LE; ≤ 0: unit weights)"), heat);
-  auto* featureBox = new QComboBox;
+MapParametersDialog::MapParametersDialog(const MapParameters& now, int frames, QWidget* parent)
+    : QDialog(parent), m_frames(frames) {
+  setWindowTitle(tr("Map parameters"));
+  auto* form = new QFormLayout(this);
+  // Any number can be typed (a field that stops at its bounds says nothing); one out of the
+  // library's range (embed/k_range.h) is explained below the field, and OK waits for a valid k.
+  m_k = new QSpinBox;
+  m_k->setRange(0, std::numeric_limits<int>::max());
+  m_k->setValue(now.k);
+  m_k->setToolTip(
+      tr("Neighbours per frame in the k-NN graph that Isomap, the Laplacian "
+         "eigenmap and LLE build (too small: the graph falls apart)"));
+  form->addRow(tr("Neighbours k (Isomap, LE, LLE)"), m_k);
+  m_kHint = new QLabel;
+  m_kHint->setWordWrap(true);
+  form->addRow(QString(), m_kHint);
+  m_heat = new QLineEdit(now.heat ? QString::number(*now.heat, 'g', 17) : QString());
+  m_heat->setPlaceholderText(tr("auto"));
+  m_heat->setToolTip(
+      tr("Width t of the Laplacian eigenmap's heat kernel exp(−d²/t); "
+         "empty: chosen from the data; ≤ 0: every edge weighs 1"));
+  form->addRow(tr("Heat t (LE; ≤ 0: unit weights)"), m_heat);
+  m_features = new QComboBox;
   for (auto f : features::all_feature_kinds()) {
-    featureBox->addItem(fromName(features::feature_kind_name(f)), int(f));
+    m_features->addItem(fromName(features::feature_kind_name(f)), int(f));
   }
-  featureBox->setCurrentIndex(featureBox->findData(int(now.features)));
-  featureBox->setToolTip(
-      QDialog::tr("What a frame is as a vector: its joints' rotations as "
-                  "quaternions (quat) or their heading-local positions"));
-  form->addRow(QDialog::tr("Features (PCA, SVD, LLE)"), featureBox);
-  auto* distanceBox = new QComboBox;
+  m_features->setCurrentIndex(m_features->findData(int(now.features)));
+  m_features->setToolTip(
+      tr("What a frame is as a vector: its joints' rotations as "
+         "quaternions (quat) or their heading-local positions"));
+  form->addRow(tr("Features (PCA, SVD, LLE)"), m_features);
+  m_distance = new QComboBox;
   for (auto d : features::all_distance_kinds()) {
-    distanceBox->addItem(fromName(features::distance_kind_name(d)), int(d));
+    m_distance->addItem(fromName(features::distance_kind_name(d)), int(d));
   }
-  distanceBox->setCurrentIndex(distanceBox->findData(int(now.distance)));
-  distanceBox->setToolTip(
-      QDialog::tr("How far apart two poses are: the point clouds of their joints (pointcloud), "
-                  "the angles between their joints' rotations (geodesic), or the features"));
-  form->addRow(QDialog::tr("Distance (MDS, Isomap, LE)"), distanceBox);
-  auto* exclude = new QLineEdit(QString::fromStdString(now.exclude));
-  exclude->setPlaceholderText(QDialog::tr("e.g. .*(Thumb|Finger).*"));
-  exclude->setToolTip(
-      QDialog::tr("Joints whose names match this regular expression are left "
-                  "out of the features (e.g. fingers that flip)"));
-  form->addRow(QDialog::tr("Excluded joints (regex)"), exclude);
-  if (!execWithButtons(dialog, form)) return std::nullopt;
+  m_distance->setCurrentIndex(m_distance->findData(int(now.distance)));
+  m_distance->setToolTip(
+      tr("How far apart two poses are: the point clouds of their joints (pointcloud), "
+         "the angles between their joints' rotations (geodesic), or the features"));
+  form->addRow(tr("Distance (MDS, Isomap, LE)"), m_distance);
+  m_exclude = new QLineEdit(QString::fromStdString(now.exclude));
+  m_exclude->setPlaceholderText(tr("e.g. .*(Thumb|Finger).*"));
+  m_exclude->setToolTip(
+      tr("Joints whose names match this regular expression are left "
+         "out of the features (e.g. fingers that flip)"));
+  form->addRow(tr("Excluded joints (regex)"), m_exclude);
+  m_buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  form->addRow(m_buttons);
+  connect(m_buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
+  connect(m_buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
+  connect(m_k, &QSpinBox::valueChanged, this, &MapParametersDialog::checkK);
+  checkK();
+}
 
+QPushButton* MapParametersDialog::okButton() const {
+  return m_buttons->button(QDialogButtonBox::Ok);
+}
+
+bool MapParametersDialog::kValid() const {
+  // Without a clip the frame count is not known: only the lower bound can be checked here.
+  return m_frames > 0 ? embed::valid_neighbors(m_k->value(), m_frames)
+                      : m_k->value() >= embed::kMinNeighbors;
+}
+
+void MapParametersDialog::checkK() {
+  const QString range =
+      m_frames > 0
+          ? tr("k goes from %1 to %2: each of the map's %3 frames is joined to k of the other "
+               "frames.")
+                .arg(embed::kMinNeighbors)
+                .arg(embed::max_neighbors(m_frames))
+                .arg(m_frames)
+          : tr("k is at least %1 and less than the number of frames mapped: each frame is joined "
+               "to k of the other frames.")
+                .arg(embed::kMinNeighbors);
+  const bool valid = kValid();
+  m_kHint->setText(valid ? range : tr("k = %1 is out of range. %2").arg(m_k->value()).arg(range));
+  m_kHint->setStyleSheet(valid ? QString() : QStringLiteral("color: #c00000;"));
+  okButton()->setEnabled(valid);
+}
+
+std::optional<MapParameters> MapParametersDialog::parameters(QString& error) const {
   MapParameters p;
-  p.k = k->value();
-  const QString heatText = heat->text().trimmed();
+  p.k = m_k->value();
+  const QString heatText = m_heat->text().trimmed();
   if (!heatText.isEmpty() && heatText.compare("auto", Qt::CaseInsensitive) != 0) {
     bool ok = false;
     const double value = heatText.toDouble(&ok);
     if (!ok || !std::isfinite(value)) {
-      error = QDialog::tr("heat: '%1' is not a number (leave it empty for auto)").arg(heatText);
+      error = tr("heat: '%1' is not a number (leave it empty for auto)").arg(heatText);
       return std::nullopt;
     }
     p.heat = value;
   }
-  p.features = features::FeatureKind(featureBox->currentData().toInt());
-  p.distance = features::DistanceKind(distanceBox->currentData().toInt());
-  p.exclude = exclude->text().toStdString();
+  p.features = features::FeatureKind(m_features->currentData().toInt());
+  p.distance = features::DistanceKind(m_distance->currentData().toInt());
+  p.exclude = m_exclude->text().toStdString();
   return p;
+}
+
+std::optional<MapParameters> editMapParameters(QWidget* parent, const MapParameters& now,
+                                               int frames, QString& error) {
+  MapParametersDialog dialog(now, frames, parent);
+  if (dialog.exec() != QDialog::Accepted) return std::nullopt;
+  return dialog.parameters(error);
 }
 
 std::optional<SynthParameters> editSynthParameters(QWidget* parent, const SynthParameters& now) {

@@ -67,7 +67,7 @@ void MainWindow::buildUi() {
   m_choice = new MapChoice(&m_maps, m_takes, this);
   m_takesPanel = new TakesPanel(m_takes);
   addDockWidget(Qt::RightDockWidgetArea, m_takesPanel);
-  m_takesPanel->hide();  // until the first sketch (Edit → Takes panel shows it)
+  resizeDocks({m_takesPanel}, {200}, Qt::Horizontal);  // room for its buttons, the rest the views
   m_exports = new ExportController(this, m_skeletonView, m_mapView, &m_playback, m_takes, &m_maps,
                                    [this] { return playingMotion(); });
 
@@ -410,9 +410,7 @@ bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
 
 void MainWindow::onSynthesized() {
   // A new take (made current) or an edited one: playCurrentTake follows when it is current.
-  const bool first = m_takes->list().count() == 0;
   m_takes->takeResult(m_synthesis.resultMap()->parameters);
-  if (first) m_takesPanel->show();
   updateStatus();
   emit motionSynthesized();
   emit synthesisFinished(true);

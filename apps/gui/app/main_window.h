@@ -1,14 +1,18 @@
 #pragma once
 // MotionMap Studio's main window: the 3-D view and the map side by side, the transport bar under
-// them (play, frame slider, frame and time, speed, loop), the File, Motion, View, Playback and Help
-// menus (the playback keys are window shortcuts: PlaybackActions), and
-// the map gestures (hover and click to find a frame, drag to blend a pose, Shift-drag or sketch
-// mode to sketch a new motion, a magnifying lens). The window computes nothing itself: it wires
-// the widgets to three controllers without widgets, MapController (maps computed by
-// pipeline::map_clips on a worker thread and cached per method and parameters, with their
-// synth::MapBlender), SynthesisController (a sketch synthesized on a second worker) and Playback
-// (the clock). Both workers show a progress bar and a Cancel button in the status bar, so the GUI
-// thread only ever runs short calls (a locate + blend per mouse move).
+// them (play, frame slider, frame and time, speed, loop), the Takes panel at the right, the File,
+// Edit, Motion, View, Playback and Help menus (the playback keys are window shortcuts:
+// PlaybackActions), and the map gestures (hover and click to find a frame, drag to blend a pose,
+// Shift-drag or sketch mode to sketch a new motion, a magnifying lens). The window computes
+// nothing itself and holds no feature: it wires the widgets to controllers without widgets —
+// MapController (maps computed by pipeline::map_clips on a worker thread and cached per method
+// and parameters, with their synth::MapBlender), MapChoice (the method and parameters chosen,
+// their settings and undo), the MapSource shown (ComputedMapSource over the MapController's
+// clips, or SavedMapSource for a map file), SynthesisController (a sketch synthesized on a second
+// worker), TakesController (takes and the undo history), ExportController and Playback (the
+// clock). Both workers show a progress bar and a Cancel button in the status bar, so the GUI
+// thread only ever runs short calls (a locate + blend per mouse move). New features belong in
+// those controllers (or new ones), not here.
 #include <functional>
 #include <memory>
 #include <optional>

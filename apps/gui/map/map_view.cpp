@@ -478,14 +478,21 @@ void MapView::resizeEvent(QResizeEvent*) {
   invalidate();
 }
 
+QPointF MapView::clampToPlot(const QPointF& pixel) const {
+  const QRectF plot = plotRect();
+  return {std::clamp(pixel.x(), plot.left(), plot.right()),
+          std::clamp(pixel.y(), plot.top(), plot.bottom())};
+}
+
 void MapView::addSketchPoint(const QPointF& pixel) {
+  const Eigen::Vector2d point = toMap(clampToPlot(pixel));  // the stroke drawn follows the edge
   // Times must increase strictly: events within one clock tick are merged into the last point.
   const double t = double(m_sketchClock.nsecsElapsed()) * 1e-9;
   if (!m_sketch.times.empty() && t <= m_sketch.times.back()) {
-    m_sketch.points.back() = toMap(pixel);
+    m_sketch.points.back() = point;
     return;
   }
-  m_sketch.points.push_back(toMap(pixel));
+  m_sketch.points.push_back(point);
   m_sketch.times.push_back(t);
 }
 
@@ -526,7 +533,8 @@ void MapView::mouseMoveEvent(QMouseEvent* event) {
         if (!take.current) continue;
         synth::MapPath original;
         original.points = take.points;
-        m_controlPreview = deformPath(original, take.controls, m_control, toMap(pixel));
+        m_controlPreview =
+            deformPath(original, take.controls, m_control, toMap(clampToPlot(pixel)));
       }
       update();
       break;
@@ -564,7 +572,7 @@ void MapView::mouseReleaseEvent(QMouseEvent* event) {
     update();
     // A click without a move is no edit.
     if ((event->position() - m_pressPixel).manhattanLength() >= 2)
-      emit controlPointMoved(control, toMap(event->position()));
+      emit controlPointMoved(control, toMap(clampToPlot(event->position())));
   }
 }
 

@@ -10,6 +10,8 @@
 //                                          (times in seconds, from the gesture's own clock)
 //  - left drag on a control point of the
 //    current take (setTakePaths)         → it follows the mouse, controlPointMoved on release
+// A sketch or a control point dragged outside the plot (plotRect) stays on its edge, where the
+// stroke is drawn: nothing is sketched where the map is not shown.
 // The takes' paths stay drawn over the map (orange; the current one solid with its control points,
 // the others thinner and translucent, each named at its end).
 // The magnifier is a fisheye lens (Sarkar & Brown's g(x) = (d + 1)·x / (d·x + 1) on the distance
@@ -158,6 +160,8 @@ class MapView : public QWidget {
   enum class Gesture { None, Press, Drag, Sketch, Control };
   void paintTakes(QPainter& painter) const;
   void addSketchPoint(const QPointF& pixel);
+  /// `pixel` moved onto plotRect() (unchanged inside it).
+  QPointF clampToPlot(const QPointF& pixel) const;
   /// Recomputes the data ↔ pixel transforms (and the trajectory in pixels) when stale.
   void ensureTransform() const;
   void invalidate();

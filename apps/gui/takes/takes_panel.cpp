@@ -4,6 +4,7 @@
 #include <QFileDialog>
 #include <QHBoxLayout>
 #include <QItemSelectionModel>
+#include <QLabel>
 #include <QListView>
 #include <QMainWindow>
 #include <QMenu>
@@ -24,6 +25,10 @@ TakesPanel::TakesPanel(TakesController* takes, QWidget* parent)
   auto* body = new QWidget;
   auto* layout = new QVBoxLayout(body);
   layout->setContentsMargins(4, 4, 4, 4);
+  m_emptyHint = new QLabel(
+      tr("No takes yet: Shift-drag on the map (or drag in View → Sketch mode) to sketch one."));
+  m_emptyHint->setWordWrap(true);
+  layout->addWidget(m_emptyHint);
   m_view = new QListView;
   m_view->setModel(&takes->list());
   m_view->setSelectionMode(QAbstractItemView::SingleSelection);
@@ -87,6 +92,7 @@ void TakesPanel::syncSelection() {
 }
 
 void TakesPanel::updateButtons() {
+  m_emptyHint->setVisible(m_takes->list().count() == 0);
   const bool selected = selectedRow() >= 0;
   m_export->setEnabled(selected);
   m_delete->setEnabled(selected);

@@ -37,12 +37,12 @@
 #include <map>
 #include <memory>
 
-#include "main_window.h"
-#include "map_view.h"
+#include "app/main_window.h"
+#include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/saved_map.h"
 #include "motionmap/sample/sample_clip.h"
-#include "skeleton_view.h"
+#include "scene/skeleton_view.h"
 
 namespace motionmap::studio {
 namespace {

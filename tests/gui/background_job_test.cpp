@@ -1,4 +1,4 @@
-#include "background_job.h"
+#include "common/background_job.h"
 
 #include <gtest/gtest.h>
 

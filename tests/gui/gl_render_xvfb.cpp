@@ -19,14 +19,14 @@
 #include <QTest>
 #include <cmath>
 
-#include "animation_export.h"
-#include "main_window.h"
-#include "map_view.h"
+#include "app/main_window.h"
+#include "export/animation_export.h"
+#include "export/picture_export.h"
+#include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
-#include "picture_export.h"
-#include "scene.h"
-#include "skeleton_view.h"
+#include "scene/scene.h"
+#include "scene/skeleton_view.h"
 
 namespace motionmap::studio {
 namespace {

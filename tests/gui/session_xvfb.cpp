@@ -15,16 +15,16 @@
 #include <QTest>
 #include <cmath>
 
-#include "animation_export.h"
-#include "main_window.h"
-#include "map_view.h"
+#include "app/main_window.h"
+#include "export/animation_export.h"
+#include "export/picture_export.h"
+#include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
 #include "motionmap/skeleton/skeleton.h"
 #include "motionmap/synth/blender.h"
-#include "picture_export.h"
-#include "skeleton_view.h"
-#include "takes_controller.h"
+#include "scene/skeleton_view.h"
+#include "takes/takes_controller.h"
 
 namespace motionmap::studio {
 namespace {

@@ -18,13 +18,13 @@
 #include <QTest>
 #include <cmath>
 
-#include "file_menu.h"
-#include "map_controller.h"
-#include "parameters.h"
-#include "playback.h"
+#include "app/file_menu.h"
+#include "common/parameters.h"
+#include "map/map_controller.h"
+#include "playback/playback.h"
+#include "playback/transport_bar.h"
 #include "studio_test_util.h"
-#include "synthesis_controller.h"
-#include "transport_bar.h"
+#include "takes/synthesis_controller.h"
 
 namespace motionmap::studio {
 namespace {

@@ -25,12 +25,12 @@
 #include <QUrl>
 #include <cmath>
 
-#include "main_window.h"
-#include "map_view.h"
+#include "app/main_window.h"
+#include "map/map_view.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/sample/sample_clip.h"
-#include "skeleton_view.h"
+#include "scene/skeleton_view.h"
 #include "studio_test_util.h"
 
 namespace motionmap::studio {

@@ -19,12 +19,12 @@
 
 #include <unistd.h>
 
-#include "map_view.h"
+#include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/render/map_plot.h"
-#include "skeleton_view.h"
+#include "scene/skeleton_view.h"
 #include "studio_test_util.h"
 
 namespace motionmap::studio::testing {

@@ -27,14 +27,14 @@
 #include <QTimer>
 #include <functional>
 
-#include "animation_export.h"
-#include "export_dialogs.h"
-#include "export_names.h"
-#include "file_menu.h"
-#include "main_window.h"
-#include "map_view.h"
-#include "picture_export.h"
-#include "skeleton_view.h"
+#include "app/file_menu.h"
+#include "app/main_window.h"
+#include "export/animation_export.h"
+#include "export/export_dialogs.h"
+#include "export/export_names.h"
+#include "export/picture_export.h"
+#include "map/map_view.h"
+#include "scene/skeleton_view.h"
 #include "studio_test_util.h"
 
 namespace motionmap::studio {

@@ -12,11 +12,11 @@
 #include <fstream>
 #include <set>
 
-#include "map_view.h"
+#include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/saved_map.h"
 #include "motionmap/pipeline/clip_map.h"
-#include "skeleton_view.h"
+#include "scene/skeleton_view.h"
 #include "studio_test_util.h"
 
 namespace motionmap::studio {

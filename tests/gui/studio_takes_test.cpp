@@ -19,16 +19,16 @@
 #include <cmath>
 #include <limits>
 
-#include "export_names.h"
-#include "file_menu.h"
-#include "main_window.h"
-#include "map_view.h"
+#include "app/file_menu.h"
+#include "app/main_window.h"
+#include "export/export_names.h"
+#include "map/map_view.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
 #include "studio_test_util.h"
-#include "takes_controller.h"
-#include "takes_panel.h"
+#include "takes/takes_controller.h"
+#include "takes/takes_panel.h"
 
 namespace motionmap::studio {
 namespace {

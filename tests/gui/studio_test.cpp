@@ -13,12 +13,12 @@
 #include <QUrl>
 #include <fstream>
 
-#include "main_window.h"
-#include "map_view.h"
+#include "app/main_window.h"
+#include "map/map_view.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/sample/sample_clip.h"
-#include "scene.h"
-#include "skeleton_view.h"
+#include "scene/scene.h"
+#include "scene/skeleton_view.h"
 #include "studio_test_util.h"
 #include "support/test_data.h"
 

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <memory>
 
-#include "main_window.h"
+#include "app/main_window.h"
 #include "motionmap/sample/sample_clip.h"
 
 namespace motionmap::studio::testing {

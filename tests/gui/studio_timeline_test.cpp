@@ -37,15 +37,15 @@
 #include <cmath>
 #include <cstdio>
 
-#include "help_dialogs.h"
-#include "job_progress.h"
-#include "main_window.h"
-#include "map_view.h"
+#include "app/help_dialogs.h"
+#include "app/job_progress.h"
+#include "app/main_window.h"
+#include "map/map_view.h"
 #include "motionmap/io/bvh.h"
-#include "playback.h"
-#include "playback_actions.h"
+#include "playback/playback.h"
+#include "playback/playback_actions.h"
+#include "playback/transport_bar.h"
 #include "studio_test_util.h"
-#include "transport_bar.h"
 
 namespace motionmap::studio {
 namespace {

@@ -15,13 +15,13 @@
 #include <functional>
 #include <string>
 
-#include "joint_panel.h"
-#include "main_window.h"
-#include "map_view.h"
+#include "app/main_window.h"
+#include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
-#include "scene.h"
-#include "skeleton_view.h"
+#include "scene/joint_panel.h"
+#include "scene/scene.h"
+#include "scene/skeleton_view.h"
 #include "studio_test_util.h"
 
 namespace motionmap::studio {

@@ -18,6 +18,7 @@
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/eigen.h"
+#include "motionmap/embed/k_range.h"
 
 namespace motionmap::embed {
 
@@ -437,10 +438,11 @@ void EmbedOptions::validate(int num_frames) const {
                          std::to_string(dimensions) + "-D map needs at least " +
                          std::to_string(dimensions + 2));
   }
-  if (m.uses_graph && (k < 1 || k > num_frames - 1)) {
+  if (m.uses_graph && !valid_neighbors(k, num_frames)) {
     throw ParameterError(who + "k = " + std::to_string(k) + " is out of range: with " +
-                         std::to_string(num_frames) + " frames it must be in [1, " +
-                         std::to_string(num_frames - 1) + "]");
+                         std::to_string(num_frames) + " frames it must be in [" +
+                         std::to_string(kMinNeighbors) + ", " +
+                         std::to_string(max_neighbors(num_frames)) + "]");
   }
   if (method == Method::LaplacianEigenmap && heat && !std::isfinite(*heat)) {
     throw ParameterError(who + "heat = " + format_number(*heat) +

@@ -1,0 +1,593 @@
+#include "map/map_view.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <QHelpEvent>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QPainterPath>
+#include <QToolTip>
+#include <QWheelEvent>
+
+namespace motionmap::studio {
+
+namespace {
+/// Longest straight piece (pixels) of a trajectory segment bent by the lens.
+constexpr double kLensStepPixels = 3.0;
+}  // namespace
+
+MapView::MapView(QWidget* parent) : QWidget(parent) {
+  setMouseTracking(true);
+  setMinimumSize(200, 200);
+  m_hint = tr("Open a clip (File → Open, or drop a .bvh/.amc here)");
+}
+
+void MapView::invalidate() {
+  m_cache = QPixmap();
+  m_densityImage = QImage();
+  m_transformValid = false;
+}
+
+void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
+                            const Eigen::MatrixXd& trajectory,
+                            const render::MapPlotOptions& options) {
+  m_density = std::move(points);
+  m_options = options;
+  // Framed as the whole map, whichever clip is drawn over it.
+  const Eigen::MatrixXd& xy = *m_density;
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (Eigen::Index i = 0; i < xy.rows(); ++i) {
+    const double x = xy(i, 0), y = xy(i, 1);
+    if (!std::isfinite(x) || !std::isfinite(y)) continue;
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  if (x0 <= x1) m_options.extent = QRectF(QPointF(x0, y0), QPointF(x1, y1));
+  m_segmentStarts.clear();
+  m_coords = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
+  invalidate();
+  update();
+}
+
+void MapView::setTrajectory(const Eigen::MatrixXd& trajectory) {
+  m_coords = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
+  m_segmentStarts.clear();
+  m_cache = QPixmap();  // the density image and the transform stay
+  m_transformValid = false;
+  update();
+}
+
+const QImage& MapView::densityImage() const {
+  if (!m_density) {
+    m_densityImage = QImage();
+    return m_densityImage;
+  }
+  const qreal dpr = devicePixelRatioF();
+  const QSize pixels = size() * dpr;
+  if (m_densityImage.isNull() || m_densitySize != pixels) {
+    ensureTransform();
+    m_densityImage =
+        render::density_image(*m_density, m_toWidget * QTransform::fromScale(dpr, dpr), pixels);
+    m_densityImage.setDevicePixelRatio(dpr);
+    m_densitySize = pixels;
+  }
+  return m_densityImage;
+}
+
+void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segmentStarts,
+                     const render::MapPlotOptions& options) {
+  m_density.reset();
+  m_coords = coords.leftCols(std::min<Eigen::Index>(2, coords.cols()));
+  m_segmentStarts = segmentStarts;
+  m_options = options;
+  m_busyText.clear();
+  invalidate();
+  update();
+}
+
+void MapView::clearMap(const QString& hint) {
+  m_density.reset();
+  m_coords.resize(0, 2);
+  m_segmentStarts.clear();
+  m_pointer.reset();
+  m_busyText.clear();
+  if (!hint.isEmpty()) m_hint = hint;
+  invalidate();
+  update();
+}
+
+void MapView::setPointer(const std::optional<Eigen::Vector2d>& point) {
+  m_pointer = point;
+  update();
+}
+
+void MapView::setHoverText(const QString& text) {
+  if (text == m_hoverText) return;
+  m_hoverText = text;
+  update();
+}
+
+void MapView::setTakePaths(std::vector<TakePath> paths) {
+  m_takes = std::move(paths);
+  if (m_gesture == Gesture::Control) m_gesture = Gesture::None;  // its take changed under it
+  update();
+}
+
+int MapView::controlPointAt(const QPointF& pixel) const {
+  for (const TakePath& take : m_takes) {
+    if (!take.current) continue;
+    int best = -1;
+    double bestDistance = kControlPickPixels;
+    for (std::size_t c = 0; c < take.controls.size(); ++c) {
+      const double d = QLineF(toWidget(take.points[std::size_t(take.controls[c])]), pixel).length();
+      if (d <= bestDistance) {
+        bestDistance = d;
+        best = int(c);
+      }
+    }
+    return best;
+  }
+  return -1;
+}
+
+void MapView::paintTakes(QPainter& painter) const {
+  const QColor color = takeColor();
+  for (const TakePath& take : m_takes) {
+    const bool dragging = take.current && m_gesture == Gesture::Control;
+    const std::vector<Eigen::Vector2d>& points = dragging ? m_controlPreview.points : take.points;
+    if (points.size() < 2) continue;
+    QPainterPath path(toWidget(points.front()));
+    for (const auto& p : points) path.lineTo(toWidget(p));
+    QColor line = color;
+    if (!take.current) line.setAlpha(110);  // the other takes of this map, behind
+    painter.setPen(
+        QPen(line, take.current ? 2.5 : 1.5, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+    painter.setBrush(Qt::NoBrush);
+    painter.drawPath(path);
+    const QPointF end = toWidget(points.back());
+    painter.setPen(take.current ? QColor(120, 60, 0) : QColor(120, 60, 0, 140));
+    painter.drawText(end + QPointF(6, -6), take.name);
+    for (const int i : take.controls) {
+      painter.setPen(QPen(QColor(120, 60, 0), 1.5));
+      painter.setBrush(Qt::white);
+      painter.drawRect(QRectF(toWidget(points[std::size_t(i)]) - QPointF(4, 4), QSizeF(8, 8)));
+    }
+  }
+}
+
+void MapView::setSketchMode(bool on) {
+  m_sketchMode = on;
+}
+
+void MapView::setShadingAvailable(bool available) {
+  m_shadingAvailable = available;
+  m_cache = QPixmap();
+  update();
+}
+
+void MapView::setShadingVisible(bool on) {
+  m_shadingVisible = on;
+  m_cache = QPixmap();
+  update();
+}
+
+void MapView::setLensEnabled(bool on) {
+  m_lensEnabled = on;
+  if (on && !m_lensVisible) {
+    // Until the mouse moves: where it is if over the view, else the middle.
+    const QPoint mouse = mapFromGlobal(QCursor::pos());
+    m_lensCenter = rect().contains(mouse) ? QPointF(mouse) : QRectF(rect()).center();
+    m_lensVisible = true;
+  }
+  update();
+}
+
+void MapView::setLensCenter(const QPointF& center) {
+  m_lensCenter = center;
+  m_lensVisible = true;
+  update();
+}
+
+void MapView::setLensPower(double power) {
+  m_lensPower = std::clamp(std::isfinite(power) ? power : 3.0, 0.5, 30.0);
+  update();
+}
+
+double MapView::lensRadius() const {
+  return std::max(40.0, 0.2 * std::min(width(), height()));
+}
+
+QPointF MapView::lens(const QPointF& pixel) const {
+  if (!lensShown()) return pixel;
+  const QPointF v = pixel - m_lensCenter;
+  const double R = lensRadius(), r = std::hypot(v.x(), v.y());
+  if (r >= R || r == 0.0) return pixel;
+  const double x = r / R, d = m_lensPower;
+  const double g = (d + 1.0) * x / (d * x + 1.0);
+  return m_lensCenter + v * (g / x);
+}
+
+QPointF MapView::unlens(const QPointF& pixel) const {
+  if (!lensShown()) return pixel;
+  const QPointF v = pixel - m_lensCenter;
+  const double R = lensRadius(), r = std::hypot(v.x(), v.y());
+  if (r >= R || r == 0.0) return pixel;
+  const double y = r / R, d = m_lensPower;
+  const double x = y / (d + 1.0 - d * y);
+  return m_lensCenter + v * (x / y);
+}
+
+void MapView::ensureTransform() const {
+  if (m_transformValid && m_transformSize == size()) return;
+  const QRectF area(rect());
+  m_toWidget = render::map_transform(m_coords, area, m_options);
+  bool invertible = false;
+  m_toMap = m_toWidget.inverted(&invertible);
+  if (!invertible) m_toMap = QTransform(0, 0, 0, 0, 0, 0);  // every pixel → (0, 0)
+  m_pixelSegments.clear();
+  if (m_density && m_coords.rows() > 0) {
+    // Over a density map the panel frames the whole map: segments' unit coordinates (of the
+    // trajectory's own extent) go back to data, then through the panel's transform.
+    const QTransform unit = render::data_to_unit(m_coords).inverted() * m_toWidget;
+    m_pixelSegments = render::trajectory_segments(m_coords, m_segmentStarts);
+    for (auto& s : m_pixelSegments) {
+      s.from = unit.map(s.from);
+      s.to = unit.map(s.to);
+    }
+  } else if (m_coords.rows() > 0) {
+    const QTransform unit = render::unit_transform(area, m_options);
+    m_pixelSegments = render::trajectory_segments(m_coords, m_segmentStarts);
+    for (auto& s : m_pixelSegments) {
+      s.from = unit.map(s.from);
+      s.to = unit.map(s.to);
+    }
+  }
+  m_transformSize = size();
+  m_transformValid = true;
+}
+
+QPointF MapView::toWidget(const Eigen::Vector2d& point) const {
+  ensureTransform();
+  return lens(m_toWidget.map(QPointF(point.x(), point.y())));
+}
+
+Eigen::Vector2d MapView::toMap(const QPointF& pixel) const {
+  ensureTransform();
+  const QPointF p = m_toMap.map(unlens(pixel));
+  return {p.x(), p.y()};
+}
+
+void MapView::paintEvent(QPaintEvent*) {
+  QPainter painter(this);
+  if (!hasMap()) {
+    painter.fillRect(rect(), Qt::white);
+    painter.drawText(rect(), Qt::AlignCenter | Qt::TextWordWrap, m_hint);
+    return;
+  }
+  // The trajectory is painted once per size/map; a frame only blits it and draws the pointer.
+  const qreal dpr = devicePixelRatioF();
+  if (m_cache.isNull() || m_cache.size() != size() * dpr) {
+    m_cache = QPixmap(size() * dpr);
+    m_cache.setDevicePixelRatio(dpr);
+    QPainter cachePainter(&m_cache);
+    cachePainter.setRenderHint(QPainter::Antialiasing);
+    if (m_density) {
+      // Background, the saved map's density, then the current clip's trajectory over it.
+      cachePainter.fillRect(
+          rect(), m_options.background.isValid() ? m_options.background : QColor(Qt::white));
+      cachePainter.drawImage(QPointF(0, 0), densityImage());
+      render::MapPlotOptions over = m_options;
+      over.background = QColor();
+      if (m_coords.rows() > 0)
+        render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, over);
+    } else {
+      render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, m_options);
+    }
+    if (m_shadingVisible && m_shadingAvailable && !m_density && m_coords.rows() > 0)
+      paintShading(cachePainter);
+  }
+  painter.drawPixmap(0, 0, m_cache);
+  painter.setRenderHint(QPainter::Antialiasing);
+  if (!m_busyText.isEmpty()) paintBusy(painter);
+  if (lensShown()) paintLens(painter);
+  paintTakes(painter);
+  if (m_sketch.points.size() >= 2) {
+    QPainterPath path(toWidget(m_sketch.points.front()));
+    for (const auto& p : m_sketch.points) path.lineTo(toWidget(p));
+    painter.setPen(QPen(Qt::black, 2, Qt::DashLine));
+    painter.setBrush(Qt::NoBrush);
+    painter.drawPath(path);
+  }
+  if (m_pointer) {
+    painter.setPen(QPen(Qt::black, 2));
+    painter.setBrush(Qt::white);
+    painter.drawEllipse(toWidget(*m_pointer), 7, 7);
+  }
+  if (!m_hoverText.isEmpty()) {
+    painter.setPen(Qt::black);
+    painter.drawText(QRectF(rect()).adjusted(8, 4, -8, -4), Qt::AlignTop | Qt::AlignRight,
+                     m_hoverText);
+  }
+}
+
+QRectF MapView::plotRect() const {
+  // render::layout_panel's frame: the data square plus a margin of 5 % of the frame's side on
+  // each side, i.e. 1/18 of the data square's.
+  const QRectF data = render::data_area(QRectF(rect()), m_options);
+  const double margin = data.width() / 18.0;
+  return data.adjusted(-margin, -margin, margin, margin);
+}
+
+double MapView::shadingRadius() const {
+  if (m_coords.rows() == 0) return 0.0;
+  ensureTransform();
+  // The samples' bounding box in pixels: its larger side is the map's size on screen.
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
+    const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+    x0 = std::min(x0, p.x());
+    x1 = std::max(x1, p.x());
+    y0 = std::min(y0, p.y());
+    y1 = std::max(y1, p.y());
+  }
+  if (!(x0 <= x1)) return 0.0;
+  return kShadingFraction * std::max(x1 - x0, y1 - y0);
+}
+
+void MapView::paintShading(QPainter& painter) const {
+  ensureTransform();
+  const QRectF plot = plotRect();
+  const double radius = shadingRadius();
+  if (radius <= 0.0) return;
+  const QColor green(30, 170, 70);
+  constexpr double kOpacity = 0.3;
+  // The union of the samples' discs, opaque in a layer, laid over at one alpha.
+  const qreal dpr = m_cache.devicePixelRatio();
+  QImage layer(m_cache.size(), QImage::Format_ARGB32_Premultiplied);
+  layer.setDevicePixelRatio(dpr);
+  layer.fill(Qt::transparent);
+  QPainter discs(&layer);
+  discs.setRenderHint(QPainter::Antialiasing);
+  discs.setClipRect(plot);  // never over the title, the colour bar or the notes
+  discs.setPen(Qt::NoPen);
+  discs.setBrush(green);
+  for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
+    const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
+    if (std::isfinite(p.x()) && std::isfinite(p.y())) discs.drawEllipse(p, radius, radius);
+  }
+  discs.end();
+  painter.save();
+  painter.setOpacity(kOpacity);
+  painter.drawImage(QPointF(0, 0), layer);
+  painter.setOpacity(1.0);
+  // The trajectory stays on top, in its own colours (clipped: the title, colour bar and notes
+  // are not drawn twice).
+  painter.setClipRect(plot);
+  render::MapPlotOptions over = m_options;
+  over.background = QColor();
+  render::paint_map(painter, QRectF(rect()), m_coords, m_segmentStarts, over);
+  // The key, inside the plot's lower-left corner.
+  QFont font = painter.font();
+  font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
+  painter.setFont(font);
+  const QFontMetricsF fm(font);
+  const QString text =
+      tr("within %1 % of the map's size of a frame").arg(kShadingFraction * 100.0, 0, 'g', 3);
+  const double pad = 4.0, swatch = fm.height();
+  const double textWidth = std::min(fm.horizontalAdvance(text), plot.width() - swatch - 5 * pad);
+  const QRectF key(plot.left() + pad, plot.bottom() - pad - swatch - 2 * pad,
+                   swatch + 3 * pad + textWidth, swatch + 2 * pad);
+  painter.setPen(QPen(QColor(150, 150, 150), 1));
+  painter.setBrush(QColor(255, 255, 255, 220));
+  painter.drawRect(key);
+  QColor fill = green;
+  fill.setAlphaF(kOpacity);
+  painter.setPen(Qt::NoPen);
+  painter.setBrush(fill);
+  painter.drawRect(QRectF(key.left() + pad, key.top() + pad, swatch, swatch));
+  painter.setPen(QColor(40, 40, 40));
+  painter.drawText(QRectF(key.left() + 2 * pad + swatch, key.top() + pad, textWidth, swatch),
+                   Qt::AlignVCenter | Qt::AlignLeft,
+                   fm.elidedText(text, Qt::ElideRight, textWidth));
+  painter.restore();
+}
+
+void MapView::setBusyText(const QString& text) {
+  if (text == m_busyText) return;
+  m_busyText = text;
+  update();
+}
+
+void MapView::paintBusy(QPainter& painter) const {
+  painter.save();
+  painter.fillRect(rect(), QColor(255, 255, 255, 150));  // the map before, greyed
+  const QRectF plot = plotRect();
+  const QFontMetricsF fm(painter.font());
+  const double width = std::min(fm.horizontalAdvance(m_busyText) + 24.0, plot.width() - 8.0);
+  const QRectF box(plot.center().x() - width / 2, plot.top() + 8, width, fm.height() + 12);
+  painter.setPen(QPen(QColor(150, 150, 150), 1));
+  painter.setBrush(QColor(255, 255, 255, 235));
+  painter.drawRoundedRect(box, 4, 4);
+  painter.setPen(QColor(40, 40, 40));
+  painter.drawText(box, Qt::AlignCenter,
+                   fm.elidedText(m_busyText, Qt::ElideRight, box.width() - 12));
+  painter.restore();
+}
+
+QString MapView::noteToolTip(const QPointF& pixel) const {
+  if (!hasMap() || m_options.notes.isEmpty()) return {};
+  if (pixel.y() <= plotRect().bottom()) return {};
+  return m_options.notes.join(QLatin1Char('\n'));
+}
+
+bool MapView::event(QEvent* event) {
+  if (event->type() == QEvent::ToolTip) {
+    // The notes under the plot are elided to the panel's width: hovering them shows them whole.
+    auto* help = static_cast<QHelpEvent*>(event);
+    const QString text = noteToolTip(help->pos());
+    if (text.isEmpty()) {
+      QToolTip::hideText();
+      event->ignore();
+    } else {
+      QToolTip::showText(help->globalPos(), text, this);
+    }
+    return true;
+  }
+  return QWidget::event(event);
+}
+
+void MapView::paintLens(QPainter& painter) const {
+  ensureTransform();
+  const double R = lensRadius();
+  const QRectF bounds(m_lensCenter - QPointF(R, R), QSizeF(2 * R, 2 * R));
+  painter.save();
+  QPainterPath circle;
+  circle.addEllipse(bounds);
+  painter.setClipPath(circle);
+  painter.fillPath(circle,
+                   m_options.background.isValid() ? m_options.background : QColor(Qt::white));
+  // The segments near the lens, bent: only those whose box meets the lens's box are looked at.
+  const double width = m_options.line_width * std::sqrt(m_lensPower + 1.0);
+  for (const auto& s : m_pixelSegments) {
+    if (std::max(s.from.x(), s.to.x()) < bounds.left() ||
+        std::min(s.from.x(), s.to.x()) > bounds.right() ||
+        std::max(s.from.y(), s.to.y()) < bounds.top() ||
+        std::min(s.from.y(), s.to.y()) > bounds.bottom()) {
+      continue;
+    }
+    const int pieces =
+        std::clamp(int(std::ceil(QLineF(s.from, s.to).length() / kLensStepPixels)), 1, 200);
+    QPainterPath path(lens(s.from));
+    for (int i = 1; i <= pieces; ++i)
+      path.lineTo(lens(s.from + (s.to - s.from) * (double(i) / pieces)));
+    const QColor color = m_options.clip_names.isEmpty() ? s.color : render::clip_color(s.clip);
+    painter.setPen(QPen(color, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+    painter.drawPath(path);
+  }
+  painter.restore();
+  painter.setPen(QPen(QColor(90, 90, 90), 1.5));
+  painter.setBrush(Qt::NoBrush);
+  painter.drawEllipse(bounds);
+}
+
+void MapView::resizeEvent(QResizeEvent*) {
+  invalidate();
+}
+
+QPointF MapView::clampToPlot(const QPointF& pixel) const {
+  const QRectF plot = plotRect();
+  return {std::clamp(pixel.x(), plot.left(), plot.right()),
+          std::clamp(pixel.y(), plot.top(), plot.bottom())};
+}
+
+void MapView::addSketchPoint(const QPointF& pixel) {
+  const Eigen::Vector2d point = toMap(clampToPlot(pixel));  // the stroke drawn follows the edge
+  // Times must increase strictly: events within one clock tick are merged into the last point.
+  const double t = double(m_sketchClock.nsecsElapsed()) * 1e-9;
+  if (!m_sketch.times.empty() && t <= m_sketch.times.back()) {
+    m_sketch.points.back() = point;
+    return;
+  }
+  m_sketch.points.push_back(point);
+  m_sketch.times.push_back(t);
+}
+
+void MapView::mousePressEvent(QMouseEvent* event) {
+  if (!hasMap() || event->button() != Qt::LeftButton) return;
+  m_pressPixel = event->position();
+  // A control point of the current take is dragged even in sketch mode (Shift always sketches).
+  const int control =
+      (event->modifiers() & Qt::ShiftModifier) ? -1 : controlPointAt(event->position());
+  if (control >= 0) {
+    const TakePath* current = nullptr;
+    for (const TakePath& take : m_takes)
+      if (take.current) current = &take;
+    m_gesture = Gesture::Control;
+    m_control = control;
+    m_controlPreview = {};
+    m_controlPreview.points = current->points;
+  } else if ((event->modifiers() & Qt::ShiftModifier) || m_sketchMode) {
+    m_gesture = Gesture::Sketch;
+    m_sketch = {};
+    m_sketchClock.start();
+    addSketchPoint(event->position());
+  } else {
+    m_gesture = Gesture::Press;
+  }
+}
+
+void MapView::mouseMoveEvent(QMouseEvent* event) {
+  if (!hasMap()) return;
+  const QPointF pixel = event->position();
+  switch (m_gesture) {
+    case Gesture::Sketch:
+      addSketchPoint(pixel);
+      update();
+      break;
+    case Gesture::Control:
+      for (const TakePath& take : m_takes) {
+        if (!take.current) continue;
+        synth::MapPath original;
+        original.points = take.points;
+        m_controlPreview =
+            deformPath(original, take.controls, m_control, toMap(clampToPlot(pixel)));
+      }
+      update();
+      break;
+    case Gesture::Press:
+      if ((pixel - m_pressPixel).manhattanLength() < 3) break;
+      m_gesture = Gesture::Drag;
+      [[fallthrough]];
+    case Gesture::Drag:
+      emit dragged(toMap(pixel));
+      break;
+    case Gesture::None:
+      if (m_lensEnabled) setLensCenter(pixel);  // the lens follows the mouse until a press
+      emit hovered(toMap(pixel), pixel);
+      break;
+  }
+}
+
+void MapView::mouseReleaseEvent(QMouseEvent* event) {
+  if (event->button() != Qt::LeftButton) return;
+  const Gesture gesture = m_gesture;
+  m_gesture = Gesture::None;
+  if (gesture == Gesture::Sketch) {
+    addSketchPoint(event->position());
+    const synth::MapPath path = m_sketch;
+    m_sketch = {};
+    update();
+    emit sketchFinished(path);
+  } else if (gesture == Gesture::Press) {
+    emit clicked(toMap(event->position()), event->position());
+  } else if (gesture == Gesture::Drag) {
+    emit dragFinished();
+  } else if (gesture == Gesture::Control) {
+    const int control = m_control;
+    m_control = -1;
+    update();
+    // A click without a move is no edit.
+    if ((event->position() - m_pressPixel).manhattanLength() >= 2)
+      emit controlPointMoved(control, toMap(clampToPlot(event->position())));
+  }
+}
+
+void MapView::wheelEvent(QWheelEvent* event) {
+  if (!m_lensEnabled) return event->ignore();
+  setLensPower(m_lensPower * std::pow(1.25, event->angleDelta().y() / 120.0));
+  event->accept();
+}
+
+void MapView::leaveEvent(QEvent*) {
+  setHoverText({});
+  if (m_gesture == Gesture::None && m_lensVisible) {
+    m_lensVisible = false;
+    update();
+  }
+}
+
+}  // namespace motionmap::studio

@@ -1,0 +1,208 @@
+#pragma once
+// The map view: the trajectory drawn by render::paint_map (cached as a pixmap at the widget's
+// size, with the data → pixel transform, so a frame's repaint costs one blit plus the pointer,
+// whatever the trajectory's length), a white pointer at the current frame, a hover text, a
+// magnifying lens, and the mouse gestures the main window turns into library calls:
+//  - left click                          → clicked(map point)
+//  - left drag                           → dragged(map point) while the mouse moves
+//  - Shift + left drag, or any left drag
+//    in sketch mode                      → a sketch path, sketchFinished(path) on release
+//                                          (times in seconds, from the gesture's own clock)
+//  - left drag on a control point of the
+//    current take (setTakePaths)         → it follows the mouse, controlPointMoved on release
+// A sketch or a control point dragged outside the plot (plotRect) stays on its edge, where the
+// stroke is drawn: nothing is sketched where the map is not shown.
+// The takes' paths stay drawn over the map (orange; the current one solid with its control points,
+// the others thinner and translucent, each named at its end).
+// The magnifier is a fisheye lens (Sarkar & Brown's g(x) = (d + 1)·x / (d·x + 1) on the distance
+// to its centre, within its radius) that follows the mouse while no button is down and stays put
+// during a press, so frames that overlap at the map's scale can be told apart and dragged over
+// slowly; the wheel changes its power d. Every map ↔ pixel conversion (toWidget, toMap) goes
+// through the lens, so hover, click, drag and sketch work inside it.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <QElapsedTimer>
+#include <QPixmap>
+#include <QTransform>
+#include <QWidget>
+
+#include "motionmap/render/map_plot.h"
+#include "motionmap/synth/path.h"
+#include "takes/takes.h"
+
+namespace motionmap::studio {
+
+class MapView : public QWidget {
+  Q_OBJECT
+ public:
+  explicit MapView(QWidget* parent = nullptr);
+
+  /// A take's path as drawn (map coordinates).
+  struct TakePath {
+    QString name;
+    std::vector<Eigen::Vector2d> points;
+    std::vector<int> controls;  ///< indices into points: drawn and draggable (current take only)
+    bool current = false;
+  };
+  /// How close (pixels) a press must be to a control point to drag it.
+  static constexpr double kControlPickPixels = 9.0;
+  /// The colour of the current take's path (the others are drawn in it, translucent).
+  static QColor takeColor() { return QColor(255, 130, 0); }
+  /// The takes drawn over the map (replacing those before).
+  void setTakePaths(std::vector<TakePath> paths);
+  const std::vector<TakePath>& takePaths() const { return m_takes; }
+  /// The index of the current take's control point within kControlPickPixels of `pixel`, or −1.
+  int controlPointAt(const QPointF& pixel) const;
+  /// The control point being dragged (−1: none).
+  int draggedControlPoint() const { return m_gesture == Gesture::Control ? m_control : -1; }
+
+  /// Shows `coords` (#samples by ≥ 2, copied) with the clip starts and plot options.
+  void setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segmentStarts,
+              const render::MapPlotOptions& options);
+  /// A saved map of many points: `points` (#points by ≥ 2, shared, not copied) drawn as a density
+  /// image (render::density_image: a log-scaled 2-D histogram binned once per size into an image),
+  /// framed as a whole, with `trajectory` — the current clip's rows — drawn over it red → blue
+  /// (and the pointer on top). setMap() afterwards replaces both.
+  void setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
+                     const Eigen::MatrixXd& trajectory, const render::MapPlotOptions& options);
+  /// Replaces the trajectory over the density image (another clip of the saved map).
+  void setTrajectory(const Eigen::MatrixXd& trajectory);
+  bool hasDensity() const { return m_density != nullptr; }
+  /// The density image at the widget's size (binned when stale); null without a density map.
+  const QImage& densityImage() const;
+  /// Removes the map (shows a hint text instead).
+  void clearMap(const QString& hint = {});
+  bool hasMap() const { return m_coords.rows() > 0 || m_density != nullptr; }
+  /// The map's points drawn (the trajectory: #samples by 2; empty without a map).
+  const Eigen::MatrixXd& coordinates() const { return m_coords; }
+  /// The pointer's map position (nothing hides it).
+  void setPointer(const std::optional<Eigen::Vector2d>& point);
+  std::optional<Eigen::Vector2d> pointer() const { return m_pointer; }
+  /// A line drawn over the map shown, which is greyed behind it (e.g. "Computing the Isomap
+  /// map…" while the map before stays on screen until a new one replaces it); empty: none.
+  /// setMap and clearMap remove it.
+  void setBusyText(const QString& text);
+  QString busyText() const { return m_busyText; }
+  /// Text drawn in the top-right corner (e.g. "frame 120" under the mouse).
+  void setHoverText(const QString& text);
+  QString hoverText() const { return m_hoverText; }
+
+  /// Map coordinates → widget pixels, exactly as the map is painted (render::map_transform, then
+  /// the lens when it is shown).
+  QPointF toWidget(const Eigen::Vector2d& point) const;
+  /// Widget pixels → map coordinates (the inverse of toWidget).
+  Eigen::Vector2d toMap(const QPointF& pixel) const;
+  /// The sketch being drawn (empty when none).
+  const synth::MapPath& sketch() const { return m_sketch; }
+  const render::MapPlotOptions& plotOptions() const { return m_options; }
+
+  /// Sketch mode: a plain left drag sketches (as Shift-drag always does).
+  void setSketchMode(bool on);
+  bool sketchMode() const { return m_sketchMode; }
+
+  /// Trustworthy-blend shading: a translucent green over every map point within
+  /// kShadingFraction of the map's size (the larger side of its samples' bounding box) of a
+  /// sample, i.e. where a drag's blend is made from frames close to the point. A share of the
+  /// map's own size reads the same at any frame rate (a step between frames would not: 4× finer
+  /// at 120 fps than at 30) and whatever the map's units; the blender's reach (which decides
+  /// where locate() clamps) is a multiple of the median step, so it is not used here. Drawn into
+  /// the cached trajectory, clipped to plotRect(), with a key in the plot's lower-left corner.
+  static constexpr double kShadingFraction = 0.05;
+  /// Whether the shading can be drawn (a map computed here; not a saved map's density).
+  void setShadingAvailable(bool available);
+  void setShadingVisible(bool on);
+  bool shadingVisible() const { return m_shadingVisible; }
+  /// The shading's radius in pixels (0 without a map).
+  double shadingRadius() const;
+  /// The plot's frame in widget pixels (render::data_area with its margin): the trajectory,
+  /// shading and key lie inside it; the title above, the colour bar and notes below.
+  QRectF plotRect() const;
+  /// The text of the tooltip at `pixel`: every note of the plot in full (render::paint_map elides
+  /// a note wider than the panel) when the pixel is below the plot (colour bar and notes); empty
+  /// elsewhere or without notes.
+  QString noteToolTip(const QPointF& pixel) const;
+
+  /// The magnifier: on/off, its centre (widget pixels; the mouse moves it), power d ∈ [0.5, 30]
+  /// (magnification d + 1 at the centre) and radius in pixels.
+  void setLensEnabled(bool on);
+  bool lensEnabled() const { return m_lensEnabled; }
+  void setLensCenter(const QPointF& center);
+  QPointF lensCenter() const { return m_lensCenter; }
+  void setLensPower(double power);
+  double lensPower() const { return m_lensPower; }
+  double lensRadius() const;
+  /// Whether the lens is drawn (enabled, over the widget, with a map).
+  bool lensShown() const { return m_lensEnabled && m_lensVisible && hasMap(); }
+
+ signals:
+  void hovered(const Eigen::Vector2d& point, const QPointF& pixel);
+  void clicked(const Eigen::Vector2d& point, const QPointF& pixel);
+  void dragged(const Eigen::Vector2d& point);
+  void dragFinished();
+  void sketchFinished(const motionmap::synth::MapPath& path);
+  /// A control point of the current take was dragged to `point` (map coordinates).
+  void controlPointMoved(int control, const Eigen::Vector2d& point);
+
+ protected:
+  void paintEvent(QPaintEvent* event) override;
+  void resizeEvent(QResizeEvent* event) override;
+  void mousePressEvent(QMouseEvent* event) override;
+  void mouseMoveEvent(QMouseEvent* event) override;
+  void mouseReleaseEvent(QMouseEvent* event) override;
+  void wheelEvent(QWheelEvent* event) override;
+  void leaveEvent(QEvent* event) override;
+  bool event(QEvent* event) override;
+
+ private:
+  enum class Gesture { None, Press, Drag, Sketch, Control };
+  void paintTakes(QPainter& painter) const;
+  void addSketchPoint(const QPointF& pixel);
+  /// `pixel` moved onto plotRect() (unchanged inside it).
+  QPointF clampToPlot(const QPointF& pixel) const;
+  /// Recomputes the data ↔ pixel transforms (and the trajectory in pixels) when stale.
+  void ensureTransform() const;
+  void invalidate();
+  QPointF lens(const QPointF& pixel) const;    ///< undistorted → shown
+  QPointF unlens(const QPointF& pixel) const;  ///< shown → undistorted
+  void paintLens(QPainter& painter) const;
+  /// The shading and its key, into the cached trajectory (see setShadingAvailable).
+  void paintShading(QPainter& painter) const;
+  /// The busy text over the greyed map (see setBusyText).
+  void paintBusy(QPainter& painter) const;
+
+  Eigen::MatrixXd m_coords;
+  std::vector<int> m_segmentStarts;
+  std::shared_ptr<const Eigen::MatrixXd> m_density;  ///< a saved map's points, or none
+  mutable QImage m_densityImage;                     ///< binned at m_densitySize; null when stale
+  mutable QSize m_densitySize;
+  render::MapPlotOptions m_options;
+  QString m_hint;
+  QPixmap m_cache;  ///< the painted trajectory at the current size; null when stale
+  // Cached with the size they were computed for (mutable: filled lazily by const conversions).
+  mutable QSize m_transformSize;
+  mutable bool m_transformValid = false;
+  mutable QTransform m_toWidget, m_toMap;
+  mutable std::vector<render::ColoredSegment> m_pixelSegments;  ///< the trajectory in pixels
+  std::optional<Eigen::Vector2d> m_pointer;
+  QString m_hoverText;
+  Gesture m_gesture = Gesture::None;
+  QPointF m_pressPixel;
+  synth::MapPath m_sketch;
+  std::vector<TakePath> m_takes;
+  int m_control = -1;               ///< the control point being dragged
+  synth::MapPath m_controlPreview;  ///< the current take's path as it follows the drag
+  QElapsedTimer m_sketchClock;
+  bool m_sketchMode = false;
+  bool m_shadingAvailable = false;
+  QString m_busyText;
+  bool m_shadingVisible = false;
+  bool m_lensEnabled = false;
+  bool m_lensVisible = false;
+  QPointF m_lensCenter;
+  double m_lensPower = 3.0;
+};
+
+}  // namespace motionmap::studio

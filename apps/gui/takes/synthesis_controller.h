@@ -1,0 +1,84 @@
+#pragma once
+// Sketches become motions: synth::synthesize along a map path on a worker thread, with progress
+// and cancel through the library's Control, reported by Qt signals on the controller's thread.
+// It keeps the last motion made and the map it was sketched on (its blender's skeleton is the
+// motion's). No widgets: the window shows what the signals say, and tests drive it with an event
+// loop alone.
+//
+//   SynthesisController synthesis;
+//   connect(&synthesis, &SynthesisController::finished, [&] { play(synthesis.result()->motion); });
+//   synthesis.start(maps.current(), sketch, synthParameters);
+#include <memory>
+
+#include <QObject>
+#include <QString>
+
+#include "common/background_job.h"
+#include "common/parameters.h"
+#include "map/map_controller.h"
+#include "motionmap/synth/synthesize.h"
+
+namespace motionmap::studio {
+
+class SynthesisController : public QObject {
+  Q_OBJECT
+ public:
+  explicit SynthesisController(QObject* parent = nullptr);
+  /// Stops a running synthesis (waits for its worker).
+  ~SynthesisController() override;
+
+  /// Starts synthesizing the motion along `path` on `map` with `parameters.motion`, keeping the
+  /// path's times only when parameters.timedAsDrawn, on the worker thread. A synthesis still
+  /// running is stopped first (a newer sketch replaces it). progress, then finished, failed or
+  /// cancelled follow. False (nothing started) without a map or its blender. `take` tags the
+  /// result (resultTake()): −1 for a new sketch, else the id of the take being re-synthesized.
+  bool start(std::shared_ptr<const MapResult> map, const synth::MapPath& path,
+             const SynthParameters& parameters, int take = -1);
+  bool isRunning() const { return m_job.running(); }
+  /// Stops a running synthesis without a signal; its result is dropped. Returns whether one
+  /// was running.
+  bool stop();
+  /// Stops a running synthesis and emits cancelled() (nothing when none is running). The last
+  /// motion stays.
+  void cancel();
+
+  /// The last motion synthesized (nullptr before the first, or after clear()).
+  const synth::SynthResult* result() const { return m_result.get(); }
+  /// The same, shared (a take keeps it without a copy).
+  const std::shared_ptr<const synth::SynthResult>& sharedResult() const { return m_result; }
+  /// The path result() follows, as given to start() (its times even when not timed as drawn).
+  const synth::MapPath& resultPath() const { return m_resultPath; }
+  /// The `take` given to start() for result().
+  int resultTake() const { return m_resultTake; }
+  /// The `take` of the synthesis running (or of the last one started).
+  int runningTake() const { return m_runningTake; }
+  /// The map result() was sketched on.
+  const std::shared_ptr<const MapResult>& resultMap() const { return m_resultMap; }
+  /// Forgets the last motion (a new clip). A running synthesis goes on.
+  void clear();
+
+ signals:
+  /// Fraction done (0…1) of the running synthesis.
+  void progress(double fraction);
+  /// The worker ended (finished, failed or cancelled) or was stopped; sent before the result.
+  void stopped();
+  /// A new motion is result(), replacing the one before.
+  void finished();
+  /// The library's error message; the previous motion stays.
+  void failed(const QString& message);
+  /// The synthesis was cancelled; the previous motion stays.
+  void cancelled();
+
+ private:
+  void onResult(std::shared_ptr<const MapResult> map, synth::MapPath path, int take,
+                const JobOutcome<synth::SynthResult>& outcome);
+
+  std::shared_ptr<const synth::SynthResult> m_result;
+  synth::MapPath m_resultPath;
+  int m_resultTake = -1;
+  int m_runningTake = -1;
+  std::shared_ptr<const MapResult> m_resultMap;
+  BackgroundJob m_job;  ///< the motion being synthesized
+};
+
+}  // namespace motionmap::studio

@@ -4,6 +4,7 @@
     /usr/bin/python3 bench/compare_sklearn.py                      # driver from build/bench
     /usr/bin/python3 bench/compare_sklearn.py --driver build-bench/bench/motionmap_compare
     /usr/bin/python3 bench/compare_sklearn.py --sizes 2000 --repeat 5 --no-real
+    /usr/bin/python3 bench/compare_sklearn.py --openblas system    # the peer on the system's BLAS
 
 For every case the C++ driver motionmap_compare (bench/motionmap_compare.cpp) builds X (joint
 rotation quaternions) and D (point-cloud pose distances) with the library, writes them, times each
@@ -48,8 +49,46 @@ The counterparts (k = 20 neighbours everywhere):
           solvers differ by a disparity of 7e-3 at 2000 frames. There the disparity measures
           that conditioning, not an error of either side.
 
-MotionMap runs on all cores (std::thread); numpy/scipy here use Debian's reference BLAS/LAPACK,
-one core. The load average is printed before and after: the machine may be shared.
+The peer runs as users run it: on OpenBLAS, all cores. MotionMap runs on all cores (std::thread);
+Debian's numpy/scipy load whatever libblas.so.3 / liblapack.so.3 the system's alternatives name,
+by default the reference BLAS/LAPACK (one core, unblocked). So the script re-executes itself
+with LD_LIBRARY_PATH=DIR in front, DIR = --openblas (default: the first of OPENBLAS_DIRS below
+that holds libblas.so.3 and liblapack.so.3), unless LD_LIBRARY_PATH already holds DIR: only this
+process and its children see OpenBLAS; the C++ driver gets the caller's environment back. Get
+OpenBLAS without switching the system's BLAS (`apt-get install libopenblas0-pthread` would make
+it the default BLAS of every program on the machine, through update-alternatives):
+
+    cd /tmp && apt-get download libopenblas0-pthread &&
+        dpkg -x libopenblas0-pthread_*.deb /opt/openblas
+
+Where the processor makes the environment set OPENBLAS_CORETYPE (and OPENBLAS_L2_SIZE) for old
+OpenBLAS builds, a current one runs slower under them: the re-executed process unsets both. The
+output starts with the BLAS the peer actually loaded, its threads and kernel (threadpoolctl).
+Without OpenBLAS the script says so and goes on with the reference BLAS, every ratio marked.
+
+Beside each ratio: MotionMap's distance to its physical bound. Once at the start the script
+measures the streaming memory bandwidth (best of 5 threaded sums and copies of 256 MiB arrays) and
+the peak double-precision rate (best of 3 square dgemm on the peer's BLAS, all threads). Each
+MotionMap stage then gets the bytes it must move and the flops it must do at its size; its bound is
+max(bytes / bandwidth, flops / peak), a method's the sum of its stages' (F frames, p = X's columns,
+d = P's columns, k = 20, E = the symmetrised k-NN graph's non-zeros, doubles of 8 bytes):
+  pca, svd   eigen: read X twice (the p x p Gram matrix, then the scores): 16·F·p bytes;
+             F·p² + 4·F·p flops (the Gram matrix's lower triangle, the two score columns)
+  mds        eigen: 12 Lanczos products and the squared column sums, each one pass over D's lower
+             triangle: 13·4·F² bytes, 24·F² flops (dense solver for F <= 200: 8·F², 4/3·F³);
+             stress: one more pass, 4·F² bytes, 4·F² flops
+  isomap     neighbours: read D once, 8·F² bytes; shortest paths: write the F x F geodesic matrix,
+             8·F² bytes, and relax every edge once per source, 2·F·E operations (an add and a min,
+             counted at the dgemm peak: generous); then eigen and stress as mds
+  le         neighbours as isomap; eigen: 12 shift-invert products, each a forward and a backward
+             substitution through at least the Laplacian's lower triangle, 12·12·(E + F) bytes
+  lle        neighbours as isomap; weights: gather each frame's k neighbours' rows, 8·F·k·d bytes,
+             and solve its k x k system, F·(k²·d + k³/3) flops; eigen as le, with M = (I-W)ᵀ(I-W)
+The bandwidth is DRAM's: at 2000 frames D (32 MB) may partly sit in cache, where a stage can beat
+its "bound". A method more than 5× from its bound is marked: that is the next speed work, and
+the stage times name the stage with the most time above its bound.
+
+The load average is printed before and after: the machine may be shared.
 """
 import argparse
 import json
@@ -58,20 +97,61 @@ import subprocess
 import sys
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 
-import numpy as np
+# Debian's libopenblas0-pthread, installed or unpacked with dpkg -x into /opt/openblas.
+OPENBLAS_DIRS = ["/usr/lib/x86_64-linux-gnu/openblas-pthread",
+                 "/opt/openblas/usr/lib/x86_64-linux-gnu/openblas-pthread"]
+CORETYPE_VARS = ("OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE")
+SAVED_ENV = "COMPARE_SKLEARN_SAVED_ENV"  # the caller's values of what the re-execution changed
+
+
+def openblas_dir(given):
+    """`given`, else the first of OPENBLAS_DIRS, if it holds libblas.so.3 and liblapack.so.3."""
+    for folder in [given] if given else OPENBLAS_DIRS:
+        if all(os.path.exists(os.path.join(folder, lib))
+               for lib in ("libblas.so.3", "liblapack.so.3")):
+            return os.path.realpath(folder)
+    return None
+
+
+def reexec_on_openblas():
+    """Runs this script again with OpenBLAS's folder first in LD_LIBRARY_PATH and without the
+    CORETYPE variables, before numpy loads a BLAS; does nothing when it is there already or when
+    there is no OpenBLAS (main says so)."""
+    early = argparse.ArgumentParser(add_help=False)
+    early.add_argument("--openblas")
+    given = early.parse_known_args()[0].openblas
+    folder = openblas_dir(given) if given != "system" else None
+    path = os.environ.get("LD_LIBRARY_PATH", "")
+    if folder is None or folder in [os.path.realpath(p) for p in path.split(":") if p]:
+        return
+    env = dict(os.environ)
+    env[SAVED_ENV] = json.dumps({v: os.environ.get(v) for v in ("LD_LIBRARY_PATH", *CORETYPE_VARS)})
+    env["LD_LIBRARY_PATH"] = folder + (":" + path if path else "")
+    for v in CORETYPE_VARS:
+        env.pop(v, None)
+    os.execve(sys.executable, [sys.executable, os.path.abspath(__file__), *sys.argv[1:]], env)
+
+
+if __name__ == "__main__":
+    reexec_on_openblas()
+
+import numpy as np  # noqa: E402 (after the re-execution: importing numpy loads the BLAS)
 import scipy.linalg
 import scipy.sparse.linalg
 from scipy.spatial import procrustes
 from sklearn.decomposition import PCA, TruncatedSVD
 from sklearn.manifold import Isomap, LocallyLinearEmbedding, SpectralEmbedding
 from sklearn.neighbors import kneighbors_graph
+from threadpoolctl import threadpool_info
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SHARED = os.path.normpath(os.path.join(ROOT, "..", "shared", "data"))
 K = 20
 METHODS = ["pca", "svd", "mds", "isomap", "le", "lle"]
+FAR = 5.0  # MotionMap more than this many times its bound: the next speed work
 
 
 # ----------------------------------------------------------------------------------------------
@@ -146,6 +226,7 @@ COUNTERPARTS = {
     "le": [("le", sk_le)],
     "lle": [("lle", sk_lle)],
 }
+METHOD_OF = {name: method for method, pairs in COUNTERPARTS.items() for name, _ in pairs}
 
 
 def best_of(repeat, fn, *args):
@@ -162,6 +243,97 @@ def best_of(repeat, fn, *args):
 
 
 # ----------------------------------------------------------------------------------------------
+# The peer's BLAS, the machine's bounds, and each MotionMap stage's bound (the docstring's model).
+
+
+def peer_blas():
+    """(lines describing the thread pools numpy/scipy/sklearn loaded, whether the BLAS is a tuned,
+    threaded one). threadpoolctl does not see the reference BLAS: /proc/self/maps names it."""
+    lines, tuned = [], False
+    for pool in threadpool_info():
+        extra = ""
+        if pool.get("internal_api") == "openblas":
+            extra = f", {pool.get('threading_layer')}, kernel {pool.get('architecture')}"
+        tuned = tuned or pool.get("user_api") == "blas"
+        version = f" {pool['version']}" if pool.get("version") else ""
+        lines.append(f"{pool['user_api']}: {pool['internal_api']}{version}, "
+                     f"{pool['num_threads']} threads{extra} ({pool['filepath']})")
+    if not tuned:
+        with open("/proc/self/maps") as f:
+            libs = sorted({os.path.realpath(line.split()[-1]) for line in f
+                           if "/libblas" in line or "/liblapack" in line})
+        lines.insert(0, f"blas: reference BLAS/LAPACK, 1 thread ({', '.join(libs)})")
+    return lines, tuned
+
+
+def driver_env():
+    """The caller's environment, as it was before the re-execution, for the C++ driver."""
+    env = dict(os.environ)
+    for name, value in json.loads(env.pop(SAVED_ENV, "{}")).items():
+        if value is None:
+            env.pop(name, None)
+        else:
+            env[name] = value
+    return env
+
+
+def measure_machine():
+    """(streaming memory bandwidth in bytes/s, peak double-precision flop/s, whether the dgemm's
+    result is right): threaded sums and copies of 256 MiB arrays, square dgemm on the peer's BLAS
+    grown until a run takes 0.2 s (best of 3)."""
+    threads = os.cpu_count()
+    a, b = np.ones(1 << 25), np.empty(1 << 25)
+    parts, outs = np.array_split(a, threads), np.array_split(b, threads)
+    with ThreadPoolExecutor(threads) as pool:
+        read = best_of(5, lambda: list(pool.map(np.sum, parts)))[0]
+        copy = best_of(5, lambda: list(pool.map(np.copyto, outs, parts)))[0]
+    bandwidth = max(a.nbytes / read, 2 * a.nbytes / copy)
+    rng = np.random.default_rng(0)
+    n = 512
+    while True:
+        A, B = rng.standard_normal((n, n)), rng.standard_normal((n, n))
+        seconds, C = best_of(3, np.matmul, A, B)
+        if seconds > 0.2 or n >= 4096:
+            break
+        n *= 2
+    right = np.allclose(C[:2, :64], (A[:2, :, None] * B[None, :, :64]).sum(axis=1))
+    return bandwidth, 2.0 * n ** 3 / seconds, right
+
+
+def graph_sizes(D):
+    """Non-zeros of the symmetrised k-NN graph of D, and of LLE's M = (I - W)ᵀ(I - W)."""
+    G = kneighbors_graph(D, K, metric="precomputed")
+    A = (G + scipy.sparse.identity(D.shape[0], format="csr")).tocsr()
+    return (G + G.T).nnz, (A.T @ A).nnz
+
+
+def stage_work(method, res, E, M):
+    """{MotionMap stage: (bytes it must move, flops it must do)}; stages not named cost 0."""
+    F, p, d, k = res["frames"], res["features"], res["points"], res["k"]
+    tri = 4.0 * F * F  # bytes of an F x F matrix's lower triangle
+    mds = {"eigen": (13 * tri, 24.0 * F * F) if F > 200 else (8.0 * F * F, 4 / 3 * F ** 3),
+           "stress": (tri, 4.0 * F * F)}
+    neighbours = {"neighbours": (8.0 * F * F, 1.0 * F * F)}
+    if method in ("pca", "svd"):
+        return {"eigen": (16.0 * F * p, F * p * p + 4.0 * F * p)}
+    if method == "mds":
+        return mds
+    if method == "isomap":
+        return {**neighbours, "shortest paths": (8.0 * F * F, 2.0 * F * E), **mds}
+    if method == "le":
+        return {**neighbours, "eigen": (144.0 * (E + F), 24.0 * (E + F))}
+    return {**neighbours, "weights": (8.0 * F * k * d, F * (k * k * d + k ** 3 / 3)),
+            "eigen": (144.0 * M, 24.0 * M)}
+
+
+def stage_bounds(method, res, E, M, machine):
+    """{stage: seconds it needs at least}: max(bytes / bandwidth, flops / peak)."""
+    bandwidth, peak = machine[:2]
+    return {stage: max(moved / bandwidth, flops / peak)
+            for stage, (moved, flops) in stage_work(method, res, E, M).items()}
+
+
+# ----------------------------------------------------------------------------------------------
 
 
 def find_driver(given):
@@ -175,10 +347,10 @@ def find_driver(given):
              "build it (ninja -C build motionmap_compare) or pass --driver PATH")
 
 
-def run_case(driver, label, driver_args, repeat, limits, workdir):
+def run_case(driver, label, driver_args, repeat, limits, workdir, machine):
     out = os.path.join(workdir, label.replace(" ", "_").replace("+", "_"))
     cmd = [driver, *driver_args, "--out", out, "--repeat", str(repeat)]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=driver_env())
     if proc.returncode != 0:
         sys.exit(f"compare_sklearn.py: {' '.join(cmd)} failed:\n{proc.stderr}")
     with open(os.path.join(out, "result.json")) as f:
@@ -187,6 +359,8 @@ def run_case(driver, label, driver_args, repeat, limits, workdir):
     inputs = {"X": np.fromfile(os.path.join(out, "X.f64")).reshape(n, p),
               "P": np.fromfile(os.path.join(out, "P.f64")).reshape(n, res["points"]),
               "D": np.fromfile(os.path.join(out, "D.f64")).reshape(n, n)}
+    E, M = graph_sizes(inputs["D"])
+    res["bounds"] = {m: stage_bounds(m, res, E, M, machine) for m in METHODS}
     rows = []
     for method in METHODS:
         mm = res["methods"][method]
@@ -223,6 +397,10 @@ def main():
                          "took 39 s at 2000 frames of the sample swing; default 2000)")
     ap.add_argument("--no-real", action="store_true", help="skip the CMU cases")
     ap.add_argument("--workdir", help="keep the driver's files here (default: a temporary folder)")
+    ap.add_argument("--openblas", metavar="DIR",
+                    help="OpenBLAS's libblas.so.3/liblapack.so.3 folder for the peer (default: the "
+                         "first of " + ", ".join(OPENBLAS_DIRS) + " that has them); 'system': "
+                         "the system's BLAS")
     args = ap.parse_args()
     driver = find_driver(args.driver)
 
@@ -240,23 +418,50 @@ def main():
     print(f"driver: {driver}")
     print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}  "
           f"(cores: {os.cpu_count()})")
+    blas_lines, tuned = peer_blas()
+    for line in blas_lines:
+        print(f"peer {line}")
+    saved = json.loads(os.environ.get(SAVED_ENV, "{}"))
+    unset = [f"{v}={saved[v]}" for v in CORETYPE_VARS if saved.get(v) is not None]
+    kept = [f"{v}={os.environ[v]}" for v in CORETYPE_VARS if v in os.environ]
+    if unset:
+        print(f"peer: unset for this process only: {', '.join(unset)}")
+    if kept and tuned:
+        print(f"peer: {', '.join(kept)} in the environment: OpenBLAS runs the kernel it forces")
+    if not tuned:
+        where = ("--openblas system" if args.openblas == "system" else
+                 f"no OpenBLAS in {args.openblas or ' or '.join(OPENBLAS_DIRS)}")
+        warning = (f"WARNING: {where}: scikit-learn/scipy run on the reference BLAS, one core, "
+                   "not as users run them; every ratio is marked (ref. BLAS). Get OpenBLAS "
+                   "without switching the system's BLAS: cd /tmp && apt-get download "
+                   "libopenblas0-pthread && dpkg -x libopenblas0-pthread_*.deb /opt/openblas")
+        print(warning)
+        print(warning, file=sys.stderr)
+    machine = measure_machine()
+    print(f"machine: streaming memory bandwidth {machine[0] / 1e9:.1f} GB/s, peak "
+          f"{machine[1] / 1e9:.1f} GFLOP/s (dgemm on the peer's BLAS"
+          f"{'' if tuned else ': one core, below the machine’s peak'}"
+          f"{'' if machine[2] else '; its result is WRONG'})")
     with tempfile.TemporaryDirectory() as tmp:
         workdir = args.workdir or tmp
         results = []
         for label, driver_args in cases:
             limits = {"mds": (args.eigh_max, "--eigh-max"), "le": (args.sk_le_max, "--sk-le-max")}
             results.append((label, *run_case(driver, label, driver_args, args.repeat, limits,
-                                             workdir)))
+                                             workdir, machine)))
 
     print()
-    print("| case | F | method | MotionMap | scikit-learn/scipy | ratio | Procrustes disparity |")
-    print("|---|---:|---|---:|---:|---:|---:|")
+    print("| case | F | method | MotionMap | scikit-learn/scipy | ratio | bound "
+          "| MotionMap / bound | Procrustes disparity |")
+    print("|---|---:|---|---:|---:|---:|---:|---:|---:|")
     for label, res, rows in results:
         for name, mm, sk, disparity, note in rows:
-            ratio = f"{sk / mm:.1f}×" if sk is not None else "–"
+            ratio = "–" if sk is None else f"{sk / mm:.1f}×" + ("" if tuned else " (ref. BLAS)")
             disp = f"{disparity:.1e}" if disparity is not None else note
+            bound = sum(res["bounds"][METHOD_OF[name]].values())
+            far = f"{mm / bound:.1f}×" + (" far" if mm / bound > FAR else "")
             print(f"| {label} | {res['frames']} | {name} | {fmt_seconds(mm)} | {fmt_seconds(sk)} "
-                  f"| {ratio} | {disp} |")
+                  f"| {ratio} | {fmt_seconds(bound)} | {far} | {disp} |")
     print()
     print("| case | F | MotionMap build_features (X, D) | motionmap_compare peak memory (VmHWM) |")
     print("|---|---:|---:|---:|")
@@ -266,10 +471,13 @@ def main():
               f"| {peak:.0f} MiB "
               f"(after features {res['peak_rss_mib']['features']:.0f} MiB) |")
     print()
-    print("MotionMap stage times (best run, ms):")
+    print("MotionMap stage times (best run, ms; in brackets the stage's bound):")
     for label, res, rows in results:
         for m in METHODS:
-            stages = ", ".join(f"{k} {v * 1000:.1f}" for k, v in res["methods"][m]["stages"].items())
+            bounds = res["bounds"][m]
+            stages = ", ".join(f"{k} {v * 1000:.1f}" +
+                               (f" ({bounds[k] * 1000:.1f})" if k in bounds else "")
+                               for k, v in res["methods"][m]["stages"].items())
             print(f"  {label} {m}: {stages}")
     print()
     for label, res, rows in results:
@@ -286,6 +494,17 @@ def main():
               ", ".join(f"{l} {n} {r:.1f}×" for l, n, r in slow))
     else:
         print("every method ≥ 10× its scikit-learn/scipy counterpart at F ≥ 2000 (issue 11)")
+    far = []
+    for label, res, rows in results:
+        for m in METHODS:
+            mm, bounds = res["methods"][m], res["bounds"][m]
+            if mm["best"] > FAR * sum(bounds.values()):
+                above = {s: t - bounds.get(s, 0.0) for s, t in mm["stages"].items()}
+                stage = max(above, key=above.get)
+                far.append(f"  {label} {m}: {mm['best'] / sum(bounds.values()):.0f}× its bound; "
+                           f"{stage} {above[stage] * 1000:.1f} ms above its own")
+    print(f"next speed work, MotionMap > {FAR:.0f}× its bound (and the stage most above its bound):"
+          + ("\n" + "\n".join(far) if far else " none"))
     print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 

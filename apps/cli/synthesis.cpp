@@ -112,6 +112,9 @@ synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<std::string
     }
   }
   mapfile::MapFile file = mapfile::read_map_file(cmd.map_csv, {.model = false});
+  if (!cmd.map.quiet) {
+    for (const std::string& note : file.read_notes) std::cerr << "note: " << note << '\n';
+  }
   for (const mapfile::ClipRecord& record : file.clips) clip_paths.push_back(record.path);
   const synth::BlendOptions blend = blend_options(cmd, file.options.features.up);
   // The blender keeps the states of the samples it blended, not their clips: a few clips cached.

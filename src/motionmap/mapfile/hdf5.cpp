@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 
 #include "motionmap/core/error.h"
@@ -95,13 +96,40 @@ Id variable_string_type(H5T_cset_t cset = H5T_CSET_UTF8) {
   return type;
 }
 
+// A fixed-length UTF-8 string type of `size` bytes (at least 1), null-padded.
+Id fixed_string_type(std::size_t size) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), std::max<std::size_t>(size, 1));
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  return type;
+}
+
+// A fixed-length string as read: up to its first NUL, and without the trailing spaces of a
+// space-padded one (MATLAB's).
+std::string fixed_string(const char* data, std::size_t size, H5T_str_t pad) {
+  std::string s(data, size);
+  s.resize(std::strlen(s.c_str()));
+  if (pad == H5T_STR_SPACEPAD) {
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+  }
+  return s;
+}
+
+std::string le_bytes(const void* value) {
+  return std::string(static_cast<const char*>(value), 8);
+}
+
 // A memory type for reading strings of the file type `file_type`: HDF5 converts neither between
 // ASCII and UTF-8 strings nor between variable and fixed length, so it takes the file's.
 Id string_memory_type(hid_t file_type) {
   const H5T_cset_t cset = H5Tget_cset(file_type);
   if (H5Tis_variable_str(file_type) > 0) return variable_string_type(cset);
+  // Its size and padding too: a null-terminated memory type would cut a null-padded string's last
+  // byte for the terminator.
   Id type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type.get(), H5Tget_size(file_type));
+  H5Tset_strpad(type.get(), H5Tget_strpad(file_type));
   H5Tset_cset(type.get(), cset);
   return type;
 }
@@ -134,6 +162,10 @@ struct Writer::State {
   std::string path;
   Id file;
   bool closed = false;
+  // The attributes written on each object, for their checksums at close().
+  std::map<std::string, std::vector<AttributeValue>> attributes;
+  // Every dataset and link written, in order, for the root attribute `datasets`.
+  std::string datasets;
 
   [[noreturn]] void fail(const std::string& what) const {
     const std::string reason = hdf5_reason();
@@ -154,6 +186,10 @@ struct Writer::State {
     if (!attr.valid() || H5Awrite(attr.get(), memory_type, value) < 0) {
       fail("attribute " + name + " of " + object);
     }
+  }
+  void write_checksum(const std::string& object, const std::string& name,
+                      std::uint64_t digest) const {
+    write_attribute(object, name, H5T_STD_U64LE, H5T_NATIVE_UINT64, &digest);
   }
 };
 
@@ -182,17 +218,20 @@ void Writer::group(const std::string& name) {
 
 void Writer::attribute(const std::string& object, const std::string& name,
                        const std::string& value) {
-  const Id type = variable_string_type();
-  const char* text = value.c_str();
-  m->write_attribute(object, name, type.get(), type.get(), &text);
+  const Id type = fixed_string_type(value.size());
+  const std::string padded = value + '\0';  // an empty text is one NUL
+  m->write_attribute(object, name, type.get(), type.get(), padded.data());
+  m->attributes[object].push_back({name, 's', value});
 }
 
 void Writer::attribute(const std::string& object, const std::string& name, std::int64_t value) {
   m->write_attribute(object, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &value);
+  m->attributes[object].push_back({name, 'i', le_bytes(&value)});
 }
 
 void Writer::attribute(const std::string& object, const std::string& name, double value) {
   m->write_attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
+  m->attributes[object].push_back({name, 'f', le_bytes(&value)});
 }
 
 void Writer::doubles(const std::string& name, const double* data, std::uint64_t rows,
@@ -212,6 +251,10 @@ void Writer::doubles(const std::string& name, const double* data, std::uint64_t 
       H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
     m->fail("dataset " + name);
   }
+  Hasher h;
+  h.doubles(data, count);
+  m->write_checksum(name, kChecksumAttribute, h.digest());
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::ints(const std::string& name, const std::int32_t* data, std::uint64_t count) {
@@ -231,22 +274,34 @@ void Writer::ints(const std::string& name, const std::int32_t* data, std::uint64
   if (count > 0 && H5Dwrite(set.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
     m->fail("dataset " + name);
   }
+  Hasher h;
+  h.int32s(data, count);
+  m->write_checksum(name, kChecksumAttribute, h.digest());
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::strings(const std::string& name, const std::vector<std::string>& values) {
   const hsize_t dims[1] = {values.size()};
   const Id space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-  const Id type = variable_string_type();
+  std::size_t size = 1;
+  for (const std::string& v : values) size = std::max(size, v.size());
+  const Id type = fixed_string_type(size);
   const Id set(H5Dcreate2(m->file.get(), name.c_str(), type.get(), space.get(), H5P_DEFAULT,
                           H5P_DEFAULT, H5P_DEFAULT),
                H5Dclose);
   if (!set.valid()) m->fail("dataset " + name);
-  std::vector<const char*> text;
-  for (const std::string& v : values) text.push_back(v.c_str());
+  std::vector<char> text(values.size() * size, '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::copy(values[i].begin(), values[i].end(), text.begin() + std::ptrdiff_t(i * size));
+  }
   if (!text.empty() &&
       H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0) {
     m->fail("dataset " + name);
   }
+  Hasher h;
+  h.strings(values);
+  m->write_checksum(name, kChecksumAttribute, h.digest());
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::link(const std::string& existing, const std::string& name) {
@@ -254,10 +309,15 @@ void Writer::link(const std::string& existing, const std::string& name) {
                      H5P_DEFAULT) < 0) {
     m->fail("link " + name + " to " + existing);
   }
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::close() {
   if (m->closed) return;
+  attribute("/", kDatasetsAttribute, m->datasets);
+  for (const auto& [object, attributes] : m->attributes) {
+    m->write_checksum(object, kAttributesChecksumAttribute, attributes_checksum(attributes));
+  }
   const bool flushed = H5Fflush(m->file.get(), H5F_SCOPE_GLOBAL) >= 0;
   const bool closed = m->file.reset();
   if (!flushed || !closed) m->fail("the file (flushing it to disk failed)");
@@ -270,6 +330,7 @@ struct Reader::State {
   Quiet quiet;
   std::string path;
   Id file;
+  bool fixed_strings_only = false;
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": error: " + what); }
   Id dataset(const std::string& name) const {
@@ -326,6 +387,10 @@ const std::string& Reader::path() const {
   return m->path;
 }
 
+void Reader::refuse_variable_length_strings() {
+  m->fixed_strings_only = true;
+}
+
 bool Reader::has(const std::string& name) const {
   // H5Lexists fails (rather than saying no) when a parent is missing: check each prefix.
   std::size_t at = 0;
@@ -353,6 +418,10 @@ std::optional<std::string> Reader::text_attribute(const std::string& object,
   }
   const Id memory = string_memory_type(type.get());
   if (H5Tis_variable_str(type.get()) > 0) {
+    if (m->fixed_strings_only) {
+      m->fail("attribute " + name + " of " + object +
+              " is a variable-length string, which layout 3 does not write");
+    }
     char* text = nullptr;
     if (H5Aread(attr.get(), memory.get(), &text) < 0) {
       m->fail("cannot read attribute " + name + " of " + object);
@@ -362,13 +431,15 @@ std::optional<std::string> Reader::text_attribute(const std::string& object,
     return out;
   }
   const std::size_t size = H5Tget_size(type.get());
-  std::string out(size, '\0');
-  if (H5Aread(attr.get(), memory.get(), out.data()) < 0) {
+  if (size > (std::size_t(1) << 20)) {
+    m->fail("attribute " + name + " of " + object + " is a string of " + std::to_string(size) +
+            " bytes, more than a map file's text holds (1 MiB)");
+  }
+  std::vector<char> buffer(size + 1, '\0');
+  if (H5Aread(attr.get(), memory.get(), buffer.data()) < 0) {
     m->fail("cannot read attribute " + name + " of " + object);
   }
-  out.resize(std::strlen(out.c_str()));
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
+  return fixed_string(buffer.data(), size, H5Tget_strpad(type.get()));
 }
 
 std::optional<std::int64_t> Reader::int_attribute(const std::string& object,
@@ -400,6 +471,56 @@ std::optional<double> Reader::real_attribute(const std::string& object,
   return value;
 }
 
+std::optional<std::uint64_t> Reader::checksum_attribute(const std::string& object,
+                                                        const std::string& name) const {
+  if (!has_attribute(object, name)) return std::nullopt;
+  const Id attr = m->attribute(object, name);
+  if (m->attribute_class(attr) != H5T_INTEGER) {
+    m->fail("attribute " + name + " of " + object + " is not an integer (a checksum)");
+  }
+  std::uint64_t value = 0;
+  if (H5Aread(attr.get(), H5T_NATIVE_UINT64, &value) < 0) {
+    m->fail("cannot read attribute " + name + " of " + object);
+  }
+  return value;
+}
+
+std::vector<AttributeValue> Reader::attributes(const std::string& object) const {
+  std::vector<std::string> names;
+  hsize_t at = 0;
+  const herr_t walked = H5Aiterate_by_name(
+      m->file.get(), object.c_str(), H5_INDEX_NAME, H5_ITER_NATIVE, &at,
+      [](hid_t, const char* name, const H5A_info_t*, void* out) -> herr_t {
+        static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+        return 0;
+      },
+      &names, H5P_DEFAULT);
+  if (walked < 0) m->fail("cannot list the attributes of " + object);
+  std::vector<AttributeValue> out;
+  for (const std::string& name : names) {
+    if (name == kChecksumAttribute || name == kAttributesChecksumAttribute) continue;
+    const Id attr = m->attribute(object, name);
+    switch (m->attribute_class(attr)) {
+      case H5T_STRING:
+        out.push_back({name, 's', *text_attribute(object, name)});
+        break;
+      case H5T_INTEGER: {
+        const std::int64_t v = *int_attribute(object, name);
+        out.push_back({name, 'i', le_bytes(&v)});
+        break;
+      }
+      case H5T_FLOAT: {
+        const double v = *real_attribute(object, name);
+        out.push_back({name, 'f', le_bytes(&v)});
+        break;
+      }
+      default:
+        m->fail("attribute " + name + " of " + object + " is not a string or a number");
+    }
+  }
+  return out;
+}
+
 DatasetInfo Reader::info(const std::string& name) const {
   const Id set = m->dataset(name);
   const Id type(H5Dget_type(set.get()), H5Tclose);
@@ -424,6 +545,26 @@ DatasetInfo Reader::info(const std::string& name) const {
   std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
   if (rank > 0) H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
   out.shape.assign(dims.begin(), dims.end());
+  // A damaged size must not become an allocation: the values must fit in what is stored (at
+  // most 1 100 times more, and 16 MiB, when compressed).
+  std::uint64_t values = 1;
+  bool overflow = false;
+  for (const std::uint64_t d : out.shape) {
+    if (d != 0 && values > UINT64_MAX / d) overflow = true;
+    values *= d;
+  }
+  const std::uint64_t element = std::max<std::uint64_t>(out.element_bytes, 1);
+  const std::uint64_t stored = H5Dget_storage_size(set.get());
+  const Id create(H5Dget_create_plist(set.get()), H5Pclose);
+  const bool filtered = create.valid() && H5Pget_nfilters(create.get()) > 0;
+  const std::uint64_t most = filtered ? stored * 1100 + (std::uint64_t(1) << 24) : stored;
+  if (overflow || values > UINT64_MAX / element ||
+      (out.kind != DatasetInfo::Kind::String && values * element > most) ||
+      (out.kind == DatasetInfo::Kind::String && values * element > most + (1u << 16))) {
+    m->fail(name + " has shape " + std::to_string(out.shape.empty() ? 0 : out.shape[0]) +
+            (out.shape.size() > 1 ? "×" + std::to_string(out.shape[1]) : "") +
+            ", more values than its " + std::to_string(stored) + " stored bytes hold");
+  }
   return out;
 }
 
@@ -489,6 +630,9 @@ std::vector<std::string> Reader::strings(const std::string& name) const {
   if (n == 0) return out;
   const Id memory = string_memory_type(type.get());
   if (H5Tis_variable_str(type.get()) > 0) {
+    if (m->fixed_strings_only) {
+      m->fail(name + " holds variable-length strings, which layout 3 does not write");
+    }
     std::vector<char*> text(n, nullptr);
     if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0) {
       m->fail("cannot read " + name + ": " + hdf5_reason());
@@ -508,13 +652,76 @@ std::vector<std::string> Reader::strings(const std::string& name) const {
   if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0) {
     m->fail("cannot read " + name + ": " + hdf5_reason());
   }
-  for (std::uint64_t i = 0; i < n; ++i) {
-    std::string s(buffer.data() + i * size, size);
-    s.resize(std::strlen(s.c_str()));
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    out.push_back(std::move(s));
-  }
+  const H5T_str_t pad = H5Tget_strpad(type.get());
+  for (std::uint64_t i = 0; i < n; ++i)
+    out.push_back(fixed_string(buffer.data() + i * size, size, pad));
   return out;
+}
+
+// ---- write_checksums -------------------------------------------------------------------------
+
+void write_checksums(const std::string& path) {
+  struct Item {
+    std::string name;
+    bool dataset = false;
+  };
+  std::vector<Item> items;
+  std::vector<std::pair<std::string, std::uint64_t>> sums;  // (object / attribute, digest)
+  {
+    const Reader reader(path);
+    const Quiet quiet;
+    const Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file");
+    H5Ovisit2(
+        file.get(), H5_INDEX_NAME, H5_ITER_NATIVE,
+        [](hid_t, const char* name, const H5O_info_t* info, void* out) -> herr_t {
+          const std::string n = std::string(name) == "." ? "/" : "/" + std::string(name);
+          static_cast<std::vector<Item>*>(out)->push_back({n, info->type == H5O_TYPE_DATASET});
+          return 0;
+        },
+        &items, H5O_INFO_BASIC);
+    for (const Item& item : items) {
+      if (item.dataset) {
+        const DatasetInfo info = reader.info(item.name);
+        Hasher h;
+        if (info.kind == DatasetInfo::Kind::Float) {
+          const std::vector<double> v = reader.doubles(item.name);
+          h.doubles(v.data(), v.size());
+        } else if (info.kind == DatasetInfo::Kind::Integer) {
+          const std::vector<std::int64_t> v = reader.ints(item.name);
+          const std::vector<std::int32_t> v32(v.begin(), v.end());
+          h.int32s(v32.data(), v32.size());
+        } else if (info.kind == DatasetInfo::Kind::String) {
+          h.strings(reader.strings(item.name));
+        } else {
+          continue;
+        }
+        sums.emplace_back(item.name + "\n" + kChecksumAttribute, h.digest());
+      }
+      const std::vector<AttributeValue> attributes = reader.attributes(item.name);
+      if (!attributes.empty()) {
+        sums.emplace_back(item.name + "\n" + kAttributesChecksumAttribute,
+                          attributes_checksum(attributes));
+      }
+    }
+  }
+  const Quiet quiet;
+  const Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file for writing");
+  for (const auto& [where, digest] : sums) {
+    const std::string object = where.substr(0, where.find('\n'));
+    const std::string name = where.substr(where.find('\n') + 1);
+    if (H5Aexists_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0) {
+      H5Adelete_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT);
+    }
+    const Id space(H5Screate(H5S_SCALAR), H5Sclose);
+    const Id attr(H5Acreate_by_name(file.get(), object.c_str(), name.c_str(), H5T_STD_U64LE,
+                                    space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                  H5Aclose);
+    if (!attr.valid() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &digest) < 0) {
+      throw Error(path + ": error: cannot write attribute " + name + " of " + object);
+    }
+  }
 }
 
 }  // namespace motionmap::mapfile::detail

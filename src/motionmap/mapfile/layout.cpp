@@ -165,10 +165,8 @@ void write_map_file(const std::string& path, const MapFile& f) {
   }
   detail::Writer w(path);
   w.attribute("/", "format", std::string(kFormatName));
-  // Layout 1 unless the file needs 2 (a model of other samples than its rows), so that a
-  // MotionMap that reads only layout 1 still reads every map it could read before.
-  const bool placed = f.model.coordinates.rows() > 0 && f.model.coordinates.rows() != n;
-  w.attribute("/", "format_version", placed ? kFormatVersion : 1);
+  // Layout 3 always: its checksums are what a reader trusts the file by.
+  w.attribute("/", "format_version", kFormatVersion);
   w.attribute("/", "generator", detail::generator_name());
 
   w.group("/clips");

@@ -2,12 +2,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <new>
 #include <optional>
+#include <set>
+#include <string_view>
 #include <utility>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/names.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/mapfile/detail/checksum.h"
 #include "motionmap/mapfile/detail/hdf5.h"
 #include "motionmap/mapfile/detail/layout.h"
 #include "motionmap/mapfile/map_file.h"
@@ -35,17 +39,99 @@ std::string shape_text(const std::vector<std::uint64_t>& shape) {
   return s;
 }
 
+// Whether `s` is text a message may show as it is: UTF-8 (no overlong forms, no surrogates) with
+// no control characters.
+bool printable_utf8(std::string_view s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c < 0x80) {
+      if (c < 0x20 || c == 0x7f) return false;
+      ++i;
+      continue;
+    }
+    const int extra = c >= 0xf0 ? 3 : c >= 0xe0 ? 2 : c >= 0xc2 ? 1 : -1;
+    if (extra < 0 || c > 0xf4 || s.size() - i <= std::size_t(extra)) return false;
+    char32_t code = c & (0x3f >> extra);
+    for (int k = 1; k <= extra; ++k) {
+      const auto b = static_cast<unsigned char>(s[i + std::size_t(k)]);
+      if ((b & 0xc0) != 0x80) return false;
+      code = (code << 6) | (b & 0x3f);
+    }
+    const char32_t least = extra == 1 ? 0x80 : extra == 2 ? 0x800 : 0x10000;
+    if (code < least || code > 0x10ffff || (code >= 0xd800 && code <= 0xdfff) ||
+        (code >= 0x80 && code < 0xa0))
+      return false;
+    i += std::size_t(extra) + 1;
+  }
+  return true;
+}
+
 // A read with every check, every failure an Error "path: error: …" naming the item and what was
-// expected of it. A size of −1 accepts any size (and is then fixed by what was read).
+// expected of it. A size of −1 accepts any size (and is then fixed by what was read). Every
+// dataset's values and every object's attributes are checked against their checksums (layout 3
+// requires them; older files have none, and unchecked() says so); every text must be printable
+// UTF-8, and a message quotes a file's bytes with quote_token().
 class Input {
  public:
   explicit Input(const detail::Reader& reader) : m_r(reader) {}
+
+  /// From layout 3 on, every checksum must be there.
+  void require_checksums(bool required) { m_required = required; }
+  /// Whether something was read without a checksum to check it against.
+  bool unchecked() const { return m_unchecked; }
+
+  // The attributes of `object` against their checksum (once per object).
+  void verify_attributes(const std::string& object) const {
+    if (!m_verified.insert(object).second) return;
+    const std::optional<std::uint64_t> stored =
+        m_r.checksum_attribute(object, detail::kAttributesChecksumAttribute);
+    if (!stored) {
+      if (m_required) {
+        fail(missing_attribute(object, detail::kAttributesChecksumAttribute,
+                               "the checksum of its attributes, which layout 3 requires"));
+      }
+      m_unchecked = true;
+      return;
+    }
+    const std::uint64_t actual = detail::attributes_checksum(m_r.attributes(object));
+    if (actual != *stored) {
+      fail("the attributes of " + object + " are damaged: their checksum is " +
+           detail::hex_digest(actual) + " where the file records " + detail::hex_digest(*stored));
+    }
+  }
+  // The values of dataset `name`, whose checksum is `actual`, against the file's.
+  void verify_dataset(const std::string& name, std::uint64_t actual) const {
+    const std::optional<std::uint64_t> stored =
+        m_r.checksum_attribute(name, detail::kChecksumAttribute);
+    if (!stored) {
+      if (m_required) {
+        fail(missing_attribute(name, detail::kChecksumAttribute,
+                               "the checksum of its values, which layout 3 requires"));
+      }
+      m_unchecked = true;
+      return;
+    }
+    if (actual != *stored) {
+      fail(name + " is damaged: the checksum of its values is " + detail::hex_digest(actual) +
+           " where the file records " + detail::hex_digest(*stored));
+    }
+  }
+  // `value` (read from `where`) when it is printable UTF-8.
+  const std::string& checked_text(const std::string& value, const std::string& where) const {
+    if (!printable_utf8(value)) {
+      fail(where + " is not printable UTF-8 text: '" + quote_token(value) + "'");
+    }
+    return value;
+  }
 
   [[noreturn]] void fail(const std::string& what) const {
     throw Error(m_r.path() + ": error: " + what);
   }
 
   bool has(const std::string& name) const { return m_r.has(name); }
+  bool has_attribute(const std::string& object, const std::string& name) const {
+    return m_r.has_attribute(object, name);
+  }
 
   void require_group(const std::string& name, const std::string& meaning) const {
     if (!m_r.has(name)) fail("missing group " + name + " (" + meaning + ")");
@@ -53,12 +139,14 @@ class Input {
 
   std::string text(const std::string& object, const std::string& name,
                    const std::string& meaning) const {
+    verify_attributes(object);
     const std::optional<std::string> v = m_r.text_attribute(object, name);
     if (!v) fail(missing_attribute(object, name, "a string: " + meaning));
-    return *v;
+    return checked_text(*v, "attribute " + name + " of " + object);
   }
   std::int64_t integer(const std::string& object, const std::string& name, std::int64_t lo,
                        std::int64_t hi, const std::string& meaning) const {
+    verify_attributes(object);
     const std::optional<std::int64_t> v = m_r.int_attribute(object, name);
     if (!v) fail(missing_attribute(object, name, "an integer: " + meaning));
     if (*v < lo || *v > hi) {
@@ -76,6 +164,7 @@ class Input {
   }
   double real(const std::string& object, const std::string& name,
               const std::string& meaning) const {
+    verify_attributes(object);
     const std::optional<double> v = m_r.real_attribute(object, name);
     if (!v) fail(missing_attribute(object, name, "a number: " + meaning));
     if (!std::isfinite(*v)) {
@@ -88,8 +177,8 @@ class Input {
             const std::string& meaning) const {
     const std::string v = text(object, name, meaning);
     if (const std::optional<E> e = parse_enum(table, v)) return *e;
-    fail("attribute " + name + " of " + object + " is '" + v + "', expected " + meaning + ": " +
-         choices(table));
+    fail("attribute " + name + " of " + object + " is '" + quote_token(v) + "', expected " +
+         meaning + ": " + choices(table));
   }
   // A name parsed by `parse` (features::parse_feature_kind, …), which returns an optional.
   template <class Parse>
@@ -97,7 +186,10 @@ class Input {
               const std::string& meaning) const {
     const std::string v = text(object, name, meaning);
     const auto e = parse(v);
-    if (!e) fail("attribute " + name + " of " + object + " is '" + v + "', expected " + meaning);
+    if (!e) {
+      fail("attribute " + name + " of " + object + " is '" + quote_token(v) + "', expected " +
+           meaning);
+    }
     return *e;
   }
   template <class E, std::size_t N>
@@ -150,10 +242,12 @@ class Input {
     const std::uint64_t slab =
         std::max<std::uint64_t>(1, kSlabValues / std::max<std::uint64_t>(1, C));
     std::vector<double> buffer;
+    detail::Hasher sum;
     for (std::uint64_t r = 0; r < R; r += slab) {
       const std::uint64_t n = std::min(slab, R - r);
       buffer.resize(n * C);
       m_r.double_rows(name, r, n, buffer.data());
+      sum.doubles(buffer.data(), n * C);
       check_finite(name, buffer.data(), n * C, C, r);
       const Eigen::Map<const RowMatrix> rows(buffer.data(), Eigen::Index(n), Eigen::Index(C));
       // Column blocks in parallel (the scattered writes, and the first touch of out's pages).
@@ -164,6 +258,7 @@ class Input {
         out.block(Eigen::Index(r), c0, Eigen::Index(n), width) = rows.middleCols(c0, width);
       });
     }
+    verify_dataset(name, sum.digest());
     return out;
   }
   RowMatrix row_matrix(const std::string& name, std::int64_t rows, std::int64_t cols,
@@ -172,6 +267,9 @@ class Input {
     RowMatrix out(static_cast<Eigen::Index>(info.shape[0]),
                   static_cast<Eigen::Index>(info.shape[1]));
     m_r.double_rows(name, 0, info.shape[0], out.data());
+    detail::Hasher sum;
+    sum.doubles(out.data(), std::size_t(out.size()));
+    verify_dataset(name, sum.digest());
     check_finite(name, out.data(), std::uint64_t(out.size()), info.shape[1], 0);
     return out;
   }
@@ -179,6 +277,9 @@ class Input {
                          const std::string& meaning) const {
     dataset(name, DatasetInfo::Kind::Float, {size}, meaning);
     const std::vector<double> values = m_r.doubles(name);
+    detail::Hasher sum;
+    sum.doubles(values.data(), values.size());
+    verify_dataset(name, sum.digest());
     check_finite(name, values.data(), values.size(), 1, 0);
     return Eigen::Map<const Eigen::VectorXd>(values.data(), Eigen::Index(values.size()));
   }
@@ -187,6 +288,13 @@ class Input {
                         std::int64_t hi, const std::string& meaning) const {
     dataset(name, DatasetInfo::Kind::Integer, {size}, meaning);
     const std::vector<std::int64_t> values = m_r.ints(name);
+    {
+      // The checksum is of the values as int32: a wider value cannot match it.
+      const std::vector<std::int32_t> as_written(values.begin(), values.end());
+      detail::Hasher sum;
+      sum.int32s(as_written.data(), as_written.size());
+      verify_dataset(name, sum.digest());
+    }
     std::vector<int> out;
     out.reserve(values.size());
     for (std::size_t i = 0; i < values.size(); ++i) {
@@ -202,7 +310,14 @@ class Input {
   std::vector<std::string> strings(const std::string& name, std::int64_t size,
                                    const std::string& meaning) const {
     dataset(name, DatasetInfo::Kind::String, {size}, meaning);
-    return m_r.strings(name);
+    std::vector<std::string> values = m_r.strings(name);
+    detail::Hasher sum;
+    sum.strings(values);
+    verify_dataset(name, sum.digest());
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      checked_text(values[i], name + "[" + std::to_string(i) + "]");
+    }
+    return values;
   }
 
  private:
@@ -236,19 +351,29 @@ class Input {
   }
 
   const detail::Reader& m_r;
+  bool m_required = false;
+  mutable bool m_unchecked = false;
+  mutable std::set<std::string> m_verified;
 };
 
 // ---- read_map_file's sections, in the order they are read ----------------------------------
 
 // What the file is, before anything else is trusted: its format and layout version.
-std::int64_t read_version(const detail::Reader& reader, const Input& in) {
+// From layout 3 on, every dataset and every object's attributes carry a checksum.
+std::int64_t read_version(detail::Reader& reader, Input& in) {
+  // Layout 3 has no variable-length strings: known before its first string is read.
+  try {
+    const std::optional<std::int64_t> peek = reader.int_attribute("/", "format_version");
+    if (peek && *peek >= 3) reader.refuse_variable_length_strings();
+  } catch (const Error&) {  // said below, once the format is known
+  }
   const std::optional<std::string> format = reader.text_attribute("/", "format");
   if (!format) {
     in.fail("not a MotionMap map file: the root has no 'format' attribute (expected format = " +
             std::string(kFormatName) + ", as `motionmap map --save` writes)");
   }
   if (*format != kFormatName) {
-    in.fail("not a MotionMap map file: its format is '" + *format + "', expected '" +
+    in.fail("not a MotionMap map file: its format is '" + quote_token(*format) + "', expected '" +
             std::string(kFormatName) + "'");
   }
   const std::optional<std::int64_t> version = reader.int_attribute("/", "format_version");
@@ -264,6 +389,8 @@ std::int64_t read_version(const detail::Reader& reader, const Input& in) {
     in.fail("unknown map file layout version " + std::to_string(*version) +
             " (this MotionMap reads versions 1 to " + std::to_string(kFormatVersion) + ")");
   }
+  in.require_checksums(*version >= 3);
+  in.verify_attributes("/");
   return *version;
 }
 
@@ -287,7 +414,7 @@ void read_clips(const Input& in, MapFile& f) {
   for (std::int64_t c = 0, row = 0; c < C; ++c) {
     if (hashes[c].size() != 64 ||
         hashes[c].find_first_not_of("0123456789abcdef") != std::string::npos) {
-      in.fail("/clips/sha256[" + std::to_string(c) + "] is '" + hashes[c] +
+      in.fail("/clips/sha256[" + std::to_string(c) + "] is '" + quote_token(hashes[c]) +
               "', expected 64 lowercase hexadecimal digits");
     }
     if (!(frame_times[c] > 0)) {
@@ -360,7 +487,8 @@ void read_parameters(const Input& in, MapFile& f) {
   f.options.dense_limit = in.integer32(p, "dense_limit", 0, "the dense path's frame limit");
   const std::string taken = in.text(p, "path_taken", "the path taken (dense, points)");
   if (taken != "dense" && taken != "points") {
-    in.fail("attribute path_taken of " + p + " is '" + taken + "', expected dense or points");
+    in.fail("attribute path_taken of " + p + " is '" + quote_token(taken) +
+            "', expected dense or points");
   }
   f.dense = taken == "dense";
   f.neighbor_search = in.text(p, "neighbor_search", "how neighbours were found");
@@ -383,7 +511,7 @@ void read_skeleton(const Input& in, MapFile& f) {
               std::to_string(f.skeleton.parents[j]) + ", expected an earlier joint or −1");
     }
   }
-  f.skeleton.end_sites = in.ints("/skeleton/end_sites", J, 0, INT32_MAX, "End Sites per joint");
+  f.skeleton.end_sites = in.ints("/skeleton/end_sites", J, 0, 1 << 16, "End Sites per joint");
   if (in.has("/blend")) {
     BlendRecord b;
     b.motion_root = static_cast<int>(
@@ -521,6 +649,14 @@ void read_model(const Input& in, std::int64_t version, MapFile& f) {
     in.fail("attribute k of " + g + " is " + std::to_string(m.k) + ", expected 1 to " +
             std::to_string(M) + " for " + who);
   }
+  if (method == Method::LaplacianEigenmap && !(m.heat >= 0)) {
+    in.fail("attribute heat of " + g + " is " + std::to_string(m.heat) +
+            ", expected a heat-kernel width ≥ 0 (0: equal weights) for " + who);
+  }
+  if (method == Method::Lle && !(m.reg >= 0)) {
+    in.fail("attribute reg of " + g + " is " + std::to_string(m.reg) +
+            ", expected a regularisation ≥ 0 for " + who);
+  }
   if (m.points_are_landmarks && method != Method::Mds) {
     in.fail("attribute points_are_landmarks of " + g +
             " is 1, but only an mds map keeps the "
@@ -534,11 +670,26 @@ void read_model(const Input& in, std::int64_t version, MapFile& f) {
   if (need(in, g + "/graph", dense_isomap, who)) m.graph = read_graph(in, M);
 }
 
-}  // namespace
+// The root attribute `datasets` (layout 3): every dataset written must be there, so that one a
+// damaged file lost is not taken for an optional one left out.
+void read_manifest(const Input& in, std::int64_t version) {
+  if (version < 3 && !in.has_attribute("/", detail::kDatasetsAttribute)) return;
+  const std::string names =
+      in.text("/", detail::kDatasetsAttribute, "the datasets written, separated by spaces");
+  for (std::size_t at = 0; at < names.size();) {
+    const std::size_t end = std::min(names.find(' ', at), names.size());
+    const std::string name = names.substr(at, end - at);
+    if (!name.empty() && !in.has(name)) {
+      in.fail("missing dataset " + name + " (the root attribute datasets lists it)");
+    }
+    at = end + 1;
+  }
+}
 
-MapFile read_map_file(const std::string& path, const ReadOptions& options) {
-  const detail::Reader reader(path);
-  const Input in(reader);
+// read_map_file() without its last line of defence.
+MapFile read_checked(const std::string& path, const ReadOptions& options) {
+  detail::Reader reader(path);
+  Input in(reader);
   const std::int64_t version = read_version(reader, in);
   MapFile f;
   f.path = path;
@@ -548,9 +699,27 @@ MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   read_joints(in, f);
   f.coordinates =
       in.matrix("/coordinates", f.num_samples(), f.options.embed.dimensions, "#samples by dims");
-  if (!options.model) return f;  // showing or blending the map: the model is not needed
-  read_model(in, version, f);
+  // Showing or blending the map does not need the model.
+  if (options.model) read_model(in, version, f);
+  read_manifest(in, version);
+  if (in.unchecked()) {
+    f.read_notes.push_back(path + " was written by an older MotionMap (layout " +
+                           std::to_string(version) +
+                           ") without checksums: damage to its data cannot be detected; save it "
+                           "again to add them");
+  }
   return f;
+}
+
+}  // namespace
+
+MapFile read_map_file(const std::string& path, const ReadOptions& options) {
+  try {
+    return read_checked(path, options);
+  } catch (const std::bad_alloc&) {
+    // Every size is checked against what the file stores first; this is a last line, not a path.
+    throw Error(path + ": error: its sizes need more memory than there is (a damaged file?)");
+  }
 }
 
 }  // namespace motionmap::mapfile

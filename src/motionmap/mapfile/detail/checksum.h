@@ -1,15 +1,18 @@
 #pragma once
-// The map file's content checksums (docs/map-file.md, layout 3): XXH3-64 (Debian's libxxhash,
-// compiled in from its header) of each dataset's values and of each object's attributes, in a
-// canonical form that does not depend on how HDF5 stored them:
+// The map file's content checksums (docs/map-file.md, layout 3), of each dataset's values and of
+// each object's attributes in a canonical form that does not depend on how HDF5 stored them. The
+// checksum of N bytes is XXH3-64 (Debian's libxxhash, compiled in from its header) of the XXH3-64
+// digests (8 bytes each, little-endian) of its consecutive blocks of kChecksumBlock bytes (the
+// last one shorter): blocks hashed in parallel, so that checking a model of gigabytes adds little
+// to reading it. The canonical forms:
 //   float datasets:  the values as little-endian float64, row-major;
 //   integer ones:    the values as little-endian int32;
 //   string ones:     each string's bytes followed by one NUL;
 //   attributes:      for each attribute but the checksums, by name in byte order: the name, NUL,
 //                    then 's' + the text + NUL, 'i' + the value as little-endian int64, or 'f' +
 //                    the value as little-endian float64.
+#include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -24,11 +27,13 @@ inline constexpr const char* kAttributesChecksumAttribute = "attributes_xxh3";
 /// damaged file lost is missing, not taken for an optional one left out.
 inline constexpr const char* kDatasetsAttribute = "datasets";
 
-/// An XXH3-64 digest fed piece by piece.
+/// The block size of the checksums: 1 MiB.
+inline constexpr std::size_t kChecksumBlock = std::size_t(1) << 20;
+
+/// A checksum fed piece by piece (whole blocks hashed in parallel).
 class Hasher {
  public:
-  Hasher();
-  ~Hasher();
+  Hasher() = default;
   Hasher(const Hasher&) = delete;
   Hasher& operator=(const Hasher&) = delete;
 
@@ -42,8 +47,8 @@ class Hasher {
   std::uint64_t digest() const;
 
  private:
-  struct State;
-  std::unique_ptr<State> m;
+  std::vector<std::uint64_t> m_blocks;  // digests of the whole blocks so far
+  std::string m_partial;                // the bytes after them (less than a block)
 };
 
 /// One attribute's value as the attributes' checksum reads it.

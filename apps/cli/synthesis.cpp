@@ -49,11 +49,9 @@ constexpr const char* kFixedBySavedMap[] = {
     "--exclude",    "--frames", "--stride",      "--keep-first", "--up",       "--recursive",
     "--keep-going", "--joints", "--exact",       "--landmarks"};
 
-/// Whether `path` is an HDF5 file (its 8-byte signature at offset 0), i.e. a saved map.
+/// Whether `path` is a saved map (an HDF5 file) rather than a map CSV.
 bool is_hdf5(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char head[8] = {};
-  return in.read(head, sizeof head) && std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) == 0;
+  return mapfile::looks_like_map_file(path);
 }
 
 void add_blend_options(CLI::App* sub, BlendCommand& cmd) {

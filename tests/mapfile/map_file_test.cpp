@@ -460,7 +460,9 @@ TEST(MapFile, AJointsCommonMapPlacesClipsThatHaveItsSharedJoints) {
 //
 // An edit is sealed by default: the file's checksums are recomputed afterwards, so that it is a
 // file made that way on purpose and reaches the checks behind the checksums. Damage::Unsealed
-// leaves them, as damage on a disk would.
+// leaves the datasets' and attributes' checksums as they were, as damage on a disk would, and
+// recomputes only the structure checksum (the user block), so that the checks behind it are
+// reached (tests of the structure checksum change the file's bytes directly).
 class Edit {
  public:
   enum class Damage { Sealed, Unsealed };
@@ -470,7 +472,11 @@ class Edit {
   }
   ~Edit() {
     H5Fclose(m_file);
-    if (m_damage == Damage::Sealed) detail::write_checksums(m_path);
+    if (m_damage == Damage::Sealed) {
+      detail::write_checksums(m_path);
+    } else {
+      detail::write_structure_checksum(m_path);
+    }
   }
   Edit(const Edit&) = delete;
   Edit& operator=(const Edit&) = delete;
@@ -958,6 +964,51 @@ TEST(MapFileTrust, DamagedValuesAreAnErrorNamingTheDataset) {
   EXPECT_EQ(read_error(path),
             "missing attribute xxh3 of /samples/frame (the checksum of its values, which layout 3 "
             "requires)");
+}
+
+// Bytes of the file changed outside the datasets' values (HDF5's own structure), or the file cut:
+// refused before HDF5 parses it.
+TEST(MapFileTrust, DamageToTheFilesStructureIsFoundBeforeHdf5ReadsIt) {
+  const TempDir dir;
+  const std::string path = dir.file("structure.mmap.h5");
+  write_map_file(path, synthetic_file(40, 2));
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(bytes.size(), 5000u);
+  EXPECT_EQ(bytes.rfind("MotionMap map file", 0), 0u);
+  EXPECT_EQ(bytes.compare(4096, 4, "\x89HDF"), 0);
+  auto write = [&](const std::string& b) { std::ofstream(path, std::ios::binary) << b; };
+  // The superblock's byte after its signature.
+  std::string damaged = bytes;
+  damaged[4096 + 9] = char(damaged[4096 + 9] ^ 0x40);
+  write(damaged);
+  std::string message = read_error(path);
+  EXPECT_EQ(message.rfind("its HDF5 structure (everything but the datasets' values) is damaged: "
+                          "its checksum is ",
+                          0),
+            0u)
+      << message;
+  write(bytes.substr(0, bytes.size() - 100));
+  EXPECT_EQ(read_error(path),
+            "its HDF5 structure (everything but the datasets' values) is damaged: the file has " +
+                std::to_string(bytes.size() - 100) + " bytes where it had " +
+                std::to_string(bytes.size()) + " (cut or extended)");
+  damaged = bytes;
+  damaged[60] = 'x';  // inside the checksum line
+  write(damaged);
+  message = read_error(path);
+  EXPECT_NE(message.find("its structure checksum is damaged"), std::string::npos) << message;
+  damaged = bytes;
+  damaged[0] = 'm';
+  write(damaged);
+  EXPECT_EQ(read_error(path),
+            "its HDF5 structure (everything but the datasets' values) cannot be checked: its "
+            "first 4096 bytes, which hold its structure checksum, are damaged");
+  write(bytes);
+  EXPECT_EQ(read_map_file(path).num_samples(), 40);
 }
 
 TEST(MapFileTrust, OldFilesWithoutChecksumsStillReadWithANote) {

@@ -2,13 +2,16 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <string_view>
 
 #include "motionmap/core/error.h"
 
@@ -134,6 +137,189 @@ Id string_memory_type(hid_t file_type) {
   return type;
 }
 
+// ---- The structure checksum, in the user block ------------------------------------------------
+//
+// HDF5 ignores the first kUserBlock bytes of a file written with a user block. MotionMap writes
+// there, in text, a checksum of every byte of the file but the datasets' contiguous values
+// (which carry checksums of their own): the superblock, object headers, B-trees, heaps, chunked
+// data and free space. The reader checks it before HDF5 parses anything, since HDF5 1.10's own
+// decoding of a damaged object header can read past its buffers or allocate terabytes.
+//
+//   MotionMap map file (docs/map-file.md)\n
+//   structure-xxh3 0123456789abcdef\n        the checksum of what follows it, then of the bytes
+//   size 481552\n                            from kUserBlock to `size` outside the raw extents
+//   raw 20656 5824\n                         a dataset's contiguous values: offset, length
+//   …                                        (increasing, not overlapping)
+//   NUL padding to kUserBlock bytes
+
+constexpr std::size_t kUserBlock = 4096;
+constexpr std::string_view kUserBlockMagic = "MotionMap map file (docs/map-file.md)\n";
+constexpr std::string_view kHdf5Signature = "\211HDF\r\n\032\n";
+
+struct Extent {
+  std::uint64_t offset = 0, length = 0;
+};
+
+// The contiguous values of every dataset of `file` (addresses within the file), sorted.
+std::vector<Extent> raw_extents(hid_t file) {
+  std::vector<Extent> out;
+  H5Ovisit2(
+      file, H5_INDEX_NAME, H5_ITER_NATIVE,
+      [](hid_t root, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+        if (info->type != H5O_TYPE_DATASET) return 0;
+        const Id set(H5Dopen2(root, name, H5P_DEFAULT), H5Dclose);
+        if (!set.valid()) return 0;
+        const haddr_t offset = H5Dget_offset(set.get());
+        const hsize_t length = H5Dget_storage_size(set.get());
+        if (offset != HADDR_UNDEF && length > 0) {
+          static_cast<std::vector<Extent>*>(data)->push_back({offset, length});
+        }
+        return 0;
+      },
+      &out, H5O_INFO_BASIC);
+  std::sort(out.begin(), out.end(), [](const Extent& a, const Extent& b) {
+    return a.offset < b.offset || (a.offset == b.offset && a.length < b.length);
+  });
+  out.erase(std::unique(out.begin(), out.end(),
+                        [](const Extent& a, const Extent& b) {
+                          return a.offset == b.offset && a.length == b.length;
+                        }),
+            out.end());
+  return out;
+}
+
+// The checksum of `described` (the header's lines after the checksum line) and of the bytes of
+// `in` (of `size` bytes) from kUserBlock on outside `raw`; nullopt if `raw` is not a list of
+// increasing extents inside the file.
+std::optional<std::uint64_t> structure_checksum(std::istream& in, std::uint64_t size,
+                                                const std::vector<Extent>& raw,
+                                                const std::string& described) {
+  Hasher h;
+  h.bytes(described.data(), described.size());
+  std::uint64_t at = kUserBlock;
+  std::vector<char> buffer(std::size_t(1) << 20);
+  auto hash_to = [&](std::uint64_t end) {
+    in.seekg(std::streamoff(at));
+    while (at < end) {
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(end - at, buffer.size()));
+      if (!in.read(buffer.data(), std::streamsize(n))) return false;
+      h.bytes(buffer.data(), n);
+      at += n;
+    }
+    return true;
+  };
+  for (const Extent& e : raw) {
+    if (e.offset < at || e.length > size || e.offset > size - e.length) return std::nullopt;
+    if (!hash_to(e.offset)) return std::nullopt;
+    at = e.offset + e.length;
+  }
+  if (at > size || !hash_to(size)) return std::nullopt;
+  return h.digest();
+}
+
+std::string describe_extents(std::uint64_t size, const std::vector<Extent>& raw) {
+  std::string out = "size " + std::to_string(size) + "\n";
+  for (const Extent& e : raw) {
+    out += "raw " + std::to_string(e.offset) + " " + std::to_string(e.length) + "\n";
+  }
+  return out;
+}
+
+// Writes the user block of the closed file `path`, whose datasets' values are `raw`.
+void seal_structure(const std::string& path, const std::vector<Extent>& raw) {
+  std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+  file.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(file.tellg());
+  const std::string described = describe_extents(size, raw);
+  const std::optional<std::uint64_t> sum = structure_checksum(file, size, raw, described);
+  std::string block = std::string(kUserBlockMagic) + "structure-xxh3 " +
+                      (sum ? hex_digest(*sum) : std::string("none")) + "\n" + described;
+  if (!file || !sum || size < kUserBlock || block.size() > kUserBlock) {
+    throw Error(path + ": error: cannot write the structure checksum");
+  }
+  block.resize(kUserBlock, '\0');
+  file.clear();
+  file.seekp(0);
+  file.write(block.data(), std::streamsize(block.size()));
+  file.flush();
+  if (!file) throw Error(path + ": error: cannot write the structure checksum");
+}
+
+// Checks the user block of `path` (an error naming what is wrong); false for a file without one
+// (written before layout 3: HDF5's signature at its start).
+bool check_structure(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  file.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(file.tellg());
+  std::string block(std::size_t(std::min<std::uint64_t>(size, kUserBlock)), '\0');
+  file.seekg(0);
+  file.read(block.data(), std::streamsize(block.size()));
+  if (!file) throw Error(path + ": error: cannot read it");
+  if (block.rfind(kHdf5Signature, 0) == 0) return false;
+  const std::string fail =
+      path + ": error: its HDF5 structure (everything but the datasets' values) ";
+  if (block.rfind(kUserBlockMagic, 0) != 0) {
+    // HDF5 looks for its signature at 0, 512, 1024, 2048, …: one there is not a file of ours.
+    if (size > kUserBlock && block.size() == kUserBlock) {
+      std::string signature(kHdf5Signature.size(), '\0');
+      file.read(signature.data(), std::streamsize(signature.size()));
+      if (file && signature == kHdf5Signature) {
+        throw Error(fail + "cannot be checked: its first " + std::to_string(kUserBlock) +
+                    " bytes, which hold its structure checksum, are damaged");
+      }
+    }
+    return false;
+  }
+  // The lines: the checksum, the size, the raw extents; then NULs.
+  const std::size_t end = std::min(block.find('\0'), block.size());
+  std::string_view text(block.data() + kUserBlockMagic.size(), end - kUserBlockMagic.size());
+  auto damaged = [&](const std::string& what) -> Error {
+    return Error(fail + "cannot be checked: its structure checksum is damaged (" + what + ")");
+  };
+  std::vector<std::string_view> lines;
+  while (!text.empty()) {
+    const std::size_t eol = text.find('\n');
+    if (eol == std::string_view::npos) throw damaged("a line without its end");
+    lines.push_back(text.substr(0, eol));
+    text.remove_prefix(eol + 1);
+  }
+  auto number = [&](std::string_view t, int base) {
+    std::uint64_t v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v, base);
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size() || t.empty()) {
+      throw damaged("'" + quote_token(t) + "' is not a number");
+    }
+    return v;
+  };
+  if (lines.size() < 2 || lines[0].rfind("structure-xxh3 ", 0) != 0 ||
+      lines[1].rfind("size ", 0) != 0) {
+    throw damaged("expected its checksum and size lines");
+  }
+  const std::uint64_t recorded = number(lines[0].substr(15), 16);
+  if (number(lines[1].substr(5), 10) != size) {
+    throw Error(fail + "is damaged: the file has " + std::to_string(size) + " bytes where it had " +
+                std::string(lines[1].substr(5)) + " (cut or extended)");
+  }
+  std::vector<Extent> raw;
+  for (std::size_t i = 2; i < lines.size(); ++i) {
+    const std::string_view l = lines[i];
+    const std::size_t space = l.find(' ', 4);
+    if (l.rfind("raw ", 0) != 0 || space == std::string_view::npos) {
+      throw damaged("expected a raw extent line, found '" + quote_token(l) + "'");
+    }
+    raw.push_back({number(l.substr(4, space - 4), 10), number(l.substr(space + 1), 10)});
+  }
+  const std::string described(block.data() + kUserBlockMagic.size() + lines[0].size() + 1,
+                              block.data() + end);
+  const std::optional<std::uint64_t> actual = structure_checksum(file, size, raw, described);
+  if (!actual) throw damaged("its extents are not increasing extents inside the file");
+  if (*actual != recorded) {
+    throw Error(fail + "is damaged: its checksum is " + hex_digest(*actual) +
+                " where the file records " + hex_digest(recorded));
+  }
+  return true;
+}
+
 // Integer datasets of at least this many values are chunked and compressed (sample → clip and
 // frame numbers: 4 MB each at 10⁶ samples, 20–30 kB compressed).
 constexpr std::uint64_t kCompressFrom = 1u << 16;
@@ -195,7 +381,9 @@ struct Writer::State {
 
 Writer::Writer(const std::string& path) : m(std::make_unique<State>()) {
   m->path = path;
-  m->file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  const Id create(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_userblock(create.get(), kUserBlock);
+  m->file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create.get(), H5P_DEFAULT), H5Fclose);
   if (!m->file.valid()) {
     const std::string reason = hdf5_reason();
     throw Error(path + ": error: cannot create the file" + (reason.empty() ? "" : ": " + reason));
@@ -319,8 +507,10 @@ void Writer::close() {
     m->write_checksum(object, kAttributesChecksumAttribute, attributes_checksum(attributes));
   }
   const bool flushed = H5Fflush(m->file.get(), H5F_SCOPE_GLOBAL) >= 0;
+  const std::vector<Extent> raw = raw_extents(m->file.get());
   const bool closed = m->file.reset();
   if (!flushed || !closed) m->fail("the file (flushing it to disk failed)");
+  seal_structure(m->path, raw);
   m->closed = true;
 }
 
@@ -331,6 +521,7 @@ struct Reader::State {
   std::string path;
   Id file;
   bool fixed_strings_only = false;
+  bool structure_checked = false;
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": error: " + what); }
   Id dataset(const std::string& name) const {
@@ -358,7 +549,7 @@ struct Reader::State {
   }
 };
 
-Reader::Reader(const std::string& path) : m(std::make_unique<State>()) {
+Reader::Reader(const std::string& path, bool check_structure_first) : m(std::make_unique<State>()) {
   m->path = path;
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
@@ -368,6 +559,7 @@ Reader::Reader(const std::string& path) : m(std::make_unique<State>()) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw Error(path + ": error: cannot open: " + std::strerror(errno));
   }
+  if (check_structure_first) m->structure_checked = check_structure(path);
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     throw Error(path +
                 ": error: not an HDF5 file (expected a MotionMap map file, as `motionmap map "
@@ -385,6 +577,10 @@ Reader::~Reader() = default;
 
 const std::string& Reader::path() const {
   return m->path;
+}
+
+bool Reader::structure_checked() const {
+  return m->structure_checked;
 }
 
 void Reader::refuse_variable_length_strings() {
@@ -668,7 +864,7 @@ void write_checksums(const std::string& path) {
   std::vector<Item> items;
   std::vector<std::pair<std::string, std::uint64_t>> sums;  // (object / attribute, digest)
   {
-    const Reader reader(path);
+    const Reader reader(path, false);
     const Quiet quiet;
     const Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file");
@@ -705,23 +901,46 @@ void write_checksums(const std::string& path) {
       }
     }
   }
-  const Quiet quiet;
-  const Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
-  if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file for writing");
-  for (const auto& [where, digest] : sums) {
-    const std::string object = where.substr(0, where.find('\n'));
-    const std::string name = where.substr(where.find('\n') + 1);
-    if (H5Aexists_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0) {
-      H5Adelete_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT);
+  {
+    const Quiet quiet;
+    const Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file for writing");
+    for (const auto& [where, digest] : sums) {
+      const std::string object = where.substr(0, where.find('\n'));
+      const std::string name = where.substr(where.find('\n') + 1);
+      if (H5Aexists_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0) {
+        H5Adelete_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT);
+      }
+      const Id space(H5Screate(H5S_SCALAR), H5Sclose);
+      const Id attr(H5Acreate_by_name(file.get(), object.c_str(), name.c_str(), H5T_STD_U64LE,
+                                      space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    H5Aclose);
+      if (!attr.valid() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &digest) < 0) {
+        throw Error(path + ": error: cannot write attribute " + name + " of " + object);
+      }
     }
-    const Id space(H5Screate(H5S_SCALAR), H5Sclose);
-    const Id attr(H5Acreate_by_name(file.get(), object.c_str(), name.c_str(), H5T_STD_U64LE,
-                                    space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                  H5Aclose);
-    if (!attr.valid() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &digest) < 0) {
-      throw Error(path + ": error: cannot write attribute " + name + " of " + object);
-    }
+  }  // closed: HDF5 writes its metadata before the structure is hashed
+  write_structure_checksum(path);
+}
+
+bool has_map_file_start(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(kUserBlockMagic.size(), '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  const std::size_t got = std::size_t(in.gcount());
+  return (got >= kHdf5Signature.size() && head.rfind(kHdf5Signature, 0) == 0) ||
+         (got == head.size() && head == kUserBlockMagic);
+}
+
+void write_structure_checksum(const std::string& path) {
+  std::vector<Extent> raw;
+  {
+    const Quiet quiet;
+    const Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file");
+    raw = raw_extents(file.get());
   }
+  seal_structure(path, raw);
 }
 
 }  // namespace motionmap::mapfile::detail

@@ -151,6 +151,11 @@ struct ReadOptions {
 /// checksums: MapFile::read_notes says so.
 MapFile read_map_file(const std::string& path, const ReadOptions& options = {});
 
+/// Whether `path` starts as a map file does (the structure checksum of layout 3, or HDF5's
+/// signature: files of layouts 1 and 2), rather than as a map CSV. Reads 4 096 bytes at most; no
+/// check of anything else.
+bool looks_like_map_file(const std::string& path);
+
 /// Which frames of the new clips place_clips() places (the map's own clips' selection was for
 /// them). The feature definition (kind, distance, up axis, excluded and shared joints) always
 /// comes from the map.

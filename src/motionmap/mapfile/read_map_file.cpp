@@ -389,6 +389,12 @@ std::int64_t read_version(detail::Reader& reader, Input& in) {
     in.fail("unknown map file layout version " + std::to_string(*version) +
             " (this MotionMap reads versions 1 to " + std::to_string(kFormatVersion) + ")");
   }
+  if (*version >= 3 && !reader.structure_checked()) {
+    in.fail(
+        "layout 3 without its structure checksum (the first 4096 bytes, before HDF5's "
+        "superblock): a copy made by a tool that dropped them cannot be checked; save it "
+        "again");
+  }
   in.require_checksums(*version >= 3);
   in.verify_attributes("/");
   return *version;
@@ -712,6 +718,10 @@ MapFile read_checked(const std::string& path, const ReadOptions& options) {
 }
 
 }  // namespace
+
+bool looks_like_map_file(const std::string& path) {
+  return detail::has_map_file_start(path);
+}
 
 MapFile read_map_file(const std::string& path, const ReadOptions& options) {
   try {

@@ -86,14 +86,18 @@ class Writer {
 
 class Reader {
  public:
-  /// Opens `path` read-only. @throws Error naming the path: missing or unreadable, or not an
-  /// HDF5 file.
-  explicit Reader(const std::string& path);
+  /// Opens `path` read-only, after checking its structure checksum (the user block layout 3
+  /// writes; `check_structure` false skips it, for write_checksums()). @throws Error naming the
+  /// path: missing or unreadable, a damaged structure, or not an HDF5 file.
+  explicit Reader(const std::string& path, bool check_structure = true);
   ~Reader();
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;
 
   const std::string& path() const;
+  /// Whether the file's structure checksum (its user block, layout 3) was there and checked
+  /// before HDF5 read it. A file with a damaged one is refused when opened.
+  bool structure_checked() const;
   /// From now on, a variable-length string (which layout 3 never writes) is an error instead of
   /// a read: HDF5 would follow its global-heap reference, which a damaged file can point anywhere.
   void refuse_variable_length_strings();
@@ -134,9 +138,14 @@ class Reader {
   std::unique_ptr<State> m;
 };
 
+/// Whether the file `path` starts with the user block layout 3 writes or with HDF5's signature.
+bool has_map_file_start(const std::string& path);
+
 /// Recomputes every checksum of the map file `path` in place (each dataset's and each object's
-/// attributes'), so that a file edited on purpose reads as sound: for tests and fuzzing of the
-/// checks behind the checksums. @throws Error naming the path.
+/// attributes', then its structure's), so that a file edited on purpose reads as sound: for
+/// tests and fuzzing of the checks behind the checksums. @throws Error naming the path.
 void write_checksums(const std::string& path);
+/// Recomputes the structure checksum only (a file written with a user block of 4 096 bytes).
+void write_structure_checksum(const std::string& path);
 
 }  // namespace motionmap::mapfile::detail

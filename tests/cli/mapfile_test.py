@@ -300,6 +300,35 @@ def bad_map_files_and_clips_are_errors_naming_them():
 
 
 @test
+def checksums_are_the_documented_xxh3_of_1_mib_blocks():
+    # docs/map-file.md's definition, computed independently (python3-xxhash; skipped without).
+    try:
+        import xxhash
+    except ImportError:
+        print("  skipped: python3-xxhash is not installed")
+        return
+    if not needs(GOLF) or not needs_h5py():
+        return
+
+    def checksum(data):
+        blocks = (xxhash.xxh3_64_digest(data[i:i + 2**20])[::-1] for i in range(0, len(data), 2**20))
+        return xxhash.xxh3_64_intdigest(b"".join(blocks))
+
+    h5, _ = save("checksums", "--method", "isomap", "--landmarks", "0")
+    with h5py.File(h5, "r") as f:
+        for name in ("coordinates", "model/points", "model/landmarks/geodesic", "samples/frame"):
+            values = f[name][()]
+            data = (values.astype("<f8") if values.dtype.kind == "f" else values.astype("<i4")).tobytes()
+            assert checksum(data) == int(f[name].attrs["xxh3"]), name
+        names = b"".join(bytes(n) + b"\0" for n in f["skeleton/names"][()])
+        assert checksum(names) == int(f["skeleton/names"].attrs["xxh3"])
+    with open(h5, "rb") as f:
+        head = f.read(4096).rstrip(b"\0").decode()
+    assert head.startswith("MotionMap map file (docs/map-file.md)\nstructure-xxh3 "), head[:80]
+    assert "\nsize %d\n" % os.path.getsize(h5) in head, head
+
+
+@test
 def damaged_copies_are_errors_never_crashes_or_other_results():
     # Issue 22's experiment, short: 20 copies of a dense and a landmark isomap map with 1 to 32
     # random bytes changed, through --onto and pose --map (the full run, 400 copies, is

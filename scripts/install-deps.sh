@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config clang-format dpkg-dev
-  libeigen3-dev libspectra-dev libnanoflann-dev libhnswlib-dev libhdf5-dev libcli11-dev
+  libeigen3-dev libspectra-dev libnanoflann-dev libhnswlib-dev libhdf5-dev libxxhash-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
   clang libclang-rt-14-dev

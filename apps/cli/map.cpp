@@ -95,6 +95,7 @@ void place_onto(const MapCommand& cmd) {
                             (saved_clips == 1 ? base_name(saved.clips.front().path)
                                               : std::to_string(saved_clips) + " clips") +
                             ")");
+  features->notes.insert(features->notes.end(), saved.read_notes.begin(), saved.read_notes.end());
   pipeline::ClipMap map;
   map.features = features;
   map.embedding = mapfile::embedding_for_csv(saved, placed.coordinates);

@@ -49,11 +49,9 @@ constexpr const char* kFixedBySavedMap[] = {
     "--exclude",    "--frames", "--stride",      "--keep-first", "--up",       "--recursive",
     "--keep-going", "--joints", "--exact",       "--landmarks"};
 
-/// Whether `path` is an HDF5 file (its 8-byte signature at offset 0), i.e. a saved map.
+/// Whether `path` is a saved map (an HDF5 file) rather than a map CSV.
 bool is_hdf5(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char head[8] = {};
-  return in.read(head, sizeof head) && std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) == 0;
+  return mapfile::looks_like_map_file(path);
 }
 
 void add_blend_options(CLI::App* sub, BlendCommand& cmd) {
@@ -112,6 +110,9 @@ synth::MapBlender prepare_saved(const BlendCommand& cmd, std::vector<std::string
     }
   }
   mapfile::MapFile file = mapfile::read_map_file(cmd.map_csv, {.model = false});
+  if (!cmd.map.quiet) {
+    for (const std::string& note : file.read_notes) std::cerr << "note: " << note << '\n';
+  }
   for (const mapfile::ClipRecord& record : file.clips) clip_paths.push_back(record.path);
   const synth::BlendOptions blend = blend_options(cmd, file.options.features.up);
   // The blender keeps the states of the samples it blended, not their clips: a few clips cached.

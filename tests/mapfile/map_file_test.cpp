@@ -22,6 +22,7 @@
 #include "motionmap/features/joint_match.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/detail/hdf5.h"
 #include "motionmap/sample/sample_clip.h"
 #include "support/error_message.h"
 #include "support/small_clip.h"
@@ -456,13 +457,59 @@ TEST(MapFile, AJointsCommonMapPlacesClipsThatHaveItsSharedJoints) {
 // ---- Bad files ---------------------------------------------------------------------------------
 
 // Edits a file with the HDF5 C API, as another program (or a damaged copy) would leave it.
+//
+// An edit is sealed by default: the file's checksums are recomputed afterwards, so that it is a
+// file made that way on purpose and reaches the checks behind the checksums. Damage::Unsealed
+// leaves the datasets' and attributes' checksums as they were, as damage on a disk would, and
+// recomputes only the structure checksum (the user block), so that the checks behind it are
+// reached (tests of the structure checksum change the file's bytes directly).
 class Edit {
  public:
-  explicit Edit(const std::string& path)
-      : m_file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)) {
+  enum class Damage { Sealed, Unsealed };
+  explicit Edit(const std::string& path, Damage damage = Damage::Sealed)
+      : m_path(path), m_damage(damage), m_file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)) {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   }
-  ~Edit() { H5Fclose(m_file); }
+  ~Edit() {
+    H5Fclose(m_file);
+    if (m_damage == Damage::Sealed) {
+      detail::write_checksums(m_path);
+    } else {
+      detail::write_structure_checksum(m_path);
+    }
+  }
+  Edit(const Edit&) = delete;
+  Edit& operator=(const Edit&) = delete;
+
+  void remove_attribute(const std::string& object, const std::string& name) {
+    H5Adelete_by_name(m_file, object.c_str(), name.c_str(), H5P_DEFAULT);
+  }
+  // Removes every checksum, as a file of layout 1 or 2 has none.
+  void remove_checksums() {
+    for (const char* object : {"/", "/clips", "/samples", "/parameters", "/skeleton", "/blend",
+                               "/joints", "/model", "/model/landmarks", "/model/graph"}) {
+      remove_attribute(object, detail::kAttributesChecksumAttribute);
+    }
+    H5Ovisit2(
+        m_file, H5_INDEX_NAME, H5_ITER_NATIVE,
+        [](hid_t file, const char* name, const H5O_info_t* info, void*) -> herr_t {
+          if (info->type == H5O_TYPE_DATASET) {
+            H5Adelete_by_name(file, name, detail::kChecksumAttribute, H5P_DEFAULT);
+          }
+          return 0;
+        },
+        nullptr, H5O_INFO_BASIC);
+  }
+  // A dataset of rows × cols float64 whose values were never written (no storage).
+  void unwritten(const std::string& name, hsize_t rows, hsize_t cols) {
+    remove(name);
+    const hsize_t dims[2] = {rows, cols};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t d = H5Dcreate2(m_file, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT);
+    H5Dclose(d);
+    H5Sclose(space);
+  }
 
   void remove(const std::string& name) { H5Ldelete(m_file, name.c_str(), H5P_DEFAULT); }
   void int_attribute(const std::string& object, const std::string& name, long long value) {
@@ -474,7 +521,22 @@ class Edit {
     H5Aclose(a);
     H5Sclose(space);
   }
+  // A fixed-length ASCII string, as layout 3 writes (in UTF-8) and MATLAB does.
   void text_attribute(const std::string& object, const std::string& name, const char* value) {
+    H5Adelete_by_name(m_file, object.c_str(), name.c_str(), H5P_DEFAULT);
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, std::strlen(value) + 1);
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t a = H5Acreate_by_name(m_file, object.c_str(), name.c_str(), type, space,
+                                      H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, type, value);
+    H5Aclose(a);
+    H5Sclose(space);
+    H5Tclose(type);
+  }
+  // A variable-length ASCII string, as layouts 1 and 2 wrote (in UTF-8) and h5py does.
+  void variable_text_attribute(const std::string& object, const std::string& name,
+                               const char* value) {
     H5Adelete_by_name(m_file, object.c_str(), name.c_str(), H5P_DEFAULT);
     const hid_t type = H5Tcopy(H5T_C_S1);
     H5Tset_size(type, H5T_VARIABLE);
@@ -555,6 +617,8 @@ class Edit {
   }
 
  private:
+  std::string m_path;
+  Damage m_damage;
   hid_t m_file;
 };
 
@@ -612,11 +676,11 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
 
   EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format", "other-format"); }),
             "not a MotionMap map file: its format is 'other-format', expected 'motionmap-map'");
-  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 3); }),
-            "map file layout version 3 is newer than this MotionMap reads (2); read it with a "
+  EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 4); }),
+            "map file layout version 4 is newer than this MotionMap reads (3); read it with a "
             "newer MotionMap");
   EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/", "format_version", 0); }),
-            "unknown map file layout version 0 (this MotionMap reads versions 1 to 2)");
+            "unknown map file layout version 0 (this MotionMap reads versions 1 to 3)");
   EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format_version", "1"); }),
             "attribute format_version of / is not an integer");
   EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/blend", "motion_root", 3); }),
@@ -734,15 +798,17 @@ TEST(MapFile, AMapOfPlacedClipsKeepsTheFittedModel) {
 }
 
 TEST(MapFile, StringsAreReadInEveryEncodingHdf5Writes) {
-  // Variable-length UTF-8 (what MotionMap and h5py write), variable-length ASCII and
-  // fixed-length ASCII (MATLAB's h5create/h5writeatt) all read back.
+  // Variable-length UTF-8 (what MotionMap wrote before layout 3, and h5py writes), variable-length
+  // ASCII and fixed-length ASCII (MATLAB's h5create/h5writeatt) all read back from a file of
+  // layout 1.
   const TempDir dir;
   const MapFile good = synthetic_file();
   const std::string path = dir.file("strings.mmap.h5");
   write_map_file(path, good);
   {
     Edit e(path);
-    e.text_attribute("/parameters", "description", "ascii line");
+    e.int_attribute("/", "format_version", 1);
+    e.variable_text_attribute("/parameters", "description", "ascii line");
     e.fixed_strings("/clips/path", {"a.bvh", "folder/b.bvh"});
   }
   const MapFile read = read_map_file(path);
@@ -784,6 +850,276 @@ TEST(MapFile, AFailedWriteLeavesNoFile) {
                 ": error: cannot write an empty or inconsistent map (0 clips, 0 samples, 0 "
                 "coordinates)");
   EXPECT_FALSE(std::filesystem::exists(dir.file("e.mmap.h5")));
+}
+
+// ---- Trusting a file: checksums, strings, indices (issue 22) ---------------------------------
+
+// Whether `s` is valid UTF-8 (what every message must be).
+bool valid_utf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const int extra = c < 0x80 ? 0 : c >= 0xf0 ? 3 : c >= 0xe0 ? 2 : c >= 0xc2 ? 1 : -1;
+    if (extra < 0 || i + std::size_t(extra) >= s.size() + (extra == 0 ? 1 : 0)) return false;
+    for (int k = 1; k <= extra; ++k) {
+      if ((static_cast<unsigned char>(s[i + std::size_t(k)]) & 0xc0) != 0x80) return false;
+    }
+    i += std::size_t(extra) + 1;
+  }
+  return true;
+}
+
+// The error reading `path` gives, after "path: error: ", checked to be valid UTF-8.
+std::string read_error(const std::string& path) {
+  const std::string message = test::error_message([&] { read_map_file(path); });
+  EXPECT_TRUE(valid_utf8(message)) << message;
+  const std::string prefix = path + ": error: ";
+  EXPECT_EQ(message.rfind(prefix, 0), 0u) << message;
+  return message.substr(std::min(message.size(), prefix.size()));
+}
+
+TEST(MapFileTrust, LayoutThreeWritesNoVariableLengthStringsAndAChecksumOnEveryDataset) {
+  const TempDir dir;
+  const std::string path = dir.file("v3.mmap.h5");
+  write_map_file(path, synthetic_file());
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  struct Seen {
+    int datasets = 0, variable = 0, without_checksum = 0;
+  } seen;
+  H5Ovisit2(
+      file, H5_INDEX_NAME, H5_ITER_NATIVE,
+      [](hid_t f, const char* name, const H5O_info_t* info, void* out) -> herr_t {
+        auto& s = *static_cast<Seen*>(out);
+        if (info->type != H5O_TYPE_DATASET) return 0;
+        ++s.datasets;
+        const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+        const hid_t type = H5Dget_type(d);
+        if (H5Tis_variable_str(type) > 0) ++s.variable;
+        if (H5Aexists(d, detail::kChecksumAttribute) <= 0) ++s.without_checksum;
+        H5Tclose(type);
+        H5Dclose(d);
+        return 0;
+      },
+      &seen, H5O_INFO_BASIC);
+  const hid_t format = H5Aopen(file, "format", H5P_DEFAULT);
+  const hid_t type = H5Aget_type(format);
+  EXPECT_EQ(H5Tis_variable_str(type), 0);
+  H5Tclose(type);
+  H5Aclose(format);
+  EXPECT_GT(H5Aexists(file, detail::kAttributesChecksumAttribute), 0);
+  H5Fclose(file);
+  EXPECT_GT(seen.datasets, 20);
+  EXPECT_EQ(seen.variable, 0);
+  EXPECT_EQ(seen.without_checksum, 0);
+  const MapFile read = read_map_file(path);
+  EXPECT_TRUE(read.read_notes.empty());
+}
+
+// The checksum of a dataset does not depend on how its values are fed (a matrix is hashed a slab
+// of rows at a time, its blocks in parallel), and one changed bit changes it.
+TEST(MapFileTrust, AChecksumIsTheSameWhicheverPiecesItIsFedIn) {
+  std::vector<double> values(std::size_t(3.5 * detail::kChecksumBlock / sizeof(double)));
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = std::sin(double(i));
+  detail::Hasher whole;
+  whole.doubles(values.data(), values.size());
+  std::mt19937 random(3);
+  for (int trial = 0; trial < 3; ++trial) {
+    detail::Hasher pieces;
+    for (std::size_t at = 0; at < values.size();) {
+      const std::size_t n = std::min<std::size_t>(values.size() - at, random() % 300000 + 1);
+      pieces.doubles(values.data() + at, n);
+      at += n;
+    }
+    EXPECT_EQ(pieces.digest(), whole.digest());
+  }
+  values[values.size() / 2 + 7] = std::nextafter(values[values.size() / 2 + 7], 2.0);
+  detail::Hasher changed;
+  changed.doubles(values.data(), values.size());
+  EXPECT_NE(changed.digest(), whole.digest());
+  EXPECT_NE(detail::Hasher().digest(), whole.digest());
+}
+
+TEST(MapFileTrust, DamagedValuesAreAnErrorNamingTheDataset) {
+  const TempDir dir;
+  const std::string path = dir.file("damaged.mmap.h5");
+  const MapFile good = synthetic_file(40, 2);
+  // A finite value changed: only the checksum can tell.
+  write_map_file(path, good);
+  Edit(path, Edit::Damage::Unsealed).set("/model/points", 3, 1, 0.125);
+  std::string message = read_error(path);
+  EXPECT_EQ(message.rfind("/model/points is damaged: the checksum of its values is ", 0), 0u)
+      << message;
+  write_map_file(path, good);
+  Edit(path, Edit::Damage::Unsealed).set("/coordinates", 39, 0, good.coordinates(39, 0) * 2);
+  message = read_error(path);
+  EXPECT_EQ(message.rfind("/coordinates is damaged", 0), 0u) << message;
+  // An attribute changed: its object's attributes are damaged.
+  write_map_file(path, good);
+  Edit(path, Edit::Damage::Unsealed).int_attribute("/model", "k", 5);
+  message = read_error(path);
+  EXPECT_EQ(message.rfind("the attributes of /model are damaged: their checksum is ", 0), 0u)
+      << message;
+  // A checksum removed from a file of layout 3.
+  write_map_file(path, good);
+  Edit(path, Edit::Damage::Unsealed).remove_attribute("/samples/frame", "xxh3");
+  EXPECT_EQ(read_error(path),
+            "missing attribute xxh3 of /samples/frame (the checksum of its values, which layout 3 "
+            "requires)");
+}
+
+// Bytes of the file changed outside the datasets' values (HDF5's own structure), or the file cut:
+// refused before HDF5 parses it.
+TEST(MapFileTrust, DamageToTheFilesStructureIsFoundBeforeHdf5ReadsIt) {
+  const TempDir dir;
+  const std::string path = dir.file("structure.mmap.h5");
+  write_map_file(path, synthetic_file(40, 2));
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(bytes.size(), 5000u);
+  EXPECT_EQ(bytes.rfind("MotionMap map file", 0), 0u);
+  EXPECT_EQ(bytes.compare(4096, 4, "\x89HDF"), 0);
+  auto write = [&](const std::string& b) { std::ofstream(path, std::ios::binary) << b; };
+  // The superblock's byte after its signature.
+  std::string damaged = bytes;
+  damaged[4096 + 9] = char(damaged[4096 + 9] ^ 0x40);
+  write(damaged);
+  std::string message = read_error(path);
+  EXPECT_EQ(message.rfind("its HDF5 structure (everything but the datasets' values) is damaged: "
+                          "its checksum is ",
+                          0),
+            0u)
+      << message;
+  write(bytes.substr(0, bytes.size() - 100));
+  EXPECT_EQ(read_error(path),
+            "its HDF5 structure (everything but the datasets' values) is damaged: the file has " +
+                std::to_string(bytes.size() - 100) + " bytes where it had " +
+                std::to_string(bytes.size()) + " (cut or extended)");
+  damaged = bytes;
+  damaged[60] = 'x';  // inside the checksum line
+  write(damaged);
+  message = read_error(path);
+  EXPECT_NE(message.find("its structure checksum is damaged"), std::string::npos) << message;
+  damaged = bytes;
+  damaged[0] = 'm';
+  write(damaged);
+  EXPECT_EQ(read_error(path),
+            "its HDF5 structure (everything but the datasets' values) cannot be checked: its "
+            "first 4096 bytes, which hold its structure checksum, are damaged");
+  write(bytes);
+  EXPECT_EQ(read_map_file(path).num_samples(), 40);
+}
+
+TEST(MapFileTrust, OldFilesWithoutChecksumsStillReadWithANote) {
+  const TempDir dir;
+  const std::string path = dir.file("old.mmap.h5");
+  const MapFile good = synthetic_file(40, 2);
+  write_map_file(path, good);
+  {
+    Edit e(path, Edit::Damage::Unsealed);
+    e.remove_checksums();
+    e.int_attribute("/", "format_version", 1);
+    // Variable-length strings, as layouts 1 and 2 wrote them.
+    e.variable_text_attribute("/parameters", "description", good.parameters.c_str());
+  }
+  const MapFile read = read_map_file(path);
+  expect_same_file(good, read);
+  ASSERT_EQ(read.read_notes.size(), 1u);
+  EXPECT_EQ(read.read_notes[0],
+            path +
+                " was written by an older MotionMap (layout 1) without checksums: damage to its "
+                "data cannot be detected; save it again to add them");
+  // The same file as layout 3 is refused: its checksums are required.
+  Edit(path, Edit::Damage::Unsealed).int_attribute("/", "format_version", 3);
+  EXPECT_EQ(read_error(path),
+            "missing attribute attributes_xxh3 of / (the checksum of its attributes, which layout "
+            "3 requires)");
+}
+
+TEST(MapFileTrust, TextThatIsNotPrintableUtf8IsRefusedAndEscaped) {
+  const TempDir dir;
+  const MapFile good = synthetic_file(40, 2);
+  int count = 0;
+  auto refused = [&](const std::function<void(Edit&)>& edit) {
+    const std::string path = dir.file("text" + std::to_string(count++) + ".mmap.h5");
+    write_map_file(path, good);
+    {
+      Edit e(path);
+      edit(e);
+    }
+    return read_error(path);
+  };
+  EXPECT_EQ(refused([](Edit& e) {
+              e.fixed_strings("/skeleton/names", {"Hips\xff", "Spine", "Head"});
+            }),
+            "/skeleton/names[0] is not printable UTF-8 text: 'Hips\\xFF'");
+  EXPECT_EQ(refused([](Edit& e) {
+              e.fixed_strings("/clips/path", {"a.bvh", "b\x1b[31m.bvh"});
+            }),
+            "/clips/path[1] is not printable UTF-8 text: 'b\\x1B[31m.bvh'");
+  EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/parameters", "method", "\xc3\x28"); }),
+            "attribute method of /parameters is not printable UTF-8 text: '\\xC3('");
+  EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/", "format", "motion\xe2\x82map"); }),
+            "not a MotionMap map file: its format is 'motion\\xE2\\x82map', expected "
+            "'motionmap-map'");
+  // A variable-length string in a file of layout 3 (which writes none) is not read at all.
+  EXPECT_EQ(refused([](Edit& e) { e.variable_text_attribute("/parameters", "exclude", "x"); }),
+            "attribute exclude of /parameters is a variable-length string, which layout 3 does "
+            "not write");
+  // Valid UTF-8 reads as it is.
+  const std::string path = dir.file("utf8.mmap.h5");
+  MapFile names = good;
+  names.skeleton.names = {"Hüfte", "Rücken", "Kopf"};
+  write_map_file(path, names);
+  EXPECT_EQ(read_map_file(path).skeleton.names, names.skeleton.names);
+}
+
+TEST(MapFileTrust, EveryIndexAndSizeIsCheckedBeforeUse) {
+  const TempDir dir;
+  const MapFile good = synthetic_file(40, 2);
+  int count = 0;
+  auto refused = [&](const std::function<void(Edit&)>& edit) {
+    const std::string path = dir.file("index" + std::to_string(count++) + ".mmap.h5");
+    write_map_file(path, good);
+    {
+      Edit e(path);
+      edit(e);
+    }
+    return read_error(path);
+  };
+  // Frames of a clip, neighbours (graph edges), landmarks, samples.
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/samples/frame", 40, 0, H5T_STD_I32LE, 45); }),
+            "/samples/frame holds 45 at row 0, but clip 0 has 40 frames");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/model/graph/targets", 80, 0, H5T_STD_I32LE, 40); }),
+            "/model/graph/targets holds 40 at index 0, expected a model sample index in [0, 40)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/model/graph/targets", 80, 0, H5T_STD_I32LE, -1); }),
+            "/model/graph/targets holds -1 at index 0, expected a model sample index in [0, 40)");
+  EXPECT_EQ(
+      refused([](Edit& e) { e.replace("/model/landmarks/frames", 12, 0, H5T_STD_I32LE, -3); }),
+      "/model/landmarks/frames holds -3 at index 0, expected a model sample index in [0, 40)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/clips/first_sample", 2, 0, H5T_STD_I32LE, 0); }),
+            "/clips/first_sample[1] is 0, expected 20 (clips' rows follow each other)");
+  EXPECT_EQ(refused([](Edit& e) { e.replace("/skeleton/end_sites", 3, 0, H5T_STD_I32LE, 1e9); }),
+            "/skeleton/end_sites holds 1000000000 at index 0, expected End Sites per joint in [0, "
+            "65536)");
+  // Shapes against each other, and a size no storage holds (never allocated).
+  EXPECT_EQ(
+      refused([](Edit& e) { e.replace("/model/landmarks/projection", 2, 11, H5T_IEEE_F64LE, 1); }),
+      "/model/landmarks/projection has shape 2×11, expected 2×12 (dims by #landmarks)");
+  {
+    // Unsealed: no checksum can be computed of values that are not there.
+    const std::string path = dir.file("unwritten.mmap.h5");
+    write_map_file(path, good);
+    Edit(path, Edit::Damage::Unsealed).unwritten("/model/points", 1000000000, 9);
+    EXPECT_EQ(read_error(path),
+              "/model/points has shape 1000000000×9, more values than its 0 stored bytes hold");
+  }
+  // Non-finite values, and numbers the method cannot use.
+  EXPECT_EQ(refused([](Edit& e) {
+              e.replace("/model/landmarks/mean_squared", 12, 0, H5T_IEEE_F64LE, INFINITY);
+            }),
+            "/model/landmarks/mean_squared holds a non-finite value (inf) at index 0");
 }
 
 }  // namespace

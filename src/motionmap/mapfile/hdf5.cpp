@@ -2,12 +2,16 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
+#include <string_view>
 
 #include "motionmap/core/error.h"
 
@@ -95,15 +99,225 @@ Id variable_string_type(H5T_cset_t cset = H5T_CSET_UTF8) {
   return type;
 }
 
+// A fixed-length UTF-8 string type of `size` bytes (at least 1), null-padded.
+Id fixed_string_type(std::size_t size) {
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), std::max<std::size_t>(size, 1));
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  return type;
+}
+
+// A fixed-length string as read: up to its first NUL, and without the trailing spaces of a
+// space-padded one (MATLAB's).
+std::string fixed_string(const char* data, std::size_t size, H5T_str_t pad) {
+  std::string s(data, size);
+  s.resize(std::strlen(s.c_str()));
+  if (pad == H5T_STR_SPACEPAD) {
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+  }
+  return s;
+}
+
+std::string le_bytes(const void* value) {
+  return std::string(static_cast<const char*>(value), 8);
+}
+
 // A memory type for reading strings of the file type `file_type`: HDF5 converts neither between
 // ASCII and UTF-8 strings nor between variable and fixed length, so it takes the file's.
 Id string_memory_type(hid_t file_type) {
   const H5T_cset_t cset = H5Tget_cset(file_type);
   if (H5Tis_variable_str(file_type) > 0) return variable_string_type(cset);
+  // Its size and padding too: a null-terminated memory type would cut a null-padded string's last
+  // byte for the terminator.
   Id type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type.get(), H5Tget_size(file_type));
+  H5Tset_strpad(type.get(), H5Tget_strpad(file_type));
   H5Tset_cset(type.get(), cset);
   return type;
+}
+
+// ---- The structure checksum, in the user block ------------------------------------------------
+//
+// HDF5 ignores the first kUserBlock bytes of a file written with a user block. MotionMap writes
+// there, in text, a checksum of every byte of the file but the datasets' contiguous values
+// (which carry checksums of their own): the superblock, object headers, B-trees, heaps, chunked
+// data and free space. The reader checks it before HDF5 parses anything, since HDF5 1.10's own
+// decoding of a damaged object header can read past its buffers or allocate terabytes.
+//
+//   MotionMap map file (docs/map-file.md)\n
+//   structure-xxh3 0123456789abcdef\n        the checksum of what follows it, then of the bytes
+//   size 481552\n                            from kUserBlock to `size` outside the raw extents
+//   raw 20656 5824\n                         a dataset's contiguous values: offset, length
+//   …                                        (increasing, not overlapping)
+//   NUL padding to kUserBlock bytes
+
+constexpr std::size_t kUserBlock = 4096;
+constexpr std::string_view kUserBlockMagic = "MotionMap map file (docs/map-file.md)\n";
+constexpr std::string_view kHdf5Signature = "\211HDF\r\n\032\n";
+
+struct Extent {
+  std::uint64_t offset = 0, length = 0;
+};
+
+// The contiguous values of every dataset of `file` (addresses within the file), sorted.
+std::vector<Extent> raw_extents(hid_t file) {
+  std::vector<Extent> out;
+  H5Ovisit2(
+      file, H5_INDEX_NAME, H5_ITER_NATIVE,
+      [](hid_t root, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+        if (info->type != H5O_TYPE_DATASET) return 0;
+        const Id set(H5Dopen2(root, name, H5P_DEFAULT), H5Dclose);
+        if (!set.valid()) return 0;
+        const haddr_t offset = H5Dget_offset(set.get());
+        const hsize_t length = H5Dget_storage_size(set.get());
+        if (offset != HADDR_UNDEF && length > 0) {
+          static_cast<std::vector<Extent>*>(data)->push_back({offset, length});
+        }
+        return 0;
+      },
+      &out, H5O_INFO_BASIC);
+  std::sort(out.begin(), out.end(), [](const Extent& a, const Extent& b) {
+    return a.offset < b.offset || (a.offset == b.offset && a.length < b.length);
+  });
+  out.erase(std::unique(out.begin(), out.end(),
+                        [](const Extent& a, const Extent& b) {
+                          return a.offset == b.offset && a.length == b.length;
+                        }),
+            out.end());
+  return out;
+}
+
+// The checksum of `described` (the header's lines after the checksum line) and of the bytes of
+// `in` (of `size` bytes) from kUserBlock on outside `raw`; nullopt if `raw` is not a list of
+// increasing extents inside the file.
+std::optional<std::uint64_t> structure_checksum(std::istream& in, std::uint64_t size,
+                                                const std::vector<Extent>& raw,
+                                                const std::string& described) {
+  Hasher h;
+  h.bytes(described.data(), described.size());
+  std::uint64_t at = kUserBlock;
+  std::vector<char> buffer(std::size_t(1) << 20);
+  auto hash_to = [&](std::uint64_t end) {
+    in.seekg(std::streamoff(at));
+    while (at < end) {
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(end - at, buffer.size()));
+      if (!in.read(buffer.data(), std::streamsize(n))) return false;
+      h.bytes(buffer.data(), n);
+      at += n;
+    }
+    return true;
+  };
+  for (const Extent& e : raw) {
+    if (e.offset < at || e.length > size || e.offset > size - e.length) return std::nullopt;
+    if (!hash_to(e.offset)) return std::nullopt;
+    at = e.offset + e.length;
+  }
+  if (at > size || !hash_to(size)) return std::nullopt;
+  return h.digest();
+}
+
+std::string describe_extents(std::uint64_t size, const std::vector<Extent>& raw) {
+  std::string out = "size " + std::to_string(size) + "\n";
+  for (const Extent& e : raw) {
+    out += "raw " + std::to_string(e.offset) + " " + std::to_string(e.length) + "\n";
+  }
+  return out;
+}
+
+// Writes the user block of the closed file `path`, whose datasets' values are `raw`.
+void seal_structure(const std::string& path, const std::vector<Extent>& raw) {
+  std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+  file.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(file.tellg());
+  const std::string described = describe_extents(size, raw);
+  const std::optional<std::uint64_t> sum = structure_checksum(file, size, raw, described);
+  std::string block = std::string(kUserBlockMagic) + "structure-xxh3 " +
+                      (sum ? hex_digest(*sum) : std::string("none")) + "\n" + described;
+  if (!file || !sum || size < kUserBlock || block.size() > kUserBlock) {
+    throw Error(path + ": error: cannot write the structure checksum");
+  }
+  block.resize(kUserBlock, '\0');
+  file.clear();
+  file.seekp(0);
+  file.write(block.data(), std::streamsize(block.size()));
+  file.flush();
+  if (!file) throw Error(path + ": error: cannot write the structure checksum");
+}
+
+// Checks the user block of `path` (an error naming what is wrong); false for a file without one
+// (written before layout 3: HDF5's signature at its start).
+bool check_structure(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  file.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(file.tellg());
+  std::string block(std::size_t(std::min<std::uint64_t>(size, kUserBlock)), '\0');
+  file.seekg(0);
+  file.read(block.data(), std::streamsize(block.size()));
+  if (!file) throw Error(path + ": error: cannot read it");
+  if (block.rfind(kHdf5Signature, 0) == 0) return false;
+  const std::string fail =
+      path + ": error: its HDF5 structure (everything but the datasets' values) ";
+  if (block.rfind(kUserBlockMagic, 0) != 0) {
+    // HDF5 looks for its signature at 0, 512, 1024, 2048, …: one there is not a file of ours.
+    if (size > kUserBlock && block.size() == kUserBlock) {
+      std::string signature(kHdf5Signature.size(), '\0');
+      file.read(signature.data(), std::streamsize(signature.size()));
+      if (file && signature == kHdf5Signature) {
+        throw Error(fail + "cannot be checked: its first " + std::to_string(kUserBlock) +
+                    " bytes, which hold its structure checksum, are damaged");
+      }
+    }
+    return false;
+  }
+  // The lines: the checksum, the size, the raw extents; then NULs.
+  const std::size_t end = std::min(block.find('\0'), block.size());
+  std::string_view text(block.data() + kUserBlockMagic.size(), end - kUserBlockMagic.size());
+  auto damaged = [&](const std::string& what) -> Error {
+    return Error(fail + "cannot be checked: its structure checksum is damaged (" + what + ")");
+  };
+  std::vector<std::string_view> lines;
+  while (!text.empty()) {
+    const std::size_t eol = text.find('\n');
+    if (eol == std::string_view::npos) throw damaged("a line without its end");
+    lines.push_back(text.substr(0, eol));
+    text.remove_prefix(eol + 1);
+  }
+  auto number = [&](std::string_view t, int base) {
+    std::uint64_t v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v, base);
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size() || t.empty()) {
+      throw damaged("'" + quote_token(t) + "' is not a number");
+    }
+    return v;
+  };
+  if (lines.size() < 2 || lines[0].rfind("structure-xxh3 ", 0) != 0 ||
+      lines[1].rfind("size ", 0) != 0) {
+    throw damaged("expected its checksum and size lines");
+  }
+  const std::uint64_t recorded = number(lines[0].substr(15), 16);
+  if (number(lines[1].substr(5), 10) != size) {
+    throw Error(fail + "is damaged: the file has " + std::to_string(size) + " bytes where it had " +
+                std::string(lines[1].substr(5)) + " (cut or extended)");
+  }
+  std::vector<Extent> raw;
+  for (std::size_t i = 2; i < lines.size(); ++i) {
+    const std::string_view l = lines[i];
+    const std::size_t space = l.find(' ', 4);
+    if (l.rfind("raw ", 0) != 0 || space == std::string_view::npos) {
+      throw damaged("expected a raw extent line, found '" + quote_token(l) + "'");
+    }
+    raw.push_back({number(l.substr(4, space - 4), 10), number(l.substr(space + 1), 10)});
+  }
+  const std::string described(block.data() + kUserBlockMagic.size() + lines[0].size() + 1,
+                              block.data() + end);
+  const std::optional<std::uint64_t> actual = structure_checksum(file, size, raw, described);
+  if (!actual) throw damaged("its extents are not increasing extents inside the file");
+  if (*actual != recorded) {
+    throw Error(fail + "is damaged: its checksum is " + hex_digest(*actual) +
+                " where the file records " + hex_digest(recorded));
+  }
+  return true;
 }
 
 // Integer datasets of at least this many values are chunked and compressed (sample → clip and
@@ -134,6 +348,10 @@ struct Writer::State {
   std::string path;
   Id file;
   bool closed = false;
+  // The attributes written on each object, for their checksums at close().
+  std::map<std::string, std::vector<AttributeValue>> attributes;
+  // Every dataset and link written, in order, for the root attribute `datasets`.
+  std::string datasets;
 
   [[noreturn]] void fail(const std::string& what) const {
     const std::string reason = hdf5_reason();
@@ -155,11 +373,17 @@ struct Writer::State {
       fail("attribute " + name + " of " + object);
     }
   }
+  void write_checksum(const std::string& object, const std::string& name,
+                      std::uint64_t digest) const {
+    write_attribute(object, name, H5T_STD_U64LE, H5T_NATIVE_UINT64, &digest);
+  }
 };
 
 Writer::Writer(const std::string& path) : m(std::make_unique<State>()) {
   m->path = path;
-  m->file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  const Id create(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_userblock(create.get(), kUserBlock);
+  m->file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create.get(), H5P_DEFAULT), H5Fclose);
   if (!m->file.valid()) {
     const std::string reason = hdf5_reason();
     throw Error(path + ": error: cannot create the file" + (reason.empty() ? "" : ": " + reason));
@@ -182,17 +406,20 @@ void Writer::group(const std::string& name) {
 
 void Writer::attribute(const std::string& object, const std::string& name,
                        const std::string& value) {
-  const Id type = variable_string_type();
-  const char* text = value.c_str();
-  m->write_attribute(object, name, type.get(), type.get(), &text);
+  const Id type = fixed_string_type(value.size());
+  const std::string padded = value + '\0';  // an empty text is one NUL
+  m->write_attribute(object, name, type.get(), type.get(), padded.data());
+  m->attributes[object].push_back({name, 's', value});
 }
 
 void Writer::attribute(const std::string& object, const std::string& name, std::int64_t value) {
   m->write_attribute(object, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &value);
+  m->attributes[object].push_back({name, 'i', le_bytes(&value)});
 }
 
 void Writer::attribute(const std::string& object, const std::string& name, double value) {
   m->write_attribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
+  m->attributes[object].push_back({name, 'f', le_bytes(&value)});
 }
 
 void Writer::doubles(const std::string& name, const double* data, std::uint64_t rows,
@@ -212,6 +439,10 @@ void Writer::doubles(const std::string& name, const double* data, std::uint64_t 
       H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
     m->fail("dataset " + name);
   }
+  Hasher h;
+  h.doubles(data, count);
+  m->write_checksum(name, kChecksumAttribute, h.digest());
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::ints(const std::string& name, const std::int32_t* data, std::uint64_t count) {
@@ -231,22 +462,34 @@ void Writer::ints(const std::string& name, const std::int32_t* data, std::uint64
   if (count > 0 && H5Dwrite(set.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
     m->fail("dataset " + name);
   }
+  Hasher h;
+  h.int32s(data, count);
+  m->write_checksum(name, kChecksumAttribute, h.digest());
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::strings(const std::string& name, const std::vector<std::string>& values) {
   const hsize_t dims[1] = {values.size()};
   const Id space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-  const Id type = variable_string_type();
+  std::size_t size = 1;
+  for (const std::string& v : values) size = std::max(size, v.size());
+  const Id type = fixed_string_type(size);
   const Id set(H5Dcreate2(m->file.get(), name.c_str(), type.get(), space.get(), H5P_DEFAULT,
                           H5P_DEFAULT, H5P_DEFAULT),
                H5Dclose);
   if (!set.valid()) m->fail("dataset " + name);
-  std::vector<const char*> text;
-  for (const std::string& v : values) text.push_back(v.c_str());
+  std::vector<char> text(values.size() * size, '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::copy(values[i].begin(), values[i].end(), text.begin() + std::ptrdiff_t(i * size));
+  }
   if (!text.empty() &&
       H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0) {
     m->fail("dataset " + name);
   }
+  Hasher h;
+  h.strings(values);
+  m->write_checksum(name, kChecksumAttribute, h.digest());
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::link(const std::string& existing, const std::string& name) {
@@ -254,13 +497,20 @@ void Writer::link(const std::string& existing, const std::string& name) {
                      H5P_DEFAULT) < 0) {
     m->fail("link " + name + " to " + existing);
   }
+  m->datasets += (m->datasets.empty() ? "" : " ") + name;
 }
 
 void Writer::close() {
   if (m->closed) return;
+  attribute("/", kDatasetsAttribute, m->datasets);
+  for (const auto& [object, attributes] : m->attributes) {
+    m->write_checksum(object, kAttributesChecksumAttribute, attributes_checksum(attributes));
+  }
   const bool flushed = H5Fflush(m->file.get(), H5F_SCOPE_GLOBAL) >= 0;
+  const std::vector<Extent> raw = raw_extents(m->file.get());
   const bool closed = m->file.reset();
   if (!flushed || !closed) m->fail("the file (flushing it to disk failed)");
+  seal_structure(m->path, raw);
   m->closed = true;
 }
 
@@ -270,6 +520,8 @@ struct Reader::State {
   Quiet quiet;
   std::string path;
   Id file;
+  bool fixed_strings_only = false;
+  bool structure_checked = false;
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": error: " + what); }
   Id dataset(const std::string& name) const {
@@ -297,7 +549,7 @@ struct Reader::State {
   }
 };
 
-Reader::Reader(const std::string& path) : m(std::make_unique<State>()) {
+Reader::Reader(const std::string& path, bool check_structure_first) : m(std::make_unique<State>()) {
   m->path = path;
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
@@ -307,6 +559,7 @@ Reader::Reader(const std::string& path) : m(std::make_unique<State>()) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw Error(path + ": error: cannot open: " + std::strerror(errno));
   }
+  if (check_structure_first) m->structure_checked = check_structure(path);
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     throw Error(path +
                 ": error: not an HDF5 file (expected a MotionMap map file, as `motionmap map "
@@ -324,6 +577,14 @@ Reader::~Reader() = default;
 
 const std::string& Reader::path() const {
   return m->path;
+}
+
+bool Reader::structure_checked() const {
+  return m->structure_checked;
+}
+
+void Reader::refuse_variable_length_strings() {
+  m->fixed_strings_only = true;
 }
 
 bool Reader::has(const std::string& name) const {
@@ -353,6 +614,10 @@ std::optional<std::string> Reader::text_attribute(const std::string& object,
   }
   const Id memory = string_memory_type(type.get());
   if (H5Tis_variable_str(type.get()) > 0) {
+    if (m->fixed_strings_only) {
+      m->fail("attribute " + name + " of " + object +
+              " is a variable-length string, which layout 3 does not write");
+    }
     char* text = nullptr;
     if (H5Aread(attr.get(), memory.get(), &text) < 0) {
       m->fail("cannot read attribute " + name + " of " + object);
@@ -362,13 +627,15 @@ std::optional<std::string> Reader::text_attribute(const std::string& object,
     return out;
   }
   const std::size_t size = H5Tget_size(type.get());
-  std::string out(size, '\0');
-  if (H5Aread(attr.get(), memory.get(), out.data()) < 0) {
+  if (size > (std::size_t(1) << 20)) {
+    m->fail("attribute " + name + " of " + object + " is a string of " + std::to_string(size) +
+            " bytes, more than a map file's text holds (1 MiB)");
+  }
+  std::vector<char> buffer(size + 1, '\0');
+  if (H5Aread(attr.get(), memory.get(), buffer.data()) < 0) {
     m->fail("cannot read attribute " + name + " of " + object);
   }
-  out.resize(std::strlen(out.c_str()));
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
+  return fixed_string(buffer.data(), size, H5Tget_strpad(type.get()));
 }
 
 std::optional<std::int64_t> Reader::int_attribute(const std::string& object,
@@ -400,6 +667,56 @@ std::optional<double> Reader::real_attribute(const std::string& object,
   return value;
 }
 
+std::optional<std::uint64_t> Reader::checksum_attribute(const std::string& object,
+                                                        const std::string& name) const {
+  if (!has_attribute(object, name)) return std::nullopt;
+  const Id attr = m->attribute(object, name);
+  if (m->attribute_class(attr) != H5T_INTEGER) {
+    m->fail("attribute " + name + " of " + object + " is not an integer (a checksum)");
+  }
+  std::uint64_t value = 0;
+  if (H5Aread(attr.get(), H5T_NATIVE_UINT64, &value) < 0) {
+    m->fail("cannot read attribute " + name + " of " + object);
+  }
+  return value;
+}
+
+std::vector<AttributeValue> Reader::attributes(const std::string& object) const {
+  std::vector<std::string> names;
+  hsize_t at = 0;
+  const herr_t walked = H5Aiterate_by_name(
+      m->file.get(), object.c_str(), H5_INDEX_NAME, H5_ITER_NATIVE, &at,
+      [](hid_t, const char* name, const H5A_info_t*, void* out) -> herr_t {
+        static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+        return 0;
+      },
+      &names, H5P_DEFAULT);
+  if (walked < 0) m->fail("cannot list the attributes of " + object);
+  std::vector<AttributeValue> out;
+  for (const std::string& name : names) {
+    if (name == kChecksumAttribute || name == kAttributesChecksumAttribute) continue;
+    const Id attr = m->attribute(object, name);
+    switch (m->attribute_class(attr)) {
+      case H5T_STRING:
+        out.push_back({name, 's', *text_attribute(object, name)});
+        break;
+      case H5T_INTEGER: {
+        const std::int64_t v = *int_attribute(object, name);
+        out.push_back({name, 'i', le_bytes(&v)});
+        break;
+      }
+      case H5T_FLOAT: {
+        const double v = *real_attribute(object, name);
+        out.push_back({name, 'f', le_bytes(&v)});
+        break;
+      }
+      default:
+        m->fail("attribute " + name + " of " + object + " is not a string or a number");
+    }
+  }
+  return out;
+}
+
 DatasetInfo Reader::info(const std::string& name) const {
   const Id set = m->dataset(name);
   const Id type(H5Dget_type(set.get()), H5Tclose);
@@ -424,6 +741,26 @@ DatasetInfo Reader::info(const std::string& name) const {
   std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
   if (rank > 0) H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
   out.shape.assign(dims.begin(), dims.end());
+  // A damaged size must not become an allocation: the values must fit in what is stored (at
+  // most 1 100 times more, and 16 MiB, when compressed).
+  std::uint64_t values = 1;
+  bool overflow = false;
+  for (const std::uint64_t d : out.shape) {
+    if (d != 0 && values > UINT64_MAX / d) overflow = true;
+    values *= d;
+  }
+  const std::uint64_t element = std::max<std::uint64_t>(out.element_bytes, 1);
+  const std::uint64_t stored = H5Dget_storage_size(set.get());
+  const Id create(H5Dget_create_plist(set.get()), H5Pclose);
+  const bool filtered = create.valid() && H5Pget_nfilters(create.get()) > 0;
+  const std::uint64_t most = filtered ? stored * 1100 + (std::uint64_t(1) << 24) : stored;
+  if (overflow || values > UINT64_MAX / element ||
+      (out.kind != DatasetInfo::Kind::String && values * element > most) ||
+      (out.kind == DatasetInfo::Kind::String && values * element > most + (1u << 16))) {
+    m->fail(name + " has shape " + std::to_string(out.shape.empty() ? 0 : out.shape[0]) +
+            (out.shape.size() > 1 ? "×" + std::to_string(out.shape[1]) : "") +
+            ", more values than its " + std::to_string(stored) + " stored bytes hold");
+  }
   return out;
 }
 
@@ -489,6 +826,9 @@ std::vector<std::string> Reader::strings(const std::string& name) const {
   if (n == 0) return out;
   const Id memory = string_memory_type(type.get());
   if (H5Tis_variable_str(type.get()) > 0) {
+    if (m->fixed_strings_only) {
+      m->fail(name + " holds variable-length strings, which layout 3 does not write");
+    }
     std::vector<char*> text(n, nullptr);
     if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0) {
       m->fail("cannot read " + name + ": " + hdf5_reason());
@@ -508,13 +848,99 @@ std::vector<std::string> Reader::strings(const std::string& name) const {
   if (H5Dread(set.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0) {
     m->fail("cannot read " + name + ": " + hdf5_reason());
   }
-  for (std::uint64_t i = 0; i < n; ++i) {
-    std::string s(buffer.data() + i * size, size);
-    s.resize(std::strlen(s.c_str()));
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    out.push_back(std::move(s));
-  }
+  const H5T_str_t pad = H5Tget_strpad(type.get());
+  for (std::uint64_t i = 0; i < n; ++i)
+    out.push_back(fixed_string(buffer.data() + i * size, size, pad));
   return out;
+}
+
+// ---- write_checksums -------------------------------------------------------------------------
+
+void write_checksums(const std::string& path) {
+  struct Item {
+    std::string name;
+    bool dataset = false;
+  };
+  std::vector<Item> items;
+  std::vector<std::pair<std::string, std::uint64_t>> sums;  // (object / attribute, digest)
+  {
+    const Reader reader(path, false);
+    const Quiet quiet;
+    const Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file");
+    H5Ovisit2(
+        file.get(), H5_INDEX_NAME, H5_ITER_NATIVE,
+        [](hid_t, const char* name, const H5O_info_t* info, void* out) -> herr_t {
+          const std::string n = std::string(name) == "." ? "/" : "/" + std::string(name);
+          static_cast<std::vector<Item>*>(out)->push_back({n, info->type == H5O_TYPE_DATASET});
+          return 0;
+        },
+        &items, H5O_INFO_BASIC);
+    for (const Item& item : items) {
+      if (item.dataset) {
+        const DatasetInfo info = reader.info(item.name);
+        Hasher h;
+        if (info.kind == DatasetInfo::Kind::Float) {
+          const std::vector<double> v = reader.doubles(item.name);
+          h.doubles(v.data(), v.size());
+        } else if (info.kind == DatasetInfo::Kind::Integer) {
+          const std::vector<std::int64_t> v = reader.ints(item.name);
+          const std::vector<std::int32_t> v32(v.begin(), v.end());
+          h.int32s(v32.data(), v32.size());
+        } else if (info.kind == DatasetInfo::Kind::String) {
+          h.strings(reader.strings(item.name));
+        } else {
+          continue;
+        }
+        sums.emplace_back(item.name + "\n" + kChecksumAttribute, h.digest());
+      }
+      const std::vector<AttributeValue> attributes = reader.attributes(item.name);
+      if (!attributes.empty()) {
+        sums.emplace_back(item.name + "\n" + kAttributesChecksumAttribute,
+                          attributes_checksum(attributes));
+      }
+    }
+  }
+  {
+    const Quiet quiet;
+    const Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file for writing");
+    for (const auto& [where, digest] : sums) {
+      const std::string object = where.substr(0, where.find('\n'));
+      const std::string name = where.substr(where.find('\n') + 1);
+      if (H5Aexists_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0) {
+        H5Adelete_by_name(file.get(), object.c_str(), name.c_str(), H5P_DEFAULT);
+      }
+      const Id space(H5Screate(H5S_SCALAR), H5Sclose);
+      const Id attr(H5Acreate_by_name(file.get(), object.c_str(), name.c_str(), H5T_STD_U64LE,
+                                      space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    H5Aclose);
+      if (!attr.valid() || H5Awrite(attr.get(), H5T_NATIVE_UINT64, &digest) < 0) {
+        throw Error(path + ": error: cannot write attribute " + name + " of " + object);
+      }
+    }
+  }  // closed: HDF5 writes its metadata before the structure is hashed
+  write_structure_checksum(path);
+}
+
+bool has_map_file_start(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(kUserBlockMagic.size(), '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  const std::size_t got = std::size_t(in.gcount());
+  return (got >= kHdf5Signature.size() && head.rfind(kHdf5Signature, 0) == 0) ||
+         (got == head.size() && head == kUserBlockMagic);
+}
+
+void write_structure_checksum(const std::string& path) {
+  std::vector<Extent> raw;
+  {
+    const Quiet quiet;
+    const Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw Error(path + ": error: cannot open the HDF5 file");
+    raw = raw_extents(file.get());
+  }
+  seal_structure(path, raw);
 }
 
 }  // namespace motionmap::mapfile::detail

@@ -33,10 +33,11 @@ namespace motionmap::mapfile {
 
 /// The root attribute `format` of every map file.
 inline constexpr std::string_view kFormatName = "motionmap-map";
-/// The newest layout this library reads and writes (root attribute `format_version`): 1, or 2
-/// for a map whose rows were placed on a model fitted on other frames (placed_map_file). A file
-/// is written as version 1 whenever it can be, so that older readers still read it.
-inline constexpr int kFormatVersion = 2;
+/// The layout this library writes, and the newest it reads (root attribute `format_version`):
+/// 3, with a checksum on every dataset and every object's attributes and no variable-length
+/// strings. It reads 1 and 2 too (2: a map whose rows were placed on a model fitted on other
+/// frames, placed_map_file), which have no checksums.
+inline constexpr int kFormatVersion = 3;
 
 /// One clip the map was made from.
 struct ClipRecord {
@@ -87,6 +88,8 @@ struct MapFile {
   /// The features' notes and the map's warnings, as the CSV's comments give them.
   std::vector<std::string> notes;
   std::vector<std::string> warnings;
+  /// What reading the file found worth saying (a file without checksums); never written.
+  std::vector<std::string> read_notes;
 
   SkeletonRecord skeleton;
   /// Absent for clips of several hierarchies, for a map of placed clips, and in files written
@@ -143,8 +146,15 @@ struct ReadOptions {
 /// Reads and checks a map file. @throws Error naming the path and what was expected: missing
 /// or unreadable, not HDF5, another format, a newer or unknown layout version, a missing group,
 /// dataset or attribute, a wrong shape or element type, an unknown name (method, metric, …),
-/// an index out of range, or a non-finite value.
+/// an index out of range, a non-finite value, a text that is not printable UTF-8, or data whose
+/// checksum is not the one recorded (damage, naming the dataset). A file of layout 1 or 2 has no
+/// checksums: MapFile::read_notes says so.
 MapFile read_map_file(const std::string& path, const ReadOptions& options = {});
+
+/// Whether `path` starts as a map file does (the structure checksum of layout 3, or HDF5's
+/// signature: files of layouts 1 and 2), rather than as a map CSV. Reads 4 096 bytes at most; no
+/// check of anything else.
+bool looks_like_map_file(const std::string& path);
 
 /// Which frames of the new clips place_clips() places (the map's own clips' selection was for
 /// them). The feature definition (kind, distance, up axis, excluded and shared joints) always

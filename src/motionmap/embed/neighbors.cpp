@@ -12,6 +12,7 @@
 #include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/detail/routines.h"
+#include "motionmap/embed/k_range.h"
 
 namespace motionmap::embed {
 
@@ -70,7 +71,7 @@ void k_nearest(const double* values, int n, int self, int k, int* index, double*
 
 NeighborLists knn_from_distances(const Eigen::MatrixXd& D, int k, const Control& control) {
   const int n = static_cast<int>(D.rows());
-  check_neighbor_count(k, n - 1, n, "frames");
+  check_neighbor_count(k, max_neighbors(n), n, "frames");
   NeighborLists out;
   out.k = k;
   out.index.resize(std::size_t(n) * k);
@@ -203,7 +204,7 @@ std::vector<Edge> joining_edges(const Eigen::MatrixXd& D, const Components& comp
 }
 
 void check_neighbor_count(int k, int most, int count, std::string_view what) {
-  if (k < 1 || k > most) {
+  if (k < kMinNeighbors || k > most) {
     throw ParameterError("k = " + std::to_string(k) + " neighbours is out of range: with " +
                          std::to_string(count) + " " + std::string(what) + " it must be in [1, " +
                          std::to_string(most) + "]");

@@ -16,6 +16,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/embed/k_range.h"
 
 namespace motionmap::embed {
 
@@ -561,7 +562,7 @@ NeighborLists knn_from_points(const PointSet& points, int k, NeighborSearch sear
                               const Control& control, NeighborSearchReport* report) {
   if (points.rows == nullptr) throw ParameterError("knn: no points were given");
   const int n = points.frames();
-  check_neighbor_count(k, n - 1, n, "frames");
+  check_neighbor_count(k, max_neighbors(n), n, "frames");
   NeighborLists out;
   out.k = k;
   out.index.resize(std::size_t(n) * k);

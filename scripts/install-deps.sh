@@ -10,7 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
   clang libclang-rt-14-dev
-  python3 python3-numpy python3-scipy python3-sklearn python3-h5py
+  python3 python3-numpy python3-scipy python3-sklearn python3-h5py python3-xxhash
   pybind11-dev python3-pybind11 python3-pytest python3-dask python3-distributed python3-tqdm
   xvfb xauth
   # Studio's File → Export animation encodes MP4 with ffmpeg (its tests check it with ffprobe).

@@ -9,11 +9,6 @@
 
 namespace motionmap {
 
-namespace {
-constexpr EnumName<Metric> kMetricNames[] = {{Metric::Euclidean, "euclidean"},
-                                             {Metric::QuaternionAngles, "quaternion-angles"}};
-}  // namespace
-
 std::string_view metric_name(Metric metric) {
   return enum_name(kMetricNames, metric);
 }

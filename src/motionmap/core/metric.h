@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include "motionmap/core/names.h"
+
 namespace motionmap {
 
 /// Rows are frames: #frames by #values, row-major so a frame is contiguous.
@@ -24,7 +26,10 @@ enum class Metric {
   QuaternionAngles,
 };
 
-/// "euclidean", "quaternion-angles" (as map files write them).
+/// The metrics' names, as map files write them.
+inline constexpr EnumName<Metric> kMetricNames[] = {
+    {Metric::Euclidean, "euclidean"}, {Metric::QuaternionAngles, "quaternion-angles"}};
+/// "euclidean", "quaternion-angles".
 std::string_view metric_name(Metric metric);
 /// The metric named `name` (metric_name's names); nullopt for anything else.
 std::optional<Metric> parse_metric(std::string_view name);

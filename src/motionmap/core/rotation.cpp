@@ -8,10 +8,6 @@
 
 namespace motionmap {
 
-namespace {
-constexpr EnumName<Axis> kAxisNames[] = {{Axis::X, "x"}, {Axis::Y, "y"}, {Axis::Z, "z"}};
-}  // namespace
-
 std::string_view axis_name(Axis axis) {
   return enum_name(kAxisNames, axis);
 }

@@ -12,10 +12,14 @@
 
 #include <Eigen/Geometry>
 
+#include "motionmap/core/names.h"
+
 namespace motionmap {
 
 enum class Axis { X = 0, Y = 1, Z = 2 };
 
+/// The axes' names, as options and map files write them.
+inline constexpr EnumName<Axis> kAxisNames[] = {{Axis::X, "x"}, {Axis::Y, "y"}, {Axis::Z, "z"}};
 /// "x", "y", "z".
 std::string_view axis_name(Axis axis);
 /// The axis named `name` ("x", "y" or "z", either case); nullopt for anything else.

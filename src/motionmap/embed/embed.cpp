@@ -33,11 +33,6 @@ constexpr EnumName<Method> kMethodNames[] = {
     {Method::Lle, "lle"},
 };
 
-constexpr EnumName<EmbedOptions::Search> kSearchNames[] = {
-    {EmbedOptions::Search::Auto, "auto"},
-    {EmbedOptions::Search::Exact, "exact"},
-    {EmbedOptions::Search::Approximate, "approximate"}};
-
 struct MethodInfo {
   Method method;
   std::string_view name;

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "motionmap/core/metric.h"
+#include "motionmap/core/names.h"
 
 namespace motionmap::embed {
 
@@ -59,6 +60,11 @@ struct EmbedOptions {
   void validate(int num_frames) const;
 };
 
+/// The searches' names, as map files write them.
+inline constexpr EnumName<EmbedOptions::Search> kSearchNames[] = {
+    {EmbedOptions::Search::Auto, "auto"},
+    {EmbedOptions::Search::Exact, "exact"},
+    {EmbedOptions::Search::Approximate, "approximate"}};
 /// "auto", "exact", "approximate".
 std::string_view search_name(EmbedOptions::Search search);
 /// The search named `name` (search_name's names); nullopt for anything else.

@@ -18,11 +18,6 @@
 
 namespace motionmap::mapfile {
 
-using detail::kAxes;
-using detail::kMetrics;
-using detail::kPaths;
-using detail::kSearches;
-
 namespace {
 
 // Row-major copies for the file (HDF5 and numpy order), and back.
@@ -199,7 +194,7 @@ void write_map_file(const std::string& path, const MapFile& f) {
   w.attribute(p, "description", f.parameters);
   w.attribute(p, "features", std::string(features::feature_kind_name(fo.features)));
   w.attribute(p, "distance", std::string(features::distance_kind_name(fo.distance)));
-  w.attribute(p, "up", std::string(enum_name(kAxes, fo.up)));
+  w.attribute(p, "up", std::string(enum_name(kAxisNames, fo.up)));
   w.attribute(p, "exclude", fo.exclude);
   w.attribute(p, "first_frame", fo.first_frame);
   w.attribute(p, "end_frame", fo.end_frame);
@@ -218,8 +213,8 @@ void write_map_file(const std::string& path, const MapFile& f) {
   w.attribute(p, "strict", eo.strict);
   w.attribute(p, "landmarks", eo.landmarks);
   w.attribute(p, "landmarks_used", f.landmarks_used);
-  w.attribute(p, "search", std::string(enum_name(kSearches, eo.search)));
-  w.attribute(p, "path", std::string(enum_name(kPaths, f.options.path)));
+  w.attribute(p, "search", std::string(enum_name(embed::kSearchNames, eo.search)));
+  w.attribute(p, "path", std::string(enum_name(pipeline::kMapPathNames, f.options.path)));
   w.attribute(p, "dense_limit", f.options.dense_limit);
   w.attribute(p, "path_taken", std::string(f.dense ? "dense" : "points"));
   w.attribute(p, "neighbor_search", f.neighbor_search);
@@ -249,7 +244,7 @@ void write_map_file(const std::string& path, const MapFile& f) {
   w.group("/model");
   w.attribute("/model", "method", std::string(embed::method_name(m.method)));
   w.attribute("/model", "dimensions", m.dimensions);
-  w.attribute("/model", "metric", std::string(enum_name(kMetrics, m.metric)));
+  w.attribute("/model", "metric", std::string(enum_name(kMetricNames, m.metric)));
   w.attribute("/model", "points_are_landmarks", m.points_are_landmarks);
   w.attribute("/model", "k", m.k);
   w.attribute("/model", "heat", m.heat);

@@ -6,6 +6,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/sha256.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/mapfile/map_file.h"
@@ -23,15 +24,6 @@ std::string regex_literal(const std::string& name) {
     if (std::string_view("\\^$.|?*+()[]{}").find(c) != std::string_view::npos) out += '\\';
     out += c;
   }
-  return out;
-}
-
-std::string name_list(const std::vector<std::string>& names, std::size_t most = 8) {
-  std::string out;
-  for (std::size_t i = 0; i < std::min(names.size(), most); ++i) {
-    out += (i ? ", " : "") + names[i];
-  }
-  if (names.size() > most) out += " and " + std::to_string(names.size() - most) + " more";
   return out;
 }
 
@@ -84,7 +76,7 @@ Placement place_clips(std::span<const Clip> clips, const MapFile& map, const Pla
         throw ParameterError(
             clip.path + ": cannot be placed on " + onto + ": it lacks " +
             std::to_string(missing.size()) + " of the " + std::to_string(shared.size()) +
-            " joints the map compares by (--joints common): " + name_list(missing));
+            " joints the map compares by (--joints common): " + name_list(missing, 8));
       }
       for (const Joint& j : clip.skeleton.joints) {
         if (!shared.count(j.name)) extra.insert(j.name);

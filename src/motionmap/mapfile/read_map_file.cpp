@@ -19,10 +19,6 @@
 namespace motionmap::mapfile {
 
 using detail::DatasetInfo;
-using detail::kAxes;
-using detail::kMetrics;
-using detail::kPaths;
-using detail::kSearches;
 using embed::Method;
 
 namespace {
@@ -466,7 +462,7 @@ void read_parameters(const Input& in, MapFile& f) {
       in.parsed(p, "features", features::parse_feature_kind, "a feature kind (quat, positions)");
   fo.distance = in.parsed(p, "distance", features::parse_distance_kind,
                           "a distance kind (pointcloud, geodesic, features)");
-  fo.up = in.name_of(kAxes, p, "up", "an up axis");
+  fo.up = in.name_of(kAxisNames, p, "up", "an up axis");
   fo.exclude = in.text(p, "exclude", "the excluded joints' pattern");
   fo.first_frame = in.integer32(p, "first_frame", 0, "the first frame");
   fo.end_frame = in.integer32(p, "end_frame", -1, "one past the last frame (−1: the end)");
@@ -488,8 +484,8 @@ void read_parameters(const Input& in, MapFile& f) {
   eo.strict = in.flag(p, "strict", "strict neighbour graphs");
   eo.landmarks = in.integer32(p, "landmarks", 0, "landmarks asked for (0: the default)");
   f.landmarks_used = in.integer32(p, "landmarks_used", 0, "landmarks chosen");
-  eo.search = in.name_of(kSearches, p, "search", "a neighbour search");
-  f.options.path = in.name_of(kPaths, p, "path", "a map path asked for");
+  eo.search = in.name_of(embed::kSearchNames, p, "search", "a neighbour search");
+  f.options.path = in.name_of(pipeline::kMapPathNames, p, "path", "a map path asked for");
   f.options.dense_limit = in.integer32(p, "dense_limit", 0, "the dense path's frame limit");
   const std::string taken = in.text(p, "path_taken", "the path taken (dense, points)");
   if (taken != "dense" && taken != "points") {
@@ -612,7 +608,7 @@ void read_model(const Input& in, std::int64_t version, MapFile& f) {
             ") is not the map's (" + std::string(embed::method_name(eo.method)) + ")");
   }
   m.dimensions = int(in.integer(g, "dimensions", dims, dims, "the map's dimensions"));
-  m.metric = in.name_of(kMetrics, g, "metric", "a pose metric");
+  m.metric = in.name_of(kMetricNames, g, "metric", "a pose metric");
   m.points_are_landmarks = in.flag(g, "points_are_landmarks", "points hold the landmarks only");
   m.k = in.integer32(g, "k", 0, "neighbours a new frame joins through");
   m.heat = in.real(g, "heat", "the heat-kernel width");

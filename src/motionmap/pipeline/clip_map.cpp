@@ -21,13 +21,6 @@ using embed::Method;
 using embed::neighborhood_quality;
 using motionmap::Metric;
 
-namespace {
-
-constexpr EnumName<MapPath> kMapPathNames[] = {
-    {MapPath::Auto, "auto"}, {MapPath::Dense, "dense"}, {MapPath::Landmarks, "landmarks"}};
-
-}  // namespace
-
 std::string_view map_path_name(MapPath path) {
   return enum_name(kMapPathNames, path);
 }

@@ -34,6 +34,9 @@ enum class MapPath {
   Landmarks,  ///< always the points path (landmarks, sparse graphs)
 };
 
+/// The paths' names, as options and map files write them.
+inline constexpr EnumName<MapPath> kMapPathNames[] = {
+    {MapPath::Auto, "auto"}, {MapPath::Dense, "dense"}, {MapPath::Landmarks, "landmarks"}};
 /// "auto", "dense", "landmarks".
 std::string_view map_path_name(MapPath path);
 /// The path named `name` (map_path_name's names); nullopt for anything else.

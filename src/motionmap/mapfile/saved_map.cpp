@@ -20,9 +20,6 @@ namespace fs = std::filesystem;
 
 // Samples closer than this fraction of the map's extent share a map point (as in the blender).
 constexpr double kMergeFraction = 1e-9;
-// A distance below this fraction of the partition radius is a hit on the sample (as the blender's
-// partition weights take it).
-constexpr double kHitFraction = 1e-12;
 
 // "lib.mmap.h5: clip 3 (walk.bvh)" for messages.
 std::string clip_label(const MapFile& file, int c) {
@@ -246,33 +243,17 @@ SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) co
   SavedPose out;
   std::vector<Neighbor> found = m_index.nearest(p, neighbors + 1);
   if (found.empty()) throw ParameterError("map: no finite sample to blend");
-  // Franke–Little weights ((R − d)/(R·d))², normalised, as synth::MapBlender's idw blend: R is
-  // the (K+1)-th distance (with no (K+1)-th sample, twice the farthest); a sample within
-  // 1e-12·R of p takes all the weight; samples all at R share it equally among the nearest.
+  // synth::MapBlender's idw weights: R is the (K+1)-th distance (with no (K+1)-th sample, twice
+  // the farthest).
   const bool has_far = static_cast<int>(found.size()) > neighbors;
   const double R = has_far ? found.back().distance
                            : 2.0 * found.back().distance + std::numeric_limits<double>::min();
   if (has_far) found.pop_back();
   out.outside = found.front().distance > reach_distance();
   const std::size_t count = found.size();
-  std::vector<double> w(count, 0.0);
-  if (count == 1 || found.front().distance <= kHitFraction * R) {
-    w[0] = 1.0;
-  } else {
-    double total = 0.0;
-    for (std::size_t i = 0; i < count; ++i) {
-      const double t = std::max(R - found[i].distance, 0.0) / (R * found[i].distance);
-      w[i] = t * t;
-      total += w[i];
-    }
-    if (total > 0.0) {
-      for (double& v : w) v /= total;
-    } else {
-      std::size_t ties = 0;
-      while (ties < count && found[ties].distance == found.front().distance) ++ties;
-      for (std::size_t i = 0; i < ties; ++i) w[i] = 1.0 / double(ties);
-    }
-  }
+  std::vector<double> distances(count), w(count);
+  for (std::size_t i = 0; i < count; ++i) distances[i] = found[i].distance;
+  synth::franke_little_weights(distances.data(), static_cast<int>(count), R, w.data());
 
   // A blender over just these samples: each becomes a one-frame clip cut from its clip (loaded
   // on demand), so a pose copies K frames, not K clips.

@@ -28,38 +28,11 @@ namespace {
 // Local systems pick neighbours at least this fraction of the median step apart, so 120 fps
 // samples almost on top of each other do not make them ill-conditioned.
 constexpr double kSeparationFraction = 0.25;
-// A distance below this fraction of the partition radius counts as a hit on the sample (the
-// Franke–Little weight would overflow; the weights it replaces differ by < 1e-24).
-constexpr double kHitFraction = 1e-12;
 // Kriging queries are solved in blocks of this many points (bounds the right-hand-side memory).
 constexpr int kKrigingBlock = 64;
 // Sample states a blender reading its clips on demand keeps (about 1 KB each for 30 joints);
 // beyond this it starts afresh.
 constexpr std::size_t kMaxKeptStates = 200000;
-
-// Franke–Little partition-of-unity weights of `count` points at sorted distances d (not squared),
-// falling to 0 at radius R: ((R − d)/(R·d))², normalised; 1 on a point hit exactly.
-void partition_weights(const double* d, int count, double R, double* phi) {
-  std::fill(phi, phi + count, 0.0);
-  if (count == 1 || d[0] <= kHitFraction * R) {
-    phi[0] = 1.0;
-    return;
-  }
-  double sum = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const double t = std::max(R - d[i], 0.0) / (R * d[i]);
-    phi[i] = t * t;
-    sum += phi[i];
-  }
-  if (sum > 0.0) {
-    for (int i = 0; i < count; ++i) phi[i] /= sum;
-    return;
-  }
-  // Every point exactly at R (a tie with the next one): share equally between the nearest.
-  int ties = 0;
-  while (ties < count && d[ties] == d[0]) ++ties;
-  for (int i = 0; i < ties; ++i) phi[i] = 1.0 / ties;
-}
 
 bool same_translation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return (a - b).norm() <= 1e-12 * (1.0 + a.norm());
@@ -147,6 +120,31 @@ std::optional<BlendMode> parse_blend_mode(std::string_view name) {
 const std::vector<BlendMode>& all_blend_modes() {
   static const std::vector<BlendMode> modes = enum_values(kBlendModes);
   return modes;
+}
+
+void franke_little_weights(const double* d, int count, double R, double* phi) {
+  // A distance below this fraction of R counts as a hit on the sample (the weight would
+  // overflow; the weights it replaces differ by < 1e-24).
+  constexpr double kHitFraction = 1e-12;
+  std::fill(phi, phi + count, 0.0);
+  if (count == 1 || d[0] <= kHitFraction * R) {
+    phi[0] = 1.0;
+    return;
+  }
+  double sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const double t = std::max(R - d[i], 0.0) / (R * d[i]);
+    phi[i] = t * t;
+    sum += phi[i];
+  }
+  if (sum > 0.0) {
+    for (int i = 0; i < count; ++i) phi[i] /= sum;
+    return;
+  }
+  // Every point exactly at R (a tie with the next one): share equally between the nearest.
+  int ties = 0;
+  while (ties < count && d[ties] == d[0]) ++ties;
+  for (int i = 0; i < ties; ++i) phi[i] = 1.0 / ties;
 }
 
 void BlendOptions::validate(int num_samples) const {
@@ -448,7 +446,7 @@ void MapBlender::Impl::point_weights(PointValidity& v,
   // with no next point, twice the farthest.
   const double R =
       found > count ? dist[count] : 2.0 * dist[found - 1] + std::numeric_limits<double>::min();
-  partition_weights(dist.data(), count, R, phi.data());
+  franke_little_weights(dist.data(), count, R, phi.data());
   if (!is_local) {
     for (int i = 0; i < count; ++i) {
       if (phi[i] != 0.0) out.emplace_back(static_cast<int>(idx[i]), phi[i]);

@@ -75,6 +75,13 @@ inline constexpr int kMaxKrigingSamples = 10000;
 /// Number of nearest samples whose local systems the local mode blends per query.
 inline constexpr int kLocalPartitionSize = 4;
 
+/// Franke–Little partition-of-unity weights of `count` samples at ascending distances `d` (not
+/// squared) from a map point, falling to 0 at radius R: ((R − d)/(R·d))², normalised. All the
+/// weight goes to the nearest when it is within 1e-12·R (a hit) or alone; samples all at R share
+/// it equally among the nearest. `phi`: `count` weights out. The idw and local blends use them,
+/// with R the next sample's distance.
+void franke_little_weights(const double* d, int count, double R, double* phi);
+
 struct BlendOptions {
   BlendMode mode = BlendMode::Local;
   /// K: samples per local system (local) or samples blended (idw), in [1, #samples]; unused by
@@ -181,10 +188,9 @@ class MapBlender {
   /// `coords` is #samples by ≥ 2 map coordinates; only the first two columns are used. `clips`
   /// are the clips of build_features, in the same order, sharing one joint hierarchy; the first
   /// one's skeleton and frame time are the blender's. Kriging factors its system here: about
-  /// (2/3)·N³ flops (0.03 s at N = 1 000, 0.26 s at 2 000, about 30 s and 800 MB at 10 000 on
-  /// one core); the local mode's set-up is O(N·K·log N) (0.1 s at 10 000). Both report the stage
-  /// "kriging set-up" through `control` and poll it for cancellation (kriging: between chunks of
-  /// the factorisation, a few ms of work apart; local: every few dozen systems).
+  /// (2/3)·N³ flops and 8·N² bytes (docs/performance.md); the local mode's set-up is
+  /// O(N·K·log N). Both report the stage "kriging set-up" through `control` and poll it for
+  /// cancellation (kriging: between chunks of the factorisation; local: every few dozen systems).
   /// @throws ParameterError for bad options, a map that does not belong to the clips (row count
   ///         ≠ #samples, a clip or frame index out of range, clips of different hierarchies),
   ///         fewer than 2 columns, or kriging with more than kMaxKrigingSamples merged points;

@@ -11,7 +11,7 @@ namespace motionmap::embed {
 
 namespace {
 
-// Frames are sorted through per-frame work in chunks of this many (parallel loops).
+// The parallel per-frame loops take frames in chunks of this many.
 constexpr int kChunk = 4096;
 
 // The points' scale s: sqrt(Σ_ij d_ij² / (2·F²)). For Euclidean points that is the RMS distance
@@ -122,23 +122,36 @@ DistinctPoses distinct_in_distances(const Eigen::MatrixXd& D, const Control& con
   double total = 0.0;
   for (const double s : column_sums) total += s;
   const double tolerance = kRepeatTolerance * std::sqrt(total / (2.0 * n * double(n)));
-  // near[j]: the frames i < j within τ of frame j (column j is contiguous), usually none.
-  std::vector<std::vector<int>> near(static_cast<std::size_t>(n));
+  // near[j]: whether some frame i < j is within τ of frame j (column j is contiguous; the scan
+  // stops at the first). Only such frames can repeat a pose.
+  std::vector<char> near(static_cast<std::size_t>(n), 0);
   parallel_for(
       n,
       [&](int j) {
         const double* column = D.col(j).data();
         for (int i = 0; i < j; ++i) {
-          if (column[i] <= tolerance) near[j].push_back(i);
+          if (column[i] <= tolerance) {
+            near[j] = 1;
+            return;
+          }
         }
       },
       control.part(0.4, 1.0));
+  // Their candidates are the first occurrences so far, in increasing order: the first within τ
+  // is the one they repeat.
+  std::vector<int> firsts;
   return group(
       n,
       [&](int f, const auto& offer) {
-        for (const int i : near[f]) offer(i);
+        if (!near[f]) return;
+        for (const int r : firsts) {
+          if (D(r, f) <= tolerance) {
+            offer(r);
+            return;
+          }
+        }
       },
-      [&](int r, int f) { return D(r, f) <= tolerance; }, [](int) {});
+      [&](int r, int f) { return D(r, f) <= tolerance; }, [&](int f) { firsts.push_back(f); });
 }
 
 }  // namespace motionmap::embed

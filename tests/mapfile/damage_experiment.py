@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Issue 22's experiment: damaged copies of saved maps, used by `map --onto` and `pose --map`.
+"""Issue 22's experiment: damaged copies of saved maps, used by `map --onto`, `pose --map` and
+(with --studio) MotionMap Studio opening them.
 
 Saves two maps of CMU 64_08 (a dense isomap map, and a landmark isomap map: the points path with
 landmark geodesics), makes COPIES copies of each with 1 to 32 random bytes changed (seeded: the
@@ -7,6 +8,7 @@ same copies every run), and runs on each copy
 
     motionmap map 64_09.bvh --onto COPY -q -o out.csv
     motionmap pose --map COPY --at=X,Y -o pose.bvh      (X,Y: a point of the map)
+    motionmap-studio COPY --screenshot shot.png          (with --studio, offscreen)
 
 Each run is one of: a crash (killed by a signal or an abort), a hang (over the time limit), a
 clear error (exit status 1 or 2 with a message "error"), the same result as the undamaged file
@@ -15,6 +17,7 @@ UTF-8. Prints a Markdown table; exits 1 when a run crashed, hung, gave a differe
 without an error or wrote a message that is not UTF-8.
 
 usage: damage_experiment.py MOTIONMAP SHARED_DATA_DIR [--copies 400] [--seed 22] [--jobs 2]
+                            [--studio MOTIONMAP_STUDIO]
 """
 import argparse
 import concurrent.futures
@@ -28,10 +31,10 @@ import tempfile
 OUTCOMES = ["crash", "hang", "clear error", "same result", "different result, no error"]
 
 
-def run(binary, args, timeout=120):
+def run(binary, args, timeout=120, env=None):
     """(return code or None on a timeout, stdout bytes, stderr bytes)."""
     try:
-        p = subprocess.run([binary, *args], capture_output=True, timeout=timeout)
+        p = subprocess.run([binary, *args], capture_output=True, timeout=timeout, env=env)
         return p.returncode, p.stdout, p.stderr
     except subprocess.TimeoutExpired as e:
         return None, e.stdout or b"", e.stderr or b""
@@ -63,8 +66,10 @@ def damage(original, seed):
 class Map:
     """One saved map, and the outputs of its two commands on the undamaged file."""
 
-    def __init__(self, binary, work, name, clip, other, options):
+    def __init__(self, binary, work, name, clip, other, options, studio=None):
         self.binary, self.work, self.name, self.other = binary, work, name, other
+        self.studio = studio
+        self.commands = ("onto", "pose", "studio") if studio else ("onto", "pose")
         self.path = os.path.join(work, name + ".mmap.h5")
         csv = os.path.join(work, name + ".csv")
         code, _, err = run(binary, ["map", clip, "-q", "-o", csv, "--save", self.path, *options])
@@ -76,7 +81,7 @@ class Map:
         self.at = "--at=%s,%s" % (row[-2], row[-1])
         self.original = read_bytes(self.path)
         self.expected = {}
-        for command in ("onto", "pose"):
+        for command in self.commands:
             code, out, err = self.run(command, self.path, os.path.join(work, name + "-base"))
             if code != 0:
                 sys.exit("damage_experiment: %s on the undamaged %s failed: %s"
@@ -85,15 +90,20 @@ class Map:
 
     def run(self, command, map_file, prefix):
         """(code, the output file's bytes or b"", stderr) of `command` on `map_file`."""
+        binary, env = self.binary, None
         if command == "onto":
             output = prefix + ".csv"
             args = ["map", self.other, "--onto", map_file, "-q", "-o", output]
-        else:
+        elif command == "pose":
             output = prefix + ".bvh"
             args = ["pose", "--map", map_file, self.at, "-q", "-o", output]
+        else:
+            output = prefix + ".png"
+            args = [map_file, "--screenshot", output]
+            binary, env = self.studio, dict(os.environ, QT_QPA_PLATFORM="offscreen")
         if os.path.exists(output):
             os.remove(output)
-        code, out, err = run(self.binary, args)
+        code, out, err = run(binary, args, env=env)
         result = read_bytes(output) if code == 0 and os.path.exists(output) else b""
         return code, result, out + err
 
@@ -103,7 +113,7 @@ class Map:
         with open(copy, "wb") as f:
             f.write(damage(self.original, "%d-%s-%d" % (seed, self.name, index)))
         results = []
-        for command in ("onto", "pose"):
+        for command in self.commands:
             code, out, message = self.run(command, copy, copy[:-len(".mmap.h5")] + "-" + command)
             if code is None:
                 outcome = "hang"
@@ -120,16 +130,16 @@ class Map:
         return results
 
 
-def experiment(binary, data, copies, seed, jobs, work, verbose=False):
+def experiment(binary, data, copies, seed, jobs, work, verbose=False, studio=None):
     """{(map name, command): {outcome: count}}, the messages that are not UTF-8, the bad runs."""
     clip = os.path.join(data, "cmu", "64_08.bvh")
     other = os.path.join(data, "cmu", "64_09.bvh")
-    maps = [Map(binary, work, "dense-isomap", clip, other, ["--method", "isomap"]),
+    maps = [Map(binary, work, "dense-isomap", clip, other, ["--method", "isomap"], studio),
             Map(binary, work, "landmark-isomap", clip, other,
-                ["--method", "isomap", "--landmarks", "0"])]
+                ["--method", "isomap", "--landmarks", "0"], studio)]
     table, not_utf8, bad = {}, [], []
     for m in maps:
-        for command in ("onto", "pose"):
+        for command in m.commands:
             table[(m.name, command)] = {o: 0 for o in OUTCOMES}
         with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
             for index, results in enumerate(pool.map(lambda i: m.outcome(i, seed), range(copies))):
@@ -149,7 +159,8 @@ def markdown(table, copies):
     lines = ["| map, command | " + " | ".join(OUTCOMES) + " |",
              "|---|" + "---:|" * len(OUTCOMES)]
     for (name, command), counts in table.items():
-        what = "`map 64_09.bvh --onto`" if command == "onto" else "`pose --map`"
+        what = {"onto": "`map 64_09.bvh --onto`", "pose": "`pose --map`",
+                "studio": "Studio opening it"}[command]
         lines.append("| %s, %s | " % (name, what) + " | ".join(str(counts[o]) for o in OUTCOMES)
                      + " |")
     return "\n".join(lines)
@@ -163,6 +174,7 @@ def main():
     parser.add_argument("--seed", type=int, default=22)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--verbose", action="store_true")
+    parser.add_argument("--studio", help="motionmap-studio: also open every copy in Studio")
     args = parser.parse_args()
     if not os.path.exists(os.path.join(args.data, "cmu", "64_08.bvh")):
         print("damage_experiment: skipped: cmu/64_08.bvh absent from " + args.data)
@@ -171,7 +183,8 @@ def main():
     try:
         table, not_utf8, bad = experiment(os.path.abspath(args.motionmap),
                                           os.path.abspath(args.data), args.copies, args.seed,
-                                          args.jobs, work, args.verbose)
+                                          args.jobs, work, args.verbose,
+                                          os.path.abspath(args.studio) if args.studio else None)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print(markdown(table, args.copies))

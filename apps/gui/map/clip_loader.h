@@ -1,9 +1,8 @@
 #pragma once
 // Clips of a saved map loaded on a worker thread, so that a click or a drag on a map of 10⁶ points
-// never waits for a file: mapfile::SavedMap::clip() (SHA-256 check and parse, about 0.1 s for a
-// 6 000-frame BVH) runs on the loader's own thread, and loaded() / failed() come back on the
-// thread the loader lives in. The clip then sits in the SavedMap's cache, where the GUI thread
-// takes it at once.
+// never waits for a file: mapfile::SavedMap::clip() (SHA-256 check and parse) runs on the
+// loader's own thread, and loaded() / failed() come back on the thread the loader lives in. The
+// clip then sits in the SavedMap's cache, where the GUI thread takes it at once.
 #include <map>
 #include <memory>
 #include <optional>

@@ -8,8 +8,7 @@
 //   std::string hex = h.hex();                            // 64 lowercase hex digits
 //   std::string same = motionmap::sha256_file("64_08.bvh");  // what `sha256sum` prints
 //
-// Not a security boundary: a plain, portable implementation (no CPU extensions), about
-// 200–300 MB/s, which is faster than the parsers that read the same files.
+// Not a security boundary: a plain, portable implementation (no CPU extensions).
 #include <array>
 #include <cstddef>
 #include <cstdint>

@@ -83,7 +83,7 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
 /// placed and may cancel. isomap, le, lle and a dense mds map look up each frame's nearest
 /// samples: in `search` when given — a SampleSearch over model.points, kept by a caller that
 /// places frames on the same model many times (make_search) — otherwise in one built for this
-/// call (its k-d tree costs about 1 s at 10⁵ samples). The result is the same either way.
+/// call (building its k-d tree is O(#samples log #samples)). The result is the same either way.
 /// @throws ParameterError when the input the method needs is missing, has a different number of
 ///   columns than the map's, or holds non-finite values (naming the frame), or `search` is not
 ///   over model.points; Cancelled.

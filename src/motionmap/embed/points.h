@@ -71,7 +71,7 @@ class PrincipalKdTree;
 
 /// The samples prepared for many searches of their nearest to other points (knn_to_samples
 /// builds one per call): a k-d tree over the samples in their principal axes for Euclidean points
-/// (#samples by #values floats, built in parallel; about 1 s at 10⁵ samples of 114 values), nothing
+/// (#samples by #values floats, built in parallel), nothing
 /// for other metrics (every sample is compared). Reads `samples.rows`, which must outlive it and
 /// not change. Searching is thread-safe.
 class SampleSearch {

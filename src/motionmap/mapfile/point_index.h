@@ -23,7 +23,7 @@ struct Neighbor {
 class PointIndex {
  public:
   /// Indexes the first two columns of `coords` (copied). Non-finite rows are left out (never
-  /// found). Building costs O(N log N): about 0.2 s for 10⁶ points on one core.
+  /// found). Building costs O(N log N).
   /// @throws ParameterError if coords has fewer than 2 columns.
   explicit PointIndex(const Eigen::MatrixXd& coords);
   ~PointIndex();

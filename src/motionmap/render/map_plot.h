@@ -116,8 +116,8 @@ QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
 /// each point falls in the pixel `data_to_pixel` maps it to (points outside the image and
 /// non-finite rows are skipped); a pixel holding c > 0 points is `ink` at opacity
 /// 0.12 + 0.88 · log(1 + c) / log(1 + max c), others transparent (so it lies over any
-/// background). A map of millions of points drawn in one pass: O(#points + #pixels), about
-/// 5 ms for 10⁶ points. Format_ARGB32_Premultiplied; a null image for an empty size.
+/// background). A map of millions of points drawn in one pass: O(#points + #pixels).
+/// Format_ARGB32_Premultiplied; a null image for an empty size.
 /// @throws ParameterError if points has < 2 columns.
 QImage density_image(const Eigen::MatrixXd& points, const QTransform& data_to_pixel,
                      const QSize& size, const QColor& ink = QColor(40, 50, 90));

@@ -14,8 +14,7 @@
 // split their products over it. No pivoting: for positive definite A (or nearly: a tiny negative
 // pivot from rounding is kept, as SimplicialLDLT does). Results do not depend on the thread count:
 // every supernode is computed alone, from its children in a fixed order.
-// On LLE's M for 72 000 library frames (1.9·10⁷ entries in L, 10¹⁰ flops, 15 790 supernodes):
-// 1.8 s against SimplicialLDLT's 5.1 s, a solve 37 ms against ~70 ms (2 cores, load 1).
+// Measured against SimplicialLDLT: bench/embed_bench.cpp, docs/performance.md.
 #include <cstdint>
 #include <vector>
 

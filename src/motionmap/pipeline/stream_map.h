@@ -28,8 +28,7 @@
 namespace motionmap::pipeline {
 
 /// Loading a library whole and building its features takes about this many bytes of memory per
-/// byte of its files (BVH text: 1 000 000 library frames, 766 MB of files, peaked at 3.5 GB in
-/// the README's measurements: 4.6 per byte).
+/// byte of its files (BVH text; measured in docs/performance.md, "Streaming pca and svd").
 constexpr double kLoadBytesPerFileByte = 5.0;
 
 /// The memory loading the clips at `paths` whole and building their features would take,

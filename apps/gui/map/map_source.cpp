@@ -66,7 +66,7 @@ bool ComputedMapSource::show() {
   if (!map) return false;
   m_mapView->setMap(map->map.embedding.coordinates, map->map.features->segment_starts,
                     mapPlotOptions(*map, *m_maps->clips()));
-  m_mapView->setShadingAvailable(true);
+  m_mapView->setShadingReach(map->blender ? map->blender->reach_distance() : 0.0);
   return true;
 }
 
@@ -156,7 +156,7 @@ void SavedMapSource::show() {
   m_mapView->setDensityMap(
       std::shared_ptr<const Eigen::MatrixXd>(m_map, &m_map->file().coordinates),
       Eigen::MatrixXd(0, 2), options);
-  m_mapView->setShadingAvailable(false);
+  m_mapView->setShadingReach(0.0);
 }
 
 QString SavedMapSource::title() const {

@@ -162,8 +162,8 @@ void MapView::setSketchMode(bool on) {
   m_sketchMode = on;
 }
 
-void MapView::setShadingAvailable(bool available) {
-  m_shadingAvailable = available;
+void MapView::setShadingReach(double reach) {
+  m_shadingReach = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
   m_cache = QPixmap();
   update();
 }
@@ -286,7 +286,7 @@ void MapView::paintEvent(QPaintEvent*) {
     } else {
       render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, m_options);
     }
-    if (m_shadingVisible && m_shadingAvailable && !m_density && m_coords.rows() > 0)
+    if (m_shadingVisible && m_shadingReach > 0.0 && !m_density && m_coords.rows() > 0)
       paintShading(cachePainter);
   }
   painter.drawPixmap(0, 0, m_cache);
@@ -322,20 +322,10 @@ QRectF MapView::plotRect() const {
 }
 
 double MapView::shadingRadius() const {
-  if (m_coords.rows() == 0) return 0.0;
+  if (m_coords.rows() == 0 || m_shadingReach <= 0.0) return 0.0;
   ensureTransform();
-  // The samples' bounding box in pixels: its larger side is the map's size on screen.
-  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
-  for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
-    const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
-    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
-    x0 = std::min(x0, p.x());
-    x1 = std::max(x1, p.x());
-    y0 = std::min(y0, p.y());
-    y1 = std::max(y1, p.y());
-  }
-  if (!(x0 <= x1)) return 0.0;
-  return kShadingFraction * std::max(x1 - x0, y1 - y0);
+  return QLineF(m_toWidget.map(QPointF(0.0, 0.0)), m_toWidget.map(QPointF(m_shadingReach, 0.0)))
+      .length();
 }
 
 void MapView::paintShading(QPainter& painter) const {
@@ -375,8 +365,7 @@ void MapView::paintShading(QPainter& painter) const {
   font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
   painter.setFont(font);
   const QFontMetricsF fm(font);
-  const QString text =
-      tr("within %1 % of the map's size of a frame").arg(kShadingFraction * 100.0, 0, 'g', 3);
+  const QString text = tr("a blend of nearby frames (outside: moved to the edge)");
   const double pad = 4.0, swatch = fm.height();
   const double textWidth = std::min(fm.horizontalAdvance(text), plot.width() - swatch - 5 * pad);
   const QRectF key(plot.left() + pad, plot.bottom() - pad - swatch - 2 * pad,

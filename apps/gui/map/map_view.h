@@ -103,16 +103,12 @@ class MapView : public QWidget {
   void setSketchMode(bool on);
   bool sketchMode() const { return m_sketchMode; }
 
-  /// Trustworthy-blend shading: a translucent green over every map point within
-  /// kShadingFraction of the map's size (the larger side of its samples' bounding box) of a
-  /// sample, i.e. where a drag's blend is made from frames close to the point. A share of the
-  /// map's own size reads the same at any frame rate (a step between frames would not: 4× finer
-  /// at 120 fps than at 30) and whatever the map's units; the blender's reach (which decides
-  /// where locate() clamps) is a multiple of the median step, so it is not used here. Drawn into
-  /// the cached trajectory, clipped to plotRect(), with a key in the plot's lower-left corner.
-  static constexpr double kShadingFraction = 0.05;
-  /// Whether the shading can be drawn (a map computed here; not a saved map's density).
-  void setShadingAvailable(bool available);
+  /// Trustworthy-blend shading: a translucent green over every map point within `reach` (map
+  /// units) of a sample: the blender's reach_distance(), synth::reach_radius()'s one rule of where
+  /// a blend is inside the data (beyond it, a drag or sketch is moved to its edge). Drawn into the
+  /// cached trajectory, clipped to plotRect(), with a key in the plot's lower-left corner.
+  /// 0: no shading (no blender, or a saved map's density).
+  void setShadingReach(double reach);
   void setShadingVisible(bool on);
   bool shadingVisible() const { return m_shadingVisible; }
   /// The shading's radius in pixels (0 without a map).
@@ -196,7 +192,7 @@ class MapView : public QWidget {
   synth::MapPath m_controlPreview;  ///< the current take's path as it follows the drag
   QElapsedTimer m_sketchClock;
   bool m_sketchMode = false;
-  bool m_shadingAvailable = false;
+  double m_shadingReach = 0.0;  ///< map units (setShadingReach)
   QString m_busyText;
   bool m_shadingVisible = false;
   bool m_lensEnabled = false;

@@ -73,6 +73,10 @@ SavedMap::SavedMap(MapFile file, int cached_clips)
   m_median_step = steps.empty() ? 0.0 : upper_median(std::move(steps));
 }
 
+double SavedMap::reach_distance(double reach) const {
+  return synth::reach_radius(reach, m_median_step, (m_index.upper() - m_index.lower()).maxCoeff());
+}
+
 SavedMap::~SavedMap() = default;
 
 std::string SavedMap::resolve_path(int c) const {

@@ -90,8 +90,9 @@ class SavedMap : public synth::ClipSource {
   /// The median map distance between consecutive samples of a clip (non-zero ones; 0 if none),
   /// as synth::MapBlender::median_step() computes it for the same map.
   double median_step() const { return m_median_step; }
-  /// reach × median_step(): beyond it from every sample a point is outside the data.
-  double reach_distance(double reach = 3.0) const { return reach * m_median_step; }
+  /// synth::reach_radius(reach, median_step(), the map's size): beyond it from every sample a
+  /// point is outside the data, as for a synth::MapBlender of the same map.
+  double reach_distance(double reach = 3.0) const;
 
   /// The pose at map point `p` blended from its `neighbors` nearest samples with Franke–Little
   /// inverse-distance weights (R = the distance of the (neighbors + 1)-th nearest; a sample at p

@@ -122,6 +122,10 @@ const std::vector<BlendMode>& all_blend_modes() {
   return modes;
 }
 
+double reach_radius(double reach, double median_step, double map_size) {
+  return std::max(reach * median_step, kMinReachFraction * map_size);
+}
+
 void franke_little_weights(const double* d, int count, double R, double* phi) {
   // A distance below this fraction of R counts as a hit on the sample (the weight would
   // overflow; the weights it replaces differ by < 1e-24).

@@ -23,11 +23,11 @@
 // continuous in p. Samples closer to each other than 1e-9 × the map's extent share a map point
 // and are merged: such a point gives each of them an equal share of the weight.
 //
-// Outside the data: a point farther from every sample than reach × the median step between
-// consecutive samples is moved, and reported: to the nearest point q of the trajectory (the
-// polyline through consecutive samples of each clip), then back towards the point by
-// √(r² − e²), r = reach × step and e = the distance from q to the nearer end of its segment, so
-// it lands within r of that sample. This is continuous in p except where two stretches of
+// Outside the data: a point farther from every sample than r = reach_radius() (reach × the median
+// step between consecutive samples, at least 5 % of the map's size) is moved, and reported: to the
+// nearest point q of the trajectory (the polyline through consecutive samples of each clip), then
+// back towards the point by √(r² − e²), e = the distance from q to the nearer end of its segment,
+// so it lands within r of that sample. This is continuous in p except where two stretches of
 // trajectory are equally near (the nearest point of the union of reach disks would jump at
 // every boundary between two samples' cells), and costs O(#samples), for outside points only.
 //
@@ -75,6 +75,17 @@ inline constexpr int kMaxKrigingSamples = 10000;
 /// Number of nearest samples whose local systems the local mode blends per query.
 inline constexpr int kLocalPartitionSize = 4;
 
+/// The least reach radius, as a fraction of the map's size (the larger side of its samples'
+/// bounding box): see reach_radius().
+inline constexpr double kMinReachFraction = 0.05;
+
+/// The one rule of where a map is valid: a map point is inside the data when a sample lies within
+/// max(reach × median_step, kMinReachFraction × map_size) of it. Blending clamps to it, Studio
+/// shades it, routes keep to it. The multiple of the step keeps a coarse map's reach above its
+/// gaps; the share of the map's size keeps a finely sampled one (120 fps, 4× shorter steps than
+/// 30 fps) from shrinking to a thread around its trajectory. 0 for a map of one point.
+double reach_radius(double reach, double median_step, double map_size);
+
 /// Franke–Little partition-of-unity weights of `count` samples at ascending distances `d` (not
 /// squared) from a map point, falling to 0 at radius R: ((R − d)/(R·d))², normalised. All the
 /// weight goes to the nearest when it is within 1e-12·R (a hit) or alone; samples all at R share
@@ -87,7 +98,8 @@ struct BlendOptions {
   /// K: samples per local system (local) or samples blended (idw), in [1, #samples]; unused by
   /// kriging.
   int neighbors = 12;
-  /// A point is inside the data when a sample lies within reach × median step; > 0.
+  /// A point is inside the data when a sample lies within reach × median step (or the least
+  /// radius, see reach_radius()); > 0.
   double reach = 3.0;
   /// The up axis, as for the features (heading and height are about / along it).
   Axis up = Axis::Y;
@@ -252,7 +264,8 @@ class MapBlender {
   int motion_root() const;
   /// Median of the non-zero map distances between consecutive samples of a clip (0 if none).
   double median_step() const;
-  /// reach × median_step(): how far from every sample a point may be before it is clamped.
+  /// reach_radius(reach, median_step(), the map's size): how far from every sample a point may be
+  /// before it is clamped.
   double reach_distance() const;
   /// Median of the non-zero map speeds between consecutive samples of a clip (map units per
   /// second: step / time between the two frames); 0 if none.

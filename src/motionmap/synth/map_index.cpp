@@ -151,7 +151,7 @@ MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureS
   }
   m_median_step = median_or_zero(std::move(steps));
   m_median_speed = median_or_zero(std::move(speeds));
-  m_reach_distance = reach * m_median_step;
+  m_reach_distance = reach_radius(reach, m_median_step, (hi - lo).maxCoeff());
 }
 
 MapIndex::~MapIndex() = default;

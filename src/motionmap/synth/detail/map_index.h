@@ -2,7 +2,7 @@
 // Where the samples of a map lie: their distinct map points (samples closer than 1e-9 × the map's
 // extent merged into one), a k-d tree over those points for nearest-neighbour queries, the
 // trajectory (consecutive samples of a clip), its median step and speed, and what lies outside
-// the data (farther than reach × median step from every sample) and where such a point is moved.
+// the data (farther than reach_radius() from every sample) and where such a point is moved.
 //
 //   MapIndex index(frame_times, samples, sample_points, /*reach=*/3.0);
 //   PointValidity v = index.validate({0.3, -1.2});  // nearest sample, clamped point
@@ -48,7 +48,7 @@ class MapIndex {
   }
 
   /// Median of the non-zero map steps between consecutive samples of a clip (upper_median; 0 if
-  /// none), the same over map speeds (step / time between the frames), and reach × step.
+  /// none), the same over map speeds (step / time between the frames), and reach_radius().
   double median_step() const { return m_median_step; }
   double median_speed() const { return m_median_speed; }
   double reach_distance() const { return m_reach_distance; }

@@ -12,6 +12,8 @@
 #include <QDoubleSpinBox>
 #include <QDragEnterEvent>
 #include <QElapsedTimer>
+#include <QFileDialog>
+#include <QFileInfo>
 #include <QImage>
 #include <QMessageBox>
 #include <QMimeData>
@@ -145,7 +147,7 @@ TEST(StudioSynthesis, AsksBeforeDiscardingAnUnexportedMotion) {
   w->setInteractive(true);  // from here on the window asks, and the answerer replies
 
   {
-    QuestionAnswerer no(QMessageBox::No);
+    QuestionAnswerer no(QMessageBox::Cancel);
     // A new sketch: not asked, it is another take (the first is kept).
     EXPECT_TRUE(w->synthesizeAlong(pathAlong(*map, 100, 180, 2.0)));
     ASSERT_TRUE(QTest::qWaitFor([&] { return !w->isSynthesizing(); }, kTimeoutMs));
@@ -170,12 +172,33 @@ TEST(StudioSynthesis, AsksBeforeDiscardingAnUnexportedMotion) {
     EXPECT_EQ(w->takes()->list().count(), 2);
   }
   {
+    // Export…: every unexported take written into the folder chosen, named after it; then the
+    // window may go on.
+    QTemporaryDir dir;
+    QuestionAnswerer save(QMessageBox::Save);
+    QTimer chooser;
+    chooser.setInterval(5);
+    QObject::connect(&chooser, &QTimer::timeout, [&] {
+      if (auto* files = qobject_cast<QFileDialog*>(QApplication::activeModalWidget())) {
+        files->setDirectory(dir.path());
+        files->selectFile(dir.path());
+        static_cast<QDialog*>(files)->accept();  // QFileDialog::accept is protected
+      }
+    });
+    chooser.start();
+    EXPECT_TRUE(w->confirmDiscard()) << w->lastError().toStdString();
+    EXPECT_EQ(save.asked, 1);
+    EXPECT_TRUE(QFileInfo::exists(dir.filePath("Take 1.bvh")));
+    EXPECT_TRUE(QFileInfo::exists(dir.filePath("Take 2.bvh")));
+    EXPECT_FALSE(w->hasUnsavedMotion());
+    EXPECT_TRUE(w->takes()->list().unexportedNames().isEmpty());
+  }
+  {
     // Every take exported: nothing to lose, nothing asked.
     QTemporaryDir dir;
     ASSERT_TRUE(w->exportMotion(dir.filePath("kept.bvh")));
-    EXPECT_TRUE(w->hasUnsavedMotion());  // the first take is not
     ASSERT_TRUE(w->exportTake(0, dir.filePath("first.bvh")));
-    QuestionAnswerer none(QMessageBox::No);
+    QuestionAnswerer none(QMessageBox::Cancel);
     EXPECT_TRUE(w->confirmDiscard());
     EXPECT_EQ(none.asked, 0);
   }

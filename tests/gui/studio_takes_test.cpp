@@ -454,20 +454,20 @@ TEST(StudioTakes, UnexportedTakesAreAskedAboutNotReplaced) {
     if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
       ++asked;
       text = box->text();
-      box->button(QMessageBox::No)->click();
+      box->button(QMessageBox::Cancel)->click();
     }
   });
   answer.start(5);
   EXPECT_FALSE(w->close());
   EXPECT_EQ(asked, 1);
-  EXPECT_EQ(text, "Take 1 has not been exported. Discard it?");
+  EXPECT_EQ(text, "Take 1 has not been exported.");
   EXPECT_EQ(w->takes()->list().count(), 2);
   // After an edit of the exported take, both are unexported.
   ASSERT_TRUE(w->moveControlPoint(0, w->currentMap()->blender->sample_point(90)));
   ASSERT_TRUE(QTest::qWaitFor([&] { return !w->isSynthesizing(); }, kTimeoutMs));
   EXPECT_FALSE(w->confirmDiscard());
   EXPECT_EQ(asked, 2);
-  EXPECT_EQ(text, "2 takes have not been exported (Take 1, Take 2). Discard them?");
+  EXPECT_EQ(text, "2 takes have not been exported (Take 1, Take 2).");
   // Undoing the edit brings back the exported motion.
   w->takes()->undo();
   EXPECT_TRUE(w->takes()->list().at(1).exported);

@@ -4,11 +4,13 @@
 #include <QCloseEvent>
 #include <QDir>
 #include <QDragEnterEvent>
+#include <QFileDialog>
 #include <QFileInfo>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QPushButton>
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
@@ -355,11 +357,26 @@ bool MainWindow::confirmDiscard() {
   const QStringList unexported = m_takes->list().unexportedNames();
   if (unexported.isEmpty() || !m_interactive) return true;
   const QString text = unexported.size() == 1
-                           ? tr("%1 has not been exported. Discard it?").arg(unexported.front())
-                           : tr("%1 takes have not been exported (%2). Discard them?")
+                           ? tr("%1 has not been exported.").arg(unexported.front())
+                           : tr("%1 takes have not been exported (%2).")
                                  .arg(unexported.size())
                                  .arg(unexported.join(", "));
-  return QMessageBox::question(this, tr("MotionMap Studio"), text) == QMessageBox::Yes;
+  QMessageBox box(QMessageBox::Question, tr("MotionMap Studio"), text,
+                  QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, this);
+  box.button(QMessageBox::Save)
+      ->setText(unexported.size() == 1 ? tr("Export…") : tr("Export All…"));
+  box.setDefaultButton(QMessageBox::Save);
+  switch (box.exec()) {
+    case QMessageBox::Discard:
+      return true;
+    case QMessageBox::Save: {
+      const QString folder =
+          QFileDialog::getExistingDirectory(this, tr("Export the takes as BVH into"));
+      return !folder.isEmpty() && m_exports->exportUnexported(folder);
+    }
+    default:
+      return false;
+  }
 }
 
 const synth::SynthResult* MainWindow::synthesized() const {

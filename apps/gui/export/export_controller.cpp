@@ -1,7 +1,9 @@
 #include "export/export_controller.h"
 
+#include <QDir>
 #include <QFileInfo>
 #include <QPainter>
+#include <QRegularExpression>
 
 #include "export/map_export.h"
 #include "map/map_controller.h"
@@ -47,6 +49,23 @@ bool ExportController::exportTake(int row, const QString& path) {
     m_takes->list().setExported(row, true);
     emit wrote(tr("Wrote %1").arg(path));
   });
+}
+
+bool ExportController::exportUnexported(const QString& folder) {
+  const QDir dir(folder);
+  for (int row = 0; row < m_takes->list().count(); ++row) {
+    const Take& take = m_takes->list().at(row);
+    if (take.exported) continue;
+    // A file name from the take's name: no separators or characters file systems refuse.
+    QString base = take.name;
+    base.replace(QRegularExpression(R"([/\\:*?"<>|])"), "_");
+    if (base.trimmed().isEmpty()) base = tr("Take");
+    QString path = dir.filePath(base + ".bvh");
+    for (int n = 2; QFileInfo::exists(path); ++n)
+      path = dir.filePath(QString("%1 %2.bvh").arg(base).arg(n));
+    if (!exportTake(row, path)) return false;
+  }
+  return true;
 }
 
 bool ExportController::exportMap(const QString& path) {

@@ -36,6 +36,10 @@ class ExportController : public QObject {
 
   /// Writes the motion of the take at `row` as BVH; it then counts as exported.
   bool exportTake(int row, const QString& path);
+  /// Writes every take not exported yet into `folder` as "<take name>.bvh" (a name already
+  /// there gets " 2", " 3", …). Stops at the first failure (reported by failed()).
+  /// @return whether every such take was written.
+  bool exportUnexported(const QString& folder);
   /// Writes the map shown (map_export.h: CSV, PNG, SVG, PDF).
   bool exportMap(const QString& path);
   /// The window as one image (the GL view through its own rendering: a grab may leave it blank).

@@ -8,6 +8,7 @@
 
 #include <QImage>
 #include <QTest>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -49,6 +50,7 @@ class SavedMapFixture : public ::testing::Test {
     const pipeline::ClipMap map = pipeline::map_clips(clips, options);
     m_file = (m_dir / "lib.mmap.h5").string();
     mapfile::write_map_file(m_file, mapfile::make_map_file(clips, map, options));
+    m_coords = map.embedding.coordinates;
     m_clips = std::move(clips);
     m_window = std::make_unique<MainWindow>();
     m_window->setInteractive(false);
@@ -70,6 +72,7 @@ class SavedMapFixture : public ::testing::Test {
   fs::path m_dir;
   std::string m_file;
   std::vector<Clip> m_clips;
+  Eigen::MatrixXd m_coords;  ///< the saved map's coordinates
   std::unique_ptr<MainWindow> m_window;
 };
 
@@ -253,6 +256,46 @@ TEST_F(SavedMapFixture, AClipChangedSinceTheMapWasMadeIsRefusedClearly) {
   { std::ofstream(m_dir / "junk.h5") << "not hdf5"; }
   EXPECT_FALSE(other.openFile(QString::fromStdString((m_dir / "junk.h5").string())));
   EXPECT_NE(other.lastError().toStdString().find("junk.h5"), std::string::npos);
+}
+
+TEST_F(SavedMapFixture, ADamagedMapFileIsRefusedAndTheOpenClipMapAndTakesStay) {
+  // A clip with its map and an unexported take.
+  m_window->openClip(m_clips[0]);
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return m_window->currentMap() != nullptr; }, testing::kTimeoutMs));
+  const MapResult* map = m_window->currentMap();
+  ASSERT_TRUE(m_window->synthesizeAlong(testing::pathAlong(*map, 10, 90, 1.0)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !m_window->isSynthesizing(); }, testing::kTimeoutMs));
+  ASSERT_EQ(m_window->takes()->list().count(), 1);
+  const int frames = m_window->clip()->motion.num_frames;
+  // Damaged copies: cut in half, and bytes changed in the map's coordinates, which opening reads
+  // (its checksum catches the change; a dataset only placing new clips reads is checked then).
+  std::string bytes;
+  {
+    std::ifstream in(m_file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(bytes.size(), 1000u);
+  const fs::path cut = m_dir / "cut.mmap.h5", changed = m_dir / "changed.mmap.h5";
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::string damaged = bytes;
+  char value[sizeof(double)];
+  std::memcpy(value, &m_coords(5, 0), sizeof(double));
+  const std::size_t at = damaged.find(std::string(value, sizeof(double)));
+  ASSERT_NE(at, std::string::npos) << "the coordinates are not stored as doubles";
+  for (std::size_t i = at; i < at + 16; ++i) damaged[i] ^= 0x5a;
+  std::ofstream(changed, std::ios::binary) << damaged;
+  for (const fs::path& bad : {cut, changed}) {
+    EXPECT_FALSE(m_window->openMapFile(QString::fromStdString(bad.string()))) << bad;
+    const std::string error = m_window->lastError().toStdString();
+    EXPECT_NE(error.find(bad.filename().string()), std::string::npos) << error;
+    // What was open stays: the clip, its computed map, the take (not lost, still unexported).
+    EXPECT_EQ(m_window->savedMap(), nullptr);
+    EXPECT_EQ(m_window->currentMap(), map);
+    EXPECT_EQ(m_window->clip()->motion.num_frames, frames);
+    EXPECT_EQ(m_window->takes()->list().count(), 1);
+    EXPECT_TRUE(m_window->hasUnsavedMotion());
+  }
 }
 
 TEST_F(SavedMapFixture, OpeningAClipLeavesTheSavedMap) {

@@ -12,6 +12,7 @@ pickling); see docs/python.md.
 
 import inspect
 import os
+import warnings
 
 import numpy as np
 
@@ -354,8 +355,11 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, b
 def read_map(path):
     """Reads a map file (`motionmap map --save`, write_map; docs/map-file.md) as a fitted
     estimator of its method, with the parameters it was made with: transform() places new clips
-    on it. Raises motionmap.Error for a file that is missing, of another format or damaged."""
+    on it. Raises motionmap.Error for a file that is missing, of another format or damaged. A file
+    an older MotionMap wrote, without checksums, reads with a warning that says so."""
     state = _motionmap._read_map(path)
+    for note in state.read_notes:
+        warnings.warn(note, stacklevel=2)
     options = state.options
     cls = _ESTIMATORS[options.pop("method")]
     names = cls._get_param_names()

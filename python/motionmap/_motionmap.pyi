@@ -76,6 +76,7 @@ class _ClipMap:
     paths: list[str]
     parameters: str
     notes: list[str]
+    read_notes: list[str]
     warnings: list[str]
     k_used: int
     heat_used: float

@@ -555,6 +555,7 @@ void bind_maps(py::module_& m) {
       .def_property_readonly("paths", [](const ClipMapState& s) { return s.paths; })
       .def_property_readonly("parameters", [](const ClipMapState& s) { return s.file.parameters; })
       .def_property_readonly("notes", [](const ClipMapState& s) { return s.file.notes; })
+      .def_property_readonly("read_notes", [](const ClipMapState& s) { return s.file.read_notes; })
       .def_property_readonly("warnings", [](const ClipMapState& s) { return s.file.warnings; })
       .def_property_readonly("k_used", [](const ClipMapState& s) { return s.file.k_used; })
       .def_property_readonly("heat_used", [](const ClipMapState& s) { return s.file.heat_used; })

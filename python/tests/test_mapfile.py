@@ -2,6 +2,7 @@
 that places new clips identically, transform of another clip, and errors for a clip of another
 skeleton or a damaged file."""
 import pickle
+import warnings
 
 import numpy as np
 import pytest
@@ -54,3 +55,30 @@ def test_errors(golf, other, tmp_path):
         motionmap.read_map(bad)
     with pytest.raises(motionmap.Error, match="unknown name 'positionz'"):
         motionmap.PCA(features="positionz").fit(golf)
+
+
+def test_a_file_without_checksums_reads_with_a_warning(golf, tmp_path):
+    # A layout-1 file, as an older MotionMap wrote it: no user block, no checksum attributes.
+    h5py = pytest.importorskip("h5py")
+    est = motionmap.MDS().fit(golf)
+    new, old = tmp_path / "new.mmap.h5", tmp_path / "old.mmap.h5"
+    motionmap.write_map(est, new)
+    with h5py.File(new, "r") as src, h5py.File(old, "w") as dst:
+        for name in src:
+            src.copy(src[name], dst, name=name)
+        for name, value in src.attrs.items():
+            if "xxh3" not in name and name != "datasets":
+                dst.attrs[name] = value
+
+        def strip(_, obj):  # visititems stops at the first call that returns something
+            for a in [a for a in obj.attrs if "xxh3" in a]:
+                del obj.attrs[a]
+
+        dst.visititems(strip)
+        dst.attrs["format_version"] = 1
+    with pytest.warns(UserWarning, match="without checksums: damage to its data cannot be detected"):
+        back = motionmap.read_map(old)
+    np.testing.assert_array_equal(back.embedding_, est.embedding_)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        motionmap.read_map(new)  # a file with checksums: no warning

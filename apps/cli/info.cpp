@@ -207,7 +207,7 @@ void setup_info(CLI::App& app) {
   sub->add_flag("--contacts", opt->contacts,
                 "Each foot's contacts with the floor, as frame intervals and seconds: the ankle "
                 "within 6 % of the leg length of its floor level, slower than 1 leg length per "
-                "second horizontally and 0.2 up or down (docs/synthesis.md)");
+                "second horizontally and 0.1 up or down (docs/synthesis.md)");
   sub->add_flag("--skating", opt->skating,
                 "The skating measure: the fraction of frame transitions where a foot (ankle) "
                 "less than 5 cm above its lowest point moves faster than 0.5 m/s horizontally, "

@@ -10,12 +10,12 @@
 // Method (docs/synthesis.md, "Clean feet"):
 //  1. Contacts per foot: detect_contacts() (skeleton/contacts.h) with `contacts`.
 //  2. Targets: through a contact the ankle is held at the mean of its positions over the contact.
-//     Over `blend_seconds` before and after it, the ankle is drawn towards that position with a
-//     weight w falling from 1 at the contact to 0 (smoothstep, 1 − (3x² − 2x³), x = frames away
-//     ÷ (blend frames + 1)): target = original + w·(held − original), so the foot eases into and
-//     out of the step instead of arriving or leaving at full speed; between two contacts closer
-//     than that the two pulls add, normalised where their weights sum past 1. Frames farther
-//     from every contact are left as they are, bit for bit.
+//     Around it, the displacement that needs at the contact's first (last) frame, held − original,
+//     is added to the ankle's own path with a weight falling from 1 at the contact to 0 over
+//     `blend_seconds` before (after) it (smoothstep, 1 − (3x² − 2x³), x = frames away ÷ (blend
+//     frames + 1)), so the foot keeps its own motion and drifts onto the held spot; between two
+//     contacts closer than that the two add, normalised where their weights sum past 1. Frames
+//     farther from every contact are left as they are, bit for bit.
 //  3. Reach: where a target is farther from the hip than `reach` × the leg length (and farther
 //     than the original ankle was), the root (the motion root, synth's blender root) is lowered
 //     along the up axis just enough; the lowering is widened (a running maximum over ±blend

@@ -3,11 +3,13 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "commands.h"
 #include "motionmap/core/error.h"
 #include "motionmap/features/diagnostics.h"
 #include "motionmap/io/load.h"
+#include "motionmap/skeleton/contacts.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 
 namespace motionmap::cli {
@@ -19,16 +21,37 @@ struct InfoOptions {
   std::string asf;
   double fps = 0.0;
   bool json = false;
+  bool contacts = false;
+  bool skating = false;
+  std::string up = "y";
 };
 
 struct ClipSummary {
   Eigen::Vector3d box_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d box_max = Eigen::Vector3d::Zero();
   std::vector<std::string> warnings;
+  LengthUnits units;
+  // --contacts, --skating: the feet, or why there are none.
+  std::optional<Feet> feet;
+  std::string no_feet;
+  std::array<FootContacts, 2> contacts;
+  Skating skating;
 };
 
-ClipSummary summarize(const Clip& clip) {
+ClipSummary summarize(const Clip& clip, const InfoOptions& opt) {
   ClipSummary s;
+  s.units = detect_length_units(clip.skeleton, clip.motion);
+  if (opt.contacts || opt.skating) {
+    const Axis up = parse_axis(opt.up).value_or(Axis::Y);  // --up accepts only y and z
+    s.feet = try_find_feet(clip.skeleton, up, &s.no_feet);
+    if (s.feet && opt.contacts) {
+      ContactOptions co;
+      co.up = up;
+      s.contacts = detect_contacts(clip.skeleton, clip.motion, *s.feet, co);
+    }
+    if (s.feet && opt.skating)
+      s.skating = measure_skating(clip.skeleton, clip.motion, *s.feet, s.units, up);
+  }
   if (clip.motion.num_frames > 0) {
     const auto points = world_points(clip.skeleton, clip.motion);
     s.box_min.setConstant(INFINITY);
@@ -54,7 +77,20 @@ std::string vec(const Eigen::Vector3d& v) {
   return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]";
 }
 
-void print_text(const Clip& clip, const ClipSummary& s) {
+std::string units_text(const LengthUnits& u) {
+  const std::string size = num(u.size) + " (" + num(u.size * u.metres_per_unit) + " m)";
+  return std::string(length_unit_name(u.unit)) +
+         (u.plausible ? ", detected from the body's size " + size
+                      : "? the body's size " + size + " does not look human");
+}
+
+std::string seconds(int frame, double frame_time) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", frame * frame_time);
+  return buf;
+}
+
+void print_text(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) {
   const Skeleton& sk = clip.skeleton;
   const Motion& m = clip.motion;
   std::string roots;
@@ -66,8 +102,28 @@ void print_text(const Clip& clip, const ClipSummary& s) {
             << "  channels    " << sk.num_channels() << '\n'
             << "  frames      " << m.num_frames << " at " << num(m.fps()) << " fps (frame time "
             << num(m.frame_time) << " s), " << num(m.duration()) << " s\n"
-            << "  bounding    min " << vec(s.box_min) << "  max " << vec(s.box_max)
-            << " (file units)\n";
+            << "  bounding    min " << vec(s.box_min) << "  max " << vec(s.box_max) << " ("
+            << units_text(s.units) << ")\n";
+  if ((opt.contacts || opt.skating) && !s.feet) std::cout << "  feet        " << s.no_feet << '\n';
+  if (opt.contacts && s.feet) {
+    for (const FootContacts& fc : s.contacts) {
+      std::cout << "  contacts    " << foot_side_name(fc.leg.side) << " ("
+                << sk.joints[fc.leg.ankle].name << "): " << fc.intervals.size() << '\n';
+      for (const ContactInterval& c : fc.intervals) {
+        std::cout << "    - frames " << c.first << "-" << c.last << " ("
+                  << seconds(c.first, m.frame_time) << "-" << seconds(c.last + 1, m.frame_time)
+                  << " s)\n";
+      }
+    }
+  }
+  if (opt.skating && s.feet) {
+    const Skating& k = s.skating;
+    std::cout << "  skating     ratio " << num(k.ratio) << " (" << k.skating_transitions << " of "
+              << k.transitions << " frame transitions), in contact " << num(k.contact_speed_cm_s)
+              << " cm/s (ankles " << sk.joints[s.feet->legs[0].ankle].name << ", "
+              << sk.joints[s.feet->legs[1].ankle].name << "; units "
+              << length_unit_name(k.units.unit) << ")\n";
+  }
   if (s.warnings.empty()) {
     std::cout << "  warnings    none\n";
   } else {
@@ -80,7 +136,7 @@ std::string json_vec(const Eigen::Vector3d& v) {
   return "[" + num(v.x()) + "," + num(v.y()) + "," + num(v.z()) + "]";
 }
 
-void print_json(const Clip& clip, const ClipSummary& s) {
+void print_json(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) {
   const Skeleton& sk = clip.skeleton;
   const Motion& m = clip.motion;
   std::string roots;
@@ -97,7 +153,33 @@ void print_json(const Clip& clip, const ClipSummary& s) {
             << ",\"frames\":" << m.num_frames << ",\"frame_time\":" << frame_time
             << ",\"fps\":" << num(m.fps()) << ",\"duration\":" << num(m.duration())
             << ",\"bounding_box\":{\"min\":" << json_vec(s.box_min)
-            << ",\"max\":" << json_vec(s.box_max) << "},\"warnings\":[" << warnings << "]}\n";
+            << ",\"max\":" << json_vec(s.box_max) << "},\"warnings\":[" << warnings << "]";
+  if (opt.contacts || opt.skating) {
+    std::cout << ",\"units\":\"" << json_escape(std::string(length_unit_name(s.units.unit)))
+              << "\",\"metres_per_unit\":" << num(s.units.metres_per_unit);
+    if (!s.feet) std::cout << ",\"feet\":null,\"no_feet\":\"" << json_escape(s.no_feet) << "\"";
+  }
+  if (opt.contacts && s.feet) {
+    std::cout << ",\"contacts\":{";
+    for (std::size_t i = 0; i < s.contacts.size(); ++i) {
+      const FootContacts& fc = s.contacts[i];
+      std::cout << (i ? "," : "") << "\"" << foot_side_name(fc.leg.side) << "\":[";
+      for (std::size_t c = 0; c < fc.intervals.size(); ++c) {
+        std::cout << (c ? "," : "") << "[" << fc.intervals[c].first << "," << fc.intervals[c].last
+                  << "]";
+      }
+      std::cout << "]";
+    }
+    std::cout << "}";
+  }
+  if (opt.skating && s.feet) {
+    const double speed = s.skating.contact_speed_cm_s;
+    std::cout << ",\"skating\":{\"ratio\":" << num(s.skating.ratio)
+              << ",\"contact_speed_cm_s\":" << (std::isfinite(speed) ? num(speed) : "null")
+              << ",\"transitions\":" << s.skating.transitions
+              << ",\"skating_transitions\":" << s.skating.skating_transitions << "}";
+  }
+  std::cout << "}\n";
 }
 
 }  // namespace
@@ -109,7 +191,8 @@ void setup_info(CLI::App& app) {
       "Print what clips hold: joints, roots, channels, frames, fps, duration, bounding box, and\n"
       "warnings (what the reader accepted with a warning, e.g. a BVH root declared with JOINT;\n"
       "a leading bind/T-pose frame; joints whose rotation flips by >90° between consecutive\n"
-      "frames at ≥ 60 fps, with the frames).");
+      "frames at ≥ 60 fps, with the frames), and the length unit detected from the body's size\n"
+      "(m, CMU units, in, cm or mm). --contacts and --skating look at the feet.");
   sub->add_option("files", opt->files, "BVH or AMC files")->required()->check(CLI::ExistingFile);
   sub->add_option("--asf", opt->asf, "ASF skeleton for .amc files (default: the .asf beside it)")
       ->check(CLI::ExistingFile);
@@ -117,7 +200,21 @@ void setup_info(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   sub->add_flag("--json", opt->json,
                 "One JSON object per file and line: joints, roots, root_names, channels, "
-                "end_sites, frames, frame_time, fps, duration, bounding_box, warnings");
+                "end_sites, frames, frame_time, fps, duration, bounding_box, warnings (and with "
+                "--contacts/--skating: units, metres_per_unit, contacts {left, right: [[first, "
+                "last], …]}, skating {ratio, contact_speed_cm_s, transitions, "
+                "skating_transitions}; feet null and no_feet when none are found)");
+  sub->add_flag("--contacts", opt->contacts,
+                "Each foot's contacts with the floor, as frame intervals and seconds: the ankle "
+                "within 6 % of the leg length of its floor level, slower than 1 leg length per "
+                "second horizontally and 0.1 up or down (docs/synthesis.md)");
+  sub->add_flag("--skating", opt->skating,
+                "The skating measure: the fraction of frame transitions where a foot (ankle) "
+                "less than 5 cm above its lowest point moves faster than 0.5 m/s horizontally, "
+                "and the ankles' mean horizontal speed in contact (cm/s), in the units detected");
+  sub->add_option("--up", opt->up,
+                  "Up axis of the files for --contacts and --skating: y (default) or z")
+      ->check(CLI::IsMember({"y", "z", "Y", "Z"}));
   sub->callback([opt] {
     int failures = 0;
     for (const auto& file : opt->files) {
@@ -126,11 +223,11 @@ void setup_info(CLI::App& app) {
         load.asf_path = opt->asf;
         load.fps = opt->fps;
         const Clip clip = io::load_clip(file, load);
-        const ClipSummary s = summarize(clip);
+        const ClipSummary s = summarize(clip, *opt);
         if (opt->json) {
-          print_json(clip, s);
+          print_json(clip, s, *opt);
         } else {
-          print_text(clip, s);
+          print_text(clip, s, *opt);
         }
       } catch (const Error& e) {
         std::cerr << "motionmap: " << e.what() << '\n';

@@ -39,6 +39,7 @@ struct BlendCommand {
   double speed = 0.0;
   double fps = 0.0;
   double smooth = 0.0;
+  bool no_clean_feet = false;
 };
 
 // The options a saved map fixes (its clips, features, method, frames): usage errors with a map
@@ -271,7 +272,8 @@ void setup_synth(CLI::App& app) {
   auto* sub = app.add_subcommand(
       "synth",
       "Synthesize a new motion along a path on the clips' map and write it as BVH: each frame is\n"
-      "the blend at the path's point; root motion is integrated from the samples' own velocities.\n"
+      "the blend at the path's point; root motion is integrated from the samples' own velocities;\n"
+      "then each foot is held still through its contacts with the floor (--no-clean-feet: not).\n"
       "The path CSV holds t,x,y rows (seconds) or x,y rows drawn at --speed.\n"
       "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
   add_blend_options(sub, *cmd);
@@ -287,12 +289,17 @@ void setup_synth(CLI::App& app) {
       "--smooth", cmd->smooth,
       "Gaussian smoothing of the blend weights over time, σ in seconds (default 0: a path "
       "retracing the clip's trajectory at its timing reproduces the clip)");
+  sub->add_flag("--no-clean-feet", cmd->no_clean_feet,
+                "Keep the feet as blended: by default each foot is held still through its "
+                "contacts with the floor, the legs bent to reach (docs/synthesis.md, \"Clean "
+                "feet\"); a skeleton without feet is left as blended, with a note");
   sub->callback([cmd] {
     const synth::MapPath path = synth::read_path_csv(cmd->path);
     synth::SynthOptions options;
     options.speed = cmd->speed;
     options.fps = cmd->fps;
     options.smooth = cmd->smooth;
+    options.clean_feet = !cmd->no_clean_feet;
     options.validate();
     std::vector<std::string> clip_paths;
     features::FeatureSet samples;
@@ -306,10 +313,19 @@ void setup_synth(CLI::App& app) {
                 << approx(blender.reach_distance())
                 << " from every sample) and were blended at the nearest edge of the data\n";
     }
+    if (!cmd->map.quiet) {
+      for (const std::string& note : result.notes) std::cerr << "note: " << note << '\n';
+    }
     write_motion(blender, result.motion, cmd->output);
     std::cerr << "wrote " << cmd->output << ": " << result.motion.num_frames << " frames at "
               << approx(result.motion.fps()) << " fps (" << approx(result.motion.duration())
-              << " s)\n";
+              << " s)";
+    if (result.feet_cleaned) {
+      std::size_t held = 0;
+      for (const FootContacts& fc : result.contacts) held += fc.intervals.size();
+      std::cerr << "; feet held through " << held << " contacts";
+    }
+    std::cerr << "\n";
   });
 }
 

@@ -278,6 +278,9 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
   options.speed = speed;
   options.fps = fps;
   options.smooth = smooth;
+  // The blend as it is: the Python API has no clean_feet argument yet (synth::synthesize cleans
+  // feet by default since #23 part 3), and its retrace reproduces the clip.
+  options.clean_feet = false;
   options.validate();
   return run_released(std::move(progress), [&](const Control& control) {
     const synth::MapBlender blender =

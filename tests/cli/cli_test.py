@@ -375,9 +375,10 @@ def synth_retracing_the_map_reproduces_the_clip():
         f.write("t,x,y\n")
         for frame, x, y in values:
             f.write(f"{(frame - values[0, 0]) * frame_time!r},{x!r},{y!r}\n")
-    code, _, err = run("synth", data(GOLF), "--map", csv, "--path", path, "-o", bvh, "-q")
+    code, _, err = run("synth", data(GOLF), "--map", csv, "--path", path, "-o", bvh, "-q",
+                       "--no-clean-feet")  # the blend itself: clean feet would hold them still
     assert code == 0, err
-    assert "364 frames at 120 fps" in err, err
+    assert "364 frames at 120 fps" in err and "feet held" not in err, err
     frames = values[:, 0].astype(int)
     worst, (ja, va, jb, vb) = rotation_errors_deg(data(GOLF), frames, bvh)
     assert len(worst) == 364 and worst.max() < 1e-6, worst.max()
@@ -403,6 +404,56 @@ def synth_untimed_path_speed_fps_and_clamping():
     assert code == 0, err
     assert "outside the data" in err, err
     assert np.all(np.isfinite(mocap.parse_bvh(bvh)[1]))
+
+
+@test
+def info_contacts_and_skating_and_units():
+    walk = "bandai/dataset-1_walk_angry_001.bvh"
+    if not needs(walk):
+        return
+    code, out, err = run("info", data(walk), "--contacts", "--skating")
+    assert code == 0, err
+    assert "(cm, detected from the body's size" in out, out
+    assert "contacts    left (Foot_L): 7" in out and "contacts    right (Foot_R): 6" in out, out
+    assert "    - frames 0-3 (0.000-0.133 s)" in out, out
+    assert re.search(r"skating     ratio 0\.\d+ \(\d+ of 142 frame transitions\), in contact [\d.]+ "
+                     r"cm/s \(ankles Foot_L, Foot_R; units cm\)", out), out
+    code, out, err = run("info", "--json", "--contacts", "--skating", data(walk))
+    assert code == 0, err
+    info = json.loads(out)
+    assert info["units"] == "cm" and info["metres_per_unit"] == 0.01, info
+    assert info["contacts"]["left"][0] == [0, 3] and len(info["contacts"]["right"]) == 6, info
+    assert 0 < info["skating"]["ratio"] < 1 and info["skating"]["transitions"] == 142, info
+    # Without the flags the JSON keys stay as they were.
+    code, out, err = run("info", "--json", data(walk))
+    assert "units" not in json.loads(out), out
+    # The CMU conversions are in CMU units (1/0.45 inch), the fairmotion skeleton in metres.
+    if have(GOLF):
+        code, out, err = run("info", data(GOLF))
+        assert "(CMU units (1/0.45 in), detected" in out, out
+    # A clip without feet says so and is not an error.
+    sine = "other/facebookresearch_sinusoidal.bvh"
+    if have(sine):
+        code, out, err = run("info", data(sine), "--contacts")
+        assert code == 0, err
+        assert "feet        no feet found" in out, out
+
+
+@test
+def synth_cleans_the_feet_unless_asked_not_to():
+    walk = "bandai/dataset-1_walk_angry_001.bvh"
+    if not needs(walk):
+        return
+    path, bvh = write("walk-path.csv", "x,y\n0,0\n1,0\n"), os.path.join(TMP, "walk-synth.bvh")
+    code, _, err = run("synth", data(walk), "--method", "pca", "--path", path, "-o", bvh, "-q")
+    assert code == 0, err
+    assert re.search(r"; feet held through \d+ contacts", err), err
+    code, _, err = run("synth", data(walk), "--method", "pca", "--path", path, "-o", bvh, "-q",
+                       "--no-clean-feet")
+    assert code == 0, err
+    assert "feet held" not in err, err
+    code, out, _ = run("synth", "--help")
+    assert "--no-clean-feet" in out, out
 
 
 @test

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <optional>
+#include <string>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
@@ -111,6 +113,14 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   const Skeleton& skeleton = blender.skeleton();
   const int J = skeleton.num_joints();
   SynthResult result;
+  // Feet to clean: the blending takes the first 90 % of the progress, the clean-up the rest.
+  std::optional<Feet> feet;
+  if (options.clean_feet) {
+    std::string why;
+    feet = try_find_feet(skeleton, blender.options().up, &why);
+    if (!feet) result.notes.push_back("feet not cleaned: " + why);
+  }
+  const Control blending = feet ? control.part(0.0, 0.9) : control;
   result.motion.frame_time = dt;
   result.motion.resize(static_cast<int>(frames), J);
   result.validity.resize(static_cast<std::size_t>(frames));
@@ -121,7 +131,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   std::deque<MapWeights> raw;
   long long raw_first = 0;
   for (long long k0 = 0; k0 < frames; k0 += kBlockFrames) {
-    control.check();
+    blending.check();
     const long long k1 = std::min(frames, k0 + kBlockFrames);
     const long long need_first = std::max(0LL, k0 - half), need_end = std::min(frames, k1 + half);
     while (raw_first < need_first && !raw.empty()) {
@@ -163,7 +173,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
       yaw_rate[static_cast<std::size_t>(k)] = b.yaw_rate;
       result.validity[static_cast<std::size_t>(k)] = own.validity;
     });
-    control.update(static_cast<double>(k1) / static_cast<double>(frames));
+    blending.update(static_cast<double>(k1) / static_cast<double>(frames));
   }
 
   // Root motion: integrate the heading-local velocity and yaw rate from the origin, heading 0.
@@ -180,6 +190,22 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     heading += yaw_rate[static_cast<std::size_t>(k)] * dt;
   }
   for (const PointValidity& v : result.validity) result.clamped_frames += v.clamped ? 1 : 0;
+
+  if (feet) {
+    CleanFeetOptions clean;
+    clean.contacts.up = up;
+    CleanFeetResult cleaned =
+        clean_feet(skeleton, result.motion, *feet, clean, control.part(0.9, 1.0));
+    result.motion = std::move(cleaned.motion);
+    result.feet_cleaned = true;
+    result.contacts.assign(cleaned.contacts.begin(), cleaned.contacts.end());
+    result.feet_frames_changed = cleaned.frames_changed;
+    if (cleaned.unreachable_frames > 0) {
+      result.notes.push_back("feet: in " + std::to_string(cleaned.unreachable_frames) +
+                             " frames a planted foot stayed out of the leg's reach (the root is "
+                             "lowered by at most a quarter of the leg)");
+    }
+  }
   return result;
 }
 

@@ -16,11 +16,17 @@
 //   position_{k+1} = position_k + yaw(θ_k)·v_k·Δt,   θ_{k+1} = θ_k + ω_k·Δt.
 // The samples' velocities are forward differences, so a path that retraces the clip's own map
 // trajectory at its own timing reproduces the clip (up to the start's position and heading).
+// Then, by default, the feet are cleaned (clean_feet.h): held still through each contact with
+// the floor, the legs bent to reach; a skeleton without feet (find_feet) is left as blended, with
+// a note. Set SynthOptions::clean_feet = false to get the blend as it is.
+#include <string>
 #include <vector>
 
 #include "motionmap/core/control.h"
+#include "motionmap/skeleton/contacts.h"
 #include "motionmap/skeleton/skeleton.h"
 #include "motionmap/synth/blender.h"
+#include "motionmap/synth/clean_feet.h"
 #include "motionmap/synth/path.h"
 
 namespace motionmap::synth {
@@ -39,6 +45,10 @@ struct SynthOptions {
   /// σ in seconds of a Gaussian smoothing of the weights over time, in [0, kMaxSmoothSeconds];
   /// 0 = none (a retraced trajectory then reproduces the clip).
   double smooth = 0.0;
+  /// Hold each foot still through its contacts with the floor (clean_feet()) when the skeleton
+  /// has feet (find_feet(), along BlendOptions::up); false: the blend as it is (a retraced
+  /// trajectory then reproduces the clip).
+  bool clean_feet = true;
 
   /// @throws ParameterError naming `speed`, `fps` or `smooth`, its value and the valid range.
   void validate() const;
@@ -48,6 +58,12 @@ struct SynthResult {
   Motion motion;  ///< #frames by #joints of MapBlender::skeleton(), at the output frame rate
   std::vector<PointValidity> validity;  ///< per frame: where it was evaluated, distance, variance
   int clamped_frames = 0;               ///< frames whose path point was outside the data
+  bool feet_cleaned = false;            ///< SynthOptions::clean_feet and the skeleton has feet
+  /// The contacts the clean-up held (left, right); empty when the feet were not cleaned.
+  std::vector<FootContacts> contacts;
+  int feet_frames_changed = 0;  ///< frames the clean-up changed
+  /// Notes for the user: why the feet were not cleaned, a root lowered to reach, …
+  std::vector<std::string> notes;
 };
 
 /// Synthesizes the motion along `path` (see above).

@@ -1,0 +1,310 @@
+#include "motionmap/synth/clean_feet.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
+#include "motionmap/skeleton/forward_kinematics.h"
+
+namespace motionmap::synth {
+
+namespace {
+
+constexpr int kBlockFrames = 256;
+// Below this |thigh × shin| (sin 5°) the knee's own hinge axis is not trusted.
+constexpr double kStraightSin = 0.0872;
+
+using Eigen::Quaterniond;
+using Eigen::Vector3d;
+
+double falloff(double x) {
+  if (x >= 1.0) return 0.0;
+  if (x <= 0.0) return 1.0;
+  return 1.0 - x * x * (3.0 - 2.0 * x);
+}
+
+bool is_ancestor(const Skeleton& s, int ancestor, int joint) {
+  for (int j = joint; j >= 0; j = s.joints[j].parent) {
+    if (j == ancestor) return true;
+  }
+  return false;
+}
+
+Quaterniond parent_world(const Skeleton& s, const WorldPose& w, int joint) {
+  const int p = s.joints[joint].parent;
+  return p < 0 ? Quaterniond::Identity() : w.rotations[p];
+}
+
+struct FootPlan {
+  Leg leg;
+  std::vector<Vector3d> ankle;               // original world positions per frame
+  std::vector<Vector3d> offset;              // target − original per frame (zero: untouched)
+  std::vector<char> touched;                 // whether offset applies (even when it is zero)
+  Vector3d hinge_local = Vector3d::UnitX();  // in the knee's parent's frame
+  double length = 0.0;                       // hip–knee + knee–ankle
+};
+
+// The ankle's target displacement around the contacts (see the top of clean_feet.h).
+void plan_offsets(const FootContacts& fc, int frames, int blend, FootPlan& plan) {
+  plan.offset.assign(static_cast<std::size_t>(frames), Vector3d::Zero());
+  plan.touched.assign(static_cast<std::size_t>(frames), 0);
+  const auto& iv = fc.intervals;
+  std::vector<Vector3d> target(iv.size());
+  for (std::size_t c = 0; c < iv.size(); ++c) {
+    Vector3d sum = Vector3d::Zero();
+    for (int f = iv[c].first; f <= iv[c].last; ++f) sum += plan.ankle[f];
+    target[c] = sum / iv[c].frames();
+    for (int f = iv[c].first; f <= iv[c].last; ++f) {
+      plan.offset[f] = target[c] - plan.ankle[f];
+      plan.touched[f] = 1;
+    }
+  }
+  if (blend <= 0) return;
+  // Frames between contacts: fades from the previous contact's end and the next one's start.
+  std::size_t next = 0;  // first contact starting after f
+  for (int f = 0; f < frames; ++f) {
+    while (next < iv.size() && iv[next].first <= f) ++next;
+    if (plan.touched[f]) continue;
+    double w1 = 0.0, w2 = 0.0;
+    Vector3d d1 = Vector3d::Zero(), d2 = Vector3d::Zero();
+    if (next > 0) {
+      const ContactInterval& c = iv[next - 1];
+      w1 = falloff(static_cast<double>(f - c.last) / (blend + 1));
+      d1 = target[next - 1] - plan.ankle[c.last];
+    }
+    if (next < iv.size()) {
+      const ContactInterval& c = iv[next];
+      w2 = falloff(static_cast<double>(c.first - f) / (blend + 1));
+      d2 = target[next] - plan.ankle[c.first];
+    }
+    if (w1 + w2 <= 0.0) continue;
+    plan.offset[f] = (w1 * d1 + w2 * d2) / std::max(1.0, w1 + w2);
+    plan.touched[f] = 1;
+  }
+}
+
+// Two-bone IK of one leg of the pose `q` (local rotations of one frame), whose world pose is `w`:
+// the ankle onto `target`. Changes the hip's and the knee's local rotations.
+void solve_leg(const Skeleton& s, const WorldPose& w, const FootPlan& plan, const Vector3d& target,
+               double reach, Quaterniond* q) {
+  const Leg& leg = plan.leg;
+  const Vector3d H = w.positions[leg.hip], K = w.positions[leg.knee], A = w.positions[leg.ankle];
+  const double l1 = (K - H).norm(), l2 = (A - K).norm();
+  if (l1 <= 0.0 || l2 <= 0.0) return;
+  const Vector3d t1 = (K - H) / l1, t2 = (A - K) / l2;
+  Vector3d axis = t1.cross(t2);
+  if (axis.norm() > kStraightSin) {
+    axis.normalize();
+  } else {
+    axis = parent_world(s, w, leg.knee) * plan.hinge_local;
+    axis -= axis.dot(t1) * t1;  // perpendicular to the thigh
+    axis = axis.norm() > 1e-12 ? Vector3d(axis.normalized()) : Vector3d(t1.unitOrthogonal());
+  }
+  const double bend = std::atan2(t1.cross(t2).dot(axis), t1.dot(t2));
+  const double length = l1 + l2;
+  const double original = (A - H).norm();
+  const double longest = std::min(std::max(reach * length, original), length * (1.0 - 1e-9));
+  const double d = std::clamp((target - H).norm(), std::abs(l1 - l2) + 1e-9 * length, longest);
+  const double cos_bend = std::clamp((d * d - l1 * l1 - l2 * l2) / (2.0 * l1 * l2), -1.0, 1.0);
+  const double new_bend = std::acos(cos_bend);  // 0…π: towards the knee's side, never backwards
+  const Quaterniond knee_turn(Eigen::AngleAxisd(new_bend - bend, axis));
+  const Quaterniond knee_world = (knee_turn * w.rotations[leg.knee]).normalized();
+  q[leg.knee] = (parent_world(s, w, leg.knee).conjugate() * knee_world).normalized();
+  const Vector3d A1 = K + knee_turn * (A - K);
+  const Vector3d from = A1 - H, to = target - H;
+  if (from.norm() < 1e-12 || to.norm() < 1e-12) return;
+  const Quaterniond swing = Quaterniond::FromTwoVectors(from, to);
+  const Quaterniond hip_world = (swing * w.rotations[leg.hip]).normalized();
+  q[leg.hip] = (parent_world(s, w, leg.hip).conjugate() * hip_world).normalized();
+}
+
+void check_leg(const Skeleton& s, const Leg& leg) {
+  const int n = s.num_joints();
+  for (int j : {leg.hip, leg.knee, leg.ankle}) {
+    if (j < 0 || j >= n) {
+      throw ParameterError("clean_feet: the " + std::string(foot_side_name(leg.side)) +
+                           " leg's joint index " + std::to_string(j) +
+                           " is not a joint of the skeleton (" + std::to_string(n) +
+                           " joints); take the feet from find_feet() of this skeleton");
+    }
+  }
+  if (!is_ancestor(s, leg.hip, leg.knee) || !is_ancestor(s, leg.knee, leg.ankle) ||
+      leg.hip == leg.knee || leg.knee == leg.ankle) {
+    throw ParameterError("clean_feet: the " + std::string(foot_side_name(leg.side)) +
+                         " leg is not a chain hip → knee → ankle of the skeleton");
+  }
+}
+
+}  // namespace
+
+void CleanFeetOptions::validate() const {
+  try {
+    contacts.validate();
+  } catch (const ParameterError& e) {
+    throw ParameterError("contacts." + std::string(e.what()));
+  }
+  if (!(blend_seconds >= 0.0 && blend_seconds <= 2.0)) {
+    throw ParameterError("blend_seconds: " + format_number(blend_seconds) +
+                         " is out of range (seconds, must be in [0, 2])");
+  }
+  if (!(reach >= 0.5 && reach < 1.0)) {
+    throw ParameterError("reach: " + format_number(reach) +
+                         " is out of range (fraction of the leg length, must be in [0.5, 1))");
+  }
+  if (!(max_root_drop >= 0.0 && max_root_drop <= 1.0)) {
+    throw ParameterError("max_root_drop: " + format_number(max_root_drop) +
+                         " is out of range (fraction of the leg length, must be in [0, 1])");
+  }
+}
+
+CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                           const CleanFeetOptions& options, const Control& control) {
+  options.validate();
+  check_motion(skeleton, motion, "clean_feet", MotionCheck::Values);
+  for (const Leg& leg : feet.legs) check_leg(skeleton, leg);
+  const Control stage = control.stage("cleaning feet", 0.0, 1.0);
+  CleanFeetResult result;
+  result.motion = motion;
+  const int F = motion.num_frames;
+  const int J = skeleton.num_joints();
+  result.contacts = detect_contacts(skeleton, motion, feet, options.contacts);
+  result.root_drop.assign(static_cast<std::size_t>(F), 0.0);
+  result.held.fill(std::vector<char>(static_cast<std::size_t>(F), 0));
+  if (F == 0) return result;
+  const int blend = static_cast<int>(std::lround(options.blend_seconds * motion.fps()));
+  const Vector3d up = Vector3d::Unit(static_cast<int>(options.contacts.up));
+
+  // Per foot: original ankle path, target offsets, the knee's hinge axis.
+  std::array<FootPlan, 2> plans;
+  for (int s = 0; s < 2; ++s) {
+    FootPlan& plan = plans[static_cast<std::size_t>(s)];
+    plan.leg = feet.legs[static_cast<std::size_t>(s)];
+    plan.ankle = joint_trajectory(skeleton, motion, plan.leg.ankle);
+    plan.length = result.contacts[static_cast<std::size_t>(s)].leg_length;
+    plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, plan);
+    result.held[static_cast<std::size_t>(s)] = plan.touched;
+  }
+  // Hinge axes from the input's most bent frame (sampled: ≤ 512 frames).
+  {
+    std::array<double, 2> best{-1.0, -1.0};
+    WorldPose w;
+    const int step = std::max(1, F / 512);
+    for (int f = 0; f < F; f += step) {
+      forward_kinematics(skeleton, motion.pose(f), w);
+      for (FootPlan& plan : plans) {
+        const Leg& leg = plan.leg;
+        const Vector3d t1 = (w.positions[leg.knee] - w.positions[leg.hip]).normalized();
+        const Vector3d t2 = (w.positions[leg.ankle] - w.positions[leg.knee]).normalized();
+        const Vector3d n = t1.cross(t2);
+        double& b = best[plan.leg.side == FootSide::Left ? 0 : 1];
+        if (n.norm() > b && n.norm() > 1e-9) {
+          b = n.norm();
+          plan.hinge_local = parent_world(skeleton, w, leg.knee).conjugate() * n.normalized();
+        }
+      }
+    }
+  }
+  stage.update(0.1);
+
+  // The motion root, lowered where a target is out of reach: the joint above both hips.
+  int root = motion_root(skeleton, motion);
+  for (const FootPlan& plan : plans) {
+    while (root >= 0 && !is_ancestor(skeleton, root, plan.leg.hip)) {
+      root = skeleton.joints[root].parent;
+    }
+  }
+  std::vector<double> need(static_cast<std::size_t>(F), 0.0);
+  std::vector<char> capped(static_cast<std::size_t>(F), 0);
+  if (root >= 0) {
+    parallel_for(F, [&](int f) {
+      if (!plans[0].touched[f] && !plans[1].touched[f]) return;
+      WorldPose w;
+      forward_kinematics(skeleton, motion.pose(f), w);
+      double drop = 0.0;
+      for (const FootPlan& plan : plans) {
+        if (!plan.touched[f]) continue;
+        const Vector3d H = w.positions[plan.leg.hip];
+        const Vector3d target = plan.ankle[f] + plan.offset[f];
+        const double r = std::max(options.reach * plan.length, (plan.ankle[f] - H).norm());
+        const Vector3d D = target - H;
+        if (D.norm() <= r) continue;
+        const double du = D.dot(up);
+        const double h2 = std::max(0.0, D.squaredNorm() - du * du);
+        double need_f = h2 < r * r ? -std::sqrt(r * r - h2) - du : -du;
+        const double cap = options.max_root_drop * plan.length;
+        if (h2 >= r * r || need_f > cap) capped[f] = 1;
+        drop = std::max(drop, std::clamp(need_f, 0.0, cap));
+      }
+      need[f] = drop;
+    });
+  }
+  // Widen (running max over ±blend), then smooth (running mean over ±blend): never below need.
+  std::vector<double> drop(static_cast<std::size_t>(F), 0.0);
+  {
+    const int r = std::max(blend, 1);
+    std::vector<double> widened(static_cast<std::size_t>(F), 0.0);
+    for (int f = 0; f < F; ++f) {
+      if (need[f] <= 0.0) continue;
+      for (int g = std::max(0, f - r); g <= std::min(F - 1, f + r); ++g) {
+        widened[g] = std::max(widened[g], need[f]);
+      }
+    }
+    for (int f = 0; f < F; ++f) {
+      double sum = 0.0;
+      for (int g = f - r; g <= f + r; ++g) sum += widened[std::clamp(g, 0, F - 1)];
+      drop[f] = sum / (2 * r + 1);
+      if (drop[f] < 1e-12 * plans[0].length) drop[f] = 0.0;
+      result.root_drop[f] = drop[f];
+      result.max_root_drop = std::max(result.max_root_drop, drop[f]);
+      result.unreachable_frames += capped[f];
+    }
+  }
+  stage.update(0.2);
+
+  // Per frame: lower the root, solve both legs, restore the ankles' world rotations.
+  std::vector<char> changed(static_cast<std::size_t>(F), 0);
+  for (int f0 = 0; f0 < F; f0 += kBlockFrames) {
+    stage.check();
+    const int f1 = std::min(F, f0 + kBlockFrames);
+    parallel_for(f1 - f0, [&](int i) {
+      const int f = f0 + i;
+      const bool lowered = drop[f] > 0.0;
+      if (!lowered && !plans[0].touched[f] && !plans[1].touched[f]) return;
+      Quaterniond* q = &result.motion.rotations[static_cast<std::size_t>(f) * J];
+      Vector3d* t = &result.motion.translations[static_cast<std::size_t>(f) * J];
+      WorldPose w;
+      forward_kinematics(skeleton, result.motion.pose(f), w);
+      std::array<Quaterniond, 2> ankle_world{w.rotations[plans[0].leg.ankle],
+                                             w.rotations[plans[1].leg.ankle]};
+      if (lowered) {
+        t[root] += parent_world(skeleton, w, root).conjugate() * (-drop[f] * up);
+        forward_kinematics(skeleton, result.motion.pose(f), w);
+      }
+      std::array<bool, 2> solved{false, false};
+      for (int s = 0; s < 2; ++s) {
+        const FootPlan& plan = plans[static_cast<std::size_t>(s)];
+        if (!lowered && !plan.touched[f]) continue;
+        const Vector3d target = plan.ankle[f] + plan.offset[f];
+        solve_leg(skeleton, w, plan, target, options.reach, q);
+        solved[static_cast<std::size_t>(s)] = true;
+      }
+      forward_kinematics(skeleton, result.motion.pose(f), w);
+      for (int s = 0; s < 2; ++s) {
+        if (!solved[static_cast<std::size_t>(s)]) continue;
+        const int ankle = plans[static_cast<std::size_t>(s)].leg.ankle;
+        q[ankle] = (parent_world(skeleton, w, ankle).conjugate() *
+                    ankle_world[static_cast<std::size_t>(s)])
+                       .normalized();
+      }
+      changed[f] = 1;
+    });
+    stage.update(0.2 + 0.8 * static_cast<double>(f1) / F);
+  }
+  for (char c : changed) result.frames_changed += c;
+  return result;
+}
+
+}  // namespace motionmap::synth

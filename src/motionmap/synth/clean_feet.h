@@ -1,0 +1,80 @@
+#pragma once
+// Contact clean-up: feet that stay planted while they are on the floor. A blended motion's feet
+// slide (the blend of several stances is no stance); this finds each foot's contacts and holds
+// its ankle still through each, bending the leg to reach.
+//
+//   const motionmap::Feet feet = motionmap::find_feet(skeleton);
+//   motionmap::synth::CleanFeetResult r = motionmap::synth::clean_feet(skeleton, motion, feet);
+//   // r.motion: the cleaned motion; r.contacts: each foot's contact intervals
+//
+// Method (docs/synthesis.md, "Clean feet"):
+//  1. Contacts per foot: detect_contacts() (skeleton/contacts.h) with `contacts`.
+//  2. Targets: through a contact the ankle is held at the mean of its positions over the contact.
+//     Around it, the displacement that needs at the contact's first (last) frame, held − original,
+//     is added to the ankle's own path with a weight falling from 1 at the contact to 0 over
+//     `blend_seconds` before (after) it (smoothstep, 1 − (3x² − 2x³), x = frames away ÷ (blend
+//     frames + 1)), so the foot keeps its own motion and drifts onto the held spot; between two
+//     contacts closer than that the two add, normalised where their weights sum past 1. Frames
+//     farther from every contact are left as they are, bit for bit.
+//  3. Reach: where a target is farther from the hip than `reach` × the leg length (and farther
+//     than the original ankle was), the root (the motion root, synth's blender root) is lowered
+//     along the up axis just enough; the lowering is widened (a running maximum over ±blend
+//     frames) and then smoothed (a running mean over ±blend frames), so it is never less than
+//     needed and has no steps. Where the root is lowered, every foot is held at its own
+//     position (contact or not), so only the legs bend to absorb it.
+//  4. Two-bone IK per leg (hip–knee–ankle), analytic: the knee angle from the law of cosines,
+//     bent about the knee's own hinge axis (the thigh × shin normal of the frame; for a leg
+//     straighter than 5°, the axis of the input's most bent frame, carried by the thigh), so the
+//     knee stays in its plane and never bends backwards (the angle is 0…180° towards the
+//     side the knee bends in the input); then the leg is swung at the hip by the smallest
+//     rotation that takes the ankle onto the target (no twist about the leg).
+//  5. The ankle's world rotation is restored to the original's, so the foot keeps its roll and
+//     everything below the ankle (toes) follows it rigidly.
+// Polls `control` between blocks of frames; reports the stage through it.
+#include <array>
+#include <vector>
+
+#include "motionmap/core/control.h"
+#include "motionmap/skeleton/contacts.h"
+#include "motionmap/skeleton/skeleton.h"
+
+namespace motionmap::synth {
+
+struct CleanFeetOptions {
+  /// Contact detection (contacts.up is the up axis of everything here).
+  ContactOptions contacts;
+  /// Seconds over which a contact's correction fades in before it and out after it, in [0, 2];
+  /// 0: the correction stops at the contact's ends.
+  double blend_seconds = 0.15;
+  /// Most a leg is straightened to reach a target, × its length (hip–knee + knee–ankle), in
+  /// [0.5, 1): beyond it the root is lowered.
+  double reach = 0.995;
+  /// Most the root is lowered, × the leg length, in [0, 1].
+  double max_root_drop = 0.25;
+
+  /// @throws ParameterError naming the field (contacts.height, …), its value and its range.
+  void validate() const;
+};
+
+struct CleanFeetResult {
+  Motion motion;                         ///< the cleaned motion (same frames, joints, timing)
+  std::array<FootContacts, 2> contacts;  ///< left, right: what was held
+  int frames_changed = 0;                ///< frames where any joint changed
+  double max_root_drop = 0.0;            ///< file units, 0 when the root was never lowered
+  int unreachable_frames = 0;  ///< frames where a target stayed out of reach (capped lowering)
+  /// Per frame: how far the root was lowered (file units, ≥ 0).
+  std::vector<double> root_drop;
+  /// Per foot (left, right) and frame: 1 where the foot was moved to a target (a contact or its
+  /// fade in or out). A leg is solved where its foot is held or the root is lowered; elsewhere
+  /// its joints are the input's, bit for bit.
+  std::array<std::vector<char>, 2> held;
+};
+
+/// The motion of `skeleton` with its feet held through their contacts (see the top of the file).
+/// `feet` from find_feet(skeleton). Deterministic: the same input gives the same output bits.
+/// @throws ParameterError for bad options, a motion that does not fit the skeleton, or feet not
+///         of it; Cancelled if `control` says so.
+CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                           const CleanFeetOptions& options = {}, const Control& control = {});
+
+}  // namespace motionmap::synth

@@ -1,0 +1,448 @@
+// Contact clean-up (synth/clean_feet.h): on the built-in walk made to skate, and on motions
+// synthesized from two Bandai Namco walks. The figures are printed for docs/synthesis.md.
+#include "motionmap/synth/clean_feet.h"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/embed/embed.h"
+#include "motionmap/features/features.h"
+#include "motionmap/io/load.h"
+#include "motionmap/sample/sample_clip.h"
+#include "motionmap/skeleton/forward_kinematics.h"
+#include "motionmap/synth/synthesize.h"
+#include "support/error_message.h"
+#include "support/test_data.h"
+#include "synth/synth_fixtures.h"
+
+namespace motionmap::synth {
+namespace {
+
+using Eigen::Vector3d;
+
+// Per frame and joint world positions.
+std::vector<WorldPose> world(const Skeleton& s, const Motion& m) {
+  std::vector<WorldPose> out(static_cast<std::size_t>(m.num_frames));
+  for (int f = 0; f < m.num_frames; ++f) forward_kinematics(s, m.pose(f), out[f]);
+  return out;
+}
+
+// Largest distance any joint moves between consecutive frames.
+double max_jump(const Skeleton& s, const Motion& m) {
+  const auto w = world(s, m);
+  double worst = 0.0;
+  for (std::size_t f = 1; f < w.size(); ++f) {
+    for (int j = 0; j < s.num_joints(); ++j) {
+      worst = std::max(worst, (w[f].positions[j] - w[f - 1].positions[j]).norm());
+    }
+  }
+  return worst;
+}
+
+// Largest change of any joint's position between two consecutive frames of `b` beyond the same
+// change in `a`: the pops the clean-up added (the motion's own speed removed).
+double added_jump(const Skeleton& s, const Motion& a, const Motion& b) {
+  const auto wa = world(s, a), wb = world(s, b);
+  double worst = 0.0;
+  for (std::size_t f = 1; f < wa.size(); ++f) {
+    for (int j = 0; j < s.num_joints(); ++j) {
+      const Vector3d da = wa[f].positions[j] - wa[f - 1].positions[j];
+      const Vector3d db = wb[f].positions[j] - wb[f - 1].positions[j];
+      worst = std::max(worst, (db - da).norm());
+    }
+  }
+  return worst;
+}
+
+// RMS (degrees) of the local joint rotation changes outside contacts: over every joint and
+// frame, except a leg's own joints (hip to toe) while its foot is in contact. `legs_only`: over
+// the legs' joints only (the only ones the clean-up turns), same exclusion.
+double rms_outside_contacts(const Skeleton& s, const Motion& a, const Motion& b,
+                            const std::array<FootContacts, 2>& contacts, bool legs_only = false) {
+  std::vector<int> side(static_cast<std::size_t>(s.num_joints()), -1);
+  for (int k = 0; k < 2; ++k) {
+    const Leg& leg = contacts[static_cast<std::size_t>(k)].leg;
+    for (int j = 0; j < s.num_joints(); ++j) {
+      for (int p = j; p >= 0; p = s.joints[p].parent) {
+        if (p == leg.hip) side[static_cast<std::size_t>(j)] = k;
+      }
+    }
+  }
+  double sum2 = 0.0;
+  long count = 0;
+  for (int f = 0; f < a.num_frames; ++f) {
+    for (int j = 0; j < a.num_joints; ++j) {
+      const int k = side[static_cast<std::size_t>(j)];
+      if (k < 0 && legs_only) continue;
+      if (k >= 0 && contacts[static_cast<std::size_t>(k)].in_contact(f)) continue;
+      const double d = rad_to_deg(rotation_angle(a.rotation(f, j), b.rotation(f, j)));
+      sum2 += d * d;
+      ++count;
+    }
+  }
+  return count ? std::sqrt(sum2 / count) : 0.0;
+}
+
+// The most backward knee bend (degrees, negative = backwards) over the frames: the signed angle
+// between thigh and shin about each knee's hinge axis, the axis taken from `reference`'s most
+// bent frame in the thigh's frame.
+double most_backward_knee(const Skeleton& s, const Motion& m, const Feet& feet,
+                          const Motion& reference) {
+  double worst = 180.0;
+  for (const Leg& leg : feet.legs) {
+    // The hinge in the thigh's (knee's parent's) frame.
+    Vector3d hinge = Vector3d::Zero();
+    double best = 0.0;
+    for (int f = 0; f < reference.num_frames; ++f) {
+      const WorldPose w = forward_kinematics(s, reference, f);
+      const Vector3d t1 = (w.positions[leg.knee] - w.positions[leg.hip]).normalized();
+      const Vector3d t2 = (w.positions[leg.ankle] - w.positions[leg.knee]).normalized();
+      const Vector3d n = t1.cross(t2);
+      if (n.norm() > best) {
+        best = n.norm();
+        hinge = w.rotations[s.joints[leg.knee].parent].conjugate() * n.normalized();
+      }
+    }
+    for (int f = 0; f < m.num_frames; ++f) {
+      const WorldPose w = forward_kinematics(s, m, f);
+      const Vector3d t1 = (w.positions[leg.knee] - w.positions[leg.hip]).normalized();
+      const Vector3d t2 = (w.positions[leg.ankle] - w.positions[leg.knee]).normalized();
+      const Vector3d axis = w.rotations[s.joints[leg.knee].parent] * hinge;
+      worst = std::min(worst, rad_to_deg(std::atan2(t1.cross(t2).dot(axis), t1.dot(t2))));
+    }
+  }
+  return worst;
+}
+
+// The built-in walk with its body swaying ±4 cm sideways and ±3 cm forward, so that the planted
+// feet slide.
+Clip skating_walk(double fps = 60.0) {
+  Clip clip = sample::make_sample_clip(sample::SampleKind::Walk, {.fps = fps});
+  for (int f = 0; f < clip.motion.num_frames; ++f) {
+    const double t = f * clip.motion.frame_time;
+    clip.motion.translation(f, 0) += Vector3d(4.0 * std::sin(2 * std::numbers::pi * 1.3 * t), 0.0,
+                                              3.0 * std::sin(2 * std::numbers::pi * 0.7 * t));
+  }
+  return clip;
+}
+
+TEST(SynthCleanFeet, OptionsNameTheField) {
+  auto message = [](CleanFeetOptions o) {
+    return motionmap::test::error_message<ParameterError>([&] { o.validate(); });
+  };
+  CleanFeetOptions o;
+  EXPECT_EQ(message(o), "no error");
+  o.contacts.height = -1;
+  EXPECT_EQ(message(o).substr(0, 19), "contacts.height: -1");
+  o = {};
+  o.blend_seconds = 3;
+  EXPECT_EQ(message(o), "blend_seconds: 3 is out of range (seconds, must be in [0, 2])");
+  o = {};
+  o.reach = 1.0;
+  EXPECT_EQ(message(o),
+            "reach: 1 is out of range (fraction of the leg length, must be in [0.5, 1))");
+  o = {};
+  o.max_root_drop = NAN;
+  EXPECT_EQ(message(o).substr(0, 19), "max_root_drop: nan ");
+}
+
+TEST(SynthCleanFeet, PlantsTheFeetOfASkatingWalk) {
+  const Clip clip = skating_walk();
+  const Feet feet = find_feet(clip.skeleton);
+  const CleanFeetResult r = clean_feet(clip.skeleton, clip.motion, feet);
+  const Skating before = measure_skating(clip.skeleton, clip.motion, feet);
+  const Skating after = measure_skating(clip.skeleton, r.motion, feet);
+  std::printf(
+      "[ figures  ] skating sample walk: ratio %.3f → %.3f, in contact %.1f → %.1f cm/s; %d "
+      "frames changed, root lowered ≤ %.3g cm\n",
+      before.ratio, after.ratio, before.contact_speed_cm_s, after.contact_speed_cm_s,
+      r.frames_changed, r.max_root_drop);
+  EXPECT_LT(after.contact_speed_cm_s, before.contact_speed_cm_s);
+  // Through each contact the ankle stands still.
+  for (const FootContacts& fc : r.contacts) {
+    ASSERT_FALSE(fc.intervals.empty());
+    const auto path = joint_trajectory(clip.skeleton, r.motion, fc.leg.ankle);
+    for (const ContactInterval& c : fc.intervals) {
+      for (int f = c.first + 1; f <= c.last; ++f) {
+        EXPECT_LT((path[f] - path[c.first]).norm(), 0.05) << f;  // cm
+      }
+    }
+  }
+  const double rms = rms_outside_contacts(clip.skeleton, clip.motion, r.motion, r.contacts);
+  std::printf("[ figures  ] outside contacts: %.3f° RMS (legs only %.3f°)\n", rms,
+              rms_outside_contacts(clip.skeleton, clip.motion, r.motion, r.contacts, true));
+  EXPECT_LT(rms, 1.0);
+  EXPECT_GE(
+      most_backward_knee(clip.skeleton, r.motion, feet, clip.motion),
+      std::min(0.0, most_backward_knee(clip.skeleton, clip.motion, feet, clip.motion)) - 0.01);
+  // No pops: what the clean-up adds to any joint's step between frames stays under 2 cm at
+  // 60 fps (the walk's ankles move up to ~9 cm per frame).
+  const double added = added_jump(clip.skeleton, clip.motion, r.motion);
+  std::printf("[ figures  ] largest step added to a joint: %.3g cm (largest step %.3g cm)\n", added,
+              max_jump(clip.skeleton, clip.motion));
+  EXPECT_LT(added, 2.0);
+  // The ankles keep their world rotation.
+  const auto wa = world(clip.skeleton, clip.motion), wb = world(clip.skeleton, r.motion);
+  for (int f = 0; f < clip.motion.num_frames; ++f) {
+    for (const Leg& leg : feet.legs) {
+      EXPECT_LT(rotation_angle(wa[f].rotations[leg.ankle], wb[f].rotations[leg.ankle]), 1e-9);
+    }
+  }
+}
+
+TEST(SynthCleanFeet, LeavesLegsAwayFromTheirContactsAndIsDeterministic) {
+  const Clip clip = skating_walk(30.0);
+  const Feet feet = find_feet(clip.skeleton);
+  CleanFeetOptions o;
+  o.blend_seconds = 0.1;  // 3 frames
+  const CleanFeetResult a = clean_feet(clip.skeleton, clip.motion, feet, o);
+  const CleanFeetResult b = clean_feet(clip.skeleton, clip.motion, feet, o);
+  ASSERT_EQ(a.motion.rotations.size(), b.motion.rotations.size());
+  for (std::size_t i = 0; i < a.motion.rotations.size(); ++i) {
+    ASSERT_EQ(a.motion.rotations[i].coeffs(), b.motion.rotations[i].coeffs());
+  }
+  // A foot is held through its contacts and 3 frames either side, no further.
+  for (int s = 0; s < 2; ++s) {
+    const FootContacts& fc = a.contacts[static_cast<std::size_t>(s)];
+    for (int f = 0; f < clip.motion.num_frames; ++f) {
+      bool near = false;
+      for (const ContactInterval& c : fc.intervals) near |= f >= c.first - 3 && f <= c.last + 3;
+      EXPECT_EQ(a.held[static_cast<std::size_t>(s)][f] != 0, near) << s << " " << f;
+    }
+  }
+  // Where a foot is not held and the root not lowered, its leg is the input's, bit for bit.
+  int untouched = 0;
+  for (int f = 0; f < clip.motion.num_frames; ++f) {
+    if (a.root_drop[f] > 0.0) continue;
+    for (int s = 0; s < 2; ++s) {
+      if (a.held[static_cast<std::size_t>(s)][f]) continue;
+      const Leg& leg = feet.legs[static_cast<std::size_t>(s)];
+      for (int j : {leg.hip, leg.knee, leg.ankle, leg.toe}) {
+        EXPECT_EQ(a.motion.rotation(f, j).coeffs(), clip.motion.rotation(f, j).coeffs()) << f;
+      }
+      ++untouched;
+    }
+  }
+  EXPECT_GT(untouched, clip.motion.num_frames / 10);
+}
+
+TEST(SynthCleanFeet, CancelsAndChecksItsFeet) {
+  const Clip clip = skating_walk(30.0);
+  const Feet feet = find_feet(clip.skeleton);
+  EXPECT_THROW(clean_feet(clip.skeleton, clip.motion, feet, {}, Control({}, [] { return true; })),
+               Cancelled);
+  Feet wrong = feet;
+  wrong.legs[0].knee = 200;
+  EXPECT_NE(motionmap::test::error_message<ParameterError>([&] {
+              clean_feet(clip.skeleton, clip.motion, wrong);
+            }).find("left leg's joint index 200"),
+            std::string::npos);
+  std::vector<double> seen;
+  clean_feet(clip.skeleton, clip.motion, feet, {}, Control([&](double x, std::string_view stage) {
+               seen.push_back(x);
+               EXPECT_EQ(stage, "cleaning feet");
+             }));
+  ASSERT_FALSE(seen.empty());
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+}
+
+TEST(SynthCleanFeet, SynthesizeSkipsASkeletonWithoutFeetWithANote) {
+  const Clip clip = test::walking_clip();
+  const MapBlender blender(std::span<const Clip>(&clip, 1), test::all_frames(80),
+                           test::curve_map(80));
+  MapPath path;
+  path.points = {blender.sample_point(0), blender.sample_point(40)};
+  const SynthResult r = synthesize(blender, path);
+  EXPECT_FALSE(r.feet_cleaned);
+  ASSERT_EQ(r.notes.size(), 1u);
+  EXPECT_EQ(r.notes[0].rfind("feet not cleaned: no feet found", 0), 0u) << r.notes[0];
+  SynthOptions off;
+  off.clean_feet = false;
+  EXPECT_TRUE(synthesize(blender, path, off).notes.empty());
+}
+
+// Synthesis from the built-in walk: the clean-up is what clean_feet() gives the raw blend.
+TEST(SynthCleanFeet, SynthesizeCleansTheFeetByDefault) {
+  std::vector<Clip> clips{skating_walk(30.0)};
+  const features::FeatureSet set = features::build_features(clips, {});
+  embed::EmbedOptions eo;
+  eo.method = embed::Method::Pca;
+  const embed::Embedding map = embed::embed({&set.X, nullptr}, eo);
+  const MapBlender blender(clips, set, map.coordinates);
+  MapPath path;
+  for (int i = 0; i < set.num_samples(); i += 3) {
+    path.points.emplace_back(map.coordinates(i, 0), map.coordinates(i, 1));
+  }
+  SynthOptions raw_options;
+  raw_options.clean_feet = false;
+  const SynthResult raw = synthesize(blender, path, raw_options);
+  const SynthResult cleaned = synthesize(blender, path);
+  EXPECT_TRUE(cleaned.feet_cleaned);
+  EXPECT_EQ(cleaned.contacts.size(), 2u);
+  EXPECT_GT(cleaned.feet_frames_changed, 0);
+  CleanFeetOptions co;
+  const CleanFeetResult direct =
+      clean_feet(blender.skeleton(), raw.motion, find_feet(blender.skeleton()), co);
+  ASSERT_EQ(direct.motion.rotations.size(), cleaned.motion.rotations.size());
+  for (std::size_t i = 0; i < direct.motion.rotations.size(); ++i) {
+    ASSERT_EQ(direct.motion.rotations[i].coeffs(), cleaned.motion.rotations[i].coeffs());
+  }
+}
+
+// ---- Real walks ----------------------------------------------------------------------------
+
+struct Walks {
+  std::vector<Clip> clips;         // the normal walk, then the angry one
+  features::FeatureSet set, set2;  // every frame; every other frame
+  Eigen::MatrixXd map, map2;       // their PCA maps
+};
+
+const Walks& bandai_walks() {
+  static const Walks walks = [] {
+    Walks w;
+    w.clips.push_back(io::load_clip(motionmap::test::shared_file(
+        "other/BandaiNamcoResearchInc_dataset-1_walk_normal_001.bvh")));
+    w.clips.push_back(
+        io::load_clip(motionmap::test::shared_file("bandai/dataset-1_walk_angry_001.bvh")));
+    embed::EmbedOptions eo;
+    eo.method = embed::Method::Pca;
+    w.set = features::build_features(w.clips, {});
+    w.map = embed::embed({&w.set.X, nullptr}, eo).coordinates;
+    features::FeatureOptions every_other;
+    every_other.stride = 2;
+    w.set2 = features::build_features(w.clips, every_other);
+    w.map2 = embed::embed({&w.set2.X, nullptr}, eo).coordinates;
+    return w;
+  }();
+  return walks;
+}
+
+// Map points and frames of clip c's samples.
+std::vector<std::pair<int, Eigen::Vector2d>> trajectory(const features::FeatureSet& set,
+                                                        const Eigen::MatrixXd& map, int c) {
+  std::vector<std::pair<int, Eigen::Vector2d>> out;
+  for (int i = 0; i < set.num_samples(); ++i) {
+    if (set.clip_of[i] == c)
+      out.emplace_back(set.frame_of[i], Eigen::Vector2d(map(i, 0), map(i, 1)));
+  }
+  return out;
+}
+
+struct Case {
+  std::string name;
+  MapPath path;
+  double smooth = 0.0;
+  bool every_other = false;  // the map of every other frame
+  bool walks =
+      true;  // a walk (every frame a sample, or smoothed): held to the angle and pop bounds
+};
+
+std::vector<Case> walk_paths(const Walks& w) {
+  const double dt = w.clips[0].motion.frame_time;
+  const auto normal = trajectory(w.set, w.map, 0), angry = trajectory(w.set, w.map, 1);
+  std::vector<Case> out;
+  // The normal walk's own trajectory at its own timing: every frame a sample (the clip itself).
+  Case own{"normal walk retraced", {}};
+  for (const auto& [frame, p] : normal) {
+    own.path.points.push_back(p);
+    own.path.times.push_back(frame * dt);
+  }
+  out.push_back(own);
+  // The same with the weights smoothed over ±0.3 s (σ 0.1 s): neighbouring frames blended.
+  Case smooth = own;
+  smooth.name = "normal walk retraced, weights smoothed 0.1 s";
+  smooth.smooth = 0.1;
+  out.push_back(smooth);
+  // On the map of every other frame: half the frames blended between samples.
+  Case half_samples{"normal walk retraced on a map of every other frame", {}};
+  for (const auto& [frame, p] : trajectory(w.set2, w.map2, 0)) {
+    half_samples.path.points.push_back(p);
+    half_samples.path.times.push_back(frame * dt);
+  }
+  half_samples.every_other = true;
+  half_samples.walks = false;
+  out.push_back(half_samples);
+  // Halfway between the two walks' trajectories, paired by their fraction of the clip, at the
+  // normal walk's timing (outside the data on this map: blended at its nearest edge).
+  Case half{"halfway between the normal and the angry walk", {}};
+  half.walks = false;
+  for (std::size_t k = 0; k < normal.size(); ++k) {
+    const double a = static_cast<double>(k) / static_cast<double>(normal.size() - 1);
+    const auto& b = angry[static_cast<std::size_t>(std::lround(a * (angry.size() - 1)))].second;
+    half.path.points.push_back(0.5 * (normal[k].second + b));
+    half.path.times.push_back(static_cast<double>(k) * dt);
+  }
+  out.push_back(half);
+  return out;
+}
+
+TEST(SynthCleanFeet, SynthesizedBandaiWalks) {
+  MOTIONMAP_REQUIRE_SHARED("other/BandaiNamcoResearchInc_dataset-1_walk_normal_001.bvh");
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const Walks& w = bandai_walks();
+  const Skeleton& skeleton = w.clips[0].skeleton;
+  const Feet feet = find_feet(skeleton);
+  const LengthUnits units = detect_length_units(skeleton, w.clips[0].motion);
+  for (const Clip& c : w.clips) {
+    const Skating s = measure_skating(c.skeleton, c.motion, feet, units);
+    std::printf("[ figures  ] source %s: skating ratio %.3f, in contact %.1f cm/s\n",
+                c.path.c_str(), s.ratio, s.contact_speed_cm_s);
+  }
+  const MapBlender blender(w.clips, w.set, w.map);
+  const MapBlender blender2(w.clips, w.set2, w.map2);
+  for (const Case& c : walk_paths(w)) {
+    SCOPED_TRACE(c.name);
+    SynthOptions off;
+    off.clean_feet = false;
+    off.smooth = c.smooth;
+    SynthOptions on = off;
+    on.clean_feet = true;
+    const MapBlender& b = c.every_other ? blender2 : blender;
+    const SynthResult raw = synthesize(b, c.path, off);
+    const SynthResult cleaned = synthesize(b, c.path, on);
+    ASSERT_TRUE(cleaned.feet_cleaned);
+    const Skating sr = measure_skating(skeleton, raw.motion, feet, units);
+    const Skating sc = measure_skating(skeleton, cleaned.motion, feet, units);
+    std::array<FootContacts, 2> contacts{cleaned.contacts[0], cleaned.contacts[1]};
+    const double rms = rms_outside_contacts(skeleton, raw.motion, cleaned.motion, contacts);
+    const double rms_legs =
+        rms_outside_contacts(skeleton, raw.motion, cleaned.motion, contacts, true);
+    const double backward_raw = most_backward_knee(skeleton, raw.motion, feet, raw.motion);
+    const double backward = most_backward_knee(skeleton, cleaned.motion, feet, raw.motion);
+    const double added = added_jump(skeleton, raw.motion, cleaned.motion);
+    std::printf(
+        "[ figures  ] %s (%d frames, %d clamped): raw skating ratio %.3f, in contact %.1f cm/s; "
+        "cleaned %.3f, %.1f cm/s; %zu+%zu contacts, %d frames changed; outside contacts %.3f° "
+        "RMS (legs %.3f°); knees ≥ %.2f° (raw ≥ %.2f°); largest step added %.3g cm (largest step "
+        "%.3g)\n",
+        c.name.c_str(), raw.motion.num_frames, raw.clamped_frames, sr.ratio, sr.contact_speed_cm_s,
+        sc.ratio, sc.contact_speed_cm_s, contacts[0].intervals.size(), contacts[1].intervals.size(),
+        cleaned.feet_frames_changed, rms, rms_legs, backward, backward_raw, added,
+        max_jump(skeleton, raw.motion));
+    std::printf("[ figures  ] %s: largest step of a joint, raw %.3g cm, cleaned %.3g cm\n",
+                c.name.c_str(), max_jump(skeleton, raw.motion), max_jump(skeleton, cleaned.motion));
+    // Never more skating than the blend (the measure counts heel strike and heel-off, which the
+    // clean-up leaves to the blend: see docs/synthesis.md for where it stays above the captures).
+    EXPECT_LE(sc.ratio, sr.ratio + 1e-12);
+    EXPECT_LE(sc.contact_speed_cm_s, sr.contact_speed_cm_s + 0.5);
+    EXPECT_GE(backward, std::min(0.0, backward_raw) - 0.01);
+    // No pops: no joint steps between two frames further than it ever does in the blend (the
+    // clean-up also removes the blend's own jumps of a planted foot, so the difference of steps
+    // is bounded only for walks, below).
+    const double raw_jump = max_jump(skeleton, raw.motion);
+    EXPECT_LE(max_jump(skeleton, cleaned.motion), raw_jump + 0.5);
+    if (c.walks) {
+      // Walks (every frame a sample, or smoothed): the legs away from their contacts keep their
+      // angles, and nothing pops.
+      EXPECT_LE(rms, 1.0);
+      EXPECT_LT(added, 3.0);  // cm, at 30 fps
+    }
+  }
+}
+
+}  // namespace
+}  // namespace motionmap::synth

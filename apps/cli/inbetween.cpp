@@ -388,9 +388,11 @@ void setup_inbetween(CLI::App& app) {
     const synth::InbetweenResult r = synth::inbetween(*p.blender, p.samples, keys, options, line);
     if (r.outside_frames > 0) {
       std::cerr << "note: " << r.outside_frames << " of " << r.motion.num_frames
-                << " frames lie outside the data (a key beyond the reach "
+                << " frames lie outside the data (beyond the reach "
                 << approx(p.blender->reach_distance())
-                << " from every sample, joined by a straight stretch)\n";
+                << " from every sample: a key outside the data, or a gap between parts of the "
+                   "map that the route had to cross) and were blended at the nearest edge of the "
+                   "data\n";
     }
     io::write_bvh(io::from_motion(p.blender->skeleton(), r.motion), cmd->output);
     if (!cmd->route_csv.empty()) write_route_csv(cmd->route_csv, r, keys);

@@ -58,11 +58,11 @@ TEST(SynthRoute, GridResolutionFollowsTheDensityWithinItsBounds) {
   EXPECT_NEAR(g.cell, 8.3 / 111, 1e-12);
   EXPECT_EQ(make_grid(MapField(u_shape(), 0.01)).ny, kMaxGridCells);
   EXPECT_EQ(make_grid(MapField(u_shape(), 2.0)).ny, kMinGridCells);
-  const RouteGrid forty = make_grid(field, {.grid = 40, .smooth = true});
+  const RouteGrid forty = make_grid(field, {.grid = 40, .smooth = true, .cross_gaps = true});
   EXPECT_EQ(forty.ny, 40);
   EXPECT_EQ(forty.nx, static_cast<int>(std::ceil(4.3 / (8.3 / 40))));
   EXPECT_EQ(motionmap::test::error_message<ParameterError>(
-                [&] { make_grid(field, {.grid = 1, .smooth = true}); }),
+                [&] { make_grid(field, {.grid = 1, .smooth = true, .cross_gaps = true}); }),
             "grid: 1 cells is out of range (must be 0 = from the map's density, or in [2, 2000])");
 }
 
@@ -72,7 +72,7 @@ TEST(SynthRoute, GoesRoundTheGapAndHitsItsEnds) {
   for (const int grid : {0, 20, 40, 200}) {
     for (const bool smooth : {false, true}) {
       SCOPED_TRACE(testing::Message() << "grid " << grid << " smooth " << smooth);
-      const RouteOptions opt{.grid = grid, .smooth = smooth};
+      const RouteOptions opt{.grid = grid, .smooth = smooth, .cross_gaps = true};
       const auto route = find_route(field, make_grid(field, opt), a, b, opt);
       ASSERT_GE(route.size(), 3u);
       EXPECT_EQ(route.front(), a);
@@ -92,8 +92,8 @@ TEST(SynthRoute, SmoothingShortensTheGridRouteWithoutLeavingTheData) {
   const MapField field(u_shape(), 0.15);
   const RouteGrid g = make_grid(field);
   const Eigen::Vector2d a(-2.0, 5.5), b(2.0, 5.5);
-  const auto raw = find_route(field, g, a, b, {.grid = 0, .smooth = false});
-  const auto smooth = find_route(field, g, a, b, {.grid = 0, .smooth = true});
+  const auto raw = find_route(field, g, a, b, {.grid = 0, .smooth = false, .cross_gaps = true});
+  const auto smooth = find_route(field, g, a, b, {.grid = 0, .smooth = true, .cross_gaps = true});
   EXPECT_LT(polyline_length(smooth), polyline_length(raw));
   EXPECT_LT(smooth.size(), raw.size() * 3);
   expect_inside(field, smooth);
@@ -123,14 +123,27 @@ TEST(SynthRoute, AKeyOutsideTheDataJoinsItByAStraightStretch) {
   expect_inside(field, std::vector<Eigen::Vector2d>(route.begin() + first_inside, route.end()));
 }
 
-TEST(SynthRoute, NoRouteAcrossACutInTheData) {
+TEST(SynthRoute, AcrossACutInTheDataItCrossesTheGapOrFails) {
   std::vector<Eigen::Vector2d> two;
   for (int i = 0; i <= 20; ++i) two.emplace_back(0.05 * i, 0.0);
   for (int i = 0; i <= 20; ++i) two.emplace_back(5.0 + 0.05 * i, 0.0);
   const MapField field(two, 0.2);
-  const std::string message = motionmap::test::error_message<ParameterError>([&] {
-    find_route(field, make_grid(field), {0.5, 0.0}, {5.5, 0.0});
-  });
+  const RouteGrid g = make_grid(field);
+  // By default the route crosses the gap, straight (the cheapest way), and is valid elsewhere.
+  const Eigen::Vector2d a(0.5, 0.0), b(5.5, 0.0);
+  const auto route = find_route(field, g, a, b);
+  EXPECT_EQ(route.front(), a);
+  EXPECT_EQ(route.back(), b);
+  for (const auto& p : route) {
+    EXPECT_LE(std::abs(p.y()), 0.6 * g.cell) << p.transpose();
+    if (!field.valid(p)) {
+      EXPECT_TRUE(p.x() > 1.0 + 0.2 && p.x() < 5.0 - 0.2) << p.transpose();
+    }
+  }
+  EXPECT_LT(polyline_length(route), 5.0 * 1.05);
+  // Without crossing gaps, an error saying why.
+  const std::string message = motionmap::test::error_message<ParameterError>(
+      [&] { find_route(field, g, a, b, {.grid = 0, .smooth = true, .cross_gaps = false}); });
   EXPECT_NE(message.find("no route through the valid region joins the map points 0.5,0 and 5.5,0"),
             std::string::npos)
       << message;

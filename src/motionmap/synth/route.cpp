@@ -189,6 +189,7 @@ RouteGrid make_grid(const MapField& field, const RouteOptions& options) {
   g.ny = std::max(1, static_cast<int>(std::ceil(extent.y() / g.cell - 1e-9)));
   const auto n = static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny);
   g.cost.assign(n, kInf);
+  g.gap_cost.assign(n, kInf);
   g.node.resize(n);
   std::vector<char> holds(n, 0);
   for (int i = 0; i < field.num_samples(); ++i)
@@ -201,12 +202,18 @@ RouteGrid make_grid(const MapField& field, const RouteOptions& options) {
       const double d = field.distance(centre, &nearest);
       Eigen::Vector2d node = centre;
       if (!(d <= r)) {
-        if (!holds[c]) continue;
+        if (!holds[c]) {
+          // Impassable: only a route across a gap in the data goes through it.
+          const double u = d / r;
+          g.node[c] = centre;
+          g.gap_cost[c] = kGapPenalty * (1.0 + kRoutePenalty * u * u);
+          continue;
+        }
         const Eigen::Vector2d s = field.sample(nearest);
         node = s + (centre - s) * (kPullFraction * r / d);
       }
       g.node[c] = node;
-      g.cost[c] = field.cost(node);
+      g.cost[c] = g.gap_cost[c] = field.cost(node);
     }
   }
   return g;
@@ -237,9 +244,10 @@ int entry_cell(const RouteGrid& g, const Eigen::Vector2d& p) {
   return best;
 }
 
-// A* over the 8-connected passable cells from cell `from` to cell `to`; the cells in order, or
-// empty when none joins them.
-std::vector<int> grid_path(const RouteGrid& g, int from, int to) {
+// A* over the 8-connected passable cells (with `cross`, every cell at its gap cost) from cell
+// `from` to cell `to`; the cells in order, or empty when none joins them.
+std::vector<int> grid_path(const RouteGrid& g, int from, int to, bool cross) {
+  const std::vector<double>& cost = cross ? g.gap_cost : g.cost;
   const std::size_t n = g.cost.size();
   std::vector<double> dist(n, kInf);
   std::vector<int> prev(n, -1);
@@ -264,8 +272,8 @@ std::vector<int> grid_path(const RouteGrid& g, int from, int to) {
         if (x < 0 || y < 0 || x >= g.nx || y >= g.ny) continue;
         const int e = g.index(x, y);
         const auto es = static_cast<std::size_t>(e);
-        if (done[es] || !g.passable(e)) continue;
-        const double step = (g.node[es] - g.node[cs]).norm() * 0.5 * (g.cost[cs] + g.cost[es]);
+        if (done[es] || !std::isfinite(cost[es])) continue;
+        const double step = (g.node[es] - g.node[cs]).norm() * 0.5 * (cost[cs] + cost[es]);
         const double nd = dist[cs] + step;
         if (nd < dist[es]) {
           dist[es] = nd;
@@ -380,13 +388,15 @@ std::vector<Eigen::Vector2d> find_route(const MapField& field, const RouteGrid& 
   if (!(field.segment_valid(a, b) && grid.cell_of(a) == grid.cell_of(b))) {
     const int from = entry_cell(grid, a), to = entry_cell(grid, b);
     if (from < 0 || to < 0) throw ParameterError("route: the map's grid has no passable cell");
-    const std::vector<int> cells = grid_path(grid, from, to);
+    std::vector<int> cells = grid_path(grid, from, to, false);
+    if (cells.empty() && options.cross_gaps) cells = grid_path(grid, from, to, true);
     if (cells.empty()) {
       throw ParameterError(
           "route: no route through the valid region joins the map points " + format_number(a.x()) +
           "," + format_number(a.y()) + " and " + format_number(b.x()) + "," + format_number(b.y()) +
           ": the data between them is cut (farther apart than the reach " +
-          format_number(field.reach_distance()) + "); a larger --reach joins more of the map");
+          format_number(field.reach_distance()) +
+          "); a larger --reach joins more of the map, and cross_gaps crosses the gap");
     }
     for (int c : cells) raw.push_back(grid.node[static_cast<std::size_t>(c)]);
   }

@@ -45,6 +45,10 @@ namespace motionmap::synth {
 /// How much more a route pays per unit length at the edge of the valid region than on a sample
 /// (c = 1 + kRoutePenalty·(d/r)²).
 inline constexpr double kRoutePenalty = 4.0;
+/// How much more a route pays per unit length across a gap in the data (outside the valid
+/// region), times 1 + kRoutePenalty·(d/r)², than on a sample: only where the valid region does
+/// not join two keys (RouteOptions::cross_gaps).
+inline constexpr double kGapPenalty = 1000.0;
 /// Default grid: cells along the longer side, at most and at least.
 inline constexpr int kMinGridCells = 20;
 inline constexpr int kMaxGridCells = 200;
@@ -56,6 +60,11 @@ struct RouteOptions {
   int grid = 0;
   /// String pulling and Chaikin smoothing of the grid route.
   bool smooth = true;
+  /// Where the valid region does not join the two ends (a clip whose consecutive frames lie
+  /// farther apart on the map than the reach: a golf swing's downswing), cross the gap where it
+  /// costs least (cells outside at kGapPenalty × their cost) instead of failing; the frames
+  /// there are outside the data (the blender clamps them, and says so).
+  bool cross_gaps = true;
 
   /// @throws ParameterError naming `grid`, its value and the valid range ({0} ∪ [2, 2000]).
   void validate() const;
@@ -114,6 +123,9 @@ struct RouteGrid {
   int nx = 0, ny = 0;                                ///< cells along x and y
   /// Per cell (index y·nx + x): the cost c of its node, +∞ when impassable.
   std::vector<double> cost;
+  /// Per cell: its cost, or for an impassable cell kGapPenalty·(1 + kRoutePenalty·(d/r)²) at its
+  /// centre (RouteOptions::cross_gaps).
+  std::vector<double> gap_cost;
   /// Per cell: the point a route passes through in it (its centre, or pulled into the data).
   std::vector<Eigen::Vector2d> node;
 
@@ -130,8 +142,11 @@ RouteGrid make_grid(const MapField& field, const RouteOptions& options = {});
 /// The cheapest route from a to b (first point exactly a, last exactly b; smoothed when
 /// options.smooth), through the valid region except for the straight stretches joining a key
 /// outside it to the nearest passable cell.
+/// Where the valid region does not join a and b, the route crosses the cheapest gap
+/// (options.cross_gaps) or the call fails.
 /// @throws ParameterError if a or b is not finite, or no route joins them (the valid region is
-///         cut between them: the message says so and suggests a larger reach).
+///         cut between them and cross_gaps is false: the message says so and suggests a larger
+///         reach).
 std::vector<Eigen::Vector2d> find_route(const MapField& field, const RouteGrid& grid,
                                         const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                         const RouteOptions& options = {});

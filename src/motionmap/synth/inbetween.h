@@ -3,13 +3,14 @@
 // times, following between consecutive keys the cheapest route through the valid region of the
 // map (route.h) — Shin & Lee's motion-map in-betweening.
 //
-//   motionmap::synth::MapBlender blender(clips, set, coords);
-//   std::vector<motionmap::synth::Key> keys(2);
-//   int s9 = motionmap::synth::find_sample(set, 0, 9), s40 = motionmap::synth::find_sample(set, 0,
-//   40); keys[0] = motionmap::synth::sample_key(blender, s9, clips[0].motion, 9);  // frames on the
-//   map keys[1] = motionmap::synth::sample_key(blender, s40, clips[0].motion, 40); auto result =
-//   motionmap::synth::inbetween(blender, set, keys, {.frames_between = 20});
-//   // result.motion: 42 frames; result.key_frames = {0, 21}; result.routes[0]: the route drawn
+//   using namespace motionmap::synth;
+//   MapBlender blender(clips, set, coords);
+//   std::vector<Key> keys{sample_key(blender, find_sample(set, 0, 9), clips[0].motion, 9),
+//                         sample_key(blender, find_sample(set, 0, 40), clips[0].motion, 40)};
+//   InbetweenOptions options;
+//   options.frames_between = 20;
+//   auto result = inbetween(blender, set, keys, options);
+//   // result.motion: 22 frames; result.key_frames = {0, 21}; result.routes[0]: the route drawn
 //
 // A key is a map point and, optionally, a pose (one frame of the blender's skeleton, standing
 // where it stood in its clip) and a time. A clip frame that is a sample of the map sits on its

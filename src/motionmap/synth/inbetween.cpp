@@ -63,7 +63,7 @@ WalkedRoute walk(const MapField& field, const std::vector<double>& speeds, doubl
     const Eigen::Vector2d a = route[i - 1], b = route[i];
     const double length = (b - a).norm();
     if (length == 0.0) continue;
-    const int steps = std::max(1, static_cast<int>(std::ceil(length / piece)));
+    const int steps = static_cast<int>(std::clamp(std::ceil(length / piece), 1.0, 1e5));
     for (int s = 1; s <= steps; ++s) {
       const double t0 = static_cast<double>(s - 1) / steps, t1 = static_cast<double>(s) / steps;
       const Eigen::Vector2d mid = (1.0 - 0.5 * (t0 + t1)) * a + 0.5 * (t0 + t1) * b;

@@ -22,6 +22,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPullFraction = 0.9;
 // A segment's cost is integrated at steps of at most reach / kCheckSteps.
 constexpr double kCheckSteps = 8.0;
+// Most steps a segment's cost is integrated in (a map whose reach is tiny beside its extent).
+constexpr double kMaxSteps = 1e5;
 // How often a segment is halved to show it valid (to 2⁻⁴⁰ of its length).
 constexpr int kValidDepth = 40;
 // How often an invalid segment may be split at its pulled midpoint.
@@ -153,7 +155,8 @@ double MapField::segment_cost(const Eigen::Vector2d& a, const Eigen::Vector2d& b
   if (!valid(a) || !valid(b)) return kInf;
   const double length = (b - a).norm();
   if (length == 0.0) return 0.0;
-  const int steps = std::max(1, static_cast<int>(std::ceil(length * kCheckSteps / m_reach)));
+  const int steps =
+      static_cast<int>(std::clamp(std::ceil(length * kCheckSteps / m_reach), 1.0, kMaxSteps));
   double sum = 0.0;
   for (int s = 0; s < steps; ++s) {
     const double t = (s + 0.5) / steps;
@@ -181,9 +184,10 @@ RouteGrid make_grid(const MapField& field, const RouteOptions& options) {
   g.origin = field.min() - Eigen::Vector2d::Constant(r);
   const Eigen::Vector2d extent = field.max() - field.min() + Eigen::Vector2d::Constant(2 * r);
   const double longer = extent.maxCoeff();
-  const int cells = options.grid > 0 ? options.grid
-                                     : std::clamp(static_cast<int>(std::ceil(longer / (0.5 * r))),
-                                                  kMinGridCells, kMaxGridCells);
+  const int cells =
+      options.grid > 0 ? options.grid
+                       : static_cast<int>(std::clamp(std::ceil(longer / (0.5 * r)),
+                                                     double(kMinGridCells), double(kMaxGridCells)));
   g.cell = longer / cells;
   g.nx = std::max(1, static_cast<int>(std::ceil(extent.x() / g.cell - 1e-9)));
   g.ny = std::max(1, static_cast<int>(std::ceil(extent.y() / g.cell - 1e-9)));

@@ -21,6 +21,7 @@ from ._motionmap import Clip, Error, Skeleton, load
 
 __all__ = [
     "Clip", "Error", "Skeleton", "load", "features", "read_map", "write_map", "synthesize",
+    "inbetween",
     "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "NotFittedError",
 ]
 __version__ = "0.1.0"
@@ -350,6 +351,30 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, b
     return fitted.map_.synthesize(path_xy, None if times is None else [float(t) for t in times],
                                   float(speed), float(fps), float(smooth), blend, int(neighbors),
                                   float(reach), progress)
+
+
+def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=True,
+              blend="local", neighbors=12, reach=3.0, asf=None, fps=None, progress=None):
+    """A motion through key poses on a fitted 2-D map of clips (what `motionmap inbetween` does;
+    docs/synthesis.md, "Key poses and in-betweening"): every key pose is hit exactly, root
+    position and heading included, and between keys the motion follows the cheapest route through
+    the valid region of the map. keys: each (clip, frame) — a clip path or Clip of the map's
+    skeleton and a frame from 0; a frame that is not a sample of the map is placed on it as
+    transform() places frames — or (x, y), a map point (the blend there, root free). times:
+    seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
+    times, or the samples' own speed along each route); grid: cells along the map's longer side
+    (0 = from its density); smooth: smooth the grid route; blend, neighbors, reach: as
+    inverse_transform; asf, fps: for .amc keys. Returns (Clip, route): route is a dict with
+    "points" (#frames by 2: each frame's map point), "key_frames", "routes" (per segment, the
+    route polyline), "valid" (per frame) and "grid" (cells along x and y)."""
+    fitted._check_fitted()
+    if not isinstance(fitted.map_, _motionmap._ClipMap):
+        raise Error("inbetween: motions are blended from clips; this map was fitted on an array")
+    return fitted.map_.inbetween(
+        list(keys), None if times is None else [float(t) for t in times],
+        -1 if frames_between is None else int(frames_between), int(grid), bool(smooth), blend,
+        int(neighbors), float(reach), "" if asf is None else os.fspath(asf),
+        0.0 if fps is None else float(fps), progress)
 
 
 def read_map(path):

@@ -26,6 +26,7 @@
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/pipeline/map_csv.h"
+#include "motionmap/synth/inbetween.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace motionmap::python {
@@ -181,7 +182,8 @@ std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict&
 // loaded again from their recorded paths and checked to give the map's samples. Call with the
 // GIL released.
 synth::MapBlender make_blender(const ClipMapState& s, const synth::BlendOptions& blend,
-                               const Control& control) {
+                               const Control& control,
+                               features::FeatureSet* samples_out = nullptr) {
   if (s.file.coordinates.cols() != 2) {
     throw ParameterError("poses are blended on 2-D maps; this map has " +
                          std::to_string(s.file.coordinates.cols()) + " dimensions");
@@ -209,7 +211,9 @@ synth::MapBlender make_blender(const ClipMapState& s, const synth::BlendOptions&
   }
   synth::BlendOptions options = blend;
   options.up = s.file.options.features.up;
-  return synth::MapBlender(clips, samples, s.file.coordinates, options, control);
+  synth::MapBlender blender(clips, samples, s.file.coordinates, options, control);
+  if (samples_out) *samples_out = std::move(samples);
+  return blender;
 }
 
 synth::BlendOptions blend_options(const std::string& mode, int neighbors, double reach) {
@@ -296,6 +300,160 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
     }
     return out;
   });
+}
+
+// ---- in-betweening (motionmap.inbetween) -----------------------------------------------------
+
+// A key as Python gives it: (clip, frame) with a clip path or Clip, or (x, y) a map point.
+struct PyKey {
+  std::optional<Clip> clip;
+  int frame = 0;
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();
+  std::string label;
+};
+
+std::vector<PyKey> keys_from_python(const py::sequence& keys, const std::string& asf, double fps) {
+  std::vector<PyKey> out;
+  const py::module_ os = py::module_::import("os");
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const py::object item = keys[i];
+    const std::string where = "keys[" + std::to_string(i) + "]";
+    if (!py::isinstance<py::sequence>(item) || py::isinstance<py::str>(item) ||
+        py::len(item) != 2) {
+      throw ParameterError(where +
+                           ": a key is (clip, frame) — a clip path or Clip and a frame "
+                           "from 0 — or (x, y), a map point");
+    }
+    const py::sequence pair = item.cast<py::sequence>();
+    const py::object first = pair[0];
+    PyKey key;
+    if (py::isinstance<py::str>(first) || py::hasattr(first, "__fspath__") ||
+        py::isinstance<Clip>(first)) {
+      py::list one;
+      one.append(first);
+      std::vector<Clip> loaded = clips_from_python(one, asf, fps);
+      key.clip = std::move(loaded.front());
+      key.frame = pair[1].cast<int>();
+      key.label = key.clip->path + ":" + std::to_string(key.frame);
+      const int frames = key.clip->motion.num_frames;
+      if (key.frame < 0 || key.frame >= frames) {
+        throw ParameterError(where + " (" + key.label + "): frame " + std::to_string(key.frame) +
+                             " is out of range: " + key.clip->path + " has " +
+                             std::to_string(frames) + " frames, 0 to " +
+                             std::to_string(frames - 1));
+      }
+    } else {
+      key.point = Eigen::Vector2d(pair[0].cast<double>(), pair[1].cast<double>());
+      key.label = where;
+    }
+    out.push_back(std::move(key));
+  }
+  return out;
+}
+
+struct InbetweenOut {
+  Clip clip;
+  synth::InbetweenResult result;
+};
+
+py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const py::object& times,
+                         int frames_between, int grid, bool smooth, const std::string& mode,
+                         int neighbors, double reach, const std::string& asf, double fps,
+                         py::object progress) {
+  std::vector<PyKey> keys = keys_from_python(key_items, asf, fps);
+  std::vector<double> key_times;
+  if (!times.is_none()) {
+    key_times = times.cast<std::vector<double>>();
+    if (key_times.size() != keys.size()) {
+      throw ParameterError("times: " + std::to_string(key_times.size()) + " times for " +
+                           std::to_string(keys.size()) + " keys");
+    }
+  }
+  synth::InbetweenOptions options;
+  options.frames_between = frames_between;
+  options.route.grid = grid;
+  options.route.smooth = smooth;
+  options.validate();
+  InbetweenOut out = run_released(std::move(progress), [&](const Control& control) {
+    features::FeatureSet samples;
+    const synth::MapBlender blender =
+        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.2), &samples);
+    Clip reference;
+    reference.path = s.paths.empty() ? std::string("the map") : s.paths.front();
+    reference.skeleton = blender.skeleton();
+    std::vector<synth::Key> resolved;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      PyKey& k = keys[i];
+      synth::Key key;
+      if (k.clip) {
+        if (const std::string why = features::hierarchy_difference(reference, *k.clip);
+            !why.empty()) {
+          throw ParameterError("keys[" + std::to_string(i) + "] (" + k.label +
+                               "): a clip of another skeleton than the map's (" + why + ")");
+        }
+        int sample = -1;
+        for (std::size_t c = 0; c < s.paths.size() && sample < 0; ++c) {
+          std::error_code ec;
+          if (std::filesystem::equivalent(s.paths[c], k.clip->path, ec) && !ec)
+            sample = synth::find_sample(samples, static_cast<int>(c), k.frame);
+        }
+        if (sample >= 0) {
+          key = synth::sample_key(blender, sample, k.clip->motion, k.frame);
+        } else {
+          mapfile::PlaceOptions place;
+          place.first_frame = k.frame;
+          place.end_frame = k.frame + 1;
+          place.keep_first = true;
+          const embed::SampleSearch* search = s.search.get(s.file.model, Control());
+          const mapfile::Placement placed = mapfile::place_clips(std::span<const Clip>(&*k.clip, 1),
+                                                                 s.file, place, Control(), search);
+          key.point = Eigen::Vector2d(placed.coordinates(0, 0), placed.coordinates(0, 1));
+          key.pose.frame_time = k.clip->motion.frame_time;
+          key.pose.resize(1, k.clip->motion.num_joints);
+          for (int j = 0; j < k.clip->motion.num_joints; ++j) {
+            key.pose.rotation(0, j) = k.clip->motion.rotation(k.frame, j);
+            key.pose.translation(0, j) = k.clip->motion.translation(k.frame, j);
+          }
+        }
+      } else {
+        key.point = k.point;
+      }
+      key.label = k.label;
+      if (!key_times.empty()) key.time = key_times[i];
+      resolved.push_back(std::move(key));
+    }
+    InbetweenOut o;
+    o.result = synth::inbetween(blender, samples, resolved, options, control.part(0.2, 1.0));
+    o.clip.path = "<in-between of " + std::to_string(keys.size()) + " keys>";
+    o.clip.skeleton = blender.skeleton();
+    o.clip.motion = o.result.motion;
+    if (o.result.outside_frames > 0) {
+      o.clip.warnings.push_back(std::to_string(o.result.outside_frames) +
+                                " frames lie outside the map's data (a key outside it)");
+    }
+    return o;
+  });
+  const synth::InbetweenResult& r = out.result;
+  Eigen::MatrixXd points(static_cast<Eigen::Index>(r.points.size()), 2);
+  std::vector<bool> valid;
+  for (std::size_t k = 0; k < r.points.size(); ++k) {
+    points.row(static_cast<Eigen::Index>(k)) = r.points[k].transpose();
+    valid.push_back(!r.validity[k].clamped);
+  }
+  std::vector<Eigen::MatrixXd> routes;
+  for (const auto& route : r.routes) {
+    Eigen::MatrixXd m(static_cast<Eigen::Index>(route.size()), 2);
+    for (std::size_t i = 0; i < route.size(); ++i)
+      m.row(static_cast<Eigen::Index>(i)) = route[i].transpose();
+    routes.push_back(std::move(m));
+  }
+  py::dict info;
+  info["points"] = points;
+  info["key_frames"] = r.key_frames;
+  info["routes"] = routes;
+  info["valid"] = valid;
+  info["grid"] = py::make_tuple(r.grid.nx, r.grid.ny);
+  return py::make_tuple(std::move(out.clip), info);
 }
 
 // `loaded` placed on the map, the frames chosen by the estimator's frame options.
@@ -581,6 +739,10 @@ void bind_maps(py::module_& m) {
       .def("write_csv", &write_csv, py::arg("path"))
       .def("poses_at", &poses_at, py::arg("Y"), py::arg("blend"), py::arg("neighbors"),
            py::arg("reach"), py::arg("progress"))
+      .def("inbetween", &inbetween_keys, py::arg("keys"), py::arg("times"),
+           py::arg("frames_between"), py::arg("grid"), py::arg("smooth"), py::arg("blend"),
+           py::arg("neighbors"), py::arg("reach"), py::arg("asf"), py::arg("fps"),
+           py::arg("progress"))
       .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
            py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),
            py::arg("reach"), py::arg("progress"))

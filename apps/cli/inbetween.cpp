@@ -1,0 +1,409 @@
+// `motionmap inbetween FILE… --keys walk.bvh:9,walk.bvh:40 -o out.bvh`: a motion through key
+// poses, each segment following the cheapest route through the valid region of the clips' map
+// (synth/inbetween.h; docs/synthesis.md, "Key poses and in-betweening"). With `--map lib.mmap.h5`
+// no FILE is given: the saved map's clips are loaded on demand and checked against their SHA-256.
+//
+// A key is FILE:FRAME (a frame, 0-based, of any clip of the map's skeleton; a frame that is not a
+// sample of the map is placed on it as `map --onto` places frames) or X:Y (a map point), either
+// followed by @SECONDS.
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <type_traits>
+
+#include "commands.h"
+#include "map_options.h"
+#include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
+#include "motionmap/features/joint_match.h"
+#include "motionmap/io/bvh.h"
+#include "motionmap/io/load.h"
+#include "motionmap/mapfile/map_file.h"
+#include "motionmap/mapfile/saved_map.h"
+#include "motionmap/synth/inbetween.h"
+
+namespace motionmap::cli {
+
+namespace {
+
+struct InbetweenCommand {
+  CLI::App* sub = nullptr;
+  MapCliOptions map;
+  std::string saved;
+  synth::BlendMode blend = synth::BlendMode::Local;
+  int neighbors = 12;
+  double reach = 3.0;
+  std::vector<std::string> keys;
+  int frames_between = -1;
+  std::vector<double> times;
+  int grid = 0;
+  bool no_smooth = false;
+  std::string output;
+  std::string route_csv;
+};
+
+// The options a saved map fixes (as for pose and synth): usage errors with --map.
+constexpr const char* kFixedBySavedMap[] = {
+    "files",        "--asf",    "--amc-fps",     "--method",     "--dims",     "-k",
+    "--heat",       "--reg",    "--standardize", "--strict",     "--features", "--distance",
+    "--exclude",    "--frames", "--stride",      "--keep-first", "--up",       "--recursive",
+    "--keep-going", "--joints", "--exact",       "--landmarks"};
+
+// A key as written: FILE:FRAME or X:Y, and its time.
+struct KeyText {
+  std::string text;
+  std::string file;  // empty for a map point
+  int frame = 0;
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();
+  std::optional<double> time;
+};
+
+template <class T>
+bool parse_whole(std::string_view s, T& value) {
+  if (s.empty()) return false;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (ec != std::errc() || ptr != s.data() + s.size()) return false;
+  if constexpr (std::is_floating_point_v<T>) return std::isfinite(value);
+  return true;
+}
+
+KeyText parse_key(const std::string& text) {
+  KeyText key;
+  key.text = text;
+  std::string_view body = text;
+  const auto bad = [&](const std::string& why) {
+    return CLI::ValidationError("--keys", "'" + text + "': " + why);
+  };
+  if (const auto at = body.rfind('@'); at != std::string_view::npos && at > body.rfind(':')) {
+    double t = 0.0;
+    if (!parse_whole(body.substr(at + 1), t))
+      throw bad("the time after '@' is not a finite number of seconds");
+    key.time = t;
+    body = body.substr(0, at);
+  }
+  const auto colon = body.rfind(':');
+  if (colon == std::string_view::npos) {
+    throw bad(
+        "a key is FILE:FRAME (a clip and a frame, from 0) or X:Y (a map point), with an "
+        "optional @SECONDS");
+  }
+  const std::string_view left = body.substr(0, colon), right = body.substr(colon + 1);
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(std::string(left), ec)) {
+    key.file = std::string(left);
+    if (!parse_whole(right, key.frame) || key.frame < 0)
+      throw bad("'" + std::string(right) + "' is not a frame number (0, 1, …)");
+    return key;
+  }
+  if (parse_whole(left, key.point.x()) && parse_whole(right, key.point.y())) return key;
+  int frame = 0;
+  if (parse_whole(right, frame)) throw bad("no such clip file '" + std::string(left) + "'");
+  throw bad("neither FILE:FRAME (an existing clip file and a frame number) nor X:Y (a map point)");
+}
+
+std::string approx(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+// The map, its blender and what placing frames on it needs.
+struct Prepared {
+  std::unique_ptr<synth::MapBlender> blender;
+  features::FeatureSet samples;
+  std::vector<std::string> clip_files;  // per map clip: the file it was read from
+  Clip reference;                       // a clip of the map, for the skeleton check
+  // Placing: the map as a MapFile with its model, made or read when a key first needs it.
+  std::function<const mapfile::MapFile&()> map_file;
+};
+
+synth::BlendOptions blend_options(const InbetweenCommand& cmd, Axis up) {
+  synth::BlendOptions blend;
+  blend.mode = cmd.blend;
+  blend.neighbors = cmd.neighbors;
+  blend.reach = cmd.reach;
+  blend.up = up;
+  return blend;
+}
+
+Prepared prepare_saved(const InbetweenCommand& cmd) {
+  for (const char* name : kFixedBySavedMap) {
+    const CLI::Option* option = cmd.sub->get_option_no_throw(name);
+    if (option && option->count() > 0) {
+      throw CLI::ValidationError(
+          option->get_name(),
+          "the saved map " + cmd.saved + " fixes its clips, features, method and frames: " +
+              (std::string(name) == "files" ? "give no FILE with --map " + cmd.saved
+                                            : "leave " + option->get_name() + " out"));
+    }
+  }
+  if (!mapfile::looks_like_map_file(cmd.saved)) {
+    throw CLI::ValidationError("--map", cmd.saved +
+                                            " is not a saved map (`motionmap map --save "
+                                            "lib.mmap.h5`); inbetween places key frames on the "
+                                            "map, which a map CSV cannot do");
+  }
+  mapfile::MapFile file = mapfile::read_map_file(cmd.saved, {.model = false});
+  if (!cmd.map.quiet) {
+    for (const std::string& note : file.read_notes) std::cerr << "note: " << note << '\n';
+  }
+  const synth::BlendOptions blend = blend_options(cmd, file.options.features.up);
+  const auto saved = std::make_shared<const mapfile::SavedMap>(std::move(file));
+  Prepared p;
+  p.samples = saved->samples();
+  for (int c = 0; c < saved->num_clips(); ++c) p.clip_files.push_back(saved->resolve_path(c));
+  p.reference = *saved->clip(0);
+  if (blend.mode == synth::BlendMode::Kriging) {
+    const std::vector<Clip> clips = saved->load_all_clips();
+    p.blender = std::make_unique<synth::MapBlender>(clips, p.samples, saved->file().coordinates,
+                                                    blend, progress_line(cmd.map, "blend"));
+  } else {
+    p.blender = std::make_unique<synth::MapBlender>(
+        mapfile::make_blender(saved, blend, progress_line(cmd.map, "blend")));
+  }
+  auto with_model = std::make_shared<std::optional<mapfile::MapFile>>();
+  p.map_file = [with_model, path = cmd.saved]() -> const mapfile::MapFile& {
+    if (!*with_model) *with_model = mapfile::read_map_file(path);
+    return **with_model;
+  };
+  return p;
+}
+
+Prepared prepare(const InbetweenCommand& cmd) {
+  if (!cmd.saved.empty()) return prepare_saved(cmd);
+  if (cmd.map.files.empty()) {
+    throw CLI::ValidationError("files",
+                               "give the clips (FILE…), or a saved map with --map lib.mmap.h5");
+  }
+  auto clips = std::make_shared<std::vector<Clip>>(load_inputs(cmd.map));
+  for (const Clip& clip : *clips) {
+    if (const std::string why = features::hierarchy_difference(clips->front(), clip); !why.empty())
+      throw Error(clip.path + ": its joint hierarchy differs from " + clips->front().path + "'s (" +
+                  why + "); inbetween blends clips of one skeleton");
+  }
+  const pipeline::ClipMapOptions options =
+      clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
+  auto map = std::make_shared<pipeline::ClipMap>(pipeline::map_clips(
+      *clips, options, progress_line(cmd.map, embed::method_name(cmd.map.method))));
+  print_diagnostics(*map);
+  Prepared p;
+  p.samples = *map->features;
+  for (const Clip& clip : *clips) p.clip_files.push_back(clip.path);
+  p.reference = clips->front();
+  p.blender = std::make_unique<synth::MapBlender>(*clips, p.samples, map->embedding.coordinates,
+                                                  blend_options(cmd, options.features.up),
+                                                  progress_line(cmd.map, "blend"));
+  auto file = std::make_shared<std::optional<mapfile::MapFile>>();
+  p.map_file = [file, clips, map, options]() -> const mapfile::MapFile& {
+    if (!*file) *file = mapfile::make_map_file(*clips, std::move(*map), options);
+    return **file;
+  };
+  return p;
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return std::filesystem::equivalent(a, b, ec) && !ec;
+}
+
+// The keys on the map: FILE:FRAME at its sample's point, or placed; X:Y as it is.
+std::vector<synth::Key> resolve_keys(const InbetweenCommand& cmd, const std::vector<KeyText>& texts,
+                                     Prepared& p) {
+  std::map<std::string, std::shared_ptr<const Clip>> loaded;
+  io::LoadOptions load;
+  load.asf_path = cmd.map.asf;
+  load.fps = cmd.map.fps;
+  std::vector<synth::Key> keys;
+  for (const KeyText& t : texts) {
+    synth::Key key;
+    key.label = t.text;
+    key.time = t.time;
+    if (t.file.empty()) {
+      key.point = t.point;
+      keys.push_back(std::move(key));
+      continue;
+    }
+    auto& clip = loaded[t.file];
+    if (!clip) {
+      try {
+        clip = std::make_shared<const Clip>(io::load_clip(t.file, load));
+      } catch (const Error& e) {
+        throw Error("--keys " + t.text + ": the clip cannot be loaded: " + e.what());
+      }
+    }
+    if (const std::string why = features::hierarchy_difference(p.reference, *clip); !why.empty()) {
+      throw Error("--keys " + t.text + ": " + t.file +
+                  " is a clip of another skeleton than the "
+                  "map's (" +
+                  why + "); a key is a frame of a clip of the map's skeleton");
+    }
+    const int frames = clip->motion.num_frames;
+    if (t.frame >= frames) {
+      throw Error("--keys " + t.text + ": frame " + std::to_string(t.frame) +
+                  " is out of range: " + t.file + " has " + std::to_string(frames) +
+                  " frames, 0 to " + std::to_string(frames - 1));
+    }
+    int sample = -1;
+    for (std::size_t c = 0; c < p.clip_files.size() && sample < 0; ++c) {
+      if (same_file(p.clip_files[c], t.file))
+        sample = synth::find_sample(p.samples, static_cast<int>(c), t.frame);
+    }
+    if (sample >= 0) {
+      key = synth::sample_key(*p.blender, sample, clip->motion, t.frame);
+    } else {
+      // Placed as `map --onto` places frames: this one frame, a leading bind pose included.
+      mapfile::PlaceOptions place;
+      place.first_frame = t.frame;
+      place.end_frame = t.frame + 1;
+      place.keep_first = true;
+      const mapfile::Placement placed =
+          mapfile::place_clips(std::span<const Clip>(clip.get(), 1), p.map_file(), place);
+      key.point = Eigen::Vector2d(placed.coordinates(0, 0), placed.coordinates(0, 1));
+      key.pose.frame_time = clip->motion.frame_time;
+      key.pose.resize(1, clip->motion.num_joints);
+      for (int j = 0; j < clip->motion.num_joints; ++j) {
+        key.pose.rotation(0, j) = clip->motion.rotation(t.frame, j);
+        key.pose.translation(0, j) = clip->motion.translation(t.frame, j);
+      }
+      if (!cmd.map.quiet) {
+        std::cerr << "note: key " << t.text << " is not a sample of the map: placed at ("
+                  << approx(key.point.x()) << ", " << approx(key.point.y())
+                  << ") as `map --onto` places frames\n";
+      }
+    }
+    key.label = t.text;
+    key.time = t.time;
+    keys.push_back(std::move(key));
+  }
+  return keys;
+}
+
+void write_route_csv(const std::string& path, const synth::InbetweenResult& r,
+                     const std::vector<synth::Key>& keys) {
+  std::ofstream out(path);
+  if (!out) throw Error(path + ": cannot write the route CSV");
+  out << "# the map point of every frame of the in-betweened motion (a path `motionmap synth "
+         "--path` reads)\n";
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    out << "# key " << i << " " << keys[i].label << " at frame " << r.key_frames[i] << '\n';
+  }
+  out << "t,x,y\n";
+  char buf[96];
+  for (std::size_t k = 0; k < r.points.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g\n",
+                  static_cast<double>(k) * r.motion.frame_time, r.points[k].x(), r.points[k].y());
+    out << buf;
+  }
+  if (!out.flush()) throw Error(path + ": cannot write the route CSV");
+}
+
+}  // namespace
+
+void setup_inbetween(CLI::App& app) {
+  auto cmd = std::make_shared<InbetweenCommand>();
+  auto* sub = app.add_subcommand(
+      "inbetween",
+      "In-betweening: a motion through key poses, exactly, each segment following the cheapest\n"
+      "route through the valid region of the clips' map (near the data), written as BVH.\n"
+      "A key is FILE:FRAME (frame from 0 of any clip of the map's skeleton; one that is not a\n"
+      "sample of the map is placed on it as `map --onto` does) or X:Y (a map point), each with an\n"
+      "optional @SECONDS. The map: computed from FILE…, or a saved map --map lib.mmap.h5.");
+  cmd->sub = sub;
+  add_map_options(sub, cmd->map, MapOptionsFor::Synthesis);
+  sub->get_option("files")->required(false);
+  sub->add_option("--map", cmd->saved,
+                  "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips are "
+                  "loaded from the paths it records and checked against their SHA-256")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--keys", cmd->keys,
+                  "The keys, comma-separated, at least 2: FILE:FRAME or X:Y, each optionally "
+                  "@SECONDS (then every key needs a time), e.g. walk.bvh:9,walk.bvh:40 or "
+                  "--keys=-1.5:0.2@0,walk.bvh:40@1.2")
+      ->required()
+      ->delimiter(',');
+  auto* between = sub->add_option("--frames-between", cmd->frames_between,
+                                  "Frames between consecutive keys (default: the keys' times, or "
+                                  "the samples' own speed along each route)")
+                      ->check(CLI::Range(0, synth::kMaxFramesBetween));
+  sub->add_option("--times", cmd->times,
+                  "Seconds of each key, comma-separated, increasing (instead of @SECONDS on "
+                  "each key); keys land on the nearest frames")
+      ->delimiter(',')
+      ->excludes(between);
+  sub->add_option("--grid", cmd->grid,
+                  "Route grid: cells along the longer side of the map (default: from the map's "
+                  "density, cells of half the reach, 20 to 200)")
+      ->check(CLI::Range(2, synth::kMaxGridOption));
+  sub->add_flag("--no-smooth", cmd->no_smooth,
+                "Follow the grid's cells instead of the smoothed route");
+  sub->add_option("--blend", cmd->blend,
+                  "Weights of the samples around a map point: local (default), kriging or idw")
+      ->transform(CLI::CheckedTransformer(choices(synth::all_blend_modes(), synth::blend_mode_name),
+                                          CLI::ignore_case));
+  sub->add_option("--neighbors", cmd->neighbors,
+                  "K: samples per local kriging system, or blended by idw (default 12)");
+  sub->add_option("--reach", cmd->reach,
+                  "A map point is valid within reach × the median step between consecutive "
+                  "samples of a sample; routes stay there (default 3)");
+  sub->add_option("-o,--output", cmd->output, "BVH file to write (the map's skeleton)")->required();
+  sub->add_option("--route-csv", cmd->route_csv,
+                  "Also write the map point of every frame as t,x,y rows (a path `synth` reads; "
+                  "the keys in # lines)");
+  sub->callback([cmd] {
+    std::vector<KeyText> texts;
+    for (const std::string& k : cmd->keys) texts.push_back(parse_key(k));
+    if (texts.size() < 2) {
+      throw CLI::ValidationError(
+          "--keys", "give at least 2 keys (" + std::to_string(texts.size()) + " given)");
+    }
+    if (!cmd->times.empty()) {
+      if (cmd->times.size() != texts.size()) {
+        throw CLI::ValidationError("--times", std::to_string(cmd->times.size()) + " times for " +
+                                                  std::to_string(texts.size()) +
+                                                  " keys; give one per key");
+      }
+      for (std::size_t i = 0; i < texts.size(); ++i) {
+        if (texts[i].time) {
+          throw CLI::ValidationError("--times", "key '" + texts[i].text +
+                                                    "' has its own @time; give times either "
+                                                    "with --times or with @ on every key");
+        }
+        texts[i].time = cmd->times[i];
+      }
+    }
+    Prepared p = prepare(*cmd);
+    const std::vector<synth::Key> keys = resolve_keys(*cmd, texts, p);
+    synth::InbetweenOptions options;
+    options.frames_between = cmd->frames_between;
+    options.route.grid = cmd->grid;
+    options.route.smooth = !cmd->no_smooth;
+    const Control line = progress_line(cmd->map, "inbetween");
+    const synth::InbetweenResult r = synth::inbetween(*p.blender, p.samples, keys, options, line);
+    if (r.outside_frames > 0) {
+      std::cerr << "note: " << r.outside_frames << " of " << r.motion.num_frames
+                << " frames lie outside the data (beyond the reach "
+                << approx(p.blender->reach_distance())
+                << " from every sample: a key outside the data, or a gap between parts of the "
+                   "map that the route had to cross) and were blended at the nearest edge of the "
+                   "data\n";
+    }
+    io::write_bvh(io::from_motion(p.blender->skeleton(), r.motion), cmd->output);
+    if (!cmd->route_csv.empty()) write_route_csv(cmd->route_csv, r, keys);
+    std::string at;
+    for (std::size_t i = 0; i < r.key_frames.size(); ++i)
+      at += (i ? ", " : "") + std::to_string(r.key_frames[i]);
+    std::cerr << "wrote " << cmd->output << ": " << r.motion.num_frames << " frames at "
+              << approx(r.motion.fps()) << " fps (" << approx(r.motion.duration())
+              << " s); keys at frames " << at << "; route grid " << r.grid.nx << "×" << r.grid.ny
+              << "\n";
+  });
+}
+
+}  // namespace motionmap::cli

@@ -1,0 +1,79 @@
+"""In-betweening from Python: motionmap.inbetween hits every key frame exactly (the clips' own
+rotations and root translations, in world placement), places a frame that is not a sample of the
+map, keeps every frame's map point in the valid region, counts frames as asked, and says what is
+wrong with a bad key."""
+import numpy as np
+import pytest
+
+import motionmap
+
+
+def same_rotations(a, b, atol):
+    np.testing.assert_allclose(np.abs(np.sum(a * b, axis=-1)), 1.0, atol=atol)
+
+
+def test_keys_are_hit_exactly(golf):
+    est = motionmap.Isomap(stride=2).fit(golf)
+    clip = motionmap.load(golf)
+    # 40 and 200 are samples (stride 2 from frame 1: the T-pose is left out) or not: either way.
+    keys = [(golf, 41), (golf, 200), (clip, 300)]
+    motion, route = motionmap.inbetween(est, keys, frames_between=20)
+    assert isinstance(motion, motionmap.Clip) and motion.num_frames == 43
+    assert route["key_frames"] == [0, 21, 42]
+    assert route["points"].shape == (43, 2)
+    assert all(route["valid"])
+    assert len(route["routes"]) == 2 and route["routes"][0].shape[1] == 2
+    for k, f in zip(route["key_frames"], (41, 200, 300)):
+        same_rotations(motion.rotations[k], clip.rotations[f], 1e-9)
+        np.testing.assert_allclose(motion.translations[k, 0], clip.translations[f, 0], rtol=1e-9,
+                                   atol=1e-9)
+
+
+def test_timing(golf):
+    est = motionmap.Isomap().fit(golf)
+    motion, route = motionmap.inbetween(est, [(golf, 50), (golf, 150)], times=[0.0, 0.5])
+    assert motion.num_frames == 61 and route["key_frames"] == [0, 60]
+    motion, route = motionmap.inbetween(est, [(golf, 50), (golf, 150)])
+    assert motion.num_frames == route["key_frames"][1] + 1 > 2
+    xy = est.embedding_[[10, 90]]
+    motion, route = motionmap.inbetween(est, [tuple(xy[0]), tuple(xy[1])], frames_between=4)
+    assert motion.num_frames == 6
+    np.testing.assert_array_equal(route["points"][[0, -1]], xy)
+
+
+def test_bad_keys(golf, other):
+    est = motionmap.Isomap().fit(golf)
+    with pytest.raises(motionmap.Error, match="frame 365 is out of range: .* has 365 frames, 0 to 364"):
+        motionmap.inbetween(est, [(golf, 10), (golf, 365)])
+    with pytest.raises(motionmap.Error, match="another skeleton"):
+        motionmap.inbetween(est, [(golf, 10), (other, 5)])
+    with pytest.raises(motionmap.Error, match="a key is"):
+        motionmap.inbetween(est, [(golf, 10), "x"])
+    with pytest.raises(motionmap.Error, match="at least 2"):
+        motionmap.inbetween(est, [(golf, 10)])
+    with pytest.raises(motionmap.Error, match="fitted on an array"):
+        motionmap.inbetween(motionmap.PCA().fit(np.eye(5)), [(0, 0), (1, 1)])
+
+
+def test_lafan_protocol_benchmark_tiny_case():
+    """bench/inbetween_lafan.py on one window, n = 5: the three methods side by side."""
+    import os
+    import subprocess
+    import sys
+
+    import conftest
+
+    script = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "inbetween_lafan.py")
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.path.dirname(os.path.dirname(motionmap.__file__))
+    p = subprocess.run([sys.executable, script, "--data", conftest.DATA, "--tiny"],
+                       capture_output=True, text=True, env=env, timeout=240)
+    if p.returncode == 77:
+        pytest.skip(p.stdout.strip())
+    assert p.returncode == 0, p.stdout + p.stderr
+    for name in ("=== L2Q ===", "=== L2P ===", "=== NPSS ===", "MotionMap", "Interp",
+                 "Zero-vel", "windows per length: 1"):
+        assert name in p.stdout, p.stdout
+    rows = {line.split("|")[0].strip(): float(line.split("|")[1])
+            for line in p.stdout.splitlines() if line.count("|") == 1 and "n " not in line}
+    assert all(np.isfinite(v) for v in rows.values()), p.stdout

@@ -1,0 +1,383 @@
+#include "motionmap/synth/inbetween.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/core/rotation.h"
+#include "motionmap/features/point_cloud.h"
+#include "motionmap/synth/detail/root_motion.h"
+#include "motionmap/synth/synthesize.h"
+
+namespace motionmap::synth {
+
+namespace {
+
+// Samples whose map speeds are averaged for the speed at a point of a route.
+constexpr int kSpeedNeighbors = 8;
+// The slowest speed a route is walked at, as a fraction of the median map speed (a route over
+// samples of a standing pose would otherwise take forever).
+constexpr double kMinSpeedFraction = 0.1;
+// A route is walked in pieces of at most reach / kWalkSteps for its time.
+constexpr double kWalkSteps = 4.0;
+
+// Per sample: its map speed towards the next sample of its clip (the previous one's for the last
+// frame of a clip; 0 for a clip of one sample), map units per second.
+std::vector<double> sample_speeds(const MapBlender& blender, const features::FeatureSet& samples) {
+  const int n = blender.num_samples();
+  const double dt = blender.frame_time();
+  std::vector<double> speed(static_cast<std::size_t>(n), -1.0);
+  auto consecutive = [&](int i) {
+    return i + 1 < n && samples.clip_of[i] == samples.clip_of[i + 1] &&
+           samples.frame_of[i + 1] > samples.frame_of[i];
+  };
+  for (int i = 0; i < n; ++i) {
+    if (consecutive(i)) {
+      speed[i] = (blender.sample_point(i + 1) - blender.sample_point(i)).norm() /
+                 ((samples.frame_of[i + 1] - samples.frame_of[i]) * dt);
+    } else if (i > 0 && consecutive(i - 1)) {
+      speed[i] = speed[i - 1];
+    } else {
+      speed[i] = 0.0;
+    }
+  }
+  return speed;
+}
+
+// A route walked at the samples' own speed: points at most reach / kWalkSteps apart and the
+// time at each (seconds from the route's start).
+struct WalkedRoute {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> times;
+};
+
+WalkedRoute walk(const MapField& field, const std::vector<double>& speeds, double floor_speed,
+                 const std::vector<Eigen::Vector2d>& route) {
+  WalkedRoute w;
+  w.points.push_back(route.front());
+  w.times.push_back(0.0);
+  std::vector<int> near;
+  const double piece = field.reach_distance() / kWalkSteps;
+  for (std::size_t i = 1; i < route.size(); ++i) {
+    const Eigen::Vector2d a = route[i - 1], b = route[i];
+    const double length = (b - a).norm();
+    if (length == 0.0) continue;
+    const int steps = static_cast<int>(std::clamp(std::ceil(length / piece), 1.0, 1e5));
+    for (int s = 1; s <= steps; ++s) {
+      const double t0 = static_cast<double>(s - 1) / steps, t1 = static_cast<double>(s) / steps;
+      const Eigen::Vector2d mid = (1.0 - 0.5 * (t0 + t1)) * a + 0.5 * (t0 + t1) * b;
+      const int found = field.nearest(mid, kSpeedNeighbors, near);
+      double v = 0.0;
+      for (int k = 0; k < found; ++k) v += speeds[static_cast<std::size_t>(near[k])];
+      v = std::max(found > 0 ? v / found : 0.0, floor_speed);
+      w.points.push_back(s == steps ? b : (1.0 - t1) * a + t1 * b);
+      w.times.push_back(w.times.back() + length / steps / v);
+    }
+  }
+  return w;
+}
+
+// The point of a walked route at time t (clamped to its ends; exact at its points).
+Eigen::Vector2d at_time(const WalkedRoute& w, double t) {
+  if (w.points.size() == 1 || t <= 0.0) return w.points.front();
+  if (t >= w.times.back()) return w.points.back();
+  const auto it = std::upper_bound(w.times.begin(), w.times.end(), t);
+  const auto i = static_cast<std::size_t>(it - w.times.begin());  // times[i - 1] ≤ t < times[i]
+  const double a = (t - w.times[i - 1]) / (w.times[i] - w.times[i - 1]);
+  return (1.0 - a) * w.points[i - 1] + a * w.points[i];
+}
+
+Eigen::Quaterniond slerp_or_end(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b,
+                                double s) {
+  if (s <= 0.0) return a;
+  if (s >= 1.0) return b;
+  return a.slerp(s, b).normalized();
+}
+
+}  // namespace
+
+void InbetweenOptions::validate() const {
+  if (frames_between < -1 || frames_between > kMaxFramesBetween) {
+    throw ParameterError("frames_between: " + std::to_string(frames_between) +
+                         " is out of range (must be in [0, " + std::to_string(kMaxFramesBetween) +
+                         "], or −1 = not given)");
+  }
+  route.validate();
+}
+
+int find_sample(const features::FeatureSet& samples, int clip, int frame) {
+  const int n = samples.num_samples();
+  for (int i = 0; i < n; ++i) {
+    if (samples.clip_of[i] == clip && samples.frame_of[i] == frame) return i;
+  }
+  return -1;
+}
+
+Key sample_key(const MapBlender& blender, int sample, const Motion& motion, int frame) {
+  if (sample < 0 || sample >= blender.num_samples()) {
+    throw ParameterError("key: sample " + std::to_string(sample) +
+                         " is out of range (the map has " + std::to_string(blender.num_samples()) +
+                         ")");
+  }
+  if (frame < 0 || frame >= motion.num_frames) {
+    throw ParameterError("key: frame " + std::to_string(frame) +
+                         " is out of range (the motion has " + std::to_string(motion.num_frames) +
+                         " frames)");
+  }
+  const int J = blender.skeleton().num_joints();
+  if (motion.num_joints != J) {
+    throw ParameterError("key: the motion has " + std::to_string(motion.num_joints) +
+                         " joints, the map's skeleton " + std::to_string(J));
+  }
+  Key key;
+  key.point = blender.sample_point(sample);
+  key.pose.frame_time = motion.frame_time;
+  key.pose.resize(1, J);
+  for (int j = 0; j < J; ++j) {
+    key.pose.rotation(0, j) = motion.rotation(frame, j);
+    key.pose.translation(0, j) = motion.translation(frame, j);
+  }
+  return key;
+}
+
+InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet& samples,
+                          std::span<const Key> keys, const InbetweenOptions& options,
+                          const Control& control) {
+  options.validate();
+  const int K = static_cast<int>(keys.size());
+  if (K < 2) {
+    throw ParameterError("keys: " + std::to_string(K) + " given; in-betweening needs at least 2");
+  }
+  if (static_cast<int>(samples.clip_of.size()) != blender.num_samples() ||
+      samples.frame_of.size() != samples.clip_of.size()) {
+    throw ParameterError("inbetween: the samples are not the blender's (" +
+                         std::to_string(samples.clip_of.size()) + " rows, the map has " +
+                         std::to_string(blender.num_samples()) + ")");
+  }
+  const int J = blender.skeleton().num_joints();
+  const auto name = [&](int i) {
+    return "key " + std::to_string(i) + (keys[i].label.empty() ? "" : " (" + keys[i].label + ")");
+  };
+  int timed = 0;
+  for (int i = 0; i < K; ++i) {
+    const Key& key = keys[i];
+    if (!key.point.allFinite()) throw ParameterError(name(i) + ": its map point is not finite");
+    if (key.has_pose() && (key.pose.num_frames != 1 || key.pose.num_joints != J)) {
+      throw ParameterError(name(i) + ": its pose has " + std::to_string(key.pose.num_frames) +
+                           " frames of " + std::to_string(key.pose.num_joints) +
+                           " joints; a key pose is one frame of the map's " + std::to_string(J) +
+                           " joints");
+    }
+    if (key.time) {
+      ++timed;
+      if (!std::isfinite(*key.time))
+        throw ParameterError(name(i) + ": its time is not a finite number");
+    }
+  }
+  if (timed != 0 && timed != K) {
+    throw ParameterError("keys: " + std::to_string(timed) + " of " + std::to_string(K) +
+                         " keys have a time; give a time to every key or to none");
+  }
+  if (timed != 0 && options.frames_between >= 0) {
+    throw ParameterError(
+        "frames_between: the keys have times; give either times or frames between keys");
+  }
+  const double dt = blender.frame_time();
+
+  // Frames of the keys.
+  std::vector<long long> key_frames(static_cast<std::size_t>(K), 0);
+  if (timed) {
+    for (int i = 1; i < K; ++i) {
+      key_frames[i] = std::llround((*keys[i].time - *keys[0].time) / dt);
+      if (!(*keys[i].time > *keys[i - 1].time) || key_frames[i] <= key_frames[i - 1]) {
+        throw ParameterError(name(i) + ": its time " + format_number(*keys[i].time) +
+                             " s is not at least a frame (" + format_number(dt, 6) +
+                             " s) after the previous key's " + format_number(*keys[i - 1].time) +
+                             " s");
+      }
+    }
+  } else if (options.frames_between >= 0) {
+    for (int i = 1; i < K; ++i) key_frames[i] = key_frames[i - 1] + options.frames_between + 1;
+  }
+  if (key_frames.back() + 1 > kMaxSynthFrames) {
+    throw ParameterError("keys: " + std::to_string(key_frames.back() + 1) +
+                         " frames, more than the limit of " + std::to_string(kMaxSynthFrames));
+  }
+
+  // Routes, and each walked at the samples' own speed.
+  const Control routing = control.stage("routes", 0.0, 0.2);
+  InbetweenResult result;
+  const MapField field(blender);
+  result.grid = make_grid(field, options.route);
+  const std::vector<double> speeds = sample_speeds(blender, samples);
+  const double floor_speed = kMinSpeedFraction * blender.median_speed();
+  std::vector<WalkedRoute> walked;
+  for (int i = 0; i + 1 < K; ++i) {
+    routing.check();
+    result.routes.push_back(
+        find_route(field, result.grid, keys[i].point, keys[i + 1].point, options.route));
+    walked.push_back(walk(field, speeds, floor_speed, result.routes.back()));
+    if (!timed && options.frames_between < 0) {
+      const double duration = walked.back().times.back();
+      if (!std::isfinite(duration)) {
+        throw ParameterError(
+            "keys: the map has no motion to take the samples' speed from; give "
+            "frames_between or times");
+      }
+      const double frames = std::max(1.0, std::round(duration / dt));
+      if (!(key_frames[i] + frames + 1 <= static_cast<double>(kMaxSynthFrames))) {
+        throw ParameterError("keys: the routes take more than the limit of " +
+                             std::to_string(kMaxSynthFrames) +
+                             " frames at the samples' own speed; give frames_between or times");
+      }
+      key_frames[i + 1] = key_frames[i] + static_cast<long long>(frames);
+    }
+    routing.update(static_cast<double>(i + 1) / (K - 1));
+  }
+
+  // The map point of every frame: equal steps of the samples' time along each route.
+  const long long frames = key_frames.back() + 1;
+  result.points.resize(static_cast<std::size_t>(frames));
+  for (int i = 0; i + 1 < K; ++i) {
+    const WalkedRoute& w = walked[static_cast<std::size_t>(i)];
+    const long long a = key_frames[i], b = key_frames[i + 1];
+    for (long long k = a; k < b; ++k) {
+      result.points[static_cast<std::size_t>(k)] =
+          k == a ? keys[i].point
+                 : at_time(
+                       w, w.times.back() * static_cast<double>(k - a) / static_cast<double>(b - a));
+    }
+  }
+  result.points.back() = keys[K - 1].point;
+
+  // Blended poses and root motion along them: a path timed at the frames.
+  MapPath path;
+  path.points = result.points;
+  path.times.resize(static_cast<std::size_t>(frames));
+  for (long long k = 0; k < frames; ++k)
+    path.times[static_cast<std::size_t>(k)] = static_cast<double>(k) * dt;
+  SynthResult synth = synthesize(blender, path, {}, control.stage("blending frames", 0.2, 1.0));
+  if (synth.motion.num_frames != frames) {
+    throw NumericalError("inbetween: " + std::to_string(synth.motion.num_frames) +
+                         " frames synthesized where " + std::to_string(frames) + " were asked");
+  }
+  Motion& m = synth.motion;
+  const int root = blender.motion_root();
+  const Axis up = blender.options().up;
+  const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
+
+  // The blend split as synthesize() built it: free root placement, tilt and height.
+  std::vector<double> heading(static_cast<std::size_t>(frames));
+  std::vector<Eigen::Vector3d> floor(static_cast<std::size_t>(frames));
+  std::vector<Eigen::Quaterniond> tilt(static_cast<std::size_t>(frames));
+  std::vector<double> height(static_cast<std::size_t>(frames));
+  for (long long k = 0; k < frames; ++k) {
+    const auto ks = static_cast<std::size_t>(k);
+    const Eigen::Quaterniond q = m.rotation(static_cast<int>(k), root).normalized();
+    heading[ks] = features::heading_angle(q, up);
+    tilt[ks] = detail::remove_heading(q, up);
+    const Eigen::Vector3d t = m.translation(static_cast<int>(k), root);
+    height[ks] = t.dot(up_unit);
+    floor[ks] = t - height[ks] * up_unit;
+  }
+
+  // The displacement map at each key: rotations (the root's of the tilts) and translations.
+  std::vector<std::vector<Eigen::Quaterniond>> dq(
+      static_cast<std::size_t>(K),
+      std::vector<Eigen::Quaterniond>(static_cast<std::size_t>(J), Eigen::Quaterniond::Identity()));
+  std::vector<std::vector<Eigen::Vector3d>> dx(
+      static_cast<std::size_t>(K),
+      std::vector<Eigen::Vector3d>(static_cast<std::size_t>(J), Eigen::Vector3d::Zero()));
+  for (int i = 0; i < K; ++i) {
+    if (!keys[i].has_pose()) continue;
+    const Motion& p = keys[i].pose;
+    const int f = static_cast<int>(key_frames[i]);
+    for (int j = 0; j < J; ++j) {
+      if (j == root) {
+        dq[i][j] = (detail::remove_heading(p.rotation(0, j), up) *
+                    tilt[static_cast<std::size_t>(f)].conjugate())
+                       .normalized();
+        dx[i][j] =
+            (p.translation(0, j).dot(up_unit) - height[static_cast<std::size_t>(f)]) * up_unit;
+      } else {
+        dq[i][j] = (p.rotation(0, j).normalized() * m.rotation(f, j).normalized().conjugate())
+                       .normalized();
+        dx[i][j] = p.translation(0, j) - m.translation(f, j);
+      }
+    }
+  }
+
+  // Root placements of the keys with poses, and the free placement aligned to each.
+  std::vector<int> placed;
+  std::vector<RootPlacement> placement(static_cast<std::size_t>(K));
+  for (int i = 0; i < K; ++i) {
+    if (!keys[i].has_pose()) continue;
+    placed.push_back(i);
+    placement[i] = root_placement(keys[i].pose, 0, root, up);
+    placement[i].floor -= placement[i].floor.dot(up_unit) * up_unit;
+  }
+  // The free placement of frame k moved rigidly so that frame `at` stands at `p`.
+  auto aligned = [&](long long k, long long at, const RootPlacement& p) {
+    const auto ks = static_cast<std::size_t>(k), as = static_cast<std::size_t>(at);
+    RootPlacement out;
+    const double turn = p.heading - heading[as];
+    out.floor = p.floor + axis_rotation(up, turn) * (floor[ks] - floor[as]);
+    out.heading = heading[ks] + turn;
+    return out;
+  };
+
+  std::size_t next_placed = 0;  // the first key with a pose at or after the current frame
+  for (int i = 0; i + 1 < K; ++i) {
+    const long long a = key_frames[i], b = key_frames[i + 1];
+    const bool last = i + 2 == K;
+    for (long long k = a; k < b || (last && k == b); ++k) {
+      const auto ks = static_cast<std::size_t>(k);
+      const int f = static_cast<int>(k);
+      const double s = static_cast<double>(k - a) / static_cast<double>(b - a);
+      // Pose: the displacement faded between the keys.
+      for (int j = 0; j < J; ++j) {
+        const Eigen::Quaterniond d = slerp_or_end(dq[i][j], dq[i + 1][j], s);
+        const Eigen::Vector3d t = s <= 0.0   ? dx[i][j]
+                                  : s >= 1.0 ? dx[i + 1][j]
+                                             : (1.0 - s) * dx[i][j] + s * dx[i + 1][j];
+        if (j == root) {
+          tilt[ks] = (d * tilt[ks]).normalized();
+          height[ks] += t.dot(up_unit);
+        } else {
+          m.rotation(f, j) = (d * m.rotation(f, j)).normalized();
+          m.translation(f, j) += t;
+        }
+      }
+      // Root: between the keys with poses around k, integrated from the earlier one and its
+      // error at the later one spread linearly; before the first and after the last, rigid.
+      while (next_placed < placed.size() && key_frames[placed[next_placed]] < k) ++next_placed;
+      RootPlacement r{heading[ks], floor[ks]};
+      if (!placed.empty()) {
+        const bool after_all = next_placed == placed.size();
+        const int later = after_all ? placed.back() : placed[next_placed];
+        if (after_all || key_frames[later] == k || next_placed == 0) {
+          r = aligned(k, key_frames[later], placement[later]);
+        } else {
+          const int earlier = placed[next_placed - 1];
+          const long long fa = key_frames[earlier], fb = key_frames[later];
+          r = aligned(k, fa, placement[earlier]);
+          const RootPlacement end = aligned(fb, fa, placement[earlier]);
+          const double u = static_cast<double>(k - fa) / static_cast<double>(fb - fa);
+          r.floor += u * (placement[later].floor - end.floor);
+          r.heading += u * wrap_angle(placement[later].heading - end.heading);
+        }
+      }
+      m.rotation(f, root) = (axis_rotation(up, r.heading) * tilt[ks]).normalized();
+      m.translation(f, root) = r.floor + height[ks] * up_unit;
+    }
+  }
+
+  result.motion = std::move(synth.motion);
+  result.validity = std::move(synth.validity);
+  result.outside_frames = synth.clamped_frames;
+  result.key_frames.assign(key_frames.begin(), key_frames.end());
+  return result;
+}
+
+}  // namespace motionmap::synth

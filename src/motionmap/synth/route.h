@@ -1,0 +1,157 @@
+#pragma once
+// Routes on a motion map: the cheapest way from one map point to another through the part of
+// the map where poses can be trusted, as in-betweening (inbetween.h) follows it between keys.
+//
+//   motionmap::synth::MapField field(blender);               // distances to the samples
+//   motionmap::synth::RouteGrid grid = make_grid(field, {});  // cells and their costs
+//   auto route = find_route(field, grid, a, b);                // a polyline from a to b
+//
+// Validity (the one rule for shading, clamping and routes): a map point is valid when a sample
+// lies within MapBlender::reach_distance() of it — exactly where MapBlender::locate() does not
+// clamp. With d(p) the distance from p to the nearest sample and r the reach distance, the cost
+// of passing through p is
+//     c(p) = 1 + kRoutePenalty·(d(p)/r)²  where d(p) ≤ r, impassable elsewhere,
+// so a route prefers to stay near the data (on a sample the cost is 1, at the edge of the valid
+// region 1 + kRoutePenalty).
+//
+// The grid: square cells over the samples' bounding box, grown by r on every side. By default
+// the cell side is r/2, the number of cells along the longer side clamped to [kMinGridCells,
+// kMaxGridCells]; RouteOptions::grid = N sets N cells along the longer side (Shin & Lee use 20
+// and 40). A cell is passable when its centre is valid, or when it holds a sample (a cell larger
+// than 2r may have an invalid centre and yet a trajectory through it); its node is its centre,
+// or, when the centre is invalid, the point at 0.9·r from the centre's nearest sample towards the
+// centre. Cell cost c(node). The route is Dijkstra's (A* with the straight-line distance, which
+// never overestimates since every cost is ≥ 1) over the 8-connected cells, an edge costing its
+// length × the mean of its two cells' costs; keys join the grid at the passable cell whose node
+// is nearest (when the key's own cell is not passable, e.g. a placed frame outside the data, that
+// straight stretch is outside and reported so by the blender's validity).
+//
+// Smoothing: string pulling (a vertex is dropped when the straight line that replaces it is valid
+// and costs no more, integrated over c, than the stretch it replaces), then two rounds of
+// Chaikin corner cutting whose new segments are each checked valid — a corner whose cut would
+// leave the valid region is kept. Every segment of a route between two valid points is checked
+// valid (everywhere: the distance to the samples is 1-Lipschitz) and, where it is not, split at
+// its midpoint pulled to 0.9·r of its nearest sample (depth-limited).
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motionmap/synth/blender.h"
+
+namespace motionmap::synth {
+
+/// How much more a route pays per unit length at the edge of the valid region than on a sample
+/// (c = 1 + kRoutePenalty·(d/r)²).
+inline constexpr double kRoutePenalty = 4.0;
+/// How much more a route pays per unit length across a gap in the data (outside the valid
+/// region), times 1 + kRoutePenalty·(d/r)², than on a sample: only where the valid region does
+/// not join two keys (RouteOptions::cross_gaps).
+inline constexpr double kGapPenalty = 1000.0;
+/// Default grid: cells along the longer side, at most and at least.
+inline constexpr int kMinGridCells = 20;
+inline constexpr int kMaxGridCells = 200;
+/// Most cells along the longer side that RouteOptions::grid may ask for.
+inline constexpr int kMaxGridOption = 2000;
+
+struct RouteOptions {
+  /// Cells along the longer side of the grid; 0 = from the map's density (see the top).
+  int grid = 0;
+  /// String pulling and Chaikin smoothing of the grid route.
+  bool smooth = true;
+  /// Where the valid region does not join the two ends (a clip whose consecutive frames lie
+  /// farther apart on the map than the reach: a golf swing's downswing), cross the gap where it
+  /// costs least (cells outside at kGapPenalty × their cost) instead of failing; the frames
+  /// there are outside the data (the blender clamps them, and says so).
+  bool cross_gaps = true;
+
+  /// @throws ParameterError naming `grid`, its value and the valid range ({0} ∪ [2, 2000]).
+  void validate() const;
+};
+
+/// Distances from map points to the samples of a map, and the validity and cost they give.
+/// Immutable; its const member functions are thread-safe.
+class MapField {
+ public:
+  /// The samples of `blender`'s map (sample_point()) and its reach_distance().
+  explicit MapField(const MapBlender& blender);
+  /// `points`: the samples' map points (≥ 1, finite); `reach_distance` > 0.
+  /// @throws ParameterError otherwise.
+  MapField(std::vector<Eigen::Vector2d> points, double reach_distance);
+  ~MapField();
+  MapField(MapField&&) noexcept;
+  MapField& operator=(MapField&&) noexcept;
+
+  double reach_distance() const { return m_reach; }
+  /// The samples' bounding box.
+  const Eigen::Vector2d& min() const { return m_min; }
+  const Eigen::Vector2d& max() const { return m_max; }
+  int num_samples() const;
+  const Eigen::Vector2d& sample(int i) const;
+
+  /// Distance from p to the nearest sample, and which it is.
+  double distance(const Eigen::Vector2d& p, int* nearest = nullptr) const;
+  /// The k nearest samples (nearest first; fewer when the map has fewer): indices out.
+  int nearest(const Eigen::Vector2d& p, int k, std::vector<int>& indices) const;
+  /// distance(p) ≤ reach_distance(): where MapBlender::locate() does not clamp.
+  bool valid(const Eigen::Vector2d& p) const;
+  /// c(p) = 1 + kRoutePenalty·(d/r)², +∞ outside the valid region.
+  double cost(const Eigen::Vector2d& p) const;
+  /// Whether every point of the straight segment a–b is valid (shown with the distance's
+  /// Lipschitz bound, halving the segment where needed; a segment that touches the edge of the
+  /// valid region may be called invalid).
+  bool segment_valid(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
+  /// ∫ c ds along the segment a–b (midpoint rule, steps of at most r/8); +∞ if it leaves the
+  /// valid region.
+  double segment_cost(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
+
+ private:
+  bool interval_valid(const Eigen::Vector2d& p, double dp, const Eigen::Vector2d& q, double dq,
+                      int depth) const;
+
+  struct Tree;
+  std::unique_ptr<Tree> m_tree;
+  double m_reach = 0.0;
+  Eigen::Vector2d m_min = Eigen::Vector2d::Zero(), m_max = Eigen::Vector2d::Zero();
+};
+
+/// The grid a route is found on (see the top of the file).
+struct RouteGrid {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< corner of cell (0, 0)
+  double cell = 0.0;                                 ///< side of a cell, map units
+  int nx = 0, ny = 0;                                ///< cells along x and y
+  /// Per cell (index y·nx + x): the cost c of its node, +∞ when impassable.
+  std::vector<double> cost;
+  /// Per cell: its cost, or for an impassable cell kGapPenalty·(1 + kRoutePenalty·(d/r)²) at its
+  /// centre (RouteOptions::cross_gaps).
+  std::vector<double> gap_cost;
+  /// Per cell: the point a route passes through in it (its centre, or pulled into the data).
+  std::vector<Eigen::Vector2d> node;
+
+  int index(int x, int y) const { return y * nx + x; }
+  /// The cell holding p (clamped to the grid).
+  int cell_of(const Eigen::Vector2d& p) const;
+  bool passable(int c) const;
+};
+
+/// The grid over `field`'s samples with `options.grid` cells along its longer side (0: from the
+/// density). @throws ParameterError for bad options.
+RouteGrid make_grid(const MapField& field, const RouteOptions& options = {});
+
+/// The cheapest route from a to b (first point exactly a, last exactly b; smoothed when
+/// options.smooth), through the valid region except for the straight stretches joining a key
+/// outside it to the nearest passable cell.
+/// Where the valid region does not join a and b, the route crosses the cheapest gap
+/// (options.cross_gaps) or the call fails.
+/// @throws ParameterError if a or b is not finite, or no route joins them (the valid region is
+///         cut between them and cross_gaps is false: the message says so and suggests a larger
+///         reach).
+std::vector<Eigen::Vector2d> find_route(const MapField& field, const RouteGrid& grid,
+                                        const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                        const RouteOptions& options = {});
+
+/// Length of a polyline.
+double polyline_length(std::span<const Eigen::Vector2d> points);
+
+}  // namespace motionmap::synth

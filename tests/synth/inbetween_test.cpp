@@ -1,0 +1,339 @@
+#include "motionmap/synth/inbetween.h"
+
+#include <cmath>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/features/point_cloud.h"
+#include "motionmap/io/load.h"
+#include "motionmap/mapfile/map_file.h"
+#include "motionmap/pipeline/clip_map.h"
+#include "support/error_message.h"
+#include "support/test_data.h"
+#include "synth/synth_fixtures.h"
+
+namespace motionmap::synth {
+namespace {
+
+using test::all_frames;
+using test::curve_map;
+using test::walking_clip;
+
+// Options with `n` frames between keys (−1: not given).
+InbetweenOptions between(int n) {
+  InbetweenOptions options;
+  options.frames_between = n;
+  return options;
+}
+
+std::string parameter_message(const std::function<void()>& f) {
+  return motionmap::test::error_message<ParameterError>(f);
+}
+
+// The output frame `k` is the key's pose, root included: joint rotations to `tol` radians, the
+// root's floor position and height to `tol` relative to its distance from the origin, its heading
+// to `tol` radians.
+void expect_key_hit(const MapBlender& blender, const Motion& out, int k, const Key& key,
+                    double tol = 1e-9) {
+  SCOPED_TRACE(testing::Message() << "frame " << k << " key " << key.label);
+  const int root = blender.motion_root();
+  const Axis up = blender.options().up;
+  for (int j = 0; j < out.num_joints; ++j) {
+    EXPECT_LE(rotation_angle(out.rotation(k, j), key.pose.rotation(0, j)), tol) << "joint " << j;
+  }
+  const Eigen::Vector3d want = key.pose.translation(0, root), got = out.translation(k, root);
+  EXPECT_LE((got - want).norm(), tol * std::max(1.0, want.norm()))
+      << got.transpose() << " vs " << want.transpose();
+  const RootPlacement a = root_placement(out, k, root, up);
+  const RootPlacement b = root_placement(key.pose, 0, root, up);
+  EXPECT_LE(std::abs(wrap_angle(a.heading - b.heading)), tol);
+}
+
+struct Synthetic {
+  Clip clip = walking_clip(120);
+  Eigen::MatrixXd map = curve_map(120);
+  features::FeatureSet set = all_frames(120);
+  MapBlender blender{std::span<const Clip>(&clip, 1), set, map};
+
+  Key key(int frame, std::optional<double> time = std::nullopt) const {
+    Key k = sample_key(blender, frame, clip.motion, frame);
+    k.label = "walking.bvh:" + std::to_string(frame);
+    k.time = time;
+    return k;
+  }
+};
+
+TEST(SynthInbetween, FramesBetweenPutsTheKeysWhereAskedAndHitsThemExactly) {
+  const Synthetic s;
+  const std::vector<Key> keys{s.key(10), s.key(60), s.key(100)};
+  const InbetweenResult r = inbetween(s.blender, s.set, keys, between(24));
+  ASSERT_EQ(r.motion.num_frames, 51);
+  EXPECT_EQ(r.key_frames, (std::vector<int>{0, 25, 50}));
+  EXPECT_EQ(r.motion.frame_time, s.clip.motion.frame_time);
+  ASSERT_EQ(r.routes.size(), 2u);
+  ASSERT_EQ(r.points.size(), 51u);
+  ASSERT_EQ(r.validity.size(), 51u);
+  EXPECT_EQ(r.outside_frames, 0);
+  for (int i = 0; i < 3; ++i) {
+    // The key's own world placement, as in the clip: root position and heading included.
+    expect_key_hit(s.blender, r.motion, r.key_frames[i], keys[i]);
+    EXPECT_EQ(r.points[r.key_frames[i]], keys[i].point);
+  }
+  EXPECT_EQ(r.routes[0].front(), keys[0].point);
+  EXPECT_EQ(r.routes[0].back(), keys[1].point);
+  const MapField field(s.blender);
+  for (const auto& p : r.points) EXPECT_TRUE(field.valid(p)) << p.transpose();
+}
+
+TEST(SynthInbetween, KeysOnTheClipsOwnTrajectoryReproduceItsFrames) {
+  // Consecutive frames as keys with no frame between: every output frame is a clip frame, in its
+  // own world placement.
+  const Synthetic s;
+  std::vector<Key> keys;
+  for (int f = 30; f <= 40; ++f) keys.push_back(s.key(f));
+  const InbetweenResult r = inbetween(s.blender, s.set, keys, between(0));
+  ASSERT_EQ(r.motion.num_frames, 11);
+  for (int k = 0; k < 11; ++k) expect_key_hit(s.blender, r.motion, k, keys[k]);
+}
+
+TEST(SynthInbetween, TimesAndTheSamplesOwnSpeedSetTheFrames) {
+  const Synthetic s;
+  const double dt = s.clip.motion.frame_time;
+  // Times: the nearest frames.
+  {
+    const std::vector<Key> keys{s.key(10, 1.0), s.key(60, 1.0 + 31.2 * dt), s.key(90, 3.0)};
+    const InbetweenResult r = inbetween(s.blender, s.set, keys);
+    EXPECT_EQ(r.key_frames, (std::vector<int>{0, 31, 60}));
+    ASSERT_EQ(r.motion.num_frames, 61);
+    for (int i = 0; i < 3; ++i) expect_key_hit(s.blender, r.motion, r.key_frames[i], keys[i]);
+  }
+  // Neither: the samples' own speed along the route. The route follows the map's curve, whose
+  // samples are a frame apart, so 10 → 60 takes about 50 frames.
+  {
+    const std::vector<Key> keys{s.key(10), s.key(60)};
+    const InbetweenResult r = inbetween(s.blender, s.set, keys);
+    ASSERT_EQ(r.key_frames.size(), 2u);
+    EXPECT_NEAR(r.key_frames[1], 50, 8);
+    EXPECT_EQ(r.motion.num_frames, r.key_frames[1] + 1);
+    for (int i = 0; i < 2; ++i) expect_key_hit(s.blender, r.motion, r.key_frames[i], keys[i]);
+  }
+}
+
+TEST(SynthInbetween, AKeyPoseOffTheMapIsHitThroughTheDisplacementMap) {
+  // A key whose pose is not the blend at its point (an arm raised, the body lifted, turned and
+  // moved): hit exactly, and the change fades out towards the neighbouring keys.
+  const Synthetic s;
+  std::vector<Key> keys{s.key(10), s.key(50), s.key(90)};
+  Key& middle = keys[1];
+  middle.pose.rotation(0, 3) = axis_rotation(Axis::X, 0.7) * middle.pose.rotation(0, 3);
+  middle.pose.rotation(0, 0) = axis_rotation(Axis::Y, 0.5) * middle.pose.rotation(0, 0);
+  middle.pose.translation(0, 0) += Eigen::Vector3d(40, 5, -20);
+  const InbetweenResult r = inbetween(s.blender, s.set, keys, between(19));
+  ASSERT_EQ(r.motion.num_frames, 41);
+  for (int i = 0; i < 3; ++i) expect_key_hit(s.blender, r.motion, r.key_frames[i], keys[i]);
+  // Half-way to the next key, about half the arm's change is left.
+  const InbetweenResult plain =
+      inbetween(s.blender, s.set, std::vector<Key>{s.key(10), s.key(50), s.key(90)}, between(19));
+  const double half = rotation_angle(r.motion.rotation(30, 3), plain.motion.rotation(30, 3));
+  EXPECT_NEAR(half, 0.35, 0.05);
+  // The root moves smoothly: no step between frames larger than a few times the clip's own.
+  const int root = s.blender.motion_root();
+  double worst = 0.0;
+  for (int k = 1; k < r.motion.num_frames; ++k)
+    worst =
+        std::max(worst, (r.motion.translation(k, root) - r.motion.translation(k - 1, root)).norm());
+  EXPECT_LT(worst, 4.0 * 30.0 * s.clip.motion.frame_time + 40.0 / 20);
+}
+
+TEST(SynthInbetween, MapPointKeysTakeTheBlendAndLeaveTheRootFree) {
+  const Synthetic s;
+  Key a, b;
+  a.point = s.blender.sample_point(20);
+  a.label = "a";
+  b.point = s.blender.sample_point(70);
+  b.label = "b";
+  const InbetweenResult r = inbetween(s.blender, s.set, std::vector<Key>{a, b}, between(9));
+  ASSERT_EQ(r.motion.num_frames, 11);
+  // The blend at the keys' points: the samples' poses (non-root joints).
+  for (int j = 1; j < 5; ++j) {
+    EXPECT_LE(rotation_angle(r.motion.rotation(0, j), s.clip.motion.rotation(20, j)), 1e-9);
+    EXPECT_LE(rotation_angle(r.motion.rotation(10, j), s.clip.motion.rotation(70, j)), 1e-9);
+  }
+  // Free root: starts at the origin, heading 0, as synthesize() does.
+  EXPECT_LE(std::abs(r.motion.translation(0, 0).x()), 1e-12);
+  EXPECT_LE(std::abs(features::heading_angle(r.motion.rotation(0, 0))), 1e-12);
+  // Mixed with a key with a pose: its placement rules the whole root.
+  const Key c = s.key(90);
+  const InbetweenResult m = inbetween(s.blender, s.set, std::vector<Key>{a, c}, between(9));
+  expect_key_hit(s.blender, m.motion, 10, c);
+}
+
+TEST(SynthInbetween, BadKeysAndOptions) {
+  const Synthetic s;
+  EXPECT_EQ(parameter_message([&] { inbetween(s.blender, s.set, std::vector<Key>{s.key(1)}); }),
+            "keys: 1 given; in-betweening needs at least 2");
+  EXPECT_EQ(parameter_message([&] {
+              inbetween(s.blender, s.set, std::vector<Key>{s.key(1, 0.0), s.key(5)});
+            }),
+            "keys: 1 of 2 keys have a time; give a time to every key or to none");
+  EXPECT_EQ(
+      parameter_message([&] {
+        inbetween(s.blender, s.set, std::vector<Key>{s.key(1, 0.0), s.key(5, 1.0)}, between(3));
+      }),
+      "frames_between: the keys have times; give either times or frames between keys");
+  EXPECT_EQ(parameter_message([&] {
+              inbetween(s.blender, s.set, std::vector<Key>{s.key(1, 0.0), s.key(5, 0.01)});
+            }),
+            "key 1 (walking.bvh:5): its time 0.01 s is not at least a frame (0.0333333 s) after "
+            "the previous key's 0 s");
+  EXPECT_EQ(parameter_message([&] {
+              inbetween(s.blender, s.set, std::vector<Key>{s.key(1), s.key(5)}, between(-2));
+            }),
+            "frames_between: -2 is out of range (must be in [0, 100000], or −1 = not given)");
+  Key wrong = s.key(5);
+  wrong.pose.resize(1, 3);
+  EXPECT_EQ(parameter_message([&] {
+              inbetween(s.blender, s.set, std::vector<Key>{s.key(1), wrong});
+            }),
+            "key 1 (walking.bvh:5): its pose has 1 frames of 3 joints; a key pose is one frame of "
+            "the map's 5 joints");
+  Key nan = s.key(5);
+  nan.point.x() = NAN;
+  EXPECT_EQ(parameter_message([&] {
+              inbetween(s.blender, s.set, std::vector<Key>{s.key(1), nan});
+            }),
+            "key 1 (walking.bvh:5): its map point is not finite");
+  EXPECT_THROW(sample_key(s.blender, 120, s.clip.motion, 5), ParameterError);
+  EXPECT_THROW(sample_key(s.blender, 5, s.clip.motion, 120), ParameterError);
+}
+
+// ---- real motion capture --------------------------------------------------------------------
+
+// Bandai walks and runs mapped together (isomap, every other frame); walk_feminine is kept out
+// of the map.
+struct Library {
+  std::vector<Clip> clips;
+  pipeline::ClipMapOptions options;
+  std::shared_ptr<const features::FeatureSet> set;
+  Eigen::MatrixXd coords;
+  std::unique_ptr<MapBlender> blender;
+  mapfile::MapFile file;
+
+  static std::string path(const std::string& name) {
+    return motionmap::test::shared_file("bandai/dataset-1_" + name + "_001.bvh");
+  }
+  Library() {
+    for (const char* name : {"walk_angry", "walk_old", "walk_proud", "run_angry", "run_old"})
+      clips.push_back(io::load_clip(path(name)));
+    options.features.stride = 2;
+    options.embed.method = embed::Method::Isomap;
+    pipeline::ClipMap map = pipeline::map_clips(clips, options);
+    set = map.features;
+    coords = map.embedding.coordinates;
+    blender = std::make_unique<MapBlender>(clips, *set, coords);
+    file = mapfile::make_map_file(clips, std::move(map), options);
+  }
+  // Frame `frame` of `clip` as a key: its sample's point when it is one, else placed on the map
+  // as `map --onto` places frames.
+  Key key(const Clip& clip, int clip_index, int frame) const {
+    Key k;
+    const int sample = clip_index < 0 ? -1 : find_sample(*set, clip_index, frame);
+    if (sample >= 0) {
+      k = sample_key(*blender, sample, clip.motion, frame);
+    } else {
+      const mapfile::Placement placed = mapfile::place_clips(
+          std::span<const Clip>(&clip, 1), file,
+          {.first_frame = frame, .end_frame = frame + 1, .stride = 1, .keep_first = true});
+      k.point = Eigen::Vector2d(placed.coordinates(0, 0), placed.coordinates(0, 1));
+      k.pose.frame_time = clip.motion.frame_time;
+      k.pose.resize(1, clip.motion.num_joints);
+      for (int j = 0; j < clip.motion.num_joints; ++j) {
+        k.pose.rotation(0, j) = clip.motion.rotation(frame, j);
+        k.pose.translation(0, j) = clip.motion.translation(frame, j);
+      }
+    }
+    k.label = clip.path + ":" + std::to_string(frame);
+    return k;
+  }
+};
+
+class SynthInbetweenBandai : public testing::Test {
+ protected:
+  void SetUp() override {
+    for (const char* name :
+         {"walk_angry", "walk_old", "walk_proud", "run_angry", "run_old", "walk_feminine"}) {
+      if (!std::filesystem::exists(Library::path(name)))
+        GTEST_SKIP() << "shared data file absent: " << Library::path(name);
+    }
+    static const Library library;
+    lib = &library;
+  }
+  const Library* lib = nullptr;
+};
+
+TEST_F(SynthInbetweenBandai, RoutesStayInTheDataAndKeysAreHitExactly) {
+  const Library& L = *lib;
+  // A walk frame that is a sample, one that is not (odd: placed), a run frame, another walk.
+  const std::vector<Key> keys{L.key(L.clips[0], 0, 20), L.key(L.clips[1], 1, 101),
+                              L.key(L.clips[3], 3, 40), L.key(L.clips[2], 2, 200)};
+  EXPECT_GE(find_sample(*L.set, 0, 20), 0);
+  EXPECT_LT(find_sample(*L.set, 1, 101), 0);
+  for (const int n : {-1, 0, 30}) {
+    SCOPED_TRACE(testing::Message() << "frames between " << n);
+    const InbetweenResult r = inbetween(*L.blender, *L.set, keys, between(n));
+    const MapField field(*L.blender);
+    for (std::size_t k = 0; k < r.points.size(); ++k) {
+      EXPECT_TRUE(field.valid(r.points[k])) << k;
+      EXPECT_FALSE(r.validity[k].clamped) << k;
+    }
+    EXPECT_EQ(r.outside_frames, 0);
+    for (const auto& route : r.routes) {
+      for (std::size_t i = 1; i < route.size(); ++i)
+        EXPECT_TRUE(field.segment_valid(route[i - 1], route[i]));
+    }
+    for (int i = 0; i < 4; ++i) expect_key_hit(*L.blender, r.motion, r.key_frames[i], keys[i]);
+    if (n >= 0) {
+      EXPECT_EQ(r.motion.num_frames, 3 * (n + 1) + 1);
+    }
+    for (const auto& q : r.motion.rotations) ASSERT_TRUE(q.coeffs().allFinite());
+  }
+}
+
+TEST_F(SynthInbetweenBandai, AKeyFromAClipNotInTheMapIsPlacedAndReproduced) {
+  const Library& L = *lib;
+  const Clip held_out = io::load_clip(Library::path("walk_feminine"));
+  const std::vector<Key> keys{L.key(L.clips[0], 0, 30), L.key(held_out, -1, 120),
+                              L.key(L.clips[2], 2, 150)};
+  const InbetweenResult r = inbetween(*L.blender, *L.set, keys, between(20));
+  for (int i = 0; i < 3; ++i) expect_key_hit(*L.blender, r.motion, r.key_frames[i], keys[i]);
+  // The held-out frame's blend at its placed point is not its own pose: the displacement map
+  // does the rest, so the frames next to it are near it.
+  const Motion blend = L.blender->pose_at(keys[1].point);
+  double moved = 0.0;
+  for (int j = 0; j < blend.num_joints; ++j) {
+    if (j == L.blender->motion_root()) continue;
+    moved = std::max(moved, rotation_angle(blend.rotation(0, j), keys[1].pose.rotation(0, j)));
+  }
+  EXPECT_GT(moved, 1e-3);
+  const int k = r.key_frames[1];
+  double step = 0.0;
+  for (int j = 0; j < r.motion.num_joints; ++j)
+    step = std::max(step, rotation_angle(r.motion.rotation(k + 1, j), r.motion.rotation(k, j)));
+  EXPECT_LT(step, 0.3);
+}
+
+TEST_F(SynthInbetweenBandai, AKeyOnItsOwnTrajectoryReproducesTheClip) {
+  // Consecutive samples of a clip as keys, no frame between: the clip's frames, where they stood.
+  const Library& L = *lib;
+  std::vector<Key> keys;
+  for (int f = 40; f <= 60; f += 2) keys.push_back(L.key(L.clips[1], 1, f));
+  const InbetweenResult r = inbetween(*L.blender, *L.set, keys, between(0));
+  ASSERT_EQ(r.motion.num_frames, static_cast<int>(keys.size()));
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    expect_key_hit(*L.blender, r.motion, static_cast<int>(i), keys[i]);
+}
+
+}  // namespace
+}  // namespace motionmap::synth

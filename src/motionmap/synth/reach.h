@@ -7,7 +7,7 @@
 //   motionmap::synth::Reacher reacher(blender);                 // each sample's joints, once
 //   motionmap::synth::ReachGoal goal;
 //   goal.joint = motionmap::synth::find_joint(blender.skeleton(), "LeftHand");
-//   goal.target = {20.0, 95.0, 30.0};                           // in the pose's frame (placement)
+//   goal.target = Eigen::Vector3d(20, 95, 30);                  // in the pose's frame (placement)
 //   goal.pins.push_back({right_foot, foot_position, 1.0});
 //   auto r = reacher.reach(goal);     // r.point, r.pose (one frame), r.error, r.error_fraction
 //   goal.start = r.point;             // a drag: the next step starts from this one's answer

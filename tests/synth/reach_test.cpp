@@ -286,6 +286,20 @@ TEST(SynthReach, BadJointNamesTargetsAndOptionsAreClearErrors) {
   }
 }
 
+TEST(SynthReach, SetUpAndSearchAreCancellable) {
+  const Clip clip = test::walking_clip(60, 30.0);
+  const MapBlender blender(std::span<const Clip>(&clip, 1), test::all_frames(60),
+                           test::curve_map(60));
+  const Control cancel({}, [] { return true; });
+  EXPECT_THROW(Reacher(blender, cancel), Cancelled);
+  const Reacher reacher(blender);
+  ReachGoal goal;
+  goal.joint = 2;
+  goal.target = Eigen::Vector3d(0.0, 100.0, 0.0);
+  EXPECT_THROW(reacher.reach(goal, {}, cancel), Cancelled);
+  EXPECT_NO_THROW(reacher.reach(goal));
+}
+
 // A drag on a synthetic map: targets are poses blended at points along the map, so each is
 // reachable exactly; every step starts from the previous answer and moves the map point along.
 TEST(SynthReach, WarmStartedDragFollowsTheTarget) {

@@ -17,6 +17,7 @@ void setup_figure(CLI::App& app);
 void setup_pose(CLI::App& app);
 void setup_synth(CLI::App& app);
 void setup_inbetween(CLI::App& app);
+void setup_reach(CLI::App& app);
 
 /// Escapes a string for a JSON string literal (without the quotes).
 std::string json_escape(const std::string& s);

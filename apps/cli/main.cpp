@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   motionmap::cli::setup_pose(app);
   motionmap::cli::setup_synth(app);
   motionmap::cli::setup_inbetween(app);
+  motionmap::cli::setup_reach(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,330 @@
+// `motionmap reach FILE… --joint LeftHand --to x,y,z [--pin RightFoot] -o pose.bvh`: the valid map
+// point whose blended pose brings a joint closest to a target (synth/reach.h), written as a
+// one-frame BVH; prints the remaining error and the map point. The map as for `pose`: computed
+// from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "map_options.h"
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/features/joint_match.h"
+#include "motionmap/io/bvh.h"
+#include "motionmap/mapfile/saved_map.h"
+#include "motionmap/pipeline/map_csv.h"
+#include "motionmap/skeleton/forward_kinematics.h"
+#include "motionmap/synth/reach.h"
+
+namespace motionmap::cli {
+
+namespace {
+
+struct ReachCommand {
+  CLI::App* sub = nullptr;
+  MapCliOptions map;
+  std::string map_path;
+  synth::BlendMode blend = synth::BlendMode::Local;
+  int neighbors = 12;
+  double reach = 3.0;
+  std::string output;
+  std::string joint;
+  std::string to;
+  std::vector<std::string> pins;
+  double pin_weight = 1.0;
+  std::string from;
+  int evaluations = synth::ReachOptions{}.max_evaluations;
+  bool json = false;
+};
+
+// The options a saved map fixes, as for `pose` and `synth` (apps/cli/synthesis.cpp).
+constexpr const char* kFixedBySavedMap[] = {
+    "files",        "--asf",    "--amc-fps",     "--method",     "--dims",     "-k",
+    "--heat",       "--reg",    "--standardize", "--strict",     "--features", "--distance",
+    "--exclude",    "--frames", "--stride",      "--keep-first", "--up",       "--recursive",
+    "--keep-going", "--joints", "--exact",       "--landmarks"};
+
+/// `count` finite numbers separated by commas, or nothing.
+template <int count>
+std::optional<Eigen::Matrix<double, count, 1>> parse_numbers(const std::string& text) {
+  Eigen::Matrix<double, count, 1> v;
+  std::size_t begin = 0;
+  for (int k = 0; k < count; ++k) {
+    const std::size_t comma = k + 1 < count ? text.find(',', begin) : text.size();
+    if (comma == std::string::npos) return std::nullopt;
+    const std::string_view part = std::string_view(text).substr(begin, comma - begin);
+    const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), v[k]);
+    if (part.empty() || ec != std::errc() || ptr != part.data() + part.size() ||
+        !std::isfinite(v[k]))
+      return std::nullopt;
+    begin = comma + 1;
+  }
+  return v;
+}
+
+Eigen::Vector3d parse_position(const std::string& option, const std::string& text) {
+  const auto v = parse_numbers<3>(text);
+  if (!v) {
+    throw CLI::ValidationError(option, "'" + text +
+                                           "' is not a position x,y,z of three finite numbers "
+                                           "(write " +
+                                           option + "=x,y,z when x is negative)");
+  }
+  return *v;
+}
+
+std::string approx(double v) {
+  return format_number(v, 4);
+}
+
+std::string json_number(double v) {
+  return std::isfinite(v) ? format_number(v) : "null";
+}
+
+template <class Vector>
+std::string json_array(const Vector& v) {
+  std::string out = "[";
+  for (int k = 0; k < v.size(); ++k) out += (k ? "," : "") + json_number(v[k]);
+  return out + "]";
+}
+
+template <class Vector>
+std::string text_point(const Vector& v) {
+  std::string out;
+  for (int k = 0; k < v.size(); ++k) out += (k ? ", " : "") + approx(v[k]);
+  return out;
+}
+
+void check_one_skeleton(const std::vector<Clip>& clips, const std::string& where) {
+  for (const Clip& clip : clips) {
+    if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
+      throw Error(where + clip.path + ": its joint hierarchy differs from " + clips.front().path +
+                  "'s (" + why +
+                  "); reach blends clips of one skeleton (a --joints common map holds clips of "
+                  "several, but cannot blend them)");
+  }
+}
+
+/// The blender over a saved map or over the clips, as `pose` makes it (apps/cli/synthesis.cpp):
+/// the same map, options and blend. `clip_paths` receives the clips' paths.
+synth::MapBlender prepare(const ReachCommand& cmd, std::vector<std::string>& clip_paths,
+                          features::FeatureSet& samples) {
+  synth::BlendOptions blend;
+  blend.mode = cmd.blend;
+  blend.neighbors = cmd.neighbors;
+  blend.reach = cmd.reach;
+  if (!cmd.map_path.empty() && mapfile::looks_like_map_file(cmd.map_path)) {
+    for (const char* name : kFixedBySavedMap) {
+      const CLI::Option* option = cmd.sub->get_option_no_throw(name);
+      if (option && option->count() > 0) {
+        throw CLI::ValidationError(
+            option->get_name(),
+            "the saved map " + cmd.map_path + " fixes its clips, features, method and frames: " +
+                (std::string(name) == "files" ? "give no FILE with --map " + cmd.map_path
+                                              : "leave " + option->get_name() + " out"));
+      }
+    }
+    mapfile::MapFile file = mapfile::read_map_file(cmd.map_path, {.model = false});
+    if (!cmd.map.quiet) {
+      for (const std::string& note : file.read_notes) std::cerr << "note: " << note << '\n';
+    }
+    for (const mapfile::ClipRecord& record : file.clips) clip_paths.push_back(record.path);
+    blend.up = file.options.features.up;
+    const auto saved = std::make_shared<const mapfile::SavedMap>(std::move(file));
+    samples = saved->samples();
+    if (blend.mode != synth::BlendMode::Kriging)
+      return mapfile::make_blender(saved, blend, progress_line(cmd.map, "blend"));
+    const std::vector<Clip> clips = saved->load_all_clips();
+    check_one_skeleton(clips, cmd.map_path + ": ");
+    return synth::MapBlender(clips, samples, saved->file().coordinates, blend,
+                             progress_line(cmd.map, "blend"));
+  }
+  if (cmd.map.files.empty()) {
+    throw CLI::ValidationError("files",
+                               "give the clips (FILE…), or a saved map with --map lib.mmap.h5");
+  }
+  const std::vector<Clip> clips = load_inputs(cmd.map);
+  for (const Clip& clip : clips) clip_paths.push_back(clip.path);
+  check_one_skeleton(clips, "");
+  const pipeline::ClipMapOptions options =
+      clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
+  blend.up = options.features.up;
+  Eigen::MatrixXd coords;
+  if (!cmd.map_path.empty()) {
+    const pipeline::MapTable table = pipeline::read_map_csv(cmd.map_path);
+    samples = features::select_samples(clips, options.features);
+    for (const auto& n : samples.notes) std::cerr << "note: " << n << '\n';
+    table.check_matches(samples);
+    coords = table.coords;
+  } else {
+    pipeline::ClipMap map = pipeline::map_clips(
+        clips, options, progress_line(cmd.map, embed::method_name(cmd.map.method)));
+    print_diagnostics(map);
+    samples = *map.features;
+    coords = std::move(map.embedding.coordinates);
+  }
+  return synth::MapBlender(clips, samples, coords, blend, progress_line(cmd.map, "blend"));
+}
+
+/// find_joint(), its error a usage error of `option`.
+int joint_named(const Skeleton& skeleton, const std::string& option, const std::string& name) {
+  try {
+    return synth::find_joint(skeleton, name);
+  } catch (const ParameterError& e) {
+    throw CLI::ValidationError(option, e.what());
+  }
+}
+
+}  // namespace
+
+void setup_reach(CLI::App& app) {
+  auto cmd = std::make_shared<ReachCommand>();
+  auto* sub = app.add_subcommand(
+      "reach",
+      "Pose by dragging a joint: find the point of the clips' map whose blended pose brings\n"
+      "--joint closest to the position --to (among the map's valid points: every pose is a\n"
+      "blend of real frames), write that pose as a one-frame BVH and print the remaining error\n"
+      "and the map point. Positions are in the frame of `motionmap pose`'s poses: the root at the\n"
+      "floor origin facing the heading-0 direction (+Z for Y-up files).\n"
+      "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
+  cmd->sub = sub;
+  add_map_options(sub, cmd->map, MapOptionsFor::Synthesis);
+  sub->get_option("files")->required(false);
+  sub->add_option(
+         "--map", cmd->map_path,
+         "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips are loaded "
+         "from the paths it records and checked against their SHA-256; or a map CSV from "
+         "`motionmap map` on the same files and options")
+      ->check(CLI::ExistingFile);
+  sub->add_option("--blend", cmd->blend,
+                  "Weights of the samples around a map point: local (default), kriging or idw")
+      ->transform(CLI::CheckedTransformer(choices(synth::all_blend_modes(), synth::blend_mode_name),
+                                          CLI::ignore_case));
+  sub->add_option("--neighbors", cmd->neighbors,
+                  "K: samples per local kriging system, or blended by idw (default 12)");
+  sub->add_option("--reach", cmd->reach,
+                  "Valid map points lie within reach × the median step between consecutive "
+                  "samples of a sample (default 3)");
+  sub->add_option("--joint", cmd->joint, "The joint to move, by name (e.g. LeftHand, Hand_L, Head)")
+      ->required();
+  sub->add_option("--to", cmd->to, "Its target position x,y,z (write --to=x,y,z when x < 0)")
+      ->required();
+  sub->add_option("--pin", cmd->pins,
+                  "NAME=x,y,z: a joint that should stay at x,y,z; NAME alone: where it is in the "
+                  "pose at --from. Repeatable")
+      ->expected(1)
+      ->take_all();
+  sub->add_option("--pin-weight", cmd->pin_weight,
+                  "Weight of each pin against the target's 1 (default 1)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--from", cmd->from,
+                  "The map point X,Y of the pose being dragged: the search starts there and "
+                  "prefers to stay near it (write --from=X,Y when X < 0)");
+  sub->add_option("--evaluations", cmd->evaluations,
+                  "Most pose evaluations the search spends (default 200)")
+      ->check(CLI::Range(8, 1000000));
+  sub->add_option("-o,--output", cmd->output, "BVH file to write")->required();
+  sub->add_flag("--json", cmd->json,
+                "Print the result as one JSON object on stdout instead of lines of text");
+  sub->callback([cmd] {
+    const Eigen::Vector3d target = parse_position("--to", cmd->to);
+    std::optional<Eigen::Vector2d> from;
+    if (!cmd->from.empty()) {
+      from = parse_numbers<2>(cmd->from);
+      if (!from) {
+        throw CLI::ValidationError("--from", "'" + cmd->from +
+                                                 "' is not a map point X,Y of two finite numbers "
+                                                 "(write --from=X,Y when X is negative)");
+      }
+    }
+    struct PinText {
+      std::string name;
+      std::optional<Eigen::Vector3d> position;
+    };
+    std::vector<PinText> pin_texts;
+    for (const std::string& text : cmd->pins) {
+      const std::size_t eq = text.find('=');
+      PinText pin{text.substr(0, eq), std::nullopt};
+      if (eq != std::string::npos) pin.position = parse_position("--pin", text.substr(eq + 1));
+      if (!pin.position && !from) {
+        throw CLI::ValidationError("--pin", "'" + text + "': give the position it keeps (--pin " +
+                                                pin.name +
+                                                "=x,y,z) or the pose it is kept from (--from X,Y)");
+      }
+      pin_texts.push_back(pin);
+    }
+
+    std::vector<std::string> clip_paths;
+    features::FeatureSet samples;
+    const synth::MapBlender blender = prepare(*cmd, clip_paths, samples);
+    const Skeleton& skeleton = blender.skeleton();
+    synth::ReachGoal goal;
+    goal.joint = joint_named(skeleton, "--joint", cmd->joint);
+    goal.target = target;
+    goal.start = from;
+    std::optional<WorldPose> from_pose;
+    if (from) from_pose = forward_kinematics(skeleton, blender.pose_at(*from), 0);
+    for (const PinText& pin : pin_texts) {
+      const int j = joint_named(skeleton, "--pin", pin.name);
+      goal.pins.push_back({j, pin.position ? *pin.position : from_pose->positions[std::size_t(j)],
+                           cmd->pin_weight});
+    }
+    synth::ReachOptions options;
+    options.max_evaluations = cmd->evaluations;
+    const synth::Reacher reacher(blender, progress_line(cmd->map, "reach"));
+    const synth::ReachResult r = reacher.reach(goal, options);
+    io::write_bvh(io::from_motion(skeleton, r.pose), cmd->output);
+
+    const int nearest = r.validity.nearest_sample;
+    const std::string nearest_clip = clip_paths[std::size_t(samples.clip_of[std::size_t(nearest)])];
+    const int nearest_frame = samples.frame_of[std::size_t(nearest)];
+    const double percent = 100.0 * r.error_fraction;
+    const std::string joint_name = skeleton.joints[std::size_t(goal.joint)].name;
+    if (cmd->json) {
+      std::string pins;
+      for (std::size_t k = 0; k < goal.pins.size(); ++k) {
+        pins += std::string(k ? "," : "") + "{\"joint\":\"" +
+                json_escape(skeleton.joints[std::size_t(goal.pins[k].joint)].name) +
+                "\",\"position\":" + json_array(goal.pins[k].position) +
+                ",\"weight\":" + json_number(goal.pins[k].weight) +
+                ",\"error\":" + json_number(r.pin_errors[k]) + "}";
+      }
+      std::cout << "{\"joint\":\"" << json_escape(joint_name)
+                << "\",\"target\":" << json_array(goal.target)
+                << ",\"reached\":" << json_array(r.reached) << ",\"error\":" << json_number(r.error)
+                << ",\"error_percent\":" << json_number(percent)
+                << ",\"height\":" << json_number(r.height) << ",\"point\":" << json_array(r.point)
+                << ",\"distance\":" << json_number(r.validity.distance)
+                << ",\"reach_distance\":" << json_number(blender.reach_distance())
+                << ",\"nearest_sample\":{\"clip\":\"" << json_escape(nearest_clip)
+                << "\",\"frame\":" << nearest_frame << "},\"pins\":[" << pins
+                << "],\"evaluations\":" << r.evaluations << ",\"output\":\""
+                << json_escape(cmd->output) << "\"}\n";
+    } else {
+      std::cout << "map point: " << format_number(r.point.x()) << "," << format_number(r.point.y())
+                << "\n";
+      std::cout << "error: " << approx(r.error) << " (" << approx(percent)
+                << " % of the body's height " << approx(r.height) << "): " << joint_name << " at "
+                << text_point(r.reached) << ", target " << text_point(goal.target) << "\n";
+      for (std::size_t k = 0; k < goal.pins.size(); ++k) {
+        std::cout << "pin " << skeleton.joints[std::size_t(goal.pins[k].joint)].name << ": "
+                  << approx(r.pin_errors[k]) << " from " << text_point(goal.pins[k].position)
+                  << "\n";
+      }
+    }
+    if (!cmd->map.quiet) {
+      std::cerr << "wrote " << cmd->output << ": 1 frame; nearest sample: " << nearest_clip
+                << " frame " << nearest_frame << " at " << approx(r.validity.distance) << " (reach "
+                << approx(blender.reach_distance()) << "), " << r.evaluations
+                << " poses evaluated\n";
+    }
+  });
+}
+
+}  // namespace motionmap::cli

@@ -6,6 +6,8 @@
 #include <QDragEnterEvent>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QInputDialog>
+#include <QLineEdit>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -21,6 +23,7 @@
 #include "app/job_progress.h"
 #include "app/menus.h"
 #include "app/parameter_dialogs.h"
+#include "map/joint_drag.h"
 #include "map/map_gestures.h"
 #include "map/map_source.h"
 #include "map/map_view.h"
@@ -31,6 +34,7 @@
 #include "scene/camera_menu.h"
 #include "scene/joint_panel.h"
 #include "scene/skeleton_view.h"
+#include "takes/keys_controller.h"
 #include "takes/takes_panel.h"
 
 namespace motionmap::studio {
@@ -80,8 +84,21 @@ void MainWindow::buildUi() {
   useSource(m_computed);
   connect(m_gestures, &MapGestures::frameClicked, this, &MainWindow::setCurrentClip);
   connect(m_gestures, &MapGestures::failed, this, &MainWindow::showError);
+  m_jointDrag = new JointDrag(&m_maps, m_mapView, m_skeletonView, &m_playback, this);
+  m_jointDrag->setAvailable(true);
+  connect(m_jointDrag, &JointDrag::failed, this, &MainWindow::showError);
+  connect(m_jointDrag, &JointDrag::reached, this,
+          [this](const QString& summary) { m_status->setText(summary); });
   connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
   connect(m_mapView, &MapView::controlPointMoved, this, &MainWindow::moveControlPoint);
+  m_keys = new KeysController(&m_maps, m_mapView, m_takes, &m_synthesis,
+                              [this] { return synthParameters(); }, this);
+  connect(m_mapView, &MapView::keyClicked, this, &MainWindow::placeKey);
+  connect(m_keys, &KeysController::failed, this, &MainWindow::showError);
+  connect(m_keys, &KeysController::started, this, [this] {
+    m_synthProgress->start();
+    updateStatus();
+  });
   connect(m_takes, &TakesController::changed, this, &MainWindow::updateTakePaths);
   connect(&m_takes->list(), &TakeList::currentMotionChanged, this, &MainWindow::playCurrentTake);
   connect(m_takesPanel, &TakesPanel::exportRequested, this, &MainWindow::exportTake);
@@ -114,6 +131,7 @@ void MainWindow::buildMenus() {
   connect(m_motionMenu, &MotionMenu::methodChosen, this, &MainWindow::setMethod);
   connect(m_motionMenu, &MotionMenu::parametersRequested, this, &MainWindow::parametersDialog);
   connect(m_motionMenu, &MotionMenu::synthesisRequested, this, &MainWindow::synthesisDialog);
+  connect(m_motionMenu, &MotionMenu::retimeKeysRequested, this, &MainWindow::retimeKeysDialog);
   connect(m_motionMenu, &MotionMenu::showClipRequested, this, [this] {
     if (m_playingSynth) setCurrentClip(currentClip(), 0);
   });
@@ -202,6 +220,8 @@ bool MainWindow::openMapFile(const QString& path) {
     dropSynthesizedMotion();
     m_files->exportMapAction()->setEnabled(false);
     m_gestures->setSavedMap(saved->map(), synthParameters().blend.neighbors, saved->loader());
+    m_jointDrag->setAvailable(false);
+    m_keys->clearPending();
     SavedMapSource* before = std::exchange(m_saved, saved);
     useSource(saved);
     delete before;
@@ -214,6 +234,7 @@ bool MainWindow::openMapFile(const QString& path) {
 void MainWindow::closeSavedMap() {
   if (!m_saved) return;
   m_gestures->setSavedMap(nullptr, synthParameters().blend.neighbors, nullptr);
+  m_jointDrag->setAvailable(true);
   useSource(m_computed);
   delete std::exchange(m_saved, nullptr);
   m_mapView->clearMap();
@@ -236,6 +257,7 @@ void MainWindow::dropSynthesizedMotion() {
   pause();
   m_playingSynth = false;
   m_takes->clear();  // the takes and their history belong to the clips before
+  m_keys->clearPending();
   m_choice->dropPending();
   m_files->exportMotionAction()->setEnabled(false);
 }
@@ -292,6 +314,7 @@ void MainWindow::onMapStarted(embed::Method method) {
 }
 
 void MainWindow::onMapFinished(std::shared_ptr<const MapResult> result) {
+  m_keys->clearPending();  // placed on the map before
   showMap();
   emit computationFinished(true);
   emit mapReady(result->options.embed.method);
@@ -452,7 +475,44 @@ void MainWindow::updateTakePaths() {
   m_mapView->setTakePaths(m_takes->pathsOn(currentMap()));  // none on a saved map
 }
 
+bool MainWindow::placeKey(const Eigen::Vector2d& point, const QPointF& pixel) {
+  if (const QString why = m_source->refusal(MapSource::Change::Sketch); !why.isEmpty()) {
+    showError(why);
+    return false;
+  }
+  return m_keys->click(point, pixel);
+}
+
+void MainWindow::retimeKeysDialog() {
+  const Take* take = m_keys->keyedTake();
+  if (!take || !take->result) {
+    showError(tr("Retiming needs an in-between take: Ctrl-click two frames on the map"));
+    return;
+  }
+  // The keys' times now (seconds from the first key), as the dialog's starting text.
+  QStringList now;
+  const double dt = take->result->motion.frame_time;
+  for (const int frame : take->controls)
+    now << QString::number((frame - take->controls.front()) * dt, 'g', 4);
+  bool ok = false;
+  const QString text = QInputDialog::getText(
+      this, tr("Retime keys"),
+      tr("Each key's time in seconds from the first, separated by commas (empty: the frames' own "
+         "speed along the route):"),
+      QLineEdit::Normal, now.join(", "), &ok);
+  if (!ok) return;
+  std::vector<double> times;
+  for (const QString& part : text.split(',', Qt::SkipEmptyParts)) {
+    bool number = false;
+    const double t = part.trimmed().toDouble(&number);
+    if (!number) return showError(tr("'%1' is not a number of seconds").arg(part.trimmed()));
+    times.push_back(t);
+  }
+  m_keys->retime(times);
+}
+
 bool MainWindow::moveControlPoint(int control, const Eigen::Vector2d& to) {
+  if (m_keys->keyedTake()) return m_keys->moveKey(control, to, m_mapView->toWidget(to));
   if (!m_takes->editControlPoint(control, to, synthParameters())) return false;
   m_synthProgress->start();
   updateStatus();

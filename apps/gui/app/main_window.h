@@ -18,6 +18,7 @@
 #include <optional>
 
 #include <QMainWindow>
+#include <QPointF>
 
 #include "common/parameters.h"
 #include "export/animation_export.h"
@@ -39,6 +40,8 @@ class SavedMap;
 namespace motionmap::studio {
 
 class FileMenu;
+class JointDrag;
+class KeysController;
 class MapGestures;
 class JobProgress;
 class MapView;
@@ -163,6 +166,13 @@ class MainWindow : public QMainWindow {
   QString statusText() const;
   MapView* mapView() const { return m_mapView; }
   SkeletonView* skeletonView() const { return m_skeletonView; }
+  JointDrag* jointDrag() const { return m_jointDrag; }
+  KeysController* keys() const { return m_keys; }
+  /// A Ctrl-click on the map: a key pose placed or removed (KeysController::click), refused on a
+  /// saved map as a sketch is.
+  bool placeKey(const Eigen::Vector2d& point, const QPointF& pixel);
+  /// Motion → Retime Keys…: the current in-between take's key times, edited as text.
+  void retimeKeysDialog();
   /// Both views as one image (the GL view through grabFramebuffer when it has a context).
   QImage screenshot() { return m_exports->screenshot(); }
   /// File → Export picture and Export animation (picture_export.h, animation_export.h).
@@ -244,6 +254,8 @@ class MainWindow : public QMainWindow {
   SavedMapSource* m_saved = nullptr;        ///< a map file shown (File → Open map), or none
   MapSource* m_source = nullptr;            ///< the one shown: m_saved, else m_computed
   MapGestures* m_gestures = nullptr;
+  JointDrag* m_jointDrag = nullptr;
+  KeysController* m_keys = nullptr;
   /// Leaves the saved map (another clip opened).
   void closeSavedMap();
   // Stops playback and any synthesis, and forgets the synthesized motion (for new content; the

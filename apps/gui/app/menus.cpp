@@ -56,6 +56,9 @@ MotionMenu::MotionMenu(QMainWindow* window, embed::Method method)
              "left out"));
   explain(motion->addAction(tr("S&ynthesis…"), this, &MotionMenu::synthesisRequested),
           tr("How a drag blends poses and how a sketch becomes a motion"));
+  explain(motion->addAction(tr("&Retime Keys…"), this, &MotionMenu::retimeKeysRequested),
+          tr("The times of the current in-between take's keys (Ctrl-click frames on the map to "
+             "place keys)"));
   explain(motion->addAction(tr("Show &clip"), this, &MotionMenu::showClipRequested),
           tr("Back from a synthesized motion to the clip"));
 }

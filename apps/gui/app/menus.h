@@ -30,6 +30,8 @@ class MotionMenu : public QObject {
   void parametersRequested();
   /// Synthesis…
   void synthesisRequested();
+  /// Retime Keys…
+  void retimeKeysRequested();
   /// Show clip: back from a synthesized motion to the clip.
   void showClipRequested();
 

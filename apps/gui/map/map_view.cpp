@@ -150,12 +150,40 @@ void MapView::paintTakes(QPainter& painter) const {
     const QPointF end = toWidget(points.back());
     painter.setPen(take.current ? QColor(120, 60, 0) : QColor(120, 60, 0, 140));
     painter.drawText(end + QPointF(6, -6), take.name);
-    for (const int i : take.controls) {
+    for (std::size_t c = 0; c < take.controls.size(); ++c) {
+      const int i = take.controls[c];
+      if (std::size_t(i) >= points.size()) continue;
+      if (take.keyed) {
+        paintKey(painter, toWidget(points[std::size_t(i)]), int(c) + 1, false);
+        continue;
+      }
       painter.setPen(QPen(QColor(120, 60, 0), 1.5));
       painter.setBrush(Qt::white);
       painter.drawRect(QRectF(toWidget(points[std::size_t(i)]) - QPointF(4, 4), QSizeF(8, 8)));
     }
   }
+  for (std::size_t k = 0; k < m_pendingKeys.size(); ++k)
+    paintKey(painter, toWidget(m_pendingKeys[k]), int(k) + 1, true);
+}
+
+void MapView::paintKey(QPainter& painter, const QPointF& pixel, int number, bool pending) {
+  painter.save();
+  QFont font = painter.font();
+  font.setPixelSize(11);
+  font.setBold(true);
+  painter.setFont(font);
+  painter.setPen(QPen(QColor(120, 60, 0), 1.5, pending ? Qt::DashLine : Qt::SolidLine));
+  painter.setBrush(pending ? QColor(255, 255, 255, 220) : takeColor().lighter(150));
+  const QRectF disc(pixel - QPointF(8, 8), QSizeF(16, 16));
+  painter.drawEllipse(disc);
+  painter.setPen(QColor(60, 30, 0));
+  painter.drawText(disc, Qt::AlignCenter, QString::number(number));
+  painter.restore();
+}
+
+void MapView::setPendingKeys(std::vector<Eigen::Vector2d> keys) {
+  m_pendingKeys = std::move(keys);
+  update();
 }
 
 void MapView::setSketchMode(bool on) {
@@ -488,6 +516,10 @@ void MapView::addSketchPoint(const QPointF& pixel) {
 void MapView::mousePressEvent(QMouseEvent* event) {
   if (!hasMap() || event->button() != Qt::LeftButton) return;
   m_pressPixel = event->position();
+  if (event->modifiers() & Qt::ControlModifier) {
+    m_gesture = Gesture::Key;  // a key added or removed on release
+    return;
+  }
   // A control point of the current take is dragged even in sketch mode (Shift always sketches).
   const int control =
       (event->modifiers() & Qt::ShiftModifier) ? -1 : controlPointAt(event->position());
@@ -527,6 +559,8 @@ void MapView::mouseMoveEvent(QMouseEvent* event) {
       }
       update();
       break;
+    case Gesture::Key:
+      break;
     case Gesture::Press:
       if ((pixel - m_pressPixel).manhattanLength() < 3) break;
       m_gesture = Gesture::Drag;
@@ -553,6 +587,8 @@ void MapView::mouseReleaseEvent(QMouseEvent* event) {
     emit sketchFinished(path);
   } else if (gesture == Gesture::Press) {
     emit clicked(toMap(event->position()), event->position());
+  } else if (gesture == Gesture::Key) {
+    emit keyClicked(toMap(event->position()), event->position());
   } else if (gesture == Gesture::Drag) {
     emit dragFinished();
   } else if (gesture == Gesture::Control) {

@@ -10,6 +10,7 @@
 //                                          (times in seconds, from the gesture's own clock)
 //  - left drag on a control point of the
 //    current take (setTakePaths)         → it follows the mouse, controlPointMoved on release
+//  - Ctrl + left click                   → keyClicked(map point): a key pose added or removed
 // A sketch or a control point dragged outside the plot (plotRect) stays on its edge, where the
 // stroke is drawn: nothing is sketched where the map is not shown.
 // The takes' paths stay drawn over the map (orange; the current one solid with its control points,
@@ -46,6 +47,7 @@ class MapView : public QWidget {
     std::vector<Eigen::Vector2d> points;
     std::vector<int> controls;  ///< indices into points: drawn and draggable (current take only)
     bool current = false;
+    bool keyed = false;  ///< an in-between take: its controls are its keys, drawn numbered
   };
   /// How close (pixels) a press must be to a control point to drag it.
   static constexpr double kControlPickPixels = 9.0;
@@ -54,6 +56,9 @@ class MapView : public QWidget {
   /// The takes drawn over the map (replacing those before).
   void setTakePaths(std::vector<TakePath> paths);
   const std::vector<TakePath>& takePaths() const { return m_takes; }
+  /// Keys placed before there are two to in-between (drawn numbered, in order); empty: none.
+  void setPendingKeys(std::vector<Eigen::Vector2d> keys);
+  const std::vector<Eigen::Vector2d>& pendingKeys() const { return m_pendingKeys; }
   /// The index of the current take's control point within kControlPickPixels of `pixel`, or −1.
   int controlPointAt(const QPointF& pixel) const;
   /// The control point being dragged (−1: none).
@@ -141,6 +146,8 @@ class MapView : public QWidget {
   void sketchFinished(const motionmap::synth::MapPath& path);
   /// A control point of the current take was dragged to `point` (map coordinates).
   void controlPointMoved(int control, const Eigen::Vector2d& point);
+  /// Ctrl + left click at `point` (map coordinates; `pixel` in the widget).
+  void keyClicked(const Eigen::Vector2d& point, const QPointF& pixel);
 
  protected:
   void paintEvent(QPaintEvent* event) override;
@@ -153,8 +160,10 @@ class MapView : public QWidget {
   bool event(QEvent* event) override;
 
  private:
-  enum class Gesture { None, Press, Drag, Sketch, Control };
+  enum class Gesture { None, Press, Drag, Sketch, Control, Key };
   void paintTakes(QPainter& painter) const;
+  /// A key marker: a numbered disc at `pixel`.
+  static void paintKey(QPainter& painter, const QPointF& pixel, int number, bool pending);
   void addSketchPoint(const QPointF& pixel);
   /// `pixel` moved onto plotRect() (unchanged inside it).
   QPointF clampToPlot(const QPointF& pixel) const;
@@ -192,6 +201,7 @@ class MapView : public QWidget {
   synth::MapPath m_controlPreview;  ///< the current take's path as it follows the drag
   QElapsedTimer m_sketchClock;
   bool m_sketchMode = false;
+  std::vector<Eigen::Vector2d> m_pendingKeys;
   double m_shadingReach = 0.0;  ///< map units (setShadingReach)
   QString m_busyText;
   bool m_shadingVisible = false;

@@ -195,14 +195,9 @@ void SkeletonCanvas::paintGL() {
   }
   m_vao.release();
   m_program->release();
-  QPointF at;
-  const QString label = m_view->hoverLabel(&at);
-  if (!label.isEmpty()) {
-    glDisable(GL_DEPTH_TEST);
-    QPainter painter(this);
-    painter.setRenderHint(QPainter::Antialiasing);
-    drawLabel(painter, at, label);
-  }
+  glDisable(GL_DEPTH_TEST);
+  QPainter painter(this);
+  m_view->paintOverlay(painter);
 }
 
 void SkeletonView::installSurfaceFormat() {
@@ -264,6 +259,12 @@ void SkeletonView::setSkeleton(const Skeleton& skeleton, bool keepCamera) {
   m_hovered = -1;
   m_selected = -1;
   m_trail.clear();
+  m_dragJoint = -1;
+  m_dragTarget.reset();
+  if (!keepCamera && !m_pinned.empty()) {
+    m_pinned.clear();
+    emit pinnedJointsChanged();
+  }
   Motion rest;
   rest.resize(1, skeleton.num_joints());
   for (int j = 0; j < skeleton.num_joints(); ++j)
@@ -558,9 +559,77 @@ void SkeletonView::paintFallback(QPainter& painter) {
                         Qt::SolidLine, Qt::RoundCap));
     painter.drawLine(a, b);
   }
+  paintOverlay(painter);
+}
+
+void SkeletonView::paintOverlay(QPainter& painter) const {
+  painter.setRenderHint(QPainter::Antialiasing);
+  const auto pixel = [&](const Eigen::Vector3d& p) { return projectToPixels(m_camera, size(), p); };
+  // Pins: a dark ring around each pinned joint.
+  painter.setBrush(Qt::NoBrush);
+  painter.setPen(QPen(QColor(40, 40, 40), 2.0));
+  for (const int j : m_pinned) {
+    if (std::size_t(j) >= m_world.positions.size()) continue;
+    const QPointF at = pixel(m_world.positions[std::size_t(j)]);
+    if (std::isfinite(at.x())) painter.drawEllipse(at, 8.0, 8.0);
+  }
+  // The drag: a cross at the target, a dashed line from the joint to it.
+  if (m_dragTarget && m_dragJoint >= 0 && std::size_t(m_dragJoint) < m_world.positions.size()) {
+    const QPointF joint = pixel(m_world.positions[std::size_t(m_dragJoint)]);
+    const QPointF target = pixel(*m_dragTarget);
+    if (std::isfinite(joint.x()) && std::isfinite(target.x())) {
+      painter.setPen(QPen(QColor(200, 40, 40), 1.5, Qt::DashLine));
+      painter.drawLine(joint, target);
+      painter.setPen(QPen(QColor(200, 40, 40), 2.0));
+      painter.drawLine(target + QPointF(-6, -6), target + QPointF(6, 6));
+      painter.drawLine(target + QPointF(-6, 6), target + QPointF(6, -6));
+    }
+  }
   QPointF at;
   const QString label = hoverLabel(&at);
   drawLabel(painter, at, label);
+}
+
+void SkeletonView::setJointDragEnabled(bool on) {
+  m_jointDrag = on;
+  if (!on) {
+    m_dragJoint = -1;
+    m_dragTarget.reset();
+  }
+  refresh();
+}
+
+Eigen::Vector3d SkeletonView::dragTarget(const Eigen::Vector3d& from, QPointF pixel) const {
+  // The plane through `from` facing the camera: move along the camera's right and up by the
+  // pixel offset, scaled by the world size of a pixel at from's depth.
+  const QPointF at = projectToPixels(m_camera, size(), from);
+  const Eigen::Vector3d right = m_camera.right(), up = m_camera.up();
+  const Eigen::Vector3d forward = up.cross(right);
+  const double depth = std::abs((from - m_camera.eye()).dot(forward));
+  const double perPixel = 2.0 * depth * std::tan(0.5 * m_camera.fovDegrees * M_PI / 180.0) /
+                          std::max(1, height());
+  if (!std::isfinite(at.x()) || !(perPixel > 0.0)) return from;
+  return from + right * (pixel.x() - at.x()) * perPixel - up * (pixel.y() - at.y()) * perPixel;
+}
+
+void SkeletonView::cancelJointDrag() {
+  m_dragJoint = -1;
+  m_dragTarget.reset();
+  refresh();
+}
+
+void SkeletonView::setPinnedJoints(std::vector<int> joints) {
+  std::sort(joints.begin(), joints.end());
+  joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
+  if (joints == m_pinned) return;
+  m_pinned = std::move(joints);
+  emit pinnedJointsChanged();
+  refresh();
+}
+
+void SkeletonView::setDragTarget(std::optional<Eigen::Vector3d> target) {
+  m_dragTarget = target;
+  refresh();
 }
 
 void SkeletonView::resizeEvent(QResizeEvent*) {
@@ -600,14 +669,45 @@ void SkeletonView::keyPressEvent(QKeyEvent* event) {
 void SkeletonView::mousePressEvent(QMouseEvent* event) {
   m_lastMouse = event->position().toPoint();
   m_pressMouse = m_lastMouse;
+  m_dragMoved = false;
+  m_dragJoint = -1;
+  if (m_jointDrag && event->button() == Qt::LeftButton &&
+      !(event->modifiers() & Qt::ShiftModifier)) {
+    const int joint = jointAt(event->position());
+    if (joint >= 0) {
+      m_dragJoint = joint;
+      m_dragFrom = m_world.positions[std::size_t(joint)];
+    }
+  }
 }
 
 void SkeletonView::mouseReleaseEvent(QMouseEvent* event) {
-  // A click (no drag) on a joint selects it.
   const QPoint p = event->position().toPoint();
+  if (m_dragJoint >= 0 && m_dragMoved) {
+    const int joint = m_dragJoint;
+    m_dragJoint = -1;
+    m_dragTarget.reset();
+    emit jointDragFinished(joint);
+    refresh();
+    return;
+  }
+  m_dragJoint = -1;
+  // A click (no drag) on a joint selects it; with Shift (joint dragging on) pins or unpins it.
   if (event->button() == Qt::LeftButton && (p - m_pressMouse).manhattanLength() <= 3) {
     const int joint = jointAt(event->position());
-    if (joint >= 0) setSelectedJoint(joint);
+    if (joint < 0) return;
+    if (m_jointDrag && (event->modifiers() & Qt::ShiftModifier)) {
+      std::vector<int> pins = m_pinned;
+      const auto it = std::find(pins.begin(), pins.end(), joint);
+      if (it == pins.end()) {
+        pins.push_back(joint);
+      } else {
+        pins.erase(it);
+      }
+      setPinnedJoints(std::move(pins));
+    } else {
+      setSelectedJoint(joint);
+    }
   }
 }
 
@@ -615,6 +715,19 @@ void SkeletonView::mouseMoveEvent(QMouseEvent* event) {
   const QPoint p = event->position().toPoint();
   const QPoint d = p - m_lastMouse;
   m_lastMouse = p;
+  if ((event->buttons() & Qt::LeftButton) && m_dragJoint >= 0) {
+    if (!m_dragMoved && (p - m_pressMouse).manhattanLength() <= 3) return;
+    if (!m_dragMoved) {
+      m_dragMoved = true;
+      emit jointDragStarted(m_dragJoint, m_dragFrom);
+      if (m_dragJoint < 0) return;  // the controller refused the drag
+    }
+    const Eigen::Vector3d target = dragTarget(m_dragFrom, event->position());
+    m_dragTarget = target;
+    emit jointDragged(m_dragJoint, target);
+    refresh();
+    return;
+  }
   if (event->buttons() & Qt::LeftButton) {
     m_camera.orbit(d.x(), d.y());
   } else if (event->buttons() & (Qt::MiddleButton | Qt::RightButton)) {

@@ -5,10 +5,14 @@
 // motion (setMotion) it frames the clip's bounding volume, draws no bone to a joint that moves by
 // its own translation channels, and draws the selected joint's trail. Hovering names the joint
 // under the mouse; a click on a joint selects it; Home (with the view focused) resets the camera.
+// With joint dragging enabled (setJointDragEnabled: a map to pose from), a left drag that starts
+// on a joint drags it instead of orbiting: the view reports where in space the mouse puts it
+// (jointDragged; a JointDrag controller poses the body), and Shift-click pins or unpins a joint.
 // Drawn by an OpenGL 3.3 core child widget when the platform gives a context, else (offscreen
 // tests, no GL) by QPainter from the same scene data. The pose shown is kept on the CPU
 // (currentPose(), jointPixels()) so it is testable without a GL context.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <QImage>
@@ -80,6 +84,22 @@ class SkeletonView : public QWidget {
   /// the look-at point keeps its offset from the root's floor point.
   void setFollowRoot(bool follow);
   bool followRoot() const { return m_followRoot; }
+  /// Joint dragging (see the top of the file); off by default and whenever a drag is not possible.
+  void setJointDragEnabled(bool on);
+  bool jointDragEnabled() const { return m_jointDrag; }
+  /// The joint being dragged, or −1.
+  int draggedJoint() const { return m_dragJoint; }
+  /// Ends the drag under way (the mouse then orbits nothing until released).
+  void cancelJointDrag();
+  /// Where a drag of the joint that was at `from` (world) puts it when the mouse is at `pixel`:
+  /// the point under the pixel in the plane through `from` facing the camera.
+  Eigen::Vector3d dragTarget(const Eigen::Vector3d& from, QPointF pixel) const;
+  /// Joints pinned (Shift-click toggles), increasing: a joint drag keeps them where they are.
+  const std::vector<int>& pinnedJoints() const { return m_pinned; }
+  void setPinnedJoints(std::vector<int> joints);
+  /// The dragged joint's target, drawn as a cross joined to the joint (nothing: none).
+  void setDragTarget(std::optional<Eigen::Vector3d> target);
+
   /// Pixel positions of the joints shown, as the camera projects them in this widget.
   std::vector<QPointF> jointPixels() const;
   /// True when an OpenGL context draws the view (false on platforms without GL, e.g. offscreen).
@@ -95,6 +115,12 @@ class SkeletonView : public QWidget {
   /// A new skeleton is shown (the joint panel rebuilds its tree).
   void skeletonChanged();
   void selectedJointChanged(int joint);
+  /// A joint drag began on `joint` (at its world position `from`).
+  void jointDragStarted(int joint, const Eigen::Vector3d& from);
+  /// The mouse, dragging `joint`, asks for it at world point `target`.
+  void jointDragged(int joint, const Eigen::Vector3d& target);
+  void jointDragFinished(int joint);
+  void pinnedJointsChanged();
 
  protected:
   bool event(QEvent* event) override;
@@ -112,6 +138,8 @@ class SkeletonView : public QWidget {
   void refresh();
   /// The hovered joint's name and where to write it (empty when none).
   QString hoverLabel(QPointF* at) const;
+  /// What is drawn over the scene in both paths: pins, the drag target, the hover label.
+  void paintOverlay(QPainter& painter) const;
   /// The look-at point for the current pose when following the root.
   Eigen::Vector3d rootFloor() const;
   /// Points the camera at a sphere (centre, radius) and fits the distance to this widget.
@@ -142,6 +170,12 @@ class SkeletonView : public QWidget {
   std::vector<Eigen::Vector3d> m_trail;
   QPoint m_lastMouse;
   QPoint m_pressMouse;
+  bool m_jointDrag = false;
+  int m_dragJoint = -1;                        ///< joint pressed on (a drag once it moves)
+  bool m_dragMoved = false;                    ///< the press became a drag
+  Eigen::Vector3d m_dragFrom = Eigen::Vector3d::Zero();
+  std::vector<int> m_pinned;
+  std::optional<Eigen::Vector3d> m_dragTarget;
   SkeletonCanvas* m_canvas = nullptr;  ///< the GL child, null without OpenGL
 };
 

@@ -28,6 +28,8 @@ void SynthesisController::clear() {
   m_result.reset();
   m_resultMap.reset();
   m_resultPath = {};
+  m_resultKeys = {};
+  m_resultKeyFrames.clear();
   m_resultTake = -1;
 }
 
@@ -48,20 +50,58 @@ bool SynthesisController::start(std::shared_ptr<const MapResult> map, const synt
               synth::synthesize(*map->blender, path, options, control));
         },
         [this, map, drawn, take](const JobOutcome<synth::SynthResult>& outcome) {
-          onResult(map, drawn, take, outcome);
+          onResult(map, drawn, take, nullptr, outcome);
+        });
+  });
+  return true;
+}
+
+bool SynthesisController::startInbetween(std::shared_ptr<const MapResult> map, TakeKeys keys,
+                                         const SynthParameters& parameters, int take) {
+  if (!map || !map->blender || keys.keys.size() < 2) return false;
+  stop();
+  m_runningTake = take;
+  auto keyed = std::make_shared<Keyed>();
+  keyed->keys = std::move(keys);
+  synth::InbetweenOptions options;
+  options.frames_between = keyed->keys.framesBetween;
+  options.clean_feet = parameters.motion.clean_feet;
+  m_job.start([this, map = std::move(map), keyed, take,
+               options](const BackgroundJob::Ticket& ticket) {
+    runJob<synth::SynthResult>(
+        this, m_job, ticket, [this](double fraction, const QString&) { emit progress(fraction); },
+        [&](const Control& control) {
+          synth::InbetweenResult r = synth::inbetween(*map->blender, *map->map.features,
+                                                      keyed->keys.keys, options, control);
+          auto out = std::make_shared<synth::SynthResult>();
+          out->motion = std::move(r.motion);
+          out->validity = std::move(r.validity);
+          for (const synth::PointValidity& v : out->validity) out->clamped_frames += v.clamped;
+          // The route as the take's path: a point per frame, at the frame rate.
+          keyed->path.points = std::move(r.points);
+          for (std::size_t k = 0; k < keyed->path.points.size(); ++k)
+            keyed->path.times.push_back(double(k) * out->motion.frame_time);
+          keyed->keyFrames = std::move(r.key_frames);
+          return out;
+        },
+        [this, map, keyed, take](const JobOutcome<synth::SynthResult>& outcome) {
+          onResult(map, keyed->path, take, keyed, outcome);
         });
   });
   return true;
 }
 
 void SynthesisController::onResult(std::shared_ptr<const MapResult> map, synth::MapPath path,
-                                   int take, const JobOutcome<synth::SynthResult>& outcome) {
+                                   int take, std::shared_ptr<const Keyed> keyed,
+                                   const JobOutcome<synth::SynthResult>& outcome) {
   emit stopped();
   if (outcome.cancelled) return emit cancelled();
   if (!outcome.error.isEmpty()) return emit failed(outcome.error);
   m_result = outcome.value;
   m_resultMap = std::move(map);
   m_resultPath = std::move(path);
+  m_resultKeys = keyed ? keyed->keys : TakeKeys{};
+  m_resultKeyFrames = keyed ? keyed->keyFrames : std::vector<int>{};
   m_resultTake = take;
   emit finished();
 }

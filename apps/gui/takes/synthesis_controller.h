@@ -16,6 +16,7 @@
 #include "common/background_job.h"
 #include "common/parameters.h"
 #include "map/map_controller.h"
+#include "takes/takes.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace motionmap::studio {
@@ -34,6 +35,12 @@ class SynthesisController : public QObject {
   /// result (resultTake()): −1 for a new sketch, else the id of the take being re-synthesized.
   bool start(std::shared_ptr<const MapResult> map, const synth::MapPath& path,
              const SynthParameters& parameters, int take = -1);
+  /// Starts in-betweening `keys` (≥ 2) on `map` (synth::inbetween, with `parameters.motion`'s
+  /// foot clean-up), on the worker thread, as start() does: the result's path is the route its
+  /// frames follow (a point per frame, timed at the frame rate) and resultKeys() and
+  /// resultKeyFrames() say where the keys fell. `take` as for start().
+  bool startInbetween(std::shared_ptr<const MapResult> map, TakeKeys keys,
+                      const SynthParameters& parameters, int take = -1);
   bool isRunning() const { return m_job.running(); }
   /// Stops a running synthesis without a signal; its result is dropped. Returns whether one
   /// was running.
@@ -48,6 +55,9 @@ class SynthesisController : public QObject {
   const std::shared_ptr<const synth::SynthResult>& sharedResult() const { return m_result; }
   /// The path result() follows, as given to start() (its times even when not timed as drawn).
   const synth::MapPath& resultPath() const { return m_resultPath; }
+  /// The keys of result() when it was in-betweened (no keys: a sketch's), and their frames.
+  const TakeKeys& resultKeys() const { return m_resultKeys; }
+  const std::vector<int>& resultKeyFrames() const { return m_resultKeyFrames; }
   /// The `take` given to start() for result().
   int resultTake() const { return m_resultTake; }
   /// The `take` of the synthesis running (or of the last one started).
@@ -70,11 +80,19 @@ class SynthesisController : public QObject {
   void cancelled();
 
  private:
+  /// What an in-betweening makes besides the motion (written by the worker, read on its result).
+  struct Keyed {
+    TakeKeys keys;
+    synth::MapPath path;
+    std::vector<int> keyFrames;
+  };
   void onResult(std::shared_ptr<const MapResult> map, synth::MapPath path, int take,
-                const JobOutcome<synth::SynthResult>& outcome);
+                std::shared_ptr<const Keyed> keyed, const JobOutcome<synth::SynthResult>& outcome);
 
   std::shared_ptr<const synth::SynthResult> m_result;
   synth::MapPath m_resultPath;
+  TakeKeys m_resultKeys;
+  std::vector<int> m_resultKeyFrames;
   int m_resultTake = -1;
   int m_runningTake = -1;
   std::shared_ptr<const MapResult> m_resultMap;

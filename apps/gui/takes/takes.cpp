@@ -172,6 +172,12 @@ void TakeList::setMotion(int row, synth::MapPath path,
   emit changed();
 }
 
+void TakeList::setKeys(int row, TakeKeys keys, std::vector<int> controls) {
+  Take& take = m_takes[std::size_t(row)];
+  take.keys = std::move(keys);
+  take.controls = std::move(controls);
+}
+
 void TakeList::setExported(int row, bool exported) {
   m_takes[std::size_t(row)].exported = exported;
   emit dataChanged(index(row), index(row));

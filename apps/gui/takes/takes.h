@@ -17,6 +17,7 @@
 #include <QString>
 
 #include "map/map_controller.h"
+#include "motionmap/synth/inbetween.h"
 #include "motionmap/synth/path.h"
 #include "motionmap/synth/synthesize.h"
 
@@ -37,12 +38,23 @@ std::vector<int> controlPoints(const synth::MapPath& path, int maxPoints = kMaxC
 synth::MapPath deformPath(const synth::MapPath& path, const std::vector<int>& controls, int control,
                           const Eigen::Vector2d& to);
 
-/// One sketch and its motion.
+/// An in-between take's keys and timing (see synth::inbetween).
+struct TakeKeys {
+  std::vector<synth::Key> keys;
+  /// Frames between consecutive keys; −1: the keys' times, or the samples' own speed.
+  int framesBetween = -1;
+};
+
+/// One sketch (or set of key poses) and its motion.
 struct Take {
   int id = -1;  ///< unique in its list (rows change, ids do not)
   QString name;
   synth::MapPath path;        ///< the path the motion follows (as sketched, or edited)
-  std::vector<int> controls;  ///< controlPoints(path), fixed when sketched
+  /// controlPoints(path), fixed when sketched; an in-between take's: its keys' frames.
+  std::vector<int> controls;
+  /// An in-between take's keys (keys.keys empty: a sketch). Its path is then the route its frames
+  /// follow, a point per frame.
+  TakeKeys keys;
   std::shared_ptr<const synth::SynthResult> result;
   std::shared_ptr<const MapResult> map;  ///< the map it was sketched on (its blender's skeleton)
   std::string mapKey;                    ///< MapController::cacheKey of that map, for display
@@ -76,6 +88,9 @@ class TakeList : public QAbstractListModel {
   /// A new path and motion for `row` (an edit, or its undo); it counts as not exported.
   void setMotion(int row, synth::MapPath path, std::shared_ptr<const synth::SynthResult> result,
                  bool exported);
+  /// New keys and control points for `row` (an in-between take's edit, or its undo), set before
+  /// its setMotion.
+  void setKeys(int row, TakeKeys keys, std::vector<int> controls);
   void setExported(int row, bool exported);
   void clear();
   /// A take is being removed (views moving their current row then are not choosing one).

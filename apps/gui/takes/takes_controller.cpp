@@ -23,12 +23,14 @@ void TakesController::dropPending() {
 
 void TakesController::takeResult(const std::string& mapKey) {
   const int id = m_synthesis->resultTake();
+  const bool keyed = !m_synthesis->resultKeys().keys.empty();
   if (id < 0) {
     Take take;
     take.name = m_list.nextName();
     take.id = m_list.newId();
     take.path = m_synthesis->resultPath();
-    take.controls = controlPoints(take.path);
+    take.controls = keyed ? m_synthesis->resultKeyFrames() : controlPoints(take.path);
+    take.keys = m_synthesis->resultKeys();
     take.result = m_synthesis->sharedResult();
     take.map = m_synthesis->resultMap();
     take.mapKey = mapKey;
@@ -37,8 +39,25 @@ void TakesController::takeResult(const std::string& mapKey) {
   }
   m_pending.reset();
   if (m_list.rowOf(id) < 0) return emit changed();  // deleted meanwhile
+  if (keyed) {
+    m_stack.push(new EditTakeCommand(
+        &m_list, id, m_synthesis->resultPath(), m_synthesis->sharedResult(),
+        std::make_pair(m_synthesis->resultKeys(), m_synthesis->resultKeyFrames())));
+    return;
+  }
   m_stack.push(
       new EditTakeCommand(&m_list, id, m_synthesis->resultPath(), m_synthesis->sharedResult()));
+}
+
+bool TakesController::inbetween(std::shared_ptr<const MapResult> map, TakeKeys keys,
+                                const SynthParameters& parameters, int take) {
+  synth::MapPath straight;
+  for (const synth::Key& key : keys.keys) straight.points.push_back(key.point);
+  if (!m_synthesis->startInbetween(std::move(map), std::move(keys), parameters, take))
+    return false;
+  if (take >= 0) m_pending.emplace(take, std::move(straight));
+  emit changed();
+  return true;
 }
 
 bool TakesController::editControlPoint(int control, const Eigen::Vector2d& to,
@@ -107,7 +126,15 @@ std::vector<MapView::TakePath> TakesController::pathsOn(const MapResult* map) co
     drawn.current = row == m_list.current();
     drawn.points =
         m_pending && m_pending->first == take.id ? m_pending->second.points : take.path.points;
-    if (drawn.current) drawn.controls = take.controls;
+    drawn.keyed = !take.keys.keys.empty();
+    if (drawn.current) {
+      drawn.controls = take.controls;
+      // An edit being made: its new keys, on the straight lines drawn meanwhile.
+      if (drawn.keyed && m_pending && m_pending->first == take.id) {
+        drawn.controls.clear();
+        for (std::size_t k = 0; k < drawn.points.size(); ++k) drawn.controls.push_back(int(k));
+      }
+    }
     paths.push_back(std::move(drawn));
   }
   return paths;

@@ -39,6 +39,11 @@ class TakesController : public QObject {
   /// (deformPath), on its own map with `parameters`. False (nothing started) without a current
   /// take, for a control index out of range, or when the synthesis could not start.
   bool editControlPoint(int control, const Eigen::Vector2d& to, const SynthParameters& parameters);
+  /// Starts in-betweening `keys` on `map` with `parameters`: a new take (`take` −1) or the new
+  /// keys of the in-between take with id `take` (shown pending, as the straight lines between
+  /// the keys, until its motion arrives). False when nothing could start.
+  bool inbetween(std::shared_ptr<const MapResult> map, TakeKeys keys,
+                 const SynthParameters& parameters, int take = -1);
   /// A new sketch is being synthesized (it stopped an edit's synthesis, if one ran).
   void sketchStarted();
   /// The take an edit is being synthesized for (−1: none).

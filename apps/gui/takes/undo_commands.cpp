@@ -74,7 +74,8 @@ void RenameTakeCommand::undo() {
 }
 
 EditTakeCommand::EditTakeCommand(TakeList* takes, int id, synth::MapPath path,
-                                 std::shared_ptr<const synth::SynthResult> result)
+                                 std::shared_ptr<const synth::SynthResult> result,
+                                 std::optional<std::pair<TakeKeys, std::vector<int>>> keys)
     : m_takes(takes), m_id(id), m_path(std::move(path)), m_result(std::move(result)) {
   const int row = takes->rowOf(id);
   if (row >= 0) {
@@ -82,18 +83,27 @@ EditTakeCommand::EditTakeCommand(TakeList* takes, int id, synth::MapPath path,
     m_previousPath = take.path;
     m_previousResult = take.result;
     m_previousExported = take.exported;
+    m_previousKeys = take.keys;
+    m_previousControls = take.controls;
     setText(tr("edit %1").arg(take.name));
   }
+  // A sketch's edit keeps its control points (deformPath moves them with the path).
+  m_keys = keys ? std::move(keys->first) : m_previousKeys;
+  m_controls = keys ? std::move(keys->second) : m_previousControls;
 }
 
 void EditTakeCommand::redo() {
   const int row = m_takes->rowOf(m_id);
-  if (row >= 0) m_takes->setMotion(row, m_path, m_result, false);
+  if (row < 0) return;
+  m_takes->setKeys(row, m_keys, m_controls);
+  m_takes->setMotion(row, m_path, m_result, false);
 }
 
 void EditTakeCommand::undo() {
   const int row = m_takes->rowOf(m_id);
-  if (row >= 0) m_takes->setMotion(row, m_previousPath, m_previousResult, m_previousExported);
+  if (row < 0) return;
+  m_takes->setKeys(row, m_previousKeys, m_previousControls);
+  m_takes->setMotion(row, m_previousPath, m_previousResult, m_previousExported);
 }
 
 MapStateCommand::MapStateCommand(std::function<void(const MapState&)> apply, MapState before,

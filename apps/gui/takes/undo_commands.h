@@ -6,6 +6,8 @@
 // previous method and parameters (their map comes back from the map cache).
 #include <functional>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include <QUndoCommand>
 
@@ -68,11 +70,13 @@ class RenameTakeCommand : public QUndoCommand {
   QString m_from, m_to;
 };
 
-/// A take's path and motion replaced by a re-synthesized one; undo puts the previous ones back.
+/// A take's path and motion replaced by a re-synthesized one (an in-between take's: with its
+/// keys and their frames); undo puts the previous ones back.
 class EditTakeCommand : public QUndoCommand {
  public:
   EditTakeCommand(TakeList* takes, int id, synth::MapPath path,
-                  std::shared_ptr<const synth::SynthResult> result);
+                  std::shared_ptr<const synth::SynthResult> result,
+                  std::optional<std::pair<TakeKeys, std::vector<int>>> keys = std::nullopt);
   void redo() override;
   void undo() override;
 
@@ -81,6 +85,8 @@ class EditTakeCommand : public QUndoCommand {
   int m_id;
   synth::MapPath m_path, m_previousPath;
   std::shared_ptr<const synth::SynthResult> m_result, m_previousResult;
+  TakeKeys m_keys, m_previousKeys;
+  std::vector<int> m_controls, m_previousControls;
   bool m_previousExported = false;
 };
 

@@ -1,0 +1,125 @@
+// Key poses in Studio (takes/keys_controller.h): Ctrl-clicked frames become an in-between take
+// through their poses; keys added, removed, moved and retimed, each an undo step.
+#include <QSignalSpy>
+#include <QTest>
+
+#include "map/map_view.h"
+#include "takes/keys_controller.h"
+#include "takes/takes_controller.h"
+#include "studio_test_util.h"
+
+namespace motionmap::studio {
+namespace {
+
+using testing::kTimeoutMs;
+using testing::windowWithMap;
+
+Eigen::Vector2d pointOfFrame(const MapResult& map, int frame) {
+  return map.blender->sample_point(map.rowOfFrame[0][std::size_t(frame)]);
+}
+
+// Places a key with a Ctrl-click where frame `frame` of the clip is drawn.
+void ctrlClickFrame(MainWindow& w, int frame) {
+  const QPointF pixel = w.mapView()->toWidget(pointOfFrame(*w.currentMap(), frame));
+  QTest::mouseClick(w.mapView(), Qt::LeftButton, Qt::ControlModifier, pixel.toPoint());
+}
+
+void expectPoseOfFrame(const Motion& motion, int at, const Motion& clip, int frame) {
+  for (int j = 0; j < motion.num_joints; ++j) {
+    const Eigen::Quaterniond a = motion.rotation(at, j), b = clip.rotation(frame, j);
+    EXPECT_NEAR(std::abs(a.dot(b)), 1.0, 1e-9) << "joint " << j << " at frame " << at;
+    EXPECT_LT((motion.translation(at, j) - clip.translation(frame, j)).norm(), 1e-6)
+        << "joint " << j << " at frame " << at;
+  }
+}
+
+bool waitForSynthesis(MainWindow& w) {
+  return QTest::qWaitFor([&] { return !w.isSynthesizing(); }, kTimeoutMs);
+}
+
+TEST(StudioKeys, TwoCtrlClickedFramesMakeAnInBetweenTakeThroughTheirPoses) {
+  auto w = windowWithMap();
+  const MapResult* map = w->currentMap();
+  ASSERT_NE(map, nullptr);
+  const Clip& clip = *w->clip();
+  ctrlClickFrame(*w, 20);
+  ASSERT_EQ(w->keys()->pendingKeys().size(), 1u) << w->lastError().toStdString();
+  EXPECT_EQ(w->mapView()->pendingKeys().size(), 1u);
+  EXPECT_EQ(w->takes()->list().count(), 0);
+  ctrlClickFrame(*w, 150);
+  ASSERT_TRUE(waitForSynthesis(*w));
+  ASSERT_EQ(w->takes()->list().count(), 1) << w->lastError().toStdString();
+  EXPECT_TRUE(w->keys()->pendingKeys().empty());
+  const Take& take = w->takes()->list().at(0);
+  ASSERT_EQ(take.keys.keys.size(), 2u);
+  ASSERT_EQ(take.controls.size(), 2u);
+  // The motion passes through both key poses, root included.
+  const Motion& motion = take.result->motion;
+  expectPoseOfFrame(motion, take.controls[0], clip.motion, 20);
+  expectPoseOfFrame(motion, take.controls[1], clip.motion, 150);
+  // Its route is drawn with numbered keys, inside the data.
+  const auto paths = w->takes()->pathsOn(map);
+  ASSERT_EQ(paths.size(), 1u);
+  EXPECT_TRUE(paths[0].keyed);
+  EXPECT_EQ(paths[0].points.size(), std::size_t(motion.num_frames));
+  for (const auto& v : take.result->validity) EXPECT_FALSE(v.clamped);
+  // Undo takes it away, redo brings it back.
+  w->takes()->undo();
+  EXPECT_EQ(w->takes()->list().count(), 0);
+  w->takes()->redo();
+  EXPECT_EQ(w->takes()->list().count(), 1);
+}
+
+TEST(StudioKeys, KeysAreAddedRemovedMovedAndRetimedAsUndoSteps) {
+  auto w = windowWithMap();
+  const MapResult* map = w->currentMap();
+  ASSERT_NE(map, nullptr);
+  const Clip& clip = *w->clip();
+  ctrlClickFrame(*w, 20);
+  ctrlClickFrame(*w, 100);
+  ASSERT_TRUE(waitForSynthesis(*w));
+  ASSERT_EQ(w->takes()->list().count(), 1) << w->lastError().toStdString();
+  w->takes()->list().setCurrent(0);
+  // A third key: appended.
+  ctrlClickFrame(*w, 200);
+  ASSERT_TRUE(waitForSynthesis(*w));
+  const Take* take = w->keys()->keyedTake();
+  ASSERT_NE(take, nullptr);
+  ASSERT_EQ(take->keys.keys.size(), 3u) << w->lastError().toStdString();
+  expectPoseOfFrame(take->result->motion, take->controls[2], clip.motion, 200);
+  // Ctrl-click on key 2 (frame 100's): removed.
+  const QPointF second =
+      w->mapView()->toWidget(take->result->validity[std::size_t(take->controls[1])].point);
+  ASSERT_TRUE(w->placeKey(w->mapView()->toMap(second), second));
+  ASSERT_TRUE(waitForSynthesis(*w));
+  take = w->keys()->keyedTake();
+  ASSERT_EQ(take->keys.keys.size(), 2u);
+  expectPoseOfFrame(take->result->motion, take->controls[1], clip.motion, 200);
+  // Moved: key 2 onto frame 60.
+  ASSERT_TRUE(w->keys()->moveKey(1, pointOfFrame(*map, 60),
+                                 w->mapView()->toWidget(pointOfFrame(*map, 60))));
+  ASSERT_TRUE(waitForSynthesis(*w));
+  take = w->keys()->keyedTake();
+  expectPoseOfFrame(take->result->motion, take->controls[1], clip.motion, 60);
+  // Retimed: the second key two seconds after the first.
+  ASSERT_TRUE(w->keys()->retime({0.0, 2.0}));
+  ASSERT_TRUE(waitForSynthesis(*w));
+  take = w->keys()->keyedTake();
+  const double dt = take->result->motion.frame_time;
+  EXPECT_EQ(take->controls[1] - take->controls[0], int(std::lround(2.0 / dt)));
+  // Each change was one step: undo the retime, the move, the removal, the addition.
+  for (const std::size_t keys : {2u, 2u, 3u, 2u}) {
+    w->takes()->undo();
+    ASSERT_NE(w->keys()->keyedTake(), nullptr);
+    EXPECT_EQ(w->keys()->keyedTake()->keys.keys.size(), keys);
+  }
+  // Two keys cannot lose one.
+  const Take* two = w->keys()->keyedTake();
+  const QPointF first =
+      w->mapView()->toWidget(two->result->validity[std::size_t(two->controls[0])].point);
+  EXPECT_FALSE(w->placeKey(w->mapView()->toMap(first), first));
+  EXPECT_TRUE(w->lastError().contains("two keys")) << w->lastError().toStdString();
+}
+
+}  // namespace
+}  // namespace motionmap::studio

@@ -45,6 +45,7 @@ struct InbetweenCommand {
   std::vector<double> times;
   int grid = 0;
   bool no_smooth = false;
+  bool no_clean_feet = false;
   std::string output;
   std::string route_csv;
 };
@@ -314,7 +315,9 @@ void setup_inbetween(CLI::App& app) {
       "route through the valid region of the clips' map (near the data), written as BVH.\n"
       "A key is FILE:FRAME (frame from 0 of any clip of the map's skeleton; one that is not a\n"
       "sample of the map is placed on it as `map --onto` does) or X:Y (a map point), each with an\n"
-      "optional @SECONDS. The map: computed from FILE…, or a saved map --map lib.mmap.h5.");
+      "optional @SECONDS. Then each foot is held still through its contacts with the floor, the\n"
+      "keys' frames left exact (--no-clean-feet: not).\n"
+      "The map: computed from FILE…, or a saved map --map lib.mmap.h5.");
   cmd->sub = sub;
   add_map_options(sub, cmd->map, MapOptionsFor::Synthesis);
   sub->get_option("files")->required(false);
@@ -343,6 +346,10 @@ void setup_inbetween(CLI::App& app) {
       ->check(CLI::Range(2, synth::kMaxGridOption));
   sub->add_flag("--no-smooth", cmd->no_smooth,
                 "Follow the grid's cells instead of the smoothed route");
+  sub->add_flag("--no-clean-feet", cmd->no_clean_feet,
+                "Keep the feet as blended: by default each foot is held still through its "
+                "contacts with the floor (docs/synthesis.md, \"Clean feet\"), the keys' frames "
+                "left exact");
   sub->add_option("--blend", cmd->blend,
                   "Weights of the samples around a map point: local (default), kriging or idw")
       ->transform(CLI::CheckedTransformer(choices(synth::all_blend_modes(), synth::blend_mode_name),
@@ -384,6 +391,7 @@ void setup_inbetween(CLI::App& app) {
     options.frames_between = cmd->frames_between;
     options.route.grid = cmd->grid;
     options.route.smooth = !cmd->no_smooth;
+    options.clean_feet = !cmd->no_clean_feet;
     const Control line = progress_line(cmd->map, "inbetween");
     const synth::InbetweenResult r = synth::inbetween(*p.blender, p.samples, keys, options, line);
     if (r.outside_frames > 0) {
@@ -394,6 +402,7 @@ void setup_inbetween(CLI::App& app) {
                    "map that the route had to cross) and were blended at the nearest edge of the "
                    "data\n";
     }
+    for (const std::string& note : r.notes) std::cerr << "note: " << note << '\n';
     io::write_bvh(io::from_motion(p.blender->skeleton(), r.motion), cmd->output);
     if (!cmd->route_csv.empty()) write_route_csv(cmd->route_csv, r, keys);
     std::string at;

@@ -337,24 +337,27 @@ _ESTIMATORS = {cls._method: cls for cls in (PCA, SVD, MDS, Isomap, LaplacianEige
 
 
 def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend="local",
-               neighbors=12, reach=3.0, progress=None):
+               neighbors=12, reach=3.0, clean_feet=True, progress=None):
     """A new motion along a path on a fitted 2-D map of clips (what `motionmap synth` does;
     docs/synthesis.md): every frame blended at a point of the path, root motion integrated from
     the samples' own velocities. path_xy: #points by 2; times: seconds per point (strictly
     increasing) or None (drawn at `speed` map units per second, 0 = the clip's median map
     speed); fps: output frame rate (0 = the clip's); smooth: σ in seconds of a Gaussian
-    smoothing of the weights over time. blend, neighbors, reach: as inverse_transform. Returns
-    a Clip (save() writes it as BVH)."""
+    smoothing of the weights over time. blend, neighbors, reach: as inverse_transform;
+    clean_feet: hold each foot still through its contacts with the floor (False: the blend as it
+    is, e.g. to reproduce a clip along its own trajectory). Returns a Clip (save() writes it as
+    BVH)."""
     fitted._check_fitted()
     if not isinstance(fitted.map_, _motionmap._ClipMap):
         raise Error("synthesize: motions are blended from clips; this map was fitted on an array")
     return fitted.map_.synthesize(path_xy, None if times is None else [float(t) for t in times],
                                   float(speed), float(fps), float(smooth), blend, int(neighbors),
-                                  float(reach), progress)
+                                  float(reach), bool(clean_feet), progress)
 
 
 def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=True,
-              blend="local", neighbors=12, reach=3.0, asf=None, fps=None, progress=None):
+              blend="local", neighbors=12, reach=3.0, asf=None, fps=None, clean_feet=True,
+              progress=None):
     """A motion through key poses on a fitted 2-D map of clips (what `motionmap inbetween` does;
     docs/synthesis.md, "Key poses and in-betweening"): every key pose is hit exactly, root
     position and heading included, and between keys the motion follows the cheapest route through
@@ -364,7 +367,8 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=T
     seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
     times, or the samples' own speed along each route); grid: cells along the map's longer side
     (0 = from its density); smooth: smooth the grid route; blend, neighbors, reach: as
-    inverse_transform; asf, fps: for .amc keys. Returns (Clip, route): route is a dict with
+    inverse_transform; asf, fps: for .amc keys; clean_feet: hold the feet still through their
+    contacts, the keys' frames left exact (as synthesize). Returns (Clip, route): route is a dict with
     "points" (#frames by 2: each frame's map point), "key_frames", "routes" (per segment, the
     route polyline), "valid" (per frame) and "grid" (cells along x and y)."""
     fitted._check_fitted()
@@ -374,7 +378,7 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=T
         list(keys), None if times is None else [float(t) for t in times],
         -1 if frames_between is None else int(frames_between), int(grid), bool(smooth), blend,
         int(neighbors), float(reach), "" if asf is None else os.fspath(asf),
-        0.0 if fps is None else float(fps), progress)
+        0.0 if fps is None else float(fps), bool(clean_feet), progress)
 
 
 def read_map(path):

@@ -268,7 +268,7 @@ Clip poses_at(const ClipMapState& s, const InputArray& Y, const std::string& mod
 
 Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
                      double speed, double fps, double smooth, const std::string& mode,
-                     int neighbors, double reach, py::object progress) {
+                     int neighbors, double reach, bool clean_feet, py::object progress) {
   synth::MapPath path;
   path.points = map_points(path_xy, "path_xy");
   if (!times.is_none()) {
@@ -282,9 +282,7 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
   options.speed = speed;
   options.fps = fps;
   options.smooth = smooth;
-  // The blend as it is: the Python API has no clean_feet argument yet (synth::synthesize cleans
-  // feet by default since #23 part 3), and its retrace reproduces the clip.
-  options.clean_feet = false;
+  options.clean_feet = clean_feet;
   options.validate();
   return run_released(std::move(progress), [&](const Control& control) {
     const synth::MapBlender blender =
@@ -359,7 +357,7 @@ struct InbetweenOut {
 py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const py::object& times,
                          int frames_between, int grid, bool smooth, const std::string& mode,
                          int neighbors, double reach, const std::string& asf, double fps,
-                         py::object progress) {
+                         bool clean_feet, py::object progress) {
   std::vector<PyKey> keys = keys_from_python(key_items, asf, fps);
   std::vector<double> key_times;
   if (!times.is_none()) {
@@ -373,6 +371,7 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
   options.frames_between = frames_between;
   options.route.grid = grid;
   options.route.smooth = smooth;
+  options.clean_feet = clean_feet;
   options.validate();
   InbetweenOut out = run_released(std::move(progress), [&](const Control& control) {
     features::FeatureSet samples;
@@ -742,10 +741,10 @@ void bind_maps(py::module_& m) {
       .def("inbetween", &inbetween_keys, py::arg("keys"), py::arg("times"),
            py::arg("frames_between"), py::arg("grid"), py::arg("smooth"), py::arg("blend"),
            py::arg("neighbors"), py::arg("reach"), py::arg("asf"), py::arg("fps"),
-           py::arg("progress"))
+           py::arg("clean_feet"), py::arg("progress"))
       .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
            py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),
-           py::arg("reach"), py::arg("progress"))
+           py::arg("reach"), py::arg("clean_feet"), py::arg("progress"))
       .def(
           "write_map",
           [](const ClipMapState& s, const py::object& path) {

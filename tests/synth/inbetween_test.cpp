@@ -10,6 +10,7 @@
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/clip_map.h"
+#include "motionmap/skeleton/contacts.h"
 #include "support/error_message.h"
 #include "support/test_data.h"
 #include "synth/synth_fixtures.h"
@@ -298,6 +299,18 @@ TEST_F(SynthInbetweenBandai, RoutesStayInTheDataAndKeysAreHitExactly) {
       EXPECT_EQ(r.motion.num_frames, 3 * (n + 1) + 1);
     }
     for (const auto& q : r.motion.rotations) ASSERT_TRUE(q.coeffs().allFinite());
+    // The feet were cleaned (the keys above are exact all the same), and slide no more than the
+    // blend's did.
+    EXPECT_TRUE(r.feet_cleaned);
+    InbetweenOptions raw_options = between(n);
+    raw_options.clean_feet = false;
+    const InbetweenResult raw = inbetween(*L.blender, *L.set, keys, raw_options);
+    const Feet feet = find_feet(L.blender->skeleton());
+    const Skating before = measure_skating(L.blender->skeleton(), raw.motion, feet);
+    const Skating after = measure_skating(L.blender->skeleton(), r.motion, feet);
+    std::printf("frames between %d: skating %.3f → %.3f, %.1f → %.1f cm/s in contact\n", n,
+                before.ratio, after.ratio, before.contact_speed_cm_s, after.contact_speed_cm_s);
+    EXPECT_LE(after.contact_speed_cm_s, before.contact_speed_cm_s + 1.0);
   }
 }
 

@@ -48,7 +48,8 @@ struct FootPlan {
 };
 
 // The ankle's target displacement around the contacts (see the top of clean_feet.h).
-void plan_offsets(const FootContacts& fc, int frames, int blend, FootPlan& plan) {
+void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vector<char>& fixed,
+                  FootPlan& plan) {
   plan.offset.assign(static_cast<std::size_t>(frames), Vector3d::Zero());
   plan.touched.assign(static_cast<std::size_t>(frames), 0);
   const auto& iv = fc.intervals;
@@ -57,6 +58,13 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, FootPlan& plan)
     Vector3d sum = Vector3d::Zero();
     for (int f = iv[c].first; f <= iv[c].last; ++f) sum += plan.ankle[f];
     target[c] = sum / iv[c].frames();
+    // A fixed frame in the contact: the ankle stays where that frame has it.
+    for (int f = iv[c].first; f <= iv[c].last; ++f) {
+      if (fixed[static_cast<std::size_t>(f)]) {
+        target[c] = plan.ankle[f];
+        break;
+      }
+    }
     for (int f = iv[c].first; f <= iv[c].last; ++f) {
       plan.offset[f] = target[c] - plan.ankle[f];
       plan.touched[f] = 1;
@@ -176,6 +184,10 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
   if (F == 0) return result;
   const int blend = static_cast<int>(std::lround(options.blend_seconds * motion.fps()));
   const Vector3d up = Vector3d::Unit(static_cast<int>(options.contacts.up));
+  std::vector<char> fixed(static_cast<std::size_t>(F), 0);
+  for (const int f : options.fixed_frames) {
+    if (f >= 0 && f < F) fixed[static_cast<std::size_t>(f)] = 1;
+  }
 
   // Per foot: original ankle path, target offsets, the knee's hinge axis.
   std::array<FootPlan, 2> plans;
@@ -184,7 +196,7 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
     plan.leg = feet.legs[static_cast<std::size_t>(s)];
     plan.ankle = joint_trajectory(skeleton, motion, plan.leg.ankle);
     plan.length = result.contacts[static_cast<std::size_t>(s)].leg_length;
-    plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, plan);
+    plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, fixed, plan);
     result.held[static_cast<std::size_t>(s)] = plan.touched;
   }
   // Hinge axes from the input's most bent frame (sampled: ≤ 512 frames).
@@ -272,6 +284,7 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
     parallel_for(f1 - f0, [&](int i) {
       const int f = f0 + i;
       const bool lowered = drop[f] > 0.0;
+      if (fixed[static_cast<std::size_t>(f)]) return;  // left as given
       if (!lowered && !plans[0].touched[f] && !plans[1].touched[f]) return;
       Quaterniond* q = &result.motion.rotations[static_cast<std::size_t>(f) * J];
       Vector3d* t = &result.motion.translations[static_cast<std::size_t>(f) * J];

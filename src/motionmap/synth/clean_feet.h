@@ -51,6 +51,10 @@ struct CleanFeetOptions {
   double reach = 0.995;
   /// Most the root is lowered, × the leg length, in [0, 1].
   double max_root_drop = 0.25;
+  /// Frames whose pose must stay exactly as given (in-betweening's keys): a contact holding
+  /// one holds the ankle where that frame has it (the first such frame's), rather than at the
+  /// contact's mean, and the frame itself is left bit for bit. Any order; out of range ignored.
+  std::vector<int> fixed_frames;
 
   /// @throws ParameterError naming the field (contacts.height, …), its value and its range.
   void validate() const;

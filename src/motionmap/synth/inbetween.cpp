@@ -7,6 +7,7 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/rotation.h"
 #include "motionmap/features/point_cloud.h"
+#include "motionmap/synth/clean_feet.h"
 #include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/synthesize.h"
 
@@ -257,7 +258,11 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   path.times.resize(static_cast<std::size_t>(frames));
   for (long long k = 0; k < frames; ++k)
     path.times[static_cast<std::size_t>(k)] = static_cast<double>(k) * dt;
-  SynthResult synth = synthesize(blender, path, {}, control.stage("blending frames", 0.2, 1.0));
+  // The feet are cleaned last, once the keys' poses and roots are in place.
+  SynthOptions blend_only;
+  blend_only.clean_feet = false;
+  SynthResult synth =
+      synthesize(blender, path, blend_only, control.stage("blending frames", 0.2, 0.9));
   if (synth.motion.num_frames != frames) {
     throw NumericalError("inbetween: " + std::to_string(synth.motion.num_frames) +
                          " frames synthesized where " + std::to_string(frames) + " were asked");
@@ -373,10 +378,24 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     }
   }
 
+  result.key_frames.assign(key_frames.begin(), key_frames.end());
+  if (options.clean_feet) {
+    std::string why;
+    if (const std::optional<Feet> feet = try_find_feet(blender.skeleton(), up, &why)) {
+      CleanFeetOptions clean;
+      clean.contacts.up = up;
+      clean.fixed_frames = result.key_frames;
+      CleanFeetResult cleaned = clean_feet(blender.skeleton(), synth.motion, *feet, clean,
+                                           control.stage("cleaning feet", 0.9, 1.0));
+      synth.motion = std::move(cleaned.motion);
+      result.feet_cleaned = true;
+    } else {
+      result.notes.push_back("feet not cleaned: " + why);
+    }
+  }
   result.motion = std::move(synth.motion);
   result.validity = std::move(synth.validity);
   result.outside_frames = synth.clamped_frames;
-  result.key_frames.assign(key_frames.begin(), key_frames.end());
   return result;
 }
 

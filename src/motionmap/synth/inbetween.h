@@ -78,6 +78,9 @@ struct InbetweenOptions {
   /// speed along the routes).
   int frames_between = -1;
   RouteOptions route;
+  /// Hold each foot still through its contacts (clean_feet(), as synthesize() does) with the
+  /// key frames fixed, so the keys stay exact; false: the blend as it is.
+  bool clean_feet = true;
 
   /// @throws ParameterError naming `frames_between` or `grid`, the value and the valid range.
   void validate() const;
@@ -98,6 +101,10 @@ struct InbetweenResult {
   RouteGrid grid;
   /// Frames whose map point is outside the valid region (a key placed outside the data).
   int outside_frames = 0;
+  /// The feet were cleaned (InbetweenOptions::clean_feet and the skeleton has feet).
+  bool feet_cleaned = false;
+  /// Notes for the user (why the feet were not cleaned).
+  std::vector<std::string> notes;
 };
 
 /// The key of frame `frame` of `motion` (a motion of the blender's skeleton) that is the map's

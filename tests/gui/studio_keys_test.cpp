@@ -3,10 +3,11 @@
 #include <QSignalSpy>
 #include <QTest>
 
+#include "map/map_gestures.h"
 #include "map/map_view.h"
+#include "studio_test_util.h"
 #include "takes/keys_controller.h"
 #include "takes/takes_controller.h"
-#include "studio_test_util.h"
 
 namespace motionmap::studio {
 namespace {
@@ -24,12 +25,31 @@ void ctrlClickFrame(MainWindow& w, int frame) {
   QTest::mouseClick(w.mapView(), Qt::LeftButton, Qt::ControlModifier, pixel.toPoint());
 }
 
-void expectPoseOfFrame(const Motion& motion, int at, const Motion& clip, int frame) {
+// The key's own pose (a frame of the clip, standing where it stood) at frame `at` of `motion`.
+void expectKeyPose(const Motion& motion, int at, const synth::Key& key) {
+  ASSERT_TRUE(key.has_pose()) << key.label;
   for (int j = 0; j < motion.num_joints; ++j) {
-    const Eigen::Quaterniond a = motion.rotation(at, j), b = clip.rotation(frame, j);
-    EXPECT_NEAR(std::abs(a.dot(b)), 1.0, 1e-9) << "joint " << j << " at frame " << at;
-    EXPECT_LT((motion.translation(at, j) - clip.translation(frame, j)).norm(), 1e-6)
-        << "joint " << j << " at frame " << at;
+    EXPECT_NEAR(std::abs(motion.rotation(at, j).dot(key.pose.rotation(0, j))), 1.0, 1e-12)
+        << key.label << " joint " << j;
+    EXPECT_LT((motion.translation(at, j) - key.pose.translation(0, j)).norm(), 1e-9)
+        << key.label << " joint " << j;
+  }
+}
+
+// The key clicked at frame `frame`'s point is a frame of the clip drawn within a click's reach of
+// it (the frame nearest the pixel: neighbouring frames of the 120 fps swing overlap at the map's
+// scale, and its trajectory passes near itself), with that frame's pose.
+void expectKeyNearFrame(MainWindow& w, const synth::Key& key, const Clip& clip, int frame) {
+  const auto colon = key.label.rfind(':');
+  ASSERT_NE(colon, std::string::npos) << key.label;
+  const int at = std::stoi(key.label.substr(colon + 1));
+  const QPointF clicked = w.mapView()->toWidget(pointOfFrame(*w.currentMap(), frame));
+  const QPointF drawn = w.mapView()->toWidget(pointOfFrame(*w.currentMap(), at));
+  EXPECT_LE(QLineF(clicked, drawn).length(), MapGestures::kNearPixels + 1.0) << key.label;
+  ASSERT_LT(at, clip.motion.num_frames);
+  for (int j = 0; j < clip.motion.num_joints; ++j) {
+    EXPECT_NEAR(std::abs(key.pose.rotation(0, j).dot(clip.motion.rotation(at, j))), 1.0, 1e-12);
+    EXPECT_LT((key.pose.translation(0, j) - clip.motion.translation(at, j)).norm(), 1e-9);
   }
 }
 
@@ -53,10 +73,12 @@ TEST(StudioKeys, TwoCtrlClickedFramesMakeAnInBetweenTakeThroughTheirPoses) {
   const Take& take = w->takes()->list().at(0);
   ASSERT_EQ(take.keys.keys.size(), 2u);
   ASSERT_EQ(take.controls.size(), 2u);
-  // The motion passes through both key poses, root included.
+  // The keys are the frames clicked; the motion passes through their poses, root included.
   const Motion& motion = take.result->motion;
-  expectPoseOfFrame(motion, take.controls[0], clip.motion, 20);
-  expectPoseOfFrame(motion, take.controls[1], clip.motion, 150);
+  expectKeyNearFrame(*w, take.keys.keys[0], clip, 20);
+  expectKeyNearFrame(*w, take.keys.keys[1], clip, 150);
+  expectKeyPose(motion, take.controls[0], take.keys.keys[0]);
+  expectKeyPose(motion, take.controls[1], take.keys.keys[1]);
   // Its route is drawn with numbered keys, inside the data.
   const auto paths = w->takes()->pathsOn(map);
   ASSERT_EQ(paths.size(), 1u);
@@ -86,7 +108,8 @@ TEST(StudioKeys, KeysAreAddedRemovedMovedAndRetimedAsUndoSteps) {
   const Take* take = w->keys()->keyedTake();
   ASSERT_NE(take, nullptr);
   ASSERT_EQ(take->keys.keys.size(), 3u) << w->lastError().toStdString();
-  expectPoseOfFrame(take->result->motion, take->controls[2], clip.motion, 200);
+  expectKeyNearFrame(*w, take->keys.keys[2], clip, 200);
+  expectKeyPose(take->result->motion, take->controls[2], take->keys.keys[2]);
   // Ctrl-click on key 2 (frame 100's): removed.
   const QPointF second =
       w->mapView()->toWidget(take->result->validity[std::size_t(take->controls[1])].point);
@@ -94,13 +117,15 @@ TEST(StudioKeys, KeysAreAddedRemovedMovedAndRetimedAsUndoSteps) {
   ASSERT_TRUE(waitForSynthesis(*w));
   take = w->keys()->keyedTake();
   ASSERT_EQ(take->keys.keys.size(), 2u);
-  expectPoseOfFrame(take->result->motion, take->controls[1], clip.motion, 200);
+  expectKeyNearFrame(*w, take->keys.keys[1], clip, 200);
+  expectKeyPose(take->result->motion, take->controls[1], take->keys.keys[1]);
   // Moved: key 2 onto frame 60.
   ASSERT_TRUE(w->keys()->moveKey(1, pointOfFrame(*map, 60),
                                  w->mapView()->toWidget(pointOfFrame(*map, 60))));
   ASSERT_TRUE(waitForSynthesis(*w));
   take = w->keys()->keyedTake();
-  expectPoseOfFrame(take->result->motion, take->controls[1], clip.motion, 60);
+  expectKeyNearFrame(*w, take->keys.keys[1], clip, 60);
+  expectKeyPose(take->result->motion, take->controls[1], take->keys.keys[1]);
   // Retimed: the second key two seconds after the first.
   ASSERT_TRUE(w->keys()->retime({0.0, 2.0}));
   ASSERT_TRUE(waitForSynthesis(*w));

@@ -7,8 +7,8 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QInputDialog>
-#include <QLineEdit>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
@@ -91,8 +91,8 @@ void MainWindow::buildUi() {
           [this](const QString& summary) { m_status->setText(summary); });
   connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
   connect(m_mapView, &MapView::controlPointMoved, this, &MainWindow::moveControlPoint);
-  m_keys = new KeysController(&m_maps, m_mapView, m_takes, &m_synthesis,
-                              [this] { return synthParameters(); }, this);
+  m_keys = new KeysController(
+      &m_maps, m_mapView, m_takes, &m_synthesis, [this] { return synthParameters(); }, this);
   connect(m_mapView, &MapView::keyClicked, this, &MainWindow::placeKey);
   connect(m_keys, &KeysController::failed, this, &MainWindow::showError);
   connect(m_keys, &KeysController::started, this, [this] {

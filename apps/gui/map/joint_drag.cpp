@@ -57,8 +57,7 @@ void JointDrag::onStarted(int joint, const Eigen::Vector3d& from) {
     const synth::MapBlender& blender = *map->blender;
     m_goal = synth::ReachGoal{};
     m_goal.joint = joint;
-    m_goal.placement =
-        synth::root_placement(shown, 0, blender.motion_root(), blender.options().up);
+    m_goal.placement = synth::root_placement(shown, 0, blender.motion_root(), blender.options().up);
     // Pins stay where they are now (world positions of the pose shown, placed like the goal).
     const WorldPose& world = m_skeletonView->worldPose();
     for (const int pin : m_skeletonView->pinnedJoints()) {
@@ -82,11 +81,10 @@ void JointDrag::onDragged(int joint, const Eigen::Vector3d& target) {
     m_mapView->setPointer(r.point);
     const QString name =
         QString::fromStdString(m_map->blender->skeleton().joints[std::size_t(joint)].name);
-    const QString summary =
-        tr("%1 %2 from the mouse (%3 % of the height)")
-            .arg(name)
-            .arg(r.error, 0, 'g', 3)
-            .arg(100.0 * r.error_fraction, 0, 'f', 1);
+    const QString summary = tr("%1 %2 from the mouse (%3 % of the height)")
+                                .arg(name)
+                                .arg(r.error, 0, 'g', 3)
+                                .arg(100.0 * r.error_fraction, 0, 'f', 1);
     m_mapView->setHoverText(tr("pose reaching with %1").arg(name));
     m_last = std::move(r);
     emit reached(summary);

@@ -606,8 +606,8 @@ Eigen::Vector3d SkeletonView::dragTarget(const Eigen::Vector3d& from, QPointF pi
   const Eigen::Vector3d right = m_camera.right(), up = m_camera.up();
   const Eigen::Vector3d forward = up.cross(right);
   const double depth = std::abs((from - m_camera.eye()).dot(forward));
-  const double perPixel = 2.0 * depth * std::tan(0.5 * m_camera.fovDegrees * M_PI / 180.0) /
-                          std::max(1, height());
+  const double perPixel =
+      2.0 * depth * std::tan(0.5 * m_camera.fovDegrees * M_PI / 180.0) / std::max(1, height());
   if (!std::isfinite(at.x()) || !(perPixel > 0.0)) return from;
   return from + right * (pixel.x() - at.x()) * perPixel - up * (pixel.y() - at.y()) * perPixel;
 }

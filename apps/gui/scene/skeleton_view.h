@@ -171,8 +171,8 @@ class SkeletonView : public QWidget {
   QPoint m_lastMouse;
   QPoint m_pressMouse;
   bool m_jointDrag = false;
-  int m_dragJoint = -1;                        ///< joint pressed on (a drag once it moves)
-  bool m_dragMoved = false;                    ///< the press became a drag
+  int m_dragJoint = -1;      ///< joint pressed on (a drag once it moves)
+  bool m_dragMoved = false;  ///< the press became a drag
   Eigen::Vector3d m_dragFrom = Eigen::Vector3d::Zero();
   std::vector<int> m_pinned;
   std::optional<Eigen::Vector3d> m_dragTarget;

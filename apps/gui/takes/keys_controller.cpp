@@ -11,8 +11,8 @@
 
 namespace motionmap::studio {
 
-KeysController::KeysController(const MapController* maps, MapView* mapView,
-                               TakesController* takes, SynthesisController* synthesis,
+KeysController::KeysController(const MapController* maps, MapView* mapView, TakesController* takes,
+                               SynthesisController* synthesis,
                                std::function<SynthParameters()> parameters, QObject* parent)
     : QObject(parent),
       m_maps(maps),

@@ -16,6 +16,7 @@
 
 #include "common/parameters.h"
 #include "motionmap/synth/inbetween.h"
+#include "takes/takes.h"
 
 namespace motionmap::studio {
 
@@ -24,7 +25,6 @@ class MapView;
 class SynthesisController;
 class TakesController;
 struct MapResult;
-struct Take;
 
 class KeysController : public QObject {
   Q_OBJECT

@@ -16,8 +16,8 @@
 #include "common/background_job.h"
 #include "common/parameters.h"
 #include "map/map_controller.h"
-#include "takes/takes.h"
 #include "motionmap/synth/synthesize.h"
+#include "takes/takes.h"
 
 namespace motionmap::studio {
 

@@ -49,7 +49,7 @@ struct TakeKeys {
 struct Take {
   int id = -1;  ///< unique in its list (rows change, ids do not)
   QString name;
-  synth::MapPath path;        ///< the path the motion follows (as sketched, or edited)
+  synth::MapPath path;  ///< the path the motion follows (as sketched, or edited)
   /// controlPoints(path), fixed when sketched; an in-between take's: its keys' frames.
   std::vector<int> controls;
   /// An in-between take's keys (keys.keys empty: a sketch). Its path is then the route its frames

@@ -53,8 +53,7 @@ bool TakesController::inbetween(std::shared_ptr<const MapResult> map, TakeKeys k
                                 const SynthParameters& parameters, int take) {
   synth::MapPath straight;
   for (const synth::Key& key : keys.keys) straight.points.push_back(key.point);
-  if (!m_synthesis->startInbetween(std::move(map), std::move(keys), parameters, take))
-    return false;
+  if (!m_synthesis->startInbetween(std::move(map), std::move(keys), parameters, take)) return false;
   if (take >= 0) m_pending.emplace(take, std::move(straight));
   emit changed();
   return true;

@@ -31,6 +31,9 @@ QString methodHelp(embed::Method method) {
     case embed::Method::Lle:
       return MotionMenu::tr(
           "Locally linear embedding: keeps each frame the same blend of its neighbours");
+    case embed::Method::Umap:
+      return MotionMenu::tr(
+          "UMAP: keeps each frame's nearest neighbours together, apart from the rest");
   }
   return {};
 }

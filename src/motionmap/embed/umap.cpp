@@ -221,7 +221,7 @@ static void umap_on(const NeighborGraph& ng, int n_neighbors, const EmbedOptions
 
   // The spectral start: the normalised Laplacian of the fuzzy graph, its components joined by
   // the graph's joining edges at the smallest membership (so they stay apart in the start).
-  progress.stage("spectral start", graph_end, init_end);
+  progress.stage("eigen", graph_end, init_end);  // the spectral start
   std::mt19937_64 rng(static_cast<std::uint64_t>(options.seed));
   Eigen::MatrixXd Y(n, dims);
   bool spectral = false;

@@ -95,9 +95,10 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
          "positions (heading-local joint positions)")
       ->transform(CLI::CheckedTransformer(
           choices(features::all_feature_kinds(), features::feature_kind_name), CLI::ignore_case));
-  sub->add_option("--distance", opt.distance,
-                  "Pose distance D for mds, isomap, le and lle's neighbours: pointcloud (default), "
-                  "geodesic (joint rotation angles) or features (Euclidean on X)")
+  sub->add_option(
+         "--distance", opt.distance,
+         "Pose distance D for mds, isomap, le, umap and lle's neighbours: pointcloud (default), "
+         "geodesic (joint rotation angles) or features (Euclidean on X)")
       ->transform(CLI::CheckedTransformer(
           choices(features::all_distance_kinds(), features::distance_kind_name), CLI::ignore_case));
   sub->add_option(

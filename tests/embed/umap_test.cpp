@@ -28,6 +28,7 @@ namespace motionmap::embed {
 namespace {
 
 const std::string kFixtures = std::string(MOTIONMAP_SOURCE_DIR) + "/tests/reference/fixtures/";
+const std::string kUmap = std::string(MOTIONMAP_SOURCE_DIR) + "/tests/reference/umap/";
 
 // The lines of a fixture that are not comments, as numbers; the comments in `comments`.
 std::vector<std::vector<double>> read_rows(const std::string& path,
@@ -62,7 +63,7 @@ Eigen::MatrixXd read_matrix(const std::string& path) {
 }
 
 TEST(Umap, CurveMatchesUmapLearnsFindAbParams) {
-  const auto rows = read_rows(kFixtures + "umap/curve.txt");
+  const auto rows = read_rows(kUmap + "curve.txt");
   ASSERT_GE(rows.size(), 5u);
   for (const auto& r : rows) {
     const UmapCurve c = umap_curve(r[0], 1.0);
@@ -75,7 +76,7 @@ TEST(Umap, FuzzyGraphMatchesUmapLearnsOnTheSameNeighbours) {
   // CMU 64_08, every 4th frame: umap-learn's rho, sigma and symmetric memberships on the k-NN
   // graph (15 neighbours, the frame itself counted) that MotionMap's search finds in D.
   constexpr int kNeighbors = 15, kOthers = kNeighbors - 1;
-  const std::vector<std::vector<double>> rows = read_rows(kFixtures + "umap/fuzzy_graph.txt");
+  const std::vector<std::vector<double>> rows = read_rows(kUmap + "fuzzy_graph.txt");
   const Eigen::MatrixXd D = read_matrix(kFixtures + "clip_cmu_64_08/D.txt");
   const int n = static_cast<int>(D.rows());
   ASSERT_GT(n, 50);
@@ -210,7 +211,7 @@ TEST(Umap, BandaiTakesKeepActionsApartAsUmapLearnDoes) {
   const Takes& t = bandai();
   if (t.take.empty()) GTEST_SKIP() << "the 12 Bandai takes are not in ../shared/data/bandai";
   std::vector<std::string> comments;
-  const auto reference = read_rows(kFixtures + "umap/bandai.txt", &comments);
+  const auto reference = read_rows(kUmap + "bandai.txt", &comments);
   ASSERT_EQ(reference.size(), 5u);
   // The same input as umap-learn's: the fingerprint of D.
   const Eigen::MatrixXd& D = t.set.D;

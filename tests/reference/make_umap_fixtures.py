@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Reference numbers for MotionMap's umap (tests/embed/umap_test.cpp) from umap-learn (Debian's
-umap-learn, a test reference only), written under tests/reference/fixtures/umap/.
+umap-learn, a test reference only), written under tests/reference/umap/ (beside fixtures/, whose folders are map cases).
 
     /usr/bin/python3 tests/reference/make_umap_fixtures.py [path/to/motionmap]
 
@@ -45,7 +45,7 @@ import umap  # noqa: E402
 import umap.umap_ as uu  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-OUT = os.path.join(HERE, "fixtures", "umap")
+OUT = os.path.join(HERE, "umap")
 SHARED = os.path.abspath(os.path.join(HERE, "..", "..", "..", "shared", "data"))
 if not os.path.isdir(SHARED):
     SHARED = "/work/shared/data"

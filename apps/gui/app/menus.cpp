@@ -42,7 +42,7 @@ QString methodHelp(embed::Method method) {
 MotionMenu::MotionMenu(QMainWindow* window, embed::Method method)
     : QObject(window), m_methods(new QActionGroup(this)) {
   QMenu* motion = window->menuBar()->addMenu(tr("&Motion"));
-  int key = Qt::Key_1;  // 1–6 pick the methods, in the menu's order
+  int key = Qt::Key_1;  // 1–7 pick the methods, in the menu's order
   for (embed::Method m : embed::all_methods()) {
     QAction* action = motion->addAction(methodLabel(m));
     if (key <= Qt::Key_9) action->setShortcut(QKeySequence(key++));

@@ -249,10 +249,12 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
   }
   if (e.method == Method::Lle) s += " reg=" + fmt(options.embed.reg, "%g");
   if (e.method == Method::Umap) {
+    // The default epochs follow the frames laid out: the distinct poses when frames repeat.
+    const int laid_out =
+        int(e.fitted_frames.empty() ? e.coordinates.rows() : Eigen::Index(e.fitted_frames.size()));
     s += " min_dist=" + fmt(options.embed.min_dist, "%g") + " epochs=" +
-         std::to_string(options.embed.epochs > 0
-                            ? options.embed.epochs
-                            : embed::umap_default_epochs(int(e.coordinates.rows()))) +
+         std::to_string(options.embed.epochs > 0 ? options.embed.epochs
+                                                 : embed::umap_default_epochs(laid_out)) +
          " seed=" + std::to_string(options.embed.seed);
   }
   if (e.method == Method::Pca && options.embed.standardize) s += " standardize";

@@ -51,7 +51,8 @@ void write_seeds(const fs::path& folder) {
                                    embed::Method::Mds,
                                    embed::Method::Isomap,
                                    embed::Method::LaplacianEigenmap,
-                                   embed::Method::Lle};
+                                   embed::Method::Lle,
+                                   embed::Method::Umap};
   for (const embed::Method method : methods) {
     for (const bool landmarks : {false, true}) {
       if (landmarks && (method == embed::Method::Pca || method == embed::Method::Svd)) continue;

@@ -15,6 +15,9 @@ packages=(
   xvfb xauth
   # Studio's File → Export animation encodes MP4 with ffmpeg (its tests check it with ffprobe).
   ffmpeg
+  # A test reference only: tests/reference/make_umap_fixtures.py regenerates umap's fixtures
+  # with it (nothing builds or runs against it).
+  umap-learn
 )
 
 missing=()

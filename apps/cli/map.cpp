@@ -34,9 +34,9 @@ struct MapCommand {
 // The options a saved map fixes: with --onto they are usage errors (docs/map-file.md). --save
 // is not one of them: with --onto it writes the placed clips as a map file (placed_map_file).
 constexpr const char* kFixedByTheMap[] = {
-    "--method",      "--dims",   "--neighbors", "--heat",      "--reg",
-    "--standardize", "--strict", "--features",  "--distance",  "--exclude",
-    "--up",          "--joints", "--exact",     "--landmarks", "--metrics"};
+    "--method", "--dims",      "--neighbors", "--heat",     "--reg",    "--standardize",
+    "--strict", "--features",  "--distance",  "--exclude",  "--up",     "--joints",
+    "--exact",  "--landmarks", "--metrics",   "--min-dist", "--epochs", "--seed"};
 
 void write_csv(const std::string& output, const pipeline::ClipMap& map,
                const pipeline::ClipMapOptions& options, const std::vector<Clip>& clips) {

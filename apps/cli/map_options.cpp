@@ -64,14 +64,24 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                   "Frame rate of .amc inputs (default 120)")
       ->check(CLI::PositiveNumber);
   if (use != MapOptionsFor::Figure) {
-    sub->add_option("-m,--method", opt.method, "pca, svd, mds, isomap, le or lle (default isomap)")
+    sub->add_option("-m,--method", opt.method,
+                    "pca, svd, mds, isomap, le, lle or umap (default isomap)")
         ->transform(CLI::CheckedTransformer(choices(embed::all_methods(), embed::method_name),
                                             CLI::ignore_case));
   }
   sub->add_option("--dims", opt.dims, "Map dimensions, 2 or 3 (default 2)")
       ->check(CLI::IsMember({2, 3}));
-  sub->add_option(use == MapOptionsFor::Synthesis ? "-k" : "-k,--neighbors", opt.k,
-                  "Neighbours per frame in the map's graph for isomap, le, lle (default 20)");
+  sub->add_option(
+      use == MapOptionsFor::Synthesis ? "-k" : "-k,--neighbors", opt.k,
+      "Neighbours per frame in the map's graph for isomap, le, lle (default 20); umap's "
+      "n_neighbors, the frame itself counted (default 15)");
+  sub->add_option("--min-dist", opt.min_dist,
+                  "umap: smallest distance between frames on the map, in [0, 1] (default 0.1)");
+  sub->add_option("--epochs", opt.epochs,
+                  "umap: layout epochs (default 0: 500 up to 10 000 frames, 200 above)");
+  sub->add_option("--seed", opt.seed,
+                  "umap: seed of the layout's random numbers; one seed, one map, whatever the "
+                  "thread count (default 0)");
   sub->add_option("--heat", opt.heat,
                   "Laplacian eigenmap heat-kernel width: 'auto' (median squared k-NN distance, "
                   "printed) or a number; ≤ 0 makes every weight 1 (default auto)");
@@ -85,9 +95,10 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
          "positions (heading-local joint positions)")
       ->transform(CLI::CheckedTransformer(
           choices(features::all_feature_kinds(), features::feature_kind_name), CLI::ignore_case));
-  sub->add_option("--distance", opt.distance,
-                  "Pose distance D for mds, isomap, le and lle's neighbours: pointcloud (default), "
-                  "geodesic (joint rotation angles) or features (Euclidean on X)")
+  sub->add_option(
+         "--distance", opt.distance,
+         "Pose distance D for mds, isomap, le, umap and lle's neighbours: pointcloud (default), "
+         "geodesic (joint rotation angles) or features (Euclidean on X)")
       ->transform(CLI::CheckedTransformer(
           choices(features::all_distance_kinds(), features::distance_kind_name), CLI::ignore_case));
   sub->add_option(
@@ -237,7 +248,10 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   embed::EmbedOptions& e = out.embed;
   e.method = method;
   e.dimensions = opt.dims;
-  e.k = opt.k;
+  e.k = opt.k >= 0 ? opt.k : method == embed::Method::Umap ? 15 : 20;
+  e.min_dist = opt.min_dist;
+  e.epochs = opt.epochs;
+  e.seed = opt.seed;
   e.reg = opt.reg;
   e.standardize = opt.standardize;
   e.strict = opt.strict;

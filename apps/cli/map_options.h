@@ -21,7 +21,10 @@ struct MapCliOptions {
   double fps = 0.0;
   embed::Method method = embed::Method::Isomap;
   int dims = 2;
-  int k = 20;
+  int k = -1;  ///< −1: not given (20; umap 15)
+  double min_dist = 0.1;
+  int epochs = 0;  ///< 0: umap's default (500 up to 10 000 frames, 200 above)
+  int seed = 0;
   std::string heat = "auto";
   double reg = 1e-3;
   bool standardize = false;

@@ -22,7 +22,7 @@ from ._motionmap import Clip, Error, Skeleton, load
 __all__ = [
     "Clip", "Error", "Skeleton", "load", "features", "read_map", "write_map", "synthesize",
     "inbetween",
-    "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "NotFittedError",
+    "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "UMAP", "NotFittedError",
 ]
 __version__ = "0.1.0"
 
@@ -105,7 +105,7 @@ def _keep_arguments(estimator, arguments):
 
 
 class _MapEstimator:
-    """What the six estimators share. Parameters are stored by __init__ as given (scikit-learn's
+    """What the estimators share. Parameters are stored by __init__ as given (scikit-learn's
     rule: no validation there); fit validates them, through the library."""
 
     _method = None
@@ -140,7 +140,8 @@ class _MapEstimator:
     def _options(self):
         params = self.get_params()
         options = {"method": self._method}
-        for key in ("n_components", "n_neighbors", "heat", "reg", "standardize", "strict",
+        for key in ("n_components", "n_neighbors", "heat", "reg", "min_dist", "n_epochs",
+                    "random_state", "standardize", "strict",
                     "n_landmarks", "path", "features", "distance", "exclude", "up", "joints",
                     "frames", "stride", "keep_first"):
             if key in params:
@@ -333,7 +334,28 @@ class LLE(_MapEstimator):
         _keep_arguments(self, locals())
 
 
-_ESTIMATORS = {cls._method: cls for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE)}
+class UMAP(_MapEstimator):
+    __doc__ = """UMAP (McInnes et al. 2018, as umap-learn computes it): a neighbour embedding
+    that keeps each frame's nearest neighbours together and the rest apart (docs/methods/umap.md).
+
+    n_neighbors: UMAP's, the frame itself counted (k − 1 others); min_dist: the smallest map
+    distance, in [0, 1]; n_epochs: layout epochs, None = 500 up to 10 000 frames, 200 above;
+    random_state: the seed (an int ≥ 0; None = 0): one seed, one map, whatever the thread count.
+    transform places new frames at the fuzzy-weighted mean of their n_neighbors nearest fitted
+    frames (umap-learn's starting position; no further epochs).
+    metric="precomputed": fit takes a distance matrix D instead of X.
+    """ + _FEATURE_DOC
+    _method = "umap"
+
+    def __init__(self, n_neighbors=15, n_components=2, *, min_dist=0.1, n_epochs=None,
+                 random_state=0, metric="euclidean", strict=False, features="quat",
+                 distance="pointcloud", exclude=None, up="y", joints="all", frames=None,
+                 stride=1, keep_first=False, path="auto"):
+        _keep_arguments(self, locals())
+
+
+_ESTIMATORS = {cls._method: cls
+               for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE, UMAP)}
 
 
 def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend="local",

@@ -50,7 +50,7 @@ pipeline::ClipMapOptions clip_map_options(const py::dict& o) {
       const auto method = embed::parse_method(name);
       if (!method) {
         throw ParameterError("method: unknown name '" + name +
-                             "' (expected one of pca, svd, mds, isomap, le, lle)");
+                             "' (expected one of pca, svd, mds, isomap, le, lle, umap)");
       }
       e.method = *method;
     } else if (k == "n_components") {
@@ -61,6 +61,12 @@ pipeline::ClipMapOptions clip_map_options(const py::dict& o) {
       if (!value.is_none()) e.heat = value.cast<double>();
     } else if (k == "reg") {
       e.reg = value.cast<double>();
+    } else if (k == "min_dist") {
+      e.min_dist = value.cast<double>();
+    } else if (k == "n_epochs") {
+      e.epochs = value.is_none() ? 0 : value.cast<int>();
+    } else if (k == "random_state") {
+      e.seed = value.is_none() ? 0 : value.cast<int>();
     } else if (k == "standardize") {
       e.standardize = value.cast<bool>();
     } else if (k == "strict") {
@@ -97,6 +103,9 @@ py::dict option_dict(const pipeline::ClipMapOptions& o) {
   d["n_neighbors"] = e.k;
   d["heat"] = e.heat ? py::cast(*e.heat) : py::none();
   d["reg"] = e.reg;
+  d["min_dist"] = e.min_dist;
+  d["n_epochs"] = e.epochs > 0 ? py::cast(e.epochs) : py::none();
+  d["random_state"] = e.seed;
   d["standardize"] = e.standardize;
   d["strict"] = e.strict;
   d["n_landmarks"] = e.landmarks;
@@ -628,6 +637,9 @@ py::tuple matrix_state(const MatrixMapState& s) {
   o["n_neighbors"] = s.options.k;
   o["heat"] = s.options.heat ? py::cast(*s.options.heat) : py::none();
   o["reg"] = s.options.reg;
+  o["min_dist"] = s.options.min_dist;
+  o["n_epochs"] = s.options.epochs > 0 ? py::cast(s.options.epochs) : py::none();
+  o["random_state"] = s.options.seed;
   o["standardize"] = s.options.standardize;
   o["strict"] = s.options.strict;
   o["n_landmarks"] = s.options.landmarks;

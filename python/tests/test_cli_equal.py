@@ -17,6 +17,8 @@ CASES = [
      ["--method", "le", "--frames", "0:300", "--stride", "2"]),
     (motionmap.LLE(n_neighbors=15, distance="geodesic"),
      ["--method", "lle", "-k", "15", "--distance", "geodesic"]),
+    (motionmap.UMAP(n_epochs=60, random_state=3, min_dist=0.2),
+     ["--method", "umap", "--epochs", "60", "--seed", "3", "--min-dist", "0.2"]),
 ]
 
 

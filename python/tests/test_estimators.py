@@ -14,7 +14,7 @@ from sklearn.pipeline import Pipeline  # noqa: E402
 from sklearn.preprocessing import FunctionTransformer  # noqa: E402
 
 ESTIMATORS = [motionmap.PCA, motionmap.SVD, motionmap.MDS, motionmap.Isomap,
-              motionmap.LaplacianEigenmap, motionmap.LLE]
+              motionmap.LaplacianEigenmap, motionmap.LLE, motionmap.UMAP]
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +44,7 @@ def test_matrix_fit_transform_and_pickle(cls, X):
     est = cls() if cls in (motionmap.PCA, motionmap.SVD, motionmap.MDS) else cls(n_neighbors=10)
     Y = est.fit_transform(X)
     assert Y.shape == (X.shape[0], 2) and np.all(np.isfinite(Y))
-    # The map's own frames placed back land on their rows: pca/svd to rounding, le/lle exactly,
+    # The map's own frames placed back land on their rows: pca/svd to rounding, le/lle/umap exactly,
     # dense mds/isomap to the eigen solver's tolerance (embed/placement.h).
     np.testing.assert_allclose(est.transform(X[:20]), Y[:20], atol=1e-6 * np.abs(Y).max())
     # New frames (midpoints of consecutive frames) after a pickle round trip: bit for bit.

@@ -10,7 +10,8 @@ import pytest
 import motionmap
 
 
-@pytest.mark.parametrize("cls", [motionmap.PCA, motionmap.MDS, motionmap.LaplacianEigenmap])
+@pytest.mark.parametrize("cls", [motionmap.PCA, motionmap.MDS, motionmap.LaplacianEigenmap,
+                                 motionmap.UMAP])
 def test_write_read_pickle_place(cls, golf, golf2, tmp_path):
     est = cls(stride=2).fit(golf)
     placed = est.transform(golf2)

@@ -204,7 +204,7 @@ def maps_do_not_depend_on_the_number_of_threads():
     # cores must give byte-identical maps for every method, metrics included.
     if not needs(GOLF):
         return
-    for method in ("pca", "svd", "mds", "isomap", "le", "lle"):
+    for method in ("pca", "svd", "mds", "isomap", "le", "lle", "umap"):
         outputs = []
         for threads in ("1", "2", "7"):
             out = os.path.join(TMP, "threads-%s-%s.csv" % (method, threads))
@@ -246,7 +246,7 @@ def landmarks_exact_and_verbose_choose_and_report_the_path():
         b = v_full[:, 1:] - v_full[:, 1:].mean(0)
         u, _, vt = np.linalg.svd(b.T @ a)
         assert np.abs(b @ (u @ vt) - a).max() <= 1e-6 * np.abs(a).max(), method
-    for method in ("mds", "le"):
+    for method in ("mds", "le", "umap"):
         outputs = []
         for threads in ("1", "2"):
             out = os.path.join(TMP, "lm-%s-%s.csv" % (method, threads))

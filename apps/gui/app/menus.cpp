@@ -31,6 +31,9 @@ QString methodHelp(embed::Method method) {
     case embed::Method::Lle:
       return MotionMenu::tr(
           "Locally linear embedding: keeps each frame the same blend of its neighbours");
+    case embed::Method::Umap:
+      return MotionMenu::tr(
+          "UMAP: keeps each frame's nearest neighbours together, apart from the rest");
   }
   return {};
 }
@@ -39,7 +42,7 @@ QString methodHelp(embed::Method method) {
 MotionMenu::MotionMenu(QMainWindow* window, embed::Method method)
     : QObject(window), m_methods(new QActionGroup(this)) {
   QMenu* motion = window->menuBar()->addMenu(tr("&Motion"));
-  int key = Qt::Key_1;  // 1–6 pick the methods, in the menu's order
+  int key = Qt::Key_1;  // 1–7 pick the methods, in the menu's order
   for (embed::Method m : embed::all_methods()) {
     QAction* action = motion->addAction(methodLabel(m));
     if (key <= Qt::Key_9) action->setShortcut(QKeySequence(key++));

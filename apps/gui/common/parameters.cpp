@@ -108,6 +108,8 @@ QString methodLabel(embed::Method method) {
       return QStringLiteral("LE");
     case embed::Method::Lle:
       return QStringLiteral("LLE");
+    case embed::Method::Umap:
+      return QStringLiteral("UMAP");
   }
   return {};
 }

@@ -31,6 +31,7 @@ constexpr EnumName<Method> kMethodNames[] = {
     {Method::Isomap, "isomap"},
     {Method::LaplacianEigenmap, "le"},
     {Method::Lle, "lle"},
+    {Method::Umap, "umap"},
 };
 
 struct MethodInfo {
@@ -49,6 +50,7 @@ constexpr MethodInfo kMethods[] = {
     {Method::LaplacianEigenmap, enum_name(kMethodNames, Method::LaplacianEigenmap), false, true,
      true},
     {Method::Lle, enum_name(kMethodNames, Method::Lle), true, true, true},
+    {Method::Umap, enum_name(kMethodNames, Method::Umap), false, true, true},
 };
 
 const MethodInfo& info(Method method) {
@@ -311,6 +313,13 @@ void run_method(const EmbedInput& input, const EmbedOptions& options, int frames
         run_lle(*input.features, *input.distances, options, out, progress);
       }
       break;
+    case Method::Umap:
+      if (on_points) {
+        run_umap(points, options, out, progress);
+      } else {
+        run_umap(*input.distances, options, out, progress);
+      }
+      break;
   }
   const Eigen::MatrixXd unsigned_coordinates = out.landmarks ? out.coordinates : Eigen::MatrixXd();
   normalize_signs(out.coordinates);
@@ -439,6 +448,25 @@ void EmbedOptions::validate(int num_frames) const {
                          std::to_string(kMinNeighbors) + ", " +
                          std::to_string(max_neighbors(num_frames)) + "]");
   }
+  if (method == Method::Umap && k < 2) {
+    throw ParameterError(who + "k = " + std::to_string(k) +
+                         " is out of range: umap's n_neighbors counts the frame itself, so it "
+                         "must be in [2, " +
+                         std::to_string(max_neighbors(num_frames)) + "]");
+  }
+  if (method == Method::Umap && !(min_dist >= 0.0 && min_dist <= 1.0)) {
+    throw ParameterError(who + "min_dist = " + format_number(min_dist) +
+                         " is out of range; it must be in [0, 1] (the spread; default 0.1)");
+  }
+  if (method == Method::Umap && (epochs < 0 || epochs > 100000)) {
+    throw ParameterError(who + "epochs = " + std::to_string(epochs) +
+                         " is out of range; it must be in [1, 100000], or 0 for the default (500 "
+                         "up to 10 000 frames, 200 above)");
+  }
+  if (method == Method::Umap && seed < 0) {
+    throw ParameterError(who + "seed = " + std::to_string(seed) +
+                         " is out of range; it must be ≥ 0");
+  }
   if (method == Method::LaplacianEigenmap && heat && !std::isfinite(*heat)) {
     throw ParameterError(who + "heat = " + format_number(*heat) +
                          " is not finite; give a number (≤ 0: all weights 1) or leave it unset "
@@ -484,6 +512,9 @@ double estimate_bytes(Method method, int frames, int values, int columns, bool d
   if (method == Method::Mds || method == Method::Isomap) bytes += 8.0 * F * L;
   if (method == Method::LaplacianEigenmap) bytes += G * (2 * k + 1) * 12.0 * 6.0;
   if (method == Method::Lle) bytes += G * k * k * 12.0 * 6.0;
+  // umap: the directed and symmetric memberships (sparse matrices, triplets) and the layout's
+  // edge arrays (two ints and four doubles per directed edge).
+  if (method == Method::Umap) bytes += G * k * (3 * 16.0 + 2 * 40.0 + 2 * 12.0);
   return bytes;
 }
 

@@ -18,6 +18,7 @@
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/points.h"
+#include "motionmap/embed/umap.h"
 
 namespace motionmap::embed {
 
@@ -127,7 +128,8 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
     case Method::Mds:
     case Method::Isomap:
     case Method::LaplacianEigenmap:
-    case Method::Lle: {
+    case Method::Lle:
+    case Method::Umap: {
       require(input.points && input.points->rows() == n,
               "make_model needs the points (the rows D is computed from)");
       model.metric = input.metric;
@@ -354,6 +356,24 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
           for (int c = 0; c < dims; ++c) value[c] += w * model.coordinates(nb[a], c);
         }
         for (int c = 0; c < dims; ++c) value[c] /= total * (1.0 - model.eigenvalues[c]);
+      } else if (method == Method::Umap) {
+        // umap-learn's transform start: memberships exp(−d/sigma) of the k nearest samples
+        // (rho = 0, sigma by the fit's bisection to log2(k), at least 1e-3 of their mean
+        // distance), normalised to sum 1.
+        const int m = static_cast<int>(nb.size());
+        double mean = 0.0;
+        for (double v : nd) mean += v;
+        mean /= m;
+        const double sigma =
+            std::max(umap_sigma(nd.data(), m, 0.0, std::log2(double(m))), 1e-3 * mean);
+        double total = 0.0;
+        for (int s = 0; s < m; ++s) {
+          // Shifted by the nearest distance: the same ratios, no underflow far from the map.
+          const double w = std::exp(-(nd[std::size_t(s)] - nd[0]) / sigma);
+          total += w;
+          for (int c = 0; c < dims; ++c) value[c] += w * model.coordinates(nb[std::size_t(s)], c);
+        }
+        for (int c = 0; c < dims; ++c) value[c] /= total;
       } else {  // LLE: the barycentric weights of the k nearest samples, as the fit solved them
         const Eigen::Index m = static_cast<Eigen::Index>(nb.size());
         Eigen::MatrixXd Z(m, model.features.cols());

@@ -15,7 +15,10 @@
 //   le        the Nyström extension (Bengio et al. 2004): x = Σ_s w_s·y_s ÷ ((1 − λ_a)·Σ_s w_s)
 //             over the k nearest samples s, w_s the heat kernel, λ_a axis a's eigenvalue;
 //   lle       barycentric weights of the k nearest samples (LLE's own weights, regularised the
-//             same way): x = Σ_s w_s·y_s.
+//             same way): x = Σ_s w_s·y_s;
+//   umap      the fuzzy-weighted average of the k (n_neighbors) nearest samples' map points,
+//             umap-learn's start for transform (its layout steps after it are not run):
+//             w_s = exp(−d_s/sigma), sigma by the fit's bisection to Σ w_s = log2(k).
 // A frame whose point equals a sample's (distance 0) lands on that sample's coordinates, so
 // placing the map's own frames gives their coordinates back: exactly for pca/svd (to rounding),
 // landmark maps and every sample of le and lle; for dense mds and isomap to the eigen solver's
@@ -47,13 +50,14 @@ struct MapModel {
   Eigen::RowVectorXd scale;
   Eigen::MatrixXd axes;  ///< #features by dims
 
-  // mds, isomap, le, lle: the samples as points (the rows D is computed from) and their metric.
-  // For a landmark mds map only the landmarks' rows are kept (in LandmarkFit::frames order).
+  // mds, isomap, le, lle, umap: the samples as points (the rows D is computed from) and their
+  // metric. For a landmark mds map only the landmarks' rows are kept (in LandmarkFit::frames
+  // order).
   RowMatrix points;
   Metric metric = Metric::Euclidean;
   /// mds on the points path: `points` holds the landmarks' rows only.
   bool points_are_landmarks = false;
-  int k = 0;  ///< isomap, le, lle: neighbours a new frame joins through
+  int k = 0;  ///< isomap, le, lle, umap: neighbours a new frame joins through
   /// mds, isomap: the triangulation (a dense map: every frame a landmark, in frame order).
   std::optional<LandmarkFit> landmarks;
   /// isomap on the dense path: the k-NN graph (with its joins) the geodesics run on.

@@ -14,9 +14,9 @@
 
 namespace motionmap::embed {
 
-enum class Method { Pca, Svd, Mds, Isomap, LaplacianEigenmap, Lle };
+enum class Method { Pca, Svd, Mds, Isomap, LaplacianEigenmap, Lle, Umap };
 
-/// "pca", "svd", "mds", "isomap", "le", "lle".
+/// "pca", "svd", "mds", "isomap", "le", "lle", "umap".
 std::string_view method_name(Method method);
 
 /// The method named by `name` (the names of method_name); nullopt for anything else.
@@ -25,20 +25,22 @@ std::optional<Method> parse_method(std::string_view name);
 /// Every method, in the order of the enum (for menus and loops).
 const std::vector<Method>& all_methods();
 
-/// Whether `method` reads the distance matrix D (mds, isomap, le, lle; not pca and svd).
+/// Whether `method` reads the distance matrix D (mds, isomap, le, lle, umap; not pca and svd).
 bool reads_distances(Method method);
 
 /// Whether `method` reads the feature matrix X (pca, svd, lle).
 bool reads_features(Method method);
 
-/// Whether `method` builds a k-NN graph (isomap, le, lle), so k matters.
+/// Whether `method` builds a k-NN graph (isomap, le, lle, umap), so k matters.
 bool uses_graph(Method method);
 
 /// What an embedding needs from its caller. Defaults are the documented ones (docs/methods/).
 struct EmbedOptions {
   Method method = Method::Pca;
   int dimensions = 2;  ///< 2 or 3
-  /// Neighbours per frame (isomap, le, lle); must satisfy 1 ≤ k ≤ #frames − 1.
+  /// Neighbours per frame (isomap, le, lle); must satisfy 1 ≤ k ≤ #frames − 1. umap: its
+  /// n_neighbors, which counts the frame itself (k − 1 others; 2 ≤ k ≤ #frames − 1; umap-learn's
+  /// and the CLI's default for umap is 15).
   int k = 20;
   /// Laplacian eigenmap heat-kernel width t in exp(−d²/t): nullopt = the median squared k-NN
   /// distance (reported in Embedding::heat_used); ≤ 0 = every edge weight 1.
@@ -50,6 +52,13 @@ struct EmbedOptions {
   /// Disconnected neighbour graph: false joins the components through their closest pairs and
   /// warns; true throws NumericalError instead.
   bool strict = false;
+  /// umap: the smallest distance between points of the map (the curve 1/(1 + a·d^(2b)) is fitted
+  /// to 1 below it, spread 1); in [0, 1].
+  double min_dist = 0.1;
+  /// umap: layout epochs; 0 = 500 up to 10 000 frames, 200 above (umap_default_epochs).
+  int epochs = 0;
+  /// umap: seed of the layout's random numbers (negative samples, the start's jitter); ≥ 0.
+  int seed = 0;
   /// Points path, mds and isomap: number of landmarks (0 = min(#frames, kDefaultLandmarks)).
   int landmarks = 0;
   /// Points path, graph methods: how the k nearest neighbours are found (points.h).

@@ -209,6 +209,11 @@ void write_map_file(const std::string& path, const MapFile& f) {
   w.attribute(p, "heat", eo.heat ? *eo.heat : f.heat_used);
   w.attribute(p, "heat_used", f.heat_used);
   w.attribute(p, "reg", eo.reg);
+  if (eo.method == embed::Method::Umap) {  // only umap maps have them: other files unchanged
+    w.attribute(p, "min_dist", eo.min_dist);
+    w.attribute(p, "epochs", eo.epochs);
+    w.attribute(p, "seed", eo.seed);
+  }
   w.attribute(p, "standardize", eo.standardize);
   w.attribute(p, "strict", eo.strict);
   w.attribute(p, "landmarks", eo.landmarks);

@@ -470,8 +470,8 @@ void read_parameters(const Input& in, MapFile& f) {
   fo.keep_first = in.flag(p, "keep_first", "keep a bind pose");
   fo.joints =
       in.parsed(p, "joints", features::parse_joint_selection, "a joint selection (all, common)");
-  eo.method =
-      in.parsed(p, "method", embed::parse_method, "a method (pca, svd, mds, isomap, le, lle)");
+  eo.method = in.parsed(p, "method", embed::parse_method,
+                        "a method (pca, svd, mds, isomap, le, lle, umap)");
   eo.dimensions = int(in.integer(p, "dims", 2, 3, "the map's dimensions"));
   eo.k = in.integer32(p, "k", 1, "neighbours per frame");
   f.k_used = in.integer32(p, "k_used", 0, "neighbours per frame used");
@@ -480,6 +480,11 @@ void read_parameters(const Input& in, MapFile& f) {
     eo.heat = in.real(p, "heat", "the heat-kernel width asked for");
   }
   eo.reg = in.real(p, "reg", "LLE's regularisation");
+  if (eo.method == Method::Umap) {
+    eo.min_dist = in.real(p, "min_dist", "umap's smallest map distance");
+    eo.epochs = in.integer32(p, "epochs", 0, "umap's layout epochs (0: the default)");
+    eo.seed = in.integer32(p, "seed", 0, "umap's random seed");
+  }
   eo.standardize = in.flag(p, "standardize", "standardised PCA");
   eo.strict = in.flag(p, "strict", "strict neighbour graphs");
   eo.landmarks = in.integer32(p, "landmarks", 0, "landmarks asked for (0: the default)");

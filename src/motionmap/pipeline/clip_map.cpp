@@ -11,6 +11,7 @@
 #include "motionmap/core/memory.h"
 #include "motionmap/core/names.h"
 #include "motionmap/embed/points.h"
+#include "motionmap/embed/umap.h"
 
 namespace motionmap::pipeline {
 
@@ -247,6 +248,15 @@ std::string describe_parameters(const Embedding& e, const ClipMapOptions& option
     if (!options.embed.heat) s += " (auto)";
   }
   if (e.method == Method::Lle) s += " reg=" + fmt(options.embed.reg, "%g");
+  if (e.method == Method::Umap) {
+    // The default epochs follow the frames laid out: the distinct poses when frames repeat.
+    const int laid_out =
+        int(e.fitted_frames.empty() ? e.coordinates.rows() : Eigen::Index(e.fitted_frames.size()));
+    s += " min_dist=" + fmt(options.embed.min_dist, "%g") + " epochs=" +
+         std::to_string(options.embed.epochs > 0 ? options.embed.epochs
+                                                 : embed::umap_default_epochs(laid_out)) +
+         " seed=" + std::to_string(options.embed.seed);
+  }
   if (e.method == Method::Pca && options.embed.standardize) s += " standardize";
   s += " features=" + std::string(features::feature_kind_name(f.features)) +
        " distance=" + std::string(features::distance_kind_name(f.distance));

@@ -1,5 +1,5 @@
 #pragma once
-// The six methods behind embed(). Each checks what only it needs, composes the shared routines
+// The methods behind embed(). Each checks what only it needs, composes the shared routines
 // (routines.h: neighbors, graph, eigen) and fills `out` (coordinates before the sign convention,
 // eigenvalues, diagnostics). embed() has already validated the options and the inputs it reads.
 #include <Eigen/Core>
@@ -29,6 +29,13 @@ void run_laplacian_eigenmap(const Eigen::MatrixXd& D, const EmbedOptions& option
 /// LLE: reconstruction weights from X over neighbours from D.
 void run_lle(const Eigen::MatrixXd& X, const Eigen::MatrixXd& D, const EmbedOptions& options,
              Embedding& out, Progress& progress);
+
+/// UMAP of D's k-NN graph (umap.h): options.k is n_neighbors, the frame itself counted.
+void run_umap(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& out,
+              Progress& progress);
+/// UMAP of the points' k-NN graph.
+void run_umap(const PointSet& points, const EmbedOptions& options, Embedding& out,
+              Progress& progress);
 
 // The points path (embed.h, "Two paths"): the same maps without an #frames² matrix.
 /// Landmark MDS of the points.

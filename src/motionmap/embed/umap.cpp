@@ -1,0 +1,360 @@
+// UMAP (McInnes, Healy & Melville 2018): the fuzzy simplicial set of the k-NN graph, a spectral
+// start from its normalised Laplacian, then a force layout by stochastic gradient descent with
+// negative sampling, as umap-learn 0.5 does it (docs/methods/umap.md says what differs).
+//
+// Determinism: the layout runs on one thread, edges in CSR order, negative samples drawn from one
+// std::mt19937_64 seeded with EmbedOptions::seed, so one seed gives the same map bit for bit
+// whatever the thread pool's size (the k-NN search and the eigen solve before it are themselves
+// independent of the thread count).
+#include "motionmap/embed/umap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/embed/detail/methods.h"
+#include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/routines.h"
+#include "motionmap/embed/eigen.h"
+#include "motionmap/embed/graph.h"
+
+namespace motionmap::embed {
+
+namespace {
+
+constexpr double kSmoothTolerance = 1e-5;   // umap-learn's SMOOTH_K_TOLERANCE
+constexpr double kMinDistanceScale = 1e-3;  // MIN_K_DIST_SCALE
+constexpr int kBisectionSteps = 64;
+constexpr int kNegativeSamples = 5;
+constexpr double kRepulsion = 1.0;  // gamma
+constexpr double kLearningRate = 1.0;
+constexpr double kGradientClip = 4.0;
+
+double clip(double v) {
+  return std::clamp(v, -kGradientClip, kGradientClip);
+}
+
+// Uniform on [0, 1) from 53 random bits, and a standard normal (Box–Muller): written out, so the
+// same seed draws the same numbers with every standard library.
+double uniform(std::mt19937_64& rng) {
+  return double(rng() >> 11) * 0x1.0p-53;
+}
+double normal(std::mt19937_64& rng) {
+  const double u1 = 1.0 - uniform(rng);  // (0, 1]
+  const double u2 = uniform(rng);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+}
+
+Graph to_graph(const Eigen::SparseMatrix<double>& S) {
+  Graph g;
+  const int n = static_cast<int>(S.cols());
+  g.offsets.assign(std::size_t(n) + 1, 0);
+  for (int c = 0; c < n; ++c) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(S, c); it; ++it) {
+      if (it.value() > 0.0) {
+        g.targets.push_back(static_cast<int>(it.row()));
+        g.weights.push_back(it.value());
+      }
+    }
+    g.offsets[std::size_t(c) + 1] = static_cast<int>(g.targets.size());
+  }
+  return g;
+}
+
+// Each axis to [0, 10] (umap-learn's start of the layout); a constant axis to 0.
+void rescale_to_ten(Eigen::MatrixXd& Y) {
+  for (Eigen::Index a = 0; a < Y.cols(); ++a) {
+    const double lo = Y.col(a).minCoeff(), hi = Y.col(a).maxCoeff();
+    if (hi > lo) {
+      Y.col(a) = (10.0 * (Y.col(a).array() - lo) / (hi - lo)).matrix();
+    } else {
+      Y.col(a).setZero();
+    }
+  }
+}
+
+}  // namespace
+
+int umap_default_epochs(int frames) {
+  return frames <= 10000 ? 500 : 200;
+}
+
+double umap_sigma(const double* d, int count, double rho, double target) {
+  double lo = 0.0, hi = std::numeric_limits<double>::infinity(), mid = 1.0;
+  for (int step = 0; step < kBisectionSteps; ++step) {
+    double psum = 0.0;
+    for (int j = 0; j < count; ++j) {
+      const double excess = d[j] - rho;
+      psum += excess > 0.0 ? std::exp(-(excess / mid)) : 1.0;
+    }
+    if (std::abs(psum - target) < kSmoothTolerance) break;
+    if (psum > target) {
+      hi = mid;
+      mid = (lo + hi) / 2.0;
+    } else {
+      lo = mid;
+      mid = std::isinf(hi) ? mid * 2.0 : (lo + hi) / 2.0;
+    }
+  }
+  return mid;
+}
+
+UmapGraph umap_fuzzy_graph(const NeighborLists& lists, int n_neighbors) {
+  const int n = lists.frames();
+  const int m = lists.k;  // others per frame: n_neighbors − 1
+  UmapGraph out;
+  out.rho.assign(std::size_t(n), 0.0);
+  out.sigma.assign(std::size_t(n), 0.0);
+  const double target = std::log2(double(n_neighbors));
+  double total = 0.0;
+  for (double d : lists.distance) total += d;
+  // The mean over the k-NN matrix with each frame's own column of zeros, as umap-learn has it.
+  const double mean_all = n > 0 ? total / (double(n) * n_neighbors) : 0.0;
+  std::vector<Eigen::Triplet<double>> directed;
+  directed.reserve(lists.index.size());
+  for (int i = 0; i < n; ++i) {
+    const std::span<const double> d = lists.distances_of(i);
+    double rho = 0.0;
+    for (double v : d) {
+      if (v > 0.0) {
+        rho = v;  // nearest first: the first positive distance
+        break;
+      }
+    }
+    double sigma = umap_sigma(d.data(), m, rho, target);
+    if (rho > 0.0) {
+      double sum = 0.0;
+      for (double v : d) sum += v;
+      sigma = std::max(sigma, kMinDistanceScale * sum / n_neighbors);
+    } else {
+      sigma = std::max(sigma, kMinDistanceScale * mean_all);
+    }
+    out.rho[std::size_t(i)] = rho;
+    out.sigma[std::size_t(i)] = sigma;
+    const std::span<const int> nb = lists.of(i);
+    for (int j = 0; j < m; ++j) {
+      if (nb[std::size_t(j)] == i) continue;
+      const double excess = d[std::size_t(j)] - rho;
+      const double w = excess <= 0.0 || sigma == 0.0 ? 1.0 : std::exp(-(excess / sigma));
+      directed.emplace_back(i, nb[std::size_t(j)], w);
+    }
+  }
+  Eigen::SparseMatrix<double> A(n, n);
+  A.setFromTriplets(directed.begin(), directed.end());
+  const Eigen::SparseMatrix<double> At = A.transpose();
+  const Eigen::SparseMatrix<double> S = A + At - A.cwiseProduct(At);
+  out.graph = to_graph(S);
+  return out;
+}
+
+UmapCurve umap_curve(double min_dist, double spread) {
+  constexpr int kPoints = 300;
+  Eigen::VectorXd x(kPoints), y(kPoints);
+  for (int i = 0; i < kPoints; ++i) {
+    x[i] = 3.0 * spread * i / (kPoints - 1);
+    y[i] = x[i] < min_dist ? 1.0 : std::exp(-(x[i] - min_dist) / spread);
+  }
+  // f(x) = 1 / (1 + a·x^(2b)); x = 0 gives 1 for any a, b (no derivative there).
+  auto residuals = [&](double a, double b, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
+    r.resize(kPoints);
+    if (J) J->resize(kPoints, 2);
+    for (int i = 0; i < kPoints; ++i) {
+      const double p = x[i] > 0.0 ? std::pow(x[i], 2.0 * b) : 0.0;
+      const double f = 1.0 / (1.0 + a * p);
+      r[i] = f - y[i];
+      if (J) {
+        (*J)(i, 0) = -p * f * f;
+        (*J)(i, 1) = x[i] > 0.0 ? -a * p * 2.0 * std::log(x[i]) * f * f : 0.0;
+      }
+    }
+  };
+  double a = 1.0, b = 1.0, lambda = 1e-3;
+  Eigen::VectorXd r, r_try;
+  Eigen::MatrixXd J;
+  residuals(a, b, r, &J);
+  double cost = r.squaredNorm();
+  for (int iteration = 0; iteration < 1000; ++iteration) {
+    const Eigen::Matrix2d JtJ = J.transpose() * J;
+    const Eigen::Vector2d g = J.transpose() * r;
+    Eigen::Matrix2d H = JtJ;
+    H.diagonal() += lambda * JtJ.diagonal();
+    const Eigen::Vector2d step = H.ldlt().solve(-g);
+    const double a_try = a + step[0], b_try = b + step[1];
+    residuals(a_try, b_try, r_try, nullptr);
+    const double cost_try = r_try.squaredNorm();
+    if (std::isfinite(cost_try) && cost_try < cost) {
+      const double gain = cost - cost_try;
+      a = a_try;
+      b = b_try;
+      residuals(a, b, r, &J);
+      cost = cost_try;
+      lambda = std::max(lambda / 10.0, 1e-12);
+      if (gain <= 1e-15 * cost && step.norm() <= 1e-12 * (std::abs(a) + std::abs(b))) break;
+      if (step.norm() <= 1e-13 * (std::abs(a) + std::abs(b))) break;
+    } else {
+      lambda *= 10.0;
+      if (lambda > 1e16) break;
+    }
+  }
+  return {a, b};
+}
+
+static void umap_on(const NeighborGraph& ng, int n_neighbors, const EmbedOptions& options,
+                    Embedding& out, Progress& progress, double begin, double end) {
+  const int n = ng.lists.frames();
+  const int dims = options.dimensions;
+  const double graph_end = begin + 0.05 * (end - begin);
+  const double init_end = begin + 0.15 * (end - begin);
+  progress.stage("fuzzy graph", begin, graph_end);
+  UmapGraph fuzzy = umap_fuzzy_graph(ng.lists, n_neighbors);
+  out.k_used = n_neighbors;
+  const int epochs = options.epochs > 0 ? options.epochs : umap_default_epochs(n);
+
+  // The spectral start: the normalised Laplacian of the fuzzy graph, its components joined by
+  // the graph's joining edges at the smallest membership (so they stay apart in the start).
+  progress.stage("eigen", graph_end, init_end);  // the spectral start
+  std::mt19937_64 rng(static_cast<std::uint64_t>(options.seed));
+  Eigen::MatrixXd Y(n, dims);
+  bool spectral = false;
+  {
+    Graph w = fuzzy.graph;
+    if (!ng.joins.empty()) {
+      const double smallest = *std::min_element(w.weights.begin(), w.weights.end());
+      std::vector<Eigen::Triplet<double>> t;
+      for (int i = 0; i < n; ++i) {
+        for (int e = w.offsets[i]; e < w.offsets[i + 1]; ++e)
+          t.emplace_back(i, w.targets[e], w.weights[e]);
+      }
+      for (const Edge& j : ng.joins) {
+        t.emplace_back(j.a, j.b, smallest);
+        t.emplace_back(j.b, j.a, smallest);
+      }
+      Eigen::SparseMatrix<double> S(n, n);
+      S.setFromTriplets(t.begin(), t.end(), [](double x, double y) { return std::max(x, y); });
+      w = to_graph(S);
+    }
+    std::string failure;
+    if (connected_components(w, true).count > 1) {
+      failure = "the fuzzy graph is disconnected";
+    } else {
+      try {
+        Eigen::VectorXd degrees;
+        const Eigen::SparseMatrix<double> L = normalized_laplacian(w, degrees);
+        const Eigen::VectorXd q = degrees.cwiseSqrt().normalized();
+        const EigenPairs low =
+            smallest_eigenpairs_excluding(L, q, dims, "umap", progress.control(), kDenseEigenLimit,
+                                          out.from_points ? kPointsShiftInvert : ShiftInvert{});
+        out.eigenvalues = low.values;
+        Y = low.vectors;
+        spectral = Y.allFinite() && Y.cwiseAbs().maxCoeff() > 0.0;
+        if (!spectral) failure = "its eigenvectors are degenerate";
+      } catch (const NumericalError& e) {
+        failure = e.what();
+      }
+    }
+    if (spectral) {
+      Y *= 10.0 / Y.cwiseAbs().maxCoeff();
+      for (Eigen::Index i = 0; i < Y.rows(); ++i) {
+        for (int a = 0; a < dims; ++a) Y(i, a) += 1e-4 * normal(rng);
+      }
+    } else {
+      out.notes.push_back("umap: the spectral start failed (" + failure +
+                          "); the layout started from random positions (seed " +
+                          std::to_string(options.seed) + ")");
+      out.eigenvalues = Eigen::VectorXd::Zero(dims);
+      for (Eigen::Index i = 0; i < Y.rows(); ++i) {
+        for (int a = 0; a < dims; ++a) Y(i, a) = -10.0 + 20.0 * uniform(rng);
+      }
+    }
+  }
+  rescale_to_ten(Y);
+
+  // The edges the layout samples: both directions of every membership ≥ max ÷ epochs, each
+  // every max ÷ w epochs.
+  progress.stage("layout", init_end, end);
+  const Graph& g = fuzzy.graph;
+  const double largest =
+      g.weights.empty() ? 0.0 : *std::max_element(g.weights.begin(), g.weights.end());
+  std::vector<int> head, tail;
+  std::vector<double> every;
+  for (int i = 0; i < n; ++i) {
+    for (int e = g.offsets[i]; e < g.offsets[i + 1]; ++e) {
+      if (g.weights[e] < largest / epochs) continue;
+      head.push_back(i);
+      tail.push_back(g.targets[e]);
+      every.push_back(largest / g.weights[e]);
+    }
+  }
+  const std::size_t E = head.size();
+  std::vector<double> every_negative(E), next(every), next_negative(E);
+  for (std::size_t e = 0; e < E; ++e) {
+    every_negative[e] = every[e] / kNegativeSamples;
+    next_negative[e] = every_negative[e];
+  }
+  const UmapCurve curve = umap_curve(options.min_dist, 1.0);
+  const double a = curve.a, b = curve.b;
+  double* data = Y.data();  // column-major: Y(i, c) = data[c·n + i]
+  auto at = [&](int i, int c) -> double& { return data[std::size_t(c) * n + std::size_t(i)]; };
+  double alpha = kLearningRate;
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    for (std::size_t e = 0; e < E; ++e) {
+      if (next[e] > epoch) continue;
+      const int j = head[e], k = tail[e];
+      double d2 = 0.0;
+      for (int c = 0; c < dims; ++c) d2 += (at(j, c) - at(k, c)) * (at(j, c) - at(k, c));
+      double coefficient = 0.0;
+      if (d2 > 0.0) {
+        coefficient = -2.0 * a * b * std::pow(d2, b - 1.0) / (a * std::pow(d2, b) + 1.0);
+      }
+      for (int c = 0; c < dims; ++c) {
+        const double grad = clip(coefficient * (at(j, c) - at(k, c)));
+        at(j, c) += grad * alpha;
+        at(k, c) -= grad * alpha;
+      }
+      next[e] += every[e];
+      const int negatives = static_cast<int>((epoch - next_negative[e]) / every_negative[e]);
+      for (int p = 0; p < negatives; ++p) {
+        const int o = static_cast<int>(rng() % static_cast<std::uint64_t>(n));
+        double q2 = 0.0;
+        for (int c = 0; c < dims; ++c) q2 += (at(j, c) - at(o, c)) * (at(j, c) - at(o, c));
+        if (q2 > 0.0) {
+          const double push = 2.0 * kRepulsion * b / ((0.001 + q2) * (a * std::pow(q2, b) + 1.0));
+          for (int c = 0; c < dims; ++c) at(j, c) += clip(push * (at(j, c) - at(o, c))) * alpha;
+        } else if (j != o) {
+          for (int c = 0; c < dims; ++c) at(j, c) += kGradientClip * alpha;
+        }
+      }
+      next_negative[e] += std::max(negatives, 0) * every_negative[e];
+    }
+    alpha = kLearningRate * (1.0 - double(epoch) / epochs);
+    progress.update(double(epoch + 1) / epochs);
+  }
+  out.coordinates = std::move(Y);
+}
+
+void run_umap(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& out,
+              Progress& progress) {
+  EmbedOptions o = options;
+  o.k = options.k - 1;
+  umap_on(build_neighbor_graph(D, o, out, progress, 0.02, 0.2), options.k, options, out, progress,
+          0.2, 1.0);
+}
+
+void run_umap(const PointSet& points, const EmbedOptions& options, Embedding& out,
+              Progress& progress) {
+  EmbedOptions o = options;
+  o.k = options.k - 1;
+  umap_on(build_neighbor_graph(points, o, out, progress, 0.02, 0.2), options.k, options, out,
+          progress, 0.2, 1.0);
+}
+
+}  // namespace motionmap::embed

@@ -284,9 +284,15 @@ TEST(SynthCleanFeet, SynthesizeCleansTheFeetByDefault) {
   EXPECT_TRUE(cleaned.feet_cleaned);
   EXPECT_EQ(cleaned.contacts.size(), 2u);
   EXPECT_GT(cleaned.feet_frames_changed, 0);
+  // The same as cleaning the blend with the contacts its weights give (the blender knows its
+  // samples' contacts).
   CleanFeetOptions co;
-  const CleanFeetResult direct =
-      clean_feet(blender.skeleton(), raw.motion, find_feet(blender.skeleton()), co);
+  const Feet feet = find_feet(blender.skeleton());
+  ASSERT_EQ(raw.contact_shares.size(), std::size_t(raw.motion.num_frames));
+  const CleanFeetResult direct = clean_feet(
+      blender.skeleton(), raw.motion, feet,
+      contacts_from_shares(blender.skeleton(), raw.motion, feet, raw.contact_shares, co.contacts),
+      co);
   ASSERT_EQ(direct.motion.rotations.size(), cleaned.motion.rotations.size());
   for (std::size_t i = 0; i < direct.motion.rotations.size(); ++i) {
     ASSERT_EQ(direct.motion.rotations[i].coeffs(), cleaned.motion.rotations[i].coeffs());
@@ -437,8 +443,10 @@ TEST(SynthCleanFeet, SynthesizedBandaiWalks) {
     EXPECT_LE(max_jump(skeleton, cleaned.motion), raw_jump + 0.5);
     if (c.walks) {
       // Walks (every frame a sample, or smoothed): the legs away from their contacts keep their
-      // angles, and nothing pops.
-      EXPECT_LE(rms, 1.0);
+      // angles, and nothing pops. Smoothed weights: 1.14° (the contacts the weights add hold the
+      // feet longer, and their fades change more frames; the skating falls from 0.58 to 0.52,
+      // where detecting contacts on the blend alone gave 0.55 at 0.74°).
+      EXPECT_LE(rms, c.smooth > 0.0 ? 1.2 : 1.0);
       EXPECT_LT(added, 3.0);  // cm, at 30 fps
     }
   }

@@ -16,7 +16,9 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/features/point_cloud.h"
+#include "motionmap/skeleton/contacts.h"
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/root_motion.h"
@@ -273,6 +275,11 @@ struct MapBlender::Impl {
   std::vector<double> height;
   std::vector<Eigen::Vector3d> velocity;  // heading-local floor velocity, units/s
   std::vector<double> yaw_rate;           // rad/s
+  // The skeleton's feet (none: no contacts are known). Per sample: bit 0 the left foot, bit 1 the
+  // right foot in contact with the floor in its clip (detect_contacts); read on demand, in the
+  // sample's state instead.
+  std::optional<Feet> feet;
+  std::vector<std::uint8_t> contacts;
 
   // Made from a ClipSource: the clips, read when a blend needs their frames, and each sample's
   // clip and frame.
@@ -284,6 +291,7 @@ struct MapBlender::Impl {
     std::vector<Eigen::Vector3d> translations;  // the moving joints'
     double height = 0.0, yaw_rate = 0.0;
     Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+    std::uint8_t contact = 0;  // as `contacts`
   };
   mutable std::mutex state_mutex;
   mutable std::unordered_map<int, SampleState> states;
@@ -328,6 +336,25 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips,
     sample_state(clips[samples.clip_of[i]].motion, samples.frame_of[i], r, options.up, moving,
                  rotations.data() + ui * uJ, moving_translations.data() + ui * mv, height[ui],
                  velocity[ui], yaw_rate[ui]);
+  }
+  // The samples' contacts, from their own clips (captured feet are found reliably there).
+  feet = try_find_feet(clips.front().skeleton, options.up);
+  if (feet) {
+    ContactOptions co;
+    co.up = options.up;
+    std::vector<std::array<FootContacts, 2>> by_clip(clips.size());
+    parallel_for(static_cast<int>(clips.size()), [&](int c) {
+      by_clip[static_cast<std::size_t>(c)] =
+          detect_contacts(clips[static_cast<std::size_t>(c)].skeleton,
+                          clips[static_cast<std::size_t>(c)].motion, *feet, co);
+    });
+    contacts.resize(un);
+    for (int i = 0; i < n; ++i) {
+      const auto& fc = by_clip[static_cast<std::size_t>(samples.clip_of[i])];
+      contacts[static_cast<std::size_t>(i)] =
+          static_cast<std::uint8_t>((fc[0].in_contact(samples.frame_of[i]) ? 1 : 0) |
+                                    (fc[1].in_contact(samples.frame_of[i]) ? 2 : 0));
+    }
   }
   const Motion& m0 = clips[samples.clip_of[0]].motion;
   fixed_translations.resize(uJ);
@@ -383,6 +410,12 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
                            " frames, the map's clip " + std::to_string(c) + " " +
                            std::to_string(clip_frames[static_cast<std::size_t>(c)]));
     }
+    std::array<FootContacts, 2> clip_contacts;
+    if (feet) {
+      ContactOptions co;
+      co.up = options.up;
+      clip_contacts = detect_contacts(clip->skeleton, clip->motion, *feet, co);
+    }
     for (; b < missing.size() && missing[b].first == c; ++b) {
       const std::size_t k = missing[b].second;
       const int f = frame_of[static_cast<std::size_t>(samples[k])];
@@ -403,6 +436,10 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
       st.height = heights[k];
       st.velocity = velocities[k];
       st.yaw_rate = yaw_rates[k];
+      if (feet) {
+        st.contact = static_cast<std::uint8_t>((clip_contacts[0].in_contact(f) ? 1 : 0) |
+                                               (clip_contacts[1].in_contact(f) ? 2 : 0));
+      }
       read.emplace_back(samples[k], std::move(st));
     }
   }
@@ -536,6 +573,7 @@ MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSumm
                          " frames, the clips' summary " + std::to_string(summary.frames[0]));
   }
   s.skeleton = first->skeleton;
+  s.feet = try_find_feet(s.skeleton, options.up);
   s.frame_time = first->motion.frame_time;
   s.joints = s.skeleton.num_joints();
   const int J = s.joints;
@@ -601,6 +639,34 @@ std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts)
     m->kriging_block(std::span<MapWeights>(out).subspan(b, e - b));
   }
   return out;
+}
+
+std::optional<std::array<double, 2>> MapBlender::contact_share(const MapWeights& w) const {
+  if (!m->feet || w.samples.size() != w.weights.size()) return std::nullopt;
+  std::array<double, 2> share{0.0, 0.0};
+  double total = 0.0;
+  // Read on demand: the contacts of the states the blend of these weights read.
+  std::unique_lock<std::mutex> lock;
+  if (m->source) lock = std::unique_lock<std::mutex>(m->state_mutex);
+  for (std::size_t e = 0; e < w.samples.size(); ++e) {
+    const int s = w.samples[e];
+    if (s < 0 || s >= m->n) return std::nullopt;
+    const double weight = w.weights[e];
+    total += weight;
+    std::uint8_t c = 0;
+    if (m->source) {
+      const auto hit = m->states.find(s);
+      if (hit == m->states.end()) return std::nullopt;  // not read (blend these weights first)
+      c = hit->second.contact;
+    } else {
+      c = m->contacts[static_cast<std::size_t>(s)];
+    }
+    if (c & 1) share[0] += weight;
+    if (c & 2) share[1] += weight;
+  }
+  if (!(total != 0.0)) return std::nullopt;
+  for (double& v : share) v = std::clamp(v / total, 0.0, 1.0);
+  return share;
 }
 
 BlendedFrame MapBlender::blend(const MapWeights& w) const {

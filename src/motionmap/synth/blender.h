@@ -44,6 +44,7 @@
 // nothing up front: it reads the frames a blend uses from the source when it blends them and
 // builds a local kriging system the first time a query needs it, and blends exactly (bit for
 // bit) as one given every clip.
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -239,6 +240,13 @@ class MapBlender {
   /// over valid sample indices, summing to about 1).
   /// @throws ParameterError if sizes differ or a sample index is out of range.
   BlendedFrame blend(const MapWeights& weights) const;
+
+  /// Per foot (left, right): the share of `weights` on samples whose foot is on the floor in
+  /// their own clip (detect_contacts, skeleton/contacts.h), in [0, 1] — how much the blend at
+  /// these weights is a standing foot. Nothing for a skeleton without feet (find_feet); a
+  /// blender reading its clips on demand knows the contacts of the samples it has blended (blend
+  /// these weights first), and says nothing for others.
+  std::optional<std::array<double, 2>> contact_share(const MapWeights& weights) const;
 
   /// The pose at map point p as a one-frame Motion of skeleton(): blended joint rotations and
   /// translations, the motion root at floor position 0 (blended height) with heading 0.

@@ -103,13 +103,17 @@ void solve_leg(const Skeleton& s, const WorldPose& w, const FootPlan& plan, cons
   const double l1 = (K - H).norm(), l2 = (A - K).norm();
   if (l1 <= 0.0 || l2 <= 0.0) return;
   const Vector3d t1 = (K - H) / l1, t2 = (A - K) / l2;
+  // The knee's hinge: the leg's own plane where it bends forward (the side of the input's most
+  // bent frame), else — straight, or bent backwards — that frame's hinge carried by the thigh,
+  // so that the new bend (0…π about it) is forward whatever the input's.
+  Vector3d hinge = parent_world(s, w, leg.knee) * plan.hinge_local;
+  hinge -= hinge.dot(t1) * t1;  // perpendicular to the thigh
+  hinge = hinge.norm() > 1e-12 ? Vector3d(hinge.normalized()) : Vector3d(t1.unitOrthogonal());
   Vector3d axis = t1.cross(t2);
-  if (axis.norm() > kStraightSin) {
+  if (axis.norm() > kStraightSin && axis.dot(hinge) > 0.0) {
     axis.normalize();
   } else {
-    axis = parent_world(s, w, leg.knee) * plan.hinge_local;
-    axis -= axis.dot(t1) * t1;  // perpendicular to the thigh
-    axis = axis.norm() > 1e-12 ? Vector3d(axis.normalized()) : Vector3d(t1.unitOrthogonal());
+    axis = hinge;
   }
   const double bend = std::atan2(t1.cross(t2).dot(axis), t1.dot(t2));
   const double length = l1 + l2;
@@ -173,12 +177,96 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
   options.validate();
   check_motion(skeleton, motion, "clean_feet", MotionCheck::Values);
   for (const Leg& leg : feet.legs) check_leg(skeleton, leg);
+  return clean_feet(skeleton, motion, feet,
+                    detect_contacts(skeleton, motion, feet, options.contacts), options, control);
+}
+
+std::array<FootContacts, 2> contacts_from_shares(const Skeleton& skeleton, const Motion& motion,
+                                                 const Feet& feet,
+                                                 std::span<const std::array<double, 2>> shares,
+                                                 const ContactOptions& options) {
+  std::array<FootContacts, 2> contacts = detect_contacts(skeleton, motion, feet, options);
+  const int F = motion.num_frames;
+  if (shares.size() != static_cast<std::size_t>(F)) {
+    throw ParameterError("contacts_from_shares: " + std::to_string(shares.size()) +
+                         " contact shares for " + std::to_string(F) + " frames");
+  }
+  const int gap = static_cast<int>(std::floor(options.gap_seconds * motion.fps() + 1e-9));
+  const int shortest = static_cast<int>(std::ceil(options.min_seconds * motion.fps() - 1e-9));
+  const Eigen::Vector3d up = Eigen::Vector3d::Unit(static_cast<int>(options.up));
+  for (int s = 0; s < 2; ++s) {
+    const FootContacts& fc = contacts[static_cast<std::size_t>(s)];
+    const std::vector<Eigen::Vector3d> ankle = joint_trajectory(skeleton, motion, fc.leg.ankle);
+    // In contact: mostly standing samples, and the blended ankle low, as a standing one is.
+    const double low = fc.floor + options.height * fc.leg_length;
+    std::vector<ContactInterval> runs;
+    for (int f = 0; f < F; ++f) {
+      // Found by the blended foot's own height and speed, or standing in the samples.
+      const bool standing =
+          shares[static_cast<std::size_t>(f)][static_cast<std::size_t>(s)] >= 0.5 &&
+          ankle[static_cast<std::size_t>(f)].dot(up) <= low;
+      if (!fc.in_contact(f) && !standing) continue;
+      if (!runs.empty() && f - runs.back().last - 1 <= gap) {
+        runs.back().last = f;
+      } else {
+        runs.push_back({f, f});
+      }
+    }
+    // A blend can glide (its pose held at the data's edge while the root moves on): a run is
+    // cut into pieces over which the ankle stays within kMaxHoldDrift leg lengths of where the
+    // piece began on the floor, so no leg is stretched after a foot the body has left behind.
+    const auto floor_distance = [&](int a, int b) {
+      const Eigen::Vector3d d =
+          ankle[static_cast<std::size_t>(b)] - ankle[static_cast<std::size_t>(a)];
+      return (d - d.dot(up) * up).norm();
+    };
+    const double drift = kMaxHoldDrift * fc.leg_length;
+    std::vector<ContactInterval> pieces;
+    // After a cut the next piece starts `fade` frames on, so the foot eases from the hold it
+    // leaves to the next instead of jumping.
+    const int fade = std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * motion.fps())));
+    for (const ContactInterval& r : runs) {
+      ContactInterval piece{r.first, r.first};
+      for (int f = r.first + 1; f <= r.last; ++f) {
+        if (floor_distance(piece.first, f) <= drift) {
+          piece.last = f;
+          continue;
+        }
+        pieces.push_back(piece);
+        f += fade - 1;
+        piece = {f + 1, f + 1};
+      }
+      if (piece.first <= r.last) pieces.push_back(piece);
+    }
+    std::vector<ContactInterval>& out = contacts[static_cast<std::size_t>(s)].intervals;
+    out.clear();
+    for (const ContactInterval& p : pieces)
+      if (p.frames() >= std::max(1, shortest)) out.push_back(p);
+  }
+  return contacts;
+}
+
+CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                           const std::array<FootContacts, 2>& contacts,
+                           const CleanFeetOptions& options, const Control& control) {
+  options.validate();
+  check_motion(skeleton, motion, "clean_feet", MotionCheck::Values);
+  for (const Leg& leg : feet.legs) check_leg(skeleton, leg);
   const Control stage = control.stage("cleaning feet", 0.0, 1.0);
   CleanFeetResult result;
   result.motion = motion;
   const int F = motion.num_frames;
   const int J = skeleton.num_joints();
-  result.contacts = detect_contacts(skeleton, motion, feet, options.contacts);
+  result.contacts = contacts;
+  for (const FootContacts& fc : result.contacts) {
+    for (const ContactInterval& c : fc.intervals) {
+      if (c.first < 0 || c.last < c.first || c.last >= F) {
+        throw ParameterError("clean_feet: a contact of frames " + std::to_string(c.first) + "–" +
+                             std::to_string(c.last) + " is not within the motion's " +
+                             std::to_string(F) + " frames");
+      }
+    }
+  }
   result.root_drop.assign(static_cast<std::size_t>(F), 0.0);
   result.held.fill(std::vector<char>(static_cast<std::size_t>(F), 0));
   if (F == 0) return result;

@@ -32,6 +32,7 @@
 //     everything below the ankle (toes) follows it rigidly.
 // Polls `control` between blocks of frames; reports the stage through it.
 #include <array>
+#include <span>
 #include <vector>
 
 #include "motionmap/core/control.h"
@@ -80,5 +81,35 @@ struct CleanFeetResult {
 ///         of it; Cancelled if `control` says so.
 CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
                            const CleanFeetOptions& options = {}, const Control& control = {});
+
+/// The same with the contacts given (options.contacts is then not used to find them): e.g.
+/// contacts_from_shares() of a synthesized motion, whose blended feet slide too fast to be found
+/// by their speed. @throws as above, and ParameterError for intervals out of range.
+CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                           const std::array<FootContacts, 2>& contacts,
+                           const CleanFeetOptions& options = {}, const Control& control = {});
+
+/// How far (× the leg length, on the floor) a blended ankle may drift from where a contact began
+/// before contacts_from_shares() ends that contact and starts another.
+inline constexpr double kMaxHoldDrift = 0.25;
+/// Frames (in seconds) left free between two such pieces, for the foot to ease from one hold to
+/// the next.
+inline constexpr double kHoldFadeSeconds = 0.15;
+
+/// The contacts of a blended motion from its blend weights as well as its own feet: foot s is on
+/// the floor in frame f when detect_contacts() finds it there, or when at least half of that
+/// frame's blend weight is on samples whose foot s is (shares[f][s] ≥ 0.5,
+/// MapBlender::contact_share) and its ankle is as low as a standing one (within options.height
+/// leg lengths of the foot's floor level). A run over which the ankle drifts more
+/// than kMaxHoldDrift leg lengths on the floor is cut where it does (a blend gliding at the
+/// data's edge would otherwise stretch the leg after a foot left behind). Runs shorter than
+/// options.min_seconds are dropped and gaps shorter than options.gap_seconds filled, as
+/// detect_contacts() does; the legs, lengths and floor levels are detect_contacts()'s of the
+/// motion. `shares`: one per frame of `motion`.
+/// @throws ParameterError if the sizes differ or the motion does not fit the skeleton.
+std::array<FootContacts, 2> contacts_from_shares(const Skeleton& skeleton, const Motion& motion,
+                                                 const Feet& feet,
+                                                 std::span<const std::array<double, 2>> shares,
+                                                 const ContactOptions& options = {});
 
 }  // namespace motionmap::synth

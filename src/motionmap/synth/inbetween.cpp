@@ -385,8 +385,14 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       CleanFeetOptions clean;
       clean.contacts.up = up;
       clean.fixed_frames = result.key_frames;
-      CleanFeetResult cleaned = clean_feet(blender.skeleton(), synth.motion, *feet, clean,
-                                           control.stage("cleaning feet", 0.9, 1.0));
+      const Control cleaning = control.stage("cleaning feet", 0.9, 1.0);
+      CleanFeetResult cleaned =
+          synth.contact_shares.empty()
+              ? clean_feet(blender.skeleton(), synth.motion, *feet, clean, cleaning)
+              : clean_feet(blender.skeleton(), synth.motion, *feet,
+                           contacts_from_shares(blender.skeleton(), synth.motion, *feet,
+                                                synth.contact_shares, clean.contacts),
+                           clean, cleaning);
       synth.motion = std::move(cleaned.motion);
       result.feet_cleaned = true;
     } else {

@@ -1,6 +1,7 @@
 #include "motionmap/synth/synthesize.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <deque>
 #include <optional>
@@ -126,6 +127,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   result.validity.resize(static_cast<std::size_t>(frames));
   std::vector<Eigen::Vector3d> velocity(static_cast<std::size_t>(frames));
   std::vector<double> yaw_rate(static_cast<std::size_t>(frames));
+  std::vector<std::array<double, 2>> shares(static_cast<std::size_t>(frames));
+  std::atomic<bool> shares_known = true;
 
   // Raw weights of frames [raw_first, raw_first + raw.size()), computed ahead as the window needs.
   std::deque<MapWeights> raw;
@@ -161,10 +164,16 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     parallel_for(static_cast<int>(k1 - k0), [&](int i) {
       const long long k = k0 + i;
       const MapWeights& own = raw[static_cast<std::size_t>(k - raw_first)];
-      const BlendedFrame b =
-          half == 0
-              ? blender.blend(own)
-              : blender.blend(smoothed(raw, raw_first, k, frames, kernel, blender.num_samples()));
+      MapWeights smoothed_weights;
+      if (half > 0)
+        smoothed_weights = smoothed(raw, raw_first, k, frames, kernel, blender.num_samples());
+      const MapWeights& weights = half == 0 ? own : smoothed_weights;
+      const BlendedFrame b = blender.blend(weights);
+      if (const auto share = blender.contact_share(weights)) {
+        shares[static_cast<std::size_t>(k)] = *share;
+      } else {
+        shares_known = false;
+      }
       for (int j = 0; j < J; ++j) {
         result.motion.rotation(static_cast<int>(k), j) = b.rotations[j];
         result.motion.translation(static_cast<int>(k), j) = b.translations[j];
@@ -190,12 +199,19 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     heading += yaw_rate[static_cast<std::size_t>(k)] * dt;
   }
   for (const PointValidity& v : result.validity) result.clamped_frames += v.clamped ? 1 : 0;
+  if (shares_known) result.contact_shares = std::move(shares);
 
   if (feet) {
     CleanFeetOptions clean;
     clean.contacts.up = up;
+    // Contacts from the blend weights when the blender knows its samples' contacts.
     CleanFeetResult cleaned =
-        clean_feet(skeleton, result.motion, *feet, clean, control.part(0.9, 1.0));
+        result.contact_shares.empty()
+            ? clean_feet(skeleton, result.motion, *feet, clean, control.part(0.9, 1.0))
+            : clean_feet(skeleton, result.motion, *feet,
+                         contacts_from_shares(skeleton, result.motion, *feet, result.contact_shares,
+                                              clean.contacts),
+                         clean, control.part(0.9, 1.0));
     result.motion = std::move(cleaned.motion);
     result.feet_cleaned = true;
     result.contacts.assign(cleaned.contacts.begin(), cleaned.contacts.end());

@@ -19,6 +19,7 @@
 // Then, by default, the feet are cleaned (clean_feet.h): held still through each contact with
 // the floor, the legs bent to reach; a skeleton without feet (find_feet) is left as blended, with
 // a note. Set SynthOptions::clean_feet = false to get the blend as it is.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ struct SynthResult {
   /// The contacts the clean-up held (left, right); empty when the feet were not cleaned.
   std::vector<FootContacts> contacts;
   int feet_frames_changed = 0;  ///< frames the clean-up changed
+  /// Per frame, per foot (left, right): the share of the frame's blend weight on samples whose
+  /// foot is on the floor (MapBlender::contact_share); empty when the blender does not know its
+  /// samples' contacts. The clean-up takes its contacts from these (contacts_from_shares): a
+  /// blended foot slides too fast to be found by its own speed.
+  std::vector<std::array<double, 2>> contact_shares;
   /// Notes for the user: why the feet were not cleaned, a root lowered to reach, …
   std::vector<std::string> notes;
 };

@@ -18,6 +18,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "blend_setup.h"
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
@@ -34,12 +35,7 @@ namespace motionmap::cli {
 namespace {
 
 struct InbetweenCommand {
-  CLI::App* sub = nullptr;
-  MapCliOptions map;
-  std::string saved;
-  synth::BlendMode blend = synth::BlendMode::Local;
-  int neighbors = 12;
-  double reach = 3.0;
+  BlendCliOptions o;
   std::vector<std::string> keys;
   int frames_between = -1;
   std::vector<double> times;
@@ -49,13 +45,6 @@ struct InbetweenCommand {
   std::string output;
   std::string route_csv;
 };
-
-// The options a saved map fixes (as for pose and synth): usage errors with --map.
-constexpr const char* kFixedBySavedMap[] = {
-    "files",        "--asf",    "--amc-fps",     "--method",     "--dims",     "-k",
-    "--heat",       "--reg",    "--standardize", "--strict",     "--features", "--distance",
-    "--exclude",    "--frames", "--stride",      "--keep-first", "--up",       "--recursive",
-    "--keep-going", "--joints", "--exact",       "--landmarks"};
 
 // A key as written: FILE:FRAME or X:Y, and its time.
 struct KeyText {
@@ -117,92 +106,31 @@ std::string approx(double v) {
 
 // The map, its blender and what placing frames on it needs.
 struct Prepared {
-  std::unique_ptr<synth::MapBlender> blender;
-  features::FeatureSet samples;
+  PreparedBlender b;
   std::vector<std::string> clip_files;  // per map clip: the file it was read from
   Clip reference;                       // a clip of the map, for the skeleton check
   // Placing: the map as a MapFile with its model, made or read when a key first needs it.
   std::function<const mapfile::MapFile&()> map_file;
 };
 
-synth::BlendOptions blend_options(const InbetweenCommand& cmd, Axis up) {
-  synth::BlendOptions blend;
-  blend.mode = cmd.blend;
-  blend.neighbors = cmd.neighbors;
-  blend.reach = cmd.reach;
-  blend.up = up;
-  return blend;
-}
-
-Prepared prepare_saved(const InbetweenCommand& cmd) {
-  for (const char* name : kFixedBySavedMap) {
-    const CLI::Option* option = cmd.sub->get_option_no_throw(name);
-    if (option && option->count() > 0) {
-      throw CLI::ValidationError(
-          option->get_name(),
-          "the saved map " + cmd.saved + " fixes its clips, features, method and frames: " +
-              (std::string(name) == "files" ? "give no FILE with --map " + cmd.saved
-                                            : "leave " + option->get_name() + " out"));
-    }
-  }
-  if (!mapfile::looks_like_map_file(cmd.saved)) {
-    throw CLI::ValidationError("--map", cmd.saved +
-                                            " is not a saved map (`motionmap map --save "
-                                            "lib.mmap.h5`); inbetween places key frames on the "
-                                            "map, which a map CSV cannot do");
-  }
-  mapfile::MapFile file = mapfile::read_map_file(cmd.saved, {.model = false});
-  if (!cmd.map.quiet) {
-    for (const std::string& note : file.read_notes) std::cerr << "note: " << note << '\n';
-  }
-  const synth::BlendOptions blend = blend_options(cmd, file.options.features.up);
-  const auto saved = std::make_shared<const mapfile::SavedMap>(std::move(file));
-  Prepared p;
-  p.samples = saved->samples();
-  for (int c = 0; c < saved->num_clips(); ++c) p.clip_files.push_back(saved->resolve_path(c));
-  p.reference = *saved->clip(0);
-  if (blend.mode == synth::BlendMode::Kriging) {
-    const std::vector<Clip> clips = saved->load_all_clips();
-    p.blender = std::make_unique<synth::MapBlender>(clips, p.samples, saved->file().coordinates,
-                                                    blend, progress_line(cmd.map, "blend"));
-  } else {
-    p.blender = std::make_unique<synth::MapBlender>(
-        mapfile::make_blender(saved, blend, progress_line(cmd.map, "blend")));
-  }
-  auto with_model = std::make_shared<std::optional<mapfile::MapFile>>();
-  p.map_file = [with_model, path = cmd.saved]() -> const mapfile::MapFile& {
-    if (!*with_model) *with_model = mapfile::read_map_file(path);
-    return **with_model;
-  };
-  return p;
-}
-
 Prepared prepare(const InbetweenCommand& cmd) {
-  if (!cmd.saved.empty()) return prepare_saved(cmd);
-  if (cmd.map.files.empty()) {
-    throw CLI::ValidationError("files",
-                               "give the clips (FILE…), or a saved map with --map lib.mmap.h5");
-  }
-  auto clips = std::make_shared<std::vector<Clip>>(load_inputs(cmd.map));
-  for (const Clip& clip : *clips) {
-    if (const std::string why = features::hierarchy_difference(clips->front(), clip); !why.empty())
-      throw Error(clip.path + ": its joint hierarchy differs from " + clips->front().path + "'s (" +
-                  why + "); inbetween blends clips of one skeleton");
-  }
-  const pipeline::ClipMapOptions options =
-      clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
-  auto map = std::make_shared<pipeline::ClipMap>(pipeline::map_clips(
-      *clips, options, progress_line(cmd.map, embed::method_name(cmd.map.method))));
-  print_diagnostics(*map);
   Prepared p;
-  p.samples = *map->features;
-  for (const Clip& clip : *clips) p.clip_files.push_back(clip.path);
-  p.reference = clips->front();
-  p.blender = std::make_unique<synth::MapBlender>(*clips, p.samples, map->embedding.coordinates,
-                                                  blend_options(cmd, options.features.up),
-                                                  progress_line(cmd.map, "blend"));
+  p.b = prepare_blender(cmd.o, "inbetween", /*csv_allowed=*/false);
+  if (const auto saved = p.b.saved) {
+    for (int c = 0; c < saved->num_clips(); ++c) p.clip_files.push_back(saved->resolve_path(c));
+    p.reference = *saved->clip(0);
+    auto with_model = std::make_shared<std::optional<mapfile::MapFile>>();
+    p.map_file = [with_model, path = cmd.o.map_path]() -> const mapfile::MapFile& {
+      if (!*with_model) *with_model = mapfile::read_map_file(path);
+      return **with_model;
+    };
+    return p;
+  }
+  p.clip_files = p.b.clip_paths;
+  p.reference = p.b.clips->front();
   auto file = std::make_shared<std::optional<mapfile::MapFile>>();
-  p.map_file = [file, clips, map, options]() -> const mapfile::MapFile& {
+  p.map_file = [file, clips = p.b.clips, map = p.b.map,
+                options = p.b.options]() -> const mapfile::MapFile& {
     if (!*file) *file = mapfile::make_map_file(*clips, std::move(*map), options);
     return **file;
   };
@@ -219,8 +147,8 @@ std::vector<synth::Key> resolve_keys(const InbetweenCommand& cmd, const std::vec
                                      Prepared& p) {
   std::map<std::string, std::shared_ptr<const Clip>> loaded;
   io::LoadOptions load;
-  load.asf_path = cmd.map.asf;
-  load.fps = cmd.map.fps;
+  load.asf_path = cmd.o.map.asf;
+  load.fps = cmd.o.map.fps;
   std::vector<synth::Key> keys;
   for (const KeyText& t : texts) {
     synth::Key key;
@@ -254,10 +182,10 @@ std::vector<synth::Key> resolve_keys(const InbetweenCommand& cmd, const std::vec
     int sample = -1;
     for (std::size_t c = 0; c < p.clip_files.size() && sample < 0; ++c) {
       if (same_file(p.clip_files[c], t.file))
-        sample = synth::find_sample(p.samples, static_cast<int>(c), t.frame);
+        sample = synth::find_sample(p.b.samples, static_cast<int>(c), t.frame);
     }
     if (sample >= 0) {
-      key = synth::sample_key(*p.blender, sample, clip->motion, t.frame);
+      key = synth::sample_key(*p.b.blender, sample, clip->motion, t.frame);
     } else {
       // Placed as `map --onto` places frames: this one frame, a leading bind pose included.
       mapfile::PlaceOptions place;
@@ -273,7 +201,7 @@ std::vector<synth::Key> resolve_keys(const InbetweenCommand& cmd, const std::vec
         key.pose.rotation(0, j) = clip->motion.rotation(t.frame, j);
         key.pose.translation(0, j) = clip->motion.translation(t.frame, j);
       }
-      if (!cmd.map.quiet) {
+      if (!cmd.o.map.quiet) {
         std::cerr << "note: key " << t.text << " is not a sample of the map: placed at ("
                   << approx(key.point.x()) << ", " << approx(key.point.y())
                   << ") as `map --onto` places frames\n";
@@ -318,13 +246,9 @@ void setup_inbetween(CLI::App& app) {
       "optional @SECONDS. Then each foot is held still through its contacts with the floor, the\n"
       "keys' frames left exact (--no-clean-feet: not).\n"
       "The map: computed from FILE…, or a saved map --map lib.mmap.h5.");
-  cmd->sub = sub;
-  add_map_options(sub, cmd->map, MapOptionsFor::Synthesis);
-  sub->get_option("files")->required(false);
-  sub->add_option("--map", cmd->saved,
-                  "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips are "
-                  "loaded from the paths it records and checked against their SHA-256")
-      ->check(CLI::ExistingFile);
+  add_blend_options(sub, cmd->o,
+                    "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips "
+                    "are loaded from the paths it records and checked against their SHA-256");
   sub->add_option("--keys", cmd->keys,
                   "The keys, comma-separated, at least 2: FILE:FRAME or X:Y, each optionally "
                   "@SECONDS (then every key needs a time), e.g. walk.bvh:9,walk.bvh:40 or "
@@ -350,15 +274,6 @@ void setup_inbetween(CLI::App& app) {
                 "Keep the feet as blended: by default each foot is held still through its "
                 "contacts with the floor (docs/synthesis.md, \"Clean feet\"), the keys' frames "
                 "left exact");
-  sub->add_option("--blend", cmd->blend,
-                  "Weights of the samples around a map point: local (default), kriging or idw")
-      ->transform(CLI::CheckedTransformer(choices(synth::all_blend_modes(), synth::blend_mode_name),
-                                          CLI::ignore_case));
-  sub->add_option("--neighbors", cmd->neighbors,
-                  "K: samples per local kriging system, or blended by idw (default 12)");
-  sub->add_option("--reach", cmd->reach,
-                  "A map point is valid within reach × the median step between consecutive "
-                  "samples of a sample; routes stay there (default 3)");
   sub->add_option("-o,--output", cmd->output, "BVH file to write (the map's skeleton)")->required();
   sub->add_option("--route-csv", cmd->route_csv,
                   "Also write the map point of every frame as t,x,y rows (a path `synth` reads; "
@@ -392,18 +307,19 @@ void setup_inbetween(CLI::App& app) {
     options.route.grid = cmd->grid;
     options.route.smooth = !cmd->no_smooth;
     options.clean_feet = !cmd->no_clean_feet;
-    const Control line = progress_line(cmd->map, "inbetween");
-    const synth::InbetweenResult r = synth::inbetween(*p.blender, p.samples, keys, options, line);
+    const Control line = progress_line(cmd->o.map, "inbetween");
+    const synth::InbetweenResult r =
+        synth::inbetween(*p.b.blender, p.b.samples, keys, options, line);
     if (r.outside_frames > 0) {
       std::cerr << "note: " << r.outside_frames << " of " << r.motion.num_frames
                 << " frames lie outside the data (beyond the reach "
-                << approx(p.blender->reach_distance())
+                << approx(p.b.blender->reach_distance())
                 << " from every sample: a key outside the data, or a gap between parts of the "
                    "map that the route had to cross) and were blended at the nearest edge of the "
                    "data\n";
     }
     for (const std::string& note : r.notes) std::cerr << "note: " << note << '\n';
-    io::write_bvh(io::from_motion(p.blender->skeleton(), r.motion), cmd->output);
+    io::write_bvh(io::from_motion(p.b.blender->skeleton(), r.motion), cmd->output);
     if (!cmd->route_csv.empty()) write_route_csv(cmd->route_csv, r, keys);
     std::string at;
     for (std::size_t i = 0; i < r.key_frames.size(); ++i)

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "blend_setup.h"
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
@@ -27,12 +28,7 @@ namespace motionmap::cli {
 namespace {
 
 struct ReachCommand {
-  CLI::App* sub = nullptr;
-  MapCliOptions map;
-  std::string map_path;
-  synth::BlendMode blend = synth::BlendMode::Local;
-  int neighbors = 12;
-  double reach = 3.0;
+  BlendCliOptions o;
   std::string output;
   std::string joint;
   std::string to;
@@ -42,13 +38,6 @@ struct ReachCommand {
   int evaluations = synth::ReachOptions{}.max_evaluations;
   bool json = false;
 };
-
-// The options a saved map fixes, as for `pose` and `synth` (apps/cli/synthesis.cpp).
-constexpr const char* kFixedBySavedMap[] = {
-    "files",        "--asf",    "--amc-fps",     "--method",     "--dims",     "-k",
-    "--heat",       "--reg",    "--standardize", "--strict",     "--features", "--distance",
-    "--exclude",    "--frames", "--stride",      "--keep-first", "--up",       "--recursive",
-    "--keep-going", "--joints", "--exact",       "--landmarks"};
 
 /// `count` finite numbers separated by commas, or nothing.
 template <int count>
@@ -101,77 +90,6 @@ std::string text_point(const Vector& v) {
   return out;
 }
 
-void check_one_skeleton(const std::vector<Clip>& clips, const std::string& where) {
-  for (const Clip& clip : clips) {
-    if (const std::string why = features::hierarchy_difference(clips.front(), clip); !why.empty())
-      throw Error(where + clip.path + ": its joint hierarchy differs from " + clips.front().path +
-                  "'s (" + why +
-                  "); reach blends clips of one skeleton (a --joints common map holds clips of "
-                  "several, but cannot blend them)");
-  }
-}
-
-/// The blender over a saved map or over the clips, as `pose` makes it (apps/cli/synthesis.cpp):
-/// the same map, options and blend. `clip_paths` receives the clips' paths.
-synth::MapBlender prepare(const ReachCommand& cmd, std::vector<std::string>& clip_paths,
-                          features::FeatureSet& samples) {
-  synth::BlendOptions blend;
-  blend.mode = cmd.blend;
-  blend.neighbors = cmd.neighbors;
-  blend.reach = cmd.reach;
-  if (!cmd.map_path.empty() && mapfile::looks_like_map_file(cmd.map_path)) {
-    for (const char* name : kFixedBySavedMap) {
-      const CLI::Option* option = cmd.sub->get_option_no_throw(name);
-      if (option && option->count() > 0) {
-        throw CLI::ValidationError(
-            option->get_name(),
-            "the saved map " + cmd.map_path + " fixes its clips, features, method and frames: " +
-                (std::string(name) == "files" ? "give no FILE with --map " + cmd.map_path
-                                              : "leave " + option->get_name() + " out"));
-      }
-    }
-    mapfile::MapFile file = mapfile::read_map_file(cmd.map_path, {.model = false});
-    if (!cmd.map.quiet) {
-      for (const std::string& note : file.read_notes) std::cerr << "note: " << note << '\n';
-    }
-    for (const mapfile::ClipRecord& record : file.clips) clip_paths.push_back(record.path);
-    blend.up = file.options.features.up;
-    const auto saved = std::make_shared<const mapfile::SavedMap>(std::move(file));
-    samples = saved->samples();
-    if (blend.mode != synth::BlendMode::Kriging)
-      return mapfile::make_blender(saved, blend, progress_line(cmd.map, "blend"));
-    const std::vector<Clip> clips = saved->load_all_clips();
-    check_one_skeleton(clips, cmd.map_path + ": ");
-    return synth::MapBlender(clips, samples, saved->file().coordinates, blend,
-                             progress_line(cmd.map, "blend"));
-  }
-  if (cmd.map.files.empty()) {
-    throw CLI::ValidationError("files",
-                               "give the clips (FILE…), or a saved map with --map lib.mmap.h5");
-  }
-  const std::vector<Clip> clips = load_inputs(cmd.map);
-  for (const Clip& clip : clips) clip_paths.push_back(clip.path);
-  check_one_skeleton(clips, "");
-  const pipeline::ClipMapOptions options =
-      clip_map_options(cmd.map, cmd.map.method, /*metrics=*/false);
-  blend.up = options.features.up;
-  Eigen::MatrixXd coords;
-  if (!cmd.map_path.empty()) {
-    const pipeline::MapTable table = pipeline::read_map_csv(cmd.map_path);
-    samples = features::select_samples(clips, options.features);
-    for (const auto& n : samples.notes) std::cerr << "note: " << n << '\n';
-    table.check_matches(samples);
-    coords = table.coords;
-  } else {
-    pipeline::ClipMap map = pipeline::map_clips(
-        clips, options, progress_line(cmd.map, embed::method_name(cmd.map.method)));
-    print_diagnostics(map);
-    samples = *map.features;
-    coords = std::move(map.embedding.coordinates);
-  }
-  return synth::MapBlender(clips, samples, coords, blend, progress_line(cmd.map, "blend"));
-}
-
 /// find_joint(), its error a usage error of `option`.
 int joint_named(const Skeleton& skeleton, const std::string& option, const std::string& name) {
   try {
@@ -193,24 +111,11 @@ void setup_reach(CLI::App& app) {
       "and the map point. Positions are in the frame of `motionmap pose`'s poses: the root at the\n"
       "floor origin facing the heading-0 direction (+Z for Y-up files).\n"
       "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
-  cmd->sub = sub;
-  add_map_options(sub, cmd->map, MapOptionsFor::Synthesis);
-  sub->get_option("files")->required(false);
-  sub->add_option(
-         "--map", cmd->map_path,
-         "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips are loaded "
-         "from the paths it records and checked against their SHA-256; or a map CSV from "
-         "`motionmap map` on the same files and options")
-      ->check(CLI::ExistingFile);
-  sub->add_option("--blend", cmd->blend,
-                  "Weights of the samples around a map point: local (default), kriging or idw")
-      ->transform(CLI::CheckedTransformer(choices(synth::all_blend_modes(), synth::blend_mode_name),
-                                          CLI::ignore_case));
-  sub->add_option("--neighbors", cmd->neighbors,
-                  "K: samples per local kriging system, or blended by idw (default 12)");
-  sub->add_option("--reach", cmd->reach,
-                  "Valid map points lie within reach × the median step between consecutive "
-                  "samples of a sample (default 3)");
+  add_blend_options(
+      sub, cmd->o,
+      "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips are loaded "
+      "from the paths it records and checked against their SHA-256; or a map CSV from "
+      "`motionmap map` on the same files and options");
   sub->add_option("--joint", cmd->joint, "The joint to move, by name (e.g. LeftHand, Hand_L, Head)")
       ->required();
   sub->add_option("--to", cmd->to, "Its target position x,y,z (write --to=x,y,z when x < 0)")
@@ -260,9 +165,8 @@ void setup_reach(CLI::App& app) {
       pin_texts.push_back(pin);
     }
 
-    std::vector<std::string> clip_paths;
-    features::FeatureSet samples;
-    const synth::MapBlender blender = prepare(*cmd, clip_paths, samples);
+    const PreparedBlender prepared = prepare_blender(cmd->o, "reach");
+    const synth::MapBlender& blender = *prepared.blender;
     const Skeleton& skeleton = blender.skeleton();
     synth::ReachGoal goal;
     goal.joint = joint_named(skeleton, "--joint", cmd->joint);
@@ -277,13 +181,14 @@ void setup_reach(CLI::App& app) {
     }
     synth::ReachOptions options;
     options.max_evaluations = cmd->evaluations;
-    const synth::Reacher reacher(blender, progress_line(cmd->map, "reach"));
+    const synth::Reacher reacher(blender, progress_line(cmd->o.map, "reach"));
     const synth::ReachResult r = reacher.reach(goal, options);
     io::write_bvh(io::from_motion(skeleton, r.pose), cmd->output);
 
     const int nearest = r.validity.nearest_sample;
-    const std::string nearest_clip = clip_paths[std::size_t(samples.clip_of[std::size_t(nearest)])];
-    const int nearest_frame = samples.frame_of[std::size_t(nearest)];
+    const std::string nearest_clip =
+        prepared.clip_paths[std::size_t(prepared.samples.clip_of[std::size_t(nearest)])];
+    const int nearest_frame = prepared.samples.frame_of[std::size_t(nearest)];
     const double percent = 100.0 * r.error_fraction;
     const std::string joint_name = skeleton.joints[std::size_t(goal.joint)].name;
     if (cmd->json) {
@@ -318,7 +223,7 @@ void setup_reach(CLI::App& app) {
                   << "\n";
       }
     }
-    if (!cmd->map.quiet) {
+    if (!cmd->o.map.quiet) {
       std::cerr << "wrote " << cmd->output << ": 1 frame; nearest sample: " << nearest_clip
                 << " frame " << nearest_frame << " at " << approx(r.validity.distance) << " (reach "
                 << approx(blender.reach_distance()) << "), " << r.evaluations

@@ -22,34 +22,6 @@ struct NameClass {
   Part part = Part::None;
 };
 
-// The words of a joint name (see the top of contacts.h), lower case.
-std::vector<std::string> words_of(std::string_view name) {
-  const auto cut = name.find_last_of(":|");
-  if (cut != std::string_view::npos) name = name.substr(cut + 1);
-  std::vector<std::string> words;
-  std::string word;
-  auto flush = [&] {
-    if (!word.empty()) words.push_back(word);
-    word.clear();
-  };
-  for (std::size_t i = 0; i < name.size(); ++i) {
-    const auto c = static_cast<unsigned char>(name[i]);
-    if (!std::isalnum(c)) {
-      flush();
-      continue;
-    }
-    if (!word.empty()) {
-      const auto prev = static_cast<unsigned char>(name[i - 1]);
-      const bool lower_to_upper = std::islower(prev) && std::isupper(c);
-      const bool digit_change = (std::isdigit(prev) != 0) != (std::isdigit(c) != 0);
-      if (lower_to_upper || digit_change) flush();
-    }
-    word += static_cast<char>(std::tolower(c));
-  }
-  flush();
-  return words;
-}
-
 Part part_of(std::string_view s) {
   if (s == "foot" || s == "ankle") return Part::Ankle;
   if (s == "toe" || s == "toes" || s == "toebase" || s == "ball") return Part::Toe;
@@ -65,7 +37,7 @@ std::optional<FootSide> side_word(std::string_view w) {
 NameClass classify(std::string_view name) {
   NameClass out;
   std::string rest;
-  for (const std::string& w : words_of(name)) {
+  for (const std::string& w : joint_name_words(name)) {
     if (auto s = side_word(w); s && !out.side) {
       out.side = s;
     } else {

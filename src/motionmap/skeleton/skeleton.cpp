@@ -1,6 +1,7 @@
 #include "motionmap/skeleton/skeleton.h"
 
 #include <array>
+#include <cctype>
 #include <unordered_set>
 
 #include "motionmap/core/error.h"
@@ -113,6 +114,36 @@ PoseView Motion::pose(int frame) const {
   const auto n = static_cast<std::size_t>(num_joints);
   return {std::span<const Eigen::Quaterniond>(rotations).subspan(begin, n),
           std::span<const Eigen::Vector3d>(translations).subspan(begin, n)};
+}
+
+std::vector<std::string> joint_name_words(std::string_view name) {
+  const auto cut = name.find_last_of(":|");
+  if (cut != std::string_view::npos) name = name.substr(cut + 1);
+  std::vector<std::string> words;
+  std::string word;
+  const auto flush = [&] {
+    if (!word.empty()) words.push_back(word);
+    word.clear();
+  };
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    if (!std::isalnum(c)) {
+      flush();
+      continue;
+    }
+    if (!word.empty()) {
+      const auto prev = static_cast<unsigned char>(name[i - 1]);
+      const bool next_lower =
+          i + 1 < name.size() && std::islower(static_cast<unsigned char>(name[i + 1]));
+      const bool camel =
+          std::isupper(c) && (std::islower(prev) || (std::isupper(prev) && next_lower));
+      const bool digit_change = (std::isdigit(c) != 0) != (std::isdigit(prev) != 0);
+      if (camel || digit_change) flush();
+    }
+    word += static_cast<char>(std::tolower(c));
+  }
+  flush();
+  return words;
 }
 
 }  // namespace motionmap

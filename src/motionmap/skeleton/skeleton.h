@@ -108,6 +108,13 @@ struct Motion {
   }
 };
 
+/// The words of a joint name, lower case, for matching names across exporters: the part after
+/// any `prefix:` or `prefix|` (Mixamo's `mixamorig:`), cut at every character that is not a
+/// letter or digit, at a change between letters and digits, and at camel case ("LeftHand" and
+/// "LHand" → left/l, hand; "Hand_L" → hand, l). Feet (skeleton/contacts.h) and `reach --joint`
+/// (synth/reach.h) read names with it.
+std::vector<std::string> joint_name_words(std::string_view name);
+
 /// The joint that carries the body's motion: the first root, or — where exporters put a static
 /// joint above the hips (Bandai Namco's joint_Root) — the first joint down the chain of single
 /// children whose local transform changes during `motion`. Heading and floor position are read

@@ -4,11 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include <nanoflann.hpp>
-
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/stats.h"
+#include "motionmap/synth/detail/point_tree.h"
 
 namespace motionmap::synth::detail {
 
@@ -16,20 +15,6 @@ namespace {
 
 // Samples closer than this fraction of the map's extent share one map point.
 constexpr double kMergeFraction = 1e-9;
-
-struct PointSet {
-  std::vector<Eigen::Vector2d> points;
-  std::size_t kdtree_get_point_count() const { return points.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const {
-    return points[i][static_cast<Eigen::Index>(d)];
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>,
-                                                   PointSet, 2, std::uint32_t>;
 
 // The 0-based median map step/speed: the upper median (as the blender always had; numpy's mean of
 // the two middle values would move the reach, the local systems' separation and the default
@@ -40,13 +25,8 @@ double median_or_zero(std::vector<double> values) {
 
 }  // namespace
 
-// The tree keeps a reference to its point set: both live together on the heap, so a moved
-// MapIndex keeps a valid tree.
-struct MapIndex::Tree {
-  PointSet set;
-  KdTree index;
-  explicit Tree(std::vector<Eigen::Vector2d> points)
-      : set{std::move(points)}, index(2, set, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+struct MapIndex::Tree : detail::PointTree {
+  using PointTree::PointTree;
 };
 
 MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureSet& samples,

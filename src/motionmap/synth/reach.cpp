@@ -37,33 +37,9 @@ std::string lower(std::string_view s) {
   return out;
 }
 
-// "LeftHand", "Hand_L", "lHand" → the same key: words (split at '_', '-', digits and case
-// changes), lower case, left/right as l/r, sorted.
+// "LeftHand", "Hand_L", "lHand" → the same key: joint_name_words(), left/right as l/r, sorted.
 std::string name_key(std::string_view name) {
-  std::vector<std::string> words;
-  std::string word;
-  const auto flush = [&] {
-    if (!word.empty()) words.push_back(lower(word));
-    word.clear();
-  };
-  for (std::size_t i = 0; i < name.size(); ++i) {
-    const auto c = static_cast<unsigned char>(name[i]);
-    if (!std::isalnum(c)) {
-      flush();
-      continue;
-    }
-    if (!word.empty()) {
-      const auto prev = static_cast<unsigned char>(name[i - 1]);
-      const bool next_lower =
-          i + 1 < name.size() && std::islower(static_cast<unsigned char>(name[i + 1]));
-      const bool camel =
-          std::isupper(c) && (std::islower(prev) || (std::isupper(prev) && next_lower));
-      const bool digit_change = (std::isdigit(c) != 0) != (std::isdigit(prev) != 0);
-      if (camel || digit_change) flush();
-    }
-    word += static_cast<char>(c);
-  }
-  flush();
+  std::vector<std::string> words = joint_name_words(name);
   for (std::string& w : words) {
     if (w == "left") w = "l";
     if (w == "right") w = "r";

@@ -8,10 +8,9 @@
 #include <queue>
 #include <string>
 
-#include <nanoflann.hpp>
-
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/synth/detail/point_tree.h"
 
 namespace motionmap::synth {
 
@@ -30,20 +29,6 @@ constexpr int kValidDepth = 40;
 constexpr int kRepairDepth = 12;
 constexpr int kChaikinRounds = 2;
 
-struct PointSet {
-  std::vector<Eigen::Vector2d> points;
-  std::size_t kdtree_get_point_count() const { return points.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const {
-    return points[i][static_cast<Eigen::Index>(d)];
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>,
-                                                   PointSet, 2, std::uint32_t>;
-
 }  // namespace
 
 void RouteOptions::validate() const {
@@ -54,12 +39,8 @@ void RouteOptions::validate() const {
   }
 }
 
-// The tree keeps a reference to its point set: both live together on the heap.
-struct MapField::Tree {
-  PointSet set;
-  KdTree index;
-  explicit Tree(std::vector<Eigen::Vector2d> points)
-      : set{std::move(points)}, index(2, set, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+struct MapField::Tree : detail::PointTree {
+  using PointTree::PointTree;
 };
 
 MapField::MapField(const MapBlender& blender)

@@ -39,8 +39,7 @@ void JointDrag::updateAvailability() {
   m_skeletonView->setJointDragEnabled(on);
 }
 
-void JointDrag::onStarted(int joint, const Eigen::Vector3d& from) {
-  (void)from;
+void JointDrag::onStarted(int joint, const Eigen::Vector3d&) {
   const std::shared_ptr<const MapResult> map = m_maps->current();
   const Motion& shown = m_skeletonView->currentPose();
   if (!m_available || !map || !map->blender || m_playback->isPlaying() || shown.num_frames < 1 ||
@@ -49,10 +48,12 @@ void JointDrag::onStarted(int joint, const Eigen::Vector3d& from) {
     return;
   }
   try {
-    if (m_map != map) {
+    if (m_map != map || !m_reacher) {
+      // Each sample's joints, once per map (milliseconds at 10 000 frames).
       m_reacher.reset();
-      m_map = map;
+      m_map.reset();
       m_reacher = std::make_unique<synth::Reacher>(*map->blender);
+      m_map = map;
     }
     const synth::MapBlender& blender = *map->blender;
     m_goal = synth::ReachGoal{};

@@ -47,7 +47,7 @@ class JointDrag : public QObject {
   void failed(const QString& message);
 
  private:
-  void onStarted(int joint, const Eigen::Vector3d& from);
+  void onStarted(int joint, const Eigen::Vector3d& at);
   void onDragged(int joint, const Eigen::Vector3d& target);
   void updateAvailability();
 

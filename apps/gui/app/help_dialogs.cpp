@@ -109,8 +109,19 @@ std::vector<ShortcutRow> gestureRows() {
       {QObject::tr("Shift+drag, or drag in sketch mode"),
        QObject::tr("Sketches a path; on release the motion along it is synthesized and played"),
        map},
+      {QObject::tr("Ctrl+click"),
+       QObject::tr("Places a key pose (the frame there, or the map point); two keys make an "
+                   "in-between take. Ctrl+click a key of the current in-between take removes it, "
+                   "dragging a key moves it"),
+       map},
       {QObject::tr("Wheel (magnifier on)"), QObject::tr("Changes the magnifier's power"), map},
       {QObject::tr("Left drag"), QObject::tr("Orbits the camera"), view3d},
+      {QObject::tr("Drag a joint"),
+       QObject::tr("Poses the body from the map so that the joint follows the mouse (a map "
+                   "computed here)"),
+       view3d},
+      {QObject::tr("Shift+click a joint"),
+       QObject::tr("Pins or unpins it: a joint drag holds pinned joints where they are"), view3d},
       {QObject::tr("Middle or right drag"), QObject::tr("Pans the camera"), view3d},
       {QObject::tr("Wheel"), QObject::tr("Zooms"), view3d},
       {QObject::tr("Hover a joint"), QObject::tr("Names the joint (within 12 px)"), view3d},

@@ -3,11 +3,16 @@
 // and blending options, and the blender they make from them — over a saved map (--map
 // lib.mmap.h5: its clips read on demand and checked), or over the clips given, their map computed
 // or read from a map CSV (--map map.csv). One definition, so every command blends alike.
+#include <charconv>
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Core>
 
 #include "map_options.h"
 #include "motionmap/mapfile/saved_map.h"
@@ -52,5 +57,23 @@ struct PreparedBlender {
 /// @throws CLI::ValidationError for usage errors; what loading, mapping and blending throw.
 PreparedBlender prepare_blender(const BlendCliOptions& o, const std::string& who,
                                 bool csv_allowed = true);
+
+/// `count` finite numbers separated by commas, or nothing.
+template <int count>
+std::optional<Eigen::Matrix<double, count, 1>> parse_numbers(const std::string& text) {
+  Eigen::Matrix<double, count, 1> v;
+  std::size_t begin = 0;
+  for (int k = 0; k < count; ++k) {
+    const std::size_t comma = k + 1 < count ? text.find(',', begin) : text.size();
+    if (comma == std::string::npos) return std::nullopt;
+    const std::string_view part = std::string_view(text).substr(begin, comma - begin);
+    const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), v[k]);
+    if (part.empty() || ec != std::errc() || ptr != part.data() + part.size() ||
+        !std::isfinite(v[k]))
+      return std::nullopt;
+    begin = comma + 1;
+  }
+  return v;
+}
 
 }  // namespace motionmap::cli

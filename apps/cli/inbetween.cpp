@@ -23,6 +23,7 @@
 #include "map_options.h"
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/format.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
@@ -96,12 +97,6 @@ KeyText parse_key(const std::string& text) {
   int frame = 0;
   if (parse_whole(right, frame)) throw bad("no such clip file '" + std::string(left) + "'");
   throw bad("neither FILE:FRAME (an existing clip file and a frame number) nor X:Y (a map point)");
-}
-
-std::string approx(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
 }
 
 // The map, its blender and what placing frames on it needs.
@@ -203,7 +198,7 @@ std::vector<synth::Key> resolve_keys(const InbetweenCommand& cmd, const std::vec
       }
       if (!cmd.o.map.quiet) {
         std::cerr << "note: key " << t.text << " is not a sample of the map: placed at ("
-                  << approx(key.point.x()) << ", " << approx(key.point.y())
+                  << format_number(key.point.x(), 4) << ", " << format_number(key.point.y(), 4)
                   << ") as `map --onto` places frames\n";
       }
     }
@@ -313,7 +308,7 @@ void setup_inbetween(CLI::App& app) {
     if (r.outside_frames > 0) {
       std::cerr << "note: " << r.outside_frames << " of " << r.motion.num_frames
                 << " frames lie outside the data (beyond the reach "
-                << approx(p.b.blender->reach_distance())
+                << format_number(p.b.blender->reach_distance(), 4)
                 << " from every sample: a key outside the data, or a gap between parts of the "
                    "map that the route had to cross) and were blended at the nearest edge of the "
                    "data\n";
@@ -325,9 +320,9 @@ void setup_inbetween(CLI::App& app) {
     for (std::size_t i = 0; i < r.key_frames.size(); ++i)
       at += (i ? ", " : "") + std::to_string(r.key_frames[i]);
     std::cerr << "wrote " << cmd->output << ": " << r.motion.num_frames << " frames at "
-              << approx(r.motion.fps()) << " fps (" << approx(r.motion.duration())
-              << " s); keys at frames " << at << "; route grid " << r.grid.nx << "×" << r.grid.ny
-              << "\n";
+              << format_number(r.motion.fps(), 4) << " fps ("
+              << format_number(r.motion.duration(), 4) << " s); keys at frames " << at
+              << "; route grid " << r.grid.nx << "×" << r.grid.ny << "\n";
   });
 }
 

@@ -39,24 +39,6 @@ struct ReachCommand {
   bool json = false;
 };
 
-/// `count` finite numbers separated by commas, or nothing.
-template <int count>
-std::optional<Eigen::Matrix<double, count, 1>> parse_numbers(const std::string& text) {
-  Eigen::Matrix<double, count, 1> v;
-  std::size_t begin = 0;
-  for (int k = 0; k < count; ++k) {
-    const std::size_t comma = k + 1 < count ? text.find(',', begin) : text.size();
-    if (comma == std::string::npos) return std::nullopt;
-    const std::string_view part = std::string_view(text).substr(begin, comma - begin);
-    const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), v[k]);
-    if (part.empty() || ec != std::errc() || ptr != part.data() + part.size() ||
-        !std::isfinite(v[k]))
-      return std::nullopt;
-    begin = comma + 1;
-  }
-  return v;
-}
-
 Eigen::Vector3d parse_position(const std::string& option, const std::string& text) {
   const auto v = parse_numbers<3>(text);
   if (!v) {
@@ -66,10 +48,6 @@ Eigen::Vector3d parse_position(const std::string& option, const std::string& tex
                                            option + "=x,y,z when x is negative)");
   }
   return *v;
-}
-
-std::string approx(double v) {
-  return format_number(v, 4);
 }
 
 std::string json_number(double v) {
@@ -86,7 +64,7 @@ std::string json_array(const Vector& v) {
 template <class Vector>
 std::string text_point(const Vector& v) {
   std::string out;
-  for (int k = 0; k < v.size(); ++k) out += (k ? ", " : "") + approx(v[k]);
+  for (int k = 0; k < v.size(); ++k) out += (k ? ", " : "") + format_number(v[k], 4);
   return out;
 }
 
@@ -214,20 +192,21 @@ void setup_reach(CLI::App& app) {
     } else {
       std::cout << "map point: " << format_number(r.point.x()) << "," << format_number(r.point.y())
                 << "\n";
-      std::cout << "error: " << approx(r.error) << " (" << approx(percent)
-                << " % of the body's height " << approx(r.height) << "): " << joint_name << " at "
-                << text_point(r.reached) << ", target " << text_point(goal.target) << "\n";
+      std::cout << "error: " << format_number(r.error, 4) << " (" << format_number(percent, 4)
+                << " % of the body's height " << format_number(r.height, 4) << "): " << joint_name
+                << " at " << text_point(r.reached) << ", target " << text_point(goal.target)
+                << "\n";
       for (std::size_t k = 0; k < goal.pins.size(); ++k) {
         std::cout << "pin " << skeleton.joints[std::size_t(goal.pins[k].joint)].name << ": "
-                  << approx(r.pin_errors[k]) << " from " << text_point(goal.pins[k].position)
-                  << "\n";
+                  << format_number(r.pin_errors[k], 4) << " from "
+                  << text_point(goal.pins[k].position) << "\n";
       }
     }
     if (!cmd->o.map.quiet) {
       std::cerr << "wrote " << cmd->output << ": 1 frame; nearest sample: " << nearest_clip
-                << " frame " << nearest_frame << " at " << approx(r.validity.distance) << " (reach "
-                << approx(blender.reach_distance()) << "), " << r.evaluations
-                << " poses evaluated\n";
+                << " frame " << nearest_frame << " at " << format_number(r.validity.distance, 4)
+                << " (reach " << format_number(blender.reach_distance(), 4) << "), "
+                << r.evaluations << " poses evaluated\n";
     }
   });
 }

@@ -15,6 +15,7 @@
 #include "commands.h"
 #include "map_options.h"
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/mapfile/saved_map.h"
@@ -51,31 +52,15 @@ void add_options(CLI::App* sub, BlendCommand& cmd) {
 }
 
 Eigen::Vector2d parse_point(const std::string& text) {
-  const auto comma = text.find(',');
-  Eigen::Vector2d p;
-  bool ok = comma != std::string::npos;
-  for (int k = 0; ok && k < 2; ++k) {
-    const std::string_view part =
-        k == 0 ? std::string_view(text).substr(0, comma) : std::string_view(text).substr(comma + 1);
-    const auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), p[k]);
-    ok = !part.empty() && ec == std::errc() && ptr == part.data() + part.size() &&
-         std::isfinite(p[k]);
-  }
-  if (!ok)
+  const auto p = parse_numbers<2>(text);
+  if (!p)
     throw ParameterError("--at: '" + text +
                          "' is not a map point X,Y of two finite numbers (e.g. --at=-0.5,1.2)");
-  return p;
-}
-
-/// A measured value for a message: 4 significant digits.
-std::string approx(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
+  return *p;
 }
 
 std::string point_text(const Eigen::Vector2d& p) {
-  return "(" + approx(p.x()) + ", " + approx(p.y()) + ")";
+  return "(" + format_number(p.x(), 4) + ", " + format_number(p.y(), 4) + ")";
 }
 
 void write_motion(const synth::MapBlender& blender, const Motion& motion, const std::string& path) {
@@ -103,9 +88,9 @@ void setup_pose(CLI::App& app) {
     const synth::MapWeights weights = blender.locate(p);
     const synth::PointValidity& v = weights.validity;
     if (v.clamped) {
-      std::cerr << "note: " << point_text(p) << " is " << approx(v.distance)
+      std::cerr << "note: " << point_text(p) << " is " << format_number(v.distance, 4)
                 << " map units from the nearest sample, beyond the reach "
-                << approx(blender.reach_distance()) << ": the pose is taken at "
+                << format_number(blender.reach_distance(), 4) << ": the pose is taken at "
                 << point_text(v.point) << ", the nearest edge of the data\n";
     }
     write_motion(blender, blender.pose(weights), cmd->output);
@@ -113,7 +98,7 @@ void setup_pose(CLI::App& app) {
     std::cerr << "wrote " << cmd->output << ": 1 frame blended from " << weights.samples.size()
               << " samples (" << synth::blend_mode_name(blender.options().mode)
               << "); nearest sample: " << clip_paths[samples.clip_of[nearest]] << " frame "
-              << samples.frame_of[nearest] << " at " << approx(v.distance) << "\n";
+              << samples.frame_of[nearest] << " at " << format_number(v.distance, 4) << "\n";
   });
 }
 
@@ -159,7 +144,7 @@ void setup_synth(CLI::App& app) {
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
                 << " frames lie outside the data (beyond the reach "
-                << approx(blender.reach_distance())
+                << format_number(blender.reach_distance(), 4)
                 << " from every sample) and were blended at the nearest edge of the data\n";
     }
     if (!cmd->o.map.quiet) {
@@ -167,8 +152,8 @@ void setup_synth(CLI::App& app) {
     }
     write_motion(blender, result.motion, cmd->output);
     std::cerr << "wrote " << cmd->output << ": " << result.motion.num_frames << " frames at "
-              << approx(result.motion.fps()) << " fps (" << approx(result.motion.duration())
-              << " s)";
+              << format_number(result.motion.fps(), 4) << " fps ("
+              << format_number(result.motion.duration(), 4) << " s)";
     if (result.feet_cleaned) {
       std::size_t held = 0;
       for (const FootContacts& fc : result.contacts) held += fc.intervals.size();

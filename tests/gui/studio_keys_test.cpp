@@ -144,6 +144,10 @@ TEST(StudioKeys, KeysAreAddedRemovedMovedAndRetimedAsUndoSteps) {
       w->mapView()->toWidget(two->result->validity[std::size_t(two->controls[0])].point);
   EXPECT_FALSE(w->placeKey(w->mapView()->toMap(first), first));
   EXPECT_TRUE(w->lastError().contains("two keys")) << w->lastError().toStdString();
+  // Times for another number of keys: refused, nothing started.
+  EXPECT_FALSE(w->keys()->retime({0.0, 1.0, 2.0}));
+  EXPECT_FALSE(w->isSynthesizing());
+  EXPECT_TRUE(w->lastError().contains("3 times for 2 keys")) << w->lastError().toStdString();
 }
 
 }  // namespace

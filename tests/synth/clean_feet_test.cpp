@@ -250,6 +250,36 @@ TEST(SynthCleanFeet, CancelsAndChecksItsFeet) {
   EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
 }
 
+TEST(SynthCleanFeet, GivenContactsAndSharesAreChecked) {
+  const Clip clip = skating_walk(30.0);
+  const Feet feet = find_feet(clip.skeleton);
+  const int F = clip.motion.num_frames;
+  // One share per frame, or an error naming both counts.
+  const std::vector<std::array<double, 2>> short_shares(static_cast<std::size_t>(F - 1));
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { contacts_from_shares(clip.skeleton, clip.motion, feet, short_shares); }),
+            "contacts_from_shares: " + std::to_string(F - 1) + " contact shares for " +
+                std::to_string(F) + " frames");
+  // A contact outside the motion's frames.
+  std::array<FootContacts, 2> contacts = detect_contacts(clip.skeleton, clip.motion, feet);
+  contacts[1].intervals = {{F - 2, F + 3}};
+  EXPECT_NE(motionmap::test::error_message<ParameterError>([&] {
+              clean_feet(clip.skeleton, clip.motion, feet, contacts);
+            }).find("is not within the motion's " + std::to_string(F) + " frames"),
+            std::string::npos);
+  // Standing everywhere in the samples: the feet found low are held, in pieces the blend's
+  // ankle does not drift out of by more than kMaxHoldDrift leg lengths.
+  const std::vector<std::array<double, 2>> standing(static_cast<std::size_t>(F), {1.0, 1.0});
+  const auto held = contacts_from_shares(clip.skeleton, clip.motion, feet, standing);
+  for (const FootContacts& fc : held) {
+    ASSERT_FALSE(fc.intervals.empty());
+    for (const ContactInterval& c : fc.intervals) {
+      EXPECT_LE(c.first, c.last);
+      EXPECT_LT(c.last, F);
+    }
+  }
+}
+
 TEST(SynthCleanFeet, SynthesizeSkipsASkeletonWithoutFeetWithANote) {
   const Clip clip = test::walking_clip();
   const MapBlender blender(std::span<const Clip>(&clip, 1), test::all_frames(80),

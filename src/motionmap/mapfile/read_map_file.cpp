@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/names.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/mapfile/detail/checksum.h"
@@ -22,6 +23,11 @@ using detail::DatasetInfo;
 using embed::Method;
 
 namespace {
+
+// The largest magnitude of a value read: far beyond any coordinate, feature or parameter of a
+// map, and small enough that squares and sums of thousands of squares stay finite — a file that
+// holds 1e300 (finite) would otherwise overflow distances into inf and NaN downstream.
+constexpr double kMaxMagnitude = 1e100;
 
 bool uses_graph_method(Method method) {
   return embed::uses_graph(method);
@@ -165,6 +171,10 @@ class Input {
     if (!v) fail(missing_attribute(object, name, "a number: " + meaning));
     if (!std::isfinite(*v)) {
       fail("attribute " + name + " of " + object + " is not a finite number (" + meaning + ")");
+    }
+    if (std::abs(*v) > kMaxMagnitude) {
+      fail("attribute " + name + " of " + object + " is " + format_number(*v) + " (" + meaning +
+           "): no value of a map is that large (at most 1e100 in magnitude)");
     }
     return *v;
   }
@@ -321,8 +331,9 @@ class Input {
                                        const std::string& meaning) {
     return "missing attribute " + name + " of " + object + " (" + meaning + ")";
   }
-  // Fails naming the first non-finite of `count` values, which start at row `first_row` of a
-  // dataset of `cols` values per row. In parallel: a model's 3 GB are read at a time.
+  // Fails naming the first non-finite of `count` values — or larger than kMaxMagnitude —, which
+  // start at row `first_row` of a dataset of `cols` values per row. In parallel: a model's 3 GB
+  // are read at a time.
   void check_finite(const std::string& name, const double* values, std::uint64_t count,
                     std::uint64_t cols, std::uint64_t first_row) const {
     constexpr std::uint64_t kValuesPerBlock = std::uint64_t(1) << 16;
@@ -331,7 +342,7 @@ class Input {
     parallel_chunks(blocks, [&](int b, int) {
       const std::uint64_t end = std::min(count, (std::uint64_t(b) + 1) * kValuesPerBlock);
       for (std::uint64_t i = std::uint64_t(b) * kValuesPerBlock; i < end; ++i) {
-        if (!std::isfinite(values[i])) {
+        if (!(std::abs(values[i]) <= kMaxMagnitude)) {
           first[std::size_t(b)] = i;
           return;
         }
@@ -343,7 +354,11 @@ class Input {
     const std::string at = cols > 1 ? "row " + std::to_string(first_row + i / cols) + ", column " +
                                           std::to_string(i % cols)
                                     : "index " + std::to_string(first_row + i);
-    fail(name + " holds a non-finite value (" + std::to_string(values[i]) + ") at " + at);
+    if (!std::isfinite(values[i])) {
+      fail(name + " holds a non-finite value (" + std::to_string(values[i]) + ") at " + at);
+    }
+    fail(name + " holds " + format_number(values[i]) + " at " + at +
+         ": no value of a map is that large (at most 1e100 in magnitude)");
   }
 
   const detail::Reader& m_r;

@@ -18,6 +18,7 @@ void setup_pose(CLI::App& app);
 void setup_synth(CLI::App& app);
 void setup_inbetween(CLI::App& app);
 void setup_reach(CLI::App& app);
+void setup_keyposes(CLI::App& app);
 
 /// Escapes a string for a JSON string literal (without the quotes).
 std::string json_escape(const std::string& s);

@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
   motionmap::cli::setup_synth(app);
   motionmap::cli::setup_inbetween(app);
   motionmap::cli::setup_reach(app);
+  motionmap::cli::setup_keyposes(app);
 
   try {
     app.parse(argc, argv);

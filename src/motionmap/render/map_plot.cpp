@@ -9,19 +9,15 @@
 #include <limits>
 
 #include <QCoreApplication>
-#include <QFile>
 #include <QFont>
 #include <QFontMetricsF>
 #include <QGuiApplication>
 #include <QImage>
-#include <QImageWriter>
 #include <QLinearGradient>
-#include <QPageSize>
-#include <QPdfWriter>
 #include <QPolygonF>
-#include <QSvgGenerator>
 
 #include "motionmap/core/error.h"
+#include "motionmap/render/drawing_file.h"
 
 namespace motionmap::render {
 namespace {
@@ -270,104 +266,6 @@ void draw_time_legend(QPainter& p, const QRectF& area, double px) {
   p.setPen(QColor(70, 70, 70));
   p.drawText(QRectF(x, area.top(), fm.horizontalAdvance(right) + 1, area.height()),
              Qt::AlignLeft | Qt::AlignVCenter, right);
-}
-
-std::string lowercase_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-enum class Format { Png, Svg, Pdf };
-
-Error write_error(const std::string& path, const std::string& reason) {
-  return Error("cannot write '" + path + "': " + reason);
-}
-
-// Drawing text needs the QGuiApplication that the caller creates: throw, rather than let Qt abort
-// (or crash in the font code), when there is none.
-void require_gui_application(const char* caller) {
-  const QCoreApplication* app = QCoreApplication::instance();
-  if (app == nullptr) {
-    throw Error(std::string(caller) +
-                ": no QGuiApplication exists; create one before drawing (the render library "
-                "draws into what it is given and never creates the application)");
-  }
-  if (qobject_cast<const QGuiApplication*>(app) == nullptr) {
-    throw Error(std::string(caller) +
-                ": a QCoreApplication exists, but drawing needs a QGuiApplication (create one "
-                "instead)");
-  }
-}
-
-Format format_of(const std::string& path) {
-  const std::string ext = lowercase_extension(path);
-  if (ext == ".png") return Format::Png;
-  if (ext == ".svg") return Format::Svg;
-  if (ext == ".pdf") return Format::Pdf;
-  throw write_error(
-      path, (ext.empty() ? std::string("no file extension") : "unknown extension '" + ext + "'") +
-                " (expected .png, .svg or .pdf)");
-}
-
-// Opens the output, runs `draw` on a painter whose coordinates span QRectF(0, 0, size), closes.
-void render_file(const char* caller, const std::string& path, const QSize& size,
-                 const QString& title, const std::function<void(QPainter&, const QRectF&)>& draw) {
-  const Format format = format_of(path);  // before creating anything
-  require_gui_application(caller);
-  const QString qpath = QString::fromStdString(path);
-  const QRectF area(QPointF(0, 0), QSizeF(size));
-
-  if (format == Format::Png) {
-    QImage image(size, QImage::Format_RGB32);
-    if (image.isNull()) throw write_error(path, "cannot allocate the image");
-    image.fill(Qt::white);
-    {
-      QPainter painter(&image);
-      draw(painter, area);
-    }
-    QImageWriter writer(qpath, "png");
-    if (!writer.write(image)) throw write_error(path, writer.errorString().toStdString());
-    return;
-  }
-
-  QFile file(qpath);
-  if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate)) {
-    throw write_error(path, file.errorString().toStdString());
-  }
-  if (format == Format::Svg) {
-    QSvgGenerator svg;
-    svg.setOutputDevice(&file);
-    svg.setSize(size);
-    svg.setViewBox(QRect(QPoint(0, 0), size));
-    svg.setResolution(96);  // the same physical size as the PDF
-    svg.setTitle(title);
-    svg.setDescription(QStringLiteral("MotionMap map plot"));
-    QPainter painter;
-    if (!painter.begin(&svg)) throw write_error(path, "cannot start the SVG painter");
-    draw(painter, area);
-    painter.end();
-  } else {
-    QPdfWriter pdf(&file);
-    pdf.setCreator(QStringLiteral("MotionMap"));
-    pdf.setTitle(title);
-    pdf.setResolution(96);
-    // One page exactly the figure's size: size px at 96 dpi = size · 72/96 pt.
-    pdf.setPageSize(QPageSize(QSizeF(size) * (72.0 / 96.0), QPageSize::Point, QString(),
-                              QPageSize::ExactMatch));
-    pdf.setPageMargins(QMarginsF(0, 0, 0, 0));
-    QPainter painter;
-    if (!painter.begin(&pdf)) throw write_error(path, "cannot start the PDF painter");
-    // The page in device pixels may differ from `size` by rounding; draw in `size` units.
-    painter.scale(painter.device()->width() / area.width(),
-                  painter.device()->height() / area.height());
-    draw(painter, area);
-    painter.end();
-  }
-  file.close();
-  if (file.error() != QFileDevice::NoError) {
-    throw write_error(path, file.errorString().toStdString());
-  }
 }
 
 }  // namespace
@@ -623,10 +521,10 @@ void save_map_plot(const std::string& path, const Eigen::MatrixXd& coords,
   }
   clip_bounds(coords, segment_starts);  // invalid data must not leave a half-written file
   if (options.backdrop.size() > 0) check_columns(options.backdrop, "backdrop");
-  render_file("save_map_plot", path, QSize(size_px, size_px), options.title,
-              [&](QPainter& painter, const QRectF& area) {
-                paint_map(painter, area, coords, segment_starts, options);
-              });
+  write_drawing("save_map_plot", path, QSize(size_px, size_px), options.title,
+                [&](QPainter& painter, const QRectF& area) {
+                  paint_map(painter, area, coords, segment_starts, options);
+                });
 }
 
 void save_figure(const std::string& path, const std::vector<FigurePanel>& panels, int columns,
@@ -664,26 +562,26 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
                          " pixels, more than 10^8");
   }
 
-  render_file("save_figure", path, QSize(int(width), int(std::ceil(height))), title,
-              [&](QPainter& painter, const QRectF& area) {
-                painter.fillRect(area, Qt::white);
-                painter.setRenderHints(QPainter::Antialiasing | QPainter::TextAntialiasing);
-                double y = area.top() + panel_px * 0.02;
-                if (!title.isEmpty()) {
-                  draw_text_line(painter, QRectF(0, y, width, title_px * 1.8), title,
-                                 font_px(title_px, true), QColor(20, 20, 20));
-                  y += title_px * 1.8;
-                }
-                draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
-                for (std::size_t i = 0; i < n; ++i) {
-                  const FigurePanel& p = panels[i];
-                  // Each panel exactly as tall as it needs, at the top of its cell, so the
-                  // boxes of a row line up even when the panels carry different notes.
-                  const QRectF cell((i % cols) * double(panel_px), header_h + (i / cols) * cell_h,
-                                    panel_px, panel_height_for_width(panel_px, p.options));
-                  paint_map(painter, cell, p.coords, p.segment_starts, p.options);
-                }
-              });
+  write_drawing("save_figure", path, QSize(int(width), int(std::ceil(height))), title,
+                [&](QPainter& painter, const QRectF& area) {
+                  painter.fillRect(area, Qt::white);
+                  painter.setRenderHints(QPainter::Antialiasing | QPainter::TextAntialiasing);
+                  double y = area.top() + panel_px * 0.02;
+                  if (!title.isEmpty()) {
+                    draw_text_line(painter, QRectF(0, y, width, title_px * 1.8), title,
+                                   font_px(title_px, true), QColor(20, 20, 20));
+                    y += title_px * 1.8;
+                  }
+                  draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
+                  for (std::size_t i = 0; i < n; ++i) {
+                    const FigurePanel& p = panels[i];
+                    // Each panel exactly as tall as it needs, at the top of its cell, so the
+                    // boxes of a row line up even when the panels carry different notes.
+                    const QRectF cell((i % cols) * double(panel_px), header_h + (i / cols) * cell_h,
+                                      panel_px, panel_height_for_width(panel_px, p.options));
+                    paint_map(painter, cell, p.coords, p.segment_starts, p.options);
+                  }
+                });
 }
 
 }  // namespace motionmap::render

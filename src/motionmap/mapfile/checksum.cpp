@@ -11,6 +11,23 @@
 
 namespace motionmap::mapfile::detail {
 
+#if defined(__x86_64__) && defined(MOTIONMAP_XXH3_AVX2)
+std::uint64_t xxh3_avx2(const void* data, std::size_t size);  // checksum_avx2.cpp
+#endif
+
+namespace {
+
+// XXH3-64 of `size` bytes, by the AVX2 build where the processor has it (the same hash).
+std::uint64_t xxh3(const void* data, std::size_t size) {
+#if defined(__x86_64__) && defined(MOTIONMAP_XXH3_AVX2)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return xxh3_avx2(data, size);
+#endif
+  return XXH3_64bits(data, size);
+}
+
+}  // namespace
+
 // The canonical forms are little-endian: the bytes in memory are them as they are.
 static_assert(std::endian::native == std::endian::little,
               "map file checksums assume a little-endian machine");
@@ -23,7 +40,7 @@ void Hasher::bytes(const void* data, std::size_t size) {
     p += take;
     size -= take;
     if (m_partial.size() < kChecksumBlock) return;
-    m_blocks.push_back(XXH3_64bits(m_partial.data(), m_partial.size()));
+    m_blocks.push_back(xxh3(m_partial.data(), m_partial.size()));
     m_partial.clear();
   }
   const std::size_t whole = size / kChecksumBlock;
@@ -31,8 +48,7 @@ void Hasher::bytes(const void* data, std::size_t size) {
     const std::size_t first = m_blocks.size();
     m_blocks.resize(first + whole);
     const auto hash = [&](int b) {
-      m_blocks[first + std::size_t(b)] =
-          XXH3_64bits(p + std::size_t(b) * kChecksumBlock, kChecksumBlock);
+      m_blocks[first + std::size_t(b)] = xxh3(p + std::size_t(b) * kChecksumBlock, kChecksumBlock);
     };
     if (whole == 1) {
       hash(0);
@@ -51,8 +67,8 @@ void Hasher::strings(const std::vector<std::string>& values) {
 
 std::uint64_t Hasher::digest() const {
   std::vector<std::uint64_t> blocks = m_blocks;
-  if (!m_partial.empty()) blocks.push_back(XXH3_64bits(m_partial.data(), m_partial.size()));
-  return XXH3_64bits(blocks.data(), blocks.size() * sizeof(std::uint64_t));
+  if (!m_partial.empty()) blocks.push_back(xxh3(m_partial.data(), m_partial.size()));
+  return xxh3(blocks.data(), blocks.size() * sizeof(std::uint64_t));
 }
 
 std::uint64_t attributes_checksum(std::vector<AttributeValue> attributes) {

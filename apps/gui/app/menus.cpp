@@ -34,6 +34,10 @@ QString methodHelp(embed::Method method) {
     case embed::Method::Umap:
       return MotionMenu::tr(
           "UMAP: keeps each frame's nearest neighbours together, apart from the rest");
+    case embed::Method::Gplvm:
+      return MotionMenu::tr(
+          "GP-LVM: the latent points from which a Gaussian process best predicts the poses "
+          "(slow: an optimisation; up to 2 000 frames)");
   }
   return {};
 }
@@ -42,7 +46,7 @@ QString methodHelp(embed::Method method) {
 MotionMenu::MotionMenu(QMainWindow* window, embed::Method method)
     : QObject(window), m_methods(new QActionGroup(this)) {
   QMenu* motion = window->menuBar()->addMenu(tr("&Motion"));
-  int key = Qt::Key_1;  // 1–7 pick the methods, in the menu's order
+  int key = Qt::Key_1;  // 1–8 pick the methods, in the menu's order
   for (embed::Method m : embed::all_methods()) {
     QAction* action = motion->addAction(methodLabel(m));
     if (key <= Qt::Key_9) action->setShortcut(QKeySequence(key++));

@@ -110,6 +110,8 @@ QString methodLabel(embed::Method method) {
       return QStringLiteral("LLE");
     case embed::Method::Umap:
       return QStringLiteral("UMAP");
+    case embed::Method::Gplvm:
+      return QStringLiteral("GP-LVM");
   }
   return {};
 }

@@ -32,6 +32,7 @@ constexpr EnumName<Method> kMethodNames[] = {
     {Method::LaplacianEigenmap, "le"},
     {Method::Lle, "lle"},
     {Method::Umap, "umap"},
+    {Method::Gplvm, "gplvm"},
 };
 
 struct MethodInfo {
@@ -51,6 +52,7 @@ constexpr MethodInfo kMethods[] = {
      true},
     {Method::Lle, enum_name(kMethodNames, Method::Lle), true, true, true},
     {Method::Umap, enum_name(kMethodNames, Method::Umap), false, true, true},
+    {Method::Gplvm, enum_name(kMethodNames, Method::Gplvm), true, false, false},
 };
 
 const MethodInfo& info(Method method) {
@@ -320,6 +322,9 @@ void run_method(const EmbedInput& input, const EmbedOptions& options, int frames
         run_umap(*input.distances, options, out, progress);
       }
       break;
+    case Method::Gplvm:
+      run_gplvm(*input.features, options, out, progress);
+      break;
   }
   const Eigen::MatrixXd unsigned_coordinates = out.landmarks ? out.coordinates : Eigen::MatrixXd();
   normalize_signs(out.coordinates);
@@ -463,6 +468,10 @@ void EmbedOptions::validate(int num_frames) const {
                          " is out of range; it must be in [1, 100000], or 0 for the default (500 "
                          "up to 10 000 frames, 200 above)");
   }
+  if (method == Method::Gplvm && (max_iterations < 1 || max_iterations > 100000)) {
+    throw ParameterError(who + "max_iterations = " + std::to_string(max_iterations) +
+                         " is out of range; it must be in [1, 100000] (default 300)");
+  }
   if (method == Method::Umap && seed < 0) {
     throw ParameterError(who + "seed = " + std::to_string(seed) +
                          " is out of range; it must be ≥ 0");
@@ -515,6 +524,8 @@ double estimate_bytes(Method method, int frames, int values, int columns, bool d
   // umap: the directed and symmetric memberships (sparse matrices, triplets) and the layout's
   // edge arrays (two ints and four doubles per directed edge).
   if (method == Method::Umap) bytes += G * k * (3 * 16.0 + 2 * 40.0 + 2 * 12.0);
+  // gplvm: K, its factor, K⁻¹, dL/dK and the RBF and distance matrices (N × N each).
+  if (method == Method::Gplvm) bytes += 8.0 * F * F * 6.0;
   return bytes;
 }
 

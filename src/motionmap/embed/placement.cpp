@@ -105,6 +105,10 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
     if (!ok) throw ParameterError(w + what + " of the " + std::to_string(n) + " mapped frames");
   };
   switch (map.method) {
+    case Method::Gplvm:
+      throw ParameterError(
+          "gplvm: a GP-LVM map cannot place new frames yet (the latent point that best explains "
+          "a new pose is not built), so it cannot be saved (--save) or placed on (--onto)");
     case Method::Pca:
     case Method::Svd: {
       require(input.features && input.features->rows() == n, "make_model needs the features X");

@@ -14,9 +14,9 @@
 
 namespace motionmap::embed {
 
-enum class Method { Pca, Svd, Mds, Isomap, LaplacianEigenmap, Lle, Umap };
+enum class Method { Pca, Svd, Mds, Isomap, LaplacianEigenmap, Lle, Umap, Gplvm };
 
-/// "pca", "svd", "mds", "isomap", "le", "lle", "umap".
+/// "pca", "svd", "mds", "isomap", "le", "lle", "umap", "gplvm".
 std::string_view method_name(Method method);
 
 /// The method named by `name` (the names of method_name); nullopt for anything else.
@@ -28,7 +28,7 @@ const std::vector<Method>& all_methods();
 /// Whether `method` reads the distance matrix D (mds, isomap, le, lle, umap; not pca and svd).
 bool reads_distances(Method method);
 
-/// Whether `method` reads the feature matrix X (pca, svd, lle).
+/// Whether `method` reads the feature matrix X (pca, svd, lle, gplvm).
 bool reads_features(Method method);
 
 /// Whether `method` builds a k-NN graph (isomap, le, lle, umap), so k matters.
@@ -59,6 +59,8 @@ struct EmbedOptions {
   int epochs = 0;
   /// umap: seed of the layout's random numbers (negative samples, the start's jitter); ≥ 0.
   int seed = 0;
+  /// gplvm: L-BFGS iterations at most (gplvm.h); in [1, 100000].
+  int max_iterations = 300;
   /// Points path, mds and isomap: number of landmarks (0 = min(#frames, kDefaultLandmarks)).
   int landmarks = 0;
   /// Points path, graph methods: how the k nearest neighbours are found (points.h).

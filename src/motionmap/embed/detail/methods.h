@@ -37,6 +37,10 @@ void run_umap(const Eigen::MatrixXd& D, const EmbedOptions& options, Embedding& 
 void run_umap(const PointSet& points, const EmbedOptions& options, Embedding& out,
               Progress& progress);
 
+/// GP-LVM of X (gplvm.h): latent points and kernel fitted from the PCA scores.
+void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
+               Progress& progress);
+
 // The points path (embed.h, "Two paths"): the same maps without an #frames² matrix.
 /// Landmark MDS of the points.
 void run_landmark_mds(const PointSet& points, const EmbedOptions& options, Embedding& out,

@@ -102,7 +102,7 @@ void setup_keyposes(CLI::App& app) {
   cmd->map.method = embed::Method::Pca;
   add_map_options(sub, cmd->map, MapOptionsFor::Map);
   sub->get_option("--method")
-      ->description("pca, svd, mds, isomap, le, lle or umap (default pca for key poses)");
+      ->description("pca, svd, mds, isomap, le, lle, umap or gplvm (default pca for key poses)");
   sub->add_option("-n,--count", cmd->count, "Key poses per clip (default 8)")
       ->check(CLI::Range(2, 1000));
   sub->add_option("-o,--output", cmd->output, "Contact sheet to write: .png, .svg or .pdf");

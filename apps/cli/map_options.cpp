@@ -65,7 +65,7 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
       ->check(CLI::PositiveNumber);
   if (use != MapOptionsFor::Figure) {
     sub->add_option("-m,--method", opt.method,
-                    "pca, svd, mds, isomap, le, lle or umap (default isomap)")
+                    "pca, svd, mds, isomap, le, lle, umap or gplvm (default isomap)")
         ->transform(CLI::CheckedTransformer(choices(embed::all_methods(), embed::method_name),
                                             CLI::ignore_case));
   }
@@ -79,6 +79,8 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                   "umap: smallest distance between frames on the map, in [0, 1] (default 0.1)");
   sub->add_option("--epochs", opt.epochs,
                   "umap: layout epochs (default 0: 500 up to 10 000 frames, 200 above)");
+  sub->add_option("--max-iter", opt.max_iterations,
+                  "gplvm: L-BFGS iterations at most (default 300)");
   sub->add_option("--seed", opt.seed,
                   "umap: seed of the layout's random numbers; one seed, one map, whatever the "
                   "thread count (default 0)");
@@ -251,6 +253,7 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   e.k = opt.k >= 0 ? opt.k : method == embed::Method::Umap ? 15 : 20;
   e.min_dist = opt.min_dist;
   e.epochs = opt.epochs;
+  e.max_iterations = opt.max_iterations;
   e.seed = opt.seed;
   e.reg = opt.reg;
   e.standardize = opt.standardize;

@@ -23,7 +23,8 @@ struct MapCliOptions {
   int dims = 2;
   int k = -1;  ///< −1: not given (20; umap 15)
   double min_dist = 0.1;
-  int epochs = 0;  ///< 0: umap's default (500 up to 10 000 frames, 200 above)
+  int epochs = 0;            ///< 0: umap's default (500 up to 10 000 frames, 200 above)
+  int max_iterations = 300;  ///< gplvm's L-BFGS iterations at most
   int seed = 0;
   std::string heat = "auto";
   double reg = 1e-3;

@@ -50,7 +50,7 @@ pipeline::ClipMapOptions clip_map_options(const py::dict& o) {
       const auto method = embed::parse_method(name);
       if (!method) {
         throw ParameterError("method: unknown name '" + name +
-                             "' (expected one of pca, svd, mds, isomap, le, lle, umap)");
+                             "' (expected one of pca, svd, mds, isomap, le, lle, umap, gplvm)");
       }
       e.method = *method;
     } else if (k == "n_components") {

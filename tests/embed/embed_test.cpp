@@ -26,6 +26,7 @@ EmbedOptions with(Method method, int k = 10) {
   EmbedOptions o;
   o.method = method;
   o.k = k;
+  o.max_iterations = 40;  // gplvm: enough to move every point, fast
   return o;
 }
 
@@ -49,7 +50,8 @@ Embedding run(const Data& d, const EmbedOptions& o, const Control& control = {})
 // Names
 
 TEST(EmbedNames, RoundTripEveryMethod) {
-  const std::vector<std::string> names = {"pca", "svd", "mds", "isomap", "le", "lle", "umap"};
+  const std::vector<std::string> names = {"pca", "svd", "mds",  "isomap",
+                                          "le",  "lle", "umap", "gplvm"};
   ASSERT_EQ(all_methods().size(), names.size());
   for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(method_name(all_methods()[i]), names[i]);
@@ -306,8 +308,8 @@ TEST(EmbedDeterminism, ThreeDimensions) {
     const Embedding e = run(d, o);
     EXPECT_EQ(e.coordinates.cols(), 3);
     EXPECT_EQ(e.eigenvalues.size(), 3);
-    // The axes are ordered: descending for pca/svd/mds/isomap, ascending for le/lle (and umap,
-    // whose eigenvalues are its spectral start's).
+    // The axes are ordered: descending for pca/svd/mds/isomap (and gplvm, whose eigenvalues are
+    // its PCA start's), ascending for le/lle (and umap, whose are its spectral start's).
     const bool bottom = m == Method::LaplacianEigenmap || m == Method::Lle || m == Method::Umap;
     for (int a = 0; a + 1 < 3; ++a) {
       if (bottom) {

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "embed_test_util.h"
 #include "motionmap/core/error.h"
 #include "motionmap/embed/embed.h"
 #include "support/error_message.h"
@@ -58,6 +59,38 @@ TEST(Gplvm, AnalyticGradientsMatchFiniteDifferences) {
     const double fd = (gplvm_objective(Y, X, kp) - gplvm_objective(Y, X, km)) / (2 * h);
     EXPECT_NEAR(gk[j], fd, 1e-6 * (1 + std::abs(fd))) << "kernel parameter " << j;
   }
+}
+
+// The objective and its gradients against tests/reference/make_gplvm_fixtures.py's numpy
+// implementation, at the fit's start on CMU 64_08 (every 4th frame) and at a random point.
+TEST(Gplvm, ObjectiveAndGradientsMatchNumpy) {
+  const test::Fixture clip = test::read_fixture(test::fixture_dir() + "/clip_cmu_64_08/X.txt");
+  const Eigen::MatrixXd Y = clip.matrix.rowwise() - clip.matrix.colwise().mean();
+  for (const char* name : {"start.txt", "random.txt"}) {
+    const test::Fixture f =
+        test::read_fixture(std::string(MOTIONMAP_SOURCE_DIR) + "/tests/reference/gplvm/" + name);
+    const Eigen::VectorXd theta = f.numbers("theta");
+    const GplvmKernel k{theta[0], theta[1], theta[2], theta[3]};
+    const Eigen::MatrixXd X = f.matrix.leftCols(2);
+    Eigen::MatrixXd gX;
+    Eigen::VectorXd gk;
+    const double value = gplvm_objective(Y, X, k, &gX, &gk);
+    const double want = f.number("objective");
+    EXPECT_NEAR(value, want, 1e-8 * std::abs(want)) << name;
+    const Eigen::MatrixXd want_gX = f.matrix.rightCols(2);
+    EXPECT_LE((gX - want_gX).cwiseAbs().maxCoeff(), 1e-8 * (1 + want_gX.cwiseAbs().maxCoeff()))
+        << name;
+    const Eigen::VectorXd want_gk = f.numbers("grad_theta");
+    EXPECT_LE((gk - want_gk).cwiseAbs().maxCoeff(), 1e-8 * (1 + want_gk.cwiseAbs().maxCoeff()))
+        << name;
+  }
+  // The start itself: MotionMap's gplvm starts where the fixture does.
+  const test::Fixture start =
+      test::read_fixture(std::string(MOTIONMAP_SOURCE_DIR) + "/tests/reference/gplvm/start.txt");
+  const GplvmKernel k0 = initial_gplvm_kernel(Y);
+  const Eigen::VectorXd theta = start.numbers("theta");
+  EXPECT_NEAR(k0.log_rbf_variance, theta[0], 1e-12);
+  EXPECT_NEAR(k0.log_noise_variance, theta[3], 1e-12);
 }
 
 TEST(Gplvm, TheFitLowersTheObjective) {

@@ -213,6 +213,7 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
   const GplvmFit fit =
       fit_gplvm(Y, X0, initial_gplvm_kernel(Y), options.max_iterations, progress.control());
   out.coordinates = fit.X;
+  out.eigenvalues = pca.eigenvalues;  // of the start, as umap reports its spectral start's
   out.notes.push_back("gplvm: " + std::to_string(fit.iterations) + " iterations (" + fit.stopped +
                       "), −log likelihood " + std::to_string(fit.objective) + ", σ_f² " +
                       std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +

@@ -486,7 +486,7 @@ void read_parameters(const Input& in, MapFile& f) {
   fo.joints =
       in.parsed(p, "joints", features::parse_joint_selection, "a joint selection (all, common)");
   eo.method = in.parsed(p, "method", embed::parse_method,
-                        "a method (pca, svd, mds, isomap, le, lle, umap)");
+                        "a method (pca, svd, mds, isomap, le, lle, umap, gplvm)");
   eo.dimensions = int(in.integer(p, "dims", 2, 3, "the map's dimensions"));
   eo.k = in.integer32(p, "k", 1, "neighbours per frame");
   f.k_used = in.integer32(p, "k_used", 0, "neighbours per frame used");

@@ -70,6 +70,13 @@ struct SynthResult {
   std::vector<std::array<double, 2>> contact_shares;
   /// Notes for the user: why the feet were not cleaned, a root lowered to reach, …
   std::vector<std::string> notes;
+  /// The options it was made with (edit_path() re-synthesizes a part of it with them).
+  SynthOptions options;
+  /// Per frame: the integrated root's floor position (up component 0) and heading (radians about
+  /// the up axis, not wrapped), before the feet were cleaned — where edit_path() starts and
+  /// rejoins the root motion.
+  std::vector<Eigen::Vector3d> root_positions;
+  std::vector<double> headings;
 };
 
 /// Synthesizes the motion along `path` (see above).

@@ -13,6 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "motionmap/sample/sample_clip.h"
+#include "motionmap/synth/path_edit.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace {
@@ -152,5 +153,33 @@ void BM_SynthPath(benchmark::State& state) {
     benchmark::DoNotOptimize(motionmap::synth::synthesize(b, path).motion.num_frames);
 }
 BENCHMARK(BM_SynthPath)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// A local edit of the 10 s path above (synth::edit_path): its middle control point (of 100)
+// moved half-way to the next one, the motion re-made from the previous one (feet cleaned, the
+// default). Counters: frames re-made (the window with the clean-up's margins) and blended anew.
+void BM_SynthPathEdit(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const MapBlender& b = blender(n, BlendMode::Local);
+  motionmap::synth::MapPath path;
+  const Data& d = data(n);
+  for (int i = 0; i < 100; ++i) {
+    path.points.push_back(d.map.row(i * (n / 100)).transpose());
+    path.times.push_back(i * 10.0 / 99.0);
+  }
+  const motionmap::synth::SynthResult previous = motionmap::synth::synthesize(b, path);
+  motionmap::synth::MapPath edited = path;
+  edited.points[50] += 0.5 * (path.points[51] - path.points[50]);
+  int frames = 0, blended = 0;
+  for (auto _ : state) {
+    const motionmap::synth::PathEditResult e = motionmap::synth::edit_path(b, previous, edited);
+    frames = e.end - e.first;
+    blended = e.blend_end - e.blend_first;
+    benchmark::DoNotOptimize(e.result.motion.num_frames);
+  }
+  state.counters["frames_remade"] = frames;
+  state.counters["frames_blended"] = blended;
+  state.counters["frames"] = previous.motion.num_frames;
+}
+BENCHMARK(BM_SynthPathEdit)->Arg(10000)->Unit(benchmark::kMillisecond);
 
 }  // namespace

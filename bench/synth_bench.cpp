@@ -5,6 +5,7 @@
 //   build/bench/motionmap_bench --benchmark_filter='Synth'
 //   build/bench/motionmap_bench --benchmark_filter='SynthKrigingFactor/10000'   # ~800 MB, minutes
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <random>
@@ -12,6 +13,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "motionmap/embed/embed.h"
+#include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
 #include "motionmap/synth/path_edit.h"
 #include "motionmap/synth/synthesize.h"
@@ -181,5 +184,75 @@ void BM_SynthPathEdit(benchmark::State& state) {
   state.counters["frames"] = previous.motion.num_frames;
 }
 BENCHMARK(BM_SynthPathEdit)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// The same on real clips: the Bandai Namco proud walk (331 frames, 11 s at 30 fps) and angry
+// walk, PCA map of every frame, local blend; a sketch with a control point every 15 frames along
+// the proud walk's trajectory, its middle point moved half-way to the angry walk's.
+void BM_SynthPathEditBandai(benchmark::State& state) {
+  const std::filesystem::path dir = MOTIONMAP_SHARED_DATA;
+  const auto proud = dir / "bandai/dataset-1_walk_proud_001.bvh";
+  const auto angry = dir / "bandai/dataset-1_walk_angry_001.bvh";
+  if (!std::filesystem::exists(proud) || !std::filesystem::exists(angry)) {
+    state.SkipWithError("no Bandai Namco walks under " MOTIONMAP_SHARED_DATA);
+    return;
+  }
+  std::vector<motionmap::Clip> clips{motionmap::io::load_clip(proud.string()),
+                                     motionmap::io::load_clip(angry.string())};
+  const auto set = motionmap::features::build_features(clips, {});
+  motionmap::embed::EmbedOptions eo;
+  eo.method = motionmap::embed::Method::Pca;
+  const Eigen::MatrixXd map = motionmap::embed::embed({&set.X, nullptr}, eo).coordinates;
+  const MapBlender b(clips, set, map);
+  motionmap::synth::MapPath path, other;
+  const double dt = clips[0].motion.frame_time;
+  for (int i = 0; i < set.num_samples(); ++i) {
+    const Eigen::Vector2d p = map.row(i).transpose();
+    if (set.clip_of[i] == 1) other.points.push_back(p);
+    if (set.clip_of[i] != 0) continue;
+    if (set.frame_of[i] % 15 == 0 || set.frame_of[i] + 1 == clips[0].motion.num_frames) {
+      path.points.push_back(p);
+      path.times.push_back(set.frame_of[i] * dt);
+    }
+  }
+  const motionmap::synth::SynthResult previous = motionmap::synth::synthesize(b, path);
+  motionmap::synth::MapPath edited = path;
+  const std::size_t mid = path.points.size() / 2;
+  edited.points[mid] += 0.5 * (other.points[other.points.size() / 2] - path.points[mid]);
+  int frames = 0, blended = 0;
+  for (auto _ : state) {
+    const motionmap::synth::PathEditResult e = motionmap::synth::edit_path(b, previous, edited);
+    frames = e.end - e.first;
+    blended = e.blend_end - e.blend_first;
+    benchmark::DoNotOptimize(e.result.motion.num_frames);
+  }
+  state.counters["frames_remade"] = frames;
+  state.counters["frames_blended"] = blended;
+  state.counters["frames"] = previous.motion.num_frames;
+}
+BENCHMARK(BM_SynthPathEditBandai)->Unit(benchmark::kMillisecond);
+
+// A full re-synthesis of that edited path, for comparison.
+void BM_SynthPathBandai(benchmark::State& state) {
+  const std::filesystem::path dir = MOTIONMAP_SHARED_DATA;
+  const auto proud = dir / "bandai/dataset-1_walk_proud_001.bvh";
+  if (!std::filesystem::exists(proud)) {
+    state.SkipWithError("no Bandai Namco walks under " MOTIONMAP_SHARED_DATA);
+    return;
+  }
+  std::vector<motionmap::Clip> clips{motionmap::io::load_clip(proud.string())};
+  const auto set = motionmap::features::build_features(clips, {});
+  motionmap::embed::EmbedOptions eo;
+  eo.method = motionmap::embed::Method::Pca;
+  const Eigen::MatrixXd map = motionmap::embed::embed({&set.X, nullptr}, eo).coordinates;
+  const MapBlender b(clips, set, map);
+  motionmap::synth::MapPath path;
+  for (int i = 0; i < set.num_samples(); i += 15) {
+    path.points.push_back(map.row(i).transpose());
+    path.times.push_back(set.frame_of[i] * clips[0].motion.frame_time);
+  }
+  for (auto _ : state)
+    benchmark::DoNotOptimize(motionmap::synth::synthesize(b, path).motion.num_frames);
+}
+BENCHMARK(BM_SynthPathBandai)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -253,11 +253,9 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     }
   }
   const CleanFeetResult cleaned =
-      input_shares.empty() ? clean_feet(skeleton, input, feet, clean_options, control)
-                           : clean_feet(skeleton, input, feet,
-                                        contacts_from_shares(skeleton, input, feet, input_shares,
-                                                             clean_options.contacts),
-                                        clean_options, control);
+      input_shares.empty()
+          ? clean_feet(skeleton, input, feet, clean_options, control)
+          : clean_feet_from_shares(skeleton, input, feet, input_shares, clean_options, control);
   out.first = c0;
   out.end = c1;
   for (int k = c0; k < c1; ++k) {

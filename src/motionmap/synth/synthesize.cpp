@@ -174,10 +174,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     CleanFeetResult cleaned =
         result.contact_shares.empty()
             ? clean_feet(skeleton, result.motion, *feet, clean, control.part(0.9, 1.0))
-            : clean_feet(skeleton, result.motion, *feet,
-                         contacts_from_shares(skeleton, result.motion, *feet, result.contact_shares,
-                                              clean.contacts),
-                         clean, control.part(0.9, 1.0));
+            : clean_feet_from_shares(skeleton, result.motion, *feet, result.contact_shares, clean,
+                                     control.part(0.9, 1.0));
     result.motion = std::move(cleaned.motion);
     result.feet_cleaned = true;
     result.contacts.assign(cleaned.contacts.begin(), cleaned.contacts.end());

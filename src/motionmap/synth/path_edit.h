@@ -23,7 +23,10 @@
 //     the previous motion's and fixed (a contact through them stays where it was held) — and
 //     within the margins the result fades from the previous motion's frames to the new ones
 //     (per joint slerp, smoothstep), so nothing pops at the borders.
-// So frames before `first` and from `end` on are the previous result's, bit for bit.
+// So frames before `first` and from `end` on are the previous result's, bit for bit. The result's
+// validity, contact shares and root states are the new ones in the blend window; its contacts are
+// the previous ones outside [first, end) and the new clean-up's inside; feet_frames_changed is
+// the previous count (not recounted: the previous blend of the window is not kept).
 #include <vector>
 
 #include "motionmap/core/control.h"

@@ -62,7 +62,7 @@ struct SynthResult {
   bool feet_cleaned = false;            ///< SynthOptions::clean_feet and the skeleton has feet
   /// The contacts the clean-up held (left, right); empty when the feet were not cleaned.
   std::vector<FootContacts> contacts;
-  int feet_frames_changed = 0;  ///< frames the clean-up changed
+  int feet_frames_changed = 0;  ///< frames the clean-up changed (edit_path(): not recounted)
   /// Per frame, per foot (left, right): the share of the frame's blend weight on samples whose
   /// foot is on the floor (MapBlender::contact_share); empty when the blender does not know its
   /// samples' contacts. The clean-up takes its contacts from these (contacts_from_shares): a

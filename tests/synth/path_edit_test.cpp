@@ -278,6 +278,23 @@ TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {
   EXPECT_EQ(edit.end, edit.result.motion.num_frames);
   EXPECT_GT(edit.first, 0);
   EXPECT_EQ(edit.result.validity.size(), static_cast<std::size_t>(edit.result.motion.num_frames));
+  // An untimed path drawn at a speed: the moved point changes the length, so every later frame
+  // moves in time and the window runs to the end; the frames before it stay.
+  MapPath untimed = path;
+  untimed.times.clear();
+  const SynthResult drawn = synthesize(blender, untimed);
+  MapPath moved = untimed;
+  const std::size_t mid = moved.points.size() / 2;
+  moved.points[mid] += 0.3 * (moved.points[mid + 1] - moved.points[mid]);
+  const PathEditResult tail = edit_path(blender, drawn, moved);
+  EXPECT_EQ(tail.end, tail.result.motion.num_frames);
+  EXPECT_EQ(tail.result.motion.num_frames, synthesize(blender, moved).motion.num_frames);
+  ASSERT_GT(tail.first, 0);
+  EXPECT_EQ(std::memcmp(tail.result.motion.rotations.data(), drawn.motion.rotations.data(),
+                        static_cast<std::size_t>(tail.first) *
+                            static_cast<std::size_t>(drawn.motion.num_joints) *
+                            sizeof(Eigen::Quaterniond)),
+            0);
   // A result not made by synthesize() on this blender is refused.
   SynthResult foreign = before;
   foreign.headings.clear();
@@ -285,6 +302,51 @@ TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {
   PathEditOptions bad;
   bad.margin_seconds = -1;
   EXPECT_THROW(edit_path(blender, before, longer, bad), ParameterError);
+}
+
+// Every blend mode: local as above, idw and kriging (weights solved in batches) alike.
+TEST(SynthPathEdit, EveryBlendModeKeepsTheRest) {
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const Library lib = library({"bandai/dataset-1_walk_angry_001.bvh"});
+  for (const BlendMode mode : {BlendMode::Local, BlendMode::Idw, BlendMode::Kriging}) {
+    SCOPED_TRACE(blend_mode_name(mode));
+    BlendOptions bo;
+    bo.mode = mode;
+    const MapBlender blender(lib.clips, lib.set, lib.map, bo);
+    const MapPath path = sketch(lib, 0, 10);
+    SynthOptions options;
+    options.smooth = 0.05;
+    const SynthResult before = synthesize(blender, path, options);
+    MapPath edited = path;
+    edited.points[7] += 0.4 * (path.points[8] - path.points[7]);
+    const PathEditResult edit = edit_path(blender, before, edited);
+    const Motion& m = edit.result.motion;
+    ASSERT_EQ(m.num_frames, before.motion.num_frames);
+    EXPECT_GT(edit.first, 0);
+    EXPECT_LT(edit.end, m.num_frames);
+    const std::size_t J = static_cast<std::size_t>(m.num_joints);
+    for (int f = 0; f < m.num_frames; ++f) {
+      if (f >= edit.first && f < edit.end) continue;
+      const std::size_t at = static_cast<std::size_t>(f) * J;
+      ASSERT_EQ(std::memcmp(&m.rotations[at], &before.motion.rotations[at],
+                            J * sizeof(Eigen::Quaterniond)),
+                0)
+          << "frame " << f;
+    }
+    // The blend window's frames are those of a full synthesis off the legs and the root.
+    const SynthResult full = synthesize(blender, edited, options);
+    const Feet feet = find_feet(blender.skeleton());
+    double worst = 0.0;
+    for (int f = edit.blend_first; f < edit.blend_end; ++f) {
+      for (int j = 0; j < m.num_joints; ++j) {
+        bool leg = j == blender.motion_root();
+        for (const Leg& l : feet.legs) leg = leg || j == l.hip || j == l.knee || j == l.ankle;
+        if (!leg)
+          worst = std::max(worst, rotation_angle(m.rotation(f, j), full.motion.rotation(f, j)));
+      }
+    }
+    EXPECT_LT(worst, 1e-9);
+  }
 }
 
 }  // namespace

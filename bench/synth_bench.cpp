@@ -5,6 +5,7 @@
 //   build/bench/motionmap_bench --benchmark_filter='Synth'
 //   build/bench/motionmap_bench --benchmark_filter='SynthKrigingFactor/10000'   # ~800 MB, minutes
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <random>
@@ -12,7 +13,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include "motionmap/embed/embed.h"
+#include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
+#include "motionmap/synth/path_edit.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace {
@@ -152,5 +156,113 @@ void BM_SynthPath(benchmark::State& state) {
     benchmark::DoNotOptimize(motionmap::synth::synthesize(b, path).motion.num_frames);
 }
 BENCHMARK(BM_SynthPath)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// A local edit of the 10 s path above (synth::edit_path): its middle control point (of 100)
+// moved half-way to the next one, the motion re-made from the previous one (feet cleaned, the
+// default). Counters: frames re-made (the window with the clean-up's margins) and blended anew.
+void BM_SynthPathEdit(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const MapBlender& b = blender(n, BlendMode::Local);
+  motionmap::synth::MapPath path;
+  const Data& d = data(n);
+  for (int i = 0; i < 100; ++i) {
+    path.points.push_back(d.map.row(i * (n / 100)).transpose());
+    path.times.push_back(i * 10.0 / 99.0);
+  }
+  const motionmap::synth::SynthResult previous = motionmap::synth::synthesize(b, path);
+  motionmap::synth::MapPath edited = path;
+  edited.points[50] += 0.5 * (path.points[51] - path.points[50]);
+  int frames = 0, blended = 0;
+  for (auto _ : state) {
+    const motionmap::synth::PathEditResult e = motionmap::synth::edit_path(b, previous, edited);
+    frames = e.end - e.first;
+    blended = e.blend_end - e.blend_first;
+    benchmark::DoNotOptimize(e.result.motion.num_frames);
+  }
+  state.counters["frames_remade"] = frames;
+  state.counters["frames_blended"] = blended;
+  state.counters["frames"] = previous.motion.num_frames;
+}
+BENCHMARK(BM_SynthPathEdit)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// The same on real clips: the Bandai Namco proud walk (331 frames, 11 s at 30 fps) and angry
+// walk, PCA map of every frame, local blend; a sketch with a control point every 15 frames along
+// the proud walk's trajectory, its middle point moved half-way to the angry walk's.
+struct BandaiEdit {
+  std::vector<motionmap::Clip> clips;
+  motionmap::features::FeatureSet set;
+  Eigen::MatrixXd map;
+  std::unique_ptr<MapBlender> blender;
+  motionmap::synth::MapPath path, edited;
+  motionmap::synth::SynthResult previous;
+};
+
+const BandaiEdit* bandai_edit() {
+  static const std::unique_ptr<BandaiEdit> cached = []() -> std::unique_ptr<BandaiEdit> {
+    const std::filesystem::path dir = MOTIONMAP_SHARED_DATA;
+    const auto proud = dir / "bandai/dataset-1_walk_proud_001.bvh";
+    const auto angry = dir / "bandai/dataset-1_walk_angry_001.bvh";
+    if (!std::filesystem::exists(proud) || !std::filesystem::exists(angry)) return nullptr;
+    auto e = std::make_unique<BandaiEdit>();
+    e->clips = {motionmap::io::load_clip(proud.string()), motionmap::io::load_clip(angry.string())};
+    e->set = motionmap::features::build_features(e->clips, {});
+    motionmap::embed::EmbedOptions eo;
+    eo.method = motionmap::embed::Method::Pca;
+    e->map = motionmap::embed::embed({&e->set.X, nullptr}, eo).coordinates;
+    e->blender = std::make_unique<MapBlender>(e->clips, e->set, e->map);
+    std::vector<Eigen::Vector2d> other;
+    const double dt = e->clips[0].motion.frame_time;
+    for (int i = 0; i < e->set.num_samples(); ++i) {
+      const Eigen::Vector2d p = e->map.row(i).transpose();
+      if (e->set.clip_of[i] == 1) other.push_back(p);
+      if (e->set.clip_of[i] != 0) continue;
+      const int f = e->set.frame_of[i];
+      if (f % 15 == 0 || f + 1 == e->clips[0].motion.num_frames) {
+        e->path.points.push_back(p);
+        e->path.times.push_back(f * dt);
+      }
+    }
+    e->previous = motionmap::synth::synthesize(*e->blender, e->path);
+    e->edited = e->path;
+    const std::size_t mid = e->path.points.size() / 2;
+    e->edited.points[mid] += 0.5 * (other[other.size() / 2] - e->path.points[mid]);
+    return e;
+  }();
+  return cached.get();
+}
+
+void BM_SynthPathEditBandai(benchmark::State& state) {
+  const BandaiEdit* e = bandai_edit();
+  if (!e) {
+    state.SkipWithError("no Bandai Namco walks under " MOTIONMAP_SHARED_DATA);
+    return;
+  }
+  int frames = 0, blended = 0;
+  for (auto _ : state) {
+    const motionmap::synth::PathEditResult r =
+        motionmap::synth::edit_path(*e->blender, e->previous, e->edited);
+    frames = r.end - r.first;
+    blended = r.blend_end - r.blend_first;
+    benchmark::DoNotOptimize(r.result.motion.num_frames);
+  }
+  state.counters["frames_remade"] = frames;
+  state.counters["frames_blended"] = blended;
+  state.counters["frames"] = e->previous.motion.num_frames;
+}
+BENCHMARK(BM_SynthPathEditBandai)->Unit(benchmark::kMillisecond);
+
+// A full synthesis of that edited path, for comparison.
+void BM_SynthPathBandai(benchmark::State& state) {
+  const BandaiEdit* e = bandai_edit();
+  if (!e) {
+    state.SkipWithError("no Bandai Namco walks under " MOTIONMAP_SHARED_DATA);
+    return;
+  }
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        motionmap::synth::synthesize(*e->blender, e->edited).motion.num_frames);
+  }
+}
+BENCHMARK(BM_SynthPathBandai)->Unit(benchmark::kMillisecond);
 
 }  // namespace

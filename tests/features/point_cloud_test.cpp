@@ -66,6 +66,21 @@ TEST(Diagnostics, DetectsLeadingBindPose) {
   EXPECT_NEAR(check.median_step, 0.1, 1e-12);
 }
 
+TEST(Diagnostics, AStartThatMovesOnIsNotABindPose) {
+  // Moving at its start, then standing nearly still: the first step is 50× the median step, but
+  // the steps after it are as large (a synthesized path held at the data's edge).
+  RowMatrix points(40, 3);
+  double x = 0.0;
+  for (int f = 0; f < 40; ++f) {
+    points.row(f) << x, 0, 0;
+    x += f < 5 ? 5.0 : 0.1;
+  }
+  const BindPoseCheck check = check_leading_bind_pose(points);
+  EXPECT_GT(check.ratio, 10.0);
+  EXPECT_NEAR(check.local_ratio, 1.0, 1e-12);
+  EXPECT_FALSE(check.detected);
+}
+
 TEST(Diagnostics, StillClipIsNotABindPose) {
   RowMatrix points = RowMatrix::Zero(10, 6);
   EXPECT_FALSE(check_leading_bind_pose(points).detected);

@@ -17,6 +17,7 @@
 #include <QTimer>
 #include <QUndoStack>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "app/file_menu.h"
@@ -244,6 +245,52 @@ TEST(StudioTakes, DraggingAControlPointResynthesizesAndUndoRedoAreInstant) {
   EXPECT_EQ(takes.at(0).result, before.result);
   QTest::keyClick(w.get(), Qt::Key_Y, Qt::ControlModifier);
   EXPECT_EQ(takes.at(0).result, edited.result);
+  w->pause();
+}
+
+TEST(StudioTakes, ADraggedControlPointRemakesOnlyItsStretch) {
+  auto w = windowWithMap();
+  sketch(*w, 10, 230, 6.0);
+  const Take before = w->takes()->list().at(0);
+  ASSERT_GE(before.controls.size(), 5u);
+  const int control = int(before.controls.size()) / 2;
+  const Eigen::Vector2d at = before.path.points[std::size_t(before.controls[std::size_t(control)])];
+  // A small move, towards a neighbouring sample of the trajectory.
+  const Eigen::Vector2d to = at + 0.5 * (w->currentMap()->blender->sample_point(120) - at);
+  ASSERT_TRUE(w->moveControlPoint(control, to));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !w->isSynthesizing(); }, kTimeoutMs));
+  w->pause();
+  const Take edited = w->takes()->list().at(0);
+  ASSERT_NE(edited.result, before.result);
+  ASSERT_TRUE(w->takes()->lastEditWindow().has_value());
+  const auto [first, end] = *w->takes()->lastEditWindow();
+  const Motion& m = edited.result->motion;
+  const Motion& b = before.result->motion;
+  ASSERT_EQ(m.num_frames, b.num_frames);
+  EXPECT_GT(first, 0);
+  EXPECT_LT(end, m.num_frames);
+  EXPECT_FALSE(sameMotion(m, b));
+  // The frames before and after the window: the take's motion before the edit, bit for bit.
+  const std::size_t J = std::size_t(m.num_joints);
+  for (int f = 0; f < m.num_frames; ++f) {
+    if (f >= first && f < end) continue;
+    const std::size_t i = std::size_t(f) * J;
+    ASSERT_EQ(std::memcmp(&m.rotations[i], &b.rotations[i], J * sizeof(Eigen::Quaterniond)), 0)
+        << "frame " << f;
+    ASSERT_EQ(std::memcmp(&m.translations[i], &b.translations[i], J * sizeof(Eigen::Vector3d)), 0)
+        << "frame " << f;
+  }
+  // One undo step, which brings the motion before back.
+  EXPECT_EQ(w->takes()->undoStack().count(), 2);
+  w->takes()->undo();
+  EXPECT_EQ(w->takes()->list().at(0).result, before.result);
+  // Other motion options: the whole take is re-made.
+  w->takes()->redo();
+  SynthParameters other;
+  other.motion.smooth = 0.05;
+  ASSERT_TRUE(w->takes()->editControlPoint(control, at, other));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return w->takes()->pendingTake() < 0; }, kTimeoutMs));
+  EXPECT_FALSE(w->takes()->lastEditWindow().has_value());
   w->pause();
 }
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -278,6 +279,23 @@ TEST(SynthCleanFeet, GivenContactsAndSharesAreChecked) {
       EXPECT_LT(c.last, F);
     }
   }
+  // In one call (each ankle's path computed once): the same bits as the two steps.
+  const CleanFeetResult two = clean_feet(clip.skeleton, clip.motion, feet, held);
+  const CleanFeetResult one = clean_feet_from_shares(clip.skeleton, clip.motion, feet, standing);
+  EXPECT_EQ(one.frames_changed, two.frames_changed);
+  EXPECT_GT(one.frames_changed, 0);
+  EXPECT_EQ(one.contacts[0].intervals, two.contacts[0].intervals);
+  EXPECT_EQ(one.contacts[1].intervals, two.contacts[1].intervals);
+  EXPECT_EQ(std::memcmp(one.motion.rotations.data(), two.motion.rotations.data(),
+                        two.motion.rotations.size() * sizeof(Eigen::Quaterniond)),
+            0);
+  EXPECT_EQ(std::memcmp(one.motion.translations.data(), two.motion.translations.data(),
+                        two.motion.translations.size() * sizeof(Eigen::Vector3d)),
+            0);
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { clean_feet_from_shares(clip.skeleton, clip.motion, feet, short_shares); }),
+            "contacts_from_shares: " + std::to_string(F - 1) + " contact shares for " +
+                std::to_string(F) + " frames");
 }
 
 TEST(SynthCleanFeet, SynthesizeSkipsASkeletonWithoutFeetWithANote) {

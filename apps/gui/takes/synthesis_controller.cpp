@@ -4,6 +4,7 @@
 
 #include "motionmap/core/control.h"
 #include "motionmap/core/error.h"
+#include "motionmap/synth/path_edit.h"
 
 namespace motionmap::studio {
 
@@ -31,6 +32,7 @@ void SynthesisController::clear() {
   m_resultKeys = {};
   m_resultKeyFrames.clear();
   m_resultTake = -1;
+  m_resultWindow.reset();
 }
 
 bool SynthesisController::start(std::shared_ptr<const MapResult> map, const synth::MapPath& path,
@@ -51,6 +53,42 @@ bool SynthesisController::start(std::shared_ptr<const MapResult> map, const synt
         },
         [this, map, drawn, take](const JobOutcome<synth::SynthResult>& outcome) {
           onResult(map, drawn, take, nullptr, outcome);
+        });
+  });
+  return true;
+}
+
+bool SynthesisController::startEdit(std::shared_ptr<const MapResult> map,
+                                    std::shared_ptr<const synth::SynthResult> previous,
+                                    const synth::MapPath& path, const SynthParameters& parameters,
+                                    int take) {
+  if (!map || !map->blender) return false;
+  const synth::SynthOptions options = parameters.motion;
+  // Only a motion synthesize() made with these options can be edited in part.
+  const synth::SynthOptions* was = previous ? &previous->options : nullptr;
+  if (!previous || previous->headings.empty() || was->speed != options.speed ||
+      was->fps != options.fps || was->smooth != options.smooth ||
+      was->clean_feet != options.clean_feet) {
+    return start(std::move(map), path, parameters, take);
+  }
+  stop();
+  m_runningTake = take;
+  synth::MapPath followed = path;
+  if (!parameters.timedAsDrawn) followed.times.clear();
+  auto window = std::make_shared<std::pair<int, int>>(0, 0);
+  m_job.start([this, map = std::move(map), previous = std::move(previous),
+               path = std::move(followed), drawn = path, take,
+               window](const BackgroundJob::Ticket& ticket) {
+    runJob<synth::SynthResult>(
+        this, m_job, ticket, [this](double fraction, const QString&) { emit progress(fraction); },
+        [&](const Control& control) {
+          synth::PathEditResult edit =
+              synth::edit_path(*map->blender, *previous, path, {}, control);
+          *window = {edit.first, edit.end};
+          return std::make_shared<synth::SynthResult>(std::move(edit.result));
+        },
+        [this, map, drawn, take, window](const JobOutcome<synth::SynthResult>& outcome) {
+          onResult(map, drawn, take, nullptr, outcome, *window);
         });
   });
   return true;
@@ -93,7 +131,8 @@ bool SynthesisController::startInbetween(std::shared_ptr<const MapResult> map, T
 
 void SynthesisController::onResult(std::shared_ptr<const MapResult> map, synth::MapPath path,
                                    int take, std::shared_ptr<const Keyed> keyed,
-                                   const JobOutcome<synth::SynthResult>& outcome) {
+                                   const JobOutcome<synth::SynthResult>& outcome,
+                                   std::optional<std::pair<int, int>> window) {
   emit stopped();
   if (outcome.cancelled) return emit cancelled();
   if (!outcome.error.isEmpty()) return emit failed(outcome.error);
@@ -103,6 +142,7 @@ void SynthesisController::onResult(std::shared_ptr<const MapResult> map, synth::
   m_resultKeys = keyed ? keyed->keys : TakeKeys{};
   m_resultKeyFrames = keyed ? keyed->keyFrames : std::vector<int>{};
   m_resultTake = take;
+  m_resultWindow = window;
   emit finished();
 }
 

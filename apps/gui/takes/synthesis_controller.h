@@ -9,6 +9,8 @@
 //   connect(&synthesis, &SynthesisController::finished, [&] { play(synthesis.result()->motion); });
 //   synthesis.start(maps.current(), sketch, synthParameters);
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include <QObject>
 #include <QString>
@@ -35,6 +37,14 @@ class SynthesisController : public QObject {
   /// result (resultTake()): −1 for a new sketch, else the id of the take being re-synthesized.
   bool start(std::shared_ptr<const MapResult> map, const synth::MapPath& path,
              const SynthParameters& parameters, int take = -1);
+  /// Starts re-making the motion `previous` of take `take` along its edited `path` (a control
+  /// point moved), as start() does, but when `previous` was synthesized on `map` with
+  /// `parameters.motion` only the part of the motion the edit changes is re-made
+  /// (synth::edit_path: the frames outside resultWindow() stay bit for bit); otherwise the whole
+  /// path is synthesized.
+  bool startEdit(std::shared_ptr<const MapResult> map,
+                 std::shared_ptr<const synth::SynthResult> previous, const synth::MapPath& path,
+                 const SynthParameters& parameters, int take);
   /// Starts in-betweening `keys` (≥ 2) on `map` (synth::inbetween, with `parameters.motion`'s
   /// foot clean-up), on the worker thread, as start() does: the result's path is the route its
   /// frames follow (a point per frame, timed at the frame rate) and resultKeys() and
@@ -60,6 +70,9 @@ class SynthesisController : public QObject {
   const std::vector<int>& resultKeyFrames() const { return m_resultKeyFrames; }
   /// The `take` given to start() for result().
   int resultTake() const { return m_resultTake; }
+  /// The frames [first, end) that result() re-made when it came from a local edit (startEdit());
+  /// nothing when it was synthesized whole.
+  const std::optional<std::pair<int, int>>& resultWindow() const { return m_resultWindow; }
   /// The `take` of the synthesis running (or of the last one started).
   int runningTake() const { return m_runningTake; }
   /// The map result() was sketched on.
@@ -87,13 +100,15 @@ class SynthesisController : public QObject {
     std::vector<int> keyFrames;
   };
   void onResult(std::shared_ptr<const MapResult> map, synth::MapPath path, int take,
-                std::shared_ptr<const Keyed> keyed, const JobOutcome<synth::SynthResult>& outcome);
+                std::shared_ptr<const Keyed> keyed, const JobOutcome<synth::SynthResult>& outcome,
+                std::optional<std::pair<int, int>> window = std::nullopt);
 
   std::shared_ptr<const synth::SynthResult> m_result;
   synth::MapPath m_resultPath;
   TakeKeys m_resultKeys;
   std::vector<int> m_resultKeyFrames;
   int m_resultTake = -1;
+  std::optional<std::pair<int, int>> m_resultWindow;
   int m_runningTake = -1;
   std::shared_ptr<const MapResult> m_resultMap;
   BackgroundJob m_job;  ///< the motion being synthesized

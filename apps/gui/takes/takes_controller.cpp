@@ -38,6 +38,7 @@ void TakesController::takeResult(const std::string& mapKey) {
     return;
   }
   m_pending.reset();
+  m_lastEditWindow = m_synthesis->resultWindow();
   if (m_list.rowOf(id) < 0) return emit changed();  // deleted meanwhile
   if (keyed) {
     m_stack.push(new EditTakeCommand(
@@ -65,7 +66,8 @@ bool TakesController::editControlPoint(int control, const Eigen::Vector2d& to,
   if (!take || control < 0 || control >= int(take->controls.size()) || !to.allFinite())
     return false;
   synth::MapPath path = deformPath(take->path, take->controls, control, to);
-  if (!m_synthesis->start(take->map, path, parameters, take->id)) return false;
+  // Only the part of the motion the moved point changes is re-made (synth::edit_path).
+  if (!m_synthesis->startEdit(take->map, take->result, path, parameters, take->id)) return false;
   m_pending.emplace(take->id, std::move(path));
   emit changed();
   return true;

@@ -36,8 +36,11 @@ class TakesController : public QObject {
   /// take). Called by the window when the synthesis finished.
   void takeResult(const std::string& mapKey);
   /// Starts re-synthesizing the current take with its control point `control` moved to `to`
-  /// (deformPath), on its own map with `parameters`. False (nothing started) without a current
-  /// take, for a control index out of range, or when the synthesis could not start.
+  /// (deformPath), on its own map with `parameters`: only the part of the motion the move
+  /// changes (SynthesisController::startEdit, synth::edit_path) when the take was made with
+  /// these motion options, else all of it. Its result is one undo step. False (nothing started)
+  /// without a current take, for a control index out of range, or when the synthesis could not
+  /// start.
   bool editControlPoint(int control, const Eigen::Vector2d& to, const SynthParameters& parameters);
   /// Starts in-betweening `keys` on `map` with `parameters`: a new take (`take` −1) or the new
   /// keys of the in-between take with id `take` (shown pending, as the straight lines between
@@ -48,6 +51,10 @@ class TakesController : public QObject {
   void sketchStarted();
   /// The take an edit is being synthesized for (−1: none).
   int pendingTake() const { return m_pending ? m_pending->first : -1; }
+  /// The frames [first, end) the last edit that arrived re-made (a sketch's moved control point:
+  /// synth::edit_path); nothing when it re-synthesized the whole take (other motion options, an
+  /// in-between take).
+  const std::optional<std::pair<int, int>>& lastEditWindow() const { return m_lastEditWindow; }
 
   /// Renames (an undoable step); false for an empty or unchanged name.
   bool rename(int row, const QString& name);
@@ -83,6 +90,7 @@ class TakesController : public QObject {
   QUndoStack m_stack;
   std::optional<std::pair<int, synth::MapPath>> m_pending;  ///< take id, its path being made
   bool m_applying = false;  ///< a recorded map change is being applied (not recorded again)
+  std::optional<std::pair<int, int>> m_lastEditWindow;
 };
 
 }  // namespace motionmap::studio

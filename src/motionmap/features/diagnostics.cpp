@@ -29,7 +29,14 @@ BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor) {
   } else {
     check.ratio = check.distance > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   }
-  check.detected = check.ratio > factor;
+  for (Eigen::Index f = 1; f + 1 < frames && f <= kBindPoseLocalSteps; ++f)
+    check.local_step = std::max(check.local_step, (points.row(f) - points.row(f + 1)).norm());
+  if (check.local_step > 0) {
+    check.local_ratio = check.distance / check.local_step;
+  } else {
+    check.local_ratio = check.distance > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+  }
+  check.detected = check.ratio > factor && check.local_ratio > kBindPoseLocalFactor * factor;
   return check;
 }
 

@@ -14,10 +14,23 @@ struct BindPoseCheck {
   double distance = 0.0;     ///< point-cloud distance between frames 0 and 1
   double median_step = 0.0;  ///< median point-cloud distance between later consecutive frames
   double ratio = 0.0;        ///< distance / median_step (infinite if the rest of the clip is still)
+  /// The largest of the next kBindPoseLocalSteps steps (frames 1–2, 2–3, 3–4).
+  double local_step = 0.0;
+  double local_ratio = 0.0;  ///< distance / local_step (infinite if those frames are still)
 };
 
+/// Steps right after frame 0 that a bind pose's jump must also exceed, kBindPoseLocalFactor ×
+/// `factor` times (CMU's bind poses: 50–950× the next steps; synthesized clips that leave the
+/// data at once, where the blend extrapolates: up to 12×).
+inline constexpr int kBindPoseLocalSteps = 3;
+inline constexpr double kBindPoseLocalFactor = 2.0;
+
 /// Frame 0 is a leading bind pose when its point-cloud distance to frame 1 exceeds `factor` × the
-/// median distance between the following consecutive frames (frames 1–2, 2–3, …). `points` is
+/// median distance between the following consecutive frames (frames 1–2, 2–3, …) and
+/// kBindPoseLocalFactor × `factor` × the largest of the next kBindPoseLocalSteps of them: a jump
+/// out of frame 0 that the motion does not go on with. (A clip that moves at its start and then
+/// stands nearly still — a synthesized path held at the data's edge, a capture that ends in a long
+/// hold — has a large first step against its median, but its next steps are as large.) `points` is
 /// #frames by 3·#points, e.g. heading_local_points(). Needs ≥ 3 frames, else never detected.
 BindPoseCheck check_leading_bind_pose(const RowMatrix& points, double factor = 10.0);
 

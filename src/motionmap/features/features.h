@@ -69,8 +69,8 @@ struct FeatureOptions {
   int first_frame = 0;  ///< first file frame used (per clip)
   int end_frame = -1;   ///< one past the last file frame used; −1 = the clip's end
   int stride = 1;       ///< use every stride-th frame from first_frame
-  /// Keep a leading bind pose (frame 0 farther from frame 1 than 10× the median step); by
-  /// default it is left out and a note says so.
+  /// Keep a leading bind pose (frame 0 farther from frame 1 than 10× the median step and 20× the
+  /// next steps: check_leading_bind_pose); by default it is left out and a note says so.
   bool keep_first = false;
   /// All: the clips must share one joint hierarchy, and every joint is used. Common: the clips
   /// may come from different skeletons; they are compared by the joints whose names all of them

@@ -172,19 +172,21 @@ void CleanFeetOptions::validate() const {
   }
 }
 
-CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
-                           const CleanFeetOptions& options, const Control& control) {
-  options.validate();
-  check_motion(skeleton, motion, "clean_feet", MotionCheck::Values);
-  for (const Leg& leg : feet.legs) check_leg(skeleton, leg);
-  return clean_feet(skeleton, motion, feet,
-                    detect_contacts(skeleton, motion, feet, options.contacts), options, control);
+namespace {
+
+using Ankles = std::array<std::vector<Vector3d>, 2>;
+
+// Each leg's ankle path (left, right), computed once for the contacts and the clean-up.
+Ankles ankle_paths(const Skeleton& skeleton, const Motion& motion, const Feet& feet) {
+  return {joint_trajectory(skeleton, motion, feet.legs[0].ankle),
+          joint_trajectory(skeleton, motion, feet.legs[1].ankle)};
 }
 
-std::array<FootContacts, 2> contacts_from_shares(const Skeleton& skeleton, const Motion& motion,
-                                                 const Feet& feet,
-                                                 std::span<const std::array<double, 2>> shares,
-                                                 const ContactOptions& options) {
+// contacts_from_shares() with the ankles' paths given.
+std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Motion& motion,
+                                            const Feet& feet,
+                                            std::span<const std::array<double, 2>> shares,
+                                            const ContactOptions& options, const Ankles& ankles) {
   std::array<FootContacts, 2> contacts = detect_contacts(skeleton, motion, feet, options);
   const int F = motion.num_frames;
   if (shares.size() != static_cast<std::size_t>(F)) {
@@ -196,7 +198,7 @@ std::array<FootContacts, 2> contacts_from_shares(const Skeleton& skeleton, const
   const Eigen::Vector3d up = Eigen::Vector3d::Unit(static_cast<int>(options.up));
   for (int s = 0; s < 2; ++s) {
     const FootContacts& fc = contacts[static_cast<std::size_t>(s)];
-    const std::vector<Eigen::Vector3d> ankle = joint_trajectory(skeleton, motion, fc.leg.ankle);
+    const std::vector<Vector3d>& ankle = ankles[static_cast<std::size_t>(s)];
     // In contact: mostly standing samples, and the blended ankle low, as a standing one is.
     const double low = fc.floor + options.height * fc.leg_length;
     std::vector<ContactInterval> runs;
@@ -246,27 +248,25 @@ std::array<FootContacts, 2> contacts_from_shares(const Skeleton& skeleton, const
   return contacts;
 }
 
-CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
-                           const std::array<FootContacts, 2>& contacts,
-                           const CleanFeetOptions& options, const Control& control) {
+// Options, motion and feet checked once by each public entry point.
+void check_inputs(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                  const CleanFeetOptions& options) {
   options.validate();
   check_motion(skeleton, motion, "clean_feet", MotionCheck::Values);
   for (const Leg& leg : feet.legs) check_leg(skeleton, leg);
+}
+
+// clean_feet() of checked inputs and contacts within the motion, the ankles' paths given.
+CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                              const std::array<FootContacts, 2>& contacts,
+                              const CleanFeetOptions& options, const Control& control,
+                              Ankles ankles) {
   const Control stage = control.stage("cleaning feet", 0.0, 1.0);
   CleanFeetResult result;
   result.motion = motion;
   const int F = motion.num_frames;
   const int J = skeleton.num_joints();
   result.contacts = contacts;
-  for (const FootContacts& fc : result.contacts) {
-    for (const ContactInterval& c : fc.intervals) {
-      if (c.first < 0 || c.last < c.first || c.last >= F) {
-        throw ParameterError("clean_feet: a contact of frames " + std::to_string(c.first) + "–" +
-                             std::to_string(c.last) + " is not within the motion's " +
-                             std::to_string(F) + " frames");
-      }
-    }
-  }
   result.root_drop.assign(static_cast<std::size_t>(F), 0.0);
   result.held.fill(std::vector<char>(static_cast<std::size_t>(F), 0));
   if (F == 0) return result;
@@ -282,7 +282,7 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
   for (int s = 0; s < 2; ++s) {
     FootPlan& plan = plans[static_cast<std::size_t>(s)];
     plan.leg = feet.legs[static_cast<std::size_t>(s)];
-    plan.ankle = joint_trajectory(skeleton, motion, plan.leg.ankle);
+    plan.ankle = std::move(ankles[static_cast<std::size_t>(s)]);
     plan.length = result.contacts[static_cast<std::size_t>(s)].leg_length;
     plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, fixed, plan);
     result.held[static_cast<std::size_t>(s)] = plan.touched;
@@ -406,6 +406,54 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
   }
   for (char c : changed) result.frames_changed += c;
   return result;
+}
+
+}  // namespace
+
+CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                           const CleanFeetOptions& options, const Control& control) {
+  check_inputs(skeleton, motion, feet, options);
+  return clean_checked(skeleton, motion, feet,
+                       detect_contacts(skeleton, motion, feet, options.contacts), options, control,
+                       ankle_paths(skeleton, motion, feet));
+}
+
+CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
+                           const std::array<FootContacts, 2>& contacts,
+                           const CleanFeetOptions& options, const Control& control) {
+  check_inputs(skeleton, motion, feet, options);
+  const int F = motion.num_frames;
+  for (const FootContacts& fc : contacts) {
+    for (const ContactInterval& c : fc.intervals) {
+      if (c.first < 0 || c.last < c.first || c.last >= F) {
+        throw ParameterError("clean_feet: a contact of frames " + std::to_string(c.first) + "–" +
+                             std::to_string(c.last) + " is not within the motion's " +
+                             std::to_string(F) + " frames");
+      }
+    }
+  }
+  return clean_checked(skeleton, motion, feet, contacts, options, control,
+                       ankle_paths(skeleton, motion, feet));
+}
+
+std::array<FootContacts, 2> contacts_from_shares(const Skeleton& skeleton, const Motion& motion,
+                                                 const Feet& feet,
+                                                 std::span<const std::array<double, 2>> shares,
+                                                 const ContactOptions& options) {
+  check_motion(skeleton, motion, "contacts_from_shares", MotionCheck::Sizes);
+  return shares_contacts(skeleton, motion, feet, shares, options,
+                         ankle_paths(skeleton, motion, feet));
+}
+
+CleanFeetResult clean_feet_from_shares(const Skeleton& skeleton, const Motion& motion,
+                                       const Feet& feet,
+                                       std::span<const std::array<double, 2>> shares,
+                                       const CleanFeetOptions& options, const Control& control) {
+  check_inputs(skeleton, motion, feet, options);
+  Ankles ankles = ankle_paths(skeleton, motion, feet);
+  const std::array<FootContacts, 2> contacts =
+      shares_contacts(skeleton, motion, feet, shares, options.contacts, ankles);
+  return clean_checked(skeleton, motion, feet, contacts, options, control, std::move(ankles));
 }
 
 }  // namespace motionmap::synth

@@ -89,6 +89,15 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
                            const std::array<FootContacts, 2>& contacts,
                            const CleanFeetOptions& options = {}, const Control& control = {});
 
+/// clean_feet() with the contacts of contacts_from_shares(skeleton, motion, feet, shares,
+/// options.contacts), the inputs checked and each ankle's path computed once for both (what
+/// synthesize() and edit_path() do). @throws as both.
+CleanFeetResult clean_feet_from_shares(const Skeleton& skeleton, const Motion& motion,
+                                       const Feet& feet,
+                                       std::span<const std::array<double, 2>> shares,
+                                       const CleanFeetOptions& options = {},
+                                       const Control& control = {});
+
 /// How far (× the leg length, on the floor) a blended ankle may drift from where a contact began
 /// before contacts_from_shares() ends that contact and starts another.
 inline constexpr double kMaxHoldDrift = 0.25;

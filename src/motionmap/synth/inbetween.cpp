@@ -389,10 +389,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       CleanFeetResult cleaned =
           synth.contact_shares.empty()
               ? clean_feet(blender.skeleton(), synth.motion, *feet, clean, cleaning)
-              : clean_feet(blender.skeleton(), synth.motion, *feet,
-                           contacts_from_shares(blender.skeleton(), synth.motion, *feet,
-                                                synth.contact_shares, clean.contacts),
-                           clean, cleaning);
+              : clean_feet_from_shares(blender.skeleton(), synth.motion, *feet,
+                                       synth.contact_shares, clean, cleaning);
       synth.motion = std::move(cleaned.motion);
       result.feet_cleaned = true;
     } else {

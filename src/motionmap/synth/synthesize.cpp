@@ -10,6 +10,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/synth/detail/smoothing.h"
 
 namespace motionmap::synth {
 
@@ -21,38 +22,6 @@ constexpr int kBlockFrames = 256;
 constexpr int kLocateBatch = 64;
 // Most kriging weights the smoothing window may hold (each a dense vector over the samples).
 constexpr long long kMaxWindowWeights = 50'000'000;
-
-// Σ g_j·w_{k+j} / Σ g_j over the frames of the window that exist.
-MapWeights smoothed(const std::deque<MapWeights>& raw, long long raw_first, long long k,
-                    long long frames, const std::vector<double>& kernel, int num_samples) {
-  const auto half = static_cast<long long>(kernel.size() / 2);
-  std::vector<double> acc(static_cast<std::size_t>(num_samples), 0.0);
-  std::vector<char> seen(static_cast<std::size_t>(num_samples), 0);
-  std::vector<int> touched;
-  double gsum = 0.0;
-  for (long long j = -half; j <= half; ++j) {
-    const long long f = k + j;
-    if (f < 0 || f >= frames) continue;
-    const double g = kernel[static_cast<std::size_t>(j + half)];
-    gsum += g;
-    const MapWeights& w = raw[static_cast<std::size_t>(f - raw_first)];
-    for (std::size_t e = 0; e < w.samples.size(); ++e) {
-      const int s = w.samples[e];
-      if (!seen[s]) {
-        seen[s] = 1;
-        touched.push_back(s);
-      }
-      acc[s] += g * w.weights[e];
-    }
-  }
-  std::sort(touched.begin(), touched.end());
-  MapWeights out;
-  out.validity = raw[static_cast<std::size_t>(k - raw_first)].validity;
-  out.samples = touched;
-  out.weights.reserve(touched.size());
-  for (int s : touched) out.weights.push_back(acc[s] / gsum);
-  return out;
-}
 
 }  // namespace
 
@@ -91,16 +60,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   const auto frames = static_cast<long long>(points.size());
 
   // The Gaussian kernel over ±3σ frames.
-  std::vector<double> kernel{1.0};
-  if (options.smooth > 0.0) {
-    const double sigma = options.smooth / dt;
-    const auto half = static_cast<long long>(
-        std::min<double>(std::ceil(3.0 * sigma), static_cast<double>(frames)));
-    kernel.assign(static_cast<std::size_t>(2 * half + 1), 0.0);
-    for (long long j = -half; j <= half; ++j) {
-      kernel[static_cast<std::size_t>(j + half)] = std::exp(-0.5 * (j / sigma) * (j / sigma));
-    }
-  }
+  const std::vector<double> kernel = detail::smoothing_kernel(options.smooth, dt, frames);
   const auto half = static_cast<long long>(kernel.size() / 2);
   if (blender.options().mode == BlendMode::Kriging && half > 0 &&
       (2 * half + 1 + kBlockFrames) * blender.num_samples() > kMaxWindowWeights) {
@@ -166,7 +126,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
       const MapWeights& own = raw[static_cast<std::size_t>(k - raw_first)];
       MapWeights smoothed_weights;
       if (half > 0)
-        smoothed_weights = smoothed(raw, raw_first, k, frames, kernel, blender.num_samples());
+        smoothed_weights =
+            detail::smoothed(raw, raw_first, k, frames, kernel, blender.num_samples());
       const MapWeights& weights = half == 0 ? own : smoothed_weights;
       const BlendedFrame b = blender.blend(weights);
       if (const auto share = blender.contact_share(weights)) {
@@ -190,7 +151,12 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   const Axis up = blender.options().up;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double heading = 0.0;
+  result.options = options;
+  result.root_positions.resize(static_cast<std::size_t>(frames));
+  result.headings.resize(static_cast<std::size_t>(frames));
   for (long long k = 0; k < frames; ++k) {
+    result.root_positions[static_cast<std::size_t>(k)] = position;
+    result.headings[static_cast<std::size_t>(k)] = heading;
     const Eigen::Quaterniond yaw = axis_rotation(up, heading);
     Eigen::Quaterniond& q = result.motion.rotation(static_cast<int>(k), root);
     q = (yaw * q).normalized();
@@ -208,10 +174,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     CleanFeetResult cleaned =
         result.contact_shares.empty()
             ? clean_feet(skeleton, result.motion, *feet, clean, control.part(0.9, 1.0))
-            : clean_feet(skeleton, result.motion, *feet,
-                         contacts_from_shares(skeleton, result.motion, *feet, result.contact_shares,
-                                              clean.contacts),
-                         clean, control.part(0.9, 1.0));
+            : clean_feet_from_shares(skeleton, result.motion, *feet, result.contact_shares, clean,
+                                     control.part(0.9, 1.0));
     result.motion = std::move(cleaned.motion);
     result.feet_cleaned = true;
     result.contacts.assign(cleaned.contacts.begin(), cleaned.contacts.end());

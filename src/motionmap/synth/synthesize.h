@@ -62,7 +62,7 @@ struct SynthResult {
   bool feet_cleaned = false;            ///< SynthOptions::clean_feet and the skeleton has feet
   /// The contacts the clean-up held (left, right); empty when the feet were not cleaned.
   std::vector<FootContacts> contacts;
-  int feet_frames_changed = 0;  ///< frames the clean-up changed
+  int feet_frames_changed = 0;  ///< frames the clean-up changed (edit_path(): not recounted)
   /// Per frame, per foot (left, right): the share of the frame's blend weight on samples whose
   /// foot is on the floor (MapBlender::contact_share); empty when the blender does not know its
   /// samples' contacts. The clean-up takes its contacts from these (contacts_from_shares): a
@@ -70,6 +70,13 @@ struct SynthResult {
   std::vector<std::array<double, 2>> contact_shares;
   /// Notes for the user: why the feet were not cleaned, a root lowered to reach, …
   std::vector<std::string> notes;
+  /// The options it was made with (edit_path() re-synthesizes a part of it with them).
+  SynthOptions options;
+  /// Per frame: the integrated root's floor position (up component 0) and heading (radians about
+  /// the up axis, not wrapped), before the feet were cleaned — where edit_path() starts and
+  /// rejoins the root motion.
+  std::vector<Eigen::Vector3d> root_positions;
+  std::vector<double> headings;
 };
 
 /// Synthesizes the motion along `path` (see above).

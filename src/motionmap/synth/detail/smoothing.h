@@ -1,0 +1,63 @@
+#pragma once
+// The temporal smoothing of blend weights that synthesize() and edit_path() share: a Gaussian
+// over ±3σ frames, renormalised where the window passes the motion's ends.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "motionmap/synth/blender.h"
+
+namespace motionmap::synth::detail {
+
+/// The kernel g_j, j = −half…half (half = ⌈3σ⌉ frames, at most `frames`), σ = smooth / dt
+/// frames; {1} for smooth = 0.
+inline std::vector<double> smoothing_kernel(double smooth, double dt, long long frames) {
+  std::vector<double> kernel{1.0};
+  if (smooth > 0.0) {
+    const double sigma = smooth / dt;
+    const auto half = static_cast<long long>(
+        std::min<double>(std::ceil(3.0 * sigma), static_cast<double>(frames)));
+    kernel.assign(static_cast<std::size_t>(2 * half + 1), 0.0);
+    for (long long j = -half; j <= half; ++j) {
+      kernel[static_cast<std::size_t>(j + half)] = std::exp(-0.5 * (j / sigma) * (j / sigma));
+    }
+  }
+  return kernel;
+}
+
+/// Σ g_j·w_{k+j} / Σ g_j over the frames of the window that exist (0 ≤ k + j < frames); `raw`
+/// holds the raw weights of frames raw_first, raw_first + 1, … (a deque or a vector).
+template <class Weights>
+MapWeights smoothed(const Weights& raw, long long raw_first, long long k, long long frames,
+                    const std::vector<double>& kernel, int num_samples) {
+  const auto half = static_cast<long long>(kernel.size() / 2);
+  std::vector<double> acc(static_cast<std::size_t>(num_samples), 0.0);
+  std::vector<char> seen(static_cast<std::size_t>(num_samples), 0);
+  std::vector<int> touched;
+  double gsum = 0.0;
+  for (long long j = -half; j <= half; ++j) {
+    const long long f = k + j;
+    if (f < 0 || f >= frames) continue;
+    const double g = kernel[static_cast<std::size_t>(j + half)];
+    gsum += g;
+    const MapWeights& w = raw[static_cast<std::size_t>(f - raw_first)];
+    for (std::size_t e = 0; e < w.samples.size(); ++e) {
+      const int s = w.samples[e];
+      if (!seen[s]) {
+        seen[s] = 1;
+        touched.push_back(s);
+      }
+      acc[s] += g * w.weights[e];
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  MapWeights out;
+  out.validity = raw[static_cast<std::size_t>(k - raw_first)].validity;
+  out.samples = touched;
+  out.weights.reserve(touched.size());
+  for (int s : touched) out.weights.push_back(acc[s] / gsum);
+  return out;
+}
+
+}  // namespace motionmap::synth::detail

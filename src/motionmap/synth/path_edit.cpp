@@ -1,0 +1,311 @@
+#include "motionmap/synth/path_edit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/synth/clean_feet.h"
+#include "motionmap/synth/detail/smoothing.h"
+
+namespace motionmap::synth {
+
+namespace {
+
+constexpr int kLocateBatch = 64;
+
+// Copies frame `from` of `src` into frame `to` of `dst` (same joints).
+void copy_frame(const Motion& src, int from, Motion& dst, int to) {
+  const int J = src.num_joints;
+  std::copy_n(src.rotations.begin() + static_cast<std::ptrdiff_t>(from) * J, J,
+              dst.rotations.begin() + static_cast<std::ptrdiff_t>(to) * J);
+  std::copy_n(src.translations.begin() + static_cast<std::ptrdiff_t>(from) * J, J,
+              dst.translations.begin() + static_cast<std::ptrdiff_t>(to) * J);
+}
+
+// Intervals sorted and merged where they overlap or touch.
+std::vector<ContactInterval> merged(std::vector<ContactInterval> iv) {
+  std::sort(iv.begin(), iv.end(),
+            [](const ContactInterval& a, const ContactInterval& b) { return a.first < b.first; });
+  std::vector<ContactInterval> out;
+  for (const ContactInterval& c : iv) {
+    if (!out.empty() && c.first <= out.back().last + 1) {
+      out.back().last = std::max(out.back().last, c.last);
+    } else {
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void PathEditOptions::validate() const {
+  if (!(margin_seconds >= 0.0 && margin_seconds <= 2.0)) {
+    throw ParameterError("margin_seconds: " + format_number(margin_seconds) +
+                         " is out of range (seconds, must be in [0, 2])");
+  }
+  if (!(context_seconds >= 0.0 && context_seconds <= 5.0)) {
+    throw ParameterError("context_seconds: " + format_number(context_seconds) +
+                         " is out of range (seconds, must be in [0, 5])");
+  }
+}
+
+PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
+                         const MapPath& path, const PathEditOptions& options,
+                         const Control& control) {
+  options.validate();
+  const SynthOptions& so = previous.options;
+  so.validate();
+  path.validate();
+  const Skeleton& skeleton = blender.skeleton();
+  const int J = skeleton.num_joints();
+  const int F0 = previous.motion.num_frames;
+  const double dt = so.fps > 0.0 ? 1.0 / so.fps : blender.frame_time();
+  if (previous.motion.num_joints != J || previous.motion.frame_time != dt ||
+      previous.validity.size() != static_cast<std::size_t>(F0) ||
+      previous.root_positions.size() != static_cast<std::size_t>(F0) ||
+      previous.headings.size() != static_cast<std::size_t>(F0) || F0 == 0) {
+    throw ParameterError(
+        "edit_path: the previous result was not made by synthesize() on this blender (its "
+        "frames, joints, frame time or root states do not match)");
+  }
+  double speed = so.speed;
+  if (!path.timed() && speed == 0.0) {
+    speed = blender.median_speed();
+    if (!(speed > 0.0)) {
+      throw ParameterError(
+          "speed: the map has no motion to take a default speed from; give one (map units per "
+          "second)");
+    }
+  }
+  const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
+  const int F = static_cast<int>(points.size());
+
+  PathEditResult out;
+  out.result = previous;
+  SynthResult& r = out.result;
+
+  // The frames whose path point changed.
+  int r0 = -1, r1 = -1;
+  const int common = std::min(F, F0);
+  for (int k = 0; k < common; ++k) {
+    const Eigen::Vector2d& q = previous.validity[static_cast<std::size_t>(k)].query;
+    if (points[static_cast<std::size_t>(k)] != q) {
+      if (r0 < 0) r0 = k;
+      r1 = k;
+    }
+  }
+  if (F != F0) {
+    // A longer or shorter path: the window runs to the new end (its last frames at least).
+    r0 = r0 < 0 ? std::max(0, common - 1) : r0;
+    r1 = F - 1;
+  }
+  if (r0 < 0) return out;  // the same path: the same motion
+
+  const std::vector<double> kernel = detail::smoothing_kernel(so.smooth, dt, F);
+  const int half = static_cast<int>(kernel.size() / 2);
+  const int a = std::max(0, r0 - half), b = std::min(F, r1 + half + 1);
+  out.blend_first = a;
+  out.blend_end = b;
+  out.first = a;
+  out.end = b;
+
+  // The clean-up's window [c0, c1) and the frames blended for it [x0, x1).
+  const bool clean = previous.feet_cleaned;
+  const double fps = 1.0 / dt;
+  const CleanFeetOptions clean_defaults;
+  const int fade = static_cast<int>(std::lround(clean_defaults.blend_seconds * fps));
+  const int margin =
+      clean ? std::max(fade + 1, static_cast<int>(std::lround(options.margin_seconds * fps))) : 0;
+  const int context = clean ? static_cast<int>(std::lround(options.context_seconds * fps)) : 0;
+  const int c0 = std::max(0, a - margin), c1 = std::min(F, b + margin);
+  const int x0 = std::max(0, c0 - context), x1 = std::min(F, c1 + context);
+
+  // Raw weights of the frames the blends of [x0, x1) read.
+  control.check();
+  const int w0 = std::max(0, x0 - half), w1 = std::min(F, x1 + half);
+  std::vector<MapWeights> raw;
+  raw.reserve(static_cast<std::size_t>(w1 - w0));
+  for (int k = w0; k < w1; k += kLocateBatch) {
+    auto located = blender.locate(std::span<const Eigen::Vector2d>(points).subspan(
+        static_cast<std::size_t>(k), static_cast<std::size_t>(std::min(w1, k + kLocateBatch) - k)));
+    for (auto& w : located) raw.push_back(std::move(w));
+  }
+  std::vector<MapWeights> weights(static_cast<std::size_t>(x1 - x0));
+  for (int k = x0; k < x1; ++k) {
+    weights[static_cast<std::size_t>(k - x0)] =
+        half == 0 ? raw[static_cast<std::size_t>(k - w0)]
+                  : detail::smoothed(raw, w0, k, F, kernel, blender.num_samples());
+  }
+  if (blender.reads_on_demand()) blender.prefetch(weights);
+
+  // Blend [x0, x1): the root's tilt and height only (its heading and floor position below).
+  Motion raw_motion;
+  raw_motion.frame_time = dt;
+  raw_motion.resize(x1 - x0, J);
+  std::vector<Eigen::Vector3d> velocity(static_cast<std::size_t>(x1 - x0));
+  std::vector<double> yaw_rate(static_cast<std::size_t>(x1 - x0));
+  std::vector<std::array<double, 2>> shares(static_cast<std::size_t>(x1 - x0));
+  bool shares_known = true;
+  for (int k = x0; k < x1; ++k) {
+    const auto i = static_cast<std::size_t>(k - x0);
+    const BlendedFrame bf = blender.blend(weights[i]);
+    for (int j = 0; j < J; ++j) {
+      raw_motion.rotation(k - x0, j) = bf.rotations[static_cast<std::size_t>(j)];
+      raw_motion.translation(k - x0, j) = bf.translations[static_cast<std::size_t>(j)];
+    }
+    velocity[i] = bf.velocity;
+    yaw_rate[i] = bf.yaw_rate;
+    if (const auto share = blender.contact_share(weights[i])) {
+      shares[i] = *share;
+    } else {
+      shares_known = false;
+    }
+  }
+  control.check();
+
+  // Root states: the previous ones outside [a, b); inside, integrated from the previous state at
+  // a, the mismatch at b spread linearly over the window.
+  r.root_positions.resize(static_cast<std::size_t>(F));
+  r.headings.resize(static_cast<std::size_t>(F));
+  {
+    Eigen::Vector3d position = previous.root_positions[static_cast<std::size_t>(a)];
+    double heading = previous.headings[static_cast<std::size_t>(a)];
+    const Axis up = blender.options().up;
+    for (int k = a; k < b; ++k) {
+      r.root_positions[static_cast<std::size_t>(k)] = position;
+      r.headings[static_cast<std::size_t>(k)] = heading;
+      const auto i = static_cast<std::size_t>(k - x0);
+      position += axis_rotation(up, heading) * velocity[i] * dt;
+      heading += yaw_rate[i] * dt;
+    }
+    if (b < F) {
+      const Eigen::Vector3d dx = previous.root_positions[static_cast<std::size_t>(b)] - position;
+      const double dh = wrap_angle(previous.headings[static_cast<std::size_t>(b)] - heading);
+      for (int k = a + 1; k < b; ++k) {
+        const double s = static_cast<double>(k - a) / static_cast<double>(b - a);
+        r.root_positions[static_cast<std::size_t>(k)] += s * dx;
+        r.headings[static_cast<std::size_t>(k)] += s * dh;
+      }
+    }
+  }
+  const int root = blender.motion_root();
+  const Axis up = blender.options().up;
+  for (int k = x0; k < x1; ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    const Eigen::Vector3d& position =
+        (k >= a && k < b) ? r.root_positions[s] : previous.root_positions[s];
+    const double heading = (k >= a && k < b) ? r.headings[s] : previous.headings[s];
+    Eigen::Quaterniond& q = raw_motion.rotation(k - x0, root);
+    q = (axis_rotation(up, heading) * q).normalized();
+    raw_motion.translation(k - x0, root) += position;
+  }
+
+  // The result's per-frame state.
+  if (F != F0) {
+    Motion resized;
+    resized.frame_time = dt;
+    resized.resize(F, J);
+    for (int k = 0; k < common; ++k) copy_frame(previous.motion, k, resized, k);
+    r.motion = std::move(resized);
+    r.validity.resize(static_cast<std::size_t>(F));
+    if (!r.contact_shares.empty()) r.contact_shares.resize(static_cast<std::size_t>(F));
+  }
+  for (int k = a; k < b; ++k) {
+    const auto i = static_cast<std::size_t>(k - x0);
+    r.validity[static_cast<std::size_t>(k)] = weights[i].validity;
+    if (!r.contact_shares.empty()) r.contact_shares[static_cast<std::size_t>(k)] = shares[i];
+  }
+  if (!shares_known) r.contact_shares.clear();
+  r.clamped_frames = 0;
+  for (const PointValidity& v : r.validity) r.clamped_frames += v.clamped ? 1 : 0;
+  r.notes.clear();
+
+  if (!clean) {
+    for (int k = a; k < b; ++k) copy_frame(raw_motion, k - x0, r.motion, k);
+    return out;
+  }
+
+  // Feet: clean [x0, x1) with the borders of [c0, c1) given as the previous motion's and fixed,
+  // then fade from the previous frames to the new ones over the margins.
+  const Feet feet = find_feet(skeleton, up);
+  CleanFeetOptions clean_options;
+  clean_options.contacts.up = up;
+  Motion input = raw_motion;
+  if (c0 < a) {
+    copy_frame(previous.motion, c0, input, c0 - x0);
+    clean_options.fixed_frames.push_back(c0 - x0);
+  }
+  if (c1 > b && c1 - 1 < F0) {
+    copy_frame(previous.motion, c1 - 1, input, c1 - 1 - x0);
+    clean_options.fixed_frames.push_back(c1 - 1 - x0);
+  }
+  std::vector<std::array<double, 2>> input_shares;
+  if (shares_known && previous.contact_shares.size() == static_cast<std::size_t>(F0)) {
+    input_shares.resize(static_cast<std::size_t>(x1 - x0));
+    for (int k = x0; k < x1; ++k) {
+      input_shares[static_cast<std::size_t>(k - x0)] =
+          (k >= a && k < b) ? shares[static_cast<std::size_t>(k - x0)]
+                            : previous.contact_shares[static_cast<std::size_t>(k)];
+    }
+  }
+  const CleanFeetResult cleaned =
+      input_shares.empty()
+          ? clean_feet(skeleton, input, feet, clean_options, control)
+          : clean_feet_from_shares(skeleton, input, feet, input_shares, clean_options, control);
+  out.first = c0;
+  out.end = c1;
+  for (int k = c0; k < c1; ++k) {
+    const int n = k - x0;
+    double u = 1.0;  // 1: the new frame; 0: the previous one
+    if (k < a) {
+      u = static_cast<double>(k - c0) / static_cast<double>(a - c0);
+    } else if (k >= b) {
+      u = static_cast<double>(c1 - 1 - k) / static_cast<double>(c1 - b);
+    }
+    if (k >= F0 || u >= 1.0) {
+      copy_frame(cleaned.motion, n, r.motion, k);
+      continue;
+    }
+    if (u <= 0.0) continue;  // the previous frame, as it is
+    const double s = u * u * (3.0 - 2.0 * u);
+    for (int j = 0; j < J; ++j) {
+      Eigen::Quaterniond& q = r.motion.rotation(k, j);
+      q = q.slerp(s, cleaned.motion.rotation(n, j)).normalized();
+      Eigen::Vector3d& t = r.motion.translation(k, j);
+      t = (1.0 - s) * t + s * cleaned.motion.translation(n, j);
+    }
+  }
+  // What was held: the previous contacts outside [c0, c1), the new ones inside.
+  for (int side = 0; side < 2; ++side) {
+    std::vector<ContactInterval> iv;
+    for (const ContactInterval& c :
+         previous.contacts.size() == 2 ? previous.contacts[static_cast<std::size_t>(side)].intervals
+                                       : std::vector<ContactInterval>{}) {
+      if (c.last < c0 || c.first >= c1) {
+        if (c.first < F) iv.push_back({c.first, std::min(c.last, F - 1)});
+      } else {
+        if (c.first < c0) iv.push_back({c.first, c0 - 1});
+        if (c.last >= c1) iv.push_back({c1, c.last});
+      }
+    }
+    for (const ContactInterval& c : cleaned.contacts[static_cast<std::size_t>(side)].intervals) {
+      const int f = std::max(c.first + x0, c0), l = std::min(c.last + x0, c1 - 1);
+      if (f <= l) iv.push_back({f, l});
+    }
+    if (r.contacts.size() == 2) {
+      r.contacts[static_cast<std::size_t>(side)].intervals = merged(std::move(iv));
+    }
+  }
+  if (cleaned.unreachable_frames > 0) {
+    r.notes.push_back("feet: in " + std::to_string(cleaned.unreachable_frames) +
+                      " frames of the edited part a planted foot stayed out of the leg's reach "
+                      "(the root is lowered by at most a quarter of the leg)");
+  }
+  return out;
+}
+
+}  // namespace motionmap::synth

@@ -1,0 +1,71 @@
+#pragma once
+// Local path edits: a synthesized motion re-made only where an edit of its path changes it.
+//
+//   auto before = motionmap::synth::synthesize(blender, path);
+//   path.points[7] += Eigen::Vector2d(0.3, -0.1);            // a control point moved
+//   auto edit = motionmap::synth::edit_path(blender, before, path);
+//   // edit.result: the motion along the edited path; frames outside [edit.first, edit.end) are
+//   // before.motion's, bit for bit
+//
+// Method (docs/synthesis.md, "Editing a path"):
+//  1. The edited path is resampled at the previous motion's frames; the frames whose path point
+//     differs from the one the previous motion followed (PointValidity::query, bit for bit) are
+//     the changed frames, widened by the weight smoothing's half-width (3σ): the blend window
+//     [blend_first, blend_end). Its frames are blended anew (weights smoothed over the new path).
+//  2. Root: the new velocities are integrated from the previous root's floor position and
+//     heading at blend_first; the position and heading mismatch at blend_end (where the previous
+//     motion goes on) is spread linearly over the window, so the frame after it continues
+//     exactly as before and the rest lines up in world space. A window reaching the motion's end
+//     (a path made longer or shorter) ends where the new path ends.
+//  3. Feet (when the previous motion's were cleaned): the window widened by a margin on both
+//     sides, [first, end), is cleaned by clean_feet() — the frames of `context` seconds more on
+//     each side blended again (unchanged) to find the contacts, its two border frames given as
+//     the previous motion's and fixed (a contact through them stays where it was held) — and
+//     within the margins the result fades from the previous motion's frames to the new ones
+//     (per joint slerp, smoothstep), so nothing pops at the borders.
+// So frames before `first` and from `end` on are the previous result's, bit for bit. The result's
+// validity, contact shares and root states are the new ones in the blend window; its contacts are
+// the previous ones outside [first, end) and the new clean-up's inside; feet_frames_changed is
+// the previous count (not recounted: the previous blend of the window is not kept).
+#include <vector>
+
+#include "motionmap/core/control.h"
+#include "motionmap/synth/blender.h"
+#include "motionmap/synth/path.h"
+#include "motionmap/synth/synthesize.h"
+
+namespace motionmap::synth {
+
+struct PathEditOptions {
+  /// Frames on each side of the blend window over which the new clean-up fades into the previous
+  /// motion, in seconds, in [0, 2]; at least the clean-up's fade (0.15 s) plus a frame is used.
+  double margin_seconds = 0.3;
+  /// Frames beyond the margins blended again to find the contacts, in seconds, in [0, 5].
+  double context_seconds = 0.5;
+
+  /// @throws ParameterError naming the field, its value and its range.
+  void validate() const;
+};
+
+struct PathEditResult {
+  SynthResult result;  ///< the motion along the edited path (as synthesize() returns it)
+  /// The frames blended anew: [blend_first, blend_end) (empty when the path did not change).
+  int blend_first = 0;
+  int blend_end = 0;
+  /// The frames that may differ from the previous motion: [first, end) (the blend window and the
+  /// clean-up's margins). Every other frame is the previous motion's, bit for bit.
+  int first = 0;
+  int end = 0;
+};
+
+/// The motion along `path`, re-made from `previous` (synthesize()'s result on the same blender,
+/// along another path) only where the path changed (see the top of the file), with
+/// previous.options.
+/// @throws ParameterError for bad options, an invalid path (as synthesize()), a previous result
+///         without its root states (not made by synthesize()) or of another skeleton; Cancelled if
+///         `control` says so.
+PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
+                         const MapPath& path, const PathEditOptions& options = {},
+                         const Control& control = {});
+
+}  // namespace motionmap::synth

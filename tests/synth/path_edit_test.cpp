@@ -1,0 +1,353 @@
+// Local path edits (synth/path_edit.h) on real clips: a control point of a sketched path moved,
+// the motion re-made only where that changes it. Figures are printed for docs/synthesis.md.
+#include "motionmap/synth/path_edit.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/embed/embed.h"
+#include "motionmap/features/features.h"
+#include "motionmap/io/load.h"
+#include "motionmap/skeleton/forward_kinematics.h"
+#include "support/test_data.h"
+#include "synth/synth_fixtures.h"
+
+namespace motionmap::synth {
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+struct Library {
+  std::vector<Clip> clips;
+  features::FeatureSet set;
+  Eigen::MatrixXd map;
+};
+
+Library library(const std::vector<std::string>& files) {
+  Library lib;
+  for (const std::string& f : files)
+    lib.clips.push_back(io::load_clip(motionmap::test::shared_file(f)));
+  lib.set = features::build_features(lib.clips, {});
+  embed::EmbedOptions eo;
+  eo.method = embed::Method::Pca;
+  lib.map = embed::embed({&lib.set.X, nullptr}, eo).coordinates;
+  return lib;
+}
+
+// A sketch along clip c's map trajectory: a control point every `every` frames (and the last),
+// timed as the clip.
+MapPath sketch(const Library& lib, int c, int every) {
+  MapPath path;
+  const double dt = lib.clips[static_cast<std::size_t>(c)].motion.frame_time;
+  int last = -1;
+  Eigen::Vector2d last_point;
+  for (int i = 0; i < lib.set.num_samples(); ++i) {
+    if (lib.set.clip_of[i] != c) continue;
+    last = lib.set.frame_of[i];
+    last_point = Eigen::Vector2d(lib.map(i, 0), lib.map(i, 1));
+    if (last % every == 0) {
+      path.points.push_back(last_point);
+      path.times.push_back(last * dt);
+    }
+  }
+  if (last % every != 0) {
+    path.points.push_back(last_point);
+    path.times.push_back(last * dt);
+  }
+  return path;
+}
+
+// Largest joint rotation step and root position step between frames f − 1 and f.
+std::pair<double, double> step(const Motion& m, int f, int root) {
+  double angle = 0.0;
+  for (int j = 0; j < m.num_joints; ++j)
+    angle = std::max(angle, rotation_angle(m.rotation(f - 1, j), m.rotation(f, j)));
+  return {angle, (m.translation(f, root) - m.translation(f - 1, root)).norm()};
+}
+
+Motion frames_of(const Motion& m, int first, int end) {
+  Motion out;
+  out.frame_time = m.frame_time;
+  out.resize(end - first, m.num_joints);
+  for (int f = first; f < end; ++f) {
+    for (int j = 0; j < m.num_joints; ++j) {
+      out.rotation(f - first, j) = m.rotation(f, j);
+      out.translation(f - first, j) = m.translation(f, j);
+    }
+  }
+  return out;
+}
+
+struct EditCase {
+  std::string name;
+  std::vector<std::string> files;
+  int clip = 0;       // the sketch follows this clip's trajectory
+  int every = 15;     // frames between control points
+  double move = 0.5;  // the moved point goes this share of the way to `toward`'s trajectory
+  int toward = 1;     // ... of this clip (at the same share of its duration)
+  double smooth = 0.0;
+  double max_rms_deg = 0.0;  // bound on the window's joint angles against a full re-synthesis
+};
+
+void check_edit(const EditCase& c) {
+  for (const auto& f : c.files) {
+    if (!std::filesystem::exists(motionmap::test::shared_file(f)))
+      GTEST_SKIP() << "shared data file absent: " << motionmap::test::shared_file(f);
+  }
+  const Library lib = library(c.files);
+  const MapBlender blender(lib.clips, lib.set, lib.map);
+  const Skeleton& skeleton = blender.skeleton();
+  SynthOptions options;
+  options.smooth = c.smooth;
+  const MapPath path = sketch(lib, c.clip, c.every);
+  const SynthResult before = synthesize(blender, path, options);
+  ASSERT_TRUE(before.feet_cleaned);
+  const int root = blender.motion_root();
+  const Feet feet = find_feet(skeleton);
+  const LengthUnits units = detect_length_units(skeleton, lib.clips[0].motion);
+
+  // Every interior control point in turn (a few of them): moved towards the other clip's
+  // trajectory at the same share of its duration.
+  const MapPath other = sketch(lib, c.toward, 1);
+  const int n = static_cast<int>(path.points.size());
+  for (int moved = 1; moved + 1 < n; moved += std::max(1, (n - 2) / 4)) {
+    SCOPED_TRACE(c.name + ", control point " + std::to_string(moved));
+    MapPath edited = path;
+    const double share = path.times[static_cast<std::size_t>(moved)] / path.times.back();
+    const Eigen::Vector2d target = other.points[static_cast<std::size_t>(
+        std::lround(share * static_cast<double>(other.points.size() - 1)))];
+    edited.points[static_cast<std::size_t>(moved)] +=
+        c.move * (target - path.points[static_cast<std::size_t>(moved)]);
+
+    const PathEditResult edit = edit_path(blender, before, edited);
+    const Motion& m = edit.result.motion;
+    ASSERT_EQ(m.num_frames, before.motion.num_frames);
+    // The window: the frames between the moved point's neighbours, widened by the smoothing and
+    // the clean-up's margins; never the whole motion.
+    const double dt = m.frame_time;
+    const int lo = static_cast<int>(std::floor((path.times[moved - 1] - path.times[0]) / dt));
+    const int hi = static_cast<int>(std::ceil((path.times[moved + 1] - path.times[0]) / dt));
+    EXPECT_LE(edit.blend_first, lo + 1);
+    EXPECT_GE(edit.blend_end, hi - 1);
+    EXPECT_LE(edit.first, edit.blend_first);
+    EXPECT_GE(edit.end, edit.blend_end);
+    EXPECT_LT(edit.end - edit.first, m.num_frames);
+    // Outside the window: the previous motion, bit for bit.
+    const std::size_t J = static_cast<std::size_t>(m.num_joints);
+    for (int f = 0; f < m.num_frames; ++f) {
+      if (f >= edit.first && f < edit.end) continue;
+      const std::size_t at = static_cast<std::size_t>(f) * J;
+      ASSERT_EQ(std::memcmp(&m.rotations[at], &before.motion.rotations[at],
+                            J * sizeof(Eigen::Quaterniond)),
+                0)
+          << "frame " << f;
+      ASSERT_EQ(std::memcmp(&m.translations[at], &before.motion.translations[at],
+                            J * sizeof(Eigen::Vector3d)),
+                0)
+          << "frame " << f;
+    }
+    // Continuity where the new frames meet the previous ones (the window's border frames are
+    // the previous motion's; the frames next to them the first that may differ): no joint turns
+    // further between two frames than it does in the frames beside them, in this motion or in
+    // the previous one; the root moves at most a quarter more than its neighbouring steps (the
+    // spread mismatch changes its speed a little).
+    for (const int border : {edit.first + 1, edit.first + 2, edit.end - 1, edit.end}) {
+      if (border <= 2 || border + 2 >= m.num_frames) continue;
+      const auto [angle, shift] = step(m, border, root);
+      double near_angle = 0.0, near_shift = 0.0;
+      for (const int g : {border - 2, border - 1, border, border + 1, border + 2}) {
+        near_angle = std::max(near_angle, step(before.motion, g, root).first);
+        near_shift = std::max(near_shift, step(before.motion, g, root).second);
+        if (g == border) continue;
+        near_angle = std::max(near_angle, step(m, g, root).first);
+        near_shift = std::max(near_shift, step(m, g, root).second);
+      }
+      EXPECT_LE(angle, near_angle + 1e-9) << "border " << border;
+      EXPECT_LE(shift, 1.25 * near_shift + 1e-9) << "border " << border;
+    }
+    // Against synthesizing the edited path from scratch: the same blend in the window, but the
+    // root's mismatch is spread over it (the full synthesis carries it on to the end), and the
+    // clean-up holds the feet from the window's contacts only, so the legs differ a little.
+    const SynthResult full = synthesize(blender, edited, options);
+    SynthOptions raw_options = options;
+    raw_options.clean_feet = false;
+    const SynthResult raw = synthesize(blender, edited, raw_options);
+    // Joints off the legs are the blend's: the same as the full synthesis' (the motion root,
+    // whose heading takes the spread mismatch, aside). The legs are held from the window's
+    // contacts (and faded into the previous motion at the margins).
+    std::vector<char> leg(static_cast<std::size_t>(m.num_joints), 0);
+    for (const Leg& l : feet.legs)
+      for (int j : {l.hip, l.knee, l.ankle}) leg[static_cast<std::size_t>(j)] = 1;
+    double sum = 0.0, off_legs = 0.0;
+    int count = 0;
+    for (int f = edit.blend_first; f < edit.blend_end; ++f) {
+      for (int j = 0; j < m.num_joints; ++j) {
+        if (j == root) continue;
+        const double d = rotation_angle(m.rotation(f, j), full.motion.rotation(f, j));
+        if (!leg[static_cast<std::size_t>(j)]) off_legs = std::max(off_legs, d);
+        sum += d * d;
+        ++count;
+      }
+    }
+    const double rms = std::sqrt(sum / std::max(1, count)) * kDeg;
+    EXPECT_LT(off_legs, 1e-9);
+    // Feet in the window: no more skating than the blend there.
+    const Skating se = measure_skating(skeleton, frames_of(m, edit.first, edit.end), feet, units);
+    const Skating sf =
+        measure_skating(skeleton, frames_of(full.motion, edit.first, edit.end), feet, units);
+    const Skating sr =
+        measure_skating(skeleton, frames_of(raw.motion, edit.first, edit.end), feet, units);
+    std::printf(
+        "[ figures  ] %s, point %d of %d: window %d–%d (blend %d–%d) of %d frames; joints vs a "
+        "full re-synthesis %.3f° RMS; skating in the window: edit %.3f (%.1f cm/s), full %.3f "
+        "(%.1f cm/s), raw blend %.3f (%.1f cm/s)\n",
+        c.name.c_str(), moved, n, edit.first, edit.end, edit.blend_first, edit.blend_end,
+        m.num_frames, rms, se.ratio, se.contact_speed_cm_s, sf.ratio, sf.contact_speed_cm_s,
+        sr.ratio, sr.contact_speed_cm_s);
+    EXPECT_LE(rms, c.max_rms_deg);
+    EXPECT_LE(se.ratio, sr.ratio + 1e-12);
+    // Editing back re-blends the same frames as before the edit; the legs' clean-up differs
+    // (held from the window's contacts), so the way back is close, not identical.
+    const PathEditResult back = edit_path(blender, edit.result, path);
+    EXPECT_EQ(back.blend_first, edit.blend_first);
+    EXPECT_EQ(back.blend_end, edit.blend_end);
+    double back_sum = 0.0;
+    int back_count = 0;
+    for (int f = back.first; f < back.end; ++f) {
+      for (int j = 0; j < m.num_joints; ++j) {
+        const double d =
+            rotation_angle(back.result.motion.rotation(f, j), before.motion.rotation(f, j));
+        back_sum += d * d;
+        ++back_count;
+      }
+    }
+    const double back_rms = std::sqrt(back_sum / std::max(1, back_count)) * kDeg;
+    std::printf("[ figures  ] %s, point %d: edited back, %.3f° RMS from the motion before\n",
+                c.name.c_str(), moved, back_rms);
+    EXPECT_LT(back_rms, 1.0);
+  }
+}
+
+TEST(SynthPathEdit, BandaiWalkMovedTowardsAnother) {
+  check_edit({"Bandai proud walk",
+              {"bandai/dataset-1_walk_proud_001.bvh", "bandai/dataset-1_walk_angry_001.bvh"},
+              0,
+              15,
+              0.5,
+              1,
+              0.0,
+              3.0});
+}
+
+TEST(SynthPathEdit, BandaiWalkWithSmoothedWeights) {
+  check_edit({"Bandai proud walk, smoothed 0.1 s",
+              {"bandai/dataset-1_walk_proud_001.bvh", "bandai/dataset-1_walk_old_001.bvh"},
+              0,
+              15,
+              0.5,
+              1,
+              0.1,
+              3.0});
+}
+
+TEST(SynthPathEdit, CmuGolfSwing) {
+  check_edit({"CMU 64_08 golf swing", {"cmu/64_08.bvh", "cmu/64_09.bvh"}, 0, 30, 0.3, 1, 0.0, 3.0});
+}
+
+TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const Library lib = library({"bandai/dataset-1_walk_angry_001.bvh"});
+  const MapBlender blender(lib.clips, lib.set, lib.map);
+  const MapPath path = sketch(lib, 0, 10);
+  const SynthResult before = synthesize(blender, path);
+  const PathEditResult same = edit_path(blender, before, path);
+  EXPECT_EQ(same.first, same.end);
+  EXPECT_EQ(std::memcmp(same.result.motion.rotations.data(), before.motion.rotations.data(),
+                        before.motion.rotations.size() * sizeof(Eigen::Quaterniond)),
+            0);
+  // The last point moved later: the motion grows, the window runs to its end.
+  MapPath longer = path;
+  longer.times.back() += 0.5;
+  const PathEditResult edit = edit_path(blender, before, longer);
+  EXPECT_EQ(edit.result.motion.num_frames, synthesize(blender, longer).motion.num_frames);
+  EXPECT_EQ(edit.end, edit.result.motion.num_frames);
+  EXPECT_GT(edit.first, 0);
+  EXPECT_EQ(edit.result.validity.size(), static_cast<std::size_t>(edit.result.motion.num_frames));
+  // An untimed path drawn at a speed: the moved point changes the length, so every later frame
+  // moves in time and the window runs to the end; the frames before it stay.
+  MapPath untimed = path;
+  untimed.times.clear();
+  const SynthResult drawn = synthesize(blender, untimed);
+  MapPath moved = untimed;
+  const std::size_t mid = moved.points.size() / 2;
+  moved.points[mid] += 0.3 * (moved.points[mid + 1] - moved.points[mid]);
+  const PathEditResult tail = edit_path(blender, drawn, moved);
+  EXPECT_EQ(tail.end, tail.result.motion.num_frames);
+  EXPECT_EQ(tail.result.motion.num_frames, synthesize(blender, moved).motion.num_frames);
+  ASSERT_GT(tail.first, 0);
+  EXPECT_EQ(std::memcmp(tail.result.motion.rotations.data(), drawn.motion.rotations.data(),
+                        static_cast<std::size_t>(tail.first) *
+                            static_cast<std::size_t>(drawn.motion.num_joints) *
+                            sizeof(Eigen::Quaterniond)),
+            0);
+  // A result not made by synthesize() on this blender is refused.
+  SynthResult foreign = before;
+  foreign.headings.clear();
+  EXPECT_THROW(edit_path(blender, foreign, longer), ParameterError);
+  PathEditOptions bad;
+  bad.margin_seconds = -1;
+  EXPECT_THROW(edit_path(blender, before, longer, bad), ParameterError);
+}
+
+// Every blend mode: local as above, idw and kriging (weights solved in batches) alike.
+TEST(SynthPathEdit, EveryBlendModeKeepsTheRest) {
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const Library lib = library({"bandai/dataset-1_walk_angry_001.bvh"});
+  for (const BlendMode mode : {BlendMode::Local, BlendMode::Idw, BlendMode::Kriging}) {
+    SCOPED_TRACE(blend_mode_name(mode));
+    BlendOptions bo;
+    bo.mode = mode;
+    const MapBlender blender(lib.clips, lib.set, lib.map, bo);
+    const MapPath path = sketch(lib, 0, 10);
+    SynthOptions options;
+    options.smooth = 0.05;
+    const SynthResult before = synthesize(blender, path, options);
+    MapPath edited = path;
+    edited.points[7] += 0.4 * (path.points[8] - path.points[7]);
+    const PathEditResult edit = edit_path(blender, before, edited);
+    const Motion& m = edit.result.motion;
+    ASSERT_EQ(m.num_frames, before.motion.num_frames);
+    EXPECT_GT(edit.first, 0);
+    EXPECT_LT(edit.end, m.num_frames);
+    const std::size_t J = static_cast<std::size_t>(m.num_joints);
+    for (int f = 0; f < m.num_frames; ++f) {
+      if (f >= edit.first && f < edit.end) continue;
+      const std::size_t at = static_cast<std::size_t>(f) * J;
+      ASSERT_EQ(std::memcmp(&m.rotations[at], &before.motion.rotations[at],
+                            J * sizeof(Eigen::Quaterniond)),
+                0)
+          << "frame " << f;
+    }
+    // The blend window's frames are those of a full synthesis off the legs and the root.
+    const SynthResult full = synthesize(blender, edited, options);
+    const Feet feet = find_feet(blender.skeleton());
+    double worst = 0.0;
+    for (int f = edit.blend_first; f < edit.blend_end; ++f) {
+      for (int j = 0; j < m.num_joints; ++j) {
+        bool leg = j == blender.motion_root();
+        for (const Leg& l : feet.legs) leg = leg || j == l.hip || j == l.knee || j == l.ankle;
+        if (!leg)
+          worst = std::max(worst, rotation_angle(m.rotation(f, j), full.motion.rotation(f, j)));
+      }
+    }
+    EXPECT_LT(worst, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace motionmap::synth

@@ -17,6 +17,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "motionmap/embed/metrics.h"
@@ -55,8 +56,9 @@ struct LabelTable {
 /// - A template: literal text and `{name}` fields, e.g. "{action}_{style}_{take}". It is matched
 ///   against the END of the file's stem (its name without folder and extension), so a prefix
 ///   such as "dataset-1_" is skipped; write "^" first to match the whole stem. A field captures
-///   one or more characters other than '_' , '-', '.' and ' ' unless it is the last field before
-///   the end (then anything); literal text must match exactly. "{{" and "}}" are literal braces;
+///   one or more characters up to the first character of the text after it (in "{a}_{b}" a
+///   field holds no '_'); the last field, characters other than the last character of the text
+///   before it. Literal text must match exactly. "{{" and "}}" are literal braces;
 ///   "{_}" or "{}" captures and discards.
 /// - A regular expression, when the pattern starts with "re:": ECMAScript syntax with named
 ///   groups `(?P<name>…)` or `(?<name>…)` (the names become labels), searched in the stem
@@ -166,7 +168,18 @@ std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
                                           int k = 10, int sample = 5000,
                                           const Control& control = {});
 
-/// "accuracy[action]=0.91/0.95" … for CSV comments: map / feature space, one per label.
+/// A CSV field: as it is, or in double quotes (quotes inside doubled) when it holds a comma, a
+/// quote, a line end or leading/trailing blanks.
+std::string csv_field(std::string_view text);
+
+/// The fields of one CSV line, quotes removed ("a,b" is one field; "" inside is a quote), each
+/// with the 1-based column where it starts; blanks around unquoted fields dropped.
+/// @throws ParseError `path:line:col` for an unclosed quote or text after a closing quote.
+std::vector<std::pair<std::string, std::size_t>> split_quoted_csv(std::string_view line,
+                                                                  std::size_t line_number,
+                                                                  const std::string& path);
+
+/// "label_accuracy[action]=0.91/0.95" … for CSV comments: map / feature space, one per label.
 std::string describe_label_accuracy(std::span<const LabelAccuracy> accuracy);
 
 }  // namespace motionmap::pipeline

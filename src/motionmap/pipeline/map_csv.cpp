@@ -112,13 +112,6 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
         table.labels.columns.push_back(std::move(column));
         label_values.emplace_back();
       }
-      try {
-        check_labels(table.labels, 0);
-      } catch (const ParameterError& e) {
-        cur.fail_at(line, named[own].second,
-                    std::string("expected label columns after the map's: ") + e.what());
-      }
-      coordinate_end = own;
       if (header == "frame,x,y" || header == "frame,x,y,z") {
         has_clip = false;
       } else if (header == "clip,frame,x,y" || header == "clip,frame,x,y,z") {
@@ -128,6 +121,21 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
             line, 1,
             "expected the header of a map (frame,x,y or clip,frame,x,y, with ,z in 3-D), found '" +
                 quote_token(row) + "'");
+      }
+      coordinate_end = own;
+      for (std::size_t f = own; f < named.size(); ++f) {
+        for (std::size_t g = 0; g < f; ++g) {
+          if (named[g].first == named[f].first) {
+            cur.fail_at(line, named[f].second,
+                        "duplicate column '" + quote_token(named[f].first) + "'");
+          }
+        }
+      }
+      try {
+        check_labels(table.labels, 0);
+      } catch (const ParameterError& e) {
+        cur.fail_at(line, named[own].second,
+                    std::string("expected label columns after the map's: ") + e.what());
       }
       columns = named.size();
       continue;

@@ -271,7 +271,7 @@ def saved_labels_are_shown_by_info_and_a_damaged_label_dataset_is_an_error():
     code, out, err = run("info", h5)
     assert code == 0, err
     assert "map file, pca, 2 dims, 2040 frames of 12 clips" in out, out
-    assert "action (5 values): bow 340," in out.replace("  ", " ") or "action (5 values):" in out, out
+    assert "action (5 values): bow " in out and "take (1 value): 001 2040" in out, out
     code, out, err = run("info", h5, "--json")
     assert code == 0, err
     info = json.loads(out)
@@ -319,6 +319,16 @@ def color_by_a_label_draws_a_legend_and_bad_names_are_usage_errors():
     code, _, err = run("map", BANDAI, "-m", "pca", "-q", "--color-by", "action", "--plot",
                        tmp("x.png"))
     assert code == 2 and "give --labels-from-name or --labels" in err, err
+    # More values than colours: the 11 most frequent coloured, the rest grey as "other".
+    listing = tmp("library_plot.txt")
+    with open(listing, "w", encoding="utf-8") as f:
+        f.write("\n".join(library()) + "\n")
+    code, _, err = run("map", "@" + listing, "-m", "pca", "-q", "--labels-from-name",
+                       "re:^(?P<name>.+)$", "--color-by", "name", "--plot", tmp("names.png"),
+                       "-o", tmp("names24.csv"))
+    assert code == 0, err
+    assert "note: label 'name' has 24 values; the plot colours the 11 most frequent and shows " \
+           "the other 13 in grey as 'other'" in err, err
     # figure: every panel coloured, the accuracy per method in the table.
     fig = tmp("figure.png")
     code, out, err = run("figure", BANDAI, "-q", "--labels-from-name", TEMPLATE, "--color-by",

@@ -168,7 +168,7 @@ QStringList category_entries(const MapPlotOptions& o) {
 }
 
 // The category legend as a grid of equal cells: a cell's width (from the longest entry, by an
-// estimate of the text's width that needs no font: 0.58 em per character) and how many a row
+// estimate of the text's width that needs no font: 0.62 em per character) and how many a row
 // of `width` holds.
 struct LegendGrid {
   double cell = 0.0;
@@ -180,7 +180,7 @@ LegendGrid category_grid(const QStringList& entries, double width, double px) {
   LegendGrid g;
   qsizetype longest = 1;
   for (const QString& e : entries) longest = std::max(longest, e.size());
-  g.cell = px * (1.2 + 0.4 + 1.2) + 0.58 * px * double(std::min<qsizetype>(longest, 28));
+  g.cell = px * (1.2 + 0.4 + 1.2) + 0.62 * px * double(std::min<qsizetype>(longest, 28));
   g.per_row = std::max(1, static_cast<int>(width * 0.94 / g.cell));
   g.rows = static_cast<int>((entries.size() + g.per_row - 1) / g.per_row);
   return g;

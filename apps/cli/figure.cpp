@@ -99,14 +99,17 @@ void setup_figure(CLI::App& app) {
       label_header += " acc[" + column.name + "]";
     }
     std::vector<pipeline::LabelAccuracy> feature_accuracy;
+    // Every panel coloured alike (--color-by); the figure's header holds the legend.
+    render::MapPlotOptions colored;
+    color_plot(colored, cmd->map, labels, clips, set.clip_of);
+    colored.time_legend = false;
     std::printf("%-7s %16s %11s %8s %7s %9s%s\n", "method", "trustworthiness", "continuity",
                 "stress", "jump", "seconds", label_header.c_str());
     for (std::size_t i = 0; i < methods.size(); ++i) {
       render::FigurePanel panel;
+      panel.options = colored;
       panel.options.title = long_name(methods[i]);
       panel.segment_starts = set.segment_starts;
-      color_plot(panel.options, cmd->map, labels, clips);
-      panel.options.time_legend = false;  // the figure's header holds the legend
       options.embed.method = methods[i];
       const auto t0 = std::chrono::steady_clock::now();
       try {

@@ -36,9 +36,9 @@ void add_label_options(CLI::App* sub, MapCliOptions& opt) {
                   "named by its path, file name or name without extension (docs/labels.md)")
       ->check(CLI::ExistingFile);
   sub->add_option("--color-by", opt.color_by,
-                  "Colour the plot by time (each clip red → blue; default), clip, or a label's "
-                  "name (--labels-from-name, --labels): up to 12 values, with a legend and "
-                  "counts; more: the 11 most frequent and 'other'");
+                  "Colour the plot by time (each clip red → blue; default), clip (each clip's "
+                  "file name a value), or a label's name (--labels-from-name, --labels): up to "
+                  "12 values, with a legend and counts; more: the 11 most frequent and 'other'");
 }
 
 std::optional<pipeline::LabelTable> read_clip_labels(const MapCliOptions& opt,
@@ -105,15 +105,21 @@ pipeline::Labels labels_of(const std::optional<pipeline::LabelTable>& table,
 }
 
 void color_plot(render::MapPlotOptions& plot, const MapCliOptions& opt,
-                const pipeline::Labels& labels, const std::vector<Clip>& clips) {
+                const pipeline::Labels& labels, const std::vector<Clip>& clips,
+                std::span<const int> clip_of) {
   plot.time_legend = true;
   if (opt.color_by == "time") return;
+  // By clip: the clips' file names as the values of a label, in clip order.
+  pipeline::LabelColumn by_clip;
+  const pipeline::LabelColumn* column = &by_clip;
   if (opt.color_by == "clip") {
-    for (const Clip& clip : clips) plot.clip_names << QString::fromStdString(base_name(clip.path));
-    return;
+    by_clip.name = "clip";
+    for (const Clip& clip : clips) by_clip.categories.push_back(base_name(clip.path));
+    by_clip.codes.assign(clip_of.begin(), clip_of.end());
+  } else {
+    column = labels.find(opt.color_by);
+    if (!column) throw ParameterError("--color-by: no label named '" + opt.color_by + "'");
   }
-  const pipeline::LabelColumn* column = labels.find(opt.color_by);
-  if (!column) throw ParameterError("--color-by: no label named '" + opt.color_by + "'");
   // The values by count (most first; ties in value order), the first kCategoryColors coloured,
   // or kCategoryColors − 1 and "other" when there are more.
   const std::vector<int> counts = column->counts();
@@ -138,8 +144,9 @@ void color_plot(render::MapPlotOptions& plot, const MapCliOptions& opt,
     for (std::size_t k = shown; k < order.size(); ++k) other += counts[std::size_t(order[k])];
     plot.other_category = "other (" + QString::number(int(order.size() - shown)) + " values, " +
                           QString::number(other) + ")";
-    std::cerr << "note: label '" << column->name << "' has " << order.size()
-              << " values; the plot colours the " << shown << " most frequent and shows the other "
+    std::cerr << "note: " << (column == &by_clip ? "the map" : "label '" + column->name + "'")
+              << " has " << order.size() << (column == &by_clip ? " clips" : " values")
+              << "; the plot colours the " << shown << " most frequent and shows the other "
               << order.size() - shown << " in grey as 'other'\n";
   }
   plot.point_category.resize(column->codes.size());

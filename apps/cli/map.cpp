@@ -121,7 +121,7 @@ void place_onto(const MapCommand& cmd) {
   plot.notes << QString::fromStdString(pipeline::describe_parameters(map.embedding, options))
              << QString::fromStdString("grey: the map's " + std::to_string(saved.num_samples()) +
                                        " frames; in colour: the new frames, placed on it");
-  color_plot(plot, cmd.map, labels, clips);
+  color_plot(plot, cmd.map, labels, clips, features->clip_of);
   Eigen::MatrixXd coords = map.embedding.coordinates;
   plot.backdrop = saved.coordinates;
   if (cmd.axes == "fill") {
@@ -287,7 +287,7 @@ void setup_map(CLI::App& app) {
                                              std::to_string(a.map).substr(0, 5) + ", features " +
                                              std::to_string(a.features).substr(0, 5));
       }
-      color_plot(plot, cmd->map, labels, clips);
+      color_plot(plot, cmd->map, labels, clips, map.features->clip_of);
       if (cmd->axes == "fill") plot.notes << "axes scaled to fill the panel";
       ensure_gui_application();
       render::save_map_plot(cmd->plot,

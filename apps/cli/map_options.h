@@ -128,12 +128,13 @@ std::optional<pipeline::LabelTable> read_clip_labels(const MapCliOptions& opt,
 pipeline::Labels labels_of(const std::optional<pipeline::LabelTable>& table,
                            const features::FeatureSet& set);
 
-/// Colours `plot` as --color-by says: by time (as it is), by clip (clip_paths' file names), or by
-/// a label's values: at most render::kCategoryColors of them (the most frequent, when there are
-/// more: the rest grey as "other", with a note on stderr), each with its count in the legend
-/// (the value "" as "(none)"). Sets plot.time_legend.
+/// Colours `plot` as --color-by says: by time (as it is), or by the values of a label — a clip's
+/// file name for `clip` (`clip_of`: each sample's clip) — at most render::kCategoryColors of them
+/// (the most frequent, when there are more: the rest grey as "other", with a note on stderr),
+/// each with its count in the legend (the value "" as "(none)"). Sets plot.time_legend.
 void color_plot(render::MapPlotOptions& plot, const MapCliOptions& opt,
-                const pipeline::Labels& labels, const std::vector<Clip>& clips);
+                const pipeline::Labels& labels, const std::vector<Clip>& clips,
+                std::span<const int> clip_of);
 
 /// The label accuracy lines of the metrics table ("label accuracy (10-NN vote among other
 /// clips' frames): action map 0.912 features 0.950 (2040 frames)").

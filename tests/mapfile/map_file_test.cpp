@@ -1218,6 +1218,9 @@ TEST(MapFileLabels, DamagedLabelsAreAnErrorNamingTheDataset) {
   EXPECT_NE(message.find("/labels/1/values"), std::string::npos) << message;
   message = refused(Edit::Damage::Sealed, [](Edit& e) { e.remove("/labels/1"); });
   EXPECT_EQ(message, "missing group /labels/1 (the values of label 'note')");
+  // The whole group lost: not taken for a file without labels (the root lists its datasets).
+  EXPECT_EQ(refused(Edit::Damage::Sealed, [](Edit& e) { e.remove("/labels"); }),
+            "missing dataset /labels/names (the root attribute datasets lists it)");
 }
 
 }  // namespace

@@ -773,6 +773,9 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
                 }
                 if (category_legend) {
                   draw_category_legend(painter, QRectF(0, y, width, legend_h), legend_px, first);
+                } else if (!first.clip_names.isEmpty()) {
+                  draw_clip_legend(painter, QRectF(0, y, width, legend_h), legend_px,
+                                   first.clip_names);
                 } else {
                   draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
                 }

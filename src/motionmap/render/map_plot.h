@@ -165,8 +165,8 @@ struct FigurePanel {
 };
 
 /// Writes panels in a grid of `columns` columns (row by row), each panel_px wide with its title
-/// and notes, under a figure title and a time legend (or, when the first panel has categories,
-/// their legend). Formats as save_map_plot(). Needs a
+/// and notes, under a figure title and a time legend (or, when the first panel has categories or
+/// clip names, their legend). Formats as save_map_plot(). Needs a
 /// QGuiApplication.
 /// @throws ParameterError if panels is empty, columns is outside [1, 64], panel_px outside
 ///         [64, 4096], the figure would exceed 10⁸ pixels, or a panel's data is invalid.

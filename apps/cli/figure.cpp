@@ -143,8 +143,10 @@ void setup_figure(CLI::App& app) {
         }
         std::string label_cells;
         if (!labels.empty()) {
-          const std::vector<pipeline::LabelAccuracy> accuracy = pipeline::label_accuracy(
-              *map.features, e.coordinates, labels, options.metrics_k, kLabelQueries);
+          // The feature space's figures once: they are the same for every map.
+          const std::vector<pipeline::LabelAccuracy> accuracy =
+              pipeline::label_accuracy(*map.features, e.coordinates, labels, options.metrics_k,
+                                       kLabelQueries, {}, feature_accuracy.empty());
           QString accuracy_line = "label accuracy";
           for (const pipeline::LabelColumn& column : labels.columns) {
             const auto a = std::find_if(accuracy.begin(), accuracy.end(),

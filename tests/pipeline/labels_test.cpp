@@ -3,6 +3,7 @@
 #include "motionmap/pipeline/labels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <numeric>
@@ -357,6 +358,10 @@ TEST(LabelAccuracy, OnTheBandaiTakesAsTheDefinitionSays) {
   EXPECT_EQ(sampled[0].queries, 500);
   EXPECT_EQ(label_accuracy(*set, Y, labels, 10, 500)[0].map, sampled[0].map);
   EXPECT_EQ(describe_label_accuracy(accuracy).rfind("label_accuracy[action]=", 0), 0u);
+  // Without the feature space: the map's figures alone.
+  const auto map_only = label_accuracy(*set, Y, labels, 10, 5000, {}, false);
+  EXPECT_EQ(map_only[0].map, accuracy[0].map);
+  EXPECT_TRUE(std::isnan(map_only[0].features));
 }
 
 }  // namespace

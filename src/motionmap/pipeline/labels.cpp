@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <random>
 #include <regex>
@@ -1027,7 +1028,8 @@ void check_labels(const Labels& labels, int samples) {
 
 std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
                                           const Eigen::MatrixXd& coordinates, const Labels& labels,
-                                          int k, int sample, const Control& control) {
+                                          int k, int sample, const Control& control,
+                                          bool feature_space) {
   const int n = features.num_samples();
   if (k < 1) throw ParameterError("label accuracy: k is " + std::to_string(k) + "; it must be ≥ 1");
   if (coordinates.rows() != n) {
@@ -1094,7 +1096,7 @@ std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
       [&](int q) {
         const int i = queries[std::size_t(q)];
         std::vector<double> d(static_cast<std::size_t>(n));
-        for (int space = 0; space < 2; ++space) {
+        for (int space = 0; space < (feature_space ? 2 : 1); ++space) {
           if (space == 0) {
             for (int j = 0; j < n; ++j) {
               d[std::size_t(j)] = (coordinates.row(j) - coordinates.row(i)).norm();
@@ -1133,7 +1135,8 @@ std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
     }
     if (a.queries == 0) continue;
     a.map = double(hits[0]) / a.queries;
-    a.features = double(hits[1]) / a.queries;
+    a.features =
+        feature_space ? double(hits[1]) / a.queries : std::numeric_limits<double>::quiet_NaN();
     out.push_back(a);
   }
   return out;

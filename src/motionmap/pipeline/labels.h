@@ -162,11 +162,13 @@ struct LabelAccuracy {
 /// on the map by Euclidean distance of the coordinates. Unlabelled ("") frames are neither
 /// queries nor neighbours. The k nearest are the k smallest distances, ties to the smaller
 /// sample index; a tied vote goes to the label of the nearest neighbour among the tied labels.
+/// `feature_space` false leaves the feature space's figures out (NaN; they do not depend on the
+/// map: a figure of several maps of one feature set measures them once).
 /// @throws ParameterError if the sizes differ or k < 1; Cancelled.
 std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
                                           const Eigen::MatrixXd& coordinates, const Labels& labels,
                                           int k = 10, int sample = 5000,
-                                          const Control& control = {});
+                                          const Control& control = {}, bool feature_space = true);
 
 /// A CSV field: as it is, or in double quotes (quotes inside doubled) when it holds a comma, a
 /// quote, a line end or leading/trailing blanks.

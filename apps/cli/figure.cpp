@@ -1,4 +1,5 @@
 // `motionmap figure FILE… -o fig.png`: the reference evaluation — all six methods side by side.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -12,6 +13,9 @@
 namespace motionmap::cli {
 
 namespace {
+
+// Frames voted on for the label accuracy: all up to this many, else a seeded sample.
+constexpr int kLabelQueries = 5000;
 
 struct FigureCommand {
   MapCliOptions map;
@@ -68,6 +72,7 @@ void setup_figure(CLI::App& app) {
       ->check(CLI::IsMember({"fill", "equal"}));
   sub->callback([cmd] {
     const std::vector<Clip> clips = load_inputs(cmd->map);
+    const std::optional<pipeline::LabelTable> table = read_clip_labels(cmd->map, clips);
     // The reference evaluation's six spectral methods; umap and gplvm (optimised, slower) are
     // mapped on their own with `map --method umap|gplvm`.
     std::vector<embed::Method> methods;
@@ -86,12 +91,25 @@ void setup_figure(CLI::App& app) {
         cache.get(clips, options.features, false, overall.stage("features", 0, 1 / n));
     const features::FeatureSet& set = *features;
     for (const auto& note : set.notes) std::cerr << "note: " << note << '\n';
+    const pipeline::Labels labels = labels_of(table, set);
     std::vector<render::FigurePanel> panels;
     int failures = 0;
-    std::printf("%-7s %16s %11s %8s %7s %9s\n", "method", "trustworthiness", "continuity", "stress",
-                "jump", "seconds");
+    // With labels, one more column per label: its accuracy on the map (the feature space's, the
+    // same for every method, is printed once under the table).
+    std::string label_header;
+    for (const pipeline::LabelColumn& column : labels.columns) {
+      label_header += " acc[" + column.name + "]";
+    }
+    std::vector<pipeline::LabelAccuracy> feature_accuracy;
+    // Every panel coloured alike (--color-by); the figure's header holds the legend.
+    render::MapPlotOptions colored;
+    color_plot(colored, cmd->map, labels, clips, set.clip_of);
+    colored.time_legend = false;
+    std::printf("%-7s %16s %11s %8s %7s %9s%s\n", "method", "trustworthiness", "continuity",
+                "stress", "jump", "seconds", label_header.c_str());
     for (std::size_t i = 0; i < methods.size(); ++i) {
       render::FigurePanel panel;
+      panel.options = colored;
       panel.options.title = long_name(methods[i]);
       panel.segment_starts = set.segment_starts;
       options.embed.method = methods[i];
@@ -125,11 +143,35 @@ void setup_figure(CLI::App& app) {
         } else if (e.k_used > 0) {
           panel.options.notes << "k = " + QString::number(e.k_used);
         }
+        std::string label_cells;
+        if (!labels.empty()) {
+          // The feature space's figures once: they are the same for every map.
+          const std::vector<pipeline::LabelAccuracy> accuracy =
+              pipeline::label_accuracy(*map.features, e.coordinates, labels, options.metrics_k,
+                                       kLabelQueries, {}, feature_accuracy.empty());
+          QString accuracy_line = "label accuracy";
+          for (const pipeline::LabelColumn& column : labels.columns) {
+            const auto a = std::find_if(accuracy.begin(), accuracy.end(),
+                                        [&](const auto& x) { return x.label == column.name; });
+            const std::string cell =
+                a == accuracy.end() ? "-" : format("%.4f", a->map).toStdString();
+            const std::size_t width = column.name.size() + 5;  // "acc[" + name + "]"
+            label_cells +=
+                " " + std::string(width > cell.size() ? width - cell.size() : 0, ' ') + cell;
+            if (a != accuracy.end()) {
+              accuracy_line +=
+                  " " + QString::fromStdString(column.name) + " " + format("%.3f", a->map);
+            }
+          }
+          if (accuracy_line != "label accuracy") panel.options.notes << accuracy_line;
+          if (feature_accuracy.empty()) feature_accuracy = accuracy;
+        }
         std::printf(
-            "%-7s %16.4f %11.4f %8s %7.2f %9.3f%s\n",
+            "%-7s %16.4f %11.4f %8s %7.2f %9.3f%s%s\n",
             std::string(embed::method_name(methods[i])).c_str(), m.neighborhood.trustworthiness,
             m.neighborhood.continuity,
             m.stress ? format("%.4f", *m.stress).toStdString().c_str() : "-", m.jump, seconds,
+            label_cells.c_str(),
             m.degenerate.empty() ? "" : ("  degenerate, not comparable: " + m.degenerate).c_str());
       } catch (const Cancelled&) {
         throw;
@@ -140,6 +182,13 @@ void setup_figure(CLI::App& app) {
         panel.options.notes << QString("failed: ") + QString::fromStdString(e.what()).left(80);
       }
       panels.push_back(std::move(panel));
+    }
+    for (const pipeline::LabelAccuracy& a : feature_accuracy) {
+      std::printf(
+          "label accuracy of %s in the feature space (what a perfect map keeps): %.4f "
+          "(%d frames; each frame's label by the vote of its %d nearest frames of other "
+          "clips)\n",
+          a.label.c_str(), a.features, a.queries, a.k);
     }
     const QString title = QString::fromStdString(clip_names(clips)) + " — " +
                           QString::number(set.num_samples()) + " frames, features " +

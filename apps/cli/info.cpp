@@ -9,6 +9,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/features/diagnostics.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/map_file.h"
 #include "motionmap/skeleton/contacts.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 
@@ -136,6 +137,53 @@ std::string json_vec(const Eigen::Vector3d& v) {
   return "[" + num(v.x()) + "," + num(v.y()) + "," + num(v.z()) + "]";
 }
 
+// A map file (`map --save`): its method, size and clips, and each label's values with counts.
+void print_map_file(const std::string& path, bool json) {
+  mapfile::ReadOptions read;
+  read.model = false;  // what info shows needs no model
+  const mapfile::MapFile f = mapfile::read_map_file(path, read);
+  const std::string method(embed::method_name(f.options.embed.method));
+  if (json) {
+    std::cout << "{\"file\":\"" << json_escape(path) << "\",\"map\":{\"method\":\"" << method
+              << "\",\"dims\":" << f.coordinates.cols() << ",\"samples\":" << f.num_samples()
+              << ",\"clips\":" << f.clips.size() << ",\"parameters\":\""
+              << json_escape(f.parameters) << "\",\"labels\":{";
+    for (std::size_t l = 0; l < f.labels.columns.size(); ++l) {
+      const pipeline::LabelColumn& column = f.labels.columns[l];
+      const std::vector<int> counts = column.counts();
+      std::cout << (l ? "," : "") << '"' << json_escape(column.name) << "\":{";
+      for (std::size_t c = 0; c < counts.size(); ++c) {
+        std::cout << (c ? "," : "") << '"' << json_escape(column.categories[c])
+                  << "\":" << counts[c];
+      }
+      std::cout << '}';
+    }
+    std::cout << "}}}\n";
+    return;
+  }
+  std::cout << path << ": map file, " << method << ", " << f.coordinates.cols() << " dims, "
+            << f.num_samples() << " frames of " << f.clips.size()
+            << (f.clips.size() == 1 ? " clip\n" : " clips\n");
+  std::cout << "  parameters  " << f.parameters << '\n';
+  for (const std::string& note : f.read_notes) std::cout << "  note        " << note << '\n';
+  if (f.labels.empty()) {
+    std::cout << "  labels      none\n";
+    return;
+  }
+  std::cout << "  labels      " << f.labels.columns.size() << '\n';
+  for (const pipeline::LabelColumn& column : f.labels.columns) {
+    const std::vector<int> counts = column.counts();
+    std::cout << "    " << column.name << " (" << counts.size()
+              << (counts.size() == 1 ? " value):" : " values):");
+    for (std::size_t c = 0; c < counts.size(); ++c) {
+      std::cout << (c ? ", " : " ")
+                << (column.categories[c].empty() ? "(none)" : column.categories[c]) << ' '
+                << counts[c];
+    }
+    std::cout << '\n';
+  }
+}
+
 void print_json(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) {
   const Skeleton& sk = clip.skeleton;
   const Motion& m = clip.motion;
@@ -192,8 +240,11 @@ void setup_info(CLI::App& app) {
       "warnings (what the reader accepted with a warning, e.g. a BVH root declared with JOINT;\n"
       "a leading bind/T-pose frame; joints whose rotation flips by >90° between consecutive\n"
       "frames at ≥ 60 fps, with the frames), and the length unit detected from the body's size\n"
-      "(m, CMU units, in, cm or mm). --contacts and --skating look at the feet.");
-  sub->add_option("files", opt->files, "BVH or AMC files")->required()->check(CLI::ExistingFile);
+      "(m, CMU units, in, cm or mm). --contacts and --skating look at the feet. A map file\n"
+      "(map --save) shows its method, size and labels with each value's count.");
+  sub->add_option("files", opt->files, "BVH or AMC files, or map files (.mmap.h5)")
+      ->required()
+      ->check(CLI::ExistingFile);
   sub->add_option("--asf", opt->asf, "ASF skeleton for .amc files (default: the .asf beside it)")
       ->check(CLI::ExistingFile);
   sub->add_option("--fps", opt->fps, "Frame rate to assume (AMC stores none: default 120)")
@@ -219,6 +270,10 @@ void setup_info(CLI::App& app) {
     int failures = 0;
     for (const auto& file : opt->files) {
       try {
+        if (mapfile::looks_like_map_file(file)) {
+          print_map_file(file, opt->json);
+          continue;
+        }
         io::LoadOptions load;
         load.asf_path = opt->asf;
         load.fps = opt->fps;

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <span>
 
 #include "commands.h"
 #include "map_options.h"
@@ -20,6 +21,9 @@
 namespace motionmap::cli {
 
 namespace {
+
+// Frames voted on for the label accuracy: all up to this many, else a seeded sample.
+constexpr int kLabelQueries = 5000;
 
 struct MapCommand {
   MapCliOptions map;
@@ -39,14 +43,17 @@ constexpr const char* kFixedByTheMap[] = {
     "--exact",  "--landmarks", "--metrics",   "--min-dist", "--epochs", "--seed"};
 
 void write_csv(const std::string& output, const pipeline::ClipMap& map,
-               const pipeline::ClipMapOptions& options, const std::vector<Clip>& clips) {
+               const pipeline::ClipMapOptions& options, const std::vector<Clip>& clips,
+               const pipeline::Labels& labels = {},
+               std::span<const pipeline::LabelAccuracy> accuracy = {}) {
+  const pipeline::Labels* with = labels.empty() ? nullptr : &labels;
   if (output.empty() || output == "-") {
-    pipeline::write_map_csv(std::cout, map, options, clip_paths(clips));
+    pipeline::write_map_csv(std::cout, map, options, clip_paths(clips), with, accuracy);
     return;
   }
   std::ofstream out(output);
   if (!out) throw Error(output + ": error: cannot open for writing");
-  pipeline::write_map_csv(out, map, options, clip_paths(clips));
+  pipeline::write_map_csv(out, map, options, clip_paths(clips), with, accuracy);
   if (!out.flush()) throw Error(output + ": error: write failed");
 }
 
@@ -65,6 +72,7 @@ void forget_poses(std::vector<Clip>& clips) {
 void place_onto(const MapCommand& cmd) {
   const mapfile::MapFile saved = mapfile::read_map_file(cmd.onto);
   const std::vector<Clip> clips = load_inputs(cmd.map);
+  const std::optional<pipeline::LabelTable> table = read_clip_labels(cmd.map, clips);
   // The frames to place are the command line's (--frames, --stride, --keep-first); everything
   // else is the map's.
   const features::FeatureOptions chosen =
@@ -77,10 +85,12 @@ void place_onto(const MapCommand& cmd) {
   const std::string method(embed::method_name(saved.options.embed.method));
   mapfile::Placement placed =
       mapfile::place_clips(clips, saved, place, progress_line(cmd.map, method));
+  const pipeline::Labels labels = labels_of(table, placed.features);
   if (!cmd.save.empty()) {
     const std::vector<mapfile::PlacedClip> records = mapfile::placed_clips(clips, placed);
-    mapfile::write_map_file(cmd.save,
-                            mapfile::placed_map_file(saved, records, base_name(cmd.onto)));
+    mapfile::MapFile file = mapfile::placed_map_file(saved, records, base_name(cmd.onto));
+    file.labels = labels;
+    mapfile::write_map_file(cmd.save, file);
   }
 
   pipeline::ClipMapOptions options = saved.options;
@@ -101,7 +111,7 @@ void place_onto(const MapCommand& cmd) {
   map.embedding = mapfile::embedding_for_csv(saved, placed.coordinates);
   map.dense = saved.dense;
   print_diagnostics(map);
-  write_csv(cmd.output, map, options, clips);
+  write_csv(cmd.output, map, options, clips, labels);
   if (cmd.plot.empty()) return;
   // The new frames' trajectories over the map's samples in grey, framed together; --axes fill
   // scales both alike.
@@ -111,7 +121,7 @@ void place_onto(const MapCommand& cmd) {
   plot.notes << QString::fromStdString(pipeline::describe_parameters(map.embedding, options))
              << QString::fromStdString("grey: the map's " + std::to_string(saved.num_samples()) +
                                        " frames; in colour: the new frames, placed on it");
-  plot.time_legend = true;
+  color_plot(plot, cmd.map, labels, clips, features->clip_of);
   Eigen::MatrixXd coords = map.embedding.coordinates;
   plot.backdrop = saved.coordinates;
   if (cmd.axes == "fill") {
@@ -228,10 +238,13 @@ void setup_map(CLI::App& app) {
     std::vector<Clip> clips;
     pipeline::ClipMap map;
     std::optional<mapfile::BlendRecord> blend;  // a streamed map's file has none
+    std::optional<pipeline::LabelTable> table;
     if (streams(cmd->map, options, paths)) {
       map = stream_clips(cmd->map, paths, options, progress, clips);
+      table = read_clip_labels(cmd->map, clips);
     } else {
       clips = load_inputs(cmd->map, paths);
+      table = read_clip_labels(cmd->map, clips);  // a bad label file fails before the mapping
       std::shared_ptr<features::FeatureSet> features =
           pipeline::clip_features(clips, options, progress);
       // What `pose`/`synth --map` need of all the clips, taken while their poses are here.
@@ -244,10 +257,22 @@ void setup_map(CLI::App& app) {
       std::cerr << "heat " << map.embedding.heat_used
                 << (options.embed.heat ? "\n" : " (auto: median squared k-NN distance)\n");
     }
-    write_csv(cmd->output, map, options, clips);
+    const pipeline::Labels labels = labels_of(table, *map.features);
+    std::vector<pipeline::LabelAccuracy> accuracy;
+    if (map.metrics && !labels.empty()) {
+      if (map.features->has_distances() ||
+          map.features->distance_input.rows() == map.features->num_samples()) {
+        accuracy = pipeline::label_accuracy(*map.features, map.embedding.coordinates, labels,
+                                            options.metrics_k, kLabelQueries);
+      } else {
+        std::cerr << "note: label accuracy not measured: this map's features were not kept\n";
+      }
+    }
+    write_csv(cmd->output, map, options, clips, labels, accuracy);
     if (map.metrics) {
       const bool csv_on_stdout = cmd->output.empty() || cmd->output == "-";
       print_metrics_table(csv_on_stdout ? std::cerr : std::cout, map, options.metrics_k);
+      print_label_accuracy(csv_on_stdout ? std::cerr : std::cout, accuracy);
     }
     if (!cmd->plot.empty()) {
       render::MapPlotOptions plot;
@@ -256,7 +281,13 @@ void setup_map(CLI::App& app) {
       plot.notes << QString::fromStdString(pipeline::describe_parameters(map.embedding, options));
       if (map.metrics)
         plot.notes << QString::fromStdString(pipeline::describe_metrics(*map.metrics));
-      plot.time_legend = true;
+      for (const pipeline::LabelAccuracy& a : accuracy) {
+        plot.notes << QString::fromStdString("label accuracy (" + a.label +
+                                             ", 10-NN of other clips): map " +
+                                             std::to_string(a.map).substr(0, 5) + ", features " +
+                                             std::to_string(a.features).substr(0, 5));
+      }
+      color_plot(plot, cmd->map, labels, clips, map.features->clip_of);
       if (cmd->axes == "fill") plot.notes << "axes scaled to fill the panel";
       ensure_gui_application();
       render::save_map_plot(cmd->plot,
@@ -268,6 +299,7 @@ void setup_map(CLI::App& app) {
     if (!cmd->save.empty()) {
       mapfile::MapFile file = mapfile::make_map_file(clips, std::move(map), options);
       file.blend = std::move(blend);
+      file.labels = labels;
       mapfile::write_map_file(cmd->save, file);
     }
   });

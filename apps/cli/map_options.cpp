@@ -152,6 +152,7 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
         "Automatic when the clips and X would not fit in the available memory (estimated from "
         "the files' sizes); not with --joints common or --metrics");
   }
+  if (use != MapOptionsFor::Synthesis) add_label_options(sub, opt);
   sub->add_flag("--verbose", opt.verbose,
                 "Print each stage's time and the peak memory so far to standard error");
   sub->add_flag("-q,--quiet", opt.quiet, "No progress line");

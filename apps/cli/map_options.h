@@ -4,6 +4,9 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
+#include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -12,6 +15,8 @@
 #include "motionmap/core/control.h"
 #include "motionmap/io/clip_inputs.h"
 #include "motionmap/pipeline/clip_map.h"
+#include "motionmap/pipeline/labels.h"
+#include "motionmap/render/map_plot.h"
 
 namespace motionmap::cli {
 
@@ -50,6 +55,11 @@ struct MapCliOptions {
   /// map only: pca and svd read the clips from their files one at a time, twice, instead of
   /// holding them and X (pipeline/stream_map.h); automatic when they would not fit.
   bool stream = false;
+  // Labels (docs/labels.md): from the clips' file names and/or a CSV/JSON file; what the plot is
+  // coloured by: time, clip or a label's name.
+  std::string labels_from_name;
+  std::string labels_file;
+  std::string color_by = "time";
 };
 
 /// Which command the map options are for: `map` (all of them), `figure` (no --method: it runs
@@ -103,6 +113,33 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
 /// A progress line on stderr ("isomap  42%  shortest paths"), or a silent Control when --quiet
 /// or stderr is not a terminal.
 Control progress_line(const MapCliOptions& opt, std::string_view label);
+
+/// Adds --labels-from-name, --labels and --color-by (map and figure).
+void add_label_options(CLI::App* sub, MapCliOptions& opt);
+
+/// The labels --labels-from-name and --labels give the clips (both: the file's labels after the
+/// names', so a label both give is the file's), with their notes printed on stderr; nullopt
+/// when neither option is given. A --color-by that names no label is a usage error.
+/// @throws ParameterError / ParseError as pipeline::labels_from_names() and read_label_file();
+///   CLI::ValidationError for --color-by.
+std::optional<pipeline::LabelTable> read_clip_labels(const MapCliOptions& opt,
+                                                     const std::vector<Clip>& clips);
+
+/// The labels of the samples of `set` (empty without a table).
+pipeline::Labels labels_of(const std::optional<pipeline::LabelTable>& table,
+                           const features::FeatureSet& set);
+
+/// Colours `plot` as --color-by says: by time (as it is), or by the values of a label — a clip's
+/// file name for `clip` (`clip_of`: each sample's clip) — at most render::kCategoryColors of them
+/// (the most frequent, when there are more: the rest grey as "other", with a note on stderr),
+/// each with its count in the legend (the value "" as "(none)"). Sets plot.time_legend.
+void color_plot(render::MapPlotOptions& plot, const MapCliOptions& opt,
+                const pipeline::Labels& labels, const std::vector<Clip>& clips,
+                std::span<const int> clip_of);
+
+/// The label accuracy lines of the metrics table ("label accuracy (10-NN vote among other
+/// clips' frames): action map 0.912 features 0.950 (2040 frames)").
+void print_label_accuracy(std::ostream& out, std::span<const pipeline::LabelAccuracy> accuracy);
 
 /// Prints the notes and warnings of a map to stderr ("note: …", "warning: …").
 void print_diagnostics(const pipeline::ClipMap& map);

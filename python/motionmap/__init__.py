@@ -153,7 +153,8 @@ class _MapEstimator:
     def _precomputed(self):
         return getattr(self, "metric", "euclidean") == "precomputed"
 
-    def fit(self, X, y=None, *, asf=None, fps=None, progress=None):
+    def fit(self, X, y=None, *, asf=None, fps=None, progress=None, labels_from_name=None,
+            labels=None):
         """Makes the map.
 
         X: clips (a Clip, a path, or a list of them: the map of all their frames, with this
@@ -161,6 +162,9 @@ class _MapEstimator:
         mds, isomap, le and lle measure Euclidean distances between rows), or with
         metric="precomputed" a #frames by #frames distance matrix. y is ignored. asf, fps: for
         .amc paths. progress: a callable(fraction, stage) or a tqdm bar. Returns self.
+        labels_from_name (a file-name pattern such as "{action}_{style}_{take}") and labels (a
+        CSV or JSON label file) label the clips' frames as the CLI's --labels-from-name and
+        --labels do (docs/labels.md): labels_ then holds them, and write_map keeps them.
         """
         metric = getattr(self, "metric", "euclidean")
         if metric not in ("euclidean", "precomputed"):
@@ -169,10 +173,14 @@ class _MapEstimator:
         if _is_clips(X):
             if self._precomputed():
                 raise Error("metric='precomputed' expects a distance matrix, not clips")
-            self.map_ = _motionmap._fit_clips(X, self._options(),
-                                              "" if asf is None else os.fspath(asf),
-                                              0.0 if fps is None else float(fps), progress)
+            self.map_ = _motionmap._fit_clips(
+                X, self._options(), "" if asf is None else os.fspath(asf),
+                0.0 if fps is None else float(fps), progress,
+                labels_from_name="" if labels_from_name is None else str(labels_from_name),
+                labels="" if labels is None else os.fspath(labels))
         else:
+            if labels_from_name is not None or labels is not None:
+                raise Error("labels_from_name and labels label clips; this is an array")
             self.map_ = _motionmap._fit_matrix(X, self._precomputed(), self._options(), progress)
         self._set_fitted_attributes()
         return self
@@ -247,6 +255,28 @@ class _MapEstimator:
         """Per map row: its frame in its clip's file (maps of clips)."""
         self._check_fitted()
         return np.asarray(self.map_.frame_of)
+
+    @property
+    def labels_(self):
+        """The map rows' labels (maps of clips fitted with labels_from_name or labels, or read
+        from a map file that has them): a dict of label name → numpy array of str (dtype
+        object), one per map row, so pandas.DataFrame(estimator.labels_) is a table of them.
+        Empty without labels."""
+        self._check_fitted()
+        if not isinstance(self.map_, _motionmap._ClipMap):
+            return {}
+        return self.map_.labels
+
+    def label_accuracy(self, k=10, sample=5000):
+        """The label accuracy of the fitted map (docs/labels.md): for each label with two or
+        more values, the fraction of frames whose label wins the vote of their k nearest frames
+        of other clips, on the map ("map") and by the pose distance ("features"); over every
+        labelled frame, or a seeded sample of `sample` of them ("queries"). In the process that
+        fitted the map."""
+        self._check_fitted()
+        if not isinstance(self.map_, _motionmap._ClipMap):
+            raise Error("label_accuracy: only maps of clips have labels")
+        return self.map_.label_accuracy(int(k), int(sample))
 
 
 _FEATURE_DOC = """

@@ -170,14 +170,54 @@ struct ClipMapState {
   SearchOnce search;  ///< over file.model's samples
 };
 
+// The label table of `labels_from_name` (a file-name pattern) and `labels_file` (CSV or JSON)
+// for `clips`, the file's labels after the names' (docs/labels.md); nullopt with neither.
+std::optional<pipeline::LabelTable> clip_labels(const std::vector<Clip>& clips,
+                                                const std::string& labels_from_name,
+                                                const std::string& labels_file) {
+  if (labels_from_name.empty() && labels_file.empty()) return std::nullopt;
+  std::vector<std::string> paths;
+  std::vector<int> frames;
+  for (const Clip& clip : clips) {
+    paths.push_back(clip.path);
+    frames.push_back(clip.motion.num_frames);
+  }
+  pipeline::LabelTable table;
+  if (!labels_from_name.empty()) {
+    table = pipeline::labels_from_names(paths, pipeline::NamePattern(labels_from_name));
+  }
+  if (!labels_file.empty()) {
+    pipeline::LabelTable file = pipeline::read_label_file(labels_file, paths, frames);
+    std::vector<int> index;
+    for (const std::string& name : file.names) {
+      const auto it = std::find(table.names.begin(), table.names.end(), name);
+      index.push_back(int(it - table.names.begin()));
+      if (it == table.names.end()) table.names.push_back(name);
+    }
+    for (pipeline::LabelSpan& span : file.spans) {
+      span.label = index[std::size_t(span.label)];
+      table.spans.push_back(std::move(span));
+    }
+  }
+  return table;
+}
+
 std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict& options,
-                                        const std::string& asf, double fps, py::object progress) {
+                                        const std::string& asf, double fps, py::object progress,
+                                        const std::string& labels_from_name,
+                                        const std::string& labels_file) {
   const pipeline::ClipMapOptions opts = clip_map_options(options);
   std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
   auto state = std::make_shared<ClipMapState>();
   run_released(std::move(progress), [&](const Control& control) {
+    const std::optional<pipeline::LabelTable> table =
+        clip_labels(loaded, labels_from_name, labels_file);
     state->map = pipeline::map_clips(loaded, opts, control);
     state->file = mapfile::make_map_file(loaded, *state->map, opts);
+    if (table) {
+      state->file.labels =
+          pipeline::sample_labels(*table, state->file.clip_of, state->file.frame_of);
+    }
     return 0;
   });
   for (const Clip& c : loaded) state->paths.push_back(c.path);
@@ -507,8 +547,56 @@ void write_csv(const ClipMapState& s, const py::object& path) {
   py::gil_scoped_release release;
   std::ofstream file(out);
   if (!file) throw Error(out + ": error: cannot open for writing");
-  pipeline::write_map_csv(file, *s.map, s.file.options, s.paths);
+  pipeline::write_map_csv(file, *s.map, s.file.options, s.paths,
+                          s.file.labels.empty() ? nullptr : &s.file.labels);
   if (!file.flush()) throw Error(out + ": error: write failed");
+}
+
+// The labels as a dict of label name → numpy array of str objects, one per map row (what
+// pandas.DataFrame(labels) takes as columns).
+py::dict labels_dict(const pipeline::Labels& labels) {
+  py::dict out;
+  const py::module_ np = py::module_::import("numpy");
+  for (const pipeline::LabelColumn& column : labels.columns) {
+    std::vector<py::str> values;
+    for (const std::string& v : column.categories) values.emplace_back(v);
+    py::list rows(column.codes.size());
+    for (std::size_t i = 0; i < column.codes.size(); ++i) {
+      rows[i] = values[std::size_t(column.codes[i])];
+    }
+    out[py::str(column.name)] = np.attr("array")(rows, py::arg("dtype") = "object");
+  }
+  return out;
+}
+
+// The label accuracy of the fitted map (pipeline::label_accuracy): {label: {"map": …,
+// "features": …, "queries": …, "k": …}}.
+py::dict label_accuracy_dict(const ClipMapState& s, int k, int sample) {
+  if (!s.map) {
+    throw Error(
+        "label_accuracy: this map was read from a map file or unpickled; the feature space it "
+        "compares with is in the process that fitted it");
+  }
+  std::vector<pipeline::LabelAccuracy> accuracy;
+  {
+    py::gil_scoped_release release;
+    std::shared_ptr<const features::FeatureSet> set = s.map->features;
+    if (!set->has_distances() && set->distance_input.rows() != set->num_samples()) {
+      throw Error("label_accuracy: the map's features were not kept");
+    }
+    accuracy =
+        pipeline::label_accuracy(*set, s.map->embedding.coordinates, s.file.labels, k, sample);
+  }
+  py::dict out;
+  for (const pipeline::LabelAccuracy& a : accuracy) {
+    py::dict entry;
+    entry["map"] = a.map;
+    entry["features"] = a.features;
+    entry["queries"] = a.queries;
+    entry["k"] = a.k;
+    out[py::str(a.label)] = entry;
+  }
+  return out;
 }
 
 py::bytes map_file_bytes(const ClipMapState& s) {
@@ -725,6 +813,9 @@ void bind_maps(py::module_& m) {
       .def_property_readonly("clip_of", [](const ClipMapState& s) { return s.file.clip_of; })
       .def_property_readonly("frame_of", [](const ClipMapState& s) { return s.file.frame_of; })
       .def_property_readonly("paths", [](const ClipMapState& s) { return s.paths; })
+      .def_property_readonly("labels",
+                             [](const ClipMapState& s) { return labels_dict(s.file.labels); })
+      .def("label_accuracy", &label_accuracy_dict, py::arg("k"), py::arg("sample"))
       .def_property_readonly("parameters", [](const ClipMapState& s) { return s.file.parameters; })
       .def_property_readonly("notes", [](const ClipMapState& s) { return s.file.notes; })
       .def_property_readonly("read_notes", [](const ClipMapState& s) { return s.file.read_notes; })
@@ -818,7 +909,8 @@ void bind_maps(py::module_& m) {
       .def(py::pickle(&matrix_state, &matrix_from_state));
 
   m.def("_fit_clips", &fit_clips, py::arg("clips"), py::arg("options"), py::arg("asf"),
-        py::arg("fps"), py::arg("progress"));
+        py::arg("fps"), py::arg("progress"), py::arg("labels_from_name") = "",
+        py::arg("labels") = "");
   m.def("_fit_matrix", &fit_matrix, py::arg("X"), py::arg("precomputed"), py::arg("options"),
         py::arg("progress"));
   m.def(

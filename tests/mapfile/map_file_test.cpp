@@ -963,5 +963,94 @@ TEST(MapFileTrust, EveryIndexAndSizeIsCheckedBeforeUse) {
             "/model/landmarks/mean_squared holds a non-finite value (inf) at index 0");
 }
 
+// ---- Labels (issue 24) ---------------------------------------------------------------------
+
+// synthetic_file() with two labels: "action" over its 40 samples, and "note" with "" and a UTF-8
+// value.
+MapFile labelled_file() {
+  MapFile f = synthetic_file(40, 2);
+  pipeline::LabelColumn action{"action", {"run", "walk"}, {}};
+  pipeline::LabelColumn note{"note", {"", "über, \"quoted\""}, {}};
+  for (int i = 0; i < f.num_samples(); ++i) {
+    action.codes.push_back(i % 3 == 0 ? 0 : 1);
+    note.codes.push_back(i < 5 ? 1 : 0);
+  }
+  f.labels.columns = {action, note};
+  return f;
+}
+
+TEST(MapFileLabels, LabelsRoundTripAndFilesWithoutThemReadWithNone) {
+  const TempDir dir;
+  const std::string path = dir.file("labels.mmap.h5");
+  const MapFile f = labelled_file();
+  write_map_file(path, f);
+  const MapFile back = read_map_file(path);
+  ASSERT_EQ(back.labels.columns.size(), 2u);
+  for (std::size_t l = 0; l < 2; ++l) {
+    EXPECT_EQ(back.labels.columns[l].name, f.labels.columns[l].name);
+    EXPECT_EQ(back.labels.columns[l].categories, f.labels.columns[l].categories);
+    EXPECT_EQ(back.labels.columns[l].codes, f.labels.columns[l].codes);
+  }
+  // Also without the model (Studio, info).
+  ReadOptions no_model;
+  no_model.model = false;
+  EXPECT_EQ(read_map_file(path, no_model).labels.columns[1].codes, f.labels.columns[1].codes);
+  const std::string plain = dir.file("plain.mmap.h5");
+  write_map_file(plain, synthetic_file(40, 2));
+  EXPECT_TRUE(read_map_file(plain).labels.empty());
+  // Labels of another sample count are not written.
+  MapFile wrong = f;
+  wrong.labels.columns[0].codes.pop_back();
+  EXPECT_THROW(write_map_file(dir.file("wrong.mmap.h5"), wrong), ParameterError);
+}
+
+TEST(MapFileLabels, DamagedLabelsAreAnErrorNamingTheDataset) {
+  const TempDir dir;
+  const MapFile good = labelled_file();
+  int count = 0;
+  auto refused = [&](Edit::Damage damage, const std::function<void(Edit&)>& edit) {
+    const std::string path = dir.file("damaged" + std::to_string(count++) + ".mmap.h5");
+    write_map_file(path, good);
+    {
+      Edit e(path, damage);
+      edit(e);
+    }
+    return read_error(path);
+  };
+  // A code changed on disk: the checksum tells.
+  std::string message =
+      refused(Edit::Damage::Unsealed, [](Edit& e) { e.set_flat("/labels/0/codes", 3, 1); });
+  EXPECT_EQ(message.rfind("/labels/0/codes is damaged: the checksum of its values is ", 0), 0u)
+      << message;
+  // Written that way on purpose (checksums recomputed): the range check tells.
+  EXPECT_EQ(refused(Edit::Damage::Sealed,
+                    [](Edit& e) { e.replace("/labels/1/codes", 40, 0, H5T_STD_I32LE, 2); }),
+            "/labels/1/codes holds 2 at index 0, expected each sample's value (an index into "
+            "/labels/1/values) in [0, 2)");
+  EXPECT_EQ(refused(Edit::Damage::Sealed,
+                    [](Edit& e) { e.replace("/labels/0/codes", 39, 0, H5T_STD_I32LE, 0); }),
+            "/labels/0/codes has shape 39, expected 40 (each sample's value (an index into "
+            "/labels/0/values))");
+  EXPECT_EQ(refused(Edit::Damage::Sealed,
+                    [](Edit& e) {
+                      e.fixed_strings("/labels/0/values", {"run",
+                                                           "w\xff"
+                                                           "alk"});
+                    }),
+            "/labels/0/values[1] is not printable UTF-8 text: 'w\\xFFalk'");
+  EXPECT_EQ(refused(Edit::Damage::Sealed,
+                    [](Edit& e) {
+                      e.fixed_strings("/labels/names", {"action", "action"});
+                    }),
+            "/labels: labels: the label 'action' is given twice");
+  message = refused(Edit::Damage::Sealed, [](Edit& e) { e.remove("/labels/1/values"); });
+  EXPECT_NE(message.find("/labels/1/values"), std::string::npos) << message;
+  message = refused(Edit::Damage::Sealed, [](Edit& e) { e.remove("/labels/1"); });
+  EXPECT_EQ(message, "missing group /labels/1 (the values of label 'note')");
+  // The whole group lost: not taken for a file without labels (the root lists its datasets).
+  EXPECT_EQ(refused(Edit::Damage::Sealed, [](Edit& e) { e.remove("/labels"); }),
+            "missing dataset /labels/names (the root attribute datasets lists it)");
+}
+
 }  // namespace
 }  // namespace motionmap::mapfile

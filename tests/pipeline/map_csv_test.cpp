@@ -50,6 +50,44 @@ TEST(MapCsv, WrittenMapReadsBackExactly) {
   }
 }
 
+TEST(MapCsv, LabelColumnsFollowTheCoordinatesAndReadBack) {
+  const std::vector<Clip> clips{sample::make_sample_clip(sample::SampleKind::Swing),
+                                sample::make_sample_clip(sample::SampleKind::Walk)};
+  ClipMapOptions options;
+  options.embed.method = Method::Pca;
+  options.features.stride = 5;
+  const ClipMap map = sample_map(clips, options);
+  const std::vector<std::string> files{"swing.bvh", "walk.bvh"};
+  const LabelTable table = parse_label_csv(
+      "clip,start,end,kind\nswing,0,1000,\"swing, golf\"\nwalk,0,1000,walk\nwalk,0,20,\n", files,
+      {}, "l.csv");
+  const Labels labels = sample_labels(table, map.features->clip_of, map.features->frame_of);
+  const std::vector<LabelAccuracy> accuracy = {{"kind", 0.5, 0.75, 12, 10}};
+  std::ostringstream out;
+  write_map_csv(out, map, options, files, &labels, accuracy);
+  const std::string text = out.str();
+  EXPECT_NE(text.find("\n# label accuracy (map/features, 10-NN vote among other clips' frames) "
+                      "label_accuracy[kind]=0.5000/0.7500\n"),
+            std::string::npos)
+      << text.substr(0, 400);
+  EXPECT_NE(text.find("\nclip,frame,x,y,kind\n"), std::string::npos);
+  EXPECT_NE(text.find(",\"swing, golf\"\n"), std::string::npos);
+  const MapTable back = parse_map_csv(text, "m.csv");
+  EXPECT_EQ(back.coords, map.embedding.coordinates);
+  ASSERT_EQ(back.labels.columns.size(), 1u);
+  EXPECT_EQ(back.labels.columns[0].name, "kind");
+  EXPECT_EQ(back.labels.columns[0].categories, labels.columns[0].categories);
+  EXPECT_EQ(back.labels.columns[0].codes, labels.columns[0].codes);
+  // A label column named like a map column, or given twice, is refused.
+  EXPECT_EQ(parse_message("frame,x,y,kind,kind\n0,1,2,a,b\n"),
+            "m.csv:1:16: error: duplicate column 'kind'");
+  EXPECT_EQ(parse_message("frame,x,y,kind,time\n0,1,2,a,b\n"),
+            "m.csv:1:11: error: expected label columns after the map's: labels: the label name "
+            "'time', which is reserved (clip, frame, x, y, z, time, start and end are not labels)");
+  EXPECT_EQ(parse_message("frame,x,y,kind\n0,1,2,a,b\n"),
+            "m.csv:2:9: error: expected 4 fields as in the header, found 5");
+}
+
 TEST(MapCsv, SelectSamplesIsBuildFeaturesWithoutMatrices) {
   const Clip clip = sample::make_sample_clip(sample::SampleKind::Swing);
   features::FeatureOptions options;

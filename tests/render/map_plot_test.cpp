@@ -426,6 +426,58 @@ TEST_F(MapPlotTest, ColourByClipDrawsEachClipInItsOwnColourWithANamedLegend) {
   EXPECT_EQ(clip_color(-1), QColor(128, 128, 128));
 }
 
+TEST_F(MapPlotTest, ColourByCategoryDrawsEachSampleInItsValuesColourWithALegend) {
+  // One clip of 100 samples along y = 0: the first 40 category 0, the next 40 category 2, the
+  // last 20 "other" (−1).
+  const Eigen::MatrixXd c = line(100, 0, 1, 0);
+  MapPlotOptions o;
+  o.line_width = 3.0;
+  o.time_legend = true;
+  o.point_category.assign(100, 0);
+  for (int i = 40; i < 80; ++i) o.point_category[std::size_t(i)] = 2;
+  for (int i = 80; i < 100; ++i) o.point_category[std::size_t(i)] = -1;
+  o.categories = {"walk (40)", "run (0)", "bow (40)"};
+  o.other_category = "other (20)";
+  const std::string path = temp_file("by-category.png");
+  save_map_plot(path, c, {}, o, 300);
+  QImage img(QString::fromStdString(path));
+  const QTransform t = map_transform(c, QRectF(0, 0, 300, 300), o);
+  auto near_colour = [](QColor want) {
+    return [want](QColor p) {
+      return std::abs(p.red() - want.red()) + std::abs(p.green() - want.green()) +
+                 std::abs(p.blue() - want.blue()) <
+             30;
+    };
+  };
+  // Twelve distinct colours, grey for "other".
+  for (int a = 0; a < kCategoryColors; ++a) {
+    for (int b = a + 1; b < kCategoryColors; ++b) EXPECT_NE(category_color(a), category_color(b));
+  }
+  EXPECT_EQ(category_color(-1), QColor(200, 200, 200));
+  const double step = 1.0 / 99;
+  EXPECT_TRUE(any_near(img, t.map(QPointF(20 * step, 0)), 1, near_colour(category_color(0))));
+  EXPECT_FALSE(any_near(img, t.map(QPointF(20 * step, 0)), 1, near_colour(category_color(2))));
+  EXPECT_TRUE(any_near(img, t.map(QPointF(60 * step, 0)), 1, near_colour(category_color(2))));
+  EXPECT_TRUE(any_near(img, t.map(QPointF(90 * step, 0)), 1, near_colour(category_color(-1))));
+  EXPECT_FALSE(any_near(img, t.map(QPointF(60 * step, 0)), 2, is_reddish));  // no time colours
+  // The legend under the box: a swatch of each category's colour and of "other".
+  const QRectF d = data_area(QRectF(0, 0, 300, 300), o);
+  bool swatch[4] = {false, false, false, false};
+  const QColor want[4] = {category_color(0), category_color(1), category_color(2),
+                          category_color(-1)};
+  for (int y = static_cast<int>(d.bottom()) + 3; y < 300; ++y) {
+    for (int x = 0; x < 300; ++x) {
+      for (int k = 0; k < 4; ++k)
+        swatch[k] = swatch[k] || near_colour(want[k])(img.pixelColor(x, y));
+    }
+  }
+  for (int k = 0; k < 4; ++k) EXPECT_TRUE(swatch[k]) << k;
+  // One category per sample, or an error before anything is written.
+  o.point_category.pop_back();
+  EXPECT_THROW(save_map_plot(temp_file("bad-category.png"), c, {}, o, 300), ParameterError);
+  EXPECT_FALSE(std::filesystem::exists(temp_file("bad-category.png")));
+}
+
 TEST_F(MapPlotTest, ABackdropIsDrawnUnderTheTrajectoryAndFramedWithIt) {
   // A short line in the middle of a wide backdrop (a saved map's samples under new frames).
   const Eigen::MatrixXd c = line(20, 0.4, 0.6, 0.5);

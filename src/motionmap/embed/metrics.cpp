@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -284,6 +285,53 @@ double jump_score(const Eigen::MatrixXd& Y) {
   const double p95 = quantile(steps, 0.95);
   if (median == 0.0) return p95 == 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
   return p95 / median;
+}
+
+int knn_label_vote(std::span<const double> distances, std::span<const int> codes,
+                   std::span<const int> groups, int group, int k) {
+  if (k < 1) throw ParameterError("knn_label_vote: k is " + std::to_string(k) + "; it must be ≥ 1");
+  if (codes.size() != distances.size() || groups.size() != distances.size()) {
+    throw ParameterError("knn_label_vote: " + std::to_string(distances.size()) + " distances, " +
+                         std::to_string(codes.size()) + " codes and " +
+                         std::to_string(groups.size()) + " groups; they must be as many");
+  }
+  // The k nearest candidates as (distance, index), the largest on top of a max-heap: ties go to
+  // the smaller index because pairs compare the index second.
+  std::vector<std::pair<double, int>> nearest;
+  nearest.reserve(static_cast<std::size_t>(k) + 1);
+  for (std::size_t j = 0; j < distances.size(); ++j) {
+    const double d = distances[j];
+    if (codes[j] < 0 || groups[j] == group || !std::isfinite(d)) continue;
+    const std::pair<double, int> candidate(d, int(j));
+    if (int(nearest.size()) < k) {
+      nearest.push_back(candidate);
+      std::push_heap(nearest.begin(), nearest.end());
+    } else if (candidate < nearest.front()) {
+      std::pop_heap(nearest.begin(), nearest.end());
+      nearest.back() = candidate;
+      std::push_heap(nearest.begin(), nearest.end());
+    }
+  }
+  if (nearest.empty()) return -1;
+  std::sort(nearest.begin(), nearest.end());
+  // Votes per code, and the rank of each code's nearest voter (the tie-break).
+  std::vector<std::pair<int, int>> votes;  // (code, count), in order of first (nearest) voter
+  for (const auto& [d, j] : nearest) {
+    const int code = codes[std::size_t(j)];
+    auto it =
+        std::find_if(votes.begin(), votes.end(), [&](const auto& v) { return v.first == code; });
+    if (it == votes.end()) {
+      votes.emplace_back(code, 1);
+    } else {
+      ++it->second;
+    }
+  }
+  // The first code with the most votes: among tied codes, the one met first, i.e. nearest.
+  int best = 0;
+  for (std::size_t v = 1; v < votes.size(); ++v) {
+    if (votes[v].second > votes[std::size_t(best)].second) best = int(v);
+  }
+  return votes[std::size_t(best)].first;
 }
 
 }  // namespace motionmap::embed

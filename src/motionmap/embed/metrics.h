@@ -4,6 +4,8 @@
 //
 //   auto q = neighborhood_quality(D, map.coordinates);  // q.trustworthiness, q.continuity ∈ [0, 1]
 //   double jumps = jump_score(map.coordinates);         // ≈1 smooth; ≫1 the map tears the motion
+#include <span>
+
 #include <Eigen/Core>
 
 #include "motionmap/core/control.h"
@@ -51,5 +53,16 @@ double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y,
 /// the median is 0 but not the 95th percentile.
 /// @throws ParameterError for fewer than 2 frames.
 double jump_score(const Eigen::MatrixXd& Y);
+
+/// The label a k-nearest-neighbour vote gives a query frame, from its distances to every frame
+/// (`distances[j]`, j < #frames): the candidates are the frames j with codes[j] ≥ 0 (labelled)
+/// and groups[j] ≠ `group` (other clips than the query's); the k nearest are the k smallest
+/// distances, ties to the smaller index j; each votes for its code, and the code with the most
+/// votes wins; a tied vote goes to the tied code whose nearest voter is nearest (so k = 1 is the
+/// nearest candidate's code). Returns −1 when there is no candidate; fewer than k candidates
+/// all vote. Non-finite distances are not candidates.
+/// @throws ParameterError if the sizes differ or k < 1.
+int knn_label_vote(std::span<const double> distances, std::span<const int> codes,
+                   std::span<const int> groups, int group, int k);
 
 }  // namespace motionmap::embed

@@ -244,6 +244,21 @@ void write_map_file(const std::string& path, const MapFile& f) {
   w.attribute("/joints", "point_columns", f.point_columns);
 
   write_matrix(w, "/coordinates", f.coordinates);
+  if (!f.labels.empty()) {
+    // Names and values as fixed-length strings, each sample's value as an index into them.
+    pipeline::check_labels(f.labels, n);
+    w.group("/labels");
+    std::vector<std::string> names;
+    for (const pipeline::LabelColumn& column : f.labels.columns) names.push_back(column.name);
+    w.strings("/labels/names", names);
+    for (std::size_t l = 0; l < f.labels.columns.size(); ++l) {
+      const pipeline::LabelColumn& column = f.labels.columns[l];
+      const std::string g = "/labels/" + std::to_string(l);
+      w.group(g);
+      w.strings(g + "/values", column.categories);
+      w.ints(g + "/codes", column.codes.data(), column.codes.size());
+    }
+  }
 
   const embed::MapModel& m = f.model;
   w.group("/model");

@@ -28,6 +28,7 @@
 #include "motionmap/embed/placement.h"
 #include "motionmap/features/features.h"
 #include "motionmap/pipeline/clip_map.h"
+#include "motionmap/pipeline/labels.h"
 
 namespace motionmap::mapfile {
 
@@ -105,6 +106,8 @@ struct MapFile {
 
   /// #samples by dims: the map (the CSV's x, y[, z]).
   Eigen::MatrixXd coordinates;
+  /// The samples' labels (group /labels; none in files written without labels or before them).
+  pipeline::Labels labels;
   /// What placing frames needs. Its samples are the map's rows (its `coordinates` equal the
   /// ones above), except in a map of placed clips (placed_map_file), where they are the frames
   /// the model was fitted on.

@@ -563,6 +563,34 @@ void read_joints(const Input& in, MapFile& f) {
   f.point_columns = in.integer32("/joints", "point_columns", 1, "the columns of the points");
 }
 
+// /labels: the samples' labels, when the map has them.
+void read_labels(const Input& in, MapFile& f) {
+  if (!in.has("/labels")) return;
+  const std::vector<std::string> names = in.strings("/labels/names", -1, "the label names");
+  if (names.empty() || names.size() > std::size_t(pipeline::kMaxLabels)) {
+    in.fail("/labels/names holds " + std::to_string(names.size()) + " names, expected 1 to " +
+            std::to_string(pipeline::kMaxLabels));
+  }
+  for (std::size_t l = 0; l < names.size(); ++l) {
+    const std::string g = "/labels/" + std::to_string(l);
+    in.require_group(g, "the values of label '" + quote_token(names[l]) + "'");
+    pipeline::LabelColumn column;
+    column.name = names[l];
+    column.categories = in.strings(g + "/values", -1, "the label's distinct values");
+    if (column.categories.empty()) in.fail(g + "/values is empty, expected at least one value");
+    const std::vector<int> codes =
+        in.ints(g + "/codes", f.num_samples(), 0, std::int64_t(column.categories.size()),
+                "each sample's value (an index into " + g + "/values)");
+    column.codes.assign(codes.begin(), codes.end());
+    f.labels.columns.push_back(std::move(column));
+  }
+  try {
+    pipeline::check_labels(f.labels, f.num_samples());
+  } catch (const ParameterError& e) {
+    in.fail(std::string("/labels: ") + e.what());
+  }
+}
+
 // An item the method needs must be there; one it does not need is read when present.
 bool need(const Input& in, const std::string& name, bool needed, const std::string& who) {
   if (needed && !in.has(name)) {
@@ -721,6 +749,7 @@ MapFile read_checked(const std::string& path, const ReadOptions& options) {
   read_joints(in, f);
   f.coordinates =
       in.matrix("/coordinates", f.num_samples(), f.options.embed.dimensions, "#samples by dims");
+  read_labels(in, f);
   // Showing or blending the map does not need the model.
   if (options.model) read_model(in, version, f);
   read_manifest(in, version);

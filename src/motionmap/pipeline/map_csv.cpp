@@ -1,8 +1,10 @@
 #include "motionmap/pipeline/map_csv.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <limits>
+#include <set>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
@@ -31,7 +33,9 @@ void MapTable::check_matches(const features::FeatureSet& samples) const {
 }
 
 void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& options,
-                   std::span<const std::string> files) {
+                   std::span<const std::string> files, const Labels* labels,
+                   std::span<const LabelAccuracy> accuracy) {
+  if (labels) check_labels(*labels, map.features->num_samples());
   out << "# motionmap map " << describe_parameters(map.embedding, options);
   out << " files=";
   for (std::size_t i = 0; i < files.size(); ++i) out << (i ? "," : "") << base_name(files[i]);
@@ -40,9 +44,25 @@ void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& 
   for (const auto& note : map.embedding.notes) out << "# note: " << note << '\n';
   for (const auto& w : map.embedding.warnings) out << "# warning: " << w << '\n';
   if (map.metrics) out << "# metrics " << describe_metrics(*map.metrics) << '\n';
+  if (!accuracy.empty()) {
+    out << "# label accuracy (map/features, " << accuracy.front().k
+        << "-NN vote among other clips' frames) " << describe_label_accuracy(accuracy) << '\n';
+  }
   const bool several = map.features->segment_starts.size() > 1;
   const auto& Y = map.embedding.coordinates;
-  out << (several ? "clip,frame,x,y" : "frame,x,y") << (Y.cols() == 3 ? ",z\n" : "\n");
+  out << (several ? "clip,frame,x,y" : "frame,x,y") << (Y.cols() == 3 ? ",z" : "");
+  if (labels) {
+    for (const LabelColumn& column : labels->columns) out << ',' << csv_field(column.name);
+  }
+  out << '\n';
+  // Each label's categories quoted once.
+  std::vector<std::vector<std::string>> quoted;
+  if (labels) {
+    for (const LabelColumn& column : labels->columns) {
+      quoted.emplace_back();
+      for (const std::string& value : column.categories) quoted.back().push_back(csv_field(value));
+    }
+  }
   char buf[32];
   for (Eigen::Index i = 0; i < Y.rows(); ++i) {
     if (several) out << map.features->clip_of[i] << ',';
@@ -50,6 +70,9 @@ void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& 
     for (Eigen::Index c = 0; c < Y.cols(); ++c) {
       std::snprintf(buf, sizeof buf, ",%.17g", Y(i, c));
       out << buf;
+    }
+    for (std::size_t l = 0; l < quoted.size(); ++l) {
+      out << ',' << quoted[l][std::size_t(labels->columns[l].codes[std::size_t(i)])];
     }
     out << '\n';
   }
@@ -60,17 +83,35 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
   MapTable table;
   table.path = path;
   bool has_clip = false;
-  std::size_t columns = 0;  // set by the header
+  std::size_t columns = 0;                             // set by the header
+  std::size_t coordinate_end = 0;                      // fields before the label columns
+  std::vector<std::vector<std::string>> label_values;  // per label column, per row
   std::vector<double> values;
   CsvRow csv;
   while (next_csv_row(cur, csv)) {
     const std::size_t line = csv.line;
     const std::string_view row = csv.text;
-    const std::vector<CsvField>& fields = csv.fields;
+    const std::vector<CsvField>& raw_fields = csv.fields;
 
     if (columns == 0) {
+      // The map's own columns, then labels.
+      const auto named = split_quoted_csv(row, line, path);
+      std::size_t own = 0;
+      while (own < named.size()) {
+        const std::string name = ascii_lower(named[own].first);
+        if (name != "clip" && name != "frame" && name != "x" && name != "y" && name != "z") break;
+        ++own;
+      }
       std::string header;
-      for (const auto& f : fields) header += (header.empty() ? "" : ",") + ascii_lower(f.text);
+      for (std::size_t f = 0; f < own; ++f) {
+        header += (header.empty() ? "" : ",") + ascii_lower(named[f].first);
+      }
+      for (std::size_t f = own; f < named.size(); ++f) {
+        LabelColumn column;
+        column.name = named[f].first;
+        table.labels.columns.push_back(std::move(column));
+        label_values.emplace_back();
+      }
       if (header == "frame,x,y" || header == "frame,x,y,z") {
         has_clip = false;
       } else if (header == "clip,frame,x,y" || header == "clip,frame,x,y,z") {
@@ -81,9 +122,34 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
             "expected the header of a map (frame,x,y or clip,frame,x,y, with ,z in 3-D), found '" +
                 quote_token(row) + "'");
       }
-      columns = fields.size();
+      coordinate_end = own;
+      for (std::size_t f = own; f < named.size(); ++f) {
+        for (std::size_t g = 0; g < f; ++g) {
+          if (named[g].first == named[f].first) {
+            cur.fail_at(line, named[f].second,
+                        "duplicate column '" + quote_token(named[f].first) + "'");
+          }
+        }
+      }
+      try {
+        check_labels(table.labels, 0);
+      } catch (const ParameterError& e) {
+        cur.fail_at(line, named[own].second,
+                    std::string("expected label columns after the map's: ") + e.what());
+      }
+      columns = named.size();
       continue;
     }
+    std::vector<CsvField> quoted_fields;
+    std::vector<std::pair<std::string, std::size_t>> unquoted;
+    const std::vector<CsvField>* row_fields = &raw_fields;
+    if (!label_values.empty()) {
+      // Label values may be quoted (csv_field()): split the row honouring quotes.
+      unquoted = split_quoted_csv(row, line, path);
+      for (const auto& [text, column] : unquoted) quoted_fields.push_back({text, column});
+      row_fields = &quoted_fields;
+    }
+    const std::vector<CsvField>& fields = *row_fields;
     if (fields.size() != columns) {
       const std::size_t col = fields.size() > columns ? fields[columns].column : row.size() + 1;
       cur.fail_at(line, col,
@@ -102,7 +168,10 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
                         " number (an integer ≥ 0), found '" + quote_token(f.text) + "'");
       }
     }
-    for (std::size_t k = ids; k < columns; ++k) {
+    for (std::size_t k = coordinate_end; k < columns; ++k) {
+      label_values[k - coordinate_end].emplace_back(fields[k].text);
+    }
+    for (std::size_t k = ids; k < coordinate_end; ++k) {
       const CsvField& f = fields[k];
       double v = 0.0;
       const char* first = f.text.data();
@@ -123,7 +192,22 @@ MapTable parse_map_csv(std::string_view text, const std::string& path) {
                 "expected the header of a map (frame,x,y or clip,frame,x,y), found none");
   if (table.frame_of.empty())
     cur.fail_at(cur.line(), 1, "expected map rows after the header, found none");
-  const auto dims = static_cast<Eigen::Index>(columns - (has_clip ? 2 : 1));
+  const auto dims = static_cast<Eigen::Index>(coordinate_end - (has_clip ? 2 : 1));
+  for (std::size_t l = 0; l < label_values.size(); ++l) {
+    LabelColumn& column = table.labels.columns[l];
+    const std::set<std::string> distinct(label_values[l].begin(), label_values[l].end());
+    column.categories.assign(distinct.begin(), distinct.end());
+    for (const std::string& value : label_values[l]) {
+      column.codes.push_back(
+          std::int32_t(std::lower_bound(column.categories.begin(), column.categories.end(), value) -
+                       column.categories.begin()));
+    }
+  }
+  try {
+    check_labels(table.labels, table.num_rows());
+  } catch (const ParameterError& e) {
+    cur.fail_at(table.lines.front(), 1, e.what());
+  }
   table.coords =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           values.data(), table.num_rows(), dims);

@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "motionmap/pipeline/clip_map.h"
+#include "motionmap/pipeline/labels.h"
 
 namespace motionmap::pipeline {
 
@@ -29,6 +30,8 @@ struct MapTable {
   std::vector<int> frame_of;       ///< per row: the frame's index in its clip's file
   Eigen::MatrixXd coords;          ///< #rows by 2 or 3
   std::vector<std::size_t> lines;  ///< per row: its line in the file
+  /// The label columns after the coordinates (write_map_csv with labels), one value per row.
+  Labels labels;
   int num_rows() const { return static_cast<int>(frame_of.size()); }
 
   /// Checks that this table is a map of `samples` (as select_samples() or build_features()
@@ -38,12 +41,17 @@ struct MapTable {
 };
 
 /// Writes `map` as CSV: a '#' line with the effective parameters and the input files' names,
-/// '#' lines with the notes, warnings and metrics, the header, one row per sample.
+/// '#' lines with the notes, warnings and metrics, the header, one row per sample. With
+/// `labels`, one more column per label after the coordinates (`clip,frame,x,y,action,style`;
+/// values quoted as csv_field() quotes them), and with `accuracy` a '# label accuracy' line.
 void write_map_csv(std::ostream& out, const ClipMap& map, const ClipMapOptions& options,
-                   std::span<const std::string> files);
+                   std::span<const std::string> files, const Labels* labels = nullptr,
+                   std::span<const LabelAccuracy> accuracy = {});
 
 /// Parses map CSV text. `path` is only used in messages.
-/// @throws ParseError `path:line:col: error: …` for a missing or unknown header, a row with
+/// Columns after the coordinates are labels (MapTable::labels; quoted fields allowed).
+/// @throws ParseError `path:line:col: error: …` for a missing or unknown header, a label column
+///         that is not a label name or given twice, a row with
 ///         another field count, a clip or frame that is not an integer ≥ 0, a coordinate that is
 ///         not a finite number, or no rows.
 MapTable parse_map_csv(std::string_view text, const std::string& path = "<memory>");

@@ -148,6 +148,44 @@ struct Metrics {
   double pad, title_px, notes_px, title_h, legend_h, notes_h;
 };
 
+// Non-empty point categories must be one per sample.
+void check_categories(const MapPlotOptions& o, Eigen::Index rows) {
+  if (!o.point_category.empty() && o.point_category.size() != std::size_t(rows)) {
+    throw ParameterError("map plot: " + std::to_string(o.point_category.size()) +
+                         " point categories for " + std::to_string(rows) + " samples");
+  }
+}
+
+// The category legend's entries: the categories, then "other" when there is one.
+QStringList category_entries(const MapPlotOptions& o) {
+  QStringList entries = o.categories;
+  if (!o.other_category.isEmpty()) entries << o.other_category;
+  return entries;
+}
+
+// The category legend as a grid of equal cells: a cell's width (from the longest entry, by an
+// estimate of the text's width that needs no font: 0.62 em per character) and how many a row
+// of `width` holds.
+struct LegendGrid {
+  double cell = 0.0;
+  int per_row = 1;
+  int rows = 0;
+};
+
+LegendGrid category_grid(const QStringList& entries, double width, double px) {
+  LegendGrid g;
+  qsizetype longest = 1;
+  for (const QString& e : entries) longest = std::max(longest, e.size());
+  g.cell = px * (1.2 + 0.4 + 1.2) + 0.62 * px * double(std::min<qsizetype>(longest, 28));
+  g.per_row = std::max(1, static_cast<int>(width * 0.94 / g.cell));
+  g.rows = static_cast<int>((entries.size() + g.per_row - 1) / g.per_row);
+  return g;
+}
+
+int category_legend_rows(const MapPlotOptions& o, double width, double px) {
+  return std::max(1, category_grid(category_entries(o), width, px).rows);
+}
+
 Metrics panel_metrics(double base, const MapPlotOptions& o) {
   Metrics m{};
   m.pad = base * 0.03;
@@ -156,6 +194,9 @@ Metrics panel_metrics(double base, const MapPlotOptions& o) {
   m.notes_px = std::max(7.0, 0.67 * std::sqrt(base));
   m.title_h = o.title.isEmpty() ? 0.0 : m.title_px * 1.7;
   m.legend_h = o.time_legend ? m.notes_px * 1.9 : 0.0;
+  if (o.time_legend && !o.categories.isEmpty()) {
+    m.legend_h = m.notes_px * 1.6 * category_legend_rows(o, base, m.notes_px) + m.notes_px * 0.4;
+  }
   m.notes_h = o.notes.isEmpty() ? 0.0 : (o.notes.size() + 0.4) * m.notes_px * 1.35;
   return m;
 }
@@ -238,6 +279,32 @@ void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringL
   p.setBrush(Qt::NoBrush);
 }
 
+// "▬ walk (512)  ▬ run (301) …": the categories' colours in a grid of rows centred in `area`.
+void draw_category_legend(QPainter& p, const QRectF& area, double px, const MapPlotOptions& o) {
+  const QStringList entries = category_entries(o);
+  const LegendGrid g = category_grid(entries, area.width(), px);
+  const QFont font = font_px(px);
+  const QFontMetricsF fm(font);
+  const double swatch = px * 1.2, gap = px * 0.4, row_h = px * 1.6;
+  const int in_first_row = std::min<int>(g.per_row, int(entries.size()));
+  const double left = area.center().x() - in_first_row * g.cell / 2;
+  const double top = area.center().y() - g.rows * row_h / 2;
+  p.setFont(font);
+  for (qsizetype c = 0; c < entries.size(); ++c) {
+    const double x = left + double(c % g.per_row) * g.cell;
+    const double y = top + double(c / g.per_row) * row_h;
+    const bool other = !o.other_category.isEmpty() && c == entries.size() - 1;
+    p.setPen(Qt::NoPen);
+    p.setBrush(category_color(other ? -1 : int(c)));
+    p.drawRect(QRectF(x, y + row_h / 2 - px * 0.3, swatch, px * 0.6));
+    p.setPen(QColor(70, 70, 70));
+    const double w = g.cell - swatch - gap;
+    p.drawText(QRectF(x + swatch + gap, y, w, row_h), Qt::AlignLeft | Qt::AlignVCenter,
+               fm.elidedText(entries[c], Qt::ElideRight, w));
+  }
+  p.setBrush(Qt::NoBrush);
+}
+
 // "start ▬▬▬ end": the time colours, centred in `area`.
 void draw_time_legend(QPainter& p, const QRectF& area, double px) {
   const QFont font = font_px(px);
@@ -269,6 +336,16 @@ void draw_time_legend(QPainter& p, const QRectF& area, double px) {
 }
 
 }  // namespace
+
+QColor category_color(int category) {
+  static constexpr int kPalette[kCategoryColors][3] = {
+      {31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {214, 39, 40},
+      {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {188, 189, 34},
+      {23, 190, 207},  {28, 40, 110},  {240, 200, 0},   {35, 35, 35}};
+  if (category < 0) return QColor(200, 200, 200);
+  const int* c = kPalette[category % kCategoryColors];
+  return QColor(c[0], c[1], c[2]);
+}
 
 QColor clip_color(int clip) {
   static constexpr int kPalette[10][3] = {
@@ -424,6 +501,12 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   const double lw =
       std::isfinite(options.line_width) ? std::clamp(options.line_width, 0.0, 100.0) : 2.0;
   const bool by_clip = !options.clip_names.isEmpty();
+  const bool by_category = !options.point_category.empty();
+  check_categories(options, coords.rows());
+  const auto sample_color = [&](int sample, int clip, const QColor& time) {
+    if (by_category) return category_color(options.point_category[std::size_t(sample)]);
+    return by_clip ? clip_color(clip) : time;
+  };
 
   painter.save();
   painter.setRenderHints(QPainter::Antialiasing | QPainter::TextAntialiasing);
@@ -453,15 +536,22 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   QPolygonF run;
   for (std::size_t k = 0; k < segments.size();) {
     const int bin = time_bin(segments[k].time);
+    const auto same_colour = [&](std::size_t a, std::size_t b) {
+      if (by_category) {
+        return options.point_category[std::size_t(segments[a].sample)] ==
+               options.point_category[std::size_t(segments[b].sample)];
+      }
+      return time_bin(segments[b].time) == bin;
+    };
     run.clear();
     run << to_px.map(segments[k].from) << to_px.map(segments[k].to);
     std::size_t j = k + 1;
     while (j < segments.size() && segments[j].sample == segments[j - 1].sample + 1 &&
-           time_bin(segments[j].time) == bin) {
+           same_colour(k, j)) {
       run << to_px.map(segments[j].to);
       ++j;
     }
-    const QColor color = by_clip ? clip_color(segments[k].clip) : segments[k].color;
+    const QColor color = sample_color(segments[k].sample, segments[k].clip, segments[k].color);
     painter.setPen(QPen(color, lw, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     painter.drawPolyline(run);
     k = j;
@@ -477,10 +567,9 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
       if (!finite_row(coords, i)) continue;
       any_finite = true;
       if (first < 0) first = i;
-      if (!options.draw_points) break;
+      if (!options.draw_points && !by_category) break;
       painter.setPen(Qt::NoPen);
-      painter.setBrush(by_clip ? clip_color(static_cast<int>(k))
-                               : time_color(clip_time(i, begin, end)));
+      painter.setBrush(sample_color(i, static_cast<int>(k), time_color(clip_time(i, begin, end))));
       painter.drawEllipse(to_px.map(unit.map(coords(i, 0), coords(i, 1))), dot_r, dot_r);
     }
     if (options.start_marker && first >= 0) {
@@ -497,7 +586,9 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   }
 
   if (options.time_legend) {
-    if (by_clip) {
+    if (!options.categories.isEmpty()) {
+      draw_category_legend(painter, l.legend, l.notes_px, options);
+    } else if (by_clip) {
       draw_clip_legend(painter, l.legend, l.notes_px, options.clip_names);
     } else {
       draw_time_legend(painter, l.legend, l.notes_px);
@@ -521,6 +612,7 @@ void save_map_plot(const std::string& path, const Eigen::MatrixXd& coords,
   }
   clip_bounds(coords, segment_starts);  // invalid data must not leave a half-written file
   if (options.backdrop.size() > 0) check_columns(options.backdrop, "backdrop");
+  check_categories(options, coords.rows());
   write_drawing("save_map_plot", path, QSize(size_px, size_px), options.title,
                 [&](QPainter& painter, const QRectF& area) {
                   paint_map(painter, area, coords, segment_starts, options);
@@ -541,6 +633,7 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
   for (const FigurePanel& p : panels) {
     clip_bounds(p.coords, p.segment_starts);
     if (p.options.backdrop.size() > 0) check_columns(p.options.backdrop, "backdrop");
+    check_categories(p.options, p.coords.rows());
   }
 
   const std::size_t n = panels.size();
@@ -552,9 +645,13 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
   }
   const double title_px = 1.1 * std::sqrt(double(panel_px));
   const double legend_px = 0.67 * std::sqrt(double(panel_px));
-  const double header_h =
-      (title.isEmpty() ? 0.0 : title_px * 1.8) + legend_px * 2.2 + panel_px * 0.02;
   const double width = double(cols) * panel_px;
+  const MapPlotOptions& first = panels.front().options;
+  const bool category_legend = !first.categories.isEmpty();
+  const double legend_h =
+      category_legend ? legend_px * (1.6 * category_legend_rows(first, width, legend_px) + 0.6)
+                      : legend_px * 2.2;
+  const double header_h = (title.isEmpty() ? 0.0 : title_px * 1.8) + legend_h + panel_px * 0.02;
   const double height = header_h + rows * cell_h;
   if (width * height > 1e8) {
     throw ParameterError("save_figure: the figure would be " + std::to_string(int(width)) + "x" +
@@ -572,7 +669,14 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
                                    font_px(title_px, true), QColor(20, 20, 20));
                     y += title_px * 1.8;
                   }
-                  draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
+                  if (category_legend) {
+                    draw_category_legend(painter, QRectF(0, y, width, legend_h), legend_px, first);
+                  } else if (!first.clip_names.isEmpty()) {
+                    draw_clip_legend(painter, QRectF(0, y, width, legend_h), legend_px,
+                                     first.clip_names);
+                  } else {
+                    draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
+                  }
                   for (std::size_t i = 0; i < n; ++i) {
                     const FigurePanel& p = panels[i];
                     // Each panel exactly as tall as it needs, at the top of its cell, so the

@@ -42,6 +42,12 @@ QColor time_color(double t);
 /// negative index).
 QColor clip_color(int clip);
 
+/// The qualitative palette of categories (labels): kCategoryColors distinct colours, told apart
+/// at a glance (Tableau 10 without its grey, navy, gold and near-black); category_color(c) for
+/// c ≥ kCategoryColors cycles, and a negative c is the light grey of "other".
+constexpr int kCategoryColors = 12;
+QColor category_color(int category);
+
 /// How paint_map() draws a panel. Sizes are in the painter's units (pixels for images).
 struct MapPlotOptions {
   QString title;             ///< printed above the panel (nothing when empty)
@@ -52,6 +58,14 @@ struct MapPlotOptions {
   /// Non-empty: colour by clip — clip c's trajectory and dots in clip_color(c), and the legend
   /// (when time_legend is set) names the clips with their colours instead of the time bar.
   QStringList clip_names;
+  /// Non-empty (one entry per sample): colour by category — each sample's dot, and the segment
+  /// from it, in category_color(point_category[i]) (−1: grey, "other"), instead of time or
+  /// clip; the legend (when time_legend is set) lists `categories` (entry c for category c, e.g.
+  /// "walk (512)") with their colours, in rows as the panel's width allows.
+  std::vector<int> point_category;
+  QStringList categories;
+  /// With categories: the legend's entry for −1 (e.g. "other (40)"); empty: none.
+  QString other_category;
   double line_width = 2.0;        ///< trajectory pen width, clamped to [0, 100]; 0 is a hairline
   QColor background = Qt::white;  ///< fills the whole rect; an invalid colour leaves it as is
   /// Points drawn as dots under the trajectory ("#points by ≥ 2", columns 0 and 1), e.g. the
@@ -151,7 +165,8 @@ struct FigurePanel {
 };
 
 /// Writes panels in a grid of `columns` columns (row by row), each panel_px wide with its title
-/// and notes, under a figure title and a time legend. Formats as save_map_plot(). Needs a
+/// and notes, under a figure title and a time legend (or, when the first panel has categories or
+/// clip names, their legend). Formats as save_map_plot(). Needs a
 /// QGuiApplication.
 /// @throws ParameterError if panels is empty, columns is outside [1, 64], panel_px outside
 ///         [64, 4096], the figure would exceed 10⁸ pixels, or a panel's data is invalid.

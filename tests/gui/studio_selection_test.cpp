@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <set>
 
+#include "explore/nearest_panel.h"
 #include "explore/selection_panel.h"
 #include "map/map_view.h"
 #include "motionmap/io/clip_inputs.h"
@@ -212,6 +213,48 @@ TEST(StudioSelection, PlayAllPlaysEveryRangeInOrder) {
   // The last range played to its end.
   EXPECT_EQ(w->currentClip(), panel->ranges().back().clip);
   EXPECT_EQ(w->currentFrame(), panel->ranges().back().last);
+}
+
+// The nearest frames of other clips to the point under the mouse, each one click away.
+TEST(StudioNearest, ListsTheNearestFrameOfEachOtherClipAndAClickPlaysIt) {
+  if (!haveSwings()) GTEST_SKIP() << "no CMU swings in " << kData;
+  auto w = twoSwings();
+  ASSERT_NE(w->currentMap(), nullptr);
+  auto* panel = w->findChild<NearestPanel*>();
+  ASSERT_NE(panel, nullptr);
+  panel->show();
+  QTest::qWait(20);  // the dock takes its room
+  MapView* view = w->mapView();
+  ASSERT_EQ(w->currentClip(), 0);
+  const MapResult* map = w->currentMap();
+  const Eigen::MatrixXd& xy = map->map.embedding.coordinates;
+  const QPoint at = view->toWidget(xy.row(120).transpose().head<2>()).toPoint() + QPoint(2, 1);
+  QTest::mouseMove(view, at);
+  ASSERT_EQ(panel->entries().size(), 1u);  // one other clip: its nearest frame
+  const NearestPanel::Entry& e = panel->entries().front();
+  EXPECT_EQ(e.clip, 1);
+  // The nearest sample of clip 1, found by brute force.
+  const Eigen::Vector2d p = view->toMap(QPointF(at));
+  double best = INFINITY;
+  int bestFrame = -1;
+  for (Eigen::Index i = 0; i < xy.rows(); ++i) {
+    if (map->map.features->clip_of[std::size_t(i)] != 1) continue;
+    const double d = (xy.row(i).transpose().head<2>() - p).norm();
+    if (d < best) {
+      best = d;
+      bestFrame = map->map.features->frame_of[std::size_t(i)];
+    }
+  }
+  EXPECT_EQ(e.frame, bestFrame);
+  EXPECT_NEAR(e.distance, best, 1e-12);
+  // The list stays when the mouse leaves the map; a click on the entry plays it.
+  QTreeWidget* tree = panel->tree();
+  ASSERT_EQ(tree->topLevelItemCount(), 1);
+  EXPECT_TRUE(tree->topLevelItem(0)->text(0).startsWith("clip 2: 64_09"));
+  QTest::mouseClick(tree->viewport(), Qt::LeftButton, Qt::NoModifier,
+                    tree->visualItemRect(tree->topLevelItem(0)).center());
+  EXPECT_EQ(w->currentClip(), 1);
+  EXPECT_EQ(w->currentFrame(), bestFrame);
 }
 
 }  // namespace

@@ -25,6 +25,7 @@
 #include "app/parameter_dialogs.h"
 #include "explore/clip_search.h"
 #include "explore/map_coordinates.h"
+#include "explore/nearest_panel.h"
 #include "explore/saved_clips.h"
 #include "explore/selection_panel.h"
 #include "map/joint_drag.h"
@@ -89,6 +90,11 @@ void MainWindow::buildUi() {
     if (m_status) m_status->setText(text);
   });
   connect(selection, &SelectionPanel::failed, this, &MainWindow::showError);
+  auto* nearest = new NearestPanel(
+      m_mapView, [this] { return m_source; },
+      [this](int clip, int frame) { setCurrentClip(clip, frame); });
+  addDockWidget(Qt::RightDockWidgetArea, nearest);
+  nearest->hide();
   m_exports = new ExportController(this, m_skeletonView, m_mapView, &m_playback, m_takes, &m_maps,
                                    [this] { return playingMotion(); });
 
@@ -156,6 +162,7 @@ void MainWindow::buildMenus() {
   });
   QMenu* view = addViewMenu(this, m_skeletonView, m_mapView);
   view->addAction(findChild<SelectionPanel*>()->toggleViewAction());
+  view->addAction(findChild<NearestPanel*>()->toggleViewAction());
   addCameraMenu(view, m_skeletonView);
   addJointsPanel(this, m_skeletonView, view);
   new PlaybackActions(this, &m_playback);  // Space, arrows, Home/End, I/O: window shortcuts

@@ -156,7 +156,11 @@ void SelectionPanel::startWhenShown() {
   if (m_playing < 0) return m_wait.stop();
   const FrameRange& r = m_ranges[std::size_t(m_playing)];
   const MapSource* source = m_source();
-  if (!source || source->currentClip() != r.clip || source->isLoadingClip() || !source->clip())
+  if (source && !source->isLoadingClip() && source->currentClip() != r.clip) {
+    stopSequence();  // the clip could not be shown (the window said why)
+    return;
+  }
+  if (!source || source->isLoadingClip() || !source->clip())
     return;  // not yet (a saved map's clip loading); the timer asks again
   m_wait.stop();
   m_started = true;

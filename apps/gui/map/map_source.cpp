@@ -1,5 +1,8 @@
 #include "map/map_source.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <QFileInfo>
 
 #include "common/parameters.h"
@@ -49,6 +52,25 @@ QStringList legendNames(const QStringList& names) {
                .arg(common > 0 ? QStringLiteral("…") + rest : rest);
   }
   return out;
+}
+
+std::vector<MapSource::Near> MapSource::nearestSamples(const Eigen::Vector2d& point, int k) const {
+  std::vector<Near> all;
+  const Samples s = samples();
+  if (!s.points || k < 1 || !point.allFinite()) return all;
+  const Eigen::MatrixXd& xy = *s.points;
+  all.reserve(std::size_t(xy.rows()));
+  for (Eigen::Index i = 0; i < xy.rows(); ++i) {
+    const double d = std::hypot(xy(i, 0) - point.x(), xy(i, 1) - point.y());
+    if (std::isfinite(d)) all.push_back({int(i), d});
+  }
+  const std::size_t keep = std::min(all.size(), std::size_t(k));
+  std::partial_sort(
+      all.begin(), all.begin() + std::ptrdiff_t(keep), all.end(), [](const Near& a, const Near& b) {
+        return a.distance != b.distance ? a.distance < b.distance : a.sample < b.sample;
+      });
+  all.resize(keep);
+  return all;
 }
 
 // ---- ComputedMapSource ----
@@ -348,6 +370,14 @@ Eigen::MatrixXd SavedMapSource::clipPoints(int clip) const {
 MapSource::Samples SavedMapSource::samples() const {
   const mapfile::MapFile& file = m_map->file();
   return {&file.coordinates, &file.clip_of, &file.frame_of};
+}
+
+std::vector<MapSource::Near> SavedMapSource::nearestSamples(const Eigen::Vector2d& point,
+                                                            int k) const {
+  std::vector<Near> out;
+  for (const mapfile::Neighbor& n : m_map->index().nearest(point, k))
+    out.push_back({n.sample, n.distance});
+  return out;
 }
 
 QString SavedMapSource::clipFile(int clip) const {

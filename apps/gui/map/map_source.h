@@ -73,6 +73,14 @@ class MapSource : public QObject {
     const std::vector<int>* frameOf = nullptr;
   };
   virtual Samples samples() const = 0;
+  /// A sample near map point `point`: its row and its map distance.
+  struct Near {
+    int sample = -1;
+    double distance = 0.0;
+  };
+  /// The `k` samples nearest `point`, nearest first: a scan of samples() (a saved map: its k-d
+  /// tree).
+  virtual std::vector<Near> nearestSamples(const Eigen::Vector2d& point, int k) const;
   /// The file a clip list names clip `clip` by (a saved map's relative paths resolved as it
   /// resolves them); its path as recorded by default.
   virtual QString clipFile(int clip) const { return clipPaths().value(clip); }
@@ -174,6 +182,7 @@ class SavedMapSource : public MapSource {
   Eigen::MatrixXd clipPoints(int clip) const override;
   Samples samples() const override;
   QString clipFile(int clip) const override;
+  std::vector<Near> nearestSamples(const Eigen::Vector2d& point, int k) const override;
 
  private:
   QString m_path;

@@ -56,9 +56,13 @@ TEST(StudioExplore, LegendNamesAreNumberedAndLoseOnlyTheCommonPrefix) {
             QStringList({"clip 1: 64_08.bvh", "clip 2: 64_09.bvh", "clip 3: 02_03.amc"}));
   // Cut at a separator, never inside a word nor the whole name.
   EXPECT_EQ(legendNames({"run01.bvh", "run02.bvh"}),
-            QStringList({"clip 1: run01", "clip 2: run02"}));
-  EXPECT_EQ(legendNames({"a_b", "a_b_c"}), QStringList({"clip 1: …b", "clip 2: …b_c"}));
-  EXPECT_EQ(legendNames({"x_1", "x_1"}), QStringList({"clip 1: x_1", "clip 2: x_1"}));
+            QStringList({"clip 1: run01.bvh", "clip 2: run02.bvh"}));
+  EXPECT_EQ(legendNames({"aaaa_bbbb_x", "aaaa_bbbb_x_c"}),
+            QStringList({"clip 1: …x", "clip 2: …x_c"}));
+  EXPECT_EQ(legendNames({"same_name_here_1", "same_name_here_1"}),
+            QStringList({"clip 1: same_name_here_1", "clip 2: same_name_here_1"}));
+  // Short names fit whole: only numbered.
+  EXPECT_EQ(legendNames({"a_b", "a_c"}), QStringList({"clip 1: a_b", "clip 2: a_c"}));
   EXPECT_EQ(legendNames({"only.bvh"}), QStringList({"only.bvh"}));
 }
 

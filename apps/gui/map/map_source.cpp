@@ -15,6 +15,15 @@
 
 namespace motionmap::studio {
 
+namespace {
+QStringList numbered(const QStringList& names) {
+  QStringList out;
+  for (qsizetype c = 0; c < names.size(); ++c)
+    out << QObject::tr("clip %1: %2").arg(c + 1).arg(names[c]);
+  return out;
+}
+}  // namespace
+
 QStringList legendNames(const QStringList& names) {
   if (names.size() < 2) return names;
   qsizetype common = names.front().size();
@@ -35,6 +44,10 @@ QStringList legendNames(const QStringList& names) {
     allSame = allSame && name == names.front();
   }
   if (allSame) common = 0;  // nothing tells them apart but their numbers
+  // Short names fit whole: "64_08.bvh" stays (kLegendShortName).
+  qsizetype longest = 0;
+  for (const QString& name : names) longest = std::max(longest, name.size());
+  if (longest <= kLegendShortName) return numbered(names);
   // A file extension all share (".bvh") tells nothing either.
   qsizetype extension = 0;
   const qsizetype dot = names.front().lastIndexOf(QLatin1Char('.'));

@@ -97,9 +97,11 @@ class MapSource : public QObject {
 /// The legend's names of clips named `names` (file names): "clip 2: …" numbered from 1 as hover
 /// numbers them, each without the prefix all share (cut at a separator: `_`, `-`, `.`, space,
 /// `/` or `:`), so the part that tells them apart shows, marked by "…", and without an extension
-/// all share: walk_happy_01.bvh and walk_happy_02.bvh give "clip 1: …01" and "clip 2: …02". One
-/// name: unchanged.
+/// all share: walk_happy_01.bvh and walk_happy_02.bvh give "clip 1: …happy_01" and
+/// "clip 2: …happy_02". One name: unchanged.
+/// Names up to kLegendShortName characters are only numbered (they fit whole).
 QStringList legendNames(const QStringList& names);
+inline constexpr qsizetype kLegendShortName = 12;
 
 /// The clips of `maps` and the map it shows.
 class ComputedMapSource : public MapSource {

@@ -20,6 +20,12 @@
 //    and parse of one clip file), the wait before the jump.
 //  - SavedMapDrag: one mouse move of a drag (k-nearest lookup, the samples' clips asked for when
 //    not cached, the blend when they are) and both views drawn; "loads" counts clips loaded.
+// Zoom and pan on 10⁶ points (no file needed: clustered random points in a 640 × 640 map view, a
+// 6 000-frame clip's trajectory over them):
+//  - ZoomFrame1M: one wheel notch (in, then out, alternately) around a point and the view drawn:
+//    the density image binned again at the zoomed view (so it stays sharp), the trajectory
+//    repainted (a smooth 6 000-frame loop through the blobs), the frame; must stay under 16 ms.
+//    PanFrame1M: one move of a pan drag, the same.
 // Data (argument 0/1): CMU 64_08 (365 frames), and a 10 000-frame concatenation of 64_08 and
 // 64_09 (same subject, same skeleton) as one clip; the built-in swing sample stands in (said on
 // stderr) when ../shared/data is absent. Maps are PCA (the drawing costs do not depend on the
@@ -32,6 +38,8 @@
 #include <QPainter>
 #include <QStandardPaths>
 #include <QThread>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -342,6 +350,74 @@ void SavedMapDensity(benchmark::State& state) {
                  std::to_string(w.savedMap()->file().num_samples()) + " points");
 }
 
+/// A map view of 10⁶ clustered points (seven blobs, as a library's actions) with a 6 000-frame
+/// trajectory over them, drawn once.
+MapView& millionView() {
+  static std::unique_ptr<MapView> view;
+  if (!view) {
+    constexpr int kPoints = 1000000;
+    auto xy = std::make_shared<Eigen::MatrixXd>(kPoints, 2);
+    std::uint64_t state = 12345;
+    auto uniform = [&state] {  // splitmix-style: reproducible, no <random> distributions
+      state += 0x9E3779B97F4A7C15ull;
+      std::uint64_t z = state;
+      z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+      z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+      return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+    };
+    for (int i = 0; i < kPoints; ++i) {
+      const int c = i % 7;
+      const double r = std::sqrt(-2.0 * std::log(uniform() + 1e-12)), a = 6.283185 * uniform();
+      (*xy)(i, 0) = 3.0 * std::cos(0.9 * c) + 0.4 * r * std::cos(a);
+      (*xy)(i, 1) = 2.0 * std::sin(1.7 * c) + 0.25 * r * std::sin(a);
+    }
+    view = std::make_unique<MapView>();
+    view->resize(640, 640);
+    render::MapPlotOptions options;
+    options.title = "10^6 points";
+    // A clip's trajectory: a smooth loop through three of the blobs, 6 000 frames.
+    Eigen::MatrixXd clip(6000, 2);
+    for (int i = 0; i < 6000; ++i) {
+      const double t = 6.283185 * i / 6000.0;
+      clip.row(i) << 3.0 * std::cos(t) + 0.3 * std::sin(7 * t),
+          2.0 * std::sin(2 * t) + 0.2 * std::cos(5 * t);
+    }
+    view->setDensityMap(xy, clip, options);
+  }
+  return *view;
+}
+
+void ZoomFrame1M(benchmark::State& state) {
+  MapView& view = millionView();
+  view.resetView();
+  QImage image = canvas(&view);
+  view.render(&image);
+  const QPointF at = view.plotRect().center() + QPointF(40, -30);
+  view.zoomAt(at, 8.0);  // start well inside, then one notch in and out
+  int k = 0;
+  for (auto _ : state) {
+    view.zoomAt(at, (k++ % 2) ? 1.0 / 1.25 : 1.25);
+    view.render(&image);
+    benchmark::DoNotOptimize(image.constBits());
+  }
+  state.SetLabel("640x640 px, 10^6 points, zoom ~8-10x");
+}
+
+void PanFrame1M(benchmark::State& state) {
+  MapView& view = millionView();
+  view.resetView();
+  QImage image = canvas(&view);
+  view.zoomAt(view.plotRect().center(), 4.0);
+  view.render(&image);
+  int k = 0;
+  for (auto _ : state) {
+    view.panBy((k++ % 2) ? QPointF(-7, 5) : QPointF(7, -5));
+    view.render(&image);
+    benchmark::DoNotOptimize(image.constBits());
+  }
+  state.SetLabel("640x640 px, 10^6 points, zoom 4x");
+}
+
 /// `count` pixels of samples spread over the map (every n/count-th row), a pixel off.
 std::vector<QPointF> samplePixels(MainWindow& w, int count) {
   const mapfile::MapFile& file = w.savedMap()->file();
@@ -477,6 +553,8 @@ BENCHMARK(SavedMapClickLoad)->Iterations(32)->Unit(benchmark::kMicrosecond);
 BENCHMARK(SavedMapClipLoad)->Iterations(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(SavedMapDrag)->Unit(benchmark::kMicrosecond);
 
+BENCHMARK(ZoomFrame1M)->Unit(benchmark::kMillisecond);
+BENCHMARK(PanFrame1M)->Unit(benchmark::kMillisecond);
 BENCHMARK(MapViewFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(MapViewFullRepaint)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(DragUpdateLogic)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);

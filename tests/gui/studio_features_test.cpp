@@ -573,7 +573,8 @@ TEST(StudioMap, ClipsOfTheSameSkeletonShareOneMap) {
   const MapResult* map = w->currentMap();
   ASSERT_NE(map, nullptr) << w->lastError().toStdString();
   // Coloured by clip, the clips named in the legend.
-  EXPECT_EQ(w->mapView()->plotOptions().clip_names, QStringList({"sample:swing", "walk.bvh"}));
+  EXPECT_EQ(w->mapView()->plotOptions().clip_names,
+            QStringList({"clip 1: sample:swing", "clip 2: walk.bvh"}));
   // One map of both clips, each its own trajectory.
   EXPECT_EQ(map->map.features->segment_starts, (std::vector<int>{0, 240}));
   EXPECT_EQ(map->map.features->num_samples(), 240 + 120);

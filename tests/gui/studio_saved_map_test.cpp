@@ -6,13 +6,16 @@
 // temporary folder from the real clips in ../shared/data.
 #include <unistd.h>
 
+#include <QAction>
 #include <QImage>
+#include <QLabel>
 #include <QTest>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
 
+#include "common/parameters.h"
 #include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/saved_map.h"
@@ -305,6 +308,75 @@ TEST_F(SavedMapFixture, OpeningAClipLeavesTheSavedMap) {
   EXPECT_FALSE(m_window->mapView()->hasDensity());
   EXPECT_TRUE(
       QTest::qWaitFor([&] { return m_window->currentMap() != nullptr; }, testing::kTimeoutMs));
+}
+
+// The Motion menu checks the saved map's own method (MDS here), whatever the last computed map's
+// was; choosing another method offers "Recompute from clips…" (non-interactive: the refusal is
+// shown), and recomputing maps the saved map's clips here with the method chosen.
+TEST_F(SavedMapFixture, TheMotionMenuShowsTheSavedMethodAndOffersToRecomputeFromClips) {
+  m_window->setMethod(embed::Method::Pca);
+  m_window->openClip(testing::swing());
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return m_window->currentMap() != nullptr; }, testing::kTimeoutMs));
+  auto checked = [&] {
+    for (QAction* a : m_window->findChildren<QAction*>())
+      if (a->isCheckable() && a->isChecked() && a->actionGroup() && a->data().isValid() &&
+          a->text() == methodLabel(embed::Method(a->data().toInt())))
+        return embed::Method(a->data().toInt());
+    return embed::Method::Isomap;
+  };
+  EXPECT_EQ(checked(), embed::Method::Pca);
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  EXPECT_EQ(checked(), embed::Method::Mds);
+  m_window->setMethod(embed::Method::LaplacianEigenmap);
+  EXPECT_EQ(checked(), embed::Method::Mds);  // refused: the saved map stays as it was made
+  EXPECT_TRUE(m_window->lastError().contains("shown as it was made"))
+      << m_window->lastError().toStdString();
+  // Recompute from clips: both clips mapped here with PCA.
+  ASSERT_TRUE(m_window->recomputeFromClips(embed::Method::Pca))
+      << m_window->lastError().toStdString();
+  EXPECT_EQ(m_window->savedMap(), nullptr);
+  EXPECT_EQ(m_window->clipCount(), 2);
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return m_window->currentMap() != nullptr; }, testing::kTimeoutMs));
+  EXPECT_EQ(m_window->currentMap()->map.features->num_samples(), int(m_coords.rows()));
+  EXPECT_EQ(checked(), embed::Method::Pca);
+  EXPECT_EQ(m_window->currentMap()->options.embed.method, embed::Method::Pca);
+}
+
+TEST_F(SavedMapFixture, RecomputingRefusesAClipChangedSinceTheMapWasMade) {
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  {
+    std::ofstream append(m_dir / "64_09.bvh", std::ios::app);
+    append << "\n";
+  }
+  EXPECT_FALSE(m_window->recomputeFromClips(embed::Method::Pca));
+  EXPECT_TRUE(m_window->lastError().contains("64_09")) << m_window->lastError().toStdString();
+  EXPECT_NE(m_window->savedMap(), nullptr);  // the saved map stays
+}
+
+// The map coordinates under the mouse are in the status bar, with the digits the zoom needs.
+TEST_F(SavedMapFixture, TheStatusBarShowsTheMapCoordinatesUnderTheMouse) {
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  MapView* view = m_window->mapView();
+  QLabel* label = nullptr;
+  for (QLabel* l : m_window->findChildren<QLabel*>())
+    if (l->toolTip().contains("map coordinates under the mouse")) label = l;
+  ASSERT_NE(label, nullptr);
+  const QPoint at = pixelOf(40);
+  QTest::mouseMove(view, at);
+  const Eigen::Vector2d p = view->toMap(QPointF(at));
+  const QStringList parts = label->text().split(' ', Qt::SkipEmptyParts);
+  ASSERT_EQ(parts.size(), 5) << label->text().toStdString();  // map x X y Y
+  const double pixel = view->viewExtent().width() / view->plotRect().width();
+  EXPECT_NEAR(parts[2].toDouble(), p.x(), pixel);
+  EXPECT_NEAR(parts[4].toDouble(), p.y(), pixel);
+  const int digits = int(parts[2].size() - parts[2].indexOf('.') - 1);
+  view->zoomAt(QPointF(at), 100.0);
+  QTest::mouseMove(view, at + QPoint(1, 0));
+  const QStringList zoomed = label->text().split(' ', Qt::SkipEmptyParts);
+  ASSERT_EQ(zoomed.size(), 5);
+  EXPECT_EQ(int(zoomed[2].size() - zoomed[2].indexOf('.') - 1), digits + 2);
 }
 
 }  // namespace

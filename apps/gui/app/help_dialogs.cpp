@@ -115,6 +115,16 @@ std::vector<ShortcutRow> gestureRows() {
                    "dragging a key moves it"),
        map},
       {QObject::tr("Wheel (magnifier on)"), QObject::tr("Changes the magnifier's power"), map},
+      {QObject::tr("Wheel"), QObject::tr("Zooms around the mouse (magnifier off)"), map},
+      {QObject::tr("Middle drag, or Space+drag"),
+       QObject::tr("Pans the map (Space pressed and released alone still plays / pauses)"), map},
+      {QObject::tr("Right drag / Shift+right drag"),
+       QObject::tr("Selects the frames in a box / a lasso: listed per clip in the Selection "
+                   "panel, to play one after another or export (a clip list, CSV); a right click "
+                   "clears it"),
+       map},
+      {QObject::tr("Double-click, or Home (map focused and zoomed)"),
+       QObject::tr("Shows the whole map again (also View → Whole map, Ctrl+0)"), map},
       {QObject::tr("Left drag"), QObject::tr("Orbits the camera"), view3d},
       {QObject::tr("Drag a joint"),
        QObject::tr("Poses the body from the map so that the joint follows the mouse (a map "

@@ -23,6 +23,11 @@
 #include "app/job_progress.h"
 #include "app/menus.h"
 #include "app/parameter_dialogs.h"
+#include "explore/clip_search.h"
+#include "explore/map_coordinates.h"
+#include "explore/nearest_panel.h"
+#include "explore/saved_clips.h"
+#include "explore/selection_panel.h"
 #include "map/joint_drag.h"
 #include "map/map_gestures.h"
 #include "map/map_source.h"
@@ -74,6 +79,22 @@ void MainWindow::buildUi() {
   m_takesPanel = new TakesPanel(m_takes);
   addDockWidget(Qt::RightDockWidgetArea, m_takesPanel);
   resizeDocks({m_takesPanel}, {200}, Qt::Horizontal);  // room for its buttons, the rest the views
+  // Box and lasso selections of the map's frames, listed, played and exported (a dock, shown with
+  // the first selection).
+  auto* selection = new SelectionPanel(
+      m_mapView, &m_playback, [this] { return m_source; },
+      [this](int clip, int frame) { setCurrentClip(clip, frame); });
+  addDockWidget(Qt::RightDockWidgetArea, selection);
+  selection->hide();
+  connect(selection, &SelectionPanel::message, this, [this](const QString& text) {
+    if (m_status) m_status->setText(text);
+  });
+  connect(selection, &SelectionPanel::failed, this, &MainWindow::showError);
+  auto* nearest = new NearestPanel(
+      m_mapView, [this] { return m_source; },
+      [this](int clip, int frame) { setCurrentClip(clip, frame); });
+  addDockWidget(Qt::RightDockWidgetArea, nearest);
+  nearest->hide();
   m_exports = new ExportController(this, m_skeletonView, m_mapView, &m_playback, m_takes, &m_maps,
                                    [this] { return playingMotion(); });
 
@@ -94,11 +115,15 @@ void MainWindow::buildUi() {
   m_keys = new KeysController(
       &m_maps, m_mapView, m_takes, &m_synthesis, [this] { return synthParameters(); }, this);
   connect(m_mapView, &MapView::keyClicked, this, &MainWindow::placeKey);
+  // Space over the map is held back for Space+drag panning: a tap still plays / pauses.
+  connect(m_mapView, &MapView::spaceTapped, this, [this] { isPlaying() ? pause() : play(); });
   connect(m_keys, &KeysController::failed, this, &MainWindow::showError);
   connect(m_keys, &KeysController::started, this, [this] {
     m_synthProgress->start();
     updateStatus();
   });
+  connect(ClipSearch::addTo(this, m_mapView, [this] { return m_source; }),
+          &ClipSearch::clipRequested, this, &MainWindow::setCurrentClip);
   connect(m_takes, &TakesController::changed, this, &MainWindow::updateTakePaths);
   connect(&m_takes->list(), &TakeList::currentMotionChanged, this, &MainWindow::playCurrentTake);
   connect(m_takesPanel, &TakesPanel::exportRequested, this, &MainWindow::exportTake);
@@ -136,6 +161,8 @@ void MainWindow::buildMenus() {
     if (m_playingSynth) setCurrentClip(currentClip(), 0);
   });
   QMenu* view = addViewMenu(this, m_skeletonView, m_mapView);
+  view->addAction(findChild<SelectionPanel*>()->toggleViewAction());
+  view->addAction(findChild<NearestPanel*>()->toggleViewAction());
   addCameraMenu(view, m_skeletonView);
   addJointsPanel(this, m_skeletonView, view);
   new PlaybackActions(this, &m_playback);  // Space, arrows, Home/End, I/O: window shortcuts
@@ -145,6 +172,7 @@ void MainWindow::buildMenus() {
 void MainWindow::buildStatusBar() {
   m_status = new QLabel(tr("No clip"));
   statusBar()->addWidget(m_status, 1);
+  statusBar()->addPermanentWidget(new MapCoordinates(m_mapView));
   m_mapProgress = new JobProgress(statusBar(), tr("Cancel"));
   connect(m_mapProgress, &JobProgress::cancelClicked, this, &MainWindow::cancelComputation);
   m_synthProgress = new JobProgress(statusBar(), tr("Cancel synthesis"), tr("Synthesizing %p%"));
@@ -171,8 +199,13 @@ void MainWindow::connectControllers() {
     showMap();
     emit mapReady(method);
   });
-  connect(m_choice, &MapChoice::refused, this, [this] {
+  connect(m_choice, &MapChoice::refused, this, [this](embed::Method wanted) {
     if (const auto shown = m_source->shownMethod()) m_motionMenu->setMethod(*shown);
+    // A saved map cannot change: offer to map its clips again instead.
+    if (m_saved && m_interactive && askRecompute(this, *m_saved->map(), methodLabel(wanted))) {
+      recomputeFromClips(wanted);
+      return;
+    }
     showError(m_source->refusal(MapSource::Change::Recompute));
   });
   connect(m_choice, &MapChoice::synthChanged, this,
@@ -205,6 +238,8 @@ void MainWindow::useSource(MapSource* source) {
   if (m_source) disconnect(m_source, nullptr, this, nullptr);
   m_source = source;
   m_choice->setRecomputable(source->refusal(MapSource::Change::Recompute).isEmpty());
+  // The Motion menu checks the method of the map shown (a saved map's own).
+  m_motionMenu->setMethod(source->shownMethod().value_or(method()));
   connect(source, &MapSource::clipReady, this, &MainWindow::setCurrentClip);
   connect(source, &MapSource::failed, this, &MainWindow::showError);
   connect(source, &MapSource::busy, this, [this](const QString& text) { m_status->setText(text); });
@@ -229,6 +264,26 @@ bool MainWindow::openMapFile(const QString& path) {
     setWindowTitle(tr("MotionMap Studio — %1").arg(saved->title()));
     setCurrentClip(0, saved->firstFrame());
   });
+}
+
+bool MainWindow::recomputeFromClips(embed::Method method) {
+  if (!m_saved || !confirmDiscard()) return false;
+  std::optional<std::vector<Clip>> clips;
+  if (!attempt([&] { clips = loadSavedClips(*m_saved->map(), m_interactive ? this : nullptr); }) ||
+      !clips) {
+    return false;  // a clip missing or changed (shown), or cancelled
+  }
+  closeSavedMap();
+  dropSynthesizedMotion();
+  if (const QString why = m_computed->openAll(std::move(*clips)); !why.isEmpty()) {
+    showError(why);
+    return false;
+  }
+  setWindowTitle(tr("MotionMap Studio — %1").arg(m_computed->title()));
+  setCurrentClip(0, 0);
+  m_mapView->clearMap(tr("Computing the map…"));
+  setMethod(method);
+  return true;
 }
 
 void MainWindow::closeSavedMap() {

@@ -67,6 +67,12 @@ class MainWindow : public QMainWindow {
   /// methods and sketching need clips mapped here (open clips for that). False (error shown) for
   /// a file read_map_file refuses or whose first clip cannot be loaded.
   bool openMapFile(const QString& path);
+  /// "Recompute from clips…": the saved map's clips loaded (checked against the map file, with a
+  /// progress dialog when interactive) and mapped here with `method` and the current parameters,
+  /// as if opened together; the Motion menu then works as on any computed map. Offered when a
+  /// method or parameters are chosen on a saved map. False (error shown) when a clip cannot be
+  /// loaded, on Cancel, or without a saved map.
+  bool recomputeFromClips(embed::Method method);
   /// The saved map shown (nullptr when the map is one computed here).
   const mapfile::SavedMap* savedMap() const;
   /// A saved map's clip is being loaded (on a worker thread) for a click or a drag.

@@ -99,6 +99,12 @@ QMenu* addViewMenu(QMainWindow* window, SkeletonView* skeleton, MapView* map) {
                                    "frame: a drag there blends frames close to it. The same "
                                    "meaning at any frame rate; a key in the plot says so"));
   QObject::connect(shading, &QAction::toggled, map, &MapView::setShadingVisible);
+  QAction* whole = view->addAction(QMainWindow::tr("Whole &map (reset zoom)"));
+  explain(whole, QMainWindow::tr("Shows the whole map again after zooming (wheel) or panning "
+                                 "(middle drag, Space+drag); also Home on the map, or a "
+                                 "double-click"));
+  whole->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_0));
+  QObject::connect(whole, &QAction::triggered, map, &MapView::resetView);
   view->addSeparator();
   QAction* full = view->addAction(QMainWindow::tr("F&ull screen"));
   full->setCheckable(true);

@@ -34,7 +34,7 @@ MapChoice::MapChoice(MapController* maps, TakesController* takes, QObject* paren
 }
 
 void MapChoice::setMethod(embed::Method method) {
-  if (!m_recomputable) return emit refused();
+  if (!m_recomputable) return emit refused(method);
   const MapState before = state();
   m_method = method;
   emit methodChanged(method);

@@ -47,8 +47,8 @@ class MapChoice : public QObject {
   void methodChanged(motionmap::embed::Method method);
   /// The map asked for came from the cache: it is the controller's current map now.
   void cachedMapReady(motionmap::embed::Method method);
-  /// setMethod on a map that cannot be recomputed.
-  void refused();
+  /// setMethod (or new parameters) on a map that cannot be recomputed: `method` was asked for.
+  void refused(motionmap::embed::Method method);
   /// The synthesis parameters changed (a saved map's drags blend their K).
   void synthChanged();
   /// The library's message for a value it rejects.

@@ -1,5 +1,8 @@
 #include "map/map_source.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <QFileInfo>
 
 #include "common/parameters.h"
@@ -11,6 +14,77 @@
 #include "scene/skeleton_view.h"
 
 namespace motionmap::studio {
+
+namespace {
+QStringList numbered(const QStringList& names) {
+  QStringList out;
+  for (qsizetype c = 0; c < names.size(); ++c)
+    out << QObject::tr("clip %1: %2").arg(c + 1).arg(names[c]);
+  return out;
+}
+}  // namespace
+
+QStringList legendNames(const QStringList& names) {
+  if (names.size() < 2) return names;
+  qsizetype common = names.front().size();
+  for (const QString& name : names) {
+    qsizetype i = 0;
+    while (i < common && i < name.size() && name[i] == names.front()[i]) ++i;
+    common = i;
+  }
+  // Back to just after a separator, and never the whole of a name.
+  auto separator = [](QChar c) {
+    return c == QLatin1Char('_') || c == QLatin1Char('-') || c == QLatin1Char('.') ||
+           c == QLatin1Char(' ') || c == QLatin1Char('/') || c == QLatin1Char(':');
+  };
+  while (common > 0 && !separator(names.front()[common - 1])) --common;
+  bool allSame = true;
+  for (const QString& name : names) {
+    if (name.size() <= common) common = 0;
+    allSame = allSame && name == names.front();
+  }
+  if (allSame) common = 0;  // nothing tells them apart but their numbers
+  // Short names fit whole: "64_08.bvh" stays (kLegendShortName).
+  qsizetype longest = 0;
+  for (const QString& name : names) longest = std::max(longest, name.size());
+  if (longest <= kLegendShortName) return numbered(names);
+  // A file extension all share (".bvh") tells nothing either.
+  qsizetype extension = 0;
+  const qsizetype dot = names.front().lastIndexOf(QLatin1Char('.'));
+  if (dot > common && !allSame) {
+    const QString ext = names.front().mid(dot);
+    extension = ext.size();
+    for (const QString& name : names)
+      if (!name.endsWith(ext) || name.size() - ext.size() <= common) extension = 0;
+  }
+  QStringList out;
+  for (qsizetype c = 0; c < names.size(); ++c) {
+    const QString rest = names[c].mid(common, names[c].size() - common - extension);
+    out << QObject::tr("clip %1: %2")
+               .arg(c + 1)
+               .arg(common > 0 ? QStringLiteral("…") + rest : rest);
+  }
+  return out;
+}
+
+std::vector<MapSource::Near> MapSource::nearestSamples(const Eigen::Vector2d& point, int k) const {
+  std::vector<Near> all;
+  const Samples s = samples();
+  if (!s.points || k < 1 || !point.allFinite()) return all;
+  const Eigen::MatrixXd& xy = *s.points;
+  all.reserve(std::size_t(xy.rows()));
+  for (Eigen::Index i = 0; i < xy.rows(); ++i) {
+    const double d = std::hypot(xy(i, 0) - point.x(), xy(i, 1) - point.y());
+    if (std::isfinite(d)) all.push_back({int(i), d});
+  }
+  const std::size_t keep = std::min(all.size(), std::size_t(k));
+  std::partial_sort(
+      all.begin(), all.begin() + std::ptrdiff_t(keep), all.end(), [](const Near& a, const Near& b) {
+        return a.distance != b.distance ? a.distance < b.distance : a.sample < b.sample;
+      });
+  all.resize(keep);
+  return all;
+}
 
 // ---- ComputedMapSource ----
 
@@ -29,6 +103,21 @@ void ComputedMapSource::open(Clip clip) {
   m_skeletonView->setSkeleton(this->clip()->skeleton);
 }
 
+QString ComputedMapSource::openAll(std::vector<Clip> clips) {
+  if (clips.empty()) return tr("No clips to map");
+  for (const Clip& clip : clips) {
+    if (!clip.skeleton.same_hierarchy(clips.front().skeleton)) {
+      return tr("%1 has another skeleton than %2 (joint names or parents differ): they cannot "
+                "share a map")
+          .arg(QString::fromStdString(clip.path), QString::fromStdString(clips.front().path));
+    }
+  }
+  m_maps->setClips(std::make_shared<std::vector<Clip>>(std::move(clips)));
+  m_clipIndex = 0;
+  m_skeletonView->setSkeleton(clip()->skeleton);
+  return {};
+}
+
 QString ComputedMapSource::add(Clip clip) {
   const auto& open = m_maps->clips();
   if (!open) return tr("Open a clip first: added clips join its map");
@@ -41,6 +130,32 @@ QString ComputedMapSource::add(Clip clip) {
   clips->push_back(std::move(clip));
   m_maps->setClips(std::move(clips));
   return {};
+}
+
+QStringList ComputedMapSource::clipPaths() const {
+  QStringList paths;
+  if (m_maps->clips())
+    for (const Clip& clip : *m_maps->clips()) paths << QString::fromStdString(clip.path);
+  return paths;
+}
+
+Eigen::MatrixXd ComputedMapSource::clipPoints(int clip) const {
+  const std::shared_ptr<const MapResult> map = m_maps->current();
+  if (!map || clip < 0 || clip >= clipCount()) return Eigen::MatrixXd(0, 2);
+  const std::vector<int>& starts = map->map.features->segment_starts;
+  const Eigen::MatrixXd& xy = map->map.embedding.coordinates;
+  if (std::size_t(clip) >= starts.size()) return Eigen::MatrixXd(0, 2);
+  const int begin = starts[std::size_t(clip)];
+  const int end =
+      std::size_t(clip) + 1 < starts.size() ? starts[std::size_t(clip) + 1] : int(xy.rows());
+  return xy.block(begin, 0, end - begin, 2);
+}
+
+MapSource::Samples ComputedMapSource::samples() const {
+  const std::shared_ptr<const MapResult> map = m_maps->current();
+  if (!map || !map->map.features) return {};
+  return {&map->map.embedding.coordinates, &map->map.features->clip_of,
+          &map->map.features->frame_of};
 }
 
 QString ComputedMapSource::title() const {
@@ -64,8 +179,15 @@ void ComputedMapSource::showComputing(embed::Method method) {
 bool ComputedMapSource::show() {
   const std::shared_ptr<const MapResult> map = m_maps->current();
   if (!map) return false;
-  m_mapView->setMap(map->map.embedding.coordinates, map->map.features->segment_starts,
-                    mapPlotOptions(*map, *m_maps->clips()));
+  render::MapPlotOptions options = mapPlotOptions(*map, *m_maps->clips());
+  if (!options.clip_names.isEmpty()) {
+    // Several clips: numbered as hover numbers them, told apart by their ends, each running light
+    // → dark in its colour so its time direction shows.
+    options.clip_names = legendNames(options.clip_names);
+    options.clip_time_ramp = true;
+    options.legend_elide_right = true;  // "clip 2: …" stays whole, the name's end is cut
+  }
+  m_mapView->setMap(map->map.embedding.coordinates, map->map.features->segment_starts, options);
   m_mapView->setShadingReach(map->blender ? map->blender->reach_distance() : 0.0);
   return true;
 }
@@ -242,6 +364,38 @@ QStringList SavedMapSource::statusParts() const {
 
 std::optional<embed::Method> SavedMapSource::shownMethod() const {
   return m_map->file().options.embed.method;
+}
+
+QStringList SavedMapSource::clipPaths() const {
+  QStringList paths;
+  for (const mapfile::ClipRecord& record : m_map->file().clips)
+    paths << QString::fromStdString(record.path);
+  return paths;
+}
+
+Eigen::MatrixXd SavedMapSource::clipPoints(int clip) const {
+  const mapfile::MapFile& file = m_map->file();
+  if (clip < 0 || clip >= clipCount()) return Eigen::MatrixXd(0, 2);
+  const mapfile::ClipRecord& record = file.clips[std::size_t(clip)];
+  return file.coordinates.block(record.first_sample, 0, record.samples, 2);
+}
+
+MapSource::Samples SavedMapSource::samples() const {
+  const mapfile::MapFile& file = m_map->file();
+  return {&file.coordinates, &file.clip_of, &file.frame_of};
+}
+
+std::vector<MapSource::Near> SavedMapSource::nearestSamples(const Eigen::Vector2d& point,
+                                                            int k) const {
+  std::vector<Near> out;
+  for (const mapfile::Neighbor& n : m_map->index().nearest(point, k))
+    out.push_back({n.sample, n.distance});
+  return out;
+}
+
+QString SavedMapSource::clipFile(int clip) const {
+  if (clip < 0 || clip >= clipCount()) return {};
+  return QString::fromStdString(m_map->resolve_path(clip));
 }
 
 QString SavedMapSource::refusal(Change change) const {

@@ -60,6 +60,30 @@ class MapSource : public QObject {
   virtual std::optional<embed::Method> shownMethod() const = 0;
   /// Why `change` cannot be made on this map (empty: it can).
   virtual QString refusal(Change /*change*/) const { return {}; }
+  /// The clips' file paths, in the map's order (clip i is "clip i + 1" in hover texts).
+  virtual QStringList clipPaths() const = 0;
+  /// The map points of clip `clip`'s samples (#samples by 2; empty out of range or without a
+  /// map).
+  virtual Eigen::MatrixXd clipPoints(int clip) const = 0;
+  /// The map's samples: points (#samples by ≥ 2), each one's clip and frame; null members without
+  /// a map. Valid until the map shown changes.
+  struct Samples {
+    const Eigen::MatrixXd* points = nullptr;
+    const std::vector<int>* clipOf = nullptr;
+    const std::vector<int>* frameOf = nullptr;
+  };
+  virtual Samples samples() const = 0;
+  /// A sample near map point `point`: its row and its map distance.
+  struct Near {
+    int sample = -1;
+    double distance = 0.0;
+  };
+  /// The `k` samples nearest `point`, nearest first: a scan of samples() (a saved map: its k-d
+  /// tree).
+  virtual std::vector<Near> nearestSamples(const Eigen::Vector2d& point, int k) const;
+  /// The file a clip list names clip `clip` by (a saved map's relative paths resolved as it
+  /// resolves them); its path as recorded by default.
+  virtual QString clipFile(int clip) const { return clipPaths().value(clip); }
 
  signals:
   /// A clip selectClip had to load has arrived: the window shows it from `frame`.
@@ -69,6 +93,15 @@ class MapSource : public QObject {
   /// A line for the status bar while a clip loads.
   void busy(const QString& text);
 };
+
+/// The legend's names of clips named `names` (file names): "clip 2: …" numbered from 1 as hover
+/// numbers them, each without the prefix all share (cut at a separator: `_`, `-`, `.`, space,
+/// `/` or `:`), so the part that tells them apart shows, marked by "…", and without an extension
+/// all share: walk_happy_01.bvh and walk_happy_02.bvh give "clip 1: …happy_01" and
+/// "clip 2: …happy_02". One name: unchanged.
+/// Names up to kLegendShortName characters are only numbered (they fit whole).
+QStringList legendNames(const QStringList& names);
+inline constexpr qsizetype kLegendShortName = 12;
 
 /// The clips of `maps` and the map it shows.
 class ComputedMapSource : public MapSource {
@@ -81,6 +114,9 @@ class ComputedMapSource : public MapSource {
   /// `clip` alone is mapped (the map asked for by the caller); it plays, its skeleton shown with
   /// the camera framing it.
   void open(Clip clip);
+  /// `clips` (at least one, all of the first's skeleton) are mapped together, the first playing.
+  /// The reason when they cannot (none, another skeleton: nothing changes), else empty.
+  QString openAll(std::vector<Clip> clips);
   /// `clip` joins the clips (a new set: the worker may still read the old one, so it is copied,
   /// never changed in place). The reason when it cannot (no clip open, another skeleton), else
   /// empty.
@@ -99,6 +135,9 @@ class ComputedMapSource : public MapSource {
   std::optional<Eigen::Vector2d> framePoint(int frame) const override;
   QStringList statusParts() const override;
   std::optional<embed::Method> shownMethod() const override;
+  QStringList clipPaths() const override;
+  Eigen::MatrixXd clipPoints(int clip) const override;
+  Samples samples() const override;
 
  private:
   MapController* m_maps;
@@ -141,6 +180,11 @@ class SavedMapSource : public MapSource {
   QStringList statusParts() const override;
   std::optional<embed::Method> shownMethod() const override;
   QString refusal(Change change) const override;
+  QStringList clipPaths() const override;
+  Eigen::MatrixXd clipPoints(int clip) const override;
+  Samples samples() const override;
+  QString clipFile(int clip) const override;
+  std::vector<Near> nearestSamples(const Eigen::Vector2d& point, int k) const override;
 
  private:
   QString m_path;

@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <QAbstractSpinBox>
+#include <QApplication>
+#include <QCursor>
 #include <QHelpEvent>
+#include <QKeyEvent>
+#include <QLineEdit>
 #include <QMouseEvent>
 #include <QPainter>
 #include <QPainterPath>
@@ -21,6 +26,9 @@ MapView::MapView(QWidget* parent) : QWidget(parent) {
   setMouseTracking(true);
   setMinimumSize(200, 200);
   m_hint = tr("Open a clip (File → Open, or drop a .bvh/.amc here)");
+  setFocusPolicy(Qt::ClickFocus);  // Home resets a zoomed view while the map has the focus
+  setContextMenuPolicy(Qt::PreventContextMenu);  // the right button selects
+  qApp->installEventFilter(this);  // Space + drag pans: Space is held back from the window
 }
 
 void MapView::invalidate() {
@@ -48,8 +56,14 @@ void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
   if (x0 <= x1) m_options.extent = QRectF(QPointF(x0, y0), QPointF(x1, y1));
   m_segmentStarts.clear();
   m_coords = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
+  m_zoom = 1.0;
+  m_viewCenter.reset();
+  m_highlight.resize(0, 2);
+  m_selection.resize(0, 2);
+  m_selectionOutline.clear();
   invalidate();
   update();
+  emit mapReplaced();
 }
 
 void MapView::setTrajectory(const Eigen::MatrixXd& trajectory) {
@@ -84,8 +98,14 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_segmentStarts = segmentStarts;
   m_options = options;
   m_busyText.clear();
+  m_zoom = 1.0;  // another map: shown whole
+  m_viewCenter.reset();
+  m_highlight.resize(0, 2);
+  m_selection.resize(0, 2);
+  m_selectionOutline.clear();
   invalidate();
   update();
+  emit mapReplaced();
 }
 
 void MapView::clearMap(const QString& hint) {
@@ -94,9 +114,62 @@ void MapView::clearMap(const QString& hint) {
   m_segmentStarts.clear();
   m_pointer.reset();
   m_busyText.clear();
+  m_zoom = 1.0;
+  m_viewCenter.reset();
+  m_highlight.resize(0, 2);
+  m_selection.resize(0, 2);
+  m_selectionOutline.clear();
   if (!hint.isEmpty()) m_hint = hint;
   invalidate();
   update();
+  emit mapReplaced();
+}
+
+void MapView::setHighlight(const Eigen::MatrixXd& points) {
+  m_highlight = points.leftCols(std::min<Eigen::Index>(2, points.cols()));
+  m_cache = QPixmap();
+  update();
+}
+
+void MapView::setSelection(const Eigen::MatrixXd& points, const QPolygonF& outline) {
+  m_selection = points.leftCols(std::min<Eigen::Index>(2, points.cols()));
+  m_selectionOutline = outline;
+  m_cache = QPixmap();
+  update();
+}
+
+QPolygonF MapView::selectionPixels() const {
+  if (m_gesture == Gesture::Select) return m_selectDrawn;
+  QPolygonF pixels;
+  for (const QPointF& p : m_selectionOutline) pixels << toWidget(Eigen::Vector2d(p.x(), p.y()));
+  return pixels;
+}
+
+void MapView::paintMarks(QPainter& painter, const Eigen::MatrixXd& points,
+                         const QColor& color) const {
+  if (points.rows() == 0) return;
+  ensureTransform();
+  const qreal dpr = devicePixelRatioF();
+  const QSize pixels = size() * dpr;
+  QImage marks(pixels, QImage::Format_ARGB32_Premultiplied);
+  marks.fill(Qt::transparent);
+  const QTransform toPixel = m_toWidget * QTransform::fromScale(dpr, dpr);
+  const QRgb ink = color.rgba();
+  const int w = pixels.width(), h = pixels.height();
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const QPointF p = toPixel.map(QPointF(points(i, 0), points(i, 1)));
+    if (!(p.x() >= 0.0 && p.x() < w && p.y() >= 0.0 && p.y() < h)) continue;  // or NaN
+    const int x = int(p.x()), y = int(p.y());
+    for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy) {
+      auto* line = reinterpret_cast<QRgb*>(marks.scanLine(yy));
+      for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx) line[xx] = ink;
+    }
+  }
+  marks.setDevicePixelRatio(dpr);
+  painter.save();
+  painter.setClipRect(plotRect());
+  painter.drawImage(QPointF(0, 0), marks);
+  painter.restore();
 }
 
 void MapView::setPointer(const std::optional<Eigen::Vector2d>& point) {
@@ -251,22 +324,16 @@ QPointF MapView::unlens(const QPointF& pixel) const {
 void MapView::ensureTransform() const {
   if (m_transformValid && m_transformSize == size()) return;
   const QRectF area(rect());
-  m_toWidget = render::map_transform(m_coords, area, m_options);
+  m_toWidget = render::map_transform(m_coords, area, viewOptions());
   bool invertible = false;
   m_toMap = m_toWidget.inverted(&invertible);
   if (!invertible) m_toMap = QTransform(0, 0, 0, 0, 0, 0);  // every pixel → (0, 0)
   m_pixelSegments.clear();
-  if (m_density && m_coords.rows() > 0) {
-    // Over a density map the panel frames the whole map: segments' unit coordinates (of the
-    // trajectory's own extent) go back to data, then through the panel's transform.
+  if (m_coords.rows() > 0) {
+    // The segments' unit coordinates (of the trajectory's own extent) go back to data, then
+    // through the panel's transform: the whole map's (a density map, a backdrop) or the zoomed
+    // view's.
     const QTransform unit = render::data_to_unit(m_coords).inverted() * m_toWidget;
-    m_pixelSegments = render::trajectory_segments(m_coords, m_segmentStarts);
-    for (auto& s : m_pixelSegments) {
-      s.from = unit.map(s.from);
-      s.to = unit.map(s.to);
-    }
-  } else if (m_coords.rows() > 0) {
-    const QTransform unit = render::unit_transform(area, m_options);
     m_pixelSegments = render::trajectory_segments(m_coords, m_segmentStarts);
     for (auto& s : m_pixelSegments) {
       s.from = unit.map(s.from);
@@ -302,17 +369,26 @@ void MapView::paintEvent(QPaintEvent*) {
     m_cache.setDevicePixelRatio(dpr);
     QPainter cachePainter(&m_cache);
     cachePainter.setRenderHint(QPainter::Antialiasing);
+    const render::MapPlotOptions options = viewOptions();
     if (m_density) {
-      // Background, the saved map's density, then the current clip's trajectory over it.
+      // Background, the saved map's density (inside the frame), then the current clip's
+      // trajectory over it.
       cachePainter.fillRect(
           rect(), m_options.background.isValid() ? m_options.background : QColor(Qt::white));
+      cachePainter.save();
+      cachePainter.setClipRect(plotRect());
       cachePainter.drawImage(QPointF(0, 0), densityImage());
-      render::MapPlotOptions over = m_options;
+      cachePainter.restore();
+      paintMarks(cachePainter, m_highlight, highlightColor());
+      paintMarks(cachePainter, m_selection, selectionColor());
+      render::MapPlotOptions over = options;
       over.background = QColor();
       if (m_coords.rows() > 0)
         render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, over);
     } else {
-      render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, m_options);
+      render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, options);
+      paintMarks(cachePainter, m_highlight, highlightColor());
+      paintMarks(cachePainter, m_selection, selectionColor());
     }
     if (m_shadingVisible && m_shadingReach > 0.0 && !m_density && m_coords.rows() > 0)
       paintShading(cachePainter);
@@ -320,8 +396,15 @@ void MapView::paintEvent(QPaintEvent*) {
   painter.drawPixmap(0, 0, m_cache);
   painter.setRenderHint(QPainter::Antialiasing);
   if (!m_busyText.isEmpty()) paintBusy(painter);
+  painter.save();
+  if (isZoomed()) painter.setClipRect(plotRect());  // what lies outside the view stays out
   if (lensShown()) paintLens(painter);
   paintTakes(painter);
+  if (const QPolygonF outline = selectionPixels(); outline.size() >= 2) {
+    painter.setPen(QPen(QColor(0, 120, 60), 1.5, Qt::DashLine));
+    painter.setBrush(QColor(0, 215, 110, 30));
+    painter.drawPolygon(outline);
+  }
   if (m_sketch.points.size() >= 2) {
     QPainterPath path(toWidget(m_sketch.points.front()));
     for (const auto& p : m_sketch.points) path.lineTo(toWidget(p));
@@ -334,6 +417,7 @@ void MapView::paintEvent(QPaintEvent*) {
     painter.setBrush(Qt::white);
     painter.drawEllipse(toWidget(*m_pointer), 7, 7);
   }
+  painter.restore();
   if (!m_hoverText.isEmpty()) {
     painter.setPen(Qt::black);
     painter.drawText(QRectF(rect()).adjusted(8, 4, -8, -4), Qt::AlignTop | Qt::AlignRight,
@@ -385,7 +469,7 @@ void MapView::paintShading(QPainter& painter) const {
   // The trajectory stays on top, in its own colours (clipped: the title, colour bar and notes
   // are not drawn twice).
   painter.setClipRect(plot);
-  render::MapPlotOptions over = m_options;
+  render::MapPlotOptions over = viewOptions();
   over.background = QColor();
   render::paint_map(painter, QRectF(rect()), m_coords, m_segmentStarts, over);
   // The key, inside the plot's lower-left corner.
@@ -442,6 +526,14 @@ QString MapView::noteToolTip(const QPointF& pixel) const {
 }
 
 bool MapView::event(QEvent* event) {
+  if (event->type() == QEvent::ShortcutOverride) {
+    // Home here resets a zoomed view; the window's Home action (first frame) must not take it.
+    auto* key = static_cast<QKeyEvent*>(event);
+    if (key->key() == Qt::Key_Home && key->modifiers() == Qt::NoModifier && isZoomed()) {
+      event->accept();
+      return true;
+    }
+  }
   if (event->type() == QEvent::ToolTip) {
     // The notes under the plot are elided to the panel's width: hovering them shows them whole.
     auto* help = static_cast<QHelpEvent*>(event);
@@ -467,6 +559,31 @@ void MapView::paintLens(QPainter& painter) const {
   painter.setClipPath(circle);
   painter.fillPath(circle,
                    m_options.background.isValid() ? m_options.background : QColor(Qt::white));
+  if (m_density) {
+    // The density under the lens: binned at the lens's magnification over its box (so the centre
+    // is as sharp as the plot), each pixel of the disc read where the lens takes it from.
+    // (at most 2048 px a side: a strong lens stays cheap, a little softer at its very centre)
+    const double magnification =
+        std::min(m_lensPower + 1.0, 2048.0 / std::max(1.0, bounds.width()));
+    const QSize sharp = (bounds.size() * magnification).toSize();
+    const QTransform toSharp = m_toWidget *
+                               QTransform::fromTranslate(-bounds.left(), -bounds.top()) *
+                               QTransform::fromScale(magnification, magnification);
+    const QImage source = render::density_image(*m_density, toSharp, sharp);
+    QImage lensed(bounds.size().toSize(), QImage::Format_ARGB32_Premultiplied);
+    lensed.fill(Qt::transparent);
+    for (int y = 0; y < lensed.height(); ++y) {
+      auto* line = reinterpret_cast<QRgb*>(lensed.scanLine(y));
+      for (int x = 0; x < lensed.width(); ++x) {
+        const QPointF shown = bounds.topLeft() + QPointF(x + 0.5, y + 0.5);
+        const QPointF from = (unlens(shown) - bounds.topLeft()) * magnification;
+        const int sx = int(from.x()), sy = int(from.y());
+        if (sx >= 0 && sy >= 0 && sx < source.width() && sy < source.height())
+          line[x] = source.pixel(sx, sy);
+      }
+    }
+    painter.drawImage(bounds.topLeft(), lensed);
+  }
   // The segments near the lens, bent: only those whose box meets the lens's box are looked at.
   const double width = m_options.line_width * std::sqrt(m_lensPower + 1.0);
   for (const auto& s : m_pixelSegments) {
@@ -481,7 +598,9 @@ void MapView::paintLens(QPainter& painter) const {
     QPainterPath path(lens(s.from));
     for (int i = 1; i <= pieces; ++i)
       path.lineTo(lens(s.from + (s.to - s.from) * (double(i) / pieces)));
-    const QColor color = m_options.clip_names.isEmpty() ? s.color : render::clip_color(s.clip);
+    const QColor color = m_options.clip_names.isEmpty() ? s.color
+                         : m_options.clip_time_ramp     ? render::clip_time_color(s.clip, s.time)
+                                                        : render::clip_color(s.clip);
     painter.setPen(QPen(color, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     painter.drawPath(path);
   }
@@ -514,7 +633,22 @@ void MapView::addSketchPoint(const QPointF& pixel) {
 }
 
 void MapView::mousePressEvent(QMouseEvent* event) {
-  if (!hasMap() || event->button() != Qt::LeftButton) return;
+  if (!hasMap()) return;
+  if (m_gesture == Gesture::None &&
+      (event->button() == Qt::MiddleButton || (event->button() == Qt::LeftButton && m_spaceHeld))) {
+    m_gesture = Gesture::Pan;
+    m_panLast = event->position();
+    setCursor(Qt::ClosedHandCursor);
+    return;
+  }
+  if (event->button() == Qt::RightButton && m_gesture == Gesture::None) {
+    m_gesture = Gesture::Select;  // a box; with Shift a lasso
+    m_selectLasso = event->modifiers() & Qt::ShiftModifier;
+    m_pressPixel = event->position();
+    m_selectDrawn = QPolygonF() << event->position();
+    return;
+  }
+  if (event->button() != Qt::LeftButton) return;
   m_pressPixel = event->position();
   if (event->modifiers() & Qt::ControlModifier) {
     m_gesture = Gesture::Key;  // a key added or removed on release
@@ -561,6 +695,19 @@ void MapView::mouseMoveEvent(QMouseEvent* event) {
       break;
     case Gesture::Key:
       break;
+    case Gesture::Select:
+      if (m_selectLasso) {
+        m_selectDrawn << pixel;
+      } else {
+        m_selectDrawn = QPolygonF(QRectF(m_pressPixel, pixel).normalized());
+      }
+      update();
+      break;
+    case Gesture::Pan:
+      panBy(pixel - m_panLast);
+      m_panLast = pixel;
+      if (m_spaceHeld) m_spacePanned = true;
+      break;
     case Gesture::Press:
       if ((pixel - m_pressPixel).manhattanLength() < 3) break;
       m_gesture = Gesture::Drag;
@@ -576,6 +723,37 @@ void MapView::mouseMoveEvent(QMouseEvent* event) {
 }
 
 void MapView::mouseReleaseEvent(QMouseEvent* event) {
+  if (m_gesture == Gesture::Pan) {
+    if (event->button() == Qt::MiddleButton || event->button() == Qt::LeftButton) {
+      m_gesture = Gesture::None;
+      if (m_spaceHeld) {
+        setCursor(Qt::OpenHandCursor);
+      } else {
+        unsetCursor();
+      }
+    }
+    return;
+  }
+  if (m_gesture == Gesture::Select) {
+    if (event->button() != Qt::RightButton) return;
+    m_gesture = Gesture::None;
+    QPolygonF polygon;
+    if ((event->position() - m_pressPixel).manhattanLength() >= 3) {
+      if (m_selectLasso) {
+        m_selectDrawn << event->position();
+      } else {
+        m_selectDrawn = QPolygonF(QRectF(m_pressPixel, event->position()).normalized());
+      }
+      for (const QPointF& p : m_selectDrawn) {
+        const Eigen::Vector2d m = toMap(p);
+        polygon << QPointF(m.x(), m.y());
+      }
+    }
+    m_selectDrawn.clear();
+    update();
+    emit selectionDrawn(polygon);
+    return;
+  }
   if (event->button() != Qt::LeftButton) return;
   const Gesture gesture = m_gesture;
   m_gesture = Gesture::None;
@@ -602,13 +780,137 @@ void MapView::mouseReleaseEvent(QMouseEvent* event) {
 }
 
 void MapView::wheelEvent(QWheelEvent* event) {
-  if (!m_lensEnabled) return event->ignore();
-  setLensPower(m_lensPower * std::pow(1.25, event->angleDelta().y() / 120.0));
+  const double steps = event->angleDelta().y() / 120.0;
+  if (m_lensEnabled) {
+    setLensPower(m_lensPower * std::pow(1.25, steps));
+  } else if (hasMap() && steps != 0.0) {
+    zoomAt(event->position(), std::pow(1.25, steps));
+  } else {
+    return event->ignore();
+  }
   event->accept();
+}
+
+void MapView::mouseDoubleClickEvent(QMouseEvent* event) {
+  // A plain double-click shows the whole map; with a modifier, in sketch mode or on a control
+  // point it is the second press of what those do.
+  if (hasMap() && event->button() == Qt::LeftButton && event->modifiers() == Qt::NoModifier &&
+      !m_sketchMode && !m_spaceHeld && controlPointAt(event->position()) < 0) {
+    m_gesture = Gesture::None;
+    resetView();
+    return;
+  }
+  mousePressEvent(event);
+}
+
+void MapView::keyPressEvent(QKeyEvent* event) {
+  if (event->key() == Qt::Key_Home && event->modifiers() == Qt::NoModifier && isZoomed()) {
+    resetView();
+    return;
+  }
+  QWidget::keyPressEvent(event);
+}
+
+bool MapView::wantsSpace() const {
+  if (!hasMap() || !isVisible() || !window()->isActiveWindow()) return false;
+  const QWidget* focus = QApplication::focusWidget();
+  // A text or number field keeps Space (the transport bar's frame and time fields).
+  if (qobject_cast<const QLineEdit*>(focus) || qobject_cast<const QAbstractSpinBox*>(focus))
+    return false;
+  return rect().contains(mapFromGlobal(QCursor::pos()));
+}
+
+bool MapView::eventFilter(QObject* watched, QEvent* event) {
+  const QEvent::Type type = event->type();
+  if (type != QEvent::ShortcutOverride && type != QEvent::KeyPress && type != QEvent::KeyRelease) {
+    return QWidget::eventFilter(watched, event);
+  }
+  auto* key = static_cast<QKeyEvent*>(event);
+  if (key->key() != Qt::Key_Space || key->modifiers() != Qt::NoModifier)
+    return QWidget::eventFilter(watched, event);
+  if (type == QEvent::KeyRelease) {
+    if (!m_spaceHeld) return false;
+    if (key->isAutoRepeat()) return true;
+    m_spaceHeld = false;
+    if (m_gesture != Gesture::Pan) unsetCursor();
+    if (!m_spacePanned) emit spaceTapped();
+    return true;
+  }
+  // ShortcutOverride (accepted: the window's Space shortcut does not fire) or the key press.
+  if (!m_spaceHeld) {
+    if (type != QEvent::ShortcutOverride || key->isAutoRepeat() || !wantsSpace()) return false;
+    m_spaceHeld = true;
+    m_spacePanned = false;
+    if (m_gesture == Gesture::None) setCursor(Qt::OpenHandCursor);
+  }
+  event->accept();
+  return true;
+}
+
+std::pair<Eigen::Vector2d, double> MapView::homeView() const {
+  const QRectF area(rect());
+  const QTransform home = render::map_transform(m_coords, area, m_options);
+  const QRectF data = render::data_area(area, m_options);
+  bool invertible = false;
+  const QTransform back = home.inverted(&invertible);
+  if (!invertible || home.m11() == 0.0) return {Eigen::Vector2d::Zero(), 1.0};
+  const QPointF centre = back.map(data.center());
+  return {Eigen::Vector2d(centre.x(), centre.y()), 0.5 * data.width() / std::abs(home.m11())};
+}
+
+QRectF MapView::viewExtent() const {
+  const auto [home, half] = homeView();
+  const Eigen::Vector2d c = m_viewCenter.value_or(home);
+  const double h = half / m_zoom;
+  return {c.x() - h, c.y() - h, 2 * h, 2 * h};
+}
+
+render::MapPlotOptions MapView::viewOptions() const {
+  if (!isZoomed()) return m_options;
+  render::MapPlotOptions options = m_options;
+  options.extent = viewExtent();
+  options.clip_to_frame = true;
+  return options;
+}
+
+void MapView::viewMoved() {
+  invalidate();
+  update();
+  emit viewChanged();
+}
+
+void MapView::zoomAt(const QPointF& pixel, double factor) {
+  if (!hasMap() || !(factor > 0.0) || !std::isfinite(factor)) return;
+  const double zoom = std::clamp(m_zoom * factor, 1.0, kMaxZoom);
+  if (zoom == m_zoom) return;
+  ensureTransform();
+  const QPointF under = m_toMap.map(pixel);  // stays under the cursor
+  const Eigen::Vector2d p(under.x(), under.y());
+  const Eigen::Vector2d centre = m_viewCenter.value_or(homeView().first);
+  m_viewCenter = p + (centre - p) * (m_zoom / zoom);
+  m_zoom = zoom;
+  viewMoved();
+}
+
+void MapView::panBy(const QPointF& delta) {
+  if (!hasMap() || delta.isNull()) return;
+  ensureTransform();
+  const QPointF a = m_toMap.map(QPointF(0, 0)), b = m_toMap.map(delta);
+  const Eigen::Vector2d centre = m_viewCenter.value_or(homeView().first);
+  m_viewCenter = centre - Eigen::Vector2d(b.x() - a.x(), b.y() - a.y());
+  viewMoved();
+}
+
+void MapView::resetView() {
+  if (!isZoomed()) return;
+  m_zoom = 1.0;
+  m_viewCenter.reset();
+  viewMoved();
 }
 
 void MapView::leaveEvent(QEvent*) {
   setHoverText({});
+  emit left();
   if (m_gesture == Gesture::None && m_lensVisible) {
     m_lensVisible = false;
     update();

@@ -11,6 +11,9 @@
 //  - left drag on a control point of the
 //    current take (setTakePaths)         → it follows the mouse, controlPointMoved on release
 //  - Ctrl + left click                   → keyClicked(map point): a key pose added or removed
+//  - right drag                          → a box, Shift + right drag → a lasso:
+//                                          selectionDrawn(polygon in map coordinates) on release;
+//                                          a right click without a drag → selectionDrawn({})
 // A sketch or a control point dragged outside the plot (plotRect) stays on its edge, where the
 // stroke is drawn: nothing is sketched where the map is not shown.
 // The takes' paths stay drawn over the map (orange; the current one solid with its control points,
@@ -20,13 +23,21 @@
 // during a press, so frames that overlap at the map's scale can be told apart and dragged over
 // slowly; the wheel changes its power d. Every map ↔ pixel conversion (toWidget, toMap) goes
 // through the lens, so hover, click, drag and sketch work inside it.
+// Zoom and pan: the wheel zooms around the cursor (with the magnifier on, the wheel sets its power
+// instead), a middle-button drag or a left drag with Space held pans, Home (while the map has the
+// keyboard focus and is zoomed) or a double-click resets. The view is a square of the map
+// (viewExtent) drawn through render::paint_map's extent, clipped to the plot's frame, and the
+// density image is binned again at the zoomed transform, so it stays sharp. Every conversion
+// (toWidget, toMap) includes the view, so every gesture lands where the mouse is.
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 #include <QElapsedTimer>
 #include <QPixmap>
+#include <QPolygonF>
 #include <QTransform>
 #include <QWidget>
 
@@ -51,8 +62,25 @@ class MapView : public QWidget {
   };
   /// How close (pixels) a press must be to a control point to drag it.
   static constexpr double kControlPickPixels = 9.0;
-  /// The colour of the current take's path (the others are drawn in it, translucent).
-  static QColor takeColor() { return QColor(255, 130, 0); }
+  /// The colour of the current take's path (the others are drawn in it, translucent): violet, in
+  /// neither the time ramp (red → blue) nor the clips' palette (render::clip_color).
+  static QColor takeColor() { return QColor(120, 0, 170); }
+  /// The colour of highlighted points (setHighlight): magenta, in neither either.
+  static QColor highlightColor() { return QColor(255, 0, 170); }
+  /// Points drawn highlighted (#points by ≥ 2, map coordinates; e.g. the clips a search matches):
+  /// each a 3 × 3 px mark, over the density image and under a saved map's trajectory (over a
+  /// computed map's), within the plot. An empty matrix: none. setMap, setDensityMap and clearMap
+  /// remove them (mapReplaced() says so).
+  void setHighlight(const Eigen::MatrixXd& points);
+  const Eigen::MatrixXd& highlight() const { return m_highlight; }
+  /// The colour of selected points (setSelection): spring green.
+  static QColor selectionColor() { return QColor(0, 215, 110); }
+  /// The selected points (#points by ≥ 2) drawn as highlighted ones are, in selectionColor(), and
+  /// the outline they were selected with (map coordinates; empty: none), dashed. Removed with
+  /// the map, as the highlight.
+  void setSelection(const Eigen::MatrixXd& points, const QPolygonF& outline);
+  const Eigen::MatrixXd& selection() const { return m_selection; }
+  const QPolygonF& selectionOutline() const { return m_selectionOutline; }
   /// The takes drawn over the map (replacing those before).
   void setTakePaths(std::vector<TakePath> paths);
   const std::vector<TakePath>& takePaths() const { return m_takes; }
@@ -138,6 +166,23 @@ class MapView : public QWidget {
   /// Whether the lens is drawn (enabled, over the widget, with a map).
   bool lensShown() const { return m_lensEnabled && m_lensVisible && hasMap(); }
 
+  /// The most the view zooms in (times the whole map's scale).
+  static constexpr double kMaxZoom = 10000.0;
+  /// The zoom: 1 shows the whole map as the plot options frame it; more is closer.
+  double zoom() const { return m_zoom; }
+  /// Whether the view was zoomed or panned (resetView() undoes it).
+  bool isZoomed() const { return m_viewCenter.has_value(); }
+  /// The map square the plot shows (map coordinates, x from left() to right(), y from top() to
+  /// bottom()); the whole map's when not zoomed.
+  QRectF viewExtent() const;
+  /// Zooms by `factor` (clamped to [1, kMaxZoom] overall), the map point under `pixel` staying
+  /// under it.
+  void zoomAt(const QPointF& pixel, double factor);
+  /// Moves the map by `delta` pixels (as a pan drag does).
+  void panBy(const QPointF& delta);
+  /// Shows the whole map again.
+  void resetView();
+
  signals:
   void hovered(const Eigen::Vector2d& point, const QPointF& pixel);
   void clicked(const Eigen::Vector2d& point, const QPointF& pixel);
@@ -148,6 +193,18 @@ class MapView : public QWidget {
   void controlPointMoved(int control, const Eigen::Vector2d& point);
   /// Ctrl + left click at `point` (map coordinates; `pixel` in the widget).
   void keyClicked(const Eigen::Vector2d& point, const QPointF& pixel);
+  /// The view was zoomed, panned or reset.
+  void viewChanged();
+  /// The mouse left the view.
+  void left();
+  /// Another map (or none) is shown: setMap, setDensityMap or clearMap.
+  void mapReplaced();
+  /// A box (4 corners) or lasso drawn with the right button, in map coordinates; empty for a
+  /// right click without a drag (clear the selection).
+  void selectionDrawn(const QPolygonF& polygon);
+  /// Space was pressed and released over the map without panning: the window's play/pause key,
+  /// which the map holds back while Space is down (Space + drag pans).
+  void spaceTapped();
 
  protected:
   void paintEvent(QPaintEvent* event) override;
@@ -157,10 +214,21 @@ class MapView : public QWidget {
   void mouseReleaseEvent(QMouseEvent* event) override;
   void wheelEvent(QWheelEvent* event) override;
   void leaveEvent(QEvent* event) override;
+  void mouseDoubleClickEvent(QMouseEvent* event) override;
+  void keyPressEvent(QKeyEvent* event) override;
   bool event(QEvent* event) override;
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
-  enum class Gesture { None, Press, Drag, Sketch, Control, Key };
+  enum class Gesture { None, Press, Drag, Sketch, Control, Key, Pan, Select };
+  /// m_options with the zoomed view's extent (clipped to the frame); m_options when not zoomed.
+  render::MapPlotOptions viewOptions() const;
+  /// The whole map's square: its centre and half side (map units), as m_options frame it.
+  std::pair<Eigen::Vector2d, double> homeView() const;
+  /// The view changed: transforms, the cached picture and the density image are redone.
+  void viewMoved();
+  /// Whether Space pressed now belongs to the map (the mouse over it, no text field focused).
+  bool wantsSpace() const;
   void paintTakes(QPainter& painter) const;
   /// A key marker: a numbered disc at `pixel`.
   static void paintKey(QPainter& painter, const QPointF& pixel, int number, bool pending);
@@ -175,6 +243,10 @@ class MapView : public QWidget {
   void paintLens(QPainter& painter) const;
   /// The shading and its key, into the cached trajectory (see setShadingAvailable).
   void paintShading(QPainter& painter) const;
+  /// `points` as 3 × 3 px marks in `color`, into the cached picture (clipped to the plot).
+  void paintMarks(QPainter& painter, const Eigen::MatrixXd& points, const QColor& color) const;
+  /// The selection's outline (or the one being drawn) in widget pixels.
+  QPolygonF selectionPixels() const;
   /// The busy text over the greyed map (see setBusyText).
   void paintBusy(QPainter& painter) const;
 
@@ -209,6 +281,16 @@ class MapView : public QWidget {
   bool m_lensVisible = false;
   QPointF m_lensCenter;
   double m_lensPower = 3.0;
+  Eigen::MatrixXd m_highlight;   ///< setHighlight's points (#points by 2)
+  Eigen::MatrixXd m_selection;   ///< setSelection's points
+  QPolygonF m_selectionOutline;  ///< map coordinates
+  QPolygonF m_selectDrawn;       ///< the box's corners or the lasso being drawn, in pixels
+  bool m_selectLasso = false;
+  double m_zoom = 1.0;
+  std::optional<Eigen::Vector2d> m_viewCenter;  ///< the zoomed view's centre; none: the whole map
+  QPointF m_panLast;                            ///< the last mouse position of a pan
+  bool m_spaceHeld = false;                     ///< Space is down over the map
+  bool m_spacePanned = false;                   ///< a pan happened while Space was down
 };
 
 }  // namespace motionmap::studio

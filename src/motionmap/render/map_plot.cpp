@@ -251,7 +251,8 @@ void draw_text_line(QPainter& p, const QRectF& r, const QString& text, const QFo
 }
 
 // "▬ name  ▬ name …": the clip colours, centred in `area` (names elided to fit).
-void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringList& names) {
+void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringList& names,
+                      bool ramp, bool elide_right) {
   const QFont font = font_px(px);
   const QFontMetricsF fm(font);
   const double swatch = px * 1.2, gap = px * 0.4, spacing = px * 1.2;
@@ -260,7 +261,7 @@ void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringL
   QStringList shown;
   double total = 0.0;
   for (const QString& name : names) {
-    shown << fm.elidedText(name, Qt::ElideMiddle, max_name);
+    shown << fm.elidedText(name, elide_right ? Qt::ElideRight : Qt::ElideMiddle, max_name);
     total += swatch + gap + fm.horizontalAdvance(shown.back()) + spacing;
   }
   double x = area.center().x() - (total - spacing) / 2;
@@ -268,8 +269,16 @@ void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringL
   p.setFont(font);
   for (qsizetype c = 0; c < shown.size(); ++c) {
     p.setPen(Qt::NoPen);
-    p.setBrush(clip_color(static_cast<int>(c)));
-    p.drawRect(QRectF(x, cy - px * 0.3, swatch, px * 0.6));
+    const QRectF box(x, cy - px * 0.3, swatch, px * 0.6);
+    if (ramp) {  // light → dark, as the clip's time runs
+      QLinearGradient g(box.topLeft(), box.topRight());
+      g.setColorAt(0.0, clip_time_color(static_cast<int>(c), 0.0));
+      g.setColorAt(1.0, clip_time_color(static_cast<int>(c), 1.0));
+      p.setBrush(g);
+    } else {
+      p.setBrush(clip_color(static_cast<int>(c)));
+    }
+    p.drawRect(box);
     x += swatch + gap;
     p.setPen(QColor(70, 70, 70));
     const double w = fm.horizontalAdvance(shown[c]) + 1;
@@ -335,6 +344,32 @@ void draw_time_legend(QPainter& p, const QRectF& area, double px) {
              Qt::AlignLeft | Qt::AlignVCenter, right);
 }
 
+// Liang–Barsky: the part of segment a–b inside `box` (a and b moved onto it); false when none.
+bool clip_segment(QPointF& a, QPointF& b, const QRectF& box) {
+  const double dx = b.x() - a.x(), dy = b.y() - a.y();
+  double t0 = 0.0, t1 = 1.0;
+  const double p[4] = {-dx, dx, -dy, dy};
+  const double q[4] = {a.x() - box.left(), box.right() - a.x(), a.y() - box.top(),
+                       box.bottom() - a.y()};
+  for (int k = 0; k < 4; ++k) {
+    if (p[k] == 0.0) {
+      if (q[k] < 0.0) return false;  // parallel to this edge and outside it
+      continue;
+    }
+    const double t = q[k] / p[k];
+    if (p[k] < 0.0) {
+      t0 = std::max(t0, t);
+    } else {
+      t1 = std::min(t1, t);
+    }
+    if (t0 > t1) return false;
+  }
+  const QPointF from = a;
+  a = from + QPointF(dx, dy) * t0;
+  b = from + QPointF(dx, dy) * t1;
+  return true;
+}
+
 }  // namespace
 
 QColor category_color(int category) {
@@ -354,6 +389,18 @@ QColor clip_color(int clip) {
   if (clip < 0) return QColor(128, 128, 128);
   const int* c = kPalette[clip % 10];
   return QColor(c[0], c[1], c[2]);
+}
+
+QColor clip_time_color(int clip, double t) {
+  const QColor base = clip_color(clip);
+  if (std::isnan(t)) return base;
+  t = std::clamp(t, 0.0, 1.0);
+  // Towards white before the middle, towards black after it.
+  const double towards = t < 0.5 ? 1.0 - 2.0 * t : 2.0 * t - 1.0;
+  const double share = t < 0.5 ? 0.5 * towards : 0.4 * towards;
+  const int target = t < 0.5 ? 255 : 0;
+  auto mix = [&](int c) { return static_cast<int>(std::lround(c + share * (target - c))); };
+  return QColor(mix(base.red()), mix(base.green()), mix(base.blue()));
 }
 
 QColor time_color(double t) {
@@ -503,9 +550,12 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   const bool by_clip = !options.clip_names.isEmpty();
   const bool by_category = !options.point_category.empty();
   check_categories(options, coords.rows());
-  const auto sample_color = [&](int sample, int clip, const QColor& time) {
+  // A sample's colour: its category's, its clip's (ramped over the clip's time or flat), or its
+  // time's (t: the time within its clip, in [0, 1]).
+  const auto sample_color = [&](int sample, int clip, double t) {
     if (by_category) return category_color(options.point_category[std::size_t(sample)]);
-    return by_clip ? clip_color(clip) : time;
+    if (!by_clip) return time_color(t);
+    return options.clip_time_ramp ? clip_time_color(clip, t) : clip_color(clip);
   };
 
   painter.save();
@@ -519,6 +569,8 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   painter.setPen(QPen(QColor(150, 150, 150), 1.0));
   painter.setBrush(Qt::NoBrush);
   painter.drawRect(l.box);
+  painter.save();  // the data's clip (clip_to_frame), restored before the legend and notes
+  if (options.clip_to_frame) painter.setClipRect(l.box, Qt::IntersectClip);
 
   if (options.backdrop.size() > 0) {
     const double r = std::max(1.0, lw * 0.75);
@@ -532,16 +584,51 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
     painter.setBrush(Qt::NoBrush);
   }
 
-  // Trajectory: consecutive segments in the same time bin become one polyline.
+  // Trajectory: consecutive segments in the same time bin become one polyline. Clipped to the
+  // frame (a zoomed view), each segment is first cut to the frame's box (widened by the pen), so
+  // segments thousands of pixels long off the view cost nothing to stroke.
+  auto segment_color = [&](const ColoredSegment& s) {
+    return by_clip || by_category ? sample_color(s.sample, s.clip, s.time) : s.color;
+  };
+  // Segments of one polyline share this: their category, or their time bin.
+  auto colour_key = [&](const ColoredSegment& s) {
+    return by_category ? options.point_category[std::size_t(s.sample)] : time_bin(s.time);
+  };
   QPolygonF run;
-  for (std::size_t k = 0; k < segments.size();) {
-    const int bin = time_bin(segments[k].time);
-    const auto same_colour = [&](std::size_t a, std::size_t b) {
-      if (by_category) {
-        return options.point_category[std::size_t(segments[a].sample)] ==
-               options.point_category[std::size_t(segments[b].sample)];
+  if (options.clip_to_frame) {
+    const double pad = lw + 2.0;
+    const QRectF keep = l.box.adjusted(-pad, -pad, pad, pad);
+    QColor run_color;
+    int last_sample = -2, run_bin = -1;
+    auto flush = [&] {
+      if (run.size() >= 2) {
+        painter.setPen(QPen(run_color, lw, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+        painter.drawPolyline(run);
       }
-      return time_bin(segments[b].time) == bin;
+      run.clear();
+    };
+    for (const ColoredSegment& s : segments) {
+      QPointF a = to_px.map(s.from), b = to_px.map(s.to);
+      if (!clip_segment(a, b, keep)) {
+        flush();
+        continue;
+      }
+      // One polyline per time bin, as below (its first segment's colour).
+      if (run.isEmpty() || s.sample != last_sample + 1 || colour_key(s) != run_bin ||
+          run.back() != a) {
+        flush();
+        run << a;
+        run_color = segment_color(s);
+        run_bin = colour_key(s);
+      }
+      run << b;
+      last_sample = s.sample;
+    }
+    flush();
+  }
+  for (std::size_t k = 0; !options.clip_to_frame && k < segments.size();) {
+    const auto same_colour = [&](std::size_t a, std::size_t b) {
+      return colour_key(segments[a]) == colour_key(segments[b]);
     };
     run.clear();
     run << to_px.map(segments[k].from) << to_px.map(segments[k].to);
@@ -551,7 +638,7 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
       run << to_px.map(segments[j].to);
       ++j;
     }
-    const QColor color = sample_color(segments[k].sample, segments[k].clip, segments[k].color);
+    const QColor color = segment_color(segments[k]);
     painter.setPen(QPen(color, lw, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     painter.drawPolyline(run);
     k = j;
@@ -569,7 +656,7 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
       if (first < 0) first = i;
       if (!options.draw_points && !by_category) break;
       painter.setPen(Qt::NoPen);
-      painter.setBrush(sample_color(i, static_cast<int>(k), time_color(clip_time(i, begin, end))));
+      painter.setBrush(sample_color(i, static_cast<int>(k), clip_time(i, begin, end)));
       painter.drawEllipse(to_px.map(unit.map(coords(i, 0), coords(i, 1))), dot_r, dot_r);
     }
     if (options.start_marker && first >= 0) {
@@ -579,6 +666,7 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
                           marker_r);
     }
   }
+  painter.restore();
   painter.setBrush(Qt::NoBrush);
   if (!any_finite) {
     draw_text_line(painter, l.box, QStringLiteral("no data"), font_px(l.notes_px),
@@ -589,7 +677,8 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
     if (!options.categories.isEmpty()) {
       draw_category_legend(painter, l.legend, l.notes_px, options);
     } else if (by_clip) {
-      draw_clip_legend(painter, l.legend, l.notes_px, options.clip_names);
+      draw_clip_legend(painter, l.legend, l.notes_px, options.clip_names, options.clip_time_ramp,
+                       options.legend_elide_right);
     } else {
       draw_time_legend(painter, l.legend, l.notes_px);
     }
@@ -673,7 +762,8 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
                     draw_category_legend(painter, QRectF(0, y, width, legend_h), legend_px, first);
                   } else if (!first.clip_names.isEmpty()) {
                     draw_clip_legend(painter, QRectF(0, y, width, legend_h), legend_px,
-                                     first.clip_names);
+                                     first.clip_names, first.clip_time_ramp,
+                                     first.legend_elide_right);
                   } else {
                     draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
                   }

@@ -47,6 +47,11 @@ QColor clip_color(int clip);
 /// c ≥ kCategoryColors cycles, and a negative c is the light grey of "other".
 constexpr int kCategoryColors = 12;
 QColor category_color(int category);
+/// Clip `clip`'s colour (clip_color) shaded by time t ∈ [0, 1] within the clip: light (half-way to
+/// white) at its first frame, the colour itself half-way, dark (40 % of the way to black) at its
+/// last; t is clamped; NaN gives the colour itself. Each trajectory of a map of several clips
+/// then shows which way its time runs.
+QColor clip_time_color(int clip, double t);
 
 /// How paint_map() draws a panel. Sizes are in the painter's units (pixels for images).
 struct MapPlotOptions {
@@ -66,6 +71,13 @@ struct MapPlotOptions {
   QStringList categories;
   /// With categories: the legend's entry for −1 (e.g. "other (40)"); empty: none.
   QString other_category;
+  /// With clip_names: each clip's trajectory and dots run light → dark in its colour over its
+  /// time (clip_time_color) instead of one flat colour.
+  bool clip_time_ramp = false;
+  /// The legend's clip names, when too long, are cut at their end ("clip 2: …happy_0…") instead
+  /// of in the middle: for names whose distinguishing part comes first (their common prefix
+  /// removed, a number in front).
+  bool legend_elide_right = false;
   double line_width = 2.0;        ///< trajectory pen width, clamped to [0, 100]; 0 is a hairline
   QColor background = Qt::white;  ///< fills the whole rect; an invalid colour leaves it as is
   /// Points drawn as dots under the trajectory ("#points by ≥ 2", columns 0 and 1), e.g. the
@@ -78,6 +90,9 @@ struct MapPlotOptions {
   /// extent of the coordinates and backdrop. For a trajectory drawn over a density_image() of a
   /// whole map, framed as the whole map.
   QRectF extent = QRectF(0, 0, -1, -1);
+  /// The backdrop, trajectory, dots and start markers clipped to the panel's frame: for a zoomed
+  /// view (an `extent` smaller than the data), so nothing is drawn over the title, legend or notes.
+  bool clip_to_frame = false;
 };
 
 /// One piece of a trajectory, from sample `sample` to sample `sample + 1` of the same clip, in

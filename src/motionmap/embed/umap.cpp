@@ -21,9 +21,11 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/detail/routines.h"
+#include "motionmap/embed/detail/umap_layout.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/graph.h"
 
@@ -208,6 +210,129 @@ UmapCurve umap_curve(double min_dist, double spread) {
   return {a, b};
 }
 
+int umap_layout_chunk_count(int frames) {
+  return std::max(1, std::min(worker_count(), frames / 1000));
+}
+
+UmapChunks umap_layout_chunks(std::span<const int> head, int frames, int count) {
+  count = std::max(1, std::min(count, std::max(frames, 1)));
+  UmapChunks chunks;
+  chunks.first.assign(std::size_t(count) + 1, frames);
+  chunks.edge.assign(std::size_t(count) + 1, head.size());
+  chunks.first[0] = 0;
+  chunks.edge[0] = 0;
+  for (int c = 1; c < count; ++c) {
+    // The first edge of the frame at or after the c-th equal share of the edges.
+    std::size_t at = head.size() * std::size_t(c) / std::size_t(count);
+    while (at > 0 && at < head.size() && head[at - 1] == head[at]) ++at;
+    const int frame = at < head.size() ? head[at] : frames;
+    chunks.first[std::size_t(c)] = std::max(frame, chunks.first[std::size_t(c) - 1]);
+    chunks.edge[std::size_t(c)] = std::max(at, chunks.edge[std::size_t(c) - 1]);
+  }
+  return chunks;
+}
+
+void umap_layout(const UmapEdges& edges, const UmapChunks& chunks, const UmapCurve& curve,
+                 int epochs, std::uint64_t seed, Eigen::MatrixXd& Y, std::mt19937_64& rng,
+                 Progress& progress, bool serial) {
+  const int n = static_cast<int>(Y.rows());
+  const int dims = static_cast<int>(Y.cols());
+  const int count = chunks.count();
+  const std::size_t E = edges.head.size();
+  const std::vector<int>& head = edges.head;
+  const std::vector<int>& tail = edges.tail;
+  const std::vector<double>& every = edges.every;
+  std::vector<double> every_negative(E), next(every), next_negative(E);
+  for (std::size_t e = 0; e < E; ++e) {
+    every_negative[e] = every[e] / kNegativeSamples;
+    next_negative[e] = every_negative[e];
+  }
+  // Chunk 0 continues `rng` (one chunk: the serial layout's numbers); chunk c > 0 its own stream.
+  std::vector<std::mt19937_64> streams;
+  for (int c = 1; c < count; ++c) {
+    std::uint64_t z = seed + 0x9e3779b97f4a7c15ULL * std::uint64_t(c);  // SplitMix64 of (seed, c)
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    streams.emplace_back(z ^ (z >> 31));
+  }
+  const double a = curve.a, b = curve.b;
+  double* data = Y.data();  // column-major: Y(i, c) = data[c·n + i]
+  // What the other chunks' frames were when the epoch began (one chunk: none).
+  Eigen::MatrixXd frozen_copy(count > 1 ? n : 0, count > 1 ? dims : 0);
+  const double* frozen = count > 1 ? frozen_copy.data() : data;
+  double alpha = kLearningRate;
+  auto run_chunk = [&](int c, int epoch) {
+    std::mt19937_64& random = c == 0 ? rng : streams[std::size_t(c) - 1];
+    const int lo = chunks.first[std::size_t(c)], hi = chunks.first[std::size_t(c) + 1];
+    const auto own = [&](int v) { return v >= lo && v < hi; };
+    double yj[3], yk[3];
+    for (std::size_t e = chunks.edge[std::size_t(c)]; e < chunks.edge[std::size_t(c) + 1]; ++e) {
+      if (next[e] > epoch) continue;
+      const int j = head[e], k = tail[e];
+      const bool mine = own(k);
+      const double* from_k = mine ? data : frozen;
+      double d2 = 0.0;
+      for (int d = 0; d < dims; ++d) {
+        yj[d] = data[std::size_t(d) * n + std::size_t(j)];
+        yk[d] = from_k[std::size_t(d) * n + std::size_t(k)];
+        d2 += (yj[d] - yk[d]) * (yj[d] - yk[d]);
+      }
+      double coefficient = 0.0;
+      if (d2 > 0.0) {
+        coefficient = -2.0 * a * b * std::pow(d2, b - 1.0) / (a * std::pow(d2, b) + 1.0);
+      }
+      if (mine) {
+        for (int d = 0; d < dims; ++d) {
+          const double grad = clip(coefficient * (yj[d] - yk[d]));
+          data[std::size_t(d) * n + std::size_t(j)] += grad * alpha;
+          data[std::size_t(d) * n + std::size_t(k)] -= grad * alpha;
+        }
+      } else {
+        // j → k of another chunk: k is moved by its own edge k → j, and j takes the pull that
+        // edge would have given it as well.
+        for (int d = 0; d < dims; ++d) {
+          const double grad = clip(coefficient * (yj[d] - yk[d]));
+          data[std::size_t(d) * n + std::size_t(j)] += 2.0 * grad * alpha;
+        }
+      }
+      next[e] += every[e];
+      const int negatives = static_cast<int>((epoch - next_negative[e]) / every_negative[e]);
+      for (int p = 0; p < negatives; ++p) {
+        const int o = static_cast<int>(random() % static_cast<std::uint64_t>(n));
+        const double* from_o = own(o) ? data : frozen;
+        double q2 = 0.0;
+        for (int d = 0; d < dims; ++d) {
+          yj[d] = data[std::size_t(d) * n + std::size_t(j)];
+          yk[d] = from_o[std::size_t(d) * n + std::size_t(o)];
+          q2 += (yj[d] - yk[d]) * (yj[d] - yk[d]);
+        }
+        if (q2 > 0.0) {
+          const double push = 2.0 * kRepulsion * b / ((0.001 + q2) * (a * std::pow(q2, b) + 1.0));
+          for (int d = 0; d < dims; ++d) {
+            data[std::size_t(d) * n + std::size_t(j)] += clip(push * (yj[d] - yk[d])) * alpha;
+          }
+        } else if (j != o) {
+          for (int d = 0; d < dims; ++d) {
+            data[std::size_t(d) * n + std::size_t(j)] += kGradientClip * alpha;
+          }
+        }
+      }
+      next_negative[e] += std::max(negatives, 0) * every_negative[e];
+    }
+  };
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    if (count > 1) {
+      frozen_copy = Y;
+      parallel_chunks(
+          count, [&](int c, int) { run_chunk(c, epoch); }, {}, serial);
+    } else {
+      run_chunk(0, epoch);
+    }
+    alpha = kLearningRate * (1.0 - double(epoch) / epochs);
+    progress.update(double(epoch + 1) / epochs);
+  }
+}
+
 static void umap_on(const NeighborGraph& ng, int n_neighbors, const EmbedOptions& options,
                     Embedding& out, Progress& progress, double begin, double end) {
   const int n = ng.lists.frames();
@@ -279,65 +404,24 @@ static void umap_on(const NeighborGraph& ng, int n_neighbors, const EmbedOptions
   rescale_to_ten(Y);
 
   // The edges the layout samples: both directions of every membership ≥ max ÷ epochs, each
-  // every max ÷ w epochs.
+  // every max ÷ w epochs, in CSR order (grouped by head frame).
   progress.stage("layout", init_end, end);
   const Graph& g = fuzzy.graph;
   const double largest =
       g.weights.empty() ? 0.0 : *std::max_element(g.weights.begin(), g.weights.end());
-  std::vector<int> head, tail;
-  std::vector<double> every;
+  UmapEdges edges;
   for (int i = 0; i < n; ++i) {
     for (int e = g.offsets[i]; e < g.offsets[i + 1]; ++e) {
       if (g.weights[e] < largest / epochs) continue;
-      head.push_back(i);
-      tail.push_back(g.targets[e]);
-      every.push_back(largest / g.weights[e]);
+      edges.head.push_back(i);
+      edges.tail.push_back(g.targets[e]);
+      edges.every.push_back(largest / g.weights[e]);
     }
   }
-  const std::size_t E = head.size();
-  std::vector<double> every_negative(E), next(every), next_negative(E);
-  for (std::size_t e = 0; e < E; ++e) {
-    every_negative[e] = every[e] / kNegativeSamples;
-    next_negative[e] = every_negative[e];
-  }
-  const UmapCurve curve = umap_curve(options.min_dist, 1.0);
-  const double a = curve.a, b = curve.b;
-  double* data = Y.data();  // column-major: Y(i, c) = data[c·n + i]
-  auto at = [&](int i, int c) -> double& { return data[std::size_t(c) * n + std::size_t(i)]; };
-  double alpha = kLearningRate;
-  for (int epoch = 0; epoch < epochs; ++epoch) {
-    for (std::size_t e = 0; e < E; ++e) {
-      if (next[e] > epoch) continue;
-      const int j = head[e], k = tail[e];
-      double d2 = 0.0;
-      for (int c = 0; c < dims; ++c) d2 += (at(j, c) - at(k, c)) * (at(j, c) - at(k, c));
-      double coefficient = 0.0;
-      if (d2 > 0.0) {
-        coefficient = -2.0 * a * b * std::pow(d2, b - 1.0) / (a * std::pow(d2, b) + 1.0);
-      }
-      for (int c = 0; c < dims; ++c) {
-        const double grad = clip(coefficient * (at(j, c) - at(k, c)));
-        at(j, c) += grad * alpha;
-        at(k, c) -= grad * alpha;
-      }
-      next[e] += every[e];
-      const int negatives = static_cast<int>((epoch - next_negative[e]) / every_negative[e]);
-      for (int p = 0; p < negatives; ++p) {
-        const int o = static_cast<int>(rng() % static_cast<std::uint64_t>(n));
-        double q2 = 0.0;
-        for (int c = 0; c < dims; ++c) q2 += (at(j, c) - at(o, c)) * (at(j, c) - at(o, c));
-        if (q2 > 0.0) {
-          const double push = 2.0 * kRepulsion * b / ((0.001 + q2) * (a * std::pow(q2, b) + 1.0));
-          for (int c = 0; c < dims; ++c) at(j, c) += clip(push * (at(j, c) - at(o, c))) * alpha;
-        } else if (j != o) {
-          for (int c = 0; c < dims; ++c) at(j, c) += kGradientClip * alpha;
-        }
-      }
-      next_negative[e] += std::max(negatives, 0) * every_negative[e];
-    }
-    alpha = kLearningRate * (1.0 - double(epoch) / epochs);
-    progress.update(double(epoch + 1) / epochs);
-  }
+  fuzzy = UmapGraph();  // the layout needs only its edges: the graph's memory goes back
+  const UmapChunks chunks = umap_layout_chunks(edges.head, n, umap_layout_chunk_count(n));
+  umap_layout(edges, chunks, umap_curve(options.min_dist, 1.0), epochs,
+              static_cast<std::uint64_t>(options.seed), Y, rng, progress);
   out.coordinates = std::move(Y);
 }
 

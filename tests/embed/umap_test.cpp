@@ -369,9 +369,10 @@ TEST(Umap, LayoutChunksGiveOneMapWhicheverThreadsRunThem) {
                t4 = trustworthiness(D, four, 10);
   std::printf("walks, %d frames: trustworthiness(10) with 1, 2, 4 chunks %.4f %.4f %.4f\n", n, t1,
               t2, t4);
-  EXPECT_GT(t1, 0.98);
-  EXPECT_NEAR(t2, t1, 0.003);
-  EXPECT_NEAR(t4, t1, 0.003);
+  // Chunks must not cost neighbourhoods (one run each: seeds alone move these by ~0.002).
+  EXPECT_GT(t1, 0.99);
+  EXPECT_GT(t2, t1 - 0.003);
+  EXPECT_GT(t4, t1 - 0.003);
 }
 
 // A smooth curve in 6-D: a 300-frame clip without repeats.

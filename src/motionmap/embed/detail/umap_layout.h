@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/neighbors.h"
 #include "motionmap/embed/umap.h"
 
 namespace motionmap::embed {
@@ -38,6 +39,11 @@ struct UmapChunks {
   std::vector<std::size_t> edge;
   int count() const { return static_cast<int>(first.size()) - 1; }
 };
+
+/// The frames in breadth-first order of `graph` (each component from its lowest frame, a frame's
+/// neighbours in CSR order): neighbours come near each other. The layout of more than 65 536
+/// frames runs in this order, so that the frames an edge reads are mostly in cache.
+std::vector<int> umap_breadth_first_order(const Graph& graph);
 
 /// The layout's chunks for `frames` frames: one per thread of the pool (worker_count(),
 /// MOTIONMAP_THREADS), at most one per 1 000 frames, at least 1.

@@ -71,6 +71,11 @@ def parse_args():
     p.add_argument("--build", default=os.path.join(ROOT, "build"),
                    help="build folder (default: build)")
     p.add_argument("--keep", help="folder to keep the maps (CSV) and points in")
+    p.add_argument("--umap-learn-result", nargs=2, metavar=("NPY", "TIME_LOG"),
+                   help="instead of running umap-learn, take its map from NPY (written by this "
+                        "script's umap-learn child on the same points) and its figures from "
+                        "TIME_LOG, the child's stderr under /usr/bin/time -f '%%e s wall %%U user "
+                        "%%S sys %%M KB'")
     p.add_argument("--umap-learn-child", nargs=3, metavar=("POINTS", "OUT", "K"),
                    help=argparse.SUPPRESS)
     return p.parse_args()
@@ -120,7 +125,7 @@ def labels_of(folder):
 
 
 def run(cmd, timeout):
-    """Runs cmd in a fresh child: (rc or None on timeout, wall s, peak MiB, stderr text)."""
+    """Runs cmd in a fresh child: (rc or None on timeout, wall s, CPU s, peak MiB, stderr)."""
     with tempfile.TemporaryFile(mode="w+") as err:
         start = time.monotonic()
         p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err)
@@ -139,7 +144,8 @@ def run(cmd, timeout):
         p.returncode = os.waitstatus_to_exitcode(status)
         err.seek(0)
         text = err.read()
-    return (None if timed_out else p.returncode), wall, usage.ru_maxrss / 1024.0, text
+    cpu = usage.ru_utime + usage.ru_stime
+    return (None if timed_out else p.returncode), wall, cpu, usage.ru_maxrss / 1024.0, text
 
 
 def read_points(path):
@@ -190,7 +196,8 @@ def frame_labels(rows, files, clips, frames):
 def accuracy(Y, clip, labels, queries, voters):
     """Fraction of the queries whose `voters` nearest frames of other clips vote their label."""
     from sklearn.neighbors import NearestNeighbors
-    nn = NearestNeighbors().fit(Y)
+    # Exact either way: a k-d tree in the maps' 2 or 3 dimensions, BLAS distances in the points'.
+    nn = NearestNeighbors(algorithm="kd_tree" if Y.shape[1] <= 3 else "brute").fit(Y)
     want = 4 * voters
     found = {}
     todo = np.asarray(queries)
@@ -248,21 +255,21 @@ def main():
           f"sources {os.path.abspath(args.source)}) · MOTIONMAP_THREADS "
           f"{os.environ.get('MOTIONMAP_THREADS', 'unset')}", flush=True)
 
-    results = []  # (name, wall, peak, note, Y, clips, frames)
+    results = []  # (name, wall, cpu, peak, note, Y, clips, frames)
     for method in args.methods:
         out = os.path.join(work, f"{method}.csv")
         cmd = [cli, "map", *files, "-m", method, "-o", out, "-q", "--verbose"]
-        rc, wall, peak, err = run(cmd, args.timeout)
+        rc, wall, cpu, peak, err = run(cmd, args.timeout)
         stages = "; ".join(f"{m[1]} {float(m[2]):.1f}" for m in re.finditer(
             r"verbose: ([^:]+): ([0-9.]+) s", err) if m[1] != "total")
         if rc != 0:
             tail = err.strip().splitlines()[-1] if err.strip() else ""
-            results.append((method, wall, peak, f"failed ({rc}): {tail}", None, None, None))
+            results.append((method, wall, cpu, peak, f"failed ({rc}): {tail}", None, None, None))
             print(f"{method}: failed ({rc}) {tail}", flush=True)
             continue
         clips, frames, Y = read_map(out)
-        results.append((method, wall, peak, stages, Y, clips, frames))
-        print(f"{method}: {wall:.1f} s, {peak:.0f} MiB ({stages})", flush=True)
+        results.append((method, wall, cpu, peak, stages, Y, clips, frames))
+        print(f"{method}: {wall:.1f} s, CPU {cpu:.1f} s, {peak:.0f} MiB ({stages})", flush=True)
 
     points = os.path.join(work, "points.f64")
     tool = os.path.join(args.build, "bench", "library", "motionmap-points")
@@ -271,53 +278,65 @@ def main():
         sys.exit(f"library_labels_table: motionmap-points failed: {p.stderr.strip()}")
     P = read_points(points)
     # Rows of the points are the frames in the order `map` lays them out (the pca map's rows).
-    ref = next((r for r in results if r[4] is not None), None)
-    if ref is None or len(ref[4]) != len(P):
+    ref = next((r for r in results if r[5] is not None), None)
+    if ref is None or len(ref[5]) != len(P):
         sys.exit("library_labels_table: no map with one row per point to take the labels from")
-    action, take, clip = frame_labels(rows, files, ref[5], ref[6])
+    action, take, clip = frame_labels(rows, files, ref[6], ref[7])
     labels = {"action": action, "take": take}
     queries = np.random.default_rng(0).choice(len(P), size=min(args.queries, len(P)),
                                               replace=False)
     print(f"points {P.shape[0]} × {P.shape[1]}; {len(set(take))} takes, {len(set(action))} "
           f"actions; {len(queries)} queries, {args.voters} voters of other clips", flush=True)
 
-    if not args.no_umap_learn:
+    if args.umap_learn_result:
+        npy, log = args.umap_learn_result
+        with open(log) as f:
+            text = f.read()
+        t = re.search(r"([0-9.]+) s wall ([0-9.]+) user (?:([0-9.]+) sys )?([0-9]+) KB", text)
+        fit = re.search(r"fit ([0-9.]+) s", text)
+        results.append(("umap-learn (run apart)", float(t[1]), float(t[2]) + float(t[3] or 0),
+                        int(t[4]) / 1024.0, f"fit {float(fit[1]):.1f}" if fit else "",
+                        np.load(npy), None, None))
+        print(f"umap-learn from {npy}, {log}", flush=True)
+    elif not args.no_umap_learn:
         out = os.path.join(work, "umap-learn.npy")
         cmd = ["/usr/bin/python3", os.path.abspath(__file__), "--umap-learn-child", points, out,
                str(args.k)]
-        rc, wall, peak, err = run(cmd, args.timeout)
+        rc, wall, cpu, peak, err = run(cmd, args.timeout)
         fit = re.search(r"fit ([0-9.]+) s", err)
         if rc == 0:
             Y = np.load(out)
-            results.append(("umap-learn", wall, peak, f"fit {float(fit[1]):.1f}" if fit else "",
-                            Y, None, None))
+            results.append(("umap-learn", wall, cpu, peak,
+                            f"fit {float(fit[1]):.1f}" if fit else "", Y, None, None))
         else:
             tail = err.strip().splitlines()[-1] if err.strip() else ""
-            results.append(("umap-learn", wall, peak,
+            results.append(("umap-learn", wall, cpu, peak,
                             "timeout" if rc is None else f"failed ({rc}): {tail}", None, None,
                             None))
-        print(f"umap-learn: {wall:.1f} s, {peak:.0f} MiB ({results[-1][3]})", flush=True)
+        print(f"umap-learn: {wall:.1f} s, CPU {cpu:.1f} s, {peak:.0f} MiB ({results[-1][4]})",
+              flush=True)
 
     start = time.monotonic()
     feature = accuracy(P, clip, labels, queries, args.voters)
     print(f"feature space accuracy in {time.monotonic() - start:.1f} s", flush=True)
     print()
-    print("| map | wall s | peak MiB | action accuracy | take accuracy | ÷ feature space "
-          "(action, take) | umap-learn ÷ this (time) | stages (s) |")
-    print("|---|---:|---:|---:|---:|---:|---:|---|")
-    for name, wall, peak, note, Y, clips, frames in results:
+    learn = next((r for r in results if r[0].startswith("umap-learn") and r[5] is not None), None)
+    print("| map | wall s | CPU s | peak MiB | action accuracy | take accuracy | ÷ feature space "
+          "(action, take) | umap-learn ÷ this (wall, CPU) | stages (s) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---|")
+    for name, wall, cpu, peak, note, Y, clips, frames in results:
         if Y is None:
-            print(f"| {name} | {wall:.1f} | {peak:.0f} | – | – | – | – | {note} |")
+            print(f"| {name} | {wall:.1f} | {cpu:.1f} | {peak:.0f} | – | – | – | – | {note} |")
             continue
-        if clips is not None and list(clips) != list(ref[5]):
+        if clips is not None and list(clips) != list(ref[6]):
             sys.exit(f"library_labels_table: {name}'s rows are not in the pca map's order")
         acc = accuracy(Y, clip, labels, queries, args.voters)
-        learn = next((r[1] for r in results if r[0] == "umap-learn" and r[4] is not None), None)
-        ratio = f"{learn / wall:.1f}×" if learn and name == "umap" else ""
-        print(f"| {name} | {wall:.1f} | {peak:.0f} | {acc['action']:.3f} | {acc['take']:.3f} | "
-              f"{acc['action'] / feature['action']:.3f}, {acc['take'] / feature['take']:.3f} | "
-              f"{ratio} | {note} |", flush=True)
-    print(f"| feature space (the points, {P.shape[1]}-D) | | | {feature['action']:.3f} | "
+        ratio = (f"{learn[1] / wall:.1f}×, {learn[2] / cpu:.1f}×" if learn and name == "umap"
+                 else "")
+        print(f"| {name} | {wall:.1f} | {cpu:.1f} | {peak:.0f} | {acc['action']:.3f} | "
+              f"{acc['take']:.3f} | {acc['action'] / feature['action']:.3f}, "
+              f"{acc['take'] / feature['take']:.3f} | {ratio} | {note} |", flush=True)
+    print(f"| feature space (the points, {P.shape[1]}-D) | | | | {feature['action']:.3f} | "
           f"{feature['take']:.3f} | 1, 1 | | |")
     print(f"\nload average at the end: {load_average()}")
 

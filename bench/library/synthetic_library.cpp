@@ -292,10 +292,25 @@ std::vector<Source> load_sources(const std::string& directory, std::vector<std::
     double lowest = std::numeric_limits<double>::infinity();
     for (const Vector3d& p : rest.positions) lowest = std::min(lowest, p.y());
     for (const Vector3d& p : rest.end_sites) lowest = std::min(lowest, p.y());
-    const int root = motion_root(clip.skeleton, clip.motion);
-    s.hip_height = rest.positions[root].y() - lowest;
+    // A root on the floor (Bandai's joint_Root, the hips' ground projection, which carries the
+    // motion in some of its takes): the height of the first joint of its chain above the floor.
+    int hip = motion_root(clip.skeleton, clip.motion);
+    while (!(rest.positions[hip].y() - lowest > 0.0)) {
+      int child = -1, children = 0;
+      for (int j = hip + 1; j < clip.skeleton.num_joints(); ++j) {
+        if (clip.skeleton.joints[j].parent == hip) {
+          child = j;
+          ++children;
+        }
+      }
+      if (children != 1) break;
+      hip = child;
+    }
+    s.hip_height = rest.positions[hip].y() - lowest;
     if (!(s.hip_height > 0.0)) {
-      note(name + ": skipped: its root is not above its lowest joint at rest");
+      note(name +
+           ": skipped: neither its root nor a joint of its chain is above its lowest joint "
+           "at rest");
       continue;
     }
     s.clip = std::move(clip);

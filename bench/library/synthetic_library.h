@@ -105,7 +105,9 @@ struct Source {
   std::vector<int> partners;  ///< mirror_partners(clip.skeleton); empty if !can_mirror
   Axis lateral = Axis::X;     ///< lateral_axis(), when it has pairs
   bool can_mirror = false;    ///< it has left↔right pairs
-  double hip_height = 0.0;    ///< rest height of the root above the lowest joint or End Site
+  /// rest height of the root above the lowest joint or End Site; of the first joint below the root
+  /// that is above it when the root is on the floor (Bandai's joint_Root)
+  double hip_height = 0.0;
 };
 
 /// Loads every .bvh file in `directory` (sorted by name) that shares the joint hierarchy of the

@@ -10,11 +10,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "motionmap/core/error.h"
+#include "motionmap/embed/detail/progress.h"
+#include "motionmap/embed/detail/umap_layout.h"
 #include "motionmap/embed/embed.h"
 #include "motionmap/embed/metrics.h"
 #include "motionmap/embed/neighbors.h"
@@ -301,6 +304,75 @@ TEST(Umap, OneSeedOneMapAnotherSeedAnother) {
   EXPECT_EQ(a.k_used, 15);
   EXPECT_EQ(a.coordinates.rows(), D.rows());
   EXPECT_TRUE(a.coordinates.allFinite());
+}
+
+// The threaded layout (detail/umap_layout.h) on the Bandai walks' fuzzy graph: a chunk count
+// gives one map for a seed whichever threads run the chunks, one chunk is the serial layout (the
+// map embed() makes with MOTIONMAP_THREADS=1), and the chunked maps keep neighbourhoods as well.
+TEST(Umap, LayoutChunksGiveOneMapWhicheverThreadsRunThem) {
+  const Takes& t = bandai();
+  if (t.take.empty()) GTEST_SKIP() << "the 12 Bandai takes are not in ../shared/data/bandai";
+  std::vector<int> rows;
+  for (int f = 0; f < int(t.take.size()); ++f) {
+    if (t.action[std::size_t(f)] == "walk") rows.push_back(f);
+  }
+  const Eigen::Map<const Eigen::VectorXi> at(rows.data(), Eigen::Index(rows.size()));
+  const Eigen::MatrixXd D = t.set.D(at, at);
+  const int n = int(D.rows());
+  const UmapGraph g = umap_fuzzy_graph(knn_from_distances(D, 14), 15);
+  constexpr int kEpochs = 200;
+  const double largest = *std::max_element(g.graph.weights.begin(), g.graph.weights.end());
+  UmapEdges edges;
+  for (int i = 0; i < n; ++i) {
+    for (int e = g.graph.offsets[i]; e < g.graph.offsets[i + 1]; ++e) {
+      if (g.graph.weights[e] < largest / kEpochs) continue;
+      edges.head.push_back(i);
+      edges.tail.push_back(g.graph.targets[e]);
+      edges.every.push_back(largest / g.graph.weights[e]);
+    }
+  }
+  // The partition: contiguous, covering, balanced by edges.
+  const UmapChunks three = umap_layout_chunks(edges.head, n, 3);
+  ASSERT_EQ(three.count(), 3);
+  EXPECT_EQ(three.first.front(), 0);
+  EXPECT_EQ(three.first.back(), n);
+  EXPECT_EQ(three.edge.back(), edges.head.size());
+  for (int c = 0; c < 3; ++c) {
+    const std::size_t share = three.edge[std::size_t(c) + 1] - three.edge[std::size_t(c)];
+    EXPECT_NEAR(double(share), edges.head.size() / 3.0, 40.0) << "chunk " << c;
+    for (std::size_t e = three.edge[std::size_t(c)]; e < three.edge[std::size_t(c) + 1]; ++e) {
+      ASSERT_GE(edges.head[e], three.first[std::size_t(c)]);
+      ASSERT_LT(edges.head[e], three.first[std::size_t(c) + 1]);
+    }
+  }
+  Eigen::MatrixXd start(n, 2);
+  std::mt19937_64 jitter(3);
+  for (int i = 0; i < n; ++i) {
+    start(i, 0) = 10.0 * double(jitter() >> 11) * 0x1.0p-53;
+    start(i, 1) = 10.0 * double(jitter() >> 11) * 0x1.0p-53;
+  }
+  const UmapCurve curve = umap_curve(0.1);
+  auto layout = [&](int chunks, bool serial) {
+    Eigen::MatrixXd Y = start;
+    std::mt19937_64 rng(5);
+    Progress progress;
+    umap_layout(edges, umap_layout_chunks(edges.head, n, chunks), curve, kEpochs, 5, Y, rng,
+                progress, serial);
+    return Y;
+  };
+  const Eigen::MatrixXd one = layout(1, true), two = layout(2, false), four = layout(4, false);
+  EXPECT_TRUE(two == layout(2, true));
+  EXPECT_TRUE(four == layout(4, true));
+  EXPECT_TRUE(two == layout(2, false));
+  EXPECT_FALSE(one == two);
+  const double t1 = trustworthiness(D, one, 10), t2 = trustworthiness(D, two, 10),
+               t4 = trustworthiness(D, four, 10);
+  std::printf("walks, %d frames: trustworthiness(10) with 1, 2, 4 chunks %.4f %.4f %.4f\n", n, t1,
+              t2, t4);
+  // Chunks must not cost neighbourhoods (one run each: seeds alone move these by ~0.002).
+  EXPECT_GT(t1, 0.99);
+  EXPECT_GT(t2, t1 - 0.003);
+  EXPECT_GT(t4, t1 - 0.003);
 }
 
 // A smooth curve in 6-D: a 300-frame clip without repeats.

@@ -21,9 +21,11 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/detail/routines.h"
+#include "motionmap/embed/detail/umap_layout.h"
 #include "motionmap/embed/eigen.h"
 #include "motionmap/embed/graph.h"
 
@@ -38,9 +40,17 @@ constexpr int kNegativeSamples = 5;
 constexpr double kRepulsion = 1.0;  // gamma
 constexpr double kLearningRate = 1.0;
 constexpr double kGradientClip = 4.0;
+// Above this many frames (their positions over 1 MiB) the layout runs in breadth-first order.
+constexpr int kLocalityOrderFrames = 65536;
 
 double clip(double v) {
   return std::clamp(v, -kGradientClip, kGradientClip);
+}
+
+// x^p (x > 0) in single precision, as umap-learn's layout computes it: glibc's powf takes about
+// 60 % of pow's time, and the power is most of the layout's arithmetic (7 per edge visit).
+double power(double x, float p) {
+  return static_cast<double>(std::pow(static_cast<float>(x), p));
 }
 
 // Uniform on [0, 1) from 53 random bits, and a standard normal (Box–Muller): written out, so the
@@ -208,6 +218,188 @@ UmapCurve umap_curve(double min_dist, double spread) {
   return {a, b};
 }
 
+std::vector<int> umap_breadth_first_order(const Graph& graph) {
+  const int n = static_cast<int>(graph.offsets.size()) - 1;
+  std::vector<int> order;
+  order.reserve(std::size_t(std::max(n, 0)));
+  std::vector<char> seen(std::size_t(std::max(n, 0)), 0);
+  for (int root = 0; root < n; ++root) {
+    if (seen[std::size_t(root)]) continue;
+    seen[std::size_t(root)] = 1;
+    std::size_t at = order.size();
+    order.push_back(root);
+    for (; at < order.size(); ++at) {
+      const int i = order[at];
+      for (int e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e) {
+        const int j = graph.targets[e];
+        if (!seen[std::size_t(j)]) {
+          seen[std::size_t(j)] = 1;
+          order.push_back(j);
+        }
+      }
+    }
+  }
+  return order;
+}
+
+int umap_layout_chunk_count(int frames) {
+  return std::max(1, std::min(worker_count(), frames / 1000));
+}
+
+UmapChunks umap_layout_chunks(std::span<const int> head, int frames, int count) {
+  count = std::max(1, std::min(count, std::max(frames, 1)));
+  UmapChunks chunks;
+  chunks.first.assign(std::size_t(count) + 1, frames);
+  chunks.edge.assign(std::size_t(count) + 1, head.size());
+  chunks.first[0] = 0;
+  chunks.edge[0] = 0;
+  for (int c = 1; c < count; ++c) {
+    // The first edge of the frame at or after the c-th equal share of the edges.
+    std::size_t at = head.size() * std::size_t(c) / std::size_t(count);
+    while (at > 0 && at < head.size() && head[at - 1] == head[at]) ++at;
+    const int frame = at < head.size() ? head[at] : frames;
+    chunks.first[std::size_t(c)] = std::max(frame, chunks.first[std::size_t(c) - 1]);
+    chunks.edge[std::size_t(c)] = std::max(at, chunks.edge[std::size_t(c) - 1]);
+  }
+  return chunks;
+}
+
+void umap_layout(const UmapEdges& edges, const UmapChunks& chunks, const UmapCurve& curve,
+                 int epochs, std::uint64_t seed, Eigen::MatrixXd& Y, std::mt19937_64& rng,
+                 Progress& progress, bool serial) {
+  const int n = static_cast<int>(Y.rows());
+  const int dims = static_cast<int>(Y.cols());
+  const int count = chunks.count();
+  const std::size_t E = edges.head.size();
+  const std::vector<int>& head = edges.head;
+  const std::vector<int>& tail = edges.tail;
+  const std::vector<double>& every = edges.every;
+  std::vector<double> every_negative(E), next(every), next_negative(E);
+  for (std::size_t e = 0; e < E; ++e) {
+    every_negative[e] = every[e] / kNegativeSamples;
+    next_negative[e] = every_negative[e];
+  }
+  // Each chunk's random numbers, drawn kAhead ahead of their use so that the frames they pick
+  // are fetched from memory before they are needed (the numbers and their order are those of
+  // drawing each when it is used). Chunk 0 continues `rng` (one chunk: the serial layout's
+  // numbers); chunk c > 0 has its own stream.
+  constexpr int kAhead = 32;
+  struct Stream {
+    std::mt19937_64* rng = nullptr;
+    std::uint64_t ahead[kAhead] = {};
+    int at = 0;
+  };
+  std::vector<std::mt19937_64> own_rngs;
+  own_rngs.reserve(std::size_t(std::max(count - 1, 0)));
+  for (int c = 1; c < count; ++c) {
+    std::uint64_t z = seed + 0x9e3779b97f4a7c15ULL * std::uint64_t(c);  // SplitMix64 of (seed, c)
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    own_rngs.emplace_back(z ^ (z >> 31));
+  }
+  std::vector<Stream> streams(std::size_t(std::max(count, 1)));
+  for (int c = 0; c < count; ++c) {
+    Stream& s = streams[std::size_t(c)];
+    s.rng = c == 0 ? &rng : &own_rngs[std::size_t(c) - 1];
+    for (std::uint64_t& v : s.ahead) v = (*s.rng)();
+  }
+  const double a = curve.a, b = curve.b;
+  const float fb = static_cast<float>(b);
+  // The positions frame by frame (x, y[, z] side by side: one cache line per frame), copied
+  // back into Y at the end; what the other chunks' frames were when the epoch began.
+  std::vector<double> live(std::size_t(n) * std::size_t(dims));
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < dims; ++d) live[std::size_t(i) * dims + d] = Y(i, d);
+  }
+  std::vector<double> frozen_copy(count > 1 ? live.size() : 0);
+  double* pos = live.data();
+  const double* frozen = count > 1 ? frozen_copy.data() : pos;
+  double alpha = kLearningRate;
+  auto run_chunk = [&](int c, int epoch) {
+    Stream& s = streams[std::size_t(c)];
+    const auto draw = [&]() {
+      const std::uint64_t v = s.ahead[s.at];
+      const std::uint64_t w = (*s.rng)();
+      s.ahead[s.at] = w;
+      s.at = (s.at + 1) % kAhead;
+      const std::size_t o = std::size_t(w % static_cast<std::uint64_t>(n)) * std::size_t(dims);
+      __builtin_prefetch(pos + o);
+      __builtin_prefetch(frozen + o);
+      return v;
+    };
+    const int lo = chunks.first[std::size_t(c)], hi = chunks.first[std::size_t(c) + 1];
+    const auto own = [&](int v) { return v >= lo && v < hi; };
+    const std::size_t last = chunks.edge[std::size_t(c) + 1];
+    constexpr std::size_t kFetch = 16;  // edges between fetching a tail and using it
+    for (std::size_t e = chunks.edge[std::size_t(c)]; e < last; ++e) {
+      if (e + kFetch < last) {
+        const int t = tail[e + kFetch];
+        __builtin_prefetch((own(t) ? pos : frozen) + std::size_t(t) * dims);
+      }
+      if (next[e] > epoch) continue;
+      const int j = head[e], k = tail[e];
+      const bool mine = own(k);
+      double* yj = pos + std::size_t(j) * dims;
+      double* yk_live = pos + std::size_t(k) * dims;
+      const double* yk = mine ? yk_live : frozen + std::size_t(k) * dims;
+      double d2 = 0.0;
+      for (int d = 0; d < dims; ++d) d2 += (yj[d] - yk[d]) * (yj[d] - yk[d]);
+      double coefficient = 0.0;
+      if (d2 > 0.0) {
+        const double pw = power(d2, fb);  // d²ᵇ
+        coefficient = -2.0 * a * b * (pw / d2) / (a * pw + 1.0);
+      }
+      if (mine) {
+        for (int d = 0; d < dims; ++d) {
+          const double grad = clip(coefficient * (yj[d] - yk_live[d]));
+          yj[d] += grad * alpha;
+          yk_live[d] -= grad * alpha;
+        }
+      } else {
+        // j → k of another chunk: k is moved by its own edge k → j, and j takes the pull that
+        // edge would have given it as well.
+        for (int d = 0; d < dims; ++d) {
+          const double grad = clip(coefficient * (yj[d] - yk[d]));
+          yj[d] += 2.0 * grad * alpha;
+        }
+      }
+      next[e] += every[e];
+      const int negatives = static_cast<int>((epoch - next_negative[e]) / every_negative[e]);
+      for (int p = 0; p < negatives; ++p) {
+        const int o = static_cast<int>(draw() % static_cast<std::uint64_t>(n));
+        const double* yo = (own(o) ? pos : frozen) + std::size_t(o) * dims;
+        double q2 = 0.0;
+        double diff[3];
+        for (int d = 0; d < dims; ++d) {
+          diff[d] = yj[d] - yo[d];
+          q2 += diff[d] * diff[d];
+        }
+        if (q2 > 0.0) {
+          const double push = 2.0 * kRepulsion * b / ((0.001 + q2) * (a * power(q2, fb) + 1.0));
+          for (int d = 0; d < dims; ++d) yj[d] += clip(push * diff[d]) * alpha;
+        } else if (j != o) {
+          for (int d = 0; d < dims; ++d) yj[d] += kGradientClip * alpha;
+        }
+      }
+      next_negative[e] += std::max(negatives, 0) * every_negative[e];
+    }
+  };
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    if (count > 1) {
+      std::copy(live.begin(), live.end(), frozen_copy.begin());
+      parallel_chunks(
+          count, [&](int c, int) { run_chunk(c, epoch); }, {}, serial);
+    } else {
+      run_chunk(0, epoch);
+    }
+    alpha = kLearningRate * (1.0 - double(epoch) / epochs);
+    progress.update(double(epoch + 1) / epochs);
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < dims; ++d) Y(i, d) = live[std::size_t(i) * dims + d];
+  }
+}
+
 static void umap_on(const NeighborGraph& ng, int n_neighbors, const EmbedOptions& options,
                     Embedding& out, Progress& progress, double begin, double end) {
   const int n = ng.lists.frames();
@@ -279,64 +471,38 @@ static void umap_on(const NeighborGraph& ng, int n_neighbors, const EmbedOptions
   rescale_to_ten(Y);
 
   // The edges the layout samples: both directions of every membership ≥ max ÷ epochs, each
-  // every max ÷ w epochs.
+  // every max ÷ w epochs, in CSR order (grouped by head frame).
   progress.stage("layout", init_end, end);
   const Graph& g = fuzzy.graph;
   const double largest =
       g.weights.empty() ? 0.0 : *std::max_element(g.weights.begin(), g.weights.end());
-  std::vector<int> head, tail;
-  std::vector<double> every;
-  for (int i = 0; i < n; ++i) {
+  // Large maps are laid out in the breadth-first order of the graph, so that a frame's
+  // neighbours lie near it in memory (and a chunk's frames are a region of the graph).
+  const std::vector<int> order =
+      n > kLocalityOrderFrames ? umap_breadth_first_order(g) : std::vector<int>();
+  std::vector<int> place(order.empty() ? 0 : std::size_t(n));
+  for (std::size_t v = 0; v < order.size(); ++v) place[std::size_t(order[v])] = int(v);
+  UmapEdges edges;
+  for (int v = 0; v < n; ++v) {
+    const int i = order.empty() ? v : order[std::size_t(v)];
     for (int e = g.offsets[i]; e < g.offsets[i + 1]; ++e) {
       if (g.weights[e] < largest / epochs) continue;
-      head.push_back(i);
-      tail.push_back(g.targets[e]);
-      every.push_back(largest / g.weights[e]);
+      edges.head.push_back(v);
+      edges.tail.push_back(order.empty() ? g.targets[e] : place[std::size_t(g.targets[e])]);
+      edges.every.push_back(largest / g.weights[e]);
     }
   }
-  const std::size_t E = head.size();
-  std::vector<double> every_negative(E), next(every), next_negative(E);
-  for (std::size_t e = 0; e < E; ++e) {
-    every_negative[e] = every[e] / kNegativeSamples;
-    next_negative[e] = every_negative[e];
+  fuzzy = UmapGraph();  // the layout needs only its edges: the graph's memory goes back
+  if (!order.empty()) {
+    const Eigen::MatrixXd start = Y;
+    for (int v = 0; v < n; ++v) Y.row(v) = start.row(order[std::size_t(v)]);
   }
-  const UmapCurve curve = umap_curve(options.min_dist, 1.0);
-  const double a = curve.a, b = curve.b;
-  double* data = Y.data();  // column-major: Y(i, c) = data[c·n + i]
-  auto at = [&](int i, int c) -> double& { return data[std::size_t(c) * n + std::size_t(i)]; };
-  double alpha = kLearningRate;
-  for (int epoch = 0; epoch < epochs; ++epoch) {
-    for (std::size_t e = 0; e < E; ++e) {
-      if (next[e] > epoch) continue;
-      const int j = head[e], k = tail[e];
-      double d2 = 0.0;
-      for (int c = 0; c < dims; ++c) d2 += (at(j, c) - at(k, c)) * (at(j, c) - at(k, c));
-      double coefficient = 0.0;
-      if (d2 > 0.0) {
-        coefficient = -2.0 * a * b * std::pow(d2, b - 1.0) / (a * std::pow(d2, b) + 1.0);
-      }
-      for (int c = 0; c < dims; ++c) {
-        const double grad = clip(coefficient * (at(j, c) - at(k, c)));
-        at(j, c) += grad * alpha;
-        at(k, c) -= grad * alpha;
-      }
-      next[e] += every[e];
-      const int negatives = static_cast<int>((epoch - next_negative[e]) / every_negative[e]);
-      for (int p = 0; p < negatives; ++p) {
-        const int o = static_cast<int>(rng() % static_cast<std::uint64_t>(n));
-        double q2 = 0.0;
-        for (int c = 0; c < dims; ++c) q2 += (at(j, c) - at(o, c)) * (at(j, c) - at(o, c));
-        if (q2 > 0.0) {
-          const double push = 2.0 * kRepulsion * b / ((0.001 + q2) * (a * std::pow(q2, b) + 1.0));
-          for (int c = 0; c < dims; ++c) at(j, c) += clip(push * (at(j, c) - at(o, c))) * alpha;
-        } else if (j != o) {
-          for (int c = 0; c < dims; ++c) at(j, c) += kGradientClip * alpha;
-        }
-      }
-      next_negative[e] += std::max(negatives, 0) * every_negative[e];
-    }
-    alpha = kLearningRate * (1.0 - double(epoch) / epochs);
-    progress.update(double(epoch + 1) / epochs);
+  const UmapChunks chunks = umap_layout_chunks(edges.head, n, umap_layout_chunk_count(n));
+  umap_layout(edges, chunks, umap_curve(options.min_dist, 1.0), epochs,
+              static_cast<std::uint64_t>(options.seed), Y, rng, progress);
+  if (!order.empty()) {
+    const Eigen::MatrixXd laid = Y;
+    for (int v = 0; v < n; ++v) Y.row(order[std::size_t(v)]) = laid.row(v);
   }
   out.coordinates = std::move(Y);
 }

@@ -352,13 +352,13 @@ TEST(StudioTimelineKeys, PlaybackKeysWorkWhateverViewHasTheFocus) {
   }
 }
 
-TEST(StudioTimelineKeys, NumberKeysPickTheSevenMethods) {
+TEST(StudioTimelineKeys, NumberKeysPickTheEightMethods) {
   auto w = windowWithMap(embed::Method::Pca);
   activate(w.get());
   const std::vector<embed::Method>& methods = embed::all_methods();
-  ASSERT_EQ(methods.size(), 7U);  // the six spectral maps and umap (7)
+  ASSERT_EQ(methods.size(), 8U);  // the six spectral maps, umap (7) and gplvm (8)
   // Each key picks its method (the map is then computed, or taken from the cache).
-  for (int i = 6; i >= 0; --i) {
+  for (int i = 7; i >= 0; --i) {
     press(w.get(), Qt::Key(Qt::Key_1 + i));
     EXPECT_EQ(w->method(), methods[std::size_t(i)]) << "key " << i + 1;
   }

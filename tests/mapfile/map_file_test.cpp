@@ -557,7 +557,7 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
             "targets)");
   EXPECT_EQ(refused([](Edit& e) { e.text_attribute("/parameters", "method", "tsne"); }),
             "attribute method of /parameters is 'tsne', expected a method (pca, svd, mds, "
-            "isomap, le, lle, umap)");
+            "isomap, le, lle, umap, gplvm)");
   EXPECT_EQ(refused([](Edit& e) { e.int_attribute("/model", "k", 0); }),
             "attribute k of /model is 0, expected 1 to 40 for the isomap map");
   EXPECT_EQ(refused([](Edit& e) { e.remove("/parameters"); }),

@@ -1,6 +1,6 @@
 #pragma once
 // What the map-file fuzz targets share: their seeds — small map files of every method, on the
-// dense and the landmark path, of a procedural swing, written afresh at each start so that they
+// dense and the landmark path, of a procedural swing, with a label, written afresh at each start so that they
 // are of the layout this build writes (no map file is committed) — and what they do with a file
 // the reader accepts.
 #include <cstdio>
@@ -47,8 +47,14 @@ inline std::vector<std::filesystem::path> write_map_seeds(const std::filesystem:
       const std::string name = std::string(embed::method_name(method)) +
                                (landmarks ? "-landmarks" : "-dense") + ".mmap.h5";
       try {
-        mapfile::write_map_file((folder / name).string(),
-                                mapfile::make_map_file(clips, pipeline::map_clips(clips, o), o));
+        mapfile::MapFile file = mapfile::make_map_file(clips, pipeline::map_clips(clips, o), o);
+        // Labels (group /labels), so that their datasets are fuzzed too: "phase", two values.
+        pipeline::LabelColumn phase{"phase", {"back", "through"}, {}};
+        for (int i = 0; i < file.num_samples(); ++i) {
+          phase.codes.push_back(2 * i < file.num_samples() ? 0 : 1);
+        }
+        file.labels.columns = {phase};
+        mapfile::write_map_file((folder / name).string(), file);
         written.push_back(folder / name);
       } catch (const Error& e) {  // a seed fewer, said
         std::fprintf(stderr, "map seeds: no seed %s: %s\n", name.c_str(), e.what());

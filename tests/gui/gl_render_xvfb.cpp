@@ -91,7 +91,7 @@ RenderCheck check(const SkeletonView& view, const QImage& image) {
     double reach;
   };
   std::vector<Segment> segments;
-  for (const BoneSegment& bone : boneSegments(view.skeleton(), pose)) {
+  for (const BoneSegment& bone : bone_segments(view.skeleton(), pose)) {
     // Box corners: √2 radii off the axis; joint cubes: 1.25·√3 ≈ 2.2 radii off the joint.
     const double reach = 2.3 * std::max(pixelRadius(bone.from), pixelRadius(bone.to)) + 2.0;
     segments.push_back(
@@ -131,7 +131,7 @@ QImage annotated(const SkeletonView& view, QImage image) {
   QPainter painter(&image);
   painter.setRenderHint(QPainter::Antialiasing);
   painter.setPen(QPen(Qt::black, 1));
-  for (const BoneSegment& bone : boneSegments(view.skeleton(), view.worldPose())) {
+  for (const BoneSegment& bone : bone_segments(view.skeleton(), view.worldPose())) {
     painter.drawLine(projectToPixels(view.camera(), view.size(), bone.from),
                      projectToPixels(view.camera(), view.size(), bone.to));
   }

@@ -40,7 +40,7 @@ bool sameRotations(const Motion& a, const Motion& b) {
 TEST(StudioScene, BonesOfTheSampleSkeletonJoinEveryJointToItsParent) {
   const Clip clip = swing(0.5);
   const WorldPose pose = forward_kinematics(clip.skeleton, clip.motion, 0);
-  const auto bones = boneSegments(clip.skeleton, pose);
+  const auto bones = bone_segments(clip.skeleton, pose);
   int expected = 0;
   for (const Joint& j : clip.skeleton.joints) {
     expected += int(j.end_sites.size());
@@ -53,8 +53,8 @@ TEST(StudioScene, BonesOfTheSampleSkeletonJoinEveryJointToItsParent) {
   EXPECT_EQ(int(bones.size()), expected);
   EXPECT_GT(bones.size(), 20u);
   // About the subject's height (1.72 m in cm) plus arms: the extent is of the order of metres.
-  EXPECT_GT(poseExtent(pose), 100.0);
-  EXPECT_LT(poseExtent(pose), 400.0);
+  EXPECT_GT(pose_extent(pose), 100.0);
+  EXPECT_LT(pose_extent(pose), 400.0);
 }
 
 TEST(StudioScene, BoxHas36VerticesWithUnitNormalsAroundTheBone) {

@@ -62,11 +62,11 @@ TEST(StudioView3d, NoBoneFromAStaticRootToAHipsThatMovesByItself) {
   const int root = skeleton.find("joint_Root"), hips = skeleton.find("Hips");
   ASSERT_EQ(root, 0);
   ASSERT_GE(hips, 0);
-  const std::vector<bool> detached = detachedJoints(skeleton, clip.motion);
+  const std::vector<bool> detached = detached_joints(skeleton, clip.motion);
   // Only the hips moves by its own channels; the other joints' channels repeat their offsets.
   for (int j = 0; j < skeleton.num_joints(); ++j)
     EXPECT_EQ(detached[std::size_t(j)], j == hips) << skeleton.joints[std::size_t(j)].name;
-  const std::vector<bool> body = bodyJoints(skeleton, detached);
+  const std::vector<bool> body = body_joints(skeleton, detached);
   EXPECT_FALSE(body[std::size_t(root)]) << "the static root has no bone left";
   EXPECT_EQ(std::count(body.begin(), body.end(), true), skeleton.num_joints() - 1);
   // Every parent→child bone but root→hips, and every end site's of non-zero length (this file's
@@ -80,7 +80,7 @@ TEST(StudioView3d, NoBoneFromAStaticRootToAHipsThatMovesByItself) {
   double worst = 0.0;
   for (int f = 0; f < clip.motion.num_frames; ++f) {
     const WorldPose pose = forward_kinematics(skeleton, clip.motion, f);
-    const std::vector<BoneSegment> bones = boneSegments(skeleton, pose, detached);
+    const std::vector<BoneSegment> bones = bone_segments(skeleton, pose, detached);
     ASSERT_EQ(int(bones.size()), expected) << "frame " << f;
     for (const BoneSegment& b : bones) {
       worst = std::max(worst, (b.to - b.from).norm());
@@ -90,7 +90,7 @@ TEST(StudioView3d, NoBoneFromAStaticRootToAHipsThatMovesByItself) {
   EXPECT_LE(worst, 2.0 * longest);
   // Without the rule the root→hips bone is metres long (the walk starts 4 m from the origin).
   const std::vector<BoneSegment> all =
-      boneSegments(skeleton, forward_kinematics(skeleton, clip.motion, 0));
+      bone_segments(skeleton, forward_kinematics(skeleton, clip.motion, 0));
   double longestAll = 0.0;
   for (const BoneSegment& b : all) longestAll = std::max(longestAll, (b.to - b.from).norm());
   EXPECT_GT(longestAll, 3.0 * longest);
@@ -107,9 +107,9 @@ TEST(StudioView3d, NoBoneFromAStaticRootToAHipsThatMovesByItself) {
 
 TEST(StudioView3d, ASkeletonWhoseChannelsRepeatItsOffsetsKeepsAllBones) {
   const Clip clip = testing::swing();
-  const std::vector<bool> detached = detachedJoints(clip.skeleton, clip.motion);
+  const std::vector<bool> detached = detached_joints(clip.skeleton, clip.motion);
   EXPECT_EQ(std::count(detached.begin(), detached.end(), true), 0);
-  const std::vector<bool> body = bodyJoints(clip.skeleton, detached);
+  const std::vector<bool> body = body_joints(clip.skeleton, detached);
   EXPECT_EQ(std::count(body.begin(), body.end(), true), clip.skeleton.num_joints());
 }
 
@@ -174,7 +174,7 @@ TEST(StudioView3d, FramesTheWholeClipInAnyUnitAndShape) {
        {kData + "/asfamc/02_02.amc", kData + "/other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh"}) {
     if (!exists(other)) continue;
     const Clip clip = io::load_clip(other);
-    const auto detached = detachedJoints(clip.skeleton, clip.motion);
+    const auto detached = detached_joints(clip.skeleton, clip.motion);
     EXPECT_EQ(std::count(detached.begin(), detached.end(), true), 0) << other;
     expectFramed(clip, other);
   }
@@ -353,7 +353,7 @@ TEST(StudioView3d, CapsulesAreRoundAndClosed) {
 
 void expectSides(const Skeleton& skeleton,
                  const std::vector<std::pair<std::string, JointSide>>& expected) {
-  const std::vector<JointSide> sides = jointSides(skeleton);
+  const std::vector<JointSide> sides = joint_sides(skeleton);
   for (const auto& [name, side] : expected) {
     const int j = skeleton.find(name);
     ASSERT_GE(j, 0) << name;
@@ -404,9 +404,9 @@ TEST(StudioView3d, JointColoursByBodySide) {
                     {"thumb", Left},
                     {"spine.L", Left}});
   // Three distinct colours.
-  EXPECT_NE(sideColor(Left), sideColor(Right));
-  EXPECT_NE(sideColor(Left), sideColor(Center));
-  EXPECT_NE(sideColor(Right), sideColor(Center));
+  EXPECT_NE(side_color(Left), side_color(Right));
+  EXPECT_NE(side_color(Left), side_color(Center));
+  EXPECT_NE(side_color(Right), side_color(Center));
 }
 
 TEST(StudioView3d, TrailHasEveryFrame) {

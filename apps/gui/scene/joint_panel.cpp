@@ -66,7 +66,7 @@ void JointPanel::rebuild() {
     const JointSide side =
         std::size_t(j) < sides.size() ? sides[std::size_t(j)] : JointSide::Center;
     item->setText(1, tr(sideName(side)));
-    const Eigen::Vector3f c = sideColor(side);
+    const Eigen::Vector3f c = side_color(side);
     item->setForeground(1, QColor::fromRgbF(c.x(), c.y(), c.z()));
     item->setData(0, Qt::UserRole, j);
     m_items.push_back(item);

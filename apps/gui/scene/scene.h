@@ -12,57 +12,19 @@
 #include <QPointF>
 #include <QSize>
 
+#include "motionmap/skeleton/bones.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 #include "motionmap/skeleton/skeleton.h"
 
 namespace motionmap::studio {
 
-/// One bone: from a joint to a child joint or to one of its end sites (world coordinates).
-struct BoneSegment {
-  Eigen::Vector3d from;
-  Eigen::Vector3d to;
-  int joint = -1;  ///< the joint whose side colours it: the child, or the end site's joint
-};
-
-/// Joints that move by their own translation channels: j (not a root) whose local translation
-/// somewhere in `motion` is more than 0.25·|offset| + 1 % of the rest pose's extent away from its
-/// rest offset (Bandai Namco's Hips under a static joint_Root, translated across the floor). Such
-/// a joint is not where its parent's offset puts it, so it gets no bone from its parent. Joints
-/// whose translation channels only repeat their offsets (files with 6 channels on every joint)
-/// are not detached. One entry per joint; all false for a motion that does not fit.
-std::vector<bool> detachedJoints(const Skeleton& skeleton, const Motion& motion);
-
-/// Every parent→child and joint→end-site segment of `pose` (a WorldPose of `skeleton`), skipping
-/// zero-length ones (CMU's dummy joints) and the parent→child bones of `detached` joints (empty:
-/// none detached).
-std::vector<BoneSegment> boneSegments(const Skeleton& skeleton, const WorldPose& pose,
-                                      const std::vector<bool>& detached = {});
-
-/// Joints drawn and framed: every joint with at least one bone (to its parent, a child or an end
-/// site) given `detached`, or every joint of a one-joint skeleton. A static root whose only child
-/// is detached (joint_Root at the origin under a walking character) is not part of the body.
-std::vector<bool> bodyJoints(const Skeleton& skeleton, const std::vector<bool>& detached);
-
-/// Body side of a joint, read from its name.
-enum class JointSide { Center, Left, Right };
-/// Sides of every joint. A name is Left when it starts with "Left"/"left" or "L_", "L.", "L-",
-/// "l_", …, or ends with "_L", ".L", "-L", " L", "_l", …, or contains "Left"/"left"; or when it is
-/// "L"/"l" followed by the rest of a name that the skeleton also has with "R"/"r" in its place
-/// (CMU's LHipJoint beside RHipJoint, ASF's lfemur beside rfemur, but not lowerback). Right
-/// likewise. A joint with no mark takes its parent's side (fingers under a hand); roots and the
-/// spine are Center.
-std::vector<JointSide> jointSides(const Skeleton& skeleton);
-/// Joint colours: left blue, right red, centre ochre (bones: the same hue, lighter).
-Eigen::Vector3f sideColor(JointSide side, bool bone = false);
-
-/// Diagonal of the bounding box of the pose's joints and end sites (1 when degenerate), the scale
-/// the view sizes bones, grid and camera distance by.
-double poseExtent(const WorldPose& pose);
+// Bone segments, detached joints, body joints, joint sides and their colours, and the pose's
+// extent come from the library (motionmap/skeleton/bones.h), shared with `motionmap keyposes`.
 
 /// Frames motionBounds() looks at, at most (evenly spaced, and the last).
 inline constexpr int kMaxBoundsFrames = 2000;
 
-/// Bounding boxes of a whole clip (joints of bodyJoints and end sites, every finite point of up to
+/// Bounding boxes of a whole clip (joints of body_joints and end sites, every finite point of up to
 /// kMaxBoundsFrames evenly spaced frames and the last): `box*`
 /// in world coordinates, `follow*` relative to the root's floor point (x, 0, z) of each frame, the
 /// volume a camera following the root must keep in view.

@@ -252,8 +252,8 @@ void SkeletonView::setSkeleton(const Skeleton& skeleton, bool keepCamera) {
   m_world = WorldPose{};
   m_motion.reset();
   m_detached.assign(std::size_t(skeleton.num_joints()), false);
-  m_body = bodyJoints(skeleton, m_detached);
-  m_sides = jointSides(skeleton);
+  m_body = body_joints(skeleton, m_detached);
+  m_sides = joint_sides(skeleton);
   m_bounds = MotionBounds{};
   m_root = skeleton.num_joints() > 0 ? skeleton.roots().front() : 0;
   m_hovered = -1;
@@ -269,7 +269,7 @@ void SkeletonView::setSkeleton(const Skeleton& skeleton, bool keepCamera) {
   rest.resize(1, skeleton.num_joints());
   for (int j = 0; j < skeleton.num_joints(); ++j)
     rest.translation(0, j) = skeleton.joints[std::size_t(j)].offset;
-  m_extent = poseExtent(forward_kinematics(skeleton, rest, 0));
+  m_extent = pose_extent(forward_kinematics(skeleton, rest, 0));
   if (!keepCamera) {
     m_camera = OrbitCamera{};
     m_camera.distance = 1.7 * m_extent;
@@ -296,8 +296,8 @@ void SkeletonView::setMotion(const Motion& motion) {
   };
   if (m_motion && !m_needsFraming && same(*m_motion, motion)) return;
   m_motion = std::make_shared<const Motion>(motion);
-  m_detached = detachedJoints(m_skeleton, motion);
-  m_body = bodyJoints(m_skeleton, m_detached);
+  m_detached = detached_joints(m_skeleton, motion);
+  m_body = body_joints(m_skeleton, m_detached);
   m_root = motion_root(m_skeleton, motion);
   m_bounds = motionBounds(m_skeleton, motion, m_body, m_root);
   if (m_selected >= 0) m_trail = jointTrail(m_skeleton, motion, m_selected);
@@ -379,7 +379,7 @@ void SkeletonView::setCamera(const OrbitCamera& camera) {
 }
 
 std::vector<BoneSegment> SkeletonView::bones() const {
-  return boneSegments(m_skeleton, m_world, m_detached);
+  return bone_segments(m_skeleton, m_world, m_detached);
 }
 
 void SkeletonView::setPose(const Motion& motion, int frame) {
@@ -529,7 +529,7 @@ void SkeletonView::paintFallback(QPainter& painter) {
       QPointF normal(-(b - a).y(), (b - a).x());
       const double len = std::hypot(normal.x(), normal.y());
       normal = len > 0 ? normal * (0.5 * w / len) : QPointF(0, 0.5 * w);
-      const Eigen::Vector3f c = sideColor(side(bone.joint), true);
+      const Eigen::Vector3f c = side_color(side(bone.joint), true);
       QLinearGradient shade(a + normal, a - normal);
       shade.setColorAt(0.0, qcolor(c, 0.55));
       shade.setColorAt(0.35, qcolor(c, 1.1));
@@ -542,7 +542,7 @@ void SkeletonView::paintFallback(QPainter& painter) {
       const double r =
           pixelRadius(m_world.positions[std::size_t(item.joint)], radius * (selected ? 2.0 : 1.25));
       const Eigen::Vector3f c =
-          selected ? Eigen::Vector3f(1.0f, 0.6f, 0.05f) : sideColor(side(item.joint));
+          selected ? Eigen::Vector3f(1.0f, 0.6f, 0.05f) : side_color(side(item.joint));
       QRadialGradient shade(p - QPointF(0.35 * r, 0.35 * r), 1.3 * std::max(r, 2.0));
       shade.setColorAt(0.0, qcolor(c, 1.3));
       shade.setColorAt(1.0, qcolor(c, 0.55));

@@ -38,7 +38,7 @@ class SkeletonView : public QWidget {
   /// (another clip of the same body). Clears the pose, the motion and the selected joint.
   void setSkeleton(const Skeleton& skeleton, bool keepCamera = false);
   /// The whole motion that will play (of the current skeleton; copied): which joints are
-  /// detached (detachedJoints), the clip's bounds, the selected joint's trail. The first call
+  /// detached (detached_joints), the clip's bounds, the selected joint's trail. The first call
   /// after setSkeleton without keepCamera frames the clip (frameClip); later ones (another clip,
   /// a synthesized motion) keep the camera.
   void setMotion(const Motion& motion);
@@ -55,7 +55,7 @@ class SkeletonView : public QWidget {
   void applyCameraPreset(CameraPreset preset);
   /// Camera state, for tests.
   void setCamera(const OrbitCamera& camera);
-  /// Joints detached from their parent (no bone drawn to them) and joints drawn (bodyJoints).
+  /// Joints detached from their parent (no bone drawn to them) and joints drawn (body_joints).
   const std::vector<bool>& detached() const { return m_detached; }
   const std::vector<bool>& body() const { return m_body; }
   const std::vector<JointSide>& sides() const { return m_sides; }

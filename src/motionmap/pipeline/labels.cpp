@@ -281,14 +281,17 @@ class JsonReader {
  public:
   JsonReader(std::string_view text, std::string path) : m_text(text), m_path(std::move(path)) {}
 
-  struct Value;
-  using Object = std::vector<std::pair<std::string, Value>>;
+  struct Member;  // a key and its value (not a std::pair: Value is incomplete inside itself)
   struct Value {
     enum Kind { String, Number, Object_, Array, Other } kind = Other;
     std::string text;  // String: the string; Number: the number's text
-    std::vector<std::pair<std::string, Value>> members;
+    std::vector<Member> members;
     std::vector<Value> items;
     std::size_t line = 1, column = 1;
+  };
+  struct Member {
+    std::string first;
+    Value second;
   };
 
   Value document() {
@@ -354,7 +357,7 @@ class JsonReader {
         skip_space();
         if (m_pos >= m_text.size() || m_text[m_pos] != ':') fail("expected ':'");
         ++m_pos;
-        v.members.emplace_back(std::move(key), value(depth + 1));
+        v.members.push_back(Member{std::move(key), value(depth + 1)});
         skip_space();
         if (m_pos < m_text.size() && m_text[m_pos] == ',') {
           ++m_pos;

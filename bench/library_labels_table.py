@@ -35,13 +35,15 @@ import datetime
 import glob
 import os
 import re
-import resource
 import subprocess
 import sys
 import tempfile
 import time
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from scale_table import run_measured  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METHODS = ["pca", "svd", "mds", "isomap", "le", "lle", "umap"]
@@ -126,26 +128,7 @@ def labels_of(folder):
 
 def run(cmd, timeout):
     """Runs cmd in a fresh child: (rc or None on timeout, wall s, CPU s, peak MiB, stderr)."""
-    with tempfile.TemporaryFile(mode="w+") as err:
-        start = time.monotonic()
-        p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err)
-        timed_out = False
-        while True:
-            pid, status, usage = os.wait4(p.pid, os.WNOHANG)
-            if pid:
-                break
-            if time.monotonic() - start > timeout:
-                timed_out = True
-                p.kill()
-                pid, status, usage = os.wait4(p.pid, 0)
-                break
-            time.sleep(0.05)
-        wall = time.monotonic() - start
-        p.returncode = os.waitstatus_to_exitcode(status)
-        err.seek(0)
-        text = err.read()
-    cpu = usage.ru_utime + usage.ru_stime
-    return (None if timed_out else p.returncode), wall, cpu, usage.ru_maxrss / 1024.0, text
+    return run_measured(cmd, timeout)
 
 
 def read_points(path):

@@ -132,6 +132,14 @@ def library(args, frames, seed=None):
 
 def run_map(cmd, timeout, mem_limit):
     """Runs one map in a fresh child: (rc or None on timeout, wall s, peak MiB, stderr text)."""
+    rc, wall, _, peak, text = run_measured(cmd, timeout, mem_limit)
+    return rc, wall, peak, text
+
+
+def run_measured(cmd, timeout, mem_limit=None):
+    """Runs cmd in a fresh child: (rc or None on timeout, wall s, CPU s, peak MiB, stderr text);
+    `mem_limit` bytes of address space at most (None: no limit). bench/library_labels_table.py
+    uses it too."""
     def limit():
         if mem_limit:
             resource.setrlimit(resource.RLIMIT_AS, (mem_limit, mem_limit))
@@ -155,7 +163,8 @@ def run_map(cmd, timeout, mem_limit):
         p.returncode = os.waitstatus_to_exitcode(status)  # reaped here: keep Popen from waiting
         err.seek(0)
         text = err.read()
-    return (None if timed_out else p.returncode), wall, usage.ru_maxrss / 1024.0, text
+    cpu = usage.ru_utime + usage.ru_stime
+    return (None if timed_out else p.returncode), wall, cpu, usage.ru_maxrss / 1024.0, text
 
 
 def stages_of(stderr):

@@ -1,8 +1,8 @@
 #pragma once
 // What the map-file fuzz targets share: their seeds — small map files of every method, on the
-// dense and the landmark path, of a procedural swing, with a label, written afresh at each start so that they
-// are of the layout this build writes (no map file is committed) — and what they do with a file
-// the reader accepts.
+// dense and the landmark path, of a procedural swing, with a label, written afresh at each start so
+// that they are of the layout this build writes (no map file is committed) — and what they do with
+// a file the reader accepts.
 #include <cstdio>
 #include <filesystem>
 #include <string>

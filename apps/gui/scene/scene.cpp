@@ -8,7 +8,6 @@
 
 namespace motionmap::studio {
 
-
 MotionBounds motionBounds(const Skeleton& skeleton, const Motion& motion,
                           const std::vector<bool>& body, int rootJoint) {
   MotionBounds out;
@@ -56,7 +55,6 @@ std::vector<Eigen::Vector3d> jointTrail(const Skeleton& skeleton, const Motion& 
   }
   return out;
 }
-
 
 void appendBox(std::vector<MeshVertex>& out, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                double radius, const Eigen::Vector3f& color) {

@@ -178,11 +178,13 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
     fit.iterations = solver.minimize(objective, v, fx);
     fit.stopped = fit.iterations >= max_iterations ? "iteration limit" : "converged";
   } catch (const std::runtime_error&) {  // LBFGS++: the line search found no decrease
-    fit.iterations = max_iterations;
+    fit.iterations = -1;
     fit.stopped = "line search";
   } catch (const std::logic_error&) {
+    fit.iterations = -1;
     fit.stopped = "line search";
   }
+  fit.evaluations = evaluations;
   if (!std::isfinite(best)) {
     throw NumericalError("gplvm: the kernel matrix is not positive definite at the start");
   }
@@ -214,11 +216,13 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
       fit_gplvm(Y, X0, initial_gplvm_kernel(Y), options.max_iterations, progress.control());
   out.coordinates = fit.X;
   out.eigenvalues = pca.eigenvalues;  // of the start, as umap reports its spectral start's
-  out.notes.push_back("gplvm: " + std::to_string(fit.iterations) + " iterations (" + fit.stopped +
-                      "), −log likelihood " + std::to_string(fit.objective) + ", σ_f² " +
-                      std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +
-                      std::to_string(std::exp(fit.kernel.log_lengthscale)) + ", σ_n² " +
-                      std::to_string(std::exp(fit.kernel.log_noise_variance)));
+  out.notes.push_back(
+      "gplvm: " + (fit.iterations >= 0 ? std::to_string(fit.iterations) + " iterations, " : "") +
+      std::to_string(fit.evaluations) + " evaluations (" + fit.stopped + "), −log likelihood " +
+      std::to_string(fit.objective) + ", σ_f² " +
+      std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +
+      std::to_string(std::exp(fit.kernel.log_lengthscale)) + ", σ_n² " +
+      std::to_string(std::exp(fit.kernel.log_noise_variance)));
 }
 
 }  // namespace motionmap::embed

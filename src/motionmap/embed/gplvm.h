@@ -42,7 +42,9 @@ struct GplvmFit {
   Eigen::MatrixXd X;  ///< the latent points (N × q)
   GplvmKernel kernel;
   double objective = 0.0;
+  /// L-BFGS iterations; −1 when the line search stopped it (LBFGS++ does not say how many).
   int iterations = 0;
+  int evaluations = 0;  ///< of the objective and its gradient
   /// Why the optimiser stopped: "converged" (gradient below tolerance), "iteration limit", or
   /// "line search" (no further decrease found along the last direction: at the optimum to
   /// within rounding, or stuck; the best point so far is kept).

@@ -456,4 +456,12 @@ CleanFeetResult clean_feet_from_shares(const Skeleton& skeleton, const Motion& m
   return clean_checked(skeleton, motion, feet, contacts, options, control, std::move(ankles));
 }
 
+std::string unreachable_feet_note(const CleanFeetResult& result, std::string_view part) {
+  if (result.unreachable_frames <= 0) return {};
+  return "feet: in " + std::to_string(result.unreachable_frames) + " frames" +
+         (part.empty() ? std::string() : " of " + std::string(part)) +
+         " a planted foot stayed out of the leg's reach (the root is lowered by at most a quarter "
+         "of the leg)";
+}
+
 }  // namespace motionmap::synth

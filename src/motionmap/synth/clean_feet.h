@@ -33,6 +33,8 @@
 // Polls `control` between blocks of frames; reports the stage through it.
 #include <array>
 #include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "motionmap/core/control.h"
@@ -97,6 +99,10 @@ CleanFeetResult clean_feet_from_shares(const Skeleton& skeleton, const Motion& m
                                        std::span<const std::array<double, 2>> shares,
                                        const CleanFeetOptions& options = {},
                                        const Control& control = {});
+
+/// The note a clean-up that left planted feet out of reach adds to its motion's notes ("feet: in
+/// N frames[ of `part`] a planted foot stayed out of the leg's reach …"); empty when it left none.
+std::string unreachable_feet_note(const CleanFeetResult& result, std::string_view part = {});
 
 /// How far (× the leg length, on the floor) a blended ankle may drift from where a contact began
 /// before contacts_from_shares() ends that contact and starts another.

@@ -300,10 +300,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
       r.contacts[static_cast<std::size_t>(side)].intervals = merged(std::move(iv));
     }
   }
-  if (cleaned.unreachable_frames > 0) {
-    r.notes.push_back("feet: in " + std::to_string(cleaned.unreachable_frames) +
-                      " frames of the edited part a planted foot stayed out of the leg's reach "
-                      "(the root is lowered by at most a quarter of the leg)");
+  if (std::string note = unreachable_feet_note(cleaned, "the edited part"); !note.empty()) {
+    r.notes.push_back(std::move(note));
   }
   return out;
 }

@@ -180,10 +180,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     result.feet_cleaned = true;
     result.contacts.assign(cleaned.contacts.begin(), cleaned.contacts.end());
     result.feet_frames_changed = cleaned.frames_changed;
-    if (cleaned.unreachable_frames > 0) {
-      result.notes.push_back("feet: in " + std::to_string(cleaned.unreachable_frames) +
-                             " frames a planted foot stayed out of the leg's reach (the root is "
-                             "lowered by at most a quarter of the leg)");
+    if (std::string note = unreachable_feet_note(cleaned); !note.empty()) {
+      result.notes.push_back(std::move(note));
     }
   }
   return result;

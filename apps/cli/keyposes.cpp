@@ -39,17 +39,10 @@ struct ClipKeys {
 
 ClipKeys clip_keys(const pipeline::ClipMap& map, const Clip& clip, int c, int count) {
   const features::FeatureSet& set = *map.features;
-  std::vector<int> rows;
-  for (std::size_t i = 0; i < set.clip_of.size(); ++i) {
-    if (set.clip_of[i] == c) rows.push_back(static_cast<int>(i));
-  }
+  const std::vector<int> rows = pipeline::clip_rows(map, c);
   ClipKeys out;
-  out.keys = pipeline::clip_key_poses(map, c, count);
-  for (const int k : out.keys) {
-    for (const int r : rows) {
-      if (set.frame_of[std::size_t(r)] == k) out.rows.push_back(r);
-    }
-  }
+  out.rows = pipeline::clip_key_rows(map, c, count);
+  for (const int r : out.rows) out.keys.push_back(set.frame_of[std::size_t(r)]);
   for (const int u : pipeline::uniform_key_poses(static_cast<int>(rows.size()), count)) {
     out.uniform.push_back(set.frame_of[std::size_t(rows[std::size_t(u)])]);
   }

@@ -132,12 +132,17 @@ std::vector<int> uniform_key_poses(int frames, int count) {
   return keys;
 }
 
-std::vector<int> clip_key_poses(const ClipMap& map, int clip, int count) {
-  const features::FeatureSet& features = *map.features;
+std::vector<int> clip_rows(const ClipMap& map, int clip) {
+  const std::vector<int>& clip_of = map.features->clip_of;
   std::vector<int> rows;
-  for (std::size_t i = 0; i < features.clip_of.size(); ++i) {
-    if (features.clip_of[i] == clip) rows.push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < clip_of.size(); ++i) {
+    if (clip_of[i] == clip) rows.push_back(static_cast<int>(i));
   }
+  return rows;
+}
+
+std::vector<int> clip_key_rows(const ClipMap& map, int clip, int count) {
+  const std::vector<int> rows = clip_rows(map, clip);
   if (rows.size() < 2) {
     throw ParameterError("key poses: clip " + std::to_string(clip) + " has " +
                          std::to_string(rows.size()) + " samples in the map, expected at least 2");
@@ -146,7 +151,7 @@ std::vector<int> clip_key_poses(const ClipMap& map, int clip, int count) {
   Eigen::MatrixXd points(static_cast<Eigen::Index>(rows.size()), coords.cols());
   for (std::size_t i = 0; i < rows.size(); ++i) points.row(Eigen::Index(i)) = coords.row(rows[i]);
   std::vector<int> keys = select_key_poses(points, count);
-  for (int& k : keys) k = features.frame_of[std::size_t(rows[std::size_t(k)])];
+  for (int& k : keys) k = rows[std::size_t(k)];
   return keys;
 }
 

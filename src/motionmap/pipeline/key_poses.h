@@ -5,7 +5,9 @@
 // motion: rebuild the clip by interpolating between its key poses and compare.
 //
 //   const auto map = motionmap::pipeline::map_clips(clips, options);
-//   const auto keys = motionmap::pipeline::clip_key_poses(map, 0, 8);   // file frames of clip 0
+//   const auto rows = motionmap::pipeline::clip_key_rows(map, 0, 8);   // map rows of clip 0's keys
+//   std::vector<int> keys;                                              // their file frames
+//   for (int r : rows) keys.push_back(map.features->frame_of[r]);
 //   const Motion rebuilt = motionmap::pipeline::interpolate_keys(clips[0].motion, keys);
 //   double err = motionmap::pipeline::rms_rotation_error(clips[0].motion, rebuilt, keys.front(),
 //                                                        keys.back());  // degrees
@@ -43,10 +45,13 @@ std::vector<int> select_key_poses(const Eigen::MatrixXd& points, int count);
 /// key poses are measured against. @throws ParameterError if count < 2 or frames < 2.
 std::vector<int> uniform_key_poses(int frames, int count);
 
-/// The key poses of clip `clip` of `map`: select_key_poses on its rows of the map (its samples in
-/// time order), as the clip's file frames. @throws ParameterError if the clip is not in the map or
-/// has fewer than 2 samples, or as select_key_poses.
-std::vector<int> clip_key_poses(const ClipMap& map, int clip, int count);
+/// The rows of `map` that are clip `clip`'s samples, in time order.
+std::vector<int> clip_rows(const ClipMap& map, int clip);
+
+/// The key poses of clip `clip` of `map`: select_key_poses on its rows of the map (clip_rows), as
+/// rows of the map (their file frames: map.features->frame_of). @throws ParameterError if the
+/// clip has fewer than 2 samples in the map, or as select_key_poses.
+std::vector<int> clip_key_rows(const ClipMap& map, int clip, int count);
 
 /// `motion` rebuilt from its frames `keys` (increasing, in range): between consecutive keys a and
 /// b each joint's local rotation is slerped and its translation interpolated linearly at

@@ -116,6 +116,19 @@ TEST(Gplvm, BadInputsAreRefused) {
   X(2, 1) = NAN;
   EXPECT_EQ(test::error_message<ParameterError>([&] { fit_gplvm(Y, X, {}, 10); }),
             "gplvm: the data or the starting points are not finite");
+  // Through embed(): the iteration bound, and more frames than the full model maps.
+  EmbedOptions o;
+  o.method = Method::Gplvm;
+  o.max_iterations = 0;
+  const Eigen::MatrixXd small = Eigen::MatrixXd::Random(20, 3);
+  EXPECT_EQ(test::error_message<ParameterError>([&] { embed({.features = &small}, o); }),
+            "gplvm: max_iterations = 0 is out of range; it must be in [1, 100000] (default 300)");
+  o.max_iterations = 5;
+  const Eigen::MatrixXd many = Eigen::MatrixXd::Random(kGplvmMaxFrames + 1, 3);
+  EXPECT_EQ(test::error_message<ParameterError>([&] { embed({.features = &many}, o); }),
+            "gplvm: 2001 frames; the full model maps at most 2000 (its N × N kernel is factorised "
+            "at every step, and the sparse approximation is not built yet): map every k-th frame "
+            "with --stride");
 }
 
 }  // namespace

@@ -8,6 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config clang-format dpkg-dev
   libeigen3-dev libspectra-dev libnanoflann-dev libhnswlib-dev libhdf5-dev libxxhash-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # The GP-LVM (embed/gplvm.cpp) optimises with the LBFGS++ headers.
+  liblbfgspp-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
   clang libclang-rt-14-dev
   python3 python3-numpy python3-scipy python3-sklearn python3-h5py python3-xxhash

@@ -52,18 +52,14 @@ The counterparts (k = 20 neighbours everywhere):
 The peer runs as users run it: on OpenBLAS, all cores. MotionMap runs on all cores (std::thread);
 Debian's numpy/scipy load whatever libblas.so.3 / liblapack.so.3 the system's alternatives name,
 by default the reference BLAS/LAPACK (one core, unblocked). So the script re-executes itself
-with LD_LIBRARY_PATH=DIR in front, DIR = --openblas (default: the first of OPENBLAS_DIRS below
+with LD_LIBRARY_PATH=DIR in front, DIR = --openblas (default: the first of peer_blas.OPENBLAS_DIRS
 that holds libblas.so.3 and liblapack.so.3), unless LD_LIBRARY_PATH already holds DIR: only this
-process and its children see OpenBLAS; the C++ driver gets the caller's environment back. Get
-OpenBLAS without switching the system's BLAS (`apt-get install libopenblas0-pthread` would make
-it the default BLAS of every program on the machine, through update-alternatives):
+process and its children see OpenBLAS; the C++ driver gets the caller's environment back. How to
+get OpenBLAS without switching the system's BLAS: bench/peer_blas.py.
 
-    cd /tmp && apt-get download libopenblas0-pthread &&
-        dpkg -x libopenblas0-pthread_*.deb /opt/openblas
-
-Where the processor makes the environment set OPENBLAS_CORETYPE (and OPENBLAS_L2_SIZE) for old
-OpenBLAS builds, a current one runs slower under them: the re-executed process unsets both. The
-output starts with the BLAS the peer actually loaded, its threads and kernel (threadpoolctl).
+The re-executed process runs OpenBLAS's kernel for the processor's instruction set
+(OPENBLAS_CORETYPE: peer_blas.cpu_kernel(), which says why). The output starts with the BLAS the
+peer actually loaded, its threads and kernel (threadpoolctl).
 Without OpenBLAS the script says so and goes on with the reference BLAS, every ratio marked.
 
 Beside each ratio: MotionMap's distance to its physical bound. Once at the start the script
@@ -99,20 +95,11 @@ import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-# Debian's libopenblas0-pthread, installed or unpacked with dpkg -x into /opt/openblas.
-OPENBLAS_DIRS = ["/usr/lib/x86_64-linux-gnu/openblas-pthread",
-                 "/opt/openblas/usr/lib/x86_64-linux-gnu/openblas-pthread"]
-CORETYPE_VARS = ("OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from peer_blas import (CORETYPE_VARS, GET_OPENBLAS, OPENBLAS_DIRS,  # noqa: E402
+                       on_path, openblas_dir, openblas_env, peer_blas)
+
 SAVED_ENV = "COMPARE_SKLEARN_SAVED_ENV"  # the caller's values of what the re-execution changed
-
-
-def openblas_dir(given):
-    """`given`, else the first of OPENBLAS_DIRS, if it holds libblas.so.3 and liblapack.so.3."""
-    for folder in [given] if given else OPENBLAS_DIRS:
-        if all(os.path.exists(os.path.join(folder, lib))
-               for lib in ("libblas.so.3", "liblapack.so.3")):
-            return os.path.realpath(folder)
-    return None
 
 
 def reexec_on_openblas():
@@ -123,14 +110,10 @@ def reexec_on_openblas():
     early.add_argument("--openblas")
     given = early.parse_known_args()[0].openblas
     folder = openblas_dir(given) if given != "system" else None
-    path = os.environ.get("LD_LIBRARY_PATH", "")
-    if folder is None or folder in [os.path.realpath(p) for p in path.split(":") if p]:
+    if folder is None or on_path(folder):
         return
-    env = dict(os.environ)
+    env = openblas_env(folder)
     env[SAVED_ENV] = json.dumps({v: os.environ.get(v) for v in ("LD_LIBRARY_PATH", *CORETYPE_VARS)})
-    env["LD_LIBRARY_PATH"] = folder + (":" + path if path else "")
-    for v in CORETYPE_VARS:
-        env.pop(v, None)
     os.execve(sys.executable, [sys.executable, os.path.abspath(__file__), *sys.argv[1:]], env)
 
 
@@ -144,7 +127,6 @@ from scipy.spatial import procrustes
 from sklearn.decomposition import PCA, TruncatedSVD
 from sklearn.manifold import Isomap, LocallyLinearEmbedding, SpectralEmbedding
 from sklearn.neighbors import kneighbors_graph
-from threadpoolctl import threadpool_info
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -244,26 +226,6 @@ def best_of(repeat, fn, *args):
 
 # ----------------------------------------------------------------------------------------------
 # The peer's BLAS, the machine's bounds, and each MotionMap stage's bound (the docstring's model).
-
-
-def peer_blas():
-    """(lines describing the thread pools numpy/scipy/sklearn loaded, whether the BLAS is a tuned,
-    threaded one). threadpoolctl does not see the reference BLAS: /proc/self/maps names it."""
-    lines, tuned = [], False
-    for pool in threadpool_info():
-        extra = ""
-        if pool.get("internal_api") == "openblas":
-            extra = f", {pool.get('threading_layer')}, kernel {pool.get('architecture')}"
-        tuned = tuned or pool.get("user_api") == "blas"
-        version = f" {pool['version']}" if pool.get("version") else ""
-        lines.append(f"{pool['user_api']}: {pool['internal_api']}{version}, "
-                     f"{pool['num_threads']} threads{extra} ({pool['filepath']})")
-    if not tuned:
-        with open("/proc/self/maps") as f:
-            libs = sorted({os.path.realpath(line.split()[-1]) for line in f
-                           if "/libblas" in line or "/liblapack" in line})
-        lines.insert(0, f"blas: reference BLAS/LAPACK, 1 thread ({', '.join(libs)})")
-    return lines, tuned
 
 
 def driver_env():
@@ -422,19 +384,16 @@ def main():
     for line in blas_lines:
         print(f"peer {line}")
     saved = json.loads(os.environ.get(SAVED_ENV, "{}"))
-    unset = [f"{v}={saved[v]}" for v in CORETYPE_VARS if saved.get(v) is not None]
-    kept = [f"{v}={os.environ[v]}" for v in CORETYPE_VARS if v in os.environ]
-    if unset:
-        print(f"peer: unset for this process only: {', '.join(unset)}")
-    if kept and tuned:
-        print(f"peer: {', '.join(kept)} in the environment: OpenBLAS runs the kernel it forces")
+    changed = [f"{v}={os.environ.get(v)} (was {saved.get(v)})" for v in CORETYPE_VARS
+               if saved.get(v) != os.environ.get(v)]
+    if changed and tuned:
+        print(f"peer: for this process only: {', '.join(changed)}")
     if not tuned:
         where = ("--openblas system" if args.openblas == "system" else
                  f"no OpenBLAS in {args.openblas or ' or '.join(OPENBLAS_DIRS)}")
         warning = (f"WARNING: {where}: scikit-learn/scipy run on the reference BLAS, one core, "
                    "not as users run them; every ratio is marked (ref. BLAS). Get OpenBLAS "
-                   "without switching the system's BLAS: cd /tmp && apt-get download "
-                   "libopenblas0-pthread && dpkg -x libopenblas0-pthread_*.deb /opt/openblas")
+                   f"without switching the system's BLAS: {GET_OPENBLAS}")
         print(warning)
         print(warning, file=sys.stderr)
     machine = measure_machine()

@@ -43,6 +43,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from peer_blas import GET_OPENBLAS, openblas_dir, openblas_env, peer_blas  # noqa: E402
 from scale_table import run_measured  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -61,6 +62,9 @@ def parse_args():
     p.add_argument("--seed", type=int, default=1, help="library seed (default 1)")
     p.add_argument("--methods", nargs="+", default=METHODS, choices=METHODS)
     p.add_argument("--no-umap-learn", action="store_true", help="leave umap-learn out")
+    p.add_argument("--openblas", metavar="DIR",
+                   help="umap-learn's BLAS: OpenBLAS from DIR (default: bench/peer_blas.py's "
+                        "OPENBLAS_DIRS); 'system': the system's BLAS")
     p.add_argument("--k", type=int, default=15, help="umap's n_neighbors for both (default 15)")
     p.add_argument("--queries", type=int, default=5000, help="query frames (default 5000)")
     p.add_argument("--voters", type=int, default=10, help="neighbours that vote (default 10)")
@@ -126,9 +130,9 @@ def labels_of(folder):
     return rows
 
 
-def run(cmd, timeout):
+def run(cmd, timeout, env=None):
     """Runs cmd in a fresh child: (rc or None on timeout, wall s, CPU s, peak MiB, stderr)."""
-    return run_measured(cmd, timeout)
+    return run_measured(cmd, timeout, env=env)
 
 
 def read_points(path):
@@ -212,6 +216,8 @@ def umap_learn_child(points, out, k):
     start = time.monotonic()
     import umap  # noqa: imported here, so the child's time holds the import
     P = read_points(points)
+    for line in peer_blas()[0]:
+        print(f"peer {line}", file=sys.stderr)
     fit_start = time.monotonic()
     Y = umap.UMAP(n_neighbors=k, n_components=2, min_dist=0.1, n_jobs=-1).fit_transform(P)
     fit = time.monotonic() - fit_start
@@ -285,7 +291,14 @@ def main():
         out = os.path.join(work, "umap-learn.npy")
         cmd = ["/usr/bin/python3", os.path.abspath(__file__), "--umap-learn-child", points, out,
                str(args.k)]
-        rc, wall, cpu, peak, err = run(cmd, args.timeout)
+        blas = openblas_dir(args.openblas) if args.openblas != "system" else None
+        if blas is None:
+            print(f"WARNING: umap-learn runs on the system's BLAS (the reference BLAS on Debian: one "
+                  f"core), not OpenBLAS as users run it. Get OpenBLAS: {GET_OPENBLAS}", flush=True)
+        rc, wall, cpu, peak, err = run(cmd, args.timeout, openblas_env(blas) if blas else None)
+        for line in err.splitlines():
+            if line.startswith("peer "):
+                print(f"umap-learn's {line}", flush=True)
         fit = re.search(r"fit ([0-9.]+) s", err)
         if rc == 0:
             Y = np.load(out)

@@ -136,17 +136,17 @@ def run_map(cmd, timeout, mem_limit):
     return rc, wall, peak, text
 
 
-def run_measured(cmd, timeout, mem_limit=None):
+def run_measured(cmd, timeout, mem_limit=None, env=None):
     """Runs cmd in a fresh child: (rc or None on timeout, wall s, CPU s, peak MiB, stderr text);
-    `mem_limit` bytes of address space at most (None: no limit). bench/library_labels_table.py
-    uses it too."""
+    `mem_limit` bytes of address space at most (None: no limit); `env` its environment (None:
+    this one's). bench/library_labels_table.py uses it too."""
     def limit():
         if mem_limit:
             resource.setrlimit(resource.RLIMIT_AS, (mem_limit, mem_limit))
 
     with tempfile.TemporaryFile(mode="w+") as err:
         start = time.monotonic()
-        p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, preexec_fn=limit)
+        p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, preexec_fn=limit, env=env)
         timed_out = False
         while True:
             # wait4 reaps this child only and gives its own rusage (ru_maxrss in KiB on Linux).

@@ -223,6 +223,26 @@ TEST_F(SavedSynthFixture, ASketchIsTheLibrarysSynthesisOnTheSameMapAndItsControl
   EXPECT_EQ(m_window->takes()->list().at(0).result, before);
 }
 
+TEST_F(SavedSynthFixture, ASketchCancelledAtOnceAddsNothingAndTheNextOneWorks) {
+  // A map that must read every clip for its blender: cancelled while that build may still run.
+  saveMap(/*blendRecord=*/false);
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)))
+      << m_window->lastError().toStdString();
+  QSignalSpy finished(m_window.get(), &MainWindow::synthesisFinished);
+  ASSERT_TRUE(m_window->synthesizeAlong(sketch()));
+  EXPECT_TRUE(m_window->isSynthesizing());
+  m_window->cancelSynthesis();  // returns once the worker stopped
+  EXPECT_FALSE(m_window->isSynthesizing());
+  ASSERT_EQ(finished.count(), 1);
+  EXPECT_FALSE(finished.at(0).at(0).toBool());
+  EXPECT_TRUE(m_window->statusText().contains("cancelled")) << m_window->statusText().toStdString();
+  EXPECT_EQ(m_window->takes()->list().count(), 0);
+  ASSERT_TRUE(m_window->synthesizeAlong(sketch()));
+  ASSERT_TRUE(waitForSynthesis());
+  EXPECT_EQ(m_window->takes()->list().count(), 1) << m_window->lastError().toStdString();
+  EXPECT_EQ(m_window->takes()->list().at(0).map.get(), m_window->currentMap());
+}
+
 TEST_F(SavedSynthFixture, CtrlClickedFramesOfTwoClipsMakeAnInBetweenThroughTheirPoses) {
   saveMap();
   openAndWaitForTheBlender();

@@ -223,6 +223,46 @@ TEST_F(SavedSynthFixture, ASketchIsTheLibrarysSynthesisOnTheSameMapAndItsControl
   EXPECT_EQ(m_window->takes()->list().at(0).result, before);
 }
 
+TEST_F(SavedSynthFixture, AShiftDragWithTheMouseSketchesATakeAndItsControlPointIsDragged) {
+  saveMap();
+  openAndWaitForTheBlender();
+  MapView* view = m_window->mapView();
+  QSignalSpy sketches(view, &MapView::sketchFinished);
+  QTest::mousePress(view, Qt::LeftButton, Qt::ShiftModifier,
+                    view->toWidget(pointOf(1, 40)).toPoint());
+  for (int frame = 60; frame <= 400; frame += 20) {
+    QTest::qWait(10);
+    QTest::mouseMove(view, view->toWidget(pointOf(1, frame)).toPoint());
+  }
+  QTest::mouseRelease(view, Qt::LeftButton, Qt::ShiftModifier,
+                      view->toWidget(pointOf(1, 400)).toPoint());
+  ASSERT_EQ(sketches.count(), 1);
+  ASSERT_TRUE(waitForSynthesis());
+  ASSERT_EQ(m_window->takes()->list().count(), 1) << m_window->lastError().toStdString();
+  const Take& take = m_window->takes()->list().at(0);
+  EXPECT_GT(take.result->motion.num_frames, 0);
+  ASSERT_EQ(view->takePaths().size(), 1u);
+  ASSERT_GE(take.controls.size(), 3u);
+  // The middle control point dragged with the mouse onto frame 200 of the first clip.
+  const int control = int(take.controls.size()) / 2;
+  const QPoint from =
+      view->toWidget(take.path.points[std::size_t(take.controls[std::size_t(control)])]).toPoint();
+  const QPoint to = view->toWidget(pointOf(0, 200)).toPoint();
+  const auto before = take.result;
+  QTest::mousePress(view, Qt::LeftButton, Qt::NoModifier, from);
+  QTest::mouseMove(view, (from + to) / 2);
+  QTest::mouseMove(view, to);
+  QTest::mouseRelease(view, Qt::LeftButton, Qt::NoModifier, to);
+  ASSERT_TRUE(waitForSynthesis());
+  const Take& edited = m_window->takes()->list().at(0);
+  EXPECT_NE(edited.result, before) << m_window->lastError().toStdString();
+  EXPECT_LT((edited.path.points[std::size_t(edited.controls[std::size_t(control)])] -
+             view->toMap(QPointF(to)))
+                .norm(),
+            1e-9);
+  EXPECT_TRUE(m_window->takes()->undoStack().canUndo());
+}
+
 TEST_F(SavedSynthFixture, ASketchCancelledAtOnceAddsNothingAndTheNextOneWorks) {
   // A map that must read every clip for its blender: cancelled while that build may still run.
   saveMap(/*blendRecord=*/false);

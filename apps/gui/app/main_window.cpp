@@ -105,15 +105,15 @@ void MainWindow::buildUi() {
   useSource(m_computed);
   connect(m_gestures, &MapGestures::frameClicked, this, &MainWindow::setCurrentClip);
   connect(m_gestures, &MapGestures::failed, this, &MainWindow::showError);
-  m_jointDrag = new JointDrag(&m_maps, m_mapView, m_skeletonView, &m_playback, this);
-  m_jointDrag->setAvailable(true);
+  m_jointDrag =
+      new JointDrag([this] { return m_source; }, m_mapView, m_skeletonView, &m_playback, this);
   connect(m_jointDrag, &JointDrag::failed, this, &MainWindow::showError);
   connect(m_jointDrag, &JointDrag::reached, this,
           [this](const QString& summary) { m_status->setText(summary); });
   connect(m_mapView, &MapView::sketchFinished, this, &MainWindow::synthesizeAlong);
   connect(m_mapView, &MapView::controlPointMoved, this, &MainWindow::moveControlPoint);
-  m_keys = new KeysController(
-      &m_maps, m_mapView, m_takes, &m_synthesis, [this] { return synthParameters(); }, this);
+  m_keys = new KeysController([this] { return m_source; }, m_mapView, m_takes, &m_synthesis,
+                              [this] { return synthParameters(); }, this);
   connect(m_mapView, &MapView::keyClicked, this, &MainWindow::placeKey);
   // Space over the map is held back for Space+drag panning: a tap still plays / pauses.
   connect(m_mapView, &MapView::spaceTapped, this, [this] { isPlaying() ? pause() : play(); });
@@ -248,14 +248,14 @@ void MainWindow::useSource(MapSource* source) {
 bool MainWindow::openMapFile(const QString& path) {
   if (!confirmDiscard()) return false;
   return attempt([&] {
-    auto* saved = new SavedMapSource(path, m_mapView, m_skeletonView, this);  // throws first
+    auto* saved = new SavedMapSource(path, m_mapView, m_skeletonView, this,  // throws first
+                                     [this] { return synthParameters().blend; });
     m_files->remember(path);
     m_maps.stop();
     m_maps.setClips(nullptr);
     dropSynthesizedMotion();
     m_files->exportMapAction()->setEnabled(false);
     m_gestures->setSavedMap(saved->map(), synthParameters().blend.neighbors, saved->loader());
-    m_jointDrag->setAvailable(false);
     m_keys->clearPending();
     SavedMapSource* before = std::exchange(m_saved, saved);
     useSource(saved);
@@ -289,7 +289,6 @@ bool MainWindow::recomputeFromClips(embed::Method method) {
 void MainWindow::closeSavedMap() {
   if (!m_saved) return;
   m_gestures->setSavedMap(nullptr, synthParameters().blend.neighbors, nullptr);
-  m_jointDrag->setAvailable(true);
   useSource(m_computed);
   delete std::exchange(m_saved, nullptr);
   m_mapView->clearMap();
@@ -489,14 +488,8 @@ void MainWindow::updatePointer() {
 }
 
 bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
-  if (const QString why = m_source->refusal(MapSource::Change::Sketch); !why.isEmpty()) {
-    showError(why);
-    return false;
-  }
-  std::shared_ptr<const MapResult> map = m_maps.current();
-  if (!map) return false;
   // A newer sketch replaces one still being synthesized; the takes before stay.
-  if (!m_synthesis.start(std::move(map), path, synthParameters())) return false;
+  if (!m_synthesis.start(m_source->blendSupply(), path, synthParameters())) return false;
   m_takes->sketchStarted();
   m_synthProgress->start();
   updateStatus();
@@ -527,14 +520,10 @@ void MainWindow::playCurrentTake() {
 }
 
 void MainWindow::updateTakePaths() {
-  m_mapView->setTakePaths(m_takes->pathsOn(currentMap()));  // none on a saved map
+  m_mapView->setTakePaths(m_takes->pathsOn(currentMap()));
 }
 
 bool MainWindow::placeKey(const Eigen::Vector2d& point, const QPointF& pixel) {
-  if (const QString why = m_source->refusal(MapSource::Change::Sketch); !why.isEmpty()) {
-    showError(why);
-    return false;
-  }
   return m_keys->click(point, pixel);
 }
 

@@ -63,8 +63,9 @@ class MainWindow : public QMainWindow {
   /// density image, its first clip loaded (on demand, SHA-256 checked against the map file) and
   /// shown with its trajectory on top. Hover names the clip and frame under the mouse, a click
   /// loads that clip and jumps to the frame, a drag blends the nearest samples
-  /// (mapfile::SavedMap::pose_at, K = the synthesis parameters' neighbors). The Motion menu's
-  /// methods and sketching need clips mapped here (open clips for that). False (error shown) for
+  /// (mapfile::SavedMap::pose_at, K = the synthesis parameters' neighbors); sketches, key poses
+  /// and joint drags blend on it (its blender built on a worker, mapfile::make_blender). The
+  /// Motion menu's methods need clips mapped here (open clips for that). False (error shown) for
   /// a file read_map_file refuses or whose first clip cannot be loaded.
   bool openMapFile(const QString& path);
   /// "Recompute from clips…": the saved map's clips loaded (checked against the map file, with a
@@ -112,8 +113,9 @@ class MainWindow : public QMainWindow {
     return m_choice->setSynthParameters(parameters);
   }
   const SynthParameters& synthParameters() const { return m_choice->synthParameters(); }
-  /// The map shown (nullptr while computing or without a clip).
-  const MapResult* currentMap() const { return m_maps.current().get(); }
+  /// The map shown, as takes blend on it (nullptr while computing, without a clip, or while a
+  /// saved map's blender is built).
+  const MapResult* currentMap() const { return m_source ? m_source->blendMap().get() : nullptr; }
   bool isComputing() const { return m_maps.isComputing(); }
   void cancelComputation() { m_maps.cancel(); }
   /// The map controller (its signals, e.g. progress with the stage's name; tests).
@@ -174,8 +176,7 @@ class MainWindow : public QMainWindow {
   SkeletonView* skeletonView() const { return m_skeletonView; }
   JointDrag* jointDrag() const { return m_jointDrag; }
   KeysController* keys() const { return m_keys; }
-  /// A Ctrl-click on the map: a key pose placed or removed (KeysController::click), refused on a
-  /// saved map as a sketch is.
+  /// A Ctrl-click on the map: a key pose placed or removed (KeysController::click).
   bool placeKey(const Eigen::Vector2d& point, const QPointF& pixel);
   /// Motion → Retime Keys…: the current in-between take's key times, edited as text.
   void retimeKeysDialog();

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "map/map_controller.h"
+#include "map/map_source.h"
 #include "map/map_view.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 #include "playback/playback.h"
@@ -10,10 +10,10 @@
 
 namespace motionmap::studio {
 
-JointDrag::JointDrag(const MapController* maps, MapView* mapView, SkeletonView* skeletonView,
-                     const Playback* playback, QObject* parent)
+JointDrag::JointDrag(std::function<MapSource*()> source, MapView* mapView,
+                     SkeletonView* skeletonView, const Playback* playback, QObject* parent)
     : QObject(parent),
-      m_maps(maps),
+      m_source(std::move(source)),
       m_mapView(mapView),
       m_skeletonView(skeletonView),
       m_playback(playback) {
@@ -21,38 +21,45 @@ JointDrag::JointDrag(const MapController* maps, MapView* mapView, SkeletonView* 
   connect(skeletonView, &SkeletonView::jointDragged, this, &JointDrag::onDragged);
   connect(skeletonView, &SkeletonView::jointDragFinished, this,
           [this] { m_skeletonView->setDragTarget(std::nullopt); });
-  connect(maps, &MapController::finished, this, &JointDrag::updateAvailability);
   connect(skeletonView, &SkeletonView::skeletonChanged, this, &JointDrag::updateAvailability);
+  updateAvailability();
 }
 
 JointDrag::~JointDrag() = default;
 
-void JointDrag::setAvailable(bool available) {
-  m_available = available;
-  updateAvailability();
-}
-
 void JointDrag::updateAvailability() {
-  const std::shared_ptr<const MapResult> map = m_maps->current();
-  const bool on = m_available && map && map->blender &&
-                  map->blender->skeleton().same_hierarchy(m_skeletonView->skeleton());
-  m_skeletonView->setJointDragEnabled(on);
+  // The map may still be on its way (computed, or a saved map's blender built): a drag then
+  // says so (onStarted).
+  m_skeletonView->setJointDragEnabled(m_skeletonView->skeleton().num_joints() > 0);
 }
 
 void JointDrag::onStarted(int joint, const Eigen::Vector3d&) {
-  const std::shared_ptr<const MapResult> map = m_maps->current();
+  MapSource* source = m_source();
+  std::shared_ptr<const MapResult> map = source ? source->blendMap() : nullptr;
   const Motion& shown = m_skeletonView->currentPose();
-  if (!m_available || !map || !map->blender || m_playback->isPlaying() || shown.num_frames < 1 ||
+  if (!map || !map->blender) {
+    m_skeletonView->cancelJointDrag();
+    if (const QString why = source ? source->prepareBlend() : QString(); !why.isEmpty())
+      emit failed(why);
+    return;
+  }
+  if (m_playback->isPlaying() || shown.num_frames < 1 ||
+      !map->blender->skeleton().same_hierarchy(m_skeletonView->skeleton()) ||
       shown.num_joints != map->blender->skeleton().num_joints()) {
     m_skeletonView->cancelJointDrag();
     return;
   }
   try {
     if (m_map != map || !m_reacher) {
-      // Each sample's joints, once per map (milliseconds at 10 000 frames).
       m_reacher.reset();
       m_map.reset();
-      m_reacher = std::make_unique<synth::Reacher>(*map->blender);
+      QString why;
+      m_reacher = source->reacher(map, why);
+      if (!m_reacher) {  // a saved map's: being built on a worker, or it could not be
+        m_skeletonView->cancelJointDrag();
+        if (!why.isEmpty()) emit failed(why);
+        return;
+      }
       m_map = map;
     }
     const synth::MapBlender& blender = *map->blender;

@@ -6,8 +6,12 @@
 //
 // The pose stands where the pose shown when the drag began stood (its root's heading and floor
 // position, synth::RootPlacement), as a drag on the map does; each step starts from the previous
-// one's map point, so the body moves smoothly. A computed map only: a saved map's clips are read
-// on demand, and scoring every sample's pose would read them all (`motionmap reach --map` does).
+// one's map point, so the body moves smoothly. On a computed map and on a saved one alike: the map
+// is the source's blendMap() (a saved map's blender, built on a worker; a drag before it is ready
+// says so). The reacher is made once per map at the first drag (MapSource::reacher); a saved
+// map's is built on a worker, as it reads every clip once (a clip at a time, as `motionmap reach
+// --map` does): a drag before it is ready says so.
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -20,7 +24,7 @@
 
 namespace motionmap::studio {
 
-class MapController;
+class MapSource;
 class MapView;
 class Playback;
 class SkeletonView;
@@ -29,15 +33,12 @@ struct MapResult;
 class JointDrag : public QObject {
   Q_OBJECT
  public:
-  /// Poses `skeletonView` from the map `maps` shows, with the pointer on `mapView`; nothing
-  /// while `playback` plays. All must outlive this.
-  JointDrag(const MapController* maps, MapView* mapView, SkeletonView* skeletonView,
+  /// Poses `skeletonView` from the map `source` gives now (its blendMap()), with the pointer on
+  /// `mapView`; nothing while `playback` plays. All must outlive this.
+  JointDrag(std::function<MapSource*()> source, MapView* mapView, SkeletonView* skeletonView,
             const Playback* playback, QObject* parent = nullptr);
   ~JointDrag() override;
 
-  /// Whether the map shown can be posed from (a computed map; not a saved one). Enables the 3-D
-  /// view's joint dragging accordingly.
-  void setAvailable(bool available);
   /// The last step's answer (nothing before a drag).
   const std::optional<synth::ReachResult>& last() const { return m_last; }
 
@@ -51,14 +52,13 @@ class JointDrag : public QObject {
   void onDragged(int joint, const Eigen::Vector3d& target);
   void updateAvailability();
 
-  const MapController* m_maps;
+  std::function<MapSource*()> m_source;
   MapView* m_mapView;
   SkeletonView* m_skeletonView;
   const Playback* m_playback;
-  bool m_available = false;
   /// The map the reacher was made for (kept alive with it) and the reacher.
   std::shared_ptr<const MapResult> m_map;
-  std::unique_ptr<synth::Reacher> m_reacher;
+  std::shared_ptr<const synth::Reacher> m_reacher;
   synth::ReachGoal m_goal;  ///< the drag's placement, pins and start point
   std::optional<synth::ReachResult> m_last;
 };

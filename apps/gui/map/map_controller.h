@@ -13,6 +13,7 @@
 // A computation that fails or is cancelled (or stopped) leaves the map current before it current
 // again, with the method and parameters it was made with (shownRequest()): a bad parameter or a
 // cancel never leaves the window without its map.
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -37,6 +38,15 @@ struct MapResult {
   std::string parameters;                    ///< pipeline::describe_parameters
   double seconds = 0.0;                      ///< wall time of map_clips and the blender's set-up
   std::vector<std::vector<int>> rowOfFrame;  ///< [clip][frame]: the map row shown for that frame
+};
+
+/// The map a synthesis blends on, for a worker thread: `ready`, or made by `make` there (a saved
+/// map's blender, built on first use: it may read clips; `make` polls the Control it is given and
+/// throws what the build throws).
+struct MapSupply {
+  std::shared_ptr<const MapResult> ready;
+  std::function<std::shared_ptr<const MapResult>(const Control&)> make;
+  explicit operator bool() const { return ready != nullptr || bool(make); }
 };
 
 /// What a map was asked for with (MapController::request's arguments).

@@ -1,8 +1,10 @@
 #include "map/map_source.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
+#include <QElapsedTimer>
 #include <QFileInfo>
 
 #include "common/parameters.h"
@@ -65,6 +67,14 @@ QStringList legendNames(const QStringList& names) {
                .arg(common > 0 ? QStringLiteral("…") + rest : rest);
   }
   return out;
+}
+
+std::shared_ptr<const synth::Reacher> MapSource::reacher(std::shared_ptr<const MapResult> map,
+                                                         QString& why) {
+  why.clear();
+  if (!map || !map->blender) return nullptr;
+  // Each sample's joints (milliseconds at 10 000 frames); the caller keeps `map` with it.
+  return std::make_shared<const synth::Reacher>(*map->blender);
 }
 
 std::vector<MapSource::Near> MapSource::nearestSamples(const Eigen::Vector2d& point, int k) const {
@@ -158,6 +168,12 @@ MapSource::Samples ComputedMapSource::samples() const {
           &map->map.features->frame_of};
 }
 
+std::shared_ptr<const Clip> ComputedMapSource::mapClip(int clip) const {
+  if (clip < 0 || clip >= clipCount()) return nullptr;
+  // Shares the clips' ownership: the set outlives a setClips() while this is held.
+  return std::shared_ptr<const Clip>(m_maps->clips(), &(*m_maps->clips())[std::size_t(clip)]);
+}
+
 QString ComputedMapSource::title() const {
   if (clipCount() == 0) return {};
   const std::vector<Clip>& clips = *m_maps->clips();
@@ -243,17 +259,89 @@ std::optional<embed::Method> ComputedMapSource::shownMethod() const {
   return map->options.embed.method;
 }
 
+// ---- SavedMapBlends ----
+
+SavedMapBlends::SavedMapBlends(std::shared_ptr<const mapfile::SavedMap> map)
+    : m_map(std::move(map)),
+      m_samples(std::make_shared<const features::FeatureSet>(m_map->samples())) {}
+
+std::string SavedMapBlends::key(synth::BlendOptions& blend) const {
+  blend.up = m_map->file().options.features.up;
+  return std::string(synth::blend_mode_name(blend.mode)) + "," + std::to_string(blend.neighbors) +
+         "," + QString::number(blend.reach, 'g', 17).toStdString();
+}
+
+std::shared_ptr<const MapResult> SavedMapBlends::find(synth::BlendOptions blend) const {
+  const std::string k = key(blend);
+  const std::lock_guard lock(m_mutex);
+  const auto it = m_built.find(k);
+  return it == m_built.end() ? nullptr : it->second;
+}
+
+std::shared_ptr<const MapResult> SavedMapBlends::get(synth::BlendOptions blend,
+                                                     const Control& control) {
+  const std::string k = key(blend);
+  if (auto built = find(blend)) return built;
+  // One build at a time: another caller's build of the same blender is waited for, not repeated.
+  std::unique_lock building(m_building, std::defer_lock);
+  while (!building.try_lock_for(std::chrono::milliseconds(20))) control.check();
+  if (auto built = find(blend)) return built;
+  QElapsedTimer clock;
+  clock.start();
+  const mapfile::MapFile& file = m_map->file();
+  auto result = std::make_shared<MapResult>();
+  result->map.features = m_samples;
+  result->map.embedding.method = file.options.embed.method;
+  result->map.embedding.coordinates = file.coordinates;
+  result->map.dense = file.dense;
+  result->options = file.options;
+  result->parameters = file.parameters;
+  if (blend.mode == synth::BlendMode::Kriging) {
+    // Kriging blends every sample: every clip is loaded (the blender keeps what it needs).
+    const std::vector<Clip> clips = m_map->load_all_clips(control.part(0.0, 0.5));
+    result->blender = std::make_unique<synth::MapBlender>(clips, *m_samples, file.coordinates,
+                                                          blend, control.part(0.5, 1.0));
+  } else {
+    result->blender =
+        std::make_unique<synth::MapBlender>(mapfile::make_blender(m_map, blend, control));
+  }
+  result->seconds = double(clock.nsecsElapsed()) * 1e-9;
+  const std::lock_guard lock(m_mutex);
+  m_built[k] = result;
+  return result;
+}
+
+std::shared_ptr<const synth::Reacher> SavedMapBlends::findReacher(const MapResult* map) const {
+  const std::lock_guard lock(m_mutex);
+  const auto it = m_reachers.find(map);
+  return it == m_reachers.end() ? nullptr : it->second;
+}
+
+std::shared_ptr<const synth::Reacher> SavedMapBlends::reacher(
+    const std::shared_ptr<const MapResult>& map, const Control& control) {
+  if (auto built = findReacher(map.get())) return built;
+  std::unique_lock building(m_building, std::defer_lock);
+  while (!building.try_lock_for(std::chrono::milliseconds(20))) control.check();
+  if (auto built = findReacher(map.get())) return built;
+  auto made = std::make_shared<const synth::Reacher>(*map->blender, control);
+  const std::lock_guard lock(m_mutex);
+  m_reachers[map.get()] = made;  // its blender is m_built's, kept as long as this
+  return made;
+}
+
 // ---- SavedMapSource ----
 
 SavedMapSource::SavedMapSource(const QString& path, MapView* mapView, SkeletonView* skeletonView,
-                               QObject* parent)
+                               QObject* parent, std::function<synth::BlendOptions()> blend)
     : MapSource(parent),
       m_path(path),
       m_map(std::make_shared<const mapfile::SavedMap>(
           mapfile::read_map_file(path.toStdString(), {.model = false}), kCachedClips)),
       m_mapView(mapView),
       m_skeletonView(skeletonView),
-      m_loader(new ClipLoader(this)) {
+      m_loader(new ClipLoader(this)),
+      m_blend(std::move(blend)),
+      m_blends(std::make_shared<SavedMapBlends>(m_map)) {
   m_map->clip(0);  // its first clip: loaded now, so a map whose clips are gone says so at once
   m_loader->setMap(m_map);
   connect(m_loader, &ClipLoader::loaded, this, [this](int c) {
@@ -269,6 +357,8 @@ SavedMapSource::SavedMapSource(const QString& path, MapView* mapView, SkeletonVi
 }
 
 SavedMapSource::~SavedMapSource() {
+  m_reach.stop();
+  m_prepare.stop();
   m_loader->setMap(nullptr);
 }
 
@@ -279,6 +369,90 @@ void SavedMapSource::show() {
       std::shared_ptr<const Eigen::MatrixXd>(m_map, &m_map->file().coordinates),
       Eigen::MatrixXd(0, 2), options);
   m_mapView->setShadingReach(0.0);
+  prepareBlend();  // ready by the first sketch, key or joint drag
+}
+
+std::shared_ptr<const Clip> SavedMapSource::mapClip(int clip) const {
+  if (clip < 0 || clip >= clipCount()) return nullptr;
+  return m_map->clip(clip);
+}
+
+std::shared_ptr<const MapResult> SavedMapSource::blendMap() const {
+  return m_blends->find(blendOptions());
+}
+
+MapSupply SavedMapSource::blendSupply() const {
+  MapSupply supply;
+  supply.ready = blendMap();
+  if (!supply.ready) {
+    supply.make = [blends = m_blends, blend = blendOptions()](const Control& control) {
+      return blends->get(blend, control);
+    };
+  }
+  return supply;
+}
+
+QString SavedMapSource::prepareBlend() {
+  const synth::BlendOptions blend = blendOptions();
+  if (m_blends->find(blend)) return {};
+  const QString why =
+      !m_prepareError.isEmpty()
+          ? m_prepareError
+          : tr("The saved map's blender is being prepared (it reads what blending needs of its "
+               "clips); try again in a moment");
+  if (m_prepare.running()) return why;
+  m_prepareError.clear();
+  m_preparedPercent = -1;
+  m_prepare.start([this, blends = m_blends, blend](const BackgroundJob::Ticket& ticket) {
+    runJob<const MapResult>(
+        this, m_prepare, ticket,
+        [this](double fraction, const QString&) {
+          // Now and then, not at every report.
+          const int percent = int(100.0 * fraction);
+          if (percent < m_preparedPercent + 10) return;
+          m_preparedPercent = percent;
+          emit busy(tr("Preparing the saved map for sketching: %1 %").arg(percent));
+        },
+        [&](const Control& control) { return blends->get(blend, control); },
+        [this](const JobOutcome<const MapResult>& outcome) {
+          // A failure is told when the blender is asked for (a sketch, a key, a joint drag).
+          m_prepareError = outcome.error;
+          if (m_preparedPercent >= 0 && outcome.error.isEmpty())
+            emit busy(statusParts().join(QStringLiteral(" · ")));
+        });
+  });
+  return why;
+}
+
+std::shared_ptr<const synth::Reacher> SavedMapSource::reacher(std::shared_ptr<const MapResult> map,
+                                                              QString& why) {
+  why.clear();
+  if (!map || !map->blender) return nullptr;
+  if (auto ready = m_blends->findReacher(map.get())) return ready;
+  why = !m_reachError.isEmpty()
+            ? m_reachError
+            : tr("Preparing to pose from the saved map (each sample's pose is read once, a clip "
+                 "at a time); drag the joint again in a moment");
+  if (m_reach.running()) return nullptr;
+  m_reachError.clear();
+  m_reachPercent = -1;
+  m_reach.start([this, blends = m_blends, map](const BackgroundJob::Ticket& ticket) {
+    runJob<const synth::Reacher>(
+        this, m_reach, ticket,
+        [this](double fraction, const QString&) {
+          const int percent = int(100.0 * fraction);
+          if (percent < m_reachPercent + 10) return;
+          m_reachPercent = percent;
+          emit busy(tr("Preparing to pose from the saved map: %1 %").arg(percent));
+        },
+        [&](const Control& control) { return blends->reacher(map, control); },
+        [this](const JobOutcome<const synth::Reacher>& outcome) {
+          m_reachError = outcome.error;
+          if (outcome.error.isEmpty())
+            emit busy(tr("Ready to pose from the saved map: drag a joint in the 3-D view"));
+        });
+  });
+  return nullptr;
 }
 
 QString SavedMapSource::title() const {
@@ -408,10 +582,6 @@ QString SavedMapSource::refusal(Change change) const {
       return tr(
           "A saved map is open: clips cannot join it without refitting (open a clip to start a "
           "new map, or place clips on the map with `motionmap map NEW --onto`)");
-    case Change::Sketch:
-      return tr("Sketching on a saved map is not supported in Studio; write the path as CSV and "
-                "run `motionmap synth --map %1 --path PATH.csv -o new.bvh`")
-          .arg(QString::fromStdString(m_map->file().path));
   }
   return {};
 }

@@ -6,9 +6,15 @@
 //    density image, its clips loaded on demand on a worker (ClipLoader), the clip playing drawn
 //    over it.
 // The window asks the source shown for the clip playing, the map point of its frames, its part of
-// the status line and which changes it refuses, so it never asks which kind it has.
+// the status line, which changes it refuses and the map sketches, keys and joint drags blend on
+// (blendMap(): a saved map's blender is built once per blend options on a worker, SavedMapBlends),
+// so it never asks which kind it has.
+#include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -16,8 +22,11 @@
 #include <QString>
 #include <QStringList>
 
+#include "common/background_job.h"
+#include "map/map_controller.h"
 #include "motionmap/embed/embed.h"
 #include "motionmap/skeleton/skeleton.h"
+#include "motionmap/synth/reach.h"
 
 namespace motionmap::mapfile {
 class SavedMap;
@@ -37,7 +46,6 @@ class MapSource : public QObject {
   enum class Change {
     Recompute,  ///< another method or parameters
     AddClip,    ///< a clip joining the map
-    Sketch,     ///< a motion synthesized along a sketched path
   };
 
   using QObject::QObject;
@@ -84,6 +92,28 @@ class MapSource : public QObject {
   /// The file a clip list names clip `clip` by (a saved map's relative paths resolved as it
   /// resolves them); its path as recorded by default.
   virtual QString clipFile(int clip) const { return clipPaths().value(clip); }
+  /// Clip `clip` of the map (a saved map's loaded now when it is not in its cache); nullptr out
+  /// of range or without clips. @throws a saved map's clip errors (mapfile::SavedMap::clip).
+  virtual std::shared_ptr<const Clip> mapClip(int clip) const = 0;
+
+  /// The map sketches, key poses and joint drags blend on, with its synth::MapBlender: the
+  /// computed map shown (nullptr while it is computed); a saved map's once its blender is built
+  /// for the synthesis parameters' blend options (nullptr before: see prepareBlend()).
+  virtual std::shared_ptr<const MapResult> blendMap() const = 0;
+  /// blendMap() for a synthesis on a worker thread: ready, or (a saved map) built there first.
+  /// Empty when there is nothing to blend on.
+  virtual MapSupply blendSupply() const { return {blendMap(), {}}; }
+  /// Why blendMap() is nullptr now (empty when it is not, or when there is nothing to say: a map
+  /// being computed): a saved map starts building its blender on a worker (busy() shows how far)
+  /// and says so, or says why the last build failed (a clip missing: the library's message,
+  /// naming the file).
+  virtual QString prepareBlend() { return {}; }
+  /// A synth::Reacher over `map` (a blendMap()) for joint drags: made here (milliseconds for a
+  /// computed map); a saved map's is built on a worker (it reads every clip once), so nullptr
+  /// with `why` saying it is being prepared (or why it could not be) until it is ready.
+  /// @throws what synth::Reacher throws.
+  virtual std::shared_ptr<const synth::Reacher> reacher(std::shared_ptr<const MapResult> map,
+                                                        QString& why);
 
  signals:
   /// A clip selectClip had to load has arrived: the window shows it from `frame`.
@@ -138,6 +168,8 @@ class ComputedMapSource : public MapSource {
   QStringList clipPaths() const override;
   Eigen::MatrixXd clipPoints(int clip) const override;
   Samples samples() const override;
+  std::shared_ptr<const Clip> mapClip(int clip) const override;
+  std::shared_ptr<const MapResult> blendMap() const override { return m_maps->current(); }
 
  private:
   MapController* m_maps;
@@ -145,6 +177,40 @@ class ComputedMapSource : public MapSource {
   SkeletonView* m_skeletonView;
   int m_clipIndex = 0;
   embed::Method m_computing = embed::Method::Isomap;  ///< the method of the map being computed
+};
+
+/// A saved map as MapResults to blend on, one per blend options, each built once (its blender:
+/// mapfile::make_blender, reading the clips on demand; the kriging mode, which blends every
+/// sample, loads every clip) and shared by the threads that ask. The MapResult holds the map's
+/// samples, coordinates, options and parameters as the file recorded them (no rowOfFrame: the
+/// source maps frames to rows). Thread-safe.
+class SavedMapBlends {
+ public:
+  explicit SavedMapBlends(std::shared_ptr<const mapfile::SavedMap> map);
+
+  /// The map blended with `blend` (its up axis made the map's): built now unless it was, polling
+  /// `control` (a caller finding another's build running waits for it, polling its own).
+  /// @throws what mapfile::make_blender and SavedMap::clip throw (a clip missing or changed: an
+  ///   Error naming the map file and the clip file), Cancelled.
+  std::shared_ptr<const MapResult> get(synth::BlendOptions blend, const Control& control = {});
+  /// The same when it is built; nullptr otherwise (never waits for a build).
+  std::shared_ptr<const MapResult> find(synth::BlendOptions blend) const;
+  /// The reacher over `map` (one get() returned), built now unless it was (reading every clip
+  /// once, a clip at a time), polling `control`. @throws as get().
+  std::shared_ptr<const synth::Reacher> reacher(const std::shared_ptr<const MapResult>& map,
+                                                const Control& control = {});
+  /// The same when it is built; nullptr otherwise.
+  std::shared_ptr<const synth::Reacher> findReacher(const MapResult* map) const;
+
+ private:
+  std::string key(synth::BlendOptions& blend) const;
+
+  std::shared_ptr<const mapfile::SavedMap> m_map;
+  std::shared_ptr<const features::FeatureSet> m_samples;
+  mutable std::mutex m_mutex;  ///< guards m_built and m_reachers
+  std::map<std::string, std::shared_ptr<const MapResult>> m_built;
+  std::map<const MapResult*, std::shared_ptr<const synth::Reacher>> m_reachers;  ///< of m_built's
+  std::timed_mutex m_building;  ///< held by the build running (a blender or a reacher)
 };
 
 /// A map file shown as it was saved.
@@ -157,12 +223,14 @@ class SavedMapSource : public MapSource {
 
   /// Reads `path` (mapfile::read_map_file, without the placement model) and loads its first
   /// clip, so that a map whose clips are gone says so at once: throws what they throw. Nothing
-  /// is shown before show().
+  /// is shown before show(). `blend` gives the blend options sketches are synthesized with now
+  /// (the synthesis parameters'; empty: the defaults).
   SavedMapSource(const QString& path, MapView* mapView, SkeletonView* skeletonView,
-                 QObject* parent = nullptr);
+                 QObject* parent = nullptr, std::function<synth::BlendOptions()> blend = {});
   ~SavedMapSource() override;
 
-  /// Draws the map's points as a density image (the first clip follows with selectClip).
+  /// Draws the map's points as a density image (the first clip follows with selectClip), and
+  /// starts building its blender (prepareBlend()).
   void show();
   /// "name.h5 (N points, C clips)", for the window's title.
   QString title() const;
@@ -185,8 +253,18 @@ class SavedMapSource : public MapSource {
   Samples samples() const override;
   QString clipFile(int clip) const override;
   std::vector<Near> nearestSamples(const Eigen::Vector2d& point, int k) const override;
+  std::shared_ptr<const Clip> mapClip(int clip) const override;
+  std::shared_ptr<const MapResult> blendMap() const override;
+  MapSupply blendSupply() const override;
+  QString prepareBlend() override;
+  std::shared_ptr<const synth::Reacher> reacher(std::shared_ptr<const MapResult> map,
+                                                QString& why) override;
+  /// A blender or a reacher is being built on this source's workers (prepareBlend(), reacher()).
+  bool isPreparing() const { return m_prepare.running() || m_reach.running(); }
 
  private:
+  synth::BlendOptions blendOptions() const { return m_blend ? m_blend() : synth::BlendOptions{}; }
+
   QString m_path;
   std::shared_ptr<const mapfile::SavedMap> m_map;
   MapView* m_mapView;
@@ -197,6 +275,14 @@ class SavedMapSource : public MapSource {
   std::vector<int> m_rowOfFrame;  ///< the map row of each of its frames (−1: not a sample)
   int m_wantClip = -1;            ///< a clip being loaded to be shown, from m_wantFrame
   int m_wantFrame = 0;
+  std::function<synth::BlendOptions()> m_blend;
+  std::shared_ptr<SavedMapBlends> m_blends;  ///< shared with the synthesis' worker
+  BackgroundJob m_prepare;                   ///< a blender being built ahead of its first use
+  QString m_prepareError;                    ///< why the last build failed (empty: it did not)
+  int m_preparedPercent = -1;                ///< the last progress shown by busy() (−1: none)
+  BackgroundJob m_reach;                     ///< a reacher being built for the first joint drag
+  QString m_reachError;                      ///< why the last one failed (empty: it did not)
+  int m_reachPercent = -1;
 };
 
 }  // namespace motionmap::studio

@@ -2,20 +2,21 @@
 
 #include <QFileInfo>
 
-#include "map/map_controller.h"
 #include "map/map_gestures.h"
+#include "map/map_source.h"
 #include "map/map_view.h"
+#include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "takes/synthesis_controller.h"
 #include "takes/takes_controller.h"
 
 namespace motionmap::studio {
 
-KeysController::KeysController(const MapController* maps, MapView* mapView, TakesController* takes,
-                               SynthesisController* synthesis,
+KeysController::KeysController(std::function<MapSource*()> source, MapView* mapView,
+                               TakesController* takes, SynthesisController* synthesis,
                                std::function<SynthParameters()> parameters, QObject* parent)
     : QObject(parent),
-      m_maps(maps),
+      m_source(std::move(source)),
       m_mapView(mapView),
       m_takes(takes),
       m_synthesis(synthesis),
@@ -28,9 +29,19 @@ KeysController::KeysController(const MapController* maps, MapView* mapView, Take
 
 const Take* KeysController::keyedTake() const {
   const Take* take = m_takes->list().currentTake();
-  const std::shared_ptr<const MapResult> map = m_maps->current();
+  const MapSource* source = m_source();
+  const std::shared_ptr<const MapResult> map = source ? source->blendMap() : nullptr;
   if (!take || take->keys.keys.empty() || !map || take->map != map) return nullptr;
   return take;
+}
+
+std::shared_ptr<const MapResult> KeysController::keyMap() {
+  MapSource* source = m_source();
+  if (!source) return nullptr;
+  if (std::shared_ptr<const MapResult> map = source->blendMap(); map && map->blender) return map;
+  // A saved map's blender not built yet (or failed to be): say so; a map being computed: quiet.
+  if (const QString why = source->prepareBlend(); !why.isEmpty()) emit failed(why);
+  return nullptr;
 }
 
 void KeysController::clearPending() {
@@ -53,9 +64,10 @@ synth::Key KeysController::keyAt(const MapResult& map, const Eigen::Vector2d& po
     // A frame of a clip: its pose, standing where it stood.
     const features::FeatureSet& set = *map.map.features;
     const int clip = set.clip_of[std::size_t(sample)], frame = set.frame_of[std::size_t(sample)];
-    const Clip& source = (*m_maps->clips())[std::size_t(clip)];
-    synth::Key key = synth::sample_key(blender, sample, source.motion, frame);
-    key.label = QFileInfo(QString::fromStdString(source.path)).fileName().toStdString() + ":" +
+    const std::shared_ptr<const Clip> source = m_source()->mapClip(clip);
+    if (!source) throw Error("no clip " + std::to_string(clip + 1) + " on the map");
+    synth::Key key = synth::sample_key(blender, sample, source->motion, frame);
+    key.label = QFileInfo(QString::fromStdString(source->path)).fileName().toStdString() + ":" +
                 std::to_string(frame);
     return key;
   }
@@ -66,15 +78,16 @@ synth::Key KeysController::keyAt(const MapResult& map, const Eigen::Vector2d& po
 }
 
 bool KeysController::start(TakeKeys keys, int take) {
-  const std::shared_ptr<const MapResult> map = m_maps->current();
+  const std::shared_ptr<const MapResult> map = m_source()->blendMap();
   if (!m_takes->inbetween(map, std::move(keys), m_parameters(), take)) return false;
   emit started();
   return true;
 }
 
 bool KeysController::click(const Eigen::Vector2d& point, const QPointF& pixel) {
-  const std::shared_ptr<const MapResult> map = m_maps->current();
-  if (!map || !map->blender || !m_maps->clips() || !point.allFinite()) return false;
+  if (!point.allFinite()) return false;
+  const std::shared_ptr<const MapResult> map = keyMap();
+  if (!map) return false;
   try {
     if (const Take* take = keyedTake()) {
       TakeKeys keys = take->keys;
@@ -107,7 +120,7 @@ bool KeysController::click(const Eigen::Vector2d& point, const QPointF& pixel) {
 
 bool KeysController::moveKey(int index, const Eigen::Vector2d& point, const QPointF& pixel) {
   const Take* take = keyedTake();
-  const std::shared_ptr<const MapResult> map = m_maps->current();
+  const std::shared_ptr<const MapResult> map = take ? take->map : nullptr;
   if (!take || !map || index < 0 || index >= int(take->keys.keys.size()) || !point.allFinite())
     return false;
   try {

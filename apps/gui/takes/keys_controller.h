@@ -6,6 +6,8 @@
 // add keys to the current in-between take, a Ctrl-click on one of its keys removes it, dragging a
 // key moves it (onto the frame it is dropped near, else to the map point), and retime() sets the
 // keys' times. Every change is one undo step (an edit of the take), made when its motion arrives.
+// On a computed map and on a saved one alike: the map is the source's blendMap() (a saved map's
+// blender, built on a worker; a click before it is ready says so and is not kept).
 #include <functional>
 #include <vector>
 
@@ -20,7 +22,7 @@
 
 namespace motionmap::studio {
 
-class MapController;
+class MapSource;
 class MapView;
 class SynthesisController;
 class TakesController;
@@ -29,15 +31,17 @@ struct MapResult;
 class KeysController : public QObject {
   Q_OBJECT
  public:
-  /// Keys on the map `maps` shows, drawn on `mapView`, made into takes of `takes` through
-  /// `synthesis`; `parameters` gives the synthesis parameters now. All must outlive this.
-  KeysController(const MapController* maps, MapView* mapView, TakesController* takes,
+  /// Keys on the map `source` gives now (its blendMap()), drawn on `mapView`, made into takes of
+  /// `takes` through `synthesis`; `parameters` gives the synthesis parameters now. All must
+  /// outlive this.
+  KeysController(std::function<MapSource*()> source, MapView* mapView, TakesController* takes,
                  SynthesisController* synthesis, std::function<SynthParameters()> parameters,
                  QObject* parent = nullptr);
 
   /// A Ctrl-click at map point `point` (widget pixel `pixel`): removes the current in-between
   /// take's key drawn there, else adds a key there (see the top). False when nothing changed
-  /// (no computed map, or a refusal reported by failed()).
+  /// (no map to blend on, or a refusal reported by failed(): a saved map's blender still being
+  /// built, or a clip it cannot load).
   bool click(const Eigen::Vector2d& point, const QPointF& pixel);
   /// Moves key `index` of the current in-between take to `point` (pixel `pixel`).
   bool moveKey(int index, const Eigen::Vector2d& point, const QPointF& pixel);
@@ -57,12 +61,15 @@ class KeysController : public QObject {
   void started();
 
  private:
-  /// The key a click at `point` / `pixel` makes on `map`.
+  /// The key a click at `point` / `pixel` makes on `map`. @throws a saved map's clip errors.
   synth::Key keyAt(const MapResult& map, const Eigen::Vector2d& point, const QPointF& pixel) const;
+  /// The map to place keys on; nullptr (failed() saying why, when there is something to say)
+  /// when there is none yet.
+  std::shared_ptr<const MapResult> keyMap();
   bool start(TakeKeys keys, int take);
   void showPending();
 
-  const MapController* m_maps;
+  std::function<MapSource*()> m_source;
   MapView* m_mapView;
   TakesController* m_takes;
   SynthesisController* m_synthesis;

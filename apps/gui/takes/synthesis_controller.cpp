@@ -35,24 +35,47 @@ void SynthesisController::clear() {
   m_resultWindow.reset();
 }
 
-bool SynthesisController::start(std::shared_ptr<const MapResult> map, const synth::MapPath& path,
+namespace {
+
+/// The map `supply` gives, made within `control`'s first part when it is not ready (a saved map's
+/// blender); `rest` is then the part left for the work on it.
+std::shared_ptr<const MapResult> supplied(const MapSupply& supply, const Control& control,
+                                          Control& rest) {
+  if (supply.ready) {
+    rest = control;
+    return supply.ready;
+  }
+  constexpr double kShare = 0.3;  // of the progress bar, for building the blender
+  std::shared_ptr<const MapResult> map = supply.make(control.part(0.0, kShare));
+  if (!map || !map->blender) throw Error("the map to synthesize on has no blender");
+  rest = control.part(kShare, 1.0);
+  return map;
+}
+
+}  // namespace
+
+bool SynthesisController::start(MapSupply map, const synth::MapPath& path,
                                 const SynthParameters& parameters, int take) {
-  if (!map || !map->blender) return false;
+  if (!map || (map.ready && !map.ready->blender)) return false;
   stop();
   m_runningTake = take;
   const synth::SynthOptions options = parameters.motion;
   synth::MapPath followed = path;
   if (!parameters.timedAsDrawn) followed.times.clear();
-  m_job.start([this, map = std::move(map), path = std::move(followed), drawn = path, take,
-               options](const BackgroundJob::Ticket& ticket) {
+  // The map the worker synthesized on (made there when it was not ready).
+  auto used = std::make_shared<std::shared_ptr<const MapResult>>();
+  m_job.start([this, supply = std::move(map), path = std::move(followed), drawn = path, take,
+               options, used](const BackgroundJob::Ticket& ticket) {
     runJob<synth::SynthResult>(
         this, m_job, ticket, [this](double fraction, const QString&) { emit progress(fraction); },
         [&](const Control& control) {
+          Control rest;
+          *used = supplied(supply, control, rest);
           return std::make_shared<synth::SynthResult>(
-              synth::synthesize(*map->blender, path, options, control));
+              synth::synthesize(*(*used)->blender, path, options, rest));
         },
-        [this, map, drawn, take](const JobOutcome<synth::SynthResult>& outcome) {
-          onResult(map, drawn, take, nullptr, outcome);
+        [this, used, drawn, take](const JobOutcome<synth::SynthResult>& outcome) {
+          onResult(*used, drawn, take, nullptr, outcome);
         });
   });
   return true;
@@ -94,9 +117,9 @@ bool SynthesisController::startEdit(std::shared_ptr<const MapResult> map,
   return true;
 }
 
-bool SynthesisController::startInbetween(std::shared_ptr<const MapResult> map, TakeKeys keys,
+bool SynthesisController::startInbetween(MapSupply map, TakeKeys keys,
                                          const SynthParameters& parameters, int take) {
-  if (!map || !map->blender || keys.keys.size() < 2) return false;
+  if (!map || (map.ready && !map.ready->blender) || keys.keys.size() < 2) return false;
   stop();
   m_runningTake = take;
   auto keyed = std::make_shared<Keyed>();
@@ -104,13 +127,17 @@ bool SynthesisController::startInbetween(std::shared_ptr<const MapResult> map, T
   synth::InbetweenOptions options;
   options.frames_between = keyed->keys.framesBetween;
   options.clean_feet = parameters.motion.clean_feet;
-  m_job.start([this, map = std::move(map), keyed, take,
-               options](const BackgroundJob::Ticket& ticket) {
+  auto used = std::make_shared<std::shared_ptr<const MapResult>>();
+  m_job.start([this, supply = std::move(map), keyed, take, options,
+               used](const BackgroundJob::Ticket& ticket) {
     runJob<synth::SynthResult>(
         this, m_job, ticket, [this](double fraction, const QString&) { emit progress(fraction); },
         [&](const Control& control) {
-          synth::InbetweenResult r = synth::inbetween(*map->blender, *map->map.features,
-                                                      keyed->keys.keys, options, control);
+          Control rest;
+          *used = supplied(supply, control, rest);
+          const MapResult& on = **used;
+          synth::InbetweenResult r =
+              synth::inbetween(*on.blender, *on.map.features, keyed->keys.keys, options, rest);
           auto out = std::make_shared<synth::SynthResult>();
           out->motion = std::move(r.motion);
           out->validity = std::move(r.validity);
@@ -122,8 +149,8 @@ bool SynthesisController::startInbetween(std::shared_ptr<const MapResult> map, T
           keyed->keyFrames = std::move(r.key_frames);
           return out;
         },
-        [this, map, keyed, take](const JobOutcome<synth::SynthResult>& outcome) {
-          onResult(map, keyed->path, take, keyed, outcome);
+        [this, used, keyed, take](const JobOutcome<synth::SynthResult>& outcome) {
+          onResult(*used, keyed->path, take, keyed, outcome);
         });
   });
   return true;

@@ -36,7 +36,14 @@ class SynthesisController : public QObject {
   /// cancelled follow. False (nothing started) without a map or its blender. `take` tags the
   /// result (resultTake()): −1 for a new sketch, else the id of the take being re-synthesized.
   bool start(std::shared_ptr<const MapResult> map, const synth::MapPath& path,
-             const SynthParameters& parameters, int take = -1);
+             const SynthParameters& parameters, int take = -1) {
+    return start(MapSupply{std::move(map), {}}, path, parameters, take);
+  }
+  /// The same on the map `map` supplies: one not ready yet (a saved map's blender, built on
+  /// first use) is made on the worker first, within the synthesis' progress and cancel; an error
+  /// making it (a clip of a saved map missing) is failed(). resultMap() is the map made.
+  bool start(MapSupply map, const synth::MapPath& path, const SynthParameters& parameters,
+             int take = -1);
   /// Starts re-making the motion `previous` of take `take` along its edited `path` (a control
   /// point moved), as start() does, but when `previous` was synthesized on `map` with
   /// `parameters.motion` only the part of the motion the edit changes is re-made
@@ -50,7 +57,11 @@ class SynthesisController : public QObject {
   /// frames follow (a point per frame, timed at the frame rate) and resultKeys() and
   /// resultKeyFrames() say where the keys fell. `take` as for start().
   bool startInbetween(std::shared_ptr<const MapResult> map, TakeKeys keys,
-                      const SynthParameters& parameters, int take = -1);
+                      const SynthParameters& parameters, int take = -1) {
+    return startInbetween(MapSupply{std::move(map), {}}, std::move(keys), parameters, take);
+  }
+  bool startInbetween(MapSupply map, TakeKeys keys, const SynthParameters& parameters,
+                      int take = -1);
   bool isRunning() const { return m_job.running(); }
   /// Stops a running synthesis without a signal; its result is dropped. Returns whether one
   /// was running.
@@ -75,7 +86,7 @@ class SynthesisController : public QObject {
   const std::optional<std::pair<int, int>>& resultWindow() const { return m_resultWindow; }
   /// The `take` of the synthesis running (or of the last one started).
   int runningTake() const { return m_runningTake; }
-  /// The map result() was sketched on.
+  /// The map result() was sketched on (a saved map's: the one its blender was built for).
   const std::shared_ptr<const MapResult>& resultMap() const { return m_resultMap; }
   /// Forgets the last motion (a new clip). A running synthesis goes on.
   void clear();

@@ -27,6 +27,7 @@
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/synth/inbetween.h"
+#include "motionmap/synth/path_edit.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace motionmap::python {
@@ -315,18 +316,25 @@ Clip poses_at(const ClipMapState& s, const InputArray& Y, const std::string& mod
   });
 }
 
-Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
-                     double speed, double fps, double smooth, const std::string& mode,
-                     int neighbors, double reach, bool clean_feet, py::object progress) {
+// A path of map points (`xy_name`: #points by 2) and their times (`times_name`; None: untimed).
+synth::MapPath map_path(const InputArray& xy, const py::object& times, const std::string& xy_name,
+                        const std::string& times_name) {
   synth::MapPath path;
-  path.points = map_points(path_xy, "path_xy");
+  path.points = map_points(xy, xy_name);
   if (!times.is_none()) {
     path.times = times.cast<std::vector<double>>();
     if (path.times.size() != path.points.size()) {
-      throw ParameterError("times: " + std::to_string(path.times.size()) + " times for " +
+      throw ParameterError(times_name + ": " + std::to_string(path.times.size()) + " times for " +
                            std::to_string(path.points.size()) + " path points");
     }
   }
+  return path;
+}
+
+Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
+                     double speed, double fps, double smooth, const std::string& mode,
+                     int neighbors, double reach, bool clean_feet, py::object progress) {
+  const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
   synth::SynthOptions options;
   options.speed = speed;
   options.fps = fps;
@@ -347,6 +355,45 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
     }
     return out;
   });
+}
+
+// motionmap.edit_path: the take along previous_xy re-made only where path_xy differs from it
+// (synth::edit_path from the previous path). Returns (Clip, window).
+py::tuple edit_path(const ClipMapState& s, const InputArray& previous_xy,
+                    const py::object& previous_times, const InputArray& path_xy,
+                    const py::object& times, double speed, double fps, double smooth,
+                    const std::string& mode, int neighbors, double reach, bool clean_feet,
+                    py::object progress) {
+  const synth::MapPath previous =
+      map_path(previous_xy, previous_times, "previous_xy", "previous_times");
+  const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
+  synth::SynthOptions options;
+  options.speed = speed;
+  options.fps = fps;
+  options.smooth = smooth;
+  options.clean_feet = clean_feet;
+  options.validate();
+  Clip out;
+  synth::PathEditResult edit = run_released(std::move(progress), [&](const Control& control) {
+    const synth::MapBlender blender =
+        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.3));
+    out.skeleton = blender.skeleton();
+    return synth::edit_path(blender, previous, path, options, {}, control.part(0.3, 1.0));
+  });
+  out.path = "<motion along an edited path of " + std::to_string(path.points.size()) + " points>";
+  out.motion = std::move(edit.result.motion);
+  if (edit.result.clamped_frames > 0) {
+    out.warnings.push_back(std::to_string(edit.result.clamped_frames) +
+                           " frames were outside the map's data and moved to its edge");
+  }
+  py::dict window;
+  window["first"] = edit.first;
+  window["end"] = edit.end;
+  window["blend_first"] = edit.blend_first;
+  window["blend_end"] = edit.blend_end;
+  window["whole"] = edit.whole;
+  window["feet_frames_changed"] = edit.result.feet_frames_changed;
+  return py::make_tuple(std::move(out), std::move(window));
 }
 
 // ---- in-betweening (motionmap.inbetween) -----------------------------------------------------
@@ -848,6 +895,10 @@ void bind_maps(py::module_& m) {
       .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
            py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),
            py::arg("reach"), py::arg("clean_feet"), py::arg("progress"))
+      .def("edit_path", &edit_path, py::arg("previous_xy"), py::arg("previous_times"),
+           py::arg("path_xy"), py::arg("times"), py::arg("speed"), py::arg("fps"),
+           py::arg("smooth"), py::arg("blend"), py::arg("neighbors"), py::arg("reach"),
+           py::arg("clean_feet"), py::arg("progress"))
       .def(
           "write_map",
           [](const ClipMapState& s, const py::object& path) {

@@ -405,6 +405,7 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
     stage.update(0.2 + 0.8 * static_cast<double>(f1) / F);
   }
   for (char c : changed) result.frames_changed += c;
+  result.changed = std::move(changed);
   return result;
 }
 

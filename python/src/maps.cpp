@@ -23,6 +23,7 @@
 #include "motionmap/features/features.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/frame_key.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/pipeline/map_csv.h"
@@ -429,13 +430,6 @@ std::vector<PyKey> keys_from_python(const py::sequence& keys, const std::string&
       key.clip = std::move(loaded.front());
       key.frame = pair[1].cast<int>();
       key.label = key.clip->path + ":" + std::to_string(key.frame);
-      const int frames = key.clip->motion.num_frames;
-      if (key.frame < 0 || key.frame >= frames) {
-        throw ParameterError(where + " (" + key.label + "): frame " + std::to_string(key.frame) +
-                             " is out of range: " + key.clip->path + " has " +
-                             std::to_string(frames) + " frames, 0 to " +
-                             std::to_string(frames - 1));
-      }
     } else {
       key.point = Eigen::Vector2d(pair[0].cast<double>(), pair[1].cast<double>());
       key.label = where;
@@ -476,39 +470,22 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
     Clip reference;
     reference.path = s.paths.empty() ? std::string("the map") : s.paths.front();
     reference.skeleton = blender.skeleton();
+    mapfile::KeyMap on;
+    on.blender = &blender;
+    on.samples = &samples;
+    on.clip_files = s.paths;
+    on.reference = &reference;
+    on.map_file = [&s]() -> const mapfile::MapFile& { return s.file; };
+    on.search = [&s] { return s.search.get(s.file.model, Control()); };
     std::vector<synth::Key> resolved;
     for (std::size_t i = 0; i < keys.size(); ++i) {
       PyKey& k = keys[i];
       synth::Key key;
       if (k.clip) {
-        if (const std::string why = features::hierarchy_difference(reference, *k.clip);
-            !why.empty()) {
-          throw ParameterError("keys[" + std::to_string(i) + "] (" + k.label +
-                               "): a clip of another skeleton than the map's (" + why + ")");
-        }
-        int sample = -1;
-        for (std::size_t c = 0; c < s.paths.size() && sample < 0; ++c) {
-          std::error_code ec;
-          if (std::filesystem::equivalent(s.paths[c], k.clip->path, ec) && !ec)
-            sample = synth::find_sample(samples, static_cast<int>(c), k.frame);
-        }
-        if (sample >= 0) {
-          key = synth::sample_key(blender, sample, k.clip->motion, k.frame);
-        } else {
-          mapfile::PlaceOptions place;
-          place.first_frame = k.frame;
-          place.end_frame = k.frame + 1;
-          place.keep_first = true;
-          const embed::SampleSearch* search = s.search.get(s.file.model, Control());
-          const mapfile::Placement placed = mapfile::place_clips(std::span<const Clip>(&*k.clip, 1),
-                                                                 s.file, place, Control(), search);
-          key.point = Eigen::Vector2d(placed.coordinates(0, 0), placed.coordinates(0, 1));
-          key.pose.frame_time = k.clip->motion.frame_time;
-          key.pose.resize(1, k.clip->motion.num_joints);
-          for (int j = 0; j < k.clip->motion.num_joints; ++j) {
-            key.pose.rotation(0, j) = k.clip->motion.rotation(k.frame, j);
-            key.pose.translation(0, j) = k.clip->motion.translation(k.frame, j);
-          }
+        try {
+          key = mapfile::frame_key(on, *k.clip, k.frame).key;
+        } catch (const ParameterError& e) {
+          throw ParameterError("keys[" + std::to_string(i) + "] (" + k.label + "): " + e.what());
         }
       } else {
         key.point = k.point;

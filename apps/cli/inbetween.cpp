@@ -24,9 +24,9 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
-#include "motionmap/features/joint_match.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/frame_key.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/mapfile/saved_map.h"
 #include "motionmap/synth/inbetween.h"
@@ -132,71 +132,42 @@ Prepared prepare(const InbetweenCommand& cmd) {
   return p;
 }
 
-bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  return std::filesystem::equivalent(a, b, ec) && !ec;
-}
-
-// The keys on the map: FILE:FRAME at its sample's point, or placed; X:Y as it is.
+// The keys on the map: FILE:FRAME at its sample's point, or placed (mapfile::frame_key); X:Y as
+// it is.
 std::vector<synth::Key> resolve_keys(const InbetweenCommand& cmd, const std::vector<KeyText>& texts,
                                      Prepared& p) {
   std::map<std::string, std::shared_ptr<const Clip>> loaded;
   io::LoadOptions load;
   load.asf_path = cmd.o.map.asf;
   load.fps = cmd.o.map.fps;
+  mapfile::KeyMap on;
+  on.blender = p.b.blender.get();
+  on.samples = &p.b.samples;
+  on.clip_files = p.clip_files;
+  on.reference = &p.reference;
+  on.map_file = p.map_file;
   std::vector<synth::Key> keys;
   for (const KeyText& t : texts) {
     synth::Key key;
-    key.label = t.text;
-    key.time = t.time;
     if (t.file.empty()) {
       key.point = t.point;
-      keys.push_back(std::move(key));
-      continue;
-    }
-    auto& clip = loaded[t.file];
-    if (!clip) {
-      try {
-        clip = std::make_shared<const Clip>(io::load_clip(t.file, load));
-      } catch (const Error& e) {
-        throw Error("--keys " + t.text + ": the clip cannot be loaded: " + e.what());
-      }
-    }
-    if (const std::string why = features::hierarchy_difference(p.reference, *clip); !why.empty()) {
-      throw Error("--keys " + t.text + ": " + t.file +
-                  " is a clip of another skeleton than the "
-                  "map's (" +
-                  why + "); a key is a frame of a clip of the map's skeleton");
-    }
-    const int frames = clip->motion.num_frames;
-    if (t.frame >= frames) {
-      throw Error("--keys " + t.text + ": frame " + std::to_string(t.frame) +
-                  " is out of range: " + t.file + " has " + std::to_string(frames) +
-                  " frames, 0 to " + std::to_string(frames - 1));
-    }
-    int sample = -1;
-    for (std::size_t c = 0; c < p.clip_files.size() && sample < 0; ++c) {
-      if (same_file(p.clip_files[c], t.file))
-        sample = synth::find_sample(p.b.samples, static_cast<int>(c), t.frame);
-    }
-    if (sample >= 0) {
-      key = synth::sample_key(*p.b.blender, sample, clip->motion, t.frame);
     } else {
-      // Placed as `map --onto` places frames: this one frame, a leading bind pose included.
-      mapfile::PlaceOptions place;
-      place.first_frame = t.frame;
-      place.end_frame = t.frame + 1;
-      place.keep_first = true;
-      const mapfile::Placement placed =
-          mapfile::place_clips(std::span<const Clip>(clip.get(), 1), p.map_file(), place);
-      key.point = Eigen::Vector2d(placed.coordinates(0, 0), placed.coordinates(0, 1));
-      key.pose.frame_time = clip->motion.frame_time;
-      key.pose.resize(1, clip->motion.num_joints);
-      for (int j = 0; j < clip->motion.num_joints; ++j) {
-        key.pose.rotation(0, j) = clip->motion.rotation(t.frame, j);
-        key.pose.translation(0, j) = clip->motion.translation(t.frame, j);
+      auto& clip = loaded[t.file];
+      if (!clip) {
+        try {
+          clip = std::make_shared<const Clip>(io::load_clip(t.file, load));
+        } catch (const Error& e) {
+          throw Error("--keys " + t.text + ": the clip cannot be loaded: " + e.what());
+        }
       }
-      if (!cmd.o.map.quiet) {
+      mapfile::FrameKey found;
+      try {
+        found = mapfile::frame_key(on, *clip, t.frame);
+      } catch (const ParameterError& e) {
+        throw ParameterError("--keys " + t.text + ": " + e.what());
+      }
+      key = std::move(found.key);
+      if (found.placed && !cmd.o.map.quiet) {
         std::cerr << "note: key " << t.text << " is not a sample of the map: placed at ("
                   << format_number(key.point.x(), 4) << ", " << format_number(key.point.y(), 4)
                   << ") as `map --onto` places frames\n";

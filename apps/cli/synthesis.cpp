@@ -20,6 +20,7 @@
 #include "motionmap/io/bvh.h"
 #include "motionmap/mapfile/saved_map.h"
 #include "motionmap/pipeline/map_csv.h"
+#include "motionmap/synth/path_edit.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace motionmap::cli {
@@ -33,6 +34,7 @@ struct BlendCommand {
   std::string at;
   // synth
   std::string path;
+  std::string edit_of;
   double speed = 0.0;
   double fps = 0.0;
   double smooth = 0.0;
@@ -110,11 +112,19 @@ void setup_synth(CLI::App& app) {
       "the blend at the path's point; root motion is integrated from the samples' own velocities;\n"
       "then each foot is held still through its contacts with the floor (--no-clean-feet: not).\n"
       "The path CSV holds t,x,y rows (seconds) or x,y rows drawn at --speed.\n"
+      "--edit-of PREVIOUS.csv: the path is an edit of PREVIOUS's (a control point moved); only "
+      "the\n"
+      "frames the edit changes are re-made, the rest is the take of PREVIOUS (same options).\n"
       "The map: computed from FILE…, read with --map map.csv, or a saved map --map lib.mmap.h5.");
   add_options(sub, *cmd);
   sub->add_option("--path", cmd->path,
                   "Path CSV: t,x,y or x,y per line (optional header, # comments)")
       ->required()
+      ->check(CLI::ExistingFile);
+  sub->add_option("--edit-of", cmd->edit_of,
+                  "The path of a previous take (made by synth with the same map and options): "
+                  "only the frames the edit of the path changes are re-made; every other frame is "
+                  "that take's, bit for bit (docs/synthesis.md, \"Editing a path\")")
       ->check(CLI::ExistingFile);
   sub->add_option(
       "--speed", cmd->speed,
@@ -139,8 +149,20 @@ void setup_synth(CLI::App& app) {
     const PreparedBlender prepared = prepare_blender(cmd->o, "synth");
     const synth::MapBlender& blender = *prepared.blender;
     const Control line = progress_line(cmd->o.map, "synth");
-    const synth::SynthResult result = synth::synthesize(
-        blender, path, options, line.reports() ? line.stage("blending frames", 0, 1) : line);
+    const Control blending = line.reports() ? line.stage("blending frames", 0, 1) : line;
+    std::optional<synth::PathEditResult> edit;
+    if (!cmd->edit_of.empty()) {
+      const synth::MapPath previous = synth::read_path_csv(cmd->edit_of);
+      try {
+        edit = synth::edit_path(blender, previous, path, options, {}, blending);
+      } catch (const ParameterError& e) {
+        const std::string what = e.what();
+        if (what.rfind("previous path: ", 0) != 0) throw;
+        throw ParameterError(cmd->edit_of + ": " + what.substr(15));
+      }
+    }
+    const synth::SynthResult result =
+        edit ? std::move(edit->result) : synth::synthesize(blender, path, options, blending);
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
                 << " frames lie outside the data (beyond the reach "
@@ -158,6 +180,14 @@ void setup_synth(CLI::App& app) {
       std::size_t held = 0;
       for (const FootContacts& fc : result.contacts) held += fc.intervals.size();
       std::cerr << "; feet held through " << held << " contacts";
+    }
+    if (edit && edit->whole) {
+      std::cerr << "; the edit of " << cmd->edit_of << " reaches every frame: re-made whole";
+    } else if (edit && edit->first == edit->end) {
+      std::cerr << "; the same path as " << cmd->edit_of << ": nothing re-made";
+    } else if (edit) {
+      std::cerr << "; re-made frames " << edit->first << "-" << edit->end - 1
+                << ", the rest as the take of " << cmd->edit_of;
     }
     std::cerr << "\n";
   });

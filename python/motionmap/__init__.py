@@ -21,7 +21,7 @@ from ._motionmap import Clip, Error, Skeleton, load
 
 __all__ = [
     "Clip", "Error", "Skeleton", "load", "features", "read_map", "write_map", "synthesize",
-    "inbetween",
+    "edit_path", "inbetween",
     "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "UMAP", "NotFittedError",
 ]
 __version__ = "0.1.0"
@@ -405,6 +405,28 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, b
     return fitted.map_.synthesize(path_xy, None if times is None else [float(t) for t in times],
                                   float(speed), float(fps), float(smooth), blend, int(neighbors),
                                   float(reach), bool(clean_feet), progress)
+
+
+def edit_path(fitted, path_xy, times=None, *, previous_xy, previous_times=None, speed=0.0,
+              fps=0.0, smooth=0.0, blend="local", neighbors=12, reach=3.0, clean_feet=True,
+              progress=None):
+    """The motion along an edited path, re-made only where the edit changes it (what `motionmap
+    synth --edit-of` does; docs/synthesis.md, "Editing a path"). previous_xy, previous_times: the
+    path of the previous take, made by synthesize(fitted, previous_xy, previous_times, ...) with
+    the same options (speed, fps, smooth, blend, neighbors, reach, clean_feet: as synthesize);
+    path_xy, times: the edited path. Every frame outside the window is the previous take's, bit
+    for bit. Returns (Clip, window): window is a dict with "first" and "end" (the frames
+    [first, end) that may differ from the previous take), "blend_first" and "blend_end" (the
+    frames blended anew), "whole" (True when the edit reached every frame and the motion was
+    synthesized whole) and "feet_frames_changed" (frames the foot clean-up changed, over the
+    whole motion)."""
+    fitted._check_fitted()
+    if not isinstance(fitted.map_, _motionmap._ClipMap):
+        raise Error("edit_path: motions are blended from clips; this map was fitted on an array")
+    return fitted.map_.edit_path(
+        previous_xy, None if previous_times is None else [float(t) for t in previous_times],
+        path_xy, None if times is None else [float(t) for t in times], float(speed), float(fps),
+        float(smooth), blend, int(neighbors), float(reach), bool(clean_feet), progress)
 
 
 def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=True,

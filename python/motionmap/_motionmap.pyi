@@ -99,6 +99,10 @@ class _ClipMap:
     def synthesize(self, path_xy: npt.ArrayLike, times: Optional[list[float]], speed: float,
                    fps: float, smooth: float, blend: str, neighbors: int, reach: float,
                    clean_feet: bool, progress: _Progress) -> Clip: ...
+    def edit_path(self, previous_xy: npt.ArrayLike, previous_times: Optional[list[float]],
+                  path_xy: npt.ArrayLike, times: Optional[list[float]], speed: float, fps: float,
+                  smooth: float, blend: str, neighbors: int, reach: float, clean_feet: bool,
+                  progress: _Progress) -> tuple[Clip, dict[str, Any]]: ...
     def write_map(self, path: _Path) -> None: ...
 
 class _PlacedClip:

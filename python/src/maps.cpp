@@ -23,10 +23,12 @@
 #include "motionmap/features/features.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/io/load.h"
+#include "motionmap/mapfile/frame_key.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/pipeline/map_csv.h"
 #include "motionmap/synth/inbetween.h"
+#include "motionmap/synth/path_edit.h"
 #include "motionmap/synth/synthesize.h"
 
 namespace motionmap::python {
@@ -315,18 +317,25 @@ Clip poses_at(const ClipMapState& s, const InputArray& Y, const std::string& mod
   });
 }
 
-Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
-                     double speed, double fps, double smooth, const std::string& mode,
-                     int neighbors, double reach, bool clean_feet, py::object progress) {
+// A path of map points (`xy_name`: #points by 2) and their times (`times_name`; None: untimed).
+synth::MapPath map_path(const InputArray& xy, const py::object& times, const std::string& xy_name,
+                        const std::string& times_name) {
   synth::MapPath path;
-  path.points = map_points(path_xy, "path_xy");
+  path.points = map_points(xy, xy_name);
   if (!times.is_none()) {
     path.times = times.cast<std::vector<double>>();
     if (path.times.size() != path.points.size()) {
-      throw ParameterError("times: " + std::to_string(path.times.size()) + " times for " +
+      throw ParameterError(times_name + ": " + std::to_string(path.times.size()) + " times for " +
                            std::to_string(path.points.size()) + " path points");
     }
   }
+  return path;
+}
+
+Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
+                     double speed, double fps, double smooth, const std::string& mode,
+                     int neighbors, double reach, bool clean_feet, py::object progress) {
+  const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
   synth::SynthOptions options;
   options.speed = speed;
   options.fps = fps;
@@ -347,6 +356,45 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
     }
     return out;
   });
+}
+
+// motionmap.edit_path: the take along previous_xy re-made only where path_xy differs from it
+// (synth::edit_path from the previous path). Returns (Clip, window).
+py::tuple edit_path(const ClipMapState& s, const InputArray& previous_xy,
+                    const py::object& previous_times, const InputArray& path_xy,
+                    const py::object& times, double speed, double fps, double smooth,
+                    const std::string& mode, int neighbors, double reach, bool clean_feet,
+                    py::object progress) {
+  const synth::MapPath previous =
+      map_path(previous_xy, previous_times, "previous_xy", "previous_times");
+  const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
+  synth::SynthOptions options;
+  options.speed = speed;
+  options.fps = fps;
+  options.smooth = smooth;
+  options.clean_feet = clean_feet;
+  options.validate();
+  Clip out;
+  synth::PathEditResult edit = run_released(std::move(progress), [&](const Control& control) {
+    const synth::MapBlender blender =
+        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.3));
+    out.skeleton = blender.skeleton();
+    return synth::edit_path(blender, previous, path, options, {}, control.part(0.3, 1.0));
+  });
+  out.path = "<motion along an edited path of " + std::to_string(path.points.size()) + " points>";
+  out.motion = std::move(edit.result.motion);
+  if (edit.result.clamped_frames > 0) {
+    out.warnings.push_back(std::to_string(edit.result.clamped_frames) +
+                           " frames were outside the map's data and moved to its edge");
+  }
+  py::dict window;
+  window["first"] = edit.first;
+  window["end"] = edit.end;
+  window["blend_first"] = edit.blend_first;
+  window["blend_end"] = edit.blend_end;
+  window["whole"] = edit.whole;
+  window["feet_frames_changed"] = edit.result.feet_frames_changed;
+  return py::make_tuple(std::move(out), std::move(window));
 }
 
 // ---- in-betweening (motionmap.inbetween) -----------------------------------------------------
@@ -382,13 +430,6 @@ std::vector<PyKey> keys_from_python(const py::sequence& keys, const std::string&
       key.clip = std::move(loaded.front());
       key.frame = pair[1].cast<int>();
       key.label = key.clip->path + ":" + std::to_string(key.frame);
-      const int frames = key.clip->motion.num_frames;
-      if (key.frame < 0 || key.frame >= frames) {
-        throw ParameterError(where + " (" + key.label + "): frame " + std::to_string(key.frame) +
-                             " is out of range: " + key.clip->path + " has " +
-                             std::to_string(frames) + " frames, 0 to " +
-                             std::to_string(frames - 1));
-      }
     } else {
       key.point = Eigen::Vector2d(pair[0].cast<double>(), pair[1].cast<double>());
       key.label = where;
@@ -429,39 +470,22 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
     Clip reference;
     reference.path = s.paths.empty() ? std::string("the map") : s.paths.front();
     reference.skeleton = blender.skeleton();
+    mapfile::KeyMap on;
+    on.blender = &blender;
+    on.samples = &samples;
+    on.clip_files = s.paths;
+    on.reference = &reference;
+    on.map_file = [&s]() -> const mapfile::MapFile& { return s.file; };
+    on.search = [&s] { return s.search.get(s.file.model, Control()); };
     std::vector<synth::Key> resolved;
     for (std::size_t i = 0; i < keys.size(); ++i) {
       PyKey& k = keys[i];
       synth::Key key;
       if (k.clip) {
-        if (const std::string why = features::hierarchy_difference(reference, *k.clip);
-            !why.empty()) {
-          throw ParameterError("keys[" + std::to_string(i) + "] (" + k.label +
-                               "): a clip of another skeleton than the map's (" + why + ")");
-        }
-        int sample = -1;
-        for (std::size_t c = 0; c < s.paths.size() && sample < 0; ++c) {
-          std::error_code ec;
-          if (std::filesystem::equivalent(s.paths[c], k.clip->path, ec) && !ec)
-            sample = synth::find_sample(samples, static_cast<int>(c), k.frame);
-        }
-        if (sample >= 0) {
-          key = synth::sample_key(blender, sample, k.clip->motion, k.frame);
-        } else {
-          mapfile::PlaceOptions place;
-          place.first_frame = k.frame;
-          place.end_frame = k.frame + 1;
-          place.keep_first = true;
-          const embed::SampleSearch* search = s.search.get(s.file.model, Control());
-          const mapfile::Placement placed = mapfile::place_clips(std::span<const Clip>(&*k.clip, 1),
-                                                                 s.file, place, Control(), search);
-          key.point = Eigen::Vector2d(placed.coordinates(0, 0), placed.coordinates(0, 1));
-          key.pose.frame_time = k.clip->motion.frame_time;
-          key.pose.resize(1, k.clip->motion.num_joints);
-          for (int j = 0; j < k.clip->motion.num_joints; ++j) {
-            key.pose.rotation(0, j) = k.clip->motion.rotation(k.frame, j);
-            key.pose.translation(0, j) = k.clip->motion.translation(k.frame, j);
-          }
+        try {
+          key = mapfile::frame_key(on, *k.clip, k.frame).key;
+        } catch (const ParameterError& e) {
+          throw ParameterError("keys[" + std::to_string(i) + "] (" + k.label + "): " + e.what());
         }
       } else {
         key.point = k.point;
@@ -848,6 +872,10 @@ void bind_maps(py::module_& m) {
       .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
            py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),
            py::arg("reach"), py::arg("clean_feet"), py::arg("progress"))
+      .def("edit_path", &edit_path, py::arg("previous_xy"), py::arg("previous_times"),
+           py::arg("path_xy"), py::arg("times"), py::arg("speed"), py::arg("fps"),
+           py::arg("smooth"), py::arg("blend"), py::arg("neighbors"), py::arg("reach"),
+           py::arg("clean_feet"), py::arg("progress"))
       .def(
           "write_map",
           [](const ClipMapState& s, const py::object& path) {

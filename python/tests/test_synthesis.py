@@ -61,3 +61,43 @@ def test_synthesize_retraces_the_clip(golf, tmp_path):
     assert motionmap.load(str(tmp_path / "new.bvh")).num_frames == motion.num_frames
     with pytest.raises(motionmap.Error, match="times"):
         motionmap.synthesize(est, est.embedding_[:3], [0.0, 1.0])
+
+
+def test_edit_path_keeps_the_take_outside_its_window(golf):
+    est = motionmap.Isomap().fit(golf)
+    sketch = est.embedding_[::30]
+    times = est.frame_of_[::30] / 120.0
+    take = motionmap.synthesize(est, sketch, times, smooth=0.05)
+    moved = sketch.copy()
+    moved[5] += 0.3 * (sketch[6] - sketch[5])
+    edited, window = motionmap.edit_path(est, moved, times, previous_xy=sketch,
+                                         previous_times=times, smooth=0.05)
+    first, end = window["first"], window["end"]
+    assert edited.num_frames == take.num_frames and not window["whole"]
+    assert 0 < first <= window["blend_first"] < window["blend_end"] <= end < take.num_frames
+    # Outside the window: the take, bit for bit; inside, something changed.
+    np.testing.assert_array_equal(edited.rotations[:first], take.rotations[:first])
+    np.testing.assert_array_equal(edited.rotations[end:], take.rotations[end:])
+    np.testing.assert_array_equal(edited.translations[:first], take.translations[:first])
+    np.testing.assert_array_equal(edited.translations[end:], take.translations[end:])
+    assert not np.array_equal(edited.rotations[first:end], take.rotations[first:end])
+    assert window["feet_frames_changed"] >= 0
+    # The same path: nothing re-made.
+    same, window = motionmap.edit_path(est, sketch, times, previous_xy=sketch,
+                                       previous_times=times, smooth=0.05)
+    assert window["first"] == window["end"]
+    np.testing.assert_array_equal(same.rotations, take.rotations)
+    # An untimed path whose first point moved reaches every frame: synthesized whole.
+    untimed = sketch.copy()
+    untimed[0] += 0.5 * (sketch[1] - sketch[0])
+    whole, window = motionmap.edit_path(est, untimed, previous_xy=sketch)
+    assert window["whole"] and window["first"] == 0 and window["end"] == whole.num_frames
+    np.testing.assert_array_equal(whole.rotations, motionmap.synthesize(est, untimed).rotations)
+    with pytest.raises(motionmap.Error, match="previous_times: 2 times for"):
+        motionmap.edit_path(est, moved, times, previous_xy=sketch, previous_times=[0.0, 1.0])
+    with pytest.raises(motionmap.Error, match="previous path: "):
+        motionmap.edit_path(est, moved, times, previous_xy=sketch, previous_times=times[::-1])
+    with pytest.raises(TypeError):
+        motionmap.edit_path(est, moved, times)  # previous_xy is required
+    with pytest.raises(motionmap.Error, match="fitted on an array"):
+        motionmap.edit_path(motionmap.PCA().fit(np.eye(5)), moved, previous_xy=sketch)

@@ -456,6 +456,71 @@ def synth_cleans_the_feet_unless_asked_not_to():
     assert "--no-clean-feet" in out, out
 
 
+def motion_lines(bvh):
+    with open(bvh) as f:
+        lines = f.read().splitlines()
+    return lines[lines.index("MOTION") + 3:]
+
+
+@test
+def synth_edit_of_remakes_only_what_the_edit_changes():
+    walk = "bandai/dataset-1_walk_angry_001.bvh"
+    if not needs(walk):
+        return
+    csv = os.path.join(TMP, "edit-map.csv")
+    code, _, err = run("map", data(walk), "--method", "pca", "-o", csv, "-q")
+    assert code == 0, err
+    _, _, values = read_map(csv)
+    frame_time = mocap.parse_bvh(data(walk))[2]
+    rows = list(range(0, len(values), 10)) + [len(values) - 1]
+    points = [((values[r, 0] - values[0, 0]) * frame_time, values[r, 1], values[r, 2]) for r in rows]
+    old = write("edit-old.csv", "t,x,y\n" + "".join(f"{t!r},{x!r},{y!r}\n" for t, x, y in points))
+    t, x, y = points[6]
+    _, x7, y7 = points[7]
+    points[6] = (t, x + 0.4 * (x7 - x), y + 0.4 * (y7 - y))
+    new = write("edit-new.csv", "t,x,y\n" + "".join(f"{t!r},{x!r},{y!r}\n" for t, x, y in points))
+    take, edited, full = (os.path.join(TMP, n) for n in ("take.bvh", "edited.bvh", "full.bvh"))
+    base = ["synth", data(walk), "--map", csv, "--smooth", "0.05", "-q"]
+    code, _, err = run(*base, "--path", old, "-o", take)
+    assert code == 0, err
+    code, _, err = run(*base, "--path", new, "--edit-of", old, "-o", edited)
+    assert code == 0, err
+    m = re.search(r"; re-made frames (\d+)-(\d+), the rest as the take of " + re.escape(old), err)
+    assert m, err
+    first, last = int(m.group(1)), int(m.group(2))
+    a, b = motion_lines(take), motion_lines(edited)
+    assert len(a) == len(b) and 0 < first <= last < len(a) - 1, (first, last, len(a))
+    # Outside the window the take's frames, as written; inside, the edit.
+    assert a[:first] == b[:first] and a[last + 1:] == b[last + 1:]
+    assert a[first:last + 1] != b[first:last + 1]
+    # A whole synthesis of the edited path differs beyond the window (its root carries the edit on).
+    code, _, err = run(*base, "--path", new, "-o", full)
+    assert code == 0, err
+    assert motion_lines(full)[last + 1:] != a[last + 1:]
+    # The same path: nothing re-made, the take itself.
+    code, _, err = run(*base, "--path", old, "--edit-of", old, "-o", edited)
+    assert code == 0 and "; the same path as " + old + ": nothing re-made" in err, err
+    assert motion_lines(edited) == a
+    # An untimed path whose first point moved changes every frame: re-made whole.
+    xy = "x,y\n" + "".join(f"{x!r},{y!r}\n" for _, x, y in points)
+    untimed_old = write("edit-untimed-old.csv", xy)
+    untimed_new = write("edit-untimed-new.csv", "x,y\n0.5,0.5\n" + xy[4:])
+    code, _, err = run(*base, "--path", untimed_new, "--edit-of", untimed_old, "-o", edited)
+    assert code == 0, err
+    assert "; the edit of " + untimed_old + " reaches every frame: re-made whole" in err, err
+    code, _, err = run(*base, "--path", untimed_new, "-o", full)
+    assert code == 0, err
+    assert motion_lines(edited) == motion_lines(full)
+    # A malformed previous path is named with its line.
+    bad = write("edit-bad.csv", "t,x,y\n0,1,nan\n")
+    code, _, err = run(*base, "--path", new, "--edit-of", bad, "-o", edited)
+    assert code == 1 and bad + ":2:" in err, err
+    code, _, err = run(*base, "--path", new, "--edit-of", "/no/such.csv", "-o", edited)
+    assert code == 2 and "--edit-of" in err, err
+    code, out, _ = run("synth", "--help")
+    assert "--edit-of" in out, out
+
+
 @test
 def pose_at_a_sample_is_that_frame():
     if not needs(GOLF):

@@ -1,4 +1,5 @@
-// Saved maps opened for use (mapfile::SavedMap, mapfile::PointIndex): the 2-D index against a
+// Saved maps opened for use (mapfile::SavedMap; its mapfile::PointIndex, synth::PointIndex): the
+// 2-D index against a
 // brute-force search on real maps, clips loaded on demand and checked against the SHA-256 the
 // map file recorded (a changed, missing or wrong clip is an error naming the file and what was
 // expected), poses blended on a saved map equal to the idw blend of the same clips mapped

@@ -408,3 +408,39 @@ TEST(SkeletonContacts, SkatingOfCapturedBandaiWalks) {
 
 }  // namespace
 }  // namespace motionmap
+
+namespace motionmap {
+namespace {
+
+// The ankle paths given (what synth::clean_feet computes once for the contacts and the clean-up):
+// the same contacts as detect_contacts() computing them itself; paths of another length refused.
+TEST(SkeletonContacts, AnklePathsGivenGiveTheSameContacts) {
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_proud_001.bvh");
+  const Clip clip = io::load_clip(test::shared_file("bandai/dataset-1_walk_proud_001.bvh"));
+  const Feet feet = find_feet(clip.skeleton);
+  const AnklePaths ankles = ankle_paths(clip.skeleton, clip.motion, feet);
+  ASSERT_EQ(ankles[0].size(), static_cast<std::size_t>(clip.motion.num_frames));
+  EXPECT_EQ(ankles[1], joint_trajectory(clip.skeleton, clip.motion, feet.legs[1].ankle));
+  const auto own = detect_contacts(clip.skeleton, clip.motion, feet);
+  const auto given = detect_contacts(clip.skeleton, clip.motion, feet, ankles);
+  for (int s = 0; s < 2; ++s) {
+    const FootContacts& a = own[static_cast<std::size_t>(s)];
+    const FootContacts& b = given[static_cast<std::size_t>(s)];
+    EXPECT_EQ(a.floor, b.floor);
+    EXPECT_EQ(a.leg_length, b.leg_length);
+    ASSERT_EQ(a.intervals.size(), b.intervals.size());
+    EXPECT_GT(a.intervals.size(), 5u);
+    for (std::size_t i = 0; i < a.intervals.size(); ++i) {
+      EXPECT_EQ(a.intervals[i].first, b.intervals[i].first);
+      EXPECT_EQ(a.intervals[i].last, b.intervals[i].last);
+    }
+  }
+  AnklePaths short_paths = ankles;
+  short_paths[1].pop_back();
+  const std::string message = test::error_message<ParameterError>(
+      [&] { detect_contacts(clip.skeleton, clip.motion, feet, short_paths); });
+  EXPECT_EQ(message, "detect_contacts: an ankle path of 330 points for 331 frames");
+}
+
+}  // namespace
+}  // namespace motionmap

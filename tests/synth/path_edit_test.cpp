@@ -349,5 +349,132 @@ TEST(SynthPathEdit, EveryBlendModeKeepsTheRest) {
   }
 }
 
+// Frames where two motions of the same size differ in any bit (rotations or translations).
+std::vector<char> differing_frames(const Motion& a, const Motion& b) {
+  std::vector<char> out(static_cast<std::size_t>(a.num_frames), 0);
+  const std::size_t J = static_cast<std::size_t>(a.num_joints);
+  for (int f = 0; f < a.num_frames; ++f) {
+    const std::size_t at = static_cast<std::size_t>(f) * J;
+    out[static_cast<std::size_t>(f)] =
+        std::memcmp(&a.rotations[at], &b.rotations[at], J * sizeof(Eigen::Quaterniond)) != 0 ||
+        std::memcmp(&a.translations[at], &b.translations[at], J * sizeof(Eigen::Vector3d)) != 0;
+  }
+  return out;
+}
+
+int count_of(const std::vector<char>& v) {
+  int n = 0;
+  for (char c : v) n += c;
+  return n;
+}
+
+// The clean-up's count after an edit is the whole motion's: the frames where the edited motion
+// differs from the same edit made without the clean-up (the blend), not the count before the edit.
+TEST(SynthPathEdit, FeetFramesChangedRecountedOverTheWholeMotion) {
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_proud_001.bvh");
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const Library lib =
+      library({"bandai/dataset-1_walk_proud_001.bvh", "bandai/dataset-1_walk_angry_001.bvh"});
+  const MapBlender blender(lib.clips, lib.set, lib.map);
+  const MapPath path = sketch(lib, 0, 15);
+  SynthOptions clean_options, raw_options;
+  raw_options.clean_feet = false;
+  const SynthResult before = synthesize(blender, path, clean_options);
+  const SynthResult before_raw = synthesize(blender, path, raw_options);
+  ASSERT_TRUE(before.feet_cleaned);
+  // synthesize(): the mask is where the clean-up changed the blend.
+  ASSERT_EQ(before.feet_changed.size(), static_cast<std::size_t>(before.motion.num_frames));
+  EXPECT_EQ(before.feet_changed, differing_frames(before.motion, before_raw.motion));
+  EXPECT_EQ(before.feet_frames_changed, count_of(before.feet_changed));
+  EXPECT_TRUE(before_raw.feet_changed.empty());
+  EXPECT_EQ(before_raw.feet_frames_changed, 0);
+
+  // Several points moved towards the angry walk, one edit after another; then the last point
+  // moved later, then dropped (the motion grows and shrinks: on a walk the clean-up changes every
+  // frame, so a count left as it was would be off by the frames added or removed).
+  const MapPath other = sketch(lib, 1, 1);
+  SynthResult current = before, current_raw = before_raw;
+  MapPath edited = path;
+  bool count_moved = false;
+  for (const int step : {3, 12, 13, -1, -2}) {
+    SCOPED_TRACE("edit " + std::to_string(step));
+    if (step == -1) {
+      edited.times.back() += 0.5;
+    } else if (step == -2) {
+      edited.points.pop_back();
+      edited.times.pop_back();
+    } else {
+      const auto moved = static_cast<std::size_t>(step);
+      ASSERT_LT(moved + 1, path.points.size());
+      const double share = path.times[moved] / path.times.back();
+      const Eigen::Vector2d target = other.points[static_cast<std::size_t>(
+          std::lround(share * static_cast<double>(other.points.size() - 1)))];
+      edited.points[moved] += 0.5 * (target - edited.points[moved]);
+    }
+    const PathEditResult edit = edit_path(blender, current, edited);
+    const PathEditResult edit_raw = edit_path(blender, current_raw, edited);
+    ASSERT_EQ(edit.result.motion.num_frames, edit_raw.result.motion.num_frames);
+    // The blend outside the clean-up: the edit without it gives the same frames where the
+    // clean-up left them.
+    const std::vector<char> differ = differing_frames(edit.result.motion, edit_raw.result.motion);
+    EXPECT_EQ(edit.result.feet_changed, differ);
+    EXPECT_EQ(edit.result.feet_frames_changed, count_of(differ));
+    std::printf(
+        "[ figures  ] edit %d: window %d–%d of %d frames; feet_frames_changed %d (before the edit "
+        "%d)\n",
+        step, edit.first, edit.end, edit.result.motion.num_frames, edit.result.feet_frames_changed,
+        current.feet_frames_changed);
+    count_moved = count_moved || edit.result.feet_frames_changed != current.feet_frames_changed;
+    current = edit.result;
+    current_raw = edit_raw.result;
+  }
+  // The edits changed the count (else this test would not tell a stale count from a fresh one).
+  EXPECT_TRUE(count_moved);
+}
+
+// The overload from a previous path (the CLI's --edit-of, Python's edit_path): the previous take
+// synthesized again, then edited; an edit reaching every frame re-makes the motion whole.
+TEST(SynthPathEdit, FromThePreviousPath) {
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const Library lib = library({"bandai/dataset-1_walk_angry_001.bvh"});
+  const MapBlender blender(lib.clips, lib.set, lib.map);
+  const MapPath path = sketch(lib, 0, 10);
+  SynthOptions options;
+  options.smooth = 0.05;
+  MapPath edited = path;
+  edited.points[6] += 0.4 * (path.points[7] - path.points[6]);
+  const PathEditResult local = edit_path(blender, path, edited, options);
+  const PathEditResult direct = edit_path(blender, synthesize(blender, path, options), edited);
+  EXPECT_FALSE(local.whole);
+  EXPECT_EQ(local.first, direct.first);
+  EXPECT_EQ(local.end, direct.end);
+  EXPECT_GT(local.first, 0);
+  EXPECT_EQ(count_of(differing_frames(local.result.motion, direct.result.motion)), 0);
+  EXPECT_EQ(local.result.feet_frames_changed, direct.result.feet_frames_changed);
+
+  // An untimed path whose first point moved: every frame changes; made whole, as synthesize().
+  MapPath untimed = path;
+  untimed.times.clear();
+  MapPath first_moved = untimed;
+  first_moved.points[0] += 0.5 * (untimed.points[1] - untimed.points[0]);
+  const PathEditResult whole = edit_path(blender, untimed, first_moved, options);
+  EXPECT_TRUE(whole.whole);
+  EXPECT_EQ(whole.first, 0);
+  EXPECT_EQ(whole.end, whole.result.motion.num_frames);
+  const SynthResult full = synthesize(blender, first_moved, options);
+  ASSERT_EQ(whole.result.motion.num_frames, full.motion.num_frames);
+  EXPECT_EQ(count_of(differing_frames(whole.result.motion, full.motion)), 0);
+
+  // A bad previous path is named as such.
+  MapPath bad = path;
+  bad.times[3] = bad.times[2];
+  try {
+    edit_path(blender, bad, edited, options);
+    ADD_FAILURE() << "a previous path with times not increasing was accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("previous path: ", 0), 0u) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace motionmap::synth

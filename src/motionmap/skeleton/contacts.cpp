@@ -376,11 +376,30 @@ std::vector<Eigen::Vector3d> joint_trajectory(const Skeleton& skeleton, const Mo
   return out;
 }
 
+AnklePaths ankle_paths(const Skeleton& skeleton, const Motion& motion, const Feet& feet) {
+  return {joint_trajectory(skeleton, motion, feet.legs[0].ankle),
+          joint_trajectory(skeleton, motion, feet.legs[1].ankle)};
+}
+
 std::array<FootContacts, 2> detect_contacts(const Skeleton& skeleton, const Motion& motion,
                                             const Feet& feet, const ContactOptions& options) {
   options.validate();
   check_motion(skeleton, motion, "detect_contacts", MotionCheck::Sizes);
+  return detect_contacts(skeleton, motion, feet, ankle_paths(skeleton, motion, feet), options);
+}
+
+std::array<FootContacts, 2> detect_contacts(const Skeleton& skeleton, const Motion& motion,
+                                            const Feet& feet, const AnklePaths& ankles,
+                                            const ContactOptions& options) {
+  options.validate();
+  check_motion(skeleton, motion, "detect_contacts", MotionCheck::Sizes);
   const int F = motion.num_frames;
+  for (const auto& path : ankles) {
+    if (path.size() != static_cast<std::size_t>(F)) {
+      throw ParameterError("detect_contacts: an ankle path of " + std::to_string(path.size()) +
+                           " points for " + std::to_string(F) + " frames");
+    }
+  }
   const int axis = static_cast<int>(options.up);
   const double fps = motion.fps();
   const int half = window_half(fps);
@@ -395,7 +414,7 @@ std::array<FootContacts, 2> detect_contacts(const Skeleton& skeleton, const Moti
     const WorldPose w0 = forward_kinematics(skeleton, motion, 0);
     fc.leg_length = (w0.positions[leg.knee] - w0.positions[leg.hip]).norm() +
                     (w0.positions[leg.ankle] - w0.positions[leg.knee]).norm();
-    const std::vector<Eigen::Vector3d> ankle = joint_trajectory(skeleton, motion, leg.ankle);
+    const std::vector<Eigen::Vector3d>& ankle = ankles[static_cast<std::size_t>(s)];
     std::vector<double> heights(static_cast<std::size_t>(F));
     for (int f = 0; f < F; ++f) heights[static_cast<std::size_t>(f)] = ankle[f][axis];
     fc.floor = quantile(heights, 0.02);

@@ -145,6 +145,17 @@ struct FootContacts {
 std::array<FootContacts, 2> detect_contacts(const Skeleton& skeleton, const Motion& motion,
                                             const Feet& feet, const ContactOptions& options = {});
 
+/// Each leg's ankle path (left, right): joint_trajectory() of feet.legs[s].ankle.
+using AnklePaths = std::array<std::vector<Eigen::Vector3d>, 2>;
+AnklePaths ankle_paths(const Skeleton& skeleton, const Motion& motion, const Feet& feet);
+
+/// detect_contacts() with the ankles' paths given (ankle_paths() of the same motion), for a caller
+/// that needs them too (synth::clean_feet: computed once for both). The same contacts.
+/// @throws as above, and ParameterError if a path has not one point per frame.
+std::array<FootContacts, 2> detect_contacts(const Skeleton& skeleton, const Motion& motion,
+                                            const Feet& feet, const AnklePaths& ankles,
+                                            const ContactOptions& options = {});
+
 struct Skating {
   double ratio = 0.0;  ///< skating transitions ÷ transitions (0 with fewer than 2 frames)
   double contact_speed_cm_s = 0.0;  ///< mean horizontal ankle speed in contact; NaN if never

@@ -174,20 +174,15 @@ void CleanFeetOptions::validate() const {
 
 namespace {
 
-using Ankles = std::array<std::vector<Vector3d>, 2>;
-
 // Each leg's ankle path (left, right), computed once for the contacts and the clean-up.
-Ankles ankle_paths(const Skeleton& skeleton, const Motion& motion, const Feet& feet) {
-  return {joint_trajectory(skeleton, motion, feet.legs[0].ankle),
-          joint_trajectory(skeleton, motion, feet.legs[1].ankle)};
-}
+using Ankles = AnklePaths;
 
 // contacts_from_shares() with the ankles' paths given.
 std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Motion& motion,
                                             const Feet& feet,
                                             std::span<const std::array<double, 2>> shares,
                                             const ContactOptions& options, const Ankles& ankles) {
-  std::array<FootContacts, 2> contacts = detect_contacts(skeleton, motion, feet, options);
+  std::array<FootContacts, 2> contacts = detect_contacts(skeleton, motion, feet, ankles, options);
   const int F = motion.num_frames;
   if (shares.size() != static_cast<std::size_t>(F)) {
     throw ParameterError("contacts_from_shares: " + std::to_string(shares.size()) +
@@ -405,6 +400,7 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
     stage.update(0.2 + 0.8 * static_cast<double>(f1) / F);
   }
   for (char c : changed) result.frames_changed += c;
+  result.changed = std::move(changed);
   return result;
 }
 
@@ -413,9 +409,10 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
 CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
                            const CleanFeetOptions& options, const Control& control) {
   check_inputs(skeleton, motion, feet, options);
-  return clean_checked(skeleton, motion, feet,
-                       detect_contacts(skeleton, motion, feet, options.contacts), options, control,
-                       ankle_paths(skeleton, motion, feet));
+  Ankles ankles = ankle_paths(skeleton, motion, feet);
+  const std::array<FootContacts, 2> contacts =
+      detect_contacts(skeleton, motion, feet, ankles, options.contacts);
+  return clean_checked(skeleton, motion, feet, contacts, options, control, std::move(ankles));
 }
 
 CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,

@@ -67,7 +67,10 @@ struct CleanFeetResult {
   Motion motion;                         ///< the cleaned motion (same frames, joints, timing)
   std::array<FootContacts, 2> contacts;  ///< left, right: what was held
   int frames_changed = 0;                ///< frames where any joint changed
-  double max_root_drop = 0.0;            ///< file units, 0 when the root was never lowered
+  /// Per frame: 1 where the clean-up changed the frame (frames_changed counts them); elsewhere the
+  /// frame is the input's, bit for bit.
+  std::vector<char> changed;
+  double max_root_drop = 0.0;  ///< file units, 0 when the root was never lowered
   int unreachable_frames = 0;  ///< frames where a target stayed out of reach (capped lowering)
   /// Per frame: how far the root was lowered (file units, ≥ 0).
   std::vector<double> root_drop;

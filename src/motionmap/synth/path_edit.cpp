@@ -67,7 +67,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   if (previous.motion.num_joints != J || previous.motion.frame_time != dt ||
       previous.validity.size() != static_cast<std::size_t>(F0) ||
       previous.root_positions.size() != static_cast<std::size_t>(F0) ||
-      previous.headings.size() != static_cast<std::size_t>(F0) || F0 == 0) {
+      previous.headings.size() != static_cast<std::size_t>(F0) || F0 == 0 ||
+      (previous.feet_cleaned && previous.feet_changed.size() != static_cast<std::size_t>(F0))) {
     throw ParameterError(
         "edit_path: the previous result was not made by synthesize() on this blender (its "
         "frames, joints, frame time or root states do not match)");
@@ -213,6 +214,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     r.motion = std::move(resized);
     r.validity.resize(static_cast<std::size_t>(F));
     if (!r.contact_shares.empty()) r.contact_shares.resize(static_cast<std::size_t>(F));
+    if (!r.feet_changed.empty()) r.feet_changed.resize(static_cast<std::size_t>(F), 0);
   }
   for (int k = a; k < b; ++k) {
     const auto i = static_cast<std::size_t>(k - x0);
@@ -266,11 +268,18 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     } else if (k >= b) {
       u = static_cast<double>(c1 - 1 - k) / static_cast<double>(c1 - b);
     }
+    const auto at = static_cast<std::size_t>(k);
+    const char cleaned_here = cleaned.changed[static_cast<std::size_t>(n)];
     if (k >= F0 || u >= 1.0) {
       copy_frame(cleaned.motion, n, r.motion, k);
+      r.feet_changed[at] = cleaned_here;
       continue;
     }
     if (u <= 0.0) continue;  // the previous frame, as it is
+    // Outside the blend window the new blend is the previous one (the same weights and root
+    // states): a frame neither clean-up changed is that blend, and stays as it is.
+    if (!cleaned_here && !r.feet_changed[at]) continue;
+    r.feet_changed[at] = 1;
     const double s = u * u * (3.0 - 2.0 * u);
     for (int j = 0; j < J; ++j) {
       Eigen::Quaterniond& q = r.motion.rotation(k, j);
@@ -300,10 +309,34 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
       r.contacts[static_cast<std::size_t>(side)].intervals = merged(std::move(iv));
     }
   }
+  // The clean-up's count over the whole motion: the previous frames' outside [c0, c1).
+  r.feet_frames_changed = 0;
+  for (char c : r.feet_changed) r.feet_frames_changed += c;
   if (std::string note = unreachable_feet_note(cleaned, "the edited part"); !note.empty()) {
     r.notes.push_back(std::move(note));
   }
   return out;
+}
+
+PathEditResult edit_path(const MapBlender& blender, const MapPath& previous_path,
+                         const MapPath& path, const SynthOptions& options,
+                         const PathEditOptions& edit_options, const Control& control) {
+  edit_options.validate();
+  options.validate();
+  path.validate();
+  SynthResult previous;
+  try {
+    previous_path.validate();
+    previous = synthesize(blender, previous_path, options, control.part(0.0, 0.8));
+  } catch (const ParameterError& e) {
+    throw ParameterError(std::string("previous path: ") + e.what());
+  }
+  PathEditResult edit = edit_path(blender, previous, path, edit_options, control.part(0.8, 1.0));
+  if (edit.first == 0 && edit.end == edit.result.motion.num_frames && edit.end > 0) {
+    edit.result = synthesize(blender, path, options, control.part(0.8, 1.0));
+    edit.whole = true;
+  }
+  return edit;
 }
 
 }  // namespace motionmap::synth

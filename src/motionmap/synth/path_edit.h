@@ -25,8 +25,8 @@
 //     (per joint slerp, smoothstep), so nothing pops at the borders.
 // So frames before `first` and from `end` on are the previous result's, bit for bit. The result's
 // validity, contact shares and root states are the new ones in the blend window; its contacts are
-// the previous ones outside [first, end) and the new clean-up's inside; feet_frames_changed is
-// the previous count (not recounted: the previous blend of the window is not kept).
+// the previous ones outside [first, end) and the new clean-up's inside; feet_changed likewise,
+// and feet_frames_changed is recounted from it over the whole motion.
 #include <vector>
 
 #include "motionmap/core/control.h"
@@ -56,6 +56,9 @@ struct PathEditResult {
   /// clean-up's margins). Every other frame is the previous motion's, bit for bit.
   int first = 0;
   int end = 0;
+  /// Set by the overload from a previous path when the edit reached every frame: the motion was
+  /// then synthesized whole (synthesize()'s along the edited path).
+  bool whole = false;
 };
 
 /// The motion along `path`, re-made from `previous` (synthesize()'s result on the same blender,
@@ -67,5 +70,17 @@ struct PathEditResult {
 PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
                          const MapPath& path, const PathEditOptions& options = {},
                          const Control& control = {});
+
+/// The same edit when only the previous take's path and options are known (the CLI's `synth
+/// --edit-of`, Python's motionmap.edit_path): the previous motion is synthesized again along
+/// `previous_path` with `options` (synthesize() is deterministic, so it is that take, bit for
+/// bit), then edited as above. When the edit reaches every frame ([first, end) is the whole
+/// motion) there is nothing to keep: the result is synthesize(blender, path, options) and `whole`
+/// is set.
+/// @throws as synthesize() for either path (ParameterError names which: "previous path: …" for
+///         the previous one) and as above.
+PathEditResult edit_path(const MapBlender& blender, const MapPath& previous_path,
+                         const MapPath& path, const SynthOptions& options,
+                         const PathEditOptions& edit_options = {}, const Control& control = {});
 
 }  // namespace motionmap::synth

@@ -180,6 +180,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     result.feet_cleaned = true;
     result.contacts.assign(cleaned.contacts.begin(), cleaned.contacts.end());
     result.feet_frames_changed = cleaned.frames_changed;
+    result.feet_changed = std::move(cleaned.changed);
     if (std::string note = unreachable_feet_note(cleaned); !note.empty()) {
       result.notes.push_back(std::move(note));
     }

@@ -62,7 +62,12 @@ struct SynthResult {
   bool feet_cleaned = false;            ///< SynthOptions::clean_feet and the skeleton has feet
   /// The contacts the clean-up held (left, right); empty when the feet were not cleaned.
   std::vector<FootContacts> contacts;
-  int feet_frames_changed = 0;  ///< frames the clean-up changed (edit_path(): not recounted)
+  /// Frames the clean-up changed, over the whole motion (after edit_path() too: recounted from
+  /// feet_changed).
+  int feet_frames_changed = 0;
+  /// Per frame: 1 where the clean-up changed the frame from the blend (CleanFeetResult::changed);
+  /// empty when the feet were not cleaned.
+  std::vector<char> feet_changed;
   /// Per frame, per foot (left, right): the share of the frame's blend weight on samples whose
   /// foot is on the floor (MapBlender::contact_share); empty when the blender does not know its
   /// samples' contacts. The clean-up takes its contacts from these (contacts_from_shares): a

@@ -1,7 +1,8 @@
 #pragma once
 // A k-d tree over 2-D map points (nanoflann) with the point set it indexes: what the map index
-// (detail/map_index.h) and routes (route.h) search. Tree and points live together, so an owner
-// holding it by pointer can be moved and its tree stays valid.
+// (detail/map_index.h), routes (route.h) and the public PointIndex (point_index.h: a saved map's
+// samples under the mouse, mapfile::SavedMap::index()) search — MotionMap's one 2-D index. Tree and
+// points live together, so an owner holding it by pointer can be moved and its tree stays valid.
 #include <cstdint>
 #include <vector>
 

@@ -1,47 +1,27 @@
-#include "motionmap/mapfile/point_index.h"
+#include "motionmap/synth/point_index.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
-#include <nanoflann.hpp>
-
 #include "motionmap/core/error.h"
+#include "motionmap/synth/detail/point_tree.h"
 
-namespace motionmap::mapfile {
+namespace motionmap::synth {
 
-namespace {
-
-struct Points {
-  std::vector<Eigen::Vector2d> xy;  ///< the finite points
-  std::vector<int> row;             ///< their rows of the map
-  std::size_t kdtree_get_point_count() const { return xy.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const {
-    return xy[i][static_cast<Eigen::Index>(d)];
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
-                                                   Points, 2, std::uint32_t>;
-
-}  // namespace
-
-// The tree refers to its point set: both live together on the heap, so a moved index stays valid.
+// The finite points' tree (its points and tree live together: a moved index stays valid), their
+// rows of the map and their bounding box.
 struct PointIndex::Tree {
-  Points points;
+  detail::PointTree tree;
+  std::vector<int> row;
   int rows = 0;
   Eigen::Vector2d lo = Eigen::Vector2d::Zero(), hi = Eigen::Vector2d::Zero();
-  KdTree tree;
-  Tree(Points p, int n)
-      : points(std::move(p)),
-        rows(n),
-        tree(2, points, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
-    if (!points.xy.empty()) {
-      lo = hi = points.xy.front();
-      for (const auto& q : points.xy) {
+  Tree(std::vector<Eigen::Vector2d> xy, std::vector<int> r, int n)
+      : tree(std::move(xy)), row(std::move(r)), rows(n) {
+    const std::vector<Eigen::Vector2d>& points = tree.set.points;
+    if (!points.empty()) {
+      lo = hi = points.front();
+      for (const auto& q : points) {
         lo = lo.cwiseMin(q);
         hi = hi.cwiseMax(q);
       }
@@ -54,16 +34,17 @@ PointIndex::PointIndex(const Eigen::MatrixXd& coords) {
     throw ParameterError("point index: the map has " + std::to_string(coords.cols()) +
                          " columns, expected at least 2 (x, y)");
   }
-  Points p;
-  p.xy.reserve(static_cast<std::size_t>(coords.rows()));
-  p.row.reserve(static_cast<std::size_t>(coords.rows()));
+  std::vector<Eigen::Vector2d> xy;
+  std::vector<int> row;
+  xy.reserve(static_cast<std::size_t>(coords.rows()));
+  row.reserve(static_cast<std::size_t>(coords.rows()));
   for (Eigen::Index i = 0; i < coords.rows(); ++i) {
     const Eigen::Vector2d q(coords(i, 0), coords(i, 1));
     if (!q.allFinite()) continue;
-    p.xy.push_back(q);
-    p.row.push_back(static_cast<int>(i));
+    xy.push_back(q);
+    row.push_back(static_cast<int>(i));
   }
-  m = std::make_unique<Tree>(std::move(p), static_cast<int>(coords.rows()));
+  m = std::make_unique<Tree>(std::move(xy), std::move(row), static_cast<int>(coords.rows()));
 }
 
 PointIndex::~PointIndex() = default;
@@ -74,7 +55,7 @@ int PointIndex::size() const {
   return m->rows;
 }
 int PointIndex::indexed() const {
-  return static_cast<int>(m->points.xy.size());
+  return static_cast<int>(m->row.size());
 }
 Eigen::Vector2d PointIndex::lower() const {
   return m->lo;
@@ -90,16 +71,16 @@ Neighbor PointIndex::nearest(const Eigen::Vector2d& p) const {
 
 std::vector<Neighbor> PointIndex::nearest(const Eigen::Vector2d& p, int k) const {
   std::vector<Neighbor> out;
-  if (k < 1 || !p.allFinite() || m->points.xy.empty()) return out;
+  if (k < 1 || !p.allFinite() || m->row.empty()) return out;
   // Ask for a few more than k so that points tied with the k-th are all seen, then order by
   // (distance, row): the answer does not depend on the tree's internal order.
-  const std::size_t want = std::min<std::size_t>(m->points.xy.size(), std::size_t(k) + 8);
+  const std::size_t want = std::min<std::size_t>(m->row.size(), std::size_t(k) + 8);
   std::vector<std::uint32_t> idx(want);
   std::vector<double> d2(want);
   const double q[2] = {p.x(), p.y()};
-  const std::size_t got = m->tree.knnSearch(q, want, idx.data(), d2.data());
+  const std::size_t got = m->tree.index.knnSearch(q, want, idx.data(), d2.data());
   out.reserve(got);
-  for (std::size_t i = 0; i < got; ++i) out.push_back({m->points.row[idx[i]], std::sqrt(d2[i])});
+  for (std::size_t i = 0; i < got; ++i) out.push_back({m->row[idx[i]], std::sqrt(d2[i])});
   std::sort(out.begin(), out.end(), [](const Neighbor& a, const Neighbor& b) {
     return a.distance != b.distance ? a.distance < b.distance : a.sample < b.sample;
   });
@@ -107,4 +88,4 @@ std::vector<Neighbor> PointIndex::nearest(const Eigen::Vector2d& p, int k) const
   return out;
 }
 
-}  // namespace motionmap::mapfile
+}  // namespace motionmap::synth

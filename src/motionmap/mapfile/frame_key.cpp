@@ -1,0 +1,66 @@
+#include "motionmap/mapfile/frame_key.h"
+
+#include <filesystem>
+#include <span>
+
+#include "motionmap/core/error.h"
+#include "motionmap/features/joint_match.h"
+
+namespace motionmap::mapfile {
+
+namespace {
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return std::filesystem::equivalent(a, b, ec) && !ec;
+}
+
+}  // namespace
+
+FrameKey frame_key(const KeyMap& map, const Clip& clip, int frame) {
+  if (!map.blender || !map.samples || !map.reference) {
+    throw ParameterError("frame_key: the map's blender, samples and reference clip are needed");
+  }
+  if (const std::string why = features::hierarchy_difference(*map.reference, clip); !why.empty()) {
+    throw ParameterError(clip.path + " is a clip of another skeleton than the map's (" + why +
+                         "); a key is a frame of a clip of the map's skeleton");
+  }
+  const int frames = clip.motion.num_frames;
+  if (frame < 0 || frame >= frames) {
+    throw ParameterError("frame " + std::to_string(frame) + " is out of range: " + clip.path +
+                         " has " + std::to_string(frames) + " frames, 0 to " +
+                         std::to_string(frames - 1));
+  }
+  int sample = -1;
+  for (std::size_t c = 0; c < map.clip_files.size() && sample < 0; ++c) {
+    if (same_file(map.clip_files[c], clip.path))
+      sample = synth::find_sample(*map.samples, static_cast<int>(c), frame);
+  }
+  FrameKey out;
+  if (sample >= 0) {
+    out.key = synth::sample_key(*map.blender, sample, clip.motion, frame);
+    return out;
+  }
+  if (!map.map_file) {
+    throw ParameterError("frame_key: " + clip.path + " frame " + std::to_string(frame) +
+                         " is not a sample of the map, and no map file was given to place it");
+  }
+  // Placed as `map --onto` places frames: this one frame, a leading bind pose included.
+  PlaceOptions place;
+  place.first_frame = frame;
+  place.end_frame = frame + 1;
+  place.keep_first = true;
+  const Placement placed = place_clips(std::span<const Clip>(&clip, 1), map.map_file(), place,
+                                       Control(), map.search ? map.search() : nullptr);
+  out.placed = true;
+  out.key.point = Eigen::Vector2d(placed.coordinates(0, 0), placed.coordinates(0, 1));
+  out.key.pose.frame_time = clip.motion.frame_time;
+  out.key.pose.resize(1, clip.motion.num_joints);
+  for (int j = 0; j < clip.motion.num_joints; ++j) {
+    out.key.pose.rotation(0, j) = clip.motion.rotation(frame, j);
+    out.key.pose.translation(0, j) = clip.motion.translation(frame, j);
+  }
+  return out;
+}
+
+}  // namespace motionmap::mapfile

@@ -1,0 +1,45 @@
+#pragma once
+// The window's tools for finding one's way in a map: the clip search bar (Ctrl+F), the Selection
+// and Nearest docks (hidden until used), made for a window and wired to its map view. The window
+// connects clipRequested (play that clip from that frame), message and failed (its status line)
+// and puts the docks' toggles in its View menu.
+#include <functional>
+
+#include <QObject>
+#include <QString>
+
+class QMainWindow;
+class QMenu;
+
+namespace motionmap::studio {
+
+class MapSource;
+class MapView;
+class NearestPanel;
+class Playback;
+class SelectionPanel;
+
+class ExplorePanels : public QObject {
+  Q_OBJECT
+ public:
+  /// Adds the search bar and the docks to `window`; `source` gives the map source shown. All
+  /// must outlive this.
+  ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
+                std::function<const MapSource*()> source);
+  /// The docks' show/hide actions, added to `view` (the View menu).
+  void addViewActions(QMenu* view);
+
+ signals:
+  /// A panel or the search asks to play clip `clip` from frame `frame`.
+  void clipRequested(int clip, int frame);
+  /// A line for the status bar.
+  void message(const QString& text);
+  /// An error to show.
+  void failed(const QString& message);
+
+ private:
+  SelectionPanel* m_selection;
+  NearestPanel* m_nearest;
+};
+
+}  // namespace motionmap::studio

@@ -1,10 +1,15 @@
 #include "explore/explore_panels.h"
 
 #include <QAction>
+#include <QActionGroup>
+#include <QInputDialog>
+#include <QLineEdit>
 #include <QMainWindow>
 #include <QMenu>
 
 #include "explore/clip_search.h"
+#include "explore/legend_panel.h"
+#include "explore/map_coloring.h"
 #include "explore/nearest_panel.h"
 #include "explore/selection_panel.h"
 
@@ -12,7 +17,7 @@ namespace motionmap::studio {
 
 ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
                              std::function<const MapSource*()> source)
-    : QObject(window) {
+    : QObject(window), m_window(window) {
   const auto request = [this](int clip, int frame) { emit clipRequested(clip, frame); };
   // Box and lasso selections of the map's frames, listed, played and exported (a dock, shown with
   // the first selection).
@@ -26,11 +31,58 @@ ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, Playback* playb
   m_nearest->hide();
   connect(ClipSearch::addTo(window, view, source), &ClipSearch::clipRequested, this,
           &ExplorePanels::clipRequested);
+  // Colour by label: the legend beside the map while a label (or the clip) colours it.
+  m_coloring = new MapColoring(view, source, this);
+  m_legend = new LegendPanel(m_coloring);
+  window->addDockWidget(Qt::RightDockWidgetArea, m_legend);
+  m_legend->hide();
+  connect(m_coloring, &MapColoring::failed, this, &ExplorePanels::failed);
+  QString before = m_coloring->colorBy();
+  connect(m_coloring, &MapColoring::changed, this, [this, before]() mutable {
+    const QString now = m_coloring->colorBy();
+    if (now == before) return;
+    before = now;
+    if (now != MapColoring::timeChoice()) {
+      m_legend->show();
+      m_legend->raise();
+    }
+  });
 }
 
 void ExplorePanels::addViewActions(QMenu* view) {
   view->addAction(m_selection->toggleViewAction());
   view->addAction(m_nearest->toggleViewAction());
+  QMenu* colourBy = view->addMenu(tr("Colour &by"));
+  colourBy->setToolTipsVisible(true);
+  // Its entries are the map's: made again each time it opens.
+  connect(colourBy, &QMenu::aboutToShow, this, [this, colourBy] {
+    colourBy->clear();
+    auto* group = new QActionGroup(colourBy);
+    for (const QString& name : m_coloring->choices()) {
+      const QString text = name == MapColoring::timeChoice()   ? tr("Time")
+                           : name == MapColoring::clipChoice() ? tr("Clip")
+                                                               : name;
+      QAction* a = colourBy->addAction(text, this, [this, name] { m_coloring->setColorBy(name); });
+      a->setCheckable(true);
+      a->setChecked(name == m_coloring->colorBy());
+      group->addAction(a);
+    }
+    colourBy->addSeparator();
+    colourBy->addAction(tr("Labels from file names…"), this, &ExplorePanels::askNamePattern)
+        ->setToolTip(tr("Labels the clips of a map computed here by their file names, e.g. "
+                        "{action}_{style}_{take} (as motionmap map --labels-from-name)"));
+  });
+  view->addAction(m_legend->toggleViewAction());
+}
+
+void ExplorePanels::askNamePattern() {
+  bool ok = false;
+  const QString pattern = QInputDialog::getText(
+      m_window, tr("Labels from file names"),
+      tr("A pattern of the clips' file names, each {field} a label (e.g. "
+         "{action}_{style}_{take}), or re: and a regular expression with named groups:"),
+      QLineEdit::Normal, QStringLiteral("{action}_{style}_{take}"), &ok);
+  if (ok) m_coloring->labelsFromNames(pattern);
 }
 
 }  // namespace motionmap::studio

@@ -1,8 +1,9 @@
 #pragma once
 // The window's tools for finding one's way in a map: the clip search bar (Ctrl+F), the Selection
-// and Nearest docks (hidden until used), made for a window and wired to its map view. The window
+// and Nearest docks (hidden until used), the colouring by label (MapColoring) with its Legend dock
+// (shown when a label colours the map), made for a window and wired to its map view. The window
 // connects clipRequested (play that clip from that frame), message and failed (its status line)
-// and puts the docks' toggles in its View menu.
+// and puts the docks' toggles and the Colour by menu in its View menu.
 #include <functional>
 
 #include <QObject>
@@ -15,6 +16,8 @@ namespace motionmap::studio {
 
 class MapSource;
 class MapView;
+class LegendPanel;
+class MapColoring;
 class NearestPanel;
 class Playback;
 class SelectionPanel;
@@ -26,8 +29,14 @@ class ExplorePanels : public QObject {
   /// must outlive this.
   ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
                 std::function<const MapSource*()> source);
-  /// The docks' show/hide actions, added to `view` (the View menu).
+  /// The docks' show/hide actions and the Colour by submenu (time, clip, each label of the map,
+  /// and Labels from File Names…), added to `view` (the View menu).
   void addViewActions(QMenu* view);
+  MapColoring* coloring() const { return m_coloring; }
+  LegendPanel* legend() const { return m_legend; }
+  /// View → Colour by → Labels from file names…: a pattern asked for
+  /// (MapColoring::labelsFromNames).
+  void askNamePattern();
 
  signals:
   /// A panel or the search asks to play clip `clip` from frame `frame`.
@@ -40,6 +49,9 @@ class ExplorePanels : public QObject {
  private:
   SelectionPanel* m_selection;
   NearestPanel* m_nearest;
+  MapColoring* m_coloring;
+  LegendPanel* m_legend;
+  QMainWindow* m_window;
 };
 
 }  // namespace motionmap::studio

@@ -101,6 +101,23 @@ class MapView : public QWidget {
   /// (and the pointer on top). setMap() afterwards replaces both.
   void setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
                      const Eigen::MatrixXd& trajectory, const render::MapPlotOptions& options);
+  /// The category of a sample that is hidden (setSampleCategories): not drawn, not picked.
+  static constexpr int kHiddenCategory = -2;
+  /// Colours the map's samples by category — one entry per sample: a computed map's rows
+  /// (setMap), a saved map's density points (setDensityMap) — each in render::category_color(c)
+  /// (the CLI's palette; −1: the grey of "other"), or kHiddenCategory: left out of the drawing
+  /// (and of hover, click, nearest and selection, which ask sampleShown). A computed map's
+  /// trajectory is drawn in its samples' colours, framed as the whole map; a saved map's density
+  /// image mixes the colours of each pixel's samples (categoryDensityImage). Empty, or a count that
+  /// is not the map's: the map's own colours. setMap, setDensityMap and clearMap remove them.
+  void setSampleCategories(std::vector<int> categories);
+  const std::vector<int>& sampleCategories() const { return m_categories; }
+  /// Whether the samples are coloured by category (setSampleCategories, of the map shown).
+  bool categoriesShown() const;
+  /// Whether sample `sample` is drawn: false for a hidden one (and out of range).
+  bool sampleShown(int sample) const;
+  /// Whether some sample is hidden.
+  bool hidesSamples() const { return m_hidden > 0; }
   /// Replaces the trajectory over the density image (another clip of the saved map).
   void setTrajectory(const Eigen::MatrixXd& trajectory);
   bool hasDensity() const { return m_density != nullptr; }
@@ -221,7 +238,10 @@ class MapView : public QWidget {
 
  private:
   enum class Gesture { None, Press, Drag, Sketch, Control, Key, Pan, Select };
-  /// m_options with the zoomed view's extent (clipped to the frame); m_options when not zoomed.
+  /// m_options as shown: without the clip or time legend while coloured by category.
+  render::MapPlotOptions shownOptions() const;
+  /// shownOptions() with the zoomed view's extent (clipped to the frame); as they are when not
+  /// zoomed.
   render::MapPlotOptions viewOptions() const;
   /// The whole map's square: its centre and half side (map units), as m_options frame it.
   std::pair<Eigen::Vector2d, double> homeView() const;
@@ -247,12 +267,19 @@ class MapView : public QWidget {
   void paintMarks(QPainter& painter, const Eigen::MatrixXd& points, const QColor& color) const;
   /// The selection's outline (or the one being drawn) in widget pixels.
   QPolygonF selectionPixels() const;
+  /// The computed map's trajectory (paint_map), coloured by category when categoriesShown():
+  /// hidden samples left out as gaps, framed as the whole map.
+  void paintTrajectory(QPainter& painter, const render::MapPlotOptions& options) const;
+  /// The density image of `points` at `toPixel` and `size`: by category when categoriesShown().
+  QImage density(const QTransform& toPixel, const QSize& size) const;
   /// The busy text over the greyed map (see setBusyText).
   void paintBusy(QPainter& painter) const;
 
   Eigen::MatrixXd m_coords;
   std::vector<int> m_segmentStarts;
   std::shared_ptr<const Eigen::MatrixXd> m_density;  ///< a saved map's points, or none
+  std::vector<int> m_categories;                     ///< per sample (setSampleCategories)
+  Eigen::Index m_hidden = 0;                         ///< samples of kHiddenCategory
   mutable QImage m_densityImage;                     ///< binned at m_densitySize; null when stale
   mutable QSize m_densitySize;
   render::MapPlotOptions m_options;

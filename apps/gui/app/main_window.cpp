@@ -72,7 +72,8 @@ void MainWindow::buildUi() {
   m_takesPanel = new TakesPanel(m_takes);
   addDockWidget(Qt::RightDockWidgetArea, m_takesPanel);
   resizeDocks({m_takesPanel}, {200}, Qt::Horizontal);  // room for its buttons, the rest the views
-  m_explore = new ExplorePanels(this, m_mapView, &m_playback, [this] { return m_source; });
+  m_explore = new ExplorePanels(
+      this, m_mapView, &m_playback, [this] { return m_source; }, &m_maps);
   connect(m_explore, &ExplorePanels::clipRequested, this, &MainWindow::setCurrentClip);
   connect(m_explore, &ExplorePanels::message, this, [this](const QString& text) {
     if (m_status) m_status->setText(text);

@@ -11,10 +11,10 @@
 // clips, or SavedMapSource for a map file), SynthesisController (a sketch synthesized on a second
 // worker), TakesController (takes and the undo history), ExportController, Playback (the
 // clock) with MotionPlayer (the clip or the current take plays), ExplorePanels (search,
-// selection, nearest frames, colour by label and its legend) and StatusLine. Both workers show a
-// progress bar and a Cancel button in the status bar, so the GUI thread only ever runs short calls
-// (a locate + blend per mouse move). New features belong in those controllers (or new ones), not
-// here.
+// selection, nearest frames, colour by label and its legend, two clips compared) and
+// StatusLine. Both workers show a progress bar and a Cancel button in the status bar, so the GUI
+// thread only ever runs short calls (a locate + blend per mouse move). New features belong in those
+// controllers (or new ones), not here.
 #include <functional>
 #include <memory>
 #include <optional>
@@ -207,7 +207,7 @@ class MainWindow : public QMainWindow {
   /// The names, frames and rate the export dialogs start from.
   ExportContext exportContext() const;
   FileMenu* fileMenu() const { return m_files; }
-  /// Search, selection, nearest frames, colour by label and its legend.
+  /// Search, selection, nearest frames, colour by label and its legend, two clips compared.
   ExplorePanels* explore() const { return m_explore; }
 
  signals:

@@ -108,6 +108,8 @@ void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
   m_zoom = 1.0;
   m_viewCenter.reset();
   m_highlight.resize(0, 2);
+  m_comparison.resize(0, 2);
+  m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   invalidate();
@@ -151,6 +153,8 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_zoom = 1.0;  // another map: shown whole
   m_viewCenter.reset();
   m_highlight.resize(0, 2);
+  m_comparison.resize(0, 2);
+  m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   invalidate();
@@ -169,6 +173,8 @@ void MapView::clearMap(const QString& hint) {
   m_zoom = 1.0;
   m_viewCenter.reset();
   m_highlight.resize(0, 2);
+  m_comparison.resize(0, 2);
+  m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   if (!hint.isEmpty()) m_hint = hint;
@@ -181,6 +187,29 @@ void MapView::setHighlight(const Eigen::MatrixXd& points) {
   m_highlight = points.leftCols(std::min<Eigen::Index>(2, points.cols()));
   m_cache = QPixmap();
   update();
+}
+
+void MapView::setComparison(const Eigen::MatrixXd& trajectory,
+                            const std::optional<Eigen::Vector2d>& point) {
+  m_comparison = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
+  m_comparisonPoint = m_comparison.rows() > 0 ? point : std::nullopt;
+  update();
+}
+
+void MapView::paintComparison(QPainter& painter) const {
+  QPolygonF line;
+  for (Eigen::Index i = 0; i < m_comparison.rows(); ++i) {
+    const Eigen::Vector2d p(m_comparison(i, 0), m_comparison(i, 1));
+    if (p.allFinite()) line << toWidget(p);
+  }
+  painter.setPen(QPen(comparisonColor(), 2.5, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+  painter.setBrush(Qt::NoBrush);
+  painter.drawPolyline(line);
+  if (m_comparisonPoint) {
+    painter.setPen(QPen(comparisonColor(), 3));
+    painter.setBrush(Qt::white);
+    painter.drawEllipse(toWidget(*m_comparisonPoint), 7, 7);
+  }
 }
 
 void MapView::setSelection(const Eigen::MatrixXd& points, const QPolygonF& outline) {
@@ -464,6 +493,7 @@ void MapView::paintEvent(QPaintEvent*) {
     painter.setBrush(Qt::NoBrush);
     painter.drawPath(path);
   }
+  if (m_comparison.rows() > 0) paintComparison(painter);
   if (m_pointer) {
     painter.setPen(QPen(Qt::black, 2));
     painter.setBrush(Qt::white);

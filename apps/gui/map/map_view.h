@@ -81,6 +81,17 @@ class MapView : public QWidget {
   void setSelection(const Eigen::MatrixXd& points, const QPolygonF& outline);
   const Eigen::MatrixXd& selection() const { return m_selection; }
   const QPolygonF& selectionOutline() const { return m_selectionOutline; }
+  /// The colour of a compared clip (setComparison): teal, in neither the time ramp's ends nor the
+  /// takes', highlight's or selection's colours.
+  static QColor comparisonColor() { return QColor(0, 140, 150); }
+  /// A clip compared with the one playing: its trajectory (#frames by ≥ 2, map coordinates)
+  /// drawn over the map in comparisonColor(), and its frame's point as a ring in that colour
+  /// (nothing: none). An empty trajectory: no comparison. setMap, setDensityMap and clearMap
+  /// remove it.
+  void setComparison(const Eigen::MatrixXd& trajectory,
+                     const std::optional<Eigen::Vector2d>& point);
+  const Eigen::MatrixXd& comparisonTrajectory() const { return m_comparison; }
+  std::optional<Eigen::Vector2d> comparisonPoint() const { return m_comparisonPoint; }
   /// The takes drawn over the map (replacing those before).
   void setTakePaths(std::vector<TakePath> paths);
   const std::vector<TakePath>& takePaths() const { return m_takes; }
@@ -250,6 +261,8 @@ class MapView : public QWidget {
   /// Whether Space pressed now belongs to the map (the mouse over it, no text field focused).
   bool wantsSpace() const;
   void paintTakes(QPainter& painter) const;
+  /// The compared clip's trajectory and ring (setComparison).
+  void paintComparison(QPainter& painter) const;
   /// A key marker: a numbered disc at `pixel`.
   static void paintKey(QPainter& painter, const QPointF& pixel, int number, bool pending);
   void addSketchPoint(const QPointF& pixel);
@@ -308,6 +321,8 @@ class MapView : public QWidget {
   bool m_lensVisible = false;
   QPointF m_lensCenter;
   double m_lensPower = 3.0;
+  Eigen::MatrixXd m_comparison;  ///< setComparison's trajectory (#frames by 2)
+  std::optional<Eigen::Vector2d> m_comparisonPoint;
   Eigen::MatrixXd m_highlight;   ///< setHighlight's points (#points by 2)
   Eigen::MatrixXd m_selection;   ///< setSelection's points
   QPolygonF m_selectionOutline;  ///< map coordinates

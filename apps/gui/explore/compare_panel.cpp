@@ -6,6 +6,7 @@
 
 #include <QFileInfo>
 #include <QLabel>
+#include <QMainWindow>
 #include <QPushButton>
 #include <QVBoxLayout>
 
@@ -78,6 +79,9 @@ bool ComparePanel::compareWith(int clip) {
   drawTrajectory();
   show();
   raise();
+  // Room for the character: a quarter of the window's width.
+  if (auto* window = qobject_cast<QMainWindow*>(parentWidget()))
+    window->resizeDocks({this}, {std::max(width(), window->width() / 4)}, Qt::Horizontal);
   follow(m_playback->frame());
   return true;
 }

@@ -25,7 +25,11 @@
 //  - ZoomFrame1M: one wheel notch (in, then out, alternately) around a point and the view drawn:
 //    the density image binned again at the zoomed view (so it stays sharp), the trajectory
 //    repainted (a smooth 6 000-frame loop through the blobs), the frame; must stay under 16 ms.
-//    PanFrame1M: one move of a pan drag, the same.
+//    PanFrame1M: one move of a pan drag, the same. Argument 1: coloured by a label of 7 values
+//    (one per blob; View → Colour by), one of them hidden: the density binned by category
+//    (categoryDensityImage) — the same 16 ms.
+//  - LegendToggle1M: a legend click on 10⁶ coloured points: a value hidden or shown again (every
+//    sample's category set, MapView::setSampleCategories) and the view drawn.
 // Data (argument 0/1): CMU 64_08 (365 frames), and a 10 000-frame concatenation of 64_08 and
 // 64_09 (same subject, same skeleton) as one clip; the built-in swing sample stands in (said on
 // stderr) when ../shared/data is absent. Maps are PCA (the drawing costs do not depend on the
@@ -44,6 +48,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <vector>
 
 #include "app/main_window.h"
 #include "map/map_view.h"
@@ -387,9 +392,21 @@ MapView& millionView() {
   return *view;
 }
 
+/// The million points coloured by blob (7 values, blob 3 hidden) for argument 1, else plain.
+void colourMillion(MapView& view, bool on, int hidden = 3) {
+  std::vector<int> categories;
+  if (on) {
+    categories.resize(1000000);
+    for (std::size_t i = 0; i < categories.size(); ++i)
+      categories[i] = int(i % 7) == hidden ? MapView::kHiddenCategory : int(i % 7);
+  }
+  view.setSampleCategories(std::move(categories));
+}
+
 void ZoomFrame1M(benchmark::State& state) {
   MapView& view = millionView();
   view.resetView();
+  colourMillion(view, state.range(0) != 0);
   QImage image = canvas(&view);
   view.render(&image);
   const QPointF at = view.plotRect().center() + QPointF(40, -30);
@@ -400,12 +417,14 @@ void ZoomFrame1M(benchmark::State& state) {
     view.render(&image);
     benchmark::DoNotOptimize(image.constBits());
   }
-  state.SetLabel("640x640 px, 10^6 points, zoom ~8-10x");
+  state.SetLabel(state.range(0) ? "640x640 px, 10^6 points by 7 colours, zoom ~8-10x"
+                                : "640x640 px, 10^6 points, zoom ~8-10x");
 }
 
 void PanFrame1M(benchmark::State& state) {
   MapView& view = millionView();
   view.resetView();
+  colourMillion(view, state.range(0) != 0);
   QImage image = canvas(&view);
   view.zoomAt(view.plotRect().center(), 4.0);
   view.render(&image);
@@ -415,7 +434,21 @@ void PanFrame1M(benchmark::State& state) {
     view.render(&image);
     benchmark::DoNotOptimize(image.constBits());
   }
-  state.SetLabel("640x640 px, 10^6 points, zoom 4x");
+  state.SetLabel(state.range(0) ? "640x640 px, 10^6 points by 7 colours, zoom 4x"
+                                : "640x640 px, 10^6 points, zoom 4x");
+}
+
+void LegendToggle1M(benchmark::State& state) {
+  MapView& view = millionView();
+  view.resetView();
+  QImage image = canvas(&view);
+  int k = 0;
+  for (auto _ : state) {
+    colourMillion(view, true, (k++ % 2) ? 3 : -1);  // blob 3 hidden, then shown again
+    view.render(&image);
+    benchmark::DoNotOptimize(image.constBits());
+  }
+  state.SetLabel("640x640 px, 10^6 points by 7 colours");
 }
 
 /// `count` pixels of samples spread over the map (every n/count-th row), a pixel off.
@@ -553,8 +586,9 @@ BENCHMARK(SavedMapClickLoad)->Iterations(32)->Unit(benchmark::kMicrosecond);
 BENCHMARK(SavedMapClipLoad)->Iterations(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(SavedMapDrag)->Unit(benchmark::kMicrosecond);
 
-BENCHMARK(ZoomFrame1M)->Unit(benchmark::kMillisecond);
-BENCHMARK(PanFrame1M)->Unit(benchmark::kMillisecond);
+BENCHMARK(ZoomFrame1M)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(PanFrame1M)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(LegendToggle1M)->Unit(benchmark::kMillisecond);
 BENCHMARK(MapViewFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(MapViewFullRepaint)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(DragUpdateLogic)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);

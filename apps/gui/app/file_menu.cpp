@@ -8,6 +8,7 @@
 #include <QMenu>
 #include <QMenuBar>
 #include <QSettings>
+#include <QUrl>
 
 #include "app/help_dialogs.h"
 #include "export/export_dialogs.h"
@@ -139,6 +140,17 @@ void FileMenu::updateRecentMenu() {
         ->setToolTip(path);
   }
   m_recentMenu->setEnabled(!recent.isEmpty());
+}
+
+void FileMenu::openDropped(const QList<QUrl>& urls, bool addAll,
+                           const std::function<bool(const QString&)>& open,
+                           const std::function<bool(const QString&)>& add) {
+  bool adding = addAll;
+  for (const QUrl& url : urls) {
+    if (!url.isLocalFile()) continue;
+    if (!(adding ? add(url.toLocalFile()) : open(url.toLocalFile()))) break;
+    adding = true;
+  }
 }
 
 }  // namespace motionmap::studio

@@ -11,6 +11,7 @@
 #include <QObject>
 #include <QString>
 #include <QStringList>
+#include <QUrl>
 
 #include "export/animation_export.h"
 #include "export/export_names.h"
@@ -52,6 +53,12 @@ class FileMenu : public QObject {
   ExportContext context() const;
   /// The folder the export dialogs start in next time (QSettings "lastExportDir").
   void rememberExportDir(const QString& dir);
+  /// Files dropped on the window: the first opens (`open`, replacing the clip) and the others
+  /// join its map (`add`); with `addAll` (Ctrl held over an open map) every one joins. Files
+  /// that are not local are skipped; the first that fails (false) stops the rest.
+  static void openDropped(const QList<QUrl>& urls, bool addAll,
+                          const std::function<bool(const QString&)>& open,
+                          const std::function<bool(const QString&)>& add);
 
  signals:
   /// Open…, Open map… or a recent file (a clip, or a map file: MainWindow::openFile tells).

@@ -125,6 +125,12 @@ std::vector<ShortcutRow> gestureRows() {
        map},
       {QObject::tr("Double-click, or Home (map focused and zoomed)"),
        QObject::tr("Shows the whole map again (also View → Whole map, Ctrl+0)"), map},
+      {QObject::tr("Click a value in the Legend"),
+       QObject::tr("Hides or shows the frames of that value of the label colouring the map "
+                   "(View → Colour by): hidden frames are not drawn, hovered or selected"),
+       map},
+      {QObject::tr("Ctrl+click a value in the Legend"),
+       QObject::tr("Shows that value alone; again, every value"), map},
       {QObject::tr("Left drag"), QObject::tr("Orbits the camera"), view3d},
       {QObject::tr("Drag a joint"),
        QObject::tr("Poses the body from the map so that the joint follows the mouse (a map "

@@ -4,15 +4,8 @@
 #include <QCloseEvent>
 #include <QDir>
 #include <QDragEnterEvent>
-#include <QFileDialog>
 #include <QFileInfo>
-#include <QInputDialog>
-#include <QLabel>
-#include <QLineEdit>
-#include <QMenuBar>
-#include <QMessageBox>
 #include <QMimeData>
-#include <QPushButton>
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
@@ -23,17 +16,18 @@
 #include "app/job_progress.h"
 #include "app/menus.h"
 #include "app/parameter_dialogs.h"
-#include "explore/clip_search.h"
+#include "app/status_line.h"
+#include "app/window_dialogs.h"
+#include "explore/explore_panels.h"
 #include "explore/map_coordinates.h"
-#include "explore/nearest_panel.h"
 #include "explore/saved_clips.h"
-#include "explore/selection_panel.h"
 #include "map/joint_drag.h"
 #include "map/map_gestures.h"
 #include "map/map_source.h"
 #include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
+#include "playback/motion_player.h"
 #include "playback/playback_actions.h"
 #include "playback/transport_bar.h"
 #include "scene/camera_menu.h"
@@ -45,7 +39,6 @@
 namespace motionmap::studio {
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
-  if (qEnvironmentVariableIntValue("MOTIONMAP_STUDIO_NO_CONFIRM") != 0) m_interactive = false;
   buildUi();
   connectControllers();
   const QSettings settings;
@@ -79,22 +72,13 @@ void MainWindow::buildUi() {
   m_takesPanel = new TakesPanel(m_takes);
   addDockWidget(Qt::RightDockWidgetArea, m_takesPanel);
   resizeDocks({m_takesPanel}, {200}, Qt::Horizontal);  // room for its buttons, the rest the views
-  // Box and lasso selections of the map's frames, listed, played and exported (a dock, shown with
-  // the first selection).
-  auto* selection = new SelectionPanel(
-      m_mapView, &m_playback, [this] { return m_source; },
-      [this](int clip, int frame) { setCurrentClip(clip, frame); });
-  addDockWidget(Qt::RightDockWidgetArea, selection);
-  selection->hide();
-  connect(selection, &SelectionPanel::message, this, [this](const QString& text) {
+  m_explore = new ExplorePanels(
+      this, m_mapView, &m_playback, [this] { return m_source; }, &m_maps);
+  connect(m_explore, &ExplorePanels::clipRequested, this, &MainWindow::setCurrentClip);
+  connect(m_explore, &ExplorePanels::message, this, [this](const QString& text) {
     if (m_status) m_status->setText(text);
   });
-  connect(selection, &SelectionPanel::failed, this, &MainWindow::showError);
-  auto* nearest = new NearestPanel(
-      m_mapView, [this] { return m_source; },
-      [this](int clip, int frame) { setCurrentClip(clip, frame); });
-  addDockWidget(Qt::RightDockWidgetArea, nearest);
-  nearest->hide();
+  connect(m_explore, &ExplorePanels::failed, this, &MainWindow::showError);
   m_exports = new ExportController(this, m_skeletonView, m_mapView, &m_playback, m_takes, &m_maps,
                                    [this] { return playingMotion(); });
 
@@ -122,10 +106,10 @@ void MainWindow::buildUi() {
     m_synthProgress->start();
     updateStatus();
   });
-  connect(ClipSearch::addTo(this, m_mapView, [this] { return m_source; }),
-          &ClipSearch::clipRequested, this, &MainWindow::setCurrentClip);
   connect(m_takes, &TakesController::changed, this, &MainWindow::updateTakePaths);
-  connect(&m_takes->list(), &TakeList::currentMotionChanged, this, &MainWindow::playCurrentTake);
+  m_player = new MotionPlayer(
+      &m_playback, m_skeletonView, m_mapView, m_takes, [this] { return m_source; },
+      [this] { return currentMap(); }, this);
   connect(m_takesPanel, &TakesPanel::exportRequested, this, &MainWindow::exportTake);
   m_takesPanel->setSuggestion([this](int row) {
     ExportContext c = m_files->context();  // the export folder, the clip's name
@@ -158,11 +142,10 @@ void MainWindow::buildMenus() {
   connect(m_motionMenu, &MotionMenu::synthesisRequested, this, &MainWindow::synthesisDialog);
   connect(m_motionMenu, &MotionMenu::retimeKeysRequested, this, &MainWindow::retimeKeysDialog);
   connect(m_motionMenu, &MotionMenu::showClipRequested, this, [this] {
-    if (m_playingSynth) setCurrentClip(currentClip(), 0);
+    if (m_player->playsTake()) setCurrentClip(currentClip(), 0);
   });
   QMenu* view = addViewMenu(this, m_skeletonView, m_mapView);
-  view->addAction(findChild<SelectionPanel*>()->toggleViewAction());
-  view->addAction(findChild<NearestPanel*>()->toggleViewAction());
+  m_explore->addViewActions(view);
   addCameraMenu(view, m_skeletonView);
   addJointsPanel(this, m_skeletonView, view);
   new PlaybackActions(this, &m_playback);  // Space, arrows, Home/End, I/O: window shortcuts
@@ -170,7 +153,7 @@ void MainWindow::buildMenus() {
 }
 
 void MainWindow::buildStatusBar() {
-  m_status = new QLabel(tr("No clip"));
+  m_status = new StatusLine(this);
   statusBar()->addWidget(m_status, 1);
   statusBar()->addPermanentWidget(new MapCoordinates(m_mapView));
   m_mapProgress = new JobProgress(statusBar(), tr("Cancel"));
@@ -180,7 +163,10 @@ void MainWindow::buildStatusBar() {
 }
 
 void MainWindow::connectControllers() {
-  connect(&m_playback, &Playback::frameChanged, this, &MainWindow::showFrame);
+  connect(m_player, &MotionPlayer::frameShown, this, &MainWindow::frameChanged);
+  connect(m_player, &MotionPlayer::motionShown, m_files, &FileMenu::setMotionShown);
+  connect(m_player, &MotionPlayer::takeShown, m_files->exportMotionAction(), &QAction::setEnabled);
+  connect(m_player, &MotionPlayer::statusChanged, this, &MainWindow::updateStatus);
   connect(m_exports, &ExportController::failed, this, &MainWindow::showError);
   connect(m_exports, &ExportController::wrote, m_status, &QLabel::setText);
   connect(m_exports, &ExportController::exportedTo, m_files, &FileMenu::rememberExportDir);
@@ -202,7 +188,8 @@ void MainWindow::connectControllers() {
   connect(m_choice, &MapChoice::refused, this, [this](embed::Method wanted) {
     if (const auto shown = m_source->shownMethod()) m_motionMenu->setMethod(*shown);
     // A saved map cannot change: offer to map its clips again instead.
-    if (m_saved && m_interactive && askRecompute(this, *m_saved->map(), methodLabel(wanted))) {
+    if (m_saved && m_status->interactive() &&
+        askRecompute(this, *m_saved->map(), methodLabel(wanted))) {
       recomputeFromClips(wanted);
       return;
     }
@@ -228,10 +215,6 @@ void MainWindow::connectControllers() {
     m_status->setText(tr("Synthesis cancelled"));
     emit synthesisFinished(false);
   });
-}
-
-const mapfile::SavedMap* MainWindow::savedMap() const {
-  return m_saved ? m_saved->map().get() : nullptr;
 }
 
 void MainWindow::useSource(MapSource* source) {
@@ -269,7 +252,9 @@ bool MainWindow::openMapFile(const QString& path) {
 bool MainWindow::recomputeFromClips(embed::Method method) {
   if (!m_saved || !confirmDiscard()) return false;
   std::optional<std::vector<Clip>> clips;
-  if (!attempt([&] { clips = loadSavedClips(*m_saved->map(), m_interactive ? this : nullptr); }) ||
+  if (!attempt([&] {
+        clips = loadSavedClips(*m_saved->map(), m_status->interactive() ? this : nullptr);
+      }) ||
       !clips) {
     return false;  // a clip missing or changed (shown), or cancelled
   }
@@ -308,8 +293,7 @@ bool MainWindow::openFile(const QString& path) {
 void MainWindow::dropSynthesizedMotion() {
   m_synthesis.stop();
   m_synthesis.clear();
-  pause();
-  m_playingSynth = false;
+  m_player->stop();
   m_takes->clear();  // the takes and their history belong to the clips before
   m_keys->clearPending();
   m_choice->dropPending();
@@ -346,18 +330,13 @@ bool MainWindow::addClip(Clip clip) {
 
 void MainWindow::clipsChanged(int frame) {
   setWindowTitle(tr("MotionMap Studio — %1").arg(m_computed->title()));
-  if (!m_playingSynth) setCurrentClip(currentClip(), frame);
+  if (!m_player->playsTake()) setCurrentClip(currentClip(), frame);
   m_mapView->clearMap(tr("Computing the map…"));
   setMethod(method());
 }
 
 void MainWindow::setCurrentClip(int index, int frame) {
-  if (!m_source->selectClip(index, frame)) return;  // out of range, failed, or loading
-  m_playingSynth = false;
-  m_takes->list().setCurrent(-1);  // the clip plays: no take is current
-  updateMotion();
-  setFrame(frame);
-  updateStatus();
+  if (m_player->playClip(index, frame)) updateStatus();
 }
 
 void MainWindow::onMapStarted(embed::Method method) {
@@ -393,7 +372,7 @@ bool MainWindow::showMap() {
   updateTakePaths();
   m_files->exportMapAction()->setEnabled(true);
   // The frame again (a dragged pose is replaced), with the pointer on its point of this map.
-  showFrame(currentFrame());
+  m_player->showFrame(currentFrame());
   updateStatus();
   return true;
 }
@@ -401,90 +380,15 @@ bool MainWindow::showMap() {
 void MainWindow::updateStatus() {
   QStringList parts = m_source->statusParts();
   if (parts.isEmpty()) return;  // no clip yet
-  if (m_playingSynth && synthesized()) {
-    parts << tr("synthesized: %1 frames, %2 outside the data")
-                 .arg(synthesized()->motion.num_frames)
-                 .arg(synthesized()->clamped_frames);
-  }
+  parts << m_player->statusParts();
   if (isSynthesizing()) parts << tr("synthesizing…");
-  m_status->setText(parts.join(QStringLiteral(" · ")));
-}
-
-QString MainWindow::statusText() const {
-  return m_status->text();
-}
-
-bool MainWindow::attempt(const std::function<void()>& work) {
-  try {
-    work();
-    return true;
-  } catch (const std::exception& e) {
-    showError(QString::fromStdString(e.what()));
-    return false;
-  }
-}
-
-void MainWindow::showError(const QString& message) {
-  m_lastError = message;
-  m_status->setText(tr("Error: %1").arg(message));
-  if (m_interactive) QMessageBox::warning(this, tr("MotionMap Studio"), message);
+  m_status->showParts(parts);
 }
 
 bool MainWindow::confirmDiscard() {
-  const QStringList unexported = m_takes->list().unexportedNames();
-  if (unexported.isEmpty() || !m_interactive) return true;
-  const QString text = unexported.size() == 1
-                           ? tr("%1 has not been exported.").arg(unexported.front())
-                           : tr("%1 takes have not been exported (%2).")
-                                 .arg(unexported.size())
-                                 .arg(unexported.join(", "));
-  QMessageBox box(QMessageBox::Question, tr("MotionMap Studio"), text,
-                  QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, this);
-  box.button(QMessageBox::Save)
-      ->setText(unexported.size() == 1 ? tr("Export…") : tr("Export All…"));
-  box.setDefaultButton(QMessageBox::Save);
-  switch (box.exec()) {
-    case QMessageBox::Discard:
-      return true;
-    case QMessageBox::Save: {
-      const QString folder =
-          QFileDialog::getExistingDirectory(this, tr("Export the takes as BVH into"));
-      return !folder.isEmpty() && m_exports->exportUnexported(folder);
-    }
-    default:
-      return false;
-  }
-}
-
-const synth::SynthResult* MainWindow::synthesized() const {
-  const Take* take = m_takes->list().currentTake();
-  return take ? take->result.get() : nullptr;
-}
-
-const Motion* MainWindow::playingMotion() const {
-  if (m_playingSynth && synthesized()) return &synthesized()->motion;
-  return clip() ? &clip()->motion : nullptr;
-}
-
-void MainWindow::updateMotion() {
-  const Motion* motion = playingMotion();
-  m_playback.setMotion(motion ? motion->num_frames : 0, motion ? motion->frame_time : 0.0);
-  m_files->setMotionShown(motion != nullptr);
-  if (motion) m_skeletonView->setMotion(*motion);  // bones, clip bounds, trails
-}
-
-void MainWindow::showFrame(int frame) {
-  const Motion* motion = playingMotion();
-  if (!motion) return;
-  m_skeletonView->setPose(*motion, frame);
-  updatePointer();
-  emit frameChanged(frame);
-}
-
-void MainWindow::updatePointer() {
-  const int frame = currentFrame();
-  m_mapView->setPointer(m_playingSynth && synthesized() ? m_takes->pointOn(currentMap(), frame)
-                                                        : m_source->framePoint(frame));
+  if (!m_status->interactive()) return true;
+  return askDiscard(this, m_takes->list().unexportedNames(),
+                    [this](const QString& folder) { return m_exports->exportUnexported(folder); });
 }
 
 bool MainWindow::synthesizeAlong(const synth::MapPath& path) {
@@ -504,21 +408,6 @@ void MainWindow::onSynthesized() {
   emit synthesisFinished(true);
 }
 
-void MainWindow::playCurrentTake() {
-  const Take* take = m_takes->list().currentTake();
-  m_files->exportMotionAction()->setEnabled(take != nullptr);
-  if (!take) {
-    if (m_playingSynth) setCurrentClip(currentClip(), 0);  // its take is gone: the clip again
-    return;
-  }
-  pause();
-  m_playingSynth = true;
-  updateMotion();
-  setFrame(0);
-  updateStatus();
-  play();
-}
-
 void MainWindow::updateTakePaths() {
   m_mapView->setTakePaths(m_takes->pathsOn(currentMap()));
 }
@@ -533,26 +422,12 @@ void MainWindow::retimeKeysDialog() {
     showError(tr("Retiming needs an in-between take: Ctrl-click two frames on the map"));
     return;
   }
-  // The keys' times now (seconds from the first key), as the dialog's starting text.
-  QStringList now;
-  const double dt = take->result->motion.frame_time;
-  for (const int frame : take->controls)
-    now << QString::number((frame - take->controls.front()) * dt, 'g', 4);
-  bool ok = false;
-  const QString text = QInputDialog::getText(
-      this, tr("Retime keys"),
-      tr("Each key's time in seconds from the first, separated by commas (empty: the frames' own "
-         "speed along the route):"),
-      QLineEdit::Normal, now.join(", "), &ok);
-  if (!ok) return;
-  std::vector<double> times;
-  for (const QString& part : text.split(',', Qt::SkipEmptyParts)) {
-    bool number = false;
-    const double t = part.trimmed().toDouble(&number);
-    if (!number) return showError(tr("'%1' is not a number of seconds").arg(part.trimmed()));
-    times.push_back(t);
+  QString error;
+  if (const auto times = askKeyTimes(this, *take, error)) {
+    m_keys->retime(*times);
+    return;
   }
-  m_keys->retime(times);
+  if (!error.isEmpty()) showError(error);
 }
 
 bool MainWindow::moveControlPoint(int control, const Eigen::Vector2d& to) {
@@ -577,7 +452,8 @@ void MainWindow::synthesisDialog() {
 }
 
 ExportContext MainWindow::exportContext() const {
-  return m_exports->context(clip(), m_source->shownMethod(), m_playingSynth && synthesized());
+  return m_exports->context(clip(), m_source->shownMethod(),
+                            m_player->playsTake() && synthesized());
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
@@ -596,15 +472,10 @@ void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
 }
 
 void MainWindow::dropEvent(QDropEvent* event) {
-  // The first file opens (replacing the clip), more files dropped together join its map;
-  // with Ctrl held every file joins the open map.
-  const auto urls = event->mimeData()->urls();
-  bool add = m_maps.clips() && (event->modifiers() & Qt::ControlModifier);
-  for (const QUrl& url : urls) {
-    if (!url.isLocalFile()) continue;
-    if (!(add ? addFile(url.toLocalFile()) : openFile(url.toLocalFile()))) break;
-    add = true;
-  }
+  FileMenu::openDropped(
+      event->mimeData()->urls(), m_maps.clips() && (event->modifiers() & Qt::ControlModifier),
+      [this](const QString& path) { return openFile(path); },
+      [this](const QString& path) { return addFile(path); });
 }
 
 }  // namespace motionmap::studio

@@ -9,10 +9,12 @@
 // and parameters, with their synth::MapBlender), MapChoice (the method and parameters chosen,
 // their settings and undo), the MapSource shown (ComputedMapSource over the MapController's
 // clips, or SavedMapSource for a map file), SynthesisController (a sketch synthesized on a second
-// worker), TakesController (takes and the undo history), ExportController and Playback (the
-// clock). Both workers show a progress bar and a Cancel button in the status bar, so the GUI
-// thread only ever runs short calls (a locate + blend per mouse move). New features belong in
-// those controllers (or new ones), not here.
+// worker), TakesController (takes and the undo history), ExportController, Playback (the
+// clock) with MotionPlayer (the clip or the current take plays), ExplorePanels (search,
+// selection, nearest frames, colour by label and its legend, two clips compared) and
+// StatusLine. Both workers show a progress bar and a Cancel button in the status bar, so the GUI
+// thread only ever runs short calls (a locate + blend per mouse move). New features belong in those
+// controllers (or new ones), not here.
 #include <functional>
 #include <memory>
 #include <optional>
@@ -20,6 +22,7 @@
 #include <QMainWindow>
 #include <QPointF>
 
+#include "app/status_line.h"
 #include "common/parameters.h"
 #include "export/animation_export.h"
 #include "export/export_controller.h"
@@ -27,6 +30,7 @@
 #include "map/map_choice.h"
 #include "map/map_controller.h"
 #include "map/map_source.h"
+#include "playback/motion_player.h"
 #include "playback/playback.h"
 #include "takes/synthesis_controller.h"
 #include "takes/takes_controller.h"
@@ -39,6 +43,7 @@ class SavedMap;
 }
 namespace motionmap::studio {
 
+class ExplorePanels;
 class FileMenu;
 class JointDrag;
 class KeysController;
@@ -75,7 +80,7 @@ class MainWindow : public QMainWindow {
   /// loaded, on Cancel, or without a saved map.
   bool recomputeFromClips(embed::Method method);
   /// The saved map shown (nullptr when the map is one computed here).
-  const mapfile::SavedMap* savedMap() const;
+  const mapfile::SavedMap* savedMap() const { return m_saved ? m_saved->map().get() : nullptr; }
   /// A saved map's clip is being loaded (on a worker thread) for a click or a drag.
   bool isLoadingClip() const { return m_source->isLoadingClip(); }
   /// Shows `clip` and starts its map (tests, the built-in sample). Does not ask: callers that
@@ -135,10 +140,10 @@ class MainWindow : public QMainWindow {
   /// Whether playback starts over at the end (else it stops on the last frame).
   void setLoop(bool loop) { m_playback.setLoop(loop); }
   bool loop() const { return m_playback.loop(); }
-  const Motion* playingMotion() const;
+  const Motion* playingMotion() const { return m_player->playingMotion(); }
 
   /// The current take's motion (nothing before the first sketch, or with no take selected).
-  const synth::SynthResult* synthesized() const;
+  const synth::SynthResult* synthesized() const { return m_player->synthesized(); }
   /// Some take was not exported since its motion last changed.
   bool hasUnsavedMotion() const { return !m_takes->list().unexportedNames().isEmpty(); }
   /// Asks before takes that were not exported are dropped (another clip, closing); true to go
@@ -169,9 +174,9 @@ class MainWindow : public QMainWindow {
 
   /// When false, errors go to the status line only and discard questions are skipped
   /// (tests; also MOTIONMAP_STUDIO_NO_CONFIRM=1).
-  void setInteractive(bool interactive) { m_interactive = interactive; }
-  QString lastError() const { return m_lastError; }
-  QString statusText() const;
+  void setInteractive(bool interactive) { m_status->setInteractive(interactive); }
+  QString lastError() const { return m_status->lastError(); }
+  QString statusText() const { return m_status->text(); }
   MapView* mapView() const { return m_mapView; }
   SkeletonView* skeletonView() const { return m_skeletonView; }
   JointDrag* jointDrag() const { return m_jointDrag; }
@@ -203,6 +208,8 @@ class MainWindow : public QMainWindow {
   /// The names, frames and rate the export dialogs start from.
   ExportContext exportContext() const;
   FileMenu* fileMenu() const { return m_files; }
+  /// Search, selection, nearest frames, colour by label and its legend, two clips compared.
+  ExplorePanels* explore() const { return m_explore; }
 
  signals:
   void mapReady(motionmap::embed::Method method);
@@ -232,25 +239,18 @@ class MainWindow : public QMainWindow {
   void onMapCancelled();
   /// A synthesized motion is ready: a new take, or an edited one; it plays.
   void onSynthesized();
-  /// The current take (or its motion) changed: it plays (the clip when there is none).
-  void playCurrentTake();
   /// The map view draws the takes sketched on the map shown.
   void updateTakePaths();
   /// The map shown comes from `source` (its clip, its frames' points, its status, what it
   /// refuses).
   void useSource(MapSource* source);
-  /// Shows frame `frame` of the playing motion (Playback::frameChanged).
-  void showFrame(int frame);
-  /// Tells the playback clock the length and rate of the playing motion.
-  void updateMotion();
   /// The controller's current map drawn (after a failure or cancel: the one before, back with
   /// its method and parameters). False when there is none.
   bool showMap();
-  void showError(const QString& message);
+  void showError(const QString& message) { m_status->showError(message); }
   /// Runs `work`; false, with the error it threw shown, when it throws.
-  bool attempt(const std::function<void()>& work);
+  bool attempt(const std::function<void()>& work) { return m_status->attempt(work); }
   void updateStatus();
-  void updatePointer();
   void parametersDialog();
   void synthesisDialog();
   /// The clips changed (opened or added): a new title, the clip shown from `frame`, a new map.
@@ -270,21 +270,20 @@ class MainWindow : public QMainWindow {
   void dropSynthesizedMotion();
   SynthesisController m_synthesis;
   Playback m_playback;
-  bool m_playingSynth = false;  ///< the synthesized motion plays (else the clip)
+  MotionPlayer* m_player = nullptr;  ///< the clip or the current take plays
   TakesController* m_takes = nullptr;
   MapChoice* m_choice = nullptr;  ///< the method and parameters (Motion menu), their undo
   TakesPanel* m_takesPanel = nullptr;
-  bool m_interactive = true;
-  QString m_lastError;
 
   MapView* m_mapView = nullptr;
   SkeletonView* m_skeletonView = nullptr;
   QSplitter* m_splitter = nullptr;
-  QLabel* m_status = nullptr;
+  StatusLine* m_status = nullptr;
   JobProgress* m_mapProgress = nullptr;
   JobProgress* m_synthProgress = nullptr;
   MotionMenu* m_motionMenu = nullptr;
   FileMenu* m_files = nullptr;
+  ExplorePanels* m_explore = nullptr;  ///< search, selection, nearest frames
   ExportController* m_exports = nullptr;
 };
 

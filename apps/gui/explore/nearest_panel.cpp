@@ -12,6 +12,7 @@ namespace motionmap::studio {
 NearestPanel::NearestPanel(MapView* view, std::function<const MapSource*()> source,
                            std::function<void(int, int)> showClip, QWidget* parent)
     : QDockWidget(tr("Nearest frames"), parent),
+      m_view(view),
       m_source(std::move(source)),
       m_showClip(std::move(showClip)) {
   setObjectName(QStringLiteral("nearestPanel"));
@@ -49,7 +50,10 @@ void NearestPanel::showAround(const Eigen::Vector2d& point) {
   if (samples.clipOf && samples.frameOf) {
     const int current = source->currentClip();
     std::vector<char> listed(std::size_t(source->clipCount()), 0);
-    for (const MapSource::Near& n : source->nearestSamples(point, kSearched)) {
+    // Frames a colouring by label hides are not offered (more are searched past them).
+    const int searched = m_view->hidesSamples() ? kSearched * 16 : kSearched;
+    for (const MapSource::Near& n : source->nearestSamples(point, searched)) {
+      if (!m_view->sampleShown(n.sample)) continue;
       const int clip = (*samples.clipOf)[std::size_t(n.sample)];
       if (clip == current || clip < 0 || clip >= int(listed.size()) || listed[std::size_t(clip)])
         continue;

@@ -32,12 +32,14 @@ class NearestPanel : public QDockWidget {
   };
   NearestPanel(MapView* view, std::function<const MapSource*()> source,
                std::function<void(int clip, int frame)> showClip, QWidget* parent = nullptr);
-  /// Lists the nearest frames of other clips than the one playing around map point `point`.
+  /// Lists the nearest frames of other clips than the one playing around map point `point`
+  /// (frames the view hides, MapView::sampleShown, left out).
   void showAround(const Eigen::Vector2d& point);
   const std::vector<Entry>& entries() const { return m_entries; }
   QTreeWidget* tree() const { return m_tree; }
 
  private:
+  MapView* m_view;
   std::function<const MapSource*()> m_source;
   std::function<void(int, int)> m_showClip;
   std::vector<Entry> m_entries;

@@ -5,8 +5,8 @@
 
 namespace motionmap::studio {
 
-std::vector<SelectedFrame> framesInside(const QPolygonF& polygon,
-                                        const MapSource::Samples& samples) {
+std::vector<SelectedFrame> framesInside(const QPolygonF& polygon, const MapSource::Samples& samples,
+                                        const std::function<bool(int sample)>& shown) {
   std::vector<SelectedFrame> out;
   if (polygon.size() < 3 || !samples.points || !samples.clipOf || !samples.frameOf) return out;
   const Eigen::MatrixXd& xy = *samples.points;
@@ -16,6 +16,7 @@ std::vector<SelectedFrame> framesInside(const QPolygonF& polygon,
     const double x = xy(i, 0), y = xy(i, 1);
     if (!(x >= box.left() && x <= box.right() && y >= box.top() && y <= box.bottom())) continue;
     if (!polygon.containsPoint(QPointF(x, y), Qt::OddEvenFill)) continue;
+    if (shown && !shown(int(i))) continue;
     out.push_back({(*samples.clipOf)[std::size_t(i)], (*samples.frameOf)[std::size_t(i)], x, y});
   }
   std::sort(out.begin(), out.end(), [](const SelectedFrame& a, const SelectedFrame& b) {

@@ -3,6 +3,7 @@
 // inside, grouped per clip into runs of consecutive frames, and written as a clip list
 // (`motionmap map @list.txt` reads it: one clip path a line, '#' lines are comments — here each
 // clip's selected frame ranges) or as CSV (clip, frame, x, y). No widgets.
+#include <functional>
 #include <vector>
 
 #include <QPolygonF>
@@ -29,9 +30,10 @@ struct FrameRange {
 
 /// The samples whose points lie inside `polygon` (map coordinates; odd-even rule), ordered by
 /// clip then frame. Empty for a polygon of fewer than 3 corners or without samples. Linear in
-/// the samples (a bounding-box test first).
-std::vector<SelectedFrame> framesInside(const QPolygonF& polygon,
-                                        const MapSource::Samples& samples);
+/// the samples (a bounding-box test first). With `shown`, only samples it accepts (those a
+/// colouring by label leaves drawn: MapView::sampleShown).
+std::vector<SelectedFrame> framesInside(const QPolygonF& polygon, const MapSource::Samples& samples,
+                                        const std::function<bool(int sample)>& shown = {});
 
 /// `frames` (ordered by clip and frame) as runs of consecutive frames.
 std::vector<FrameRange> frameRanges(const std::vector<SelectedFrame>& frames);

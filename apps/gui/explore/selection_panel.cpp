@@ -83,7 +83,9 @@ SelectionPanel::SelectionPanel(MapView* view, Playback* playback,
 void SelectionPanel::select(const QPolygonF& polygon) {
   stopSequence();
   const MapSource* source = m_source();
-  m_frames = source ? framesInside(polygon, source->samples()) : std::vector<SelectedFrame>{};
+  m_frames = source ? framesInside(polygon, source->samples(),
+                                   [this](int sample) { return m_view->sampleShown(sample); })
+                    : std::vector<SelectedFrame>{};
   m_ranges = frameRanges(m_frames);
   Eigen::MatrixXd points(Eigen::Index(m_frames.size()), 2);
   for (std::size_t i = 0; i < m_frames.size(); ++i)

@@ -1,5 +1,6 @@
 #include "map/map_gestures.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <QFileInfo>
@@ -61,6 +62,7 @@ void MapGestures::onClipLoaded() {
 }
 
 int MapGestures::sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const {
+  if (m_mapView->hidesSamples()) return shownSampleNear(point, pixel);
   if (m_saved) {
     const mapfile::Neighbor hit = m_saved->index().nearest(point);
     if (hit.sample < 0) return -1;
@@ -74,6 +76,43 @@ int MapGestures::sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) 
   const int sample = map->blender->locate(point).validity.nearest_sample;
   const QPointF at = m_mapView->toWidget(map->blender->sample_point(sample));
   return QLineF(at, pixel).length() <= kNearPixels ? sample : -1;
+}
+
+int MapGestures::shownSampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const {
+  if (!point.allFinite()) return -1;
+  const Eigen::MatrixXd* xy = nullptr;
+  std::shared_ptr<const MapResult> map;
+  if (m_saved) {
+    xy = &m_saved->file().coordinates;
+  } else {
+    map = m_maps->current();
+    if (!map) return -1;
+    xy = &map->map.embedding.coordinates;
+  }
+  const auto near = [&](int sample) {
+    const QPointF at = m_mapView->toWidget(Eigen::Vector2d((*xy)(sample, 0), (*xy)(sample, 1)));
+    return QLineF(at, pixel).length() <= kNearPixels;
+  };
+  if (!m_saved) {
+    // A computed map's samples, scanned: the nearest shown one.
+    int best = -1;
+    double bestDistance = INFINITY;
+    for (Eigen::Index i = 0; i < xy->rows(); ++i) {
+      if (!m_mapView->sampleShown(int(i))) continue;
+      const double d = (xy->row(i).head<2>().transpose() - point).norm();
+      if (d < bestDistance) best = int(i), bestDistance = d;
+    }
+    return best >= 0 && near(best) ? best : -1;
+  }
+  // A saved map's k-d tree, asked for more neighbours until a shown one or the pixel range ends.
+  for (int k = 64;; k *= 16) {
+    const std::vector<mapfile::Neighbor> hits = m_saved->index().nearest(point, k);
+    for (const mapfile::Neighbor& hit : hits) {
+      if (!m_mapView->sampleShown(hit.sample)) continue;
+      return near(hit.sample) ? hit.sample : -1;
+    }
+    if (int(hits.size()) < k || hits.empty() || !near(hits.back().sample)) return -1;
+  }
 }
 
 void MapGestures::onHover(const Eigen::Vector2d& point, const QPointF& pixel) {

@@ -46,6 +46,7 @@ class MapGestures : public QObject {
 
   /// The map row nearest `pixel` (at map point `point`) within kNearPixels, or −1. On a saved
   /// map: a k-d tree lookup (mapfile::PointIndex), O(log N).
+  /// Samples a colouring by label hides (MapView::sampleShown) are never found.
   int sampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const;
 
   /// A saved map shown instead of the controller's (nullptr: back to the controller's). Drags then
@@ -69,6 +70,8 @@ class MapGestures : public QObject {
   void failed(const QString& message);
 
  private:
+  /// sampleNear while some samples are hidden: the nearest shown one within kNearPixels.
+  int shownSampleNear(const Eigen::Vector2d& point, const QPointF& pixel) const;
   void onHover(const Eigen::Vector2d& point, const QPointF& pixel);
   void onClick(const Eigen::Vector2d& point, const QPointF& pixel);
   void onDrag(const Eigen::Vector2d& point);

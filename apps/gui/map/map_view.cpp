@@ -15,6 +15,8 @@
 #include <QToolTip>
 #include <QWheelEvent>
 
+#include "map/category_density.h"
+
 namespace motionmap::studio {
 
 namespace {
@@ -31,6 +33,51 @@ MapView::MapView(QWidget* parent) : QWidget(parent) {
   qApp->installEventFilter(this);  // Space + drag pans: Space is held back from the window
 }
 
+void MapView::setSampleCategories(std::vector<int> categories) {
+  m_categories = std::move(categories);
+  m_hidden = std::count(m_categories.begin(), m_categories.end(), kHiddenCategory);
+  invalidate();
+  update();
+}
+
+bool MapView::categoriesShown() const {
+  const Eigen::Index samples = m_density ? m_density->rows() : m_coords.rows();
+  return !m_categories.empty() && Eigen::Index(m_categories.size()) == samples;
+}
+
+bool MapView::sampleShown(int sample) const {
+  if (!categoriesShown()) return sample >= 0;
+  return sample >= 0 && std::size_t(sample) < m_categories.size() &&
+         m_categories[std::size_t(sample)] != kHiddenCategory;
+}
+
+QImage MapView::density(const QTransform& toPixel, const QSize& size) const {
+  if (categoriesShown()) return categoryDensityImage(*m_density, m_categories, toPixel, size);
+  return render::density_image(*m_density, toPixel, size);
+}
+
+void MapView::paintTrajectory(QPainter& painter, const render::MapPlotOptions& options) const {
+  if (!categoriesShown()) {
+    render::paint_map(painter, QRectF(rect()), m_coords, m_segmentStarts, options);
+    return;
+  }
+  Eigen::MatrixXd drawn = m_coords;
+  render::MapPlotOptions by = options;
+  if (!(by.extent.width() >= 0.0 && by.extent.height() >= 0.0)) {
+    // Framed as the whole map, whichever samples are hidden.
+    const QRectF box = render::data_to_unit(m_coords).inverted().mapRect(QRectF(0, 0, 1, 1));
+    by.extent = box;
+  }
+  by.point_category = m_categories;
+  for (Eigen::Index i = 0; i < drawn.rows(); ++i) {
+    if (m_categories[std::size_t(i)] == kHiddenCategory) {
+      drawn.row(i).setConstant(std::nan(""));
+      by.point_category[std::size_t(i)] = -1;
+    }
+  }
+  render::paint_map(painter, QRectF(rect()), drawn, m_segmentStarts, by);
+}
+
 void MapView::invalidate() {
   m_cache = QPixmap();
   m_densityImage = QImage();
@@ -41,6 +88,8 @@ void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
                             const Eigen::MatrixXd& trajectory,
                             const render::MapPlotOptions& options) {
   m_density = std::move(points);
+  m_categories.clear();
+  m_hidden = 0;
   m_options = options;
   // Framed as the whole map, whichever clip is drawn over it.
   const Eigen::MatrixXd& xy = *m_density;
@@ -59,6 +108,8 @@ void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
   m_zoom = 1.0;
   m_viewCenter.reset();
   m_highlight.resize(0, 2);
+  m_comparison.resize(0, 2);
+  m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   invalidate();
@@ -83,8 +134,7 @@ const QImage& MapView::densityImage() const {
   const QSize pixels = size() * dpr;
   if (m_densityImage.isNull() || m_densitySize != pixels) {
     ensureTransform();
-    m_densityImage =
-        render::density_image(*m_density, m_toWidget * QTransform::fromScale(dpr, dpr), pixels);
+    m_densityImage = density(m_toWidget * QTransform::fromScale(dpr, dpr), pixels);
     m_densityImage.setDevicePixelRatio(dpr);
     m_densitySize = pixels;
   }
@@ -94,6 +144,8 @@ const QImage& MapView::densityImage() const {
 void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segmentStarts,
                      const render::MapPlotOptions& options) {
   m_density.reset();
+  m_categories.clear();
+  m_hidden = 0;
   m_coords = coords.leftCols(std::min<Eigen::Index>(2, coords.cols()));
   m_segmentStarts = segmentStarts;
   m_options = options;
@@ -101,6 +153,8 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_zoom = 1.0;  // another map: shown whole
   m_viewCenter.reset();
   m_highlight.resize(0, 2);
+  m_comparison.resize(0, 2);
+  m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   invalidate();
@@ -110,6 +164,8 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
 
 void MapView::clearMap(const QString& hint) {
   m_density.reset();
+  m_categories.clear();
+  m_hidden = 0;
   m_coords.resize(0, 2);
   m_segmentStarts.clear();
   m_pointer.reset();
@@ -117,6 +173,8 @@ void MapView::clearMap(const QString& hint) {
   m_zoom = 1.0;
   m_viewCenter.reset();
   m_highlight.resize(0, 2);
+  m_comparison.resize(0, 2);
+  m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   if (!hint.isEmpty()) m_hint = hint;
@@ -129,6 +187,29 @@ void MapView::setHighlight(const Eigen::MatrixXd& points) {
   m_highlight = points.leftCols(std::min<Eigen::Index>(2, points.cols()));
   m_cache = QPixmap();
   update();
+}
+
+void MapView::setComparison(const Eigen::MatrixXd& trajectory,
+                            const std::optional<Eigen::Vector2d>& point) {
+  m_comparison = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
+  m_comparisonPoint = m_comparison.rows() > 0 ? point : std::nullopt;
+  update();
+}
+
+void MapView::paintComparison(QPainter& painter) const {
+  QPolygonF line;
+  for (Eigen::Index i = 0; i < m_comparison.rows(); ++i) {
+    const Eigen::Vector2d p(m_comparison(i, 0), m_comparison(i, 1));
+    if (p.allFinite()) line << toWidget(p);
+  }
+  painter.setPen(QPen(comparisonColor(), 2.5, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+  painter.setBrush(Qt::NoBrush);
+  painter.drawPolyline(line);
+  if (m_comparisonPoint) {
+    painter.setPen(QPen(comparisonColor(), 3));
+    painter.setBrush(Qt::white);
+    painter.drawEllipse(toWidget(*m_comparisonPoint), 7, 7);
+  }
 }
 
 void MapView::setSelection(const Eigen::MatrixXd& points, const QPolygonF& outline) {
@@ -386,7 +467,7 @@ void MapView::paintEvent(QPaintEvent*) {
       if (m_coords.rows() > 0)
         render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, over);
     } else {
-      render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, options);
+      paintTrajectory(cachePainter, options);
       paintMarks(cachePainter, m_highlight, highlightColor());
       paintMarks(cachePainter, m_selection, selectionColor());
     }
@@ -412,6 +493,7 @@ void MapView::paintEvent(QPaintEvent*) {
     painter.setBrush(Qt::NoBrush);
     painter.drawPath(path);
   }
+  if (m_comparison.rows() > 0) paintComparison(painter);
   if (m_pointer) {
     painter.setPen(QPen(Qt::black, 2));
     painter.setBrush(Qt::white);
@@ -428,7 +510,7 @@ void MapView::paintEvent(QPaintEvent*) {
 QRectF MapView::plotRect() const {
   // render::layout_panel's frame: the data square plus a margin of 5 % of the frame's side on
   // each side, i.e. 1/18 of the data square's.
-  const QRectF data = render::data_area(QRectF(rect()), m_options);
+  const QRectF data = render::data_area(QRectF(rect()), shownOptions());
   const double margin = data.width() / 18.0;
   return data.adjusted(-margin, -margin, margin, margin);
 }
@@ -471,7 +553,7 @@ void MapView::paintShading(QPainter& painter) const {
   painter.setClipRect(plot);
   render::MapPlotOptions over = viewOptions();
   over.background = QColor();
-  render::paint_map(painter, QRectF(rect()), m_coords, m_segmentStarts, over);
+  paintTrajectory(painter, over);
   // The key, inside the plot's lower-left corner.
   QFont font = painter.font();
   font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
@@ -569,7 +651,7 @@ void MapView::paintLens(QPainter& painter) const {
     const QTransform toSharp = m_toWidget *
                                QTransform::fromTranslate(-bounds.left(), -bounds.top()) *
                                QTransform::fromScale(magnification, magnification);
-    const QImage source = render::density_image(*m_density, toSharp, sharp);
+    const QImage source = density(toSharp, sharp);
     QImage lensed(bounds.size().toSize(), QImage::Format_ARGB32_Premultiplied);
     lensed.fill(Qt::transparent);
     for (int y = 0; y < lensed.height(); ++y) {
@@ -593,14 +675,17 @@ void MapView::paintLens(QPainter& painter) const {
         std::min(s.from.y(), s.to.y()) > bounds.bottom()) {
       continue;
     }
+    const bool byCategory = categoriesShown();
+    if (byCategory && (!sampleShown(s.sample) || !sampleShown(s.sample + 1))) continue;
     const int pieces =
         std::clamp(int(std::ceil(QLineF(s.from, s.to).length() / kLensStepPixels)), 1, 200);
     QPainterPath path(lens(s.from));
     for (int i = 1; i <= pieces; ++i)
       path.lineTo(lens(s.from + (s.to - s.from) * (double(i) / pieces)));
-    const QColor color = m_options.clip_names.isEmpty() ? s.color
-                         : m_options.clip_time_ramp     ? render::clip_time_color(s.clip, s.time)
-                                                        : render::clip_color(s.clip);
+    const QColor color = byCategory ? render::category_color(m_categories[std::size_t(s.sample)])
+                         : m_options.clip_names.isEmpty() ? s.color
+                         : m_options.clip_time_ramp       ? render::clip_time_color(s.clip, s.time)
+                                                          : render::clip_color(s.clip);
     painter.setPen(QPen(color, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     painter.drawPath(path);
   }
@@ -849,8 +934,9 @@ bool MapView::eventFilter(QObject* watched, QEvent* event) {
 
 std::pair<Eigen::Vector2d, double> MapView::homeView() const {
   const QRectF area(rect());
-  const QTransform home = render::map_transform(m_coords, area, m_options);
-  const QRectF data = render::data_area(area, m_options);
+  const render::MapPlotOptions shown = shownOptions();
+  const QTransform home = render::map_transform(m_coords, area, shown);
+  const QRectF data = render::data_area(area, shown);
   bool invertible = false;
   const QTransform back = home.inverted(&invertible);
   if (!invertible || home.m11() == 0.0) return {Eigen::Vector2d::Zero(), 1.0};
@@ -865,9 +951,21 @@ QRectF MapView::viewExtent() const {
   return {c.x() - h, c.y() - h, 2 * h, 2 * h};
 }
 
-render::MapPlotOptions MapView::viewOptions() const {
-  if (!isZoomed()) return m_options;
+render::MapPlotOptions MapView::shownOptions() const {
   render::MapPlotOptions options = m_options;
+  if (categoriesShown() && !m_density) {
+    // Coloured by category: no clip or time legend under the plot (the Legend dock names the
+    // values), in the layout, the transform and the painting alike.
+    options.clip_names.clear();
+    options.clip_time_ramp = false;
+    options.time_legend = false;
+  }
+  return options;
+}
+
+render::MapPlotOptions MapView::viewOptions() const {
+  render::MapPlotOptions options = shownOptions();
+  if (!isZoomed()) return options;
   options.extent = viewExtent();
   options.clip_to_frame = true;
   return options;

@@ -81,6 +81,17 @@ class MapView : public QWidget {
   void setSelection(const Eigen::MatrixXd& points, const QPolygonF& outline);
   const Eigen::MatrixXd& selection() const { return m_selection; }
   const QPolygonF& selectionOutline() const { return m_selectionOutline; }
+  /// The colour of a compared clip (setComparison): teal, in neither the time ramp's ends nor the
+  /// takes', highlight's or selection's colours.
+  static QColor comparisonColor() { return QColor(0, 140, 150); }
+  /// A clip compared with the one playing: its trajectory (#frames by ≥ 2, map coordinates)
+  /// drawn over the map in comparisonColor(), and its frame's point as a ring in that colour
+  /// (nothing: none). An empty trajectory: no comparison. setMap, setDensityMap and clearMap
+  /// remove it.
+  void setComparison(const Eigen::MatrixXd& trajectory,
+                     const std::optional<Eigen::Vector2d>& point);
+  const Eigen::MatrixXd& comparisonTrajectory() const { return m_comparison; }
+  std::optional<Eigen::Vector2d> comparisonPoint() const { return m_comparisonPoint; }
   /// The takes drawn over the map (replacing those before).
   void setTakePaths(std::vector<TakePath> paths);
   const std::vector<TakePath>& takePaths() const { return m_takes; }
@@ -101,6 +112,23 @@ class MapView : public QWidget {
   /// (and the pointer on top). setMap() afterwards replaces both.
   void setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
                      const Eigen::MatrixXd& trajectory, const render::MapPlotOptions& options);
+  /// The category of a sample that is hidden (setSampleCategories): not drawn, not picked.
+  static constexpr int kHiddenCategory = -2;
+  /// Colours the map's samples by category — one entry per sample: a computed map's rows
+  /// (setMap), a saved map's density points (setDensityMap) — each in render::category_color(c)
+  /// (the CLI's palette; −1: the grey of "other"), or kHiddenCategory: left out of the drawing
+  /// (and of hover, click, nearest and selection, which ask sampleShown). A computed map's
+  /// trajectory is drawn in its samples' colours, framed as the whole map; a saved map's density
+  /// image mixes the colours of each pixel's samples (categoryDensityImage). Empty, or a count that
+  /// is not the map's: the map's own colours. setMap, setDensityMap and clearMap remove them.
+  void setSampleCategories(std::vector<int> categories);
+  const std::vector<int>& sampleCategories() const { return m_categories; }
+  /// Whether the samples are coloured by category (setSampleCategories, of the map shown).
+  bool categoriesShown() const;
+  /// Whether sample `sample` is drawn: false for a hidden one (and out of range).
+  bool sampleShown(int sample) const;
+  /// Whether some sample is hidden.
+  bool hidesSamples() const { return m_hidden > 0; }
   /// Replaces the trajectory over the density image (another clip of the saved map).
   void setTrajectory(const Eigen::MatrixXd& trajectory);
   bool hasDensity() const { return m_density != nullptr; }
@@ -221,7 +249,10 @@ class MapView : public QWidget {
 
  private:
   enum class Gesture { None, Press, Drag, Sketch, Control, Key, Pan, Select };
-  /// m_options with the zoomed view's extent (clipped to the frame); m_options when not zoomed.
+  /// m_options as shown: without the clip or time legend while coloured by category.
+  render::MapPlotOptions shownOptions() const;
+  /// shownOptions() with the zoomed view's extent (clipped to the frame); as they are when not
+  /// zoomed.
   render::MapPlotOptions viewOptions() const;
   /// The whole map's square: its centre and half side (map units), as m_options frame it.
   std::pair<Eigen::Vector2d, double> homeView() const;
@@ -230,6 +261,8 @@ class MapView : public QWidget {
   /// Whether Space pressed now belongs to the map (the mouse over it, no text field focused).
   bool wantsSpace() const;
   void paintTakes(QPainter& painter) const;
+  /// The compared clip's trajectory and ring (setComparison).
+  void paintComparison(QPainter& painter) const;
   /// A key marker: a numbered disc at `pixel`.
   static void paintKey(QPainter& painter, const QPointF& pixel, int number, bool pending);
   void addSketchPoint(const QPointF& pixel);
@@ -247,12 +280,19 @@ class MapView : public QWidget {
   void paintMarks(QPainter& painter, const Eigen::MatrixXd& points, const QColor& color) const;
   /// The selection's outline (or the one being drawn) in widget pixels.
   QPolygonF selectionPixels() const;
+  /// The computed map's trajectory (paint_map), coloured by category when categoriesShown():
+  /// hidden samples left out as gaps, framed as the whole map.
+  void paintTrajectory(QPainter& painter, const render::MapPlotOptions& options) const;
+  /// The density image of `points` at `toPixel` and `size`: by category when categoriesShown().
+  QImage density(const QTransform& toPixel, const QSize& size) const;
   /// The busy text over the greyed map (see setBusyText).
   void paintBusy(QPainter& painter) const;
 
   Eigen::MatrixXd m_coords;
   std::vector<int> m_segmentStarts;
   std::shared_ptr<const Eigen::MatrixXd> m_density;  ///< a saved map's points, or none
+  std::vector<int> m_categories;                     ///< per sample (setSampleCategories)
+  Eigen::Index m_hidden = 0;                         ///< samples of kHiddenCategory
   mutable QImage m_densityImage;                     ///< binned at m_densitySize; null when stale
   mutable QSize m_densitySize;
   render::MapPlotOptions m_options;
@@ -281,6 +321,8 @@ class MapView : public QWidget {
   bool m_lensVisible = false;
   QPointF m_lensCenter;
   double m_lensPower = 3.0;
+  Eigen::MatrixXd m_comparison;  ///< setComparison's trajectory (#frames by 2)
+  std::optional<Eigen::Vector2d> m_comparisonPoint;
   Eigen::MatrixXd m_highlight;   ///< setHighlight's points (#points by 2)
   Eigen::MatrixXd m_selection;   ///< setSelection's points
   QPolygonF m_selectionOutline;  ///< map coordinates

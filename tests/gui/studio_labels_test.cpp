@@ -1,0 +1,487 @@
+// Colour by label (View → Colour by, the Legend dock): a saved map of the 12 labelled Bandai takes
+// (dataset-1_{action}_{style}_{take}.bvh, labels read from their names and saved in /labels) and a
+// map computed here of four of them (labels read from the names in Studio) are drawn in the CLI's
+// category colours; the legend lists each value with its frames; a click hides a value (its
+// frames neither drawn nor found by hover, click, the Nearest panel or a selection) and a
+// Ctrl-click shows it alone.
+#include <unistd.h>
+
+#include <QComboBox>
+#include <QDir>
+#include <QImage>
+#include <QLabel>
+#include <QListWidget>
+#include <QMenu>
+#include <QMenuBar>
+#include <QPushButton>
+#include <QTest>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "explore/explore_panels.h"
+#include "explore/legend_panel.h"
+#include "explore/map_coloring.h"
+#include "explore/nearest_panel.h"
+#include "explore/selection_panel.h"
+#include "map/category_density.h"
+#include "map/map_gestures.h"
+#include "map/map_view.h"
+#include "motionmap/core/error.h"
+#include "motionmap/io/load.h"
+#include "motionmap/mapfile/saved_map.h"
+#include "motionmap/pipeline/clip_map.h"
+#include "motionmap/pipeline/labels.h"
+#include "motionmap/render/map_plot.h"
+#include "studio_test_util.h"
+
+namespace motionmap::studio {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kBandai = std::string(MOTIONMAP_SHARED_DATA) + "/bandai";
+
+/// The twelve takes, in name order.
+std::vector<std::string> bandaiPaths() {
+  std::vector<std::string> paths;
+  if (!fs::is_directory(kBandai)) return paths;
+  for (const auto& entry : fs::directory_iterator(kBandai)) {
+    if (entry.path().extension() == ".bvh") paths.push_back(entry.path().string());
+  }
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+/// "walk" of ".../dataset-1_walk_old_001.bvh" (part 1 of the stem split at '_').
+std::string actionOf(const std::string& path) {
+  const std::string stem = fs::path(path).stem().string();
+  const std::size_t a = stem.find('_') + 1;
+  return stem.substr(a, stem.find('_', a) - a);
+}
+
+/// The colour of `pixel` of a premultiplied image, unpremultiplied.
+QColor colourAt(const QImage& image, int x, int y) {
+  return QColor::fromRgba(qUnpremultiply(image.pixel(x, y)));
+}
+
+bool near(const QColor& a, const QColor& b, int tolerance) {
+  return std::abs(a.red() - b.red()) <= tolerance && std::abs(a.green() - b.green()) <= tolerance &&
+         std::abs(a.blue() - b.blue()) <= tolerance;
+}
+
+/// Whether premultiplied pixel `pixel` is `colour` at its opacity (within `tolerance` a channel).
+bool inColour(QRgb pixel, const QColor& colour, int tolerance = 1) {
+  const int a = qAlpha(pixel);
+  return a > 0 && std::abs(qRed(pixel) - colour.red() * a / 255) <= tolerance &&
+         std::abs(qGreen(pixel) - colour.green() * a / 255) <= tolerance &&
+         std::abs(qBlue(pixel) - colour.blue() * a / 255) <= tolerance;
+}
+
+/// Clicks row `row` of the legend (with `modifiers`).
+void clickRow(LegendPanel* legend, int row, Qt::KeyboardModifiers modifiers = {}) {
+  QListWidget* list = legend->list();
+  QTest::mouseClick(list->viewport(), Qt::LeftButton, modifiers,
+                    list->visualItemRect(list->item(row)).center());
+}
+
+/// The row of value `value` in the colouring's entries (−1: none).
+int entryOf(const MapColoring& coloring, const QString& value) {
+  for (std::size_t e = 0; e < coloring.entries().size(); ++e)
+    if (coloring.entries()[e].value == value) return int(e);
+  return -1;
+}
+
+// The twelve takes' PCA map saved with their labels (action, style, take) as lib.mmap.h5.
+class LabelledLibrary : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    m_paths = bandaiPaths();
+    if (m_paths.size() != 12) GTEST_SKIP() << "the 12 Bandai takes are not in " << kBandai;
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    m_dir = fs::temp_directory_path() /
+            ("motionmap-studio-labels-" + std::to_string(::getpid()) + "-" + info->name());
+    fs::remove_all(m_dir);
+    fs::create_directories(m_dir);
+    std::vector<Clip> clips;
+    for (const std::string& path : m_paths) clips.push_back(io::load_clip(path));
+    pipeline::ClipMapOptions options;
+    options.embed.method = embed::Method::Pca;
+    const pipeline::ClipMap map = pipeline::map_clips(clips, options);
+    mapfile::MapFile file = mapfile::make_map_file(clips, map, options);
+    file.labels = pipeline::sample_labels(
+        pipeline::labels_from_names(m_paths, pipeline::NamePattern("{action}_{style}_{take}")),
+        map.features->clip_of, map.features->frame_of);
+    m_file = (m_dir / "lib.mmap.h5").string();
+    mapfile::write_map_file(m_file, file);
+    m_window = std::make_unique<MainWindow>();
+    m_window->setInteractive(false);
+    m_window->resize(1280, 720);
+    m_window->show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(m_window.get()));
+    ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)))
+        << m_window->lastError().toStdString();
+    m_coloring = m_window->explore()->coloring();
+    m_legend = m_window->explore()->legend();
+  }
+  void TearDown() override {
+    m_window.reset();
+    if (!m_dir.empty()) fs::remove_all(m_dir);
+  }
+
+  const mapfile::MapFile& file() const { return m_window->savedMap()->file(); }
+  /// The action of map row `row`, from its clip's file name.
+  std::string actionOfRow(int row) const {
+    return actionOf(m_paths[std::size_t(file().clip_of[std::size_t(row)])]);
+  }
+  QPointF pixelOf(int row) const {
+    const auto& xy = file().coordinates;
+    return m_window->mapView()->toWidget(Eigen::Vector2d(xy(row, 0), xy(row, 1)));
+  }
+
+  fs::path m_dir;
+  std::string m_file;
+  std::vector<std::string> m_paths;
+  std::unique_ptr<MainWindow> m_window;
+  MapColoring* m_coloring = nullptr;
+  LegendPanel* m_legend = nullptr;
+};
+
+TEST_F(LabelledLibrary, OffersTimeClipAndTheMapsLabels) {
+  EXPECT_EQ(m_coloring->choices(), QStringList({"time", "clip", "action", "style", "take"}));
+  EXPECT_EQ(m_coloring->colorBy(), "time");
+  EXPECT_TRUE(m_coloring->entries().empty());
+  EXPECT_FALSE(m_window->mapView()->categoriesShown());
+  EXPECT_FALSE(m_legend->isVisible());  // until a label colours the map
+}
+
+TEST_F(LabelledLibrary, LegendCountsAreTheFramesOfEachActionInThePalettesColours) {
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  EXPECT_TRUE(m_legend->isVisible());
+  EXPECT_EQ(m_legend->choice()->currentText(), "action");
+  // The frames of each action, counted from the clips' names.
+  std::map<std::string, int> frames;
+  for (int r = 0; r < file().num_samples(); ++r) ++frames[actionOfRow(r)];
+  ASSERT_EQ(frames.size(), 5u);  // bow, dash, punch, run, walk
+  const auto& entries = m_coloring->entries();
+  ASSERT_EQ(entries.size(), frames.size());
+  ASSERT_EQ(m_legend->list()->count(), int(frames.size()));
+  int e = 0;
+  for (const auto& [action, count] : frames) {  // value order
+    EXPECT_EQ(entries[std::size_t(e)].value.toStdString(), action);
+    EXPECT_EQ(entries[std::size_t(e)].count, count) << action;
+    EXPECT_EQ(m_legend->list()->item(e)->text(),
+              QString("%1 (%2)").arg(QString::fromStdString(action)).arg(count));
+    // Five values: each in its own colour of the CLI's palette, in value order.
+    EXPECT_EQ(entries[std::size_t(e)].color(), render::category_color(e));
+    ++e;
+  }
+  EXPECT_EQ(m_legend->summary()->text(),
+            QString("%1 of %1 frames shown").arg(file().num_samples()));
+  // Each sample's category is its action's.
+  const std::vector<int>& categories = m_window->mapView()->sampleCategories();
+  ASSERT_EQ(int(categories.size()), file().num_samples());
+  for (int r = 0; r < file().num_samples(); ++r) {
+    const int expected = int(std::distance(frames.begin(), frames.find(actionOfRow(r))));
+    ASSERT_EQ(categories[std::size_t(r)], expected) << "row " << r;
+  }
+  // The density image: every action's colour is drawn (in the pixels its frames alone fill).
+  const QImage image = m_window->mapView()->densityImage();
+  for (int c = 0; c < 5; ++c) {
+    int close = 0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x)
+        close += inColour(image.pixel(x, y), render::category_color(c));
+    EXPECT_GT(close, 0) << "no pixel in the colour of "
+                        << entries[std::size_t(c)].value.toStdString();
+  }
+}
+
+TEST_F(LabelledLibrary, AHiddenActionIsNeitherDrawnNorPicked) {
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  const int walk = entryOf(*m_coloring, "walk");
+  ASSERT_GE(walk, 0);
+  const int walkFrames = m_coloring->entries()[std::size_t(walk)].count;
+  clickRow(m_legend, walk);  // a plain click hides it
+  ASSERT_FALSE(m_coloring->entries()[std::size_t(walk)].shown);
+  MapView* view = m_window->mapView();
+  EXPECT_TRUE(view->hidesSamples());
+  EXPECT_EQ(m_coloring->shownSamples(), file().num_samples() - walkFrames);
+  EXPECT_EQ(m_legend->summary()->text(), QString("%1 of %2 frames shown")
+                                             .arg(file().num_samples() - walkFrames)
+                                             .arg(file().num_samples()));
+  EXPECT_TRUE(m_legend->list()->item(walk)->font().strikeOut());
+  // Not drawn: no pixel of the density image in walk's colour.
+  const QImage image = view->densityImage();
+  const QColor walkColour = m_coloring->entries()[std::size_t(walk)].color();
+  int painted = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (qAlpha(image.pixel(x, y)) > 0) {
+        ++painted;
+        ASSERT_FALSE(inColour(image.pixel(x, y), walkColour)) << x << "," << y;
+      }
+  EXPECT_GT(painted, 100);
+  // Not picked by hover (and so not by a click), nor by the nearest frames, nor by a selection.
+  auto* gestures = m_window->findChild<MapGestures*>();
+  ASSERT_NE(gestures, nullptr);
+  auto* nearest = m_window->findChild<NearestPanel*>();
+  ASSERT_NE(nearest, nullptr);
+  int walkRows = 0, found = 0;
+  for (int r = 0; r < file().num_samples(); r += 7) {
+    if (actionOfRow(r) != "walk") continue;
+    ++walkRows;
+    const QPointF pixel = pixelOf(r);
+    const int hit = gestures->sampleNear(view->toMap(pixel), pixel);
+    if (hit >= 0) {
+      ++found;
+      EXPECT_NE(actionOfRow(hit), "walk") << "row " << r << " picked hidden row " << hit;
+    }
+    if (r % 70 == 0) {
+      nearest->showAround(view->toMap(pixel));
+      for (const NearestPanel::Entry& n : nearest->entries())
+        EXPECT_NE(actionOf(m_paths[std::size_t(n.clip)]), "walk");
+    }
+  }
+  EXPECT_GT(walkRows, 50);
+  // Hovering over a walk frame names no walk clip.
+  for (int r = 0; r < file().num_samples(); r += 97) {
+    if (actionOfRow(r) != "walk") continue;
+    QTest::mouseMove(view, pixelOf(r).toPoint());
+    EXPECT_FALSE(view->hoverText().contains("_walk_")) << view->hoverText().toStdString();
+  }
+  auto* selection = m_window->findChild<SelectionPanel*>();
+  ASSERT_NE(selection, nullptr);
+  const QRectF all = view->viewExtent().adjusted(-1, -1, 1, 1);
+  selection->select(QPolygonF(all));
+  EXPECT_EQ(int(selection->frames().size()), file().num_samples() - walkFrames);
+  for (const SelectedFrame& f : selection->frames())
+    ASSERT_NE(actionOf(m_paths[std::size_t(f.clip)]), "walk");
+  // Shown again: picked again.
+  clickRow(m_legend, walk);
+  EXPECT_TRUE(m_coloring->entries()[std::size_t(walk)].shown);
+  EXPECT_FALSE(view->hidesSamples());
+  int row = -1;
+  for (int r = 0; r < file().num_samples() && row < 0; ++r)
+    if (actionOfRow(r) == "walk") row = r;
+  const int hit = gestures->sampleNear(view->toMap(pixelOf(row)), pixelOf(row));
+  ASSERT_GE(hit, 0);
+}
+
+TEST_F(LabelledLibrary, CtrlClickSolosAValueAndAgainShowsAll) {
+  ASSERT_TRUE(m_coloring->setColorBy("style"));
+  const int old = entryOf(*m_coloring, "old");
+  ASSERT_GE(old, 0);
+  clickRow(m_legend, old, Qt::ControlModifier);
+  const auto& entries = m_coloring->entries();
+  for (std::size_t e = 0; e < entries.size(); ++e) EXPECT_EQ(entries[e].shown, int(e) == old);
+  EXPECT_EQ(m_coloring->shownSamples(), entries[std::size_t(old)].count);
+  const std::vector<int>& categories = m_window->mapView()->sampleCategories();
+  int shown = 0;
+  for (const int c : categories) shown += c != MapView::kHiddenCategory;
+  EXPECT_EQ(shown, entries[std::size_t(old)].count);
+  // Every pixel drawn is old's colour.
+  const QImage image = m_window->mapView()->densityImage();
+  int painted = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (qAlpha(image.pixel(x, y)) > 0) {
+        ++painted;
+        ASSERT_TRUE(inColour(image.pixel(x, y), entries[std::size_t(old)].color()))
+            << x << "," << y;
+      }
+  EXPECT_GT(painted, 50);
+  EXPECT_TRUE(m_legend->showAllButton()->isEnabled());
+  clickRow(m_legend, old, Qt::ControlModifier);  // again: every value
+  for (const auto& e : m_coloring->entries()) EXPECT_TRUE(e.shown);
+  EXPECT_FALSE(m_legend->showAllButton()->isEnabled());
+  // Solo from the menu's action, then Show all.
+  m_coloring->solo(0);
+  EXPECT_EQ(m_coloring->shownSamples(), m_coloring->entries()[0].count);
+  QTest::mouseClick(m_legend->showAllButton(), Qt::LeftButton);
+  EXPECT_EQ(m_coloring->shownSamples(), file().num_samples());
+}
+
+TEST_F(LabelledLibrary, TheViewMenuAndTheLegendsChoiceColourTheMap) {
+  // View → Colour by: time, clip and the map's labels, the one in use checked.
+  QMenu* colourBy = nullptr;
+  for (QMenu* menu : m_window->menuBar()->findChildren<QMenu*>())
+    if (menu->title() == "Colour &by") colourBy = menu;
+  ASSERT_NE(colourBy, nullptr);
+  emit colourBy->aboutToShow();
+  QStringList entries;
+  QAction* style = nullptr;
+  for (QAction* a : colourBy->actions()) {
+    if (a->isSeparator()) continue;
+    entries << a->text();
+    if (a->text() == "style") style = a;
+    if (a->text() == "Time") {
+      EXPECT_TRUE(a->isChecked());
+    }
+  }
+  EXPECT_EQ(entries,
+            QStringList({"Time", "Clip", "action", "style", "take", "Labels from file names…"}));
+  ASSERT_NE(style, nullptr);
+  style->trigger();
+  EXPECT_EQ(m_coloring->colorBy(), "style");
+  EXPECT_EQ(m_coloring->entries().size(), 6u);  // normal, old, angry, feminine, proud, tired
+  EXPECT_TRUE(m_legend->isVisible());
+  EXPECT_EQ(m_legend->choice()->currentText(), "style");
+  // The legend's choice: back to time, the map's own colours.
+  const int time = m_legend->choice()->findText("time");
+  ASSERT_GE(time, 0);
+  emit m_legend->choice()->textActivated("time");
+  EXPECT_EQ(m_coloring->colorBy(), "time");
+  EXPECT_FALSE(m_window->mapView()->categoriesShown());
+  EXPECT_EQ(m_legend->list()->count(), 0);
+  // Another map file without labels: time and clip only, the colouring back to time.
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  ASSERT_TRUE(m_window->openFile(QString::fromStdString(m_paths[0])));
+  EXPECT_EQ(m_coloring->colorBy(), "time");
+  EXPECT_EQ(m_coloring->choices(), QStringList({"time"}));
+}
+
+TEST_F(LabelledLibrary, UnknownLabelsAndNamePatternsOnASavedMapAreRefused) {
+  EXPECT_FALSE(m_coloring->setColorBy("mood"));
+  EXPECT_TRUE(m_window->lastError().contains("'mood'")) << m_window->lastError().toStdString();
+  EXPECT_TRUE(m_window->lastError().contains("action"));
+  EXPECT_EQ(m_coloring->colorBy(), "time");
+  EXPECT_FALSE(m_coloring->labelsFromNames("{action}_{style}_{take}"));
+  EXPECT_TRUE(m_window->lastError().contains("saved map has its own labels"));
+}
+
+TEST_F(LabelledLibrary, ClipColoursListEveryClipWithItsFramesAndGreyBeyondThePalette) {
+  ASSERT_TRUE(m_coloring->setColorBy("clip"));
+  const auto& entries = m_coloring->entries();
+  ASSERT_EQ(entries.size(), 12u);
+  // Twelve clips: as many colours as the palette has, none grey.
+  std::set<int> categories;
+  for (std::size_t c = 0; c < entries.size(); ++c) {
+    EXPECT_EQ(entries[c].value.toStdString(), fs::path(m_paths[c]).filename().string());
+    EXPECT_EQ(entries[c].count, file().clips[c].samples);
+    categories.insert(entries[c].category);
+  }
+  EXPECT_EQ(categories.size(), 12u);
+  EXPECT_EQ(*categories.begin(), 0);
+}
+
+TEST_F(LabelledLibrary, ThePictureShowsTheColoursAndTheLegend) {
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  clickRow(m_legend, entryOf(*m_coloring, "bow"));
+  QTest::qWait(50);
+  const QImage picture = m_window->grab().toImage();
+  ASSERT_FALSE(picture.isNull());
+  const QString path = QDir::current().filePath("studio-labels.png");
+  EXPECT_TRUE(picture.save(path)) << path.toStdString();
+  // The legend lies inside the window, beside the map.
+  const QRect legend(m_legend->mapTo(m_window.get(), QPoint(0, 0)), m_legend->size());
+  EXPECT_TRUE(m_window->rect().contains(legend));
+  EXPECT_FALSE(legend.intersects(QRect(m_window->mapView()->mapTo(m_window.get(), QPoint(0, 0)),
+                                       m_window->mapView()->size())));
+}
+
+// A map computed here of four takes, labelled from their names in Studio.
+TEST(StudioLabels, AComputedMapColoursByLabelsReadFromTheClipsNames) {
+  const std::vector<std::string> all = bandaiPaths();
+  if (all.size() != 12) GTEST_SKIP() << "the 12 Bandai takes are not in " << kBandai;
+  std::vector<std::string> paths;
+  for (const std::string& p : all)
+    if (p.find("run_angry") != std::string::npos || p.find("run_old") != std::string::npos ||
+        p.find("walk_angry") != std::string::npos || p.find("walk_old") != std::string::npos)
+      paths.push_back(p);
+  ASSERT_EQ(paths.size(), 4u);
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(1000, 600);
+  w.show();
+  w.setMethod(embed::Method::Pca);
+  ASSERT_TRUE(w.openFile(QString::fromStdString(paths[0])));
+  for (std::size_t i = 1; i < paths.size(); ++i)
+    ASSERT_TRUE(w.addFile(QString::fromStdString(paths[i]))) << w.lastError().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 4; },
+      testing::kTimeoutMs));
+  MapColoring* coloring = w.explore()->coloring();
+  EXPECT_EQ(coloring->choices(), QStringList({"time", "clip"}));
+  // A bad pattern: the library's message.
+  EXPECT_FALSE(coloring->labelsFromNames("{action"));
+  EXPECT_FALSE(w.lastError().isEmpty());
+  ASSERT_TRUE(coloring->labelsFromNames("{action}_{style}_{take}")) << w.lastError().toStdString();
+  EXPECT_EQ(coloring->choices(), QStringList({"time", "clip", "action", "style", "take"}));
+  EXPECT_EQ(coloring->colorBy(), "action");
+  const MapResult& map = *w.currentMap();
+  const auto& clipOf = map.map.features->clip_of;
+  const auto actionOfRow = [&](int r) {
+    return actionOf(paths[std::size_t(clipOf[std::size_t(r)])]);
+  };
+  ASSERT_EQ(coloring->entries().size(), 2u);  // run, walk
+  const int run = entryOf(*coloring, "run"), walk = entryOf(*coloring, "walk");
+  int runFrames = 0;
+  for (std::size_t r = 0; r < clipOf.size(); ++r) runFrames += actionOfRow(int(r)) == "run";
+  EXPECT_EQ(coloring->entries()[std::size_t(run)].count, runFrames);
+  // Walk alone: its samples' pixels in walk's colour, none in run's.
+  coloring->solo(walk);
+  MapView* view = w.mapView();
+  const QImage image = view->grab().toImage();
+  const QColor walkColour = render::category_color(coloring->entries()[std::size_t(walk)].category);
+  const QColor runColour = render::category_color(coloring->entries()[std::size_t(run)].category);
+  const auto& xy = map.map.embedding.coordinates;
+  int walkRows = 0, walkColoured = 0;
+  const qreal dpr = image.devicePixelRatio();
+  for (Eigen::Index r = 0; r < xy.rows(); ++r) {
+    const QPointF p = view->toWidget(Eigen::Vector2d(xy(r, 0), xy(r, 1))) * dpr;
+    const QColor c = image.pixelColor(p.toPoint());
+    EXPECT_FALSE(near(c, runColour, 20)) << "row " << r;
+    if (actionOfRow(int(r)) == "walk") {
+      ++walkRows;
+      walkColoured += near(c, walkColour, 40);
+    }
+  }
+  EXPECT_GT(walkColoured, walkRows * 8 / 10) << walkColoured << " of " << walkRows;
+  coloring->showAll();
+  EXPECT_TRUE(w.grab().toImage().save(QDir::current().filePath("studio-labels-computed.png")));
+  coloring->solo(walk);
+  // Run hidden: hovering over its frames finds none of them.
+  auto* gestures = w.findChild<MapGestures*>();
+  for (Eigen::Index r = 0; r < xy.rows(); r += 5) {
+    if (actionOfRow(int(r)) != "run") continue;
+    const QPointF pixel = view->toWidget(Eigen::Vector2d(xy(r, 0), xy(r, 1)));
+    const int hit = gestures->sampleNear(view->toMap(pixel), pixel);
+    if (hit >= 0) {
+      EXPECT_EQ(actionOfRow(hit), "walk");
+    }
+  }
+  // Another method: the labels and the solo stay with the same clips.
+  w.setMethod(embed::Method::Isomap);
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        return w.currentMap() && w.currentMap()->options.embed.method == embed::Method::Isomap;
+      },
+      testing::kTimeoutMs));
+  EXPECT_EQ(coloring->colorBy(), "action");
+  EXPECT_FALSE(coloring->entries()[std::size_t(run)].shown);
+  EXPECT_TRUE(view->hidesSamples());
+}
+
+TEST(StudioLabels, TheCategoryDensityMixesColoursAndLeavesHiddenPointsOut) {
+  Eigen::MatrixXd points(4, 2);
+  points << 0.5, 0.5, 0.5, 0.5, 1.5, 0.5, 1.5, 0.5;
+  const QImage image =
+      categoryDensityImage(points, {0, 1, 2, MapView::kHiddenCategory}, QTransform(), QSize(2, 1));
+  ASSERT_EQ(image.size(), QSize(2, 1));
+  // Pixel 0: the mean of colours 0 and 1 at full opacity (the most points); pixel 1: colour 2
+  // alone (its hidden point left out) at the opacity of one point of two.
+  const QColor a = render::category_color(0), b = render::category_color(1);
+  EXPECT_TRUE(near(
+      colourAt(image, 0, 0),
+      QColor((a.red() + b.red()) / 2, (a.green() + b.green()) / 2, (a.blue() + b.blue()) / 2), 2));
+  EXPECT_EQ(qAlpha(image.pixel(0, 0)), 255);
+  EXPECT_TRUE(near(colourAt(image, 1, 0), render::category_color(2), 2));
+  EXPECT_EQ(qAlpha(image.pixel(1, 0)),
+            int(std::lround(255 * (0.12 + 0.88 * std::log1p(1.0) / std::log1p(2.0)))));
+  EXPECT_THROW(categoryDensityImage(points, {0, 1}, QTransform(), QSize(2, 1)), ParameterError);
+  EXPECT_TRUE(categoryDensityImage(points, {0, 0, 0, 0}, QTransform(), QSize()).isNull());
+}
+
+}  // namespace
+}  // namespace motionmap::studio

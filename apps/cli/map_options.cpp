@@ -81,6 +81,9 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                   "umap: layout epochs (default 0: 500 up to 10 000 frames, 200 above)");
   sub->add_option("--max-iter", opt.max_iterations,
                   "gplvm: L-BFGS iterations at most (default 300)");
+  sub->add_option("--inducing", opt.inducing,
+                  "gplvm: inducing points of the sparse model, 1 to the number of frames "
+                  "(default 0: the full model up to 1000 frames, 100 inducing points above)");
   sub->add_option("--seed", opt.seed,
                   "umap: seed of the layout's random numbers; one seed, one map, whatever the "
                   "thread count (default 0)");
@@ -255,6 +258,7 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   e.min_dist = opt.min_dist;
   e.epochs = opt.epochs;
   e.max_iterations = opt.max_iterations;
+  e.inducing = opt.inducing;
   e.seed = opt.seed;
   e.reg = opt.reg;
   e.standardize = opt.standardize;

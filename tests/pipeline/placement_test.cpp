@@ -37,7 +37,9 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 std::vector<Case> all_cases() {
   std::vector<Case> out;
   for (Method m : embed::all_methods()) {
-    if (m == Method::Gplvm) continue;  // places no frames yet: GplvmMapsSayTheyCannotPlace
+    // gplvm places a frame at the latent point that best explains it, near but not on its own:
+    // GplvmMapsPlaceFrames here, tests/embed/gplvm_test.cpp.
+    if (m == Method::Gplvm) continue;
     out.push_back({m, MapPath::Dense});
     if (embed::reads_distances(m)) out.push_back({m, MapPath::Landmarks});
   }
@@ -135,13 +137,22 @@ TEST_P(Placement, AKeptSearchPlacesAsAFreshOne) {
 INSTANTIATE_TEST_SUITE_P(EveryMethodAndPath, Placement, ::testing::ValuesIn(all_cases()),
                          case_name);
 
-TEST(Placement, GplvmMapsSayTheyCannotPlace) {
+TEST(Placement, GplvmMapsPlaceFrames) {
   ClipMapOptions options;
   options.embed.method = Method::Gplvm;
   options.embed.max_iterations = 5;
+  options.features.stride = 3;
   const ClipMap map = map_clips(std::span(&clip_64_08(), 1), options);
-  EXPECT_THAT(test::error_message<ParameterError>([&] { map_model(map, options); }),
-              HasSubstr("gplvm: a GP-LVM map cannot place new frames yet"));
+  const Eigen::MatrixXd own = map.embedding.coordinates;
+  const embed::MapModel model = map_model(map, options);
+  const Eigen::MatrixXd X = map.features->X;
+  const Eigen::MatrixXd placed = embed::place(model, {.features = &X});
+  ASSERT_EQ(placed.rows(), own.rows());
+  EXPECT_TRUE(placed.allFinite());
+  // Within the map's extent (its latent points have unit variance per axis).
+  EXPECT_LE(placed.cwiseAbs().maxCoeff(), own.cwiseAbs().maxCoeff() + 1.0);
+  EXPECT_THAT(test::error_message<ParameterError>([&] { embed::place(model, {}); }),
+              HasSubstr("this map places frames by their features X; none given"));
 }
 
 TEST(Placement, BadInputIsAClearError) {

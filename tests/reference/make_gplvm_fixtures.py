@@ -20,6 +20,19 @@ over X and theta = (log sf2, log l, log sb2, log sn2). Files ("# key value..." h
                header theta, objective, grad_theta; matrix [X0 | dL/dX]
   random.txt   the same at a seeded random X and theta
 
+  sparse_start.txt, sparse_random.txt
+               the sparse model's objective (embed/gplvm.h: Titsias's collapsed bound, eps =
+               1e-8 sf2, s = sn2 + eps, K_uu = k(Z, Z) + eps I, Q = K_fu K_uu^-1 K_uf):
+
+    L_s = D/2 log|Q + sI| + 1/2 tr((Q + sI)^-1 Y Y^T) + N D/2 log 2pi + D/(2s)(N(sf2 + sb2) - tr Q)
+          + 1/2 |X|^2 + N q/2 log 2pi
+
+               computed densely (the N x N matrix Q + sI, unlike MotionMap's M x M form), and its
+               gradients by complex-step differentiation (Im L(p + i h e_j) / h, h = 1e-30:
+               exact to rounding, and independent of MotionMap's analytic derivation), at X, Z =
+               rows SPARSE_ROWS of X perturbed by seeded noise, theta: header theta, objective,
+               grad_theta, rows; matrix [X | dL/dX] over [Z | dL/dZ] (N + M rows)
+
 Not written: a common optimum. On this clip (D = 120 features ≥ N = 91 frames) the likelihood has
 none: the noise variance falls towards 0 and the lengthscale with it (scipy's L-BFGS-B, 14 587
 iterations from the start below: log sn2 = -12.4 and falling), as MotionMap's fit does.
@@ -69,6 +82,69 @@ def objective(Y, X, theta):
     return L, dX, dtheta
 
 
+SPARSE_ROWS = [0, 7, 15, 22, 31, 40, 48, 57, 66, 75, 83, 90]
+
+
+def kernel(A, B, sf2, l, sb2):
+    """k(a, b) without the noise; analytic in every argument (complex-step safe)."""
+    R2 = np.sum((A[:, None, :] - B[None, :, :]) ** 2, axis=2)
+    return sf2 * np.exp(-R2 / (2 * l * l)) + sb2
+
+
+def cholesky(A):
+    """The lower Cholesky factor without conjugation (numpy's would conjugate a complex A)."""
+    n = A.shape[0]
+    L = np.zeros_like(A)
+    for j in range(n):
+        d = A[j, j] - np.sum(L[j, :j] * L[j, :j])
+        L[j, j] = np.sqrt(d)
+        L[j + 1:, j] = (A[j + 1:, j] - L[j + 1:, :j] @ L[j, :j]) / L[j, j]
+    return L
+
+
+def sparse_objective(Y, X, Z, theta):
+    N, D = Y.shape
+    q = X.shape[1]
+    sf2, l, sb2, sn2 = np.exp(theta[0]), np.exp(theta[1]), np.exp(theta[2]), np.exp(theta[3])
+    eps = JITTER * sf2
+    s = sn2 + eps
+    Kfu = kernel(X, Z, sf2, l, sb2)
+    Kuu = kernel(Z, Z, sf2, l, sb2) + eps * np.eye(Z.shape[0])
+    Q = Kfu @ np.linalg.solve(Kuu, Kfu.T)
+    C = Q + s * np.eye(N)
+    logdet = 2 * np.sum(np.log(np.diag(cholesky(C))))
+    t = N * (sf2 + sb2)
+    return (0.5 * D * logdet + 0.5 * np.sum(Y * np.linalg.solve(C, Y))
+            + 0.5 * N * D * np.log(2 * np.pi) + 0.5 * D / s * (t - np.trace(Q))
+            + 0.5 * np.sum(X * X) + 0.5 * N * q * np.log(2 * np.pi))
+
+
+def complex_step_gradient(f, p, h=1e-30):
+    g = np.zeros(p.size)
+    for j in range(p.size):
+        pc = p.astype(complex)
+        pc[j] += 1j * h
+        g[j] = f(pc).imag / h
+    return g
+
+
+def sparse_fixture(name, Y, X, Z, theta):
+    N, q = X.shape
+    M = Z.shape[0]
+
+    def f(p):
+        return sparse_objective(Y, p[:N * q].reshape(N, q), p[N * q:N * q + M * q].reshape(M, q),
+                                p[N * q + M * q:])
+    p = np.concatenate([X.ravel(), Z.ravel(), theta])
+    L = sparse_objective(Y, X, Z, theta)
+    g = complex_step_gradient(f, p)
+    dX = g[:N * q].reshape(N, q)
+    dZ = g[N * q:N * q + M * q].reshape(M, q)
+    write(name, [("theta", fmt(theta)), ("objective", "%.17g" % L),
+                 ("grad_theta", fmt(g[N * q + M * q:])), ("rows", "%d %d" % (N, M))],
+          np.vstack([np.hstack([X, dX]), np.hstack([Z, dZ])]))
+
+
 def start(Y):
     U, S, Vt = np.linalg.svd(Y, full_matrices=False)
     X0 = U[:, :2] * S[:2]
@@ -109,6 +185,11 @@ def main():
     L, dX, dt = objective(Y, Xr, thetar)
     write("random.txt", [("theta", fmt(thetar)), ("objective", "%.17g" % L),
                          ("grad_theta", fmt(dt))], np.hstack([Xr, dX]))
+    # The sparse model: 12 inducing inputs near rows of X.
+    Z0 = X0[SPARSE_ROWS] + rng.normal(scale=0.05, size=(len(SPARSE_ROWS), 2))
+    sparse_fixture("sparse_start.txt", Y, X0, Z0, theta0)
+    Zr = Xr[SPARSE_ROWS] + rng.normal(scale=0.3, size=(len(SPARSE_ROWS), 2))
+    sparse_fixture("sparse_random.txt", Y, Xr, Zr, thetar)
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@
 #include "motionmap/embed/detail/progress.h"
 #include "motionmap/embed/detail/routines.h"
 #include "motionmap/embed/eigen.h"
+#include "motionmap/embed/gplvm.h"
 #include "motionmap/embed/k_range.h"
 
 namespace motionmap::embed {
@@ -472,6 +473,13 @@ void EmbedOptions::validate(int num_frames) const {
     throw ParameterError(who + "max_iterations = " + std::to_string(max_iterations) +
                          " is out of range; it must be in [1, 100000] (default 300)");
   }
+  if (method == Method::Gplvm && (inducing < 0 || inducing > num_frames)) {
+    throw ParameterError(who + "inducing = " + std::to_string(inducing) +
+                         " is out of range; it must be in [1, " + std::to_string(num_frames) +
+                         "] (the number of frames), or 0 for the default (the full model up to " +
+                         std::to_string(kGplvmSparseAbove) + " frames, " +
+                         std::to_string(kGplvmDefaultInducing) + " inducing points above)");
+  }
   if (method == Method::Umap && seed < 0) {
     throw ParameterError(who + "seed = " + std::to_string(seed) +
                          " is out of range; it must be ≥ 0");
@@ -524,8 +532,19 @@ double estimate_bytes(Method method, int frames, int values, int columns, bool d
   // umap: the directed and symmetric memberships (sparse matrices, triplets) and the layout's
   // edge arrays (two ints and four doubles per directed edge).
   if (method == Method::Umap) bytes += G * k * (3 * 16.0 + 2 * 40.0 + 2 * 12.0);
-  // gplvm: K, its factor, K⁻¹, dL/dK and the RBF and distance matrices (N × N each).
-  if (method == Method::Gplvm) bytes += 8.0 * F * F * 6.0;
+  // gplvm, full model: K, its factor, K⁻¹, dL/dK and the RBF and distance matrices (N × N
+  // each); sparse: K_uf, its RBF part, distances, dL/dK_uf, its product with the RBF part and
+  // P⁻¹K_uf Y Yᵀ (M × N each), L-BFGS's 6 pairs of history vectors (2 × (N + M) × q each), Y
+  // and its copy (N × values).
+  if (method == Method::Gplvm) {
+    const double M = gplvm_inducing_points(frames, options.inducing);
+    if (M == 0) {
+      bytes += 8.0 * F * F * 6.0;
+    } else {
+      bytes += 8.0 * (F * M * 6.0 + 12.0 * (F + M) * options.dimensions + 2.0 * F * columns +
+                      8.0 * M * M);
+    }
+  }
   return bytes;
 }
 

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
+#include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <LBFGS.h>
 #include <Eigen/Cholesky>
@@ -24,6 +27,13 @@ Eigen::MatrixXd squared_distances(const Eigen::MatrixXd& X) {
   const Eigen::VectorXd n2 = X.rowwise().squaredNorm();
   Eigen::MatrixXd R2 = (-2.0 * X * X.transpose()).colwise() + n2;
   R2.rowwise() += n2.transpose();
+  return R2.cwiseMax(0.0);
+}
+
+// |a_i − b_j|² (rows of A by rows of B).
+Eigen::MatrixXd cross_squared_distances(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  Eigen::MatrixXd R2 = (-2.0 * A * B.transpose()).colwise() + A.rowwise().squaredNorm();
+  R2.rowwise() += B.rowwise().squaredNorm().transpose();
   return R2.cwiseMax(0.0);
 }
 
@@ -74,6 +84,118 @@ double gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
   return value;
 }
 
+double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
+                              const Eigen::MatrixXd& Z, const GplvmKernel& kernel,
+                              Eigen::MatrixXd* grad_X, Eigen::MatrixXd* grad_Z,
+                              Eigen::VectorXd* grad_kernel) {
+  const Eigen::Index N = Y.rows(), D = Y.cols(), q = X.cols(), M = Z.rows();
+  const double sf2 = std::exp(kernel.log_rbf_variance), l2 = std::exp(2 * kernel.log_lengthscale);
+  const double sb2 = std::exp(kernel.log_bias_variance), sn2 = std::exp(kernel.log_noise_variance);
+  const double eps = kJitter * sf2, s = sn2 + eps;
+  const Eigen::MatrixXd R2uf = cross_squared_distances(Z, X);  // M × N
+  const Eigen::MatrixXd Kuf_rbf = sf2 * (-0.5 / l2 * R2uf).array().exp().matrix();
+  const Eigen::MatrixXd Kuf = Kuf_rbf.array() + sb2;
+  const Eigen::MatrixXd R2uu = squared_distances(Z);
+  const Eigen::MatrixXd Kuu_rbf = sf2 * (-0.5 / l2 * R2uu).array().exp().matrix();
+  Eigen::MatrixXd Kuu = Kuu_rbf.array() + sb2;
+  Kuu.diagonal().array() += eps;
+  const Eigen::LLT<Eigen::MatrixXd> llt(Kuu);
+  if (llt.info() != Eigen::Success || !Kuu.allFinite() || !(s > 0.0)) {
+    throw NumericalError(
+        "gplvm: the inducing inputs' kernel matrix is not positive definite (σ_f² " +
+        std::to_string(sf2) + ", ℓ " + std::to_string(std::sqrt(l2)) + ", σ_n² " +
+        std::to_string(sn2) + ")");
+  }
+  const auto L = llt.matrixL();
+  // Whitened by K_uu = L Lᵀ: Φ_w = L⁻¹ K_uf K_fu L⁻ᵀ, B = I + Φ_w / s (so that
+  // P = K_uu + K_uf K_fu / s = L B Lᵀ and log|Q + sI| = log|B| + N log s), Ψ_w = L⁻¹ K_uf Y,
+  // c = B⁻¹ Ψ_w (tr(Yᵀ K_fu P⁻¹ K_uf Y) = Ψ_w·c).
+  const Eigen::MatrixXd Phi = Kuf * Kuf.transpose();
+  const Eigen::MatrixXd LiPhi = L.solve(Phi);
+  const Eigen::MatrixXd Phi_w = L.solve(LiPhi.transpose());
+  Eigen::MatrixXd B = Phi_w / s;
+  B.diagonal().array() += 1.0;
+  const Eigen::LLT<Eigen::MatrixXd> lltB(B);
+  if (lltB.info() != Eigen::Success || !B.allFinite()) {
+    throw NumericalError(
+        "gplvm: the sparse model's matrix I + K_uu⁻¹K_uf K_fu/s is not positive "
+        "definite");
+  }
+  const Eigen::MatrixXd Psi_w = L.solve(Kuf * Y);
+  const Eigen::MatrixXd c = lltB.solve(Psi_w);
+  const double quad = Psi_w.cwiseProduct(c).sum();
+  const double log_det_B = 2.0 * lltB.matrixLLT().diagonal().array().log().sum();
+  const double yy = Y.squaredNorm();
+  const double t = double(N) * (sf2 + sb2), trQ = Phi_w.trace();
+  const double two_pi = std::log(2.0 * std::numbers::pi);
+  const double dD = double(D), dN = double(N);
+  const double value = 0.5 * dD * (log_det_B + dN * std::log(s)) + 0.5 * (yy / s - quad / (s * s)) +
+                       0.5 * dN * dD * two_pi + 0.5 * dD / s * (t - trQ) + 0.5 * X.squaredNorm() +
+                       0.5 * double(N * q) * two_pi;
+  if (grad_X == nullptr && grad_Z == nullptr && grad_kernel == nullptr) return value;
+
+  // dL/dP = L⁻ᵀ (D/2 B⁻¹ + c cᵀ/(2s²)) L⁻¹; dL/dK_uu and dL/dΦ (Φ = K_uf K_fu) likewise L⁻ᵀ·L⁻¹
+  // of the "core" matrices below (the derivation: docs/methods/gplvm.md).
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(M, M);
+  const Eigen::MatrixXd Bi = lltB.solve(I);
+  const Eigen::MatrixXd cc = c * c.transpose();
+  const Eigen::MatrixXd core_P = 0.5 * dD * Bi + cc / (2 * s * s);
+  const Eigen::MatrixXd core_uu = 0.5 * dD * (Bi + B - 2 * I) + cc / (2 * s * s);
+  const Eigen::MatrixXd core_Phi = 0.5 * dD / s * (Bi - I) + cc / (2 * s * s * s);
+  auto unwhiten = [&](const Eigen::MatrixXd& C) {  // L⁻ᵀ C L⁻¹
+    const Eigen::MatrixXd T = L.transpose().solve(C);
+    return Eigen::MatrixXd(L.transpose().solve(T.transpose()).transpose());
+  };
+  Eigen::MatrixXd G_uu = unwhiten(core_uu);
+  G_uu = 0.5 * (G_uu + G_uu.transpose()).eval();
+  Eigen::MatrixXd G_Phi = unwhiten(core_Phi);
+  G_Phi = 0.5 * (G_Phi + G_Phi.transpose()).eval();
+  const Eigen::MatrixXd PPsi = L.transpose().solve(c);  // P⁻¹ K_uf Y
+  const Eigen::MatrixXd G_uf = (-1.0 / (s * s)) * (PPsi * Y.transpose()) + 2.0 * G_Phi * Kuf;
+  const double dL_ds = 0.5 * dD * dN / s - 0.5 * yy / (s * s) + quad / (s * s * s) -
+                       0.5 * dD / (s * s) * (t - trQ) - core_P.cwiseProduct(Phi_w).sum() / (s * s);
+  const double dL_dt = 0.5 * dD / s;
+  const Eigen::MatrixXd Wf = G_uf.cwiseProduct(Kuf_rbf);  // M × N
+  const Eigen::MatrixXd Wu = G_uu.cwiseProduct(Kuu_rbf);  // M × M
+  if (grad_X != nullptr) {
+    const Eigen::VectorXd col_sums = Wf.colwise().sum().transpose();
+    *grad_X = (1.0 / l2) * (Wf.transpose() * Z - col_sums.asDiagonal() * X) + X;
+  }
+  if (grad_Z != nullptr) {
+    const Eigen::VectorXd f_sums = Wf.rowwise().sum(), u_sums = Wu.rowwise().sum();
+    *grad_Z = (1.0 / l2) * (Wf * X - f_sums.asDiagonal() * Z) +
+              (2.0 / l2) * (Wu * Z - u_sums.asDiagonal() * Z);
+  }
+  if (grad_kernel != nullptr) {
+    grad_kernel->resize(4);
+    // The jitter ε = 10⁻⁸σ_f² is in K_uu and s: d/dlog σ_f² reaches both.
+    (*grad_kernel)[0] = Wf.sum() + Wu.sum() + eps * G_uu.trace() + dL_ds * eps + dL_dt * dN * sf2;
+    (*grad_kernel)[1] = (Wf.cwiseProduct(R2uf).sum() + Wu.cwiseProduct(R2uu).sum()) / l2;
+    (*grad_kernel)[2] = sb2 * (G_uf.sum() + G_uu.sum()) + dL_dt * dN * sb2;
+    (*grad_kernel)[3] = dL_ds * sn2;
+  }
+  return value;
+}
+
+Eigen::MatrixXd gplvm_inducing_start(const Eigen::MatrixXd& X, int M) {
+  const int N = static_cast<int>(X.rows());
+  if (M < 1 || M > N) {
+    throw ParameterError("gplvm: " + std::to_string(M) + " inducing points for " +
+                         std::to_string(N) + " frames; give between 1 and the number of frames");
+  }
+  std::vector<int> index(static_cast<std::size_t>(N));
+  for (int i = 0; i < N; ++i) index[std::size_t(i)] = i;
+  std::mt19937 random(kGplvmInducingSeed);
+  for (int i = 0; i < M; ++i) {
+    const int j = i + static_cast<int>(random() % std::uint32_t(N - i));
+    std::swap(index[std::size_t(i)], index[std::size_t(j)]);
+  }
+  std::sort(index.begin(), index.begin() + M);
+  Eigen::MatrixXd Z(M, X.cols());
+  for (int m = 0; m < M; ++m) Z.row(m) = X.row(index[std::size_t(m)]);
+  return Z;
+}
+
 GplvmKernel initial_gplvm_kernel(const Eigen::MatrixXd& Y) {
   double variance = 0.0;
   if (Y.rows() > 1) {
@@ -91,12 +213,14 @@ GplvmKernel initial_gplvm_kernel(const Eigen::MatrixXd& Y) {
 
 namespace {
 
-// The optimiser's coordinates: X row-major, then θ.
-Eigen::VectorXd pack(const Eigen::MatrixXd& X, const GplvmKernel& k) {
-  Eigen::VectorXd v(X.size() + 4);
+// The optimiser's coordinates: X row-major, Z row-major (the sparse model), then θ.
+Eigen::VectorXd pack(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, const GplvmKernel& k) {
+  Eigen::VectorXd v(X.size() + Z.size() + 4);
   Eigen::Index at = 0;
   for (Eigen::Index i = 0; i < X.rows(); ++i)
     for (Eigen::Index a = 0; a < X.cols(); ++a) v[at++] = X(i, a);
+  for (Eigen::Index i = 0; i < Z.rows(); ++i)
+    for (Eigen::Index a = 0; a < Z.cols(); ++a) v[at++] = Z(i, a);
   v[at++] = k.log_rbf_variance;
   v[at++] = k.log_lengthscale;
   v[at++] = k.log_bias_variance;
@@ -104,10 +228,12 @@ Eigen::VectorXd pack(const Eigen::MatrixXd& X, const GplvmKernel& k) {
   return v;
 }
 
-void unpack(const Eigen::VectorXd& v, Eigen::MatrixXd& X, GplvmKernel& k) {
+void unpack(const Eigen::VectorXd& v, Eigen::MatrixXd& X, Eigen::MatrixXd& Z, GplvmKernel& k) {
   Eigen::Index at = 0;
   for (Eigen::Index i = 0; i < X.rows(); ++i)
     for (Eigen::Index a = 0; a < X.cols(); ++a) X(i, a) = v[at++];
+  for (Eigen::Index i = 0; i < Z.rows(); ++i)
+    for (Eigen::Index a = 0; a < Z.cols(); ++a) Z(i, a) = v[at++];
   k.log_rbf_variance = v[at++];
   k.log_lengthscale = v[at++];
   k.log_bias_variance = v[at++];
@@ -117,7 +243,7 @@ void unpack(const Eigen::VectorXd& v, Eigen::MatrixXd& X, GplvmKernel& k) {
 }  // namespace
 
 GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const GplvmKernel& kernel,
-                   int max_iterations, const Control& control) {
+                   int max_iterations, const Control& control, const Eigen::MatrixXd* Z0) {
   if (X0.rows() != Y.rows() || X0.cols() < 1 || Y.rows() < 2 || Y.cols() < 1) {
     throw ParameterError("gplvm: latent points of " + std::to_string(X0.rows()) + " × " +
                          std::to_string(X0.cols()) + " for data of " + std::to_string(Y.rows()) +
@@ -126,62 +252,93 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
   if (!Y.allFinite() || !X0.allFinite()) {
     throw ParameterError("gplvm: the data or the starting points are not finite");
   }
+  if (Z0 != nullptr && (Z0->rows() < 1 || Z0->rows() > Y.rows() || Z0->cols() != X0.cols())) {
+    throw ParameterError("gplvm: inducing inputs of " + std::to_string(Z0->rows()) + " × " +
+                         std::to_string(Z0->cols()) + " for " + std::to_string(Y.rows()) +
+                         " latent points of " + std::to_string(X0.cols()) +
+                         " dimensions, expected M × q with 1 ≤ M ≤ N");
+  }
+  if (Z0 != nullptr && !Z0->allFinite()) {
+    throw ParameterError("gplvm: the starting inducing inputs are not finite");
+  }
   if (max_iterations < 1) {
     throw ParameterError("gplvm: " + std::to_string(max_iterations) +
                          " iterations asked for, expected at least 1");
   }
   GplvmFit fit;
   fit.X = X0;
+  if (Z0 != nullptr) fit.Z = *Z0;
   fit.kernel = kernel;
-  Eigen::MatrixXd X = X0, gX;
+  Eigen::MatrixXd X = X0, gX, Z = fit.Z, gZ;
   GplvmKernel k = kernel;
   Eigen::VectorXd gk;
   // The best point evaluated: what is kept when the line search gives up.
   double best = std::numeric_limits<double>::infinity();
   int evaluations = 0;
+  bool last_failed = false;  // the last evaluation was of a kernel that cannot be factorised
   auto objective = [&](const Eigen::VectorXd& v, Eigen::VectorXd& grad) {
     control.check();
-    unpack(v, X, k);
+    unpack(v, X, Z, k);
+    last_failed = true;
     double value;
     try {
-      value = gplvm_objective(Y, X, k, &gX, &gk);
+      value = Z0 != nullptr ? sparse_gplvm_objective(Y, X, Z, k, &gX, &gZ, &gk)
+                            : gplvm_objective(Y, X, k, &gX, &gk);
     } catch (const NumericalError&) {
       // A step into a kernel that cannot be factorised: tell the line search it is no better.
       grad = Eigen::VectorXd::Zero(v.size());
       return std::numeric_limits<double>::max();
     }
+    last_failed = false;
     ++evaluations;
     control.update(std::min(1.0, double(evaluations) / (1.5 * max_iterations)));
     if (value < best) {
       best = value;
       fit.X = X;
+      fit.Z = Z;
       fit.kernel = k;
     }
     grad.resize(v.size());
     Eigen::Index at = 0;
     for (Eigen::Index i = 0; i < gX.rows(); ++i)
       for (Eigen::Index a = 0; a < gX.cols(); ++a) grad[at++] = gX(i, a);
+    for (Eigen::Index i = 0; i < Z.rows(); ++i)
+      for (Eigen::Index a = 0; a < Z.cols(); ++a) grad[at++] = gZ(i, a);
     for (int j = 0; j < 4; ++j) grad[at++] = gk[j];
     return value;
   };
   LBFGSpp::LBFGSParam<double> param;
-  param.max_iterations = max_iterations;
   param.epsilon = 1e-5;
   param.epsilon_rel = 1e-7;
   param.past = 5;
   param.delta = 1e-10;
   param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
-  LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchNocedalWright> solver(param);
-  Eigen::VectorXd v = pack(X0, kernel);
+  Eigen::VectorXd v = pack(X0, fit.Z, kernel);
   double fx = 0.0;
-  try {
-    fit.iterations = solver.minimize(objective, v, fx);
-    fit.stopped = fit.iterations >= max_iterations ? "iteration limit" : "converged";
-  } catch (const std::runtime_error&) {  // LBFGS++: the line search found no decrease
-    fit.iterations = -1;
-    fit.stopped = "line search";
-  } catch (const std::logic_error&) {
-    fit.iterations = -1;
+  // LBFGS++'s line search, out of trials, returns its last one: when that was a kernel that
+  // cannot be factorised (its zero gradient would read as convergence), start again from the
+  // best point (a fresh L-BFGS memory), a few times while iterations remain.
+  int used = 0;
+  for (int restart = 0;; ++restart) {
+    param.max_iterations = max_iterations - used;
+    LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchNocedalWright> solver(param);
+    try {
+      used += solver.minimize(objective, v, fx);
+      fit.iterations = used;
+      fit.stopped = used >= max_iterations ? "iteration limit" : "converged";
+    } catch (const std::runtime_error&) {  // LBFGS++: the line search found no decrease
+      fit.iterations = -1;
+      fit.stopped = "line search";
+      break;
+    } catch (const std::logic_error&) {
+      fit.iterations = -1;
+      fit.stopped = "line search";
+      break;
+    }
+    if (!last_failed || used >= max_iterations || restart == 5 || !std::isfinite(best)) break;
+    v = pack(fit.X, fit.Z, fit.kernel);
+  }
+  if (last_failed && fit.iterations >= 0 && fit.iterations < max_iterations) {
     fit.stopped = "line search";
   }
   fit.evaluations = evaluations;
@@ -193,15 +350,117 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
   return fit;
 }
 
+GplvmPredictive gplvm_predictive(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
+                                 const Eigen::MatrixXd& Z, const GplvmKernel& kernel) {
+  const double sf2 = std::exp(kernel.log_rbf_variance), l2 = std::exp(2 * kernel.log_lengthscale);
+  const double sb2 = std::exp(kernel.log_bias_variance), sn2 = std::exp(kernel.log_noise_variance);
+  const double eps = kJitter * sf2, s = sn2 + eps;
+  GplvmPredictive p;
+  p.rbf_variance = sf2;
+  p.lengthscale = std::sqrt(l2);
+  p.bias_variance = sb2;
+  p.prior_variance = sf2 + sb2 + s;
+  auto kern = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+    return Eigen::MatrixXd(
+        (sf2 * (-0.5 / l2 * cross_squared_distances(A, B)).array().exp() + sb2).matrix());
+  };
+  const char* not_pd = "gplvm: the fitted model's kernel matrix is not positive definite";
+  if (Z.rows() == 0) {
+    p.basis = X;
+    Eigen::MatrixXd K = kern(X, X);
+    K.diagonal().array() += s;
+    const Eigen::LLT<Eigen::MatrixXd> llt(K);
+    if (llt.info() != Eigen::Success) throw NumericalError(not_pd);
+    p.alpha = llt.solve(Y);
+    p.C = llt.solve(Eigen::MatrixXd::Identity(K.rows(), K.cols()));
+    return p;
+  }
+  p.basis = Z;
+  const Eigen::Index M = Z.rows();
+  Eigen::MatrixXd Kuu = kern(Z, Z);
+  Kuu.diagonal().array() += eps;
+  const Eigen::MatrixXd Kuf = kern(Z, X);
+  const Eigen::LLT<Eigen::MatrixXd> llt(Kuu);
+  if (llt.info() != Eigen::Success) throw NumericalError(not_pd);
+  const auto L = llt.matrixL();
+  const Eigen::MatrixXd LiKuf = L.solve(Kuf);
+  Eigen::MatrixXd B = LiKuf * LiKuf.transpose() / s;
+  B.diagonal().array() += 1.0;
+  const Eigen::LLT<Eigen::MatrixXd> lltB(B);
+  if (lltB.info() != Eigen::Success) throw NumericalError(not_pd);
+  const Eigen::MatrixXd c = lltB.solve(LiKuf * Y);
+  p.alpha = L.transpose().solve(c) / s;
+  // K_uu⁻¹ − P⁻¹ = L⁻ᵀ (I − B⁻¹) L⁻¹.
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(M, M);
+  const Eigen::MatrixXd T = L.transpose().solve(I - lltB.solve(I));
+  p.C = L.transpose().solve(T.transpose()).transpose();
+  p.C = 0.5 * (p.C + p.C.transpose()).eval();
+  return p;
+}
+
+double gplvm_place_objective(const GplvmPredictive& p, const Eigen::VectorXd& y,
+                             const Eigen::VectorXd& x, Eigen::VectorXd* grad) {
+  const double l2 = p.lengthscale * p.lengthscale;
+  const Eigen::MatrixXd diff = (-p.basis).rowwise() + x.transpose();  // x − b_j
+  const Eigen::VectorXd krbf =
+      p.rbf_variance * (-0.5 / l2 * diff.rowwise().squaredNorm()).array().exp();
+  const Eigen::VectorXd k = krbf.array() + p.bias_variance;
+  const Eigen::VectorXd r = y - p.alpha.transpose() * k;
+  const Eigen::VectorXd Ck = p.C * k;
+  // σ² ≥ s in exact arithmetic; the floor keeps rounding from a log of ≤ 0.
+  const double var = std::max(p.prior_variance - k.dot(Ck), 1e-12 * p.prior_variance);
+  const double D = double(y.size()), rr = r.squaredNorm();
+  const double value = 0.5 * D * std::log(var) + 0.5 * rr / var + 0.5 * x.squaredNorm();
+  if (grad != nullptr) {
+    // dk_j/dx = −krbf_j (x − b_j)/ℓ²; dσ²/dx = −2 Σ_j (Ck)_j dk_j/dx; d|r|²/dx = −2 Σ_j
+    // (alpha_j·r) dk_j/dx.
+    const Eigen::VectorXd ar = p.alpha * r;
+    const Eigen::VectorXd wvar = -2.0 * Ck.cwiseProduct(krbf) * (-1.0 / l2);
+    const Eigen::VectorXd wrr = -2.0 * ar.cwiseProduct(krbf) * (-1.0 / l2);
+    const Eigen::VectorXd dvar = diff.transpose() * wvar, drr = diff.transpose() * wrr;
+    *grad = (0.5 * D / var - 0.5 * rr / (var * var)) * dvar + 0.5 / var * drr + x;
+  }
+  return value;
+}
+
+Eigen::VectorXd gplvm_place(const GplvmPredictive& p, const Eigen::VectorXd& y,
+                            const Eigen::MatrixXd& starts) {
+  LBFGSpp::LBFGSParam<double> param;
+  // Near a training point σ² is as small as the noise and the objective's gradient large: stop
+  // on a relative gradient of 1e-6 or a relative decrease below 1e-9 over 2 iterations.
+  param.max_iterations = 100;
+  param.epsilon = 1e-6;
+  param.epsilon_rel = 1e-6;
+  param.past = 2;
+  param.delta = 1e-9;
+  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
+  LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchNocedalWright> solver(param);
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd best_x = starts.row(0).transpose();
+  for (Eigen::Index s = 0; s < starts.rows(); ++s) {
+    auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+      const double value = gplvm_place_objective(p, y, x, &g);
+      if (value < best) {
+        best = value;
+        best_x = x;
+      }
+      return value;
+    };
+    Eigen::VectorXd x = starts.row(s).transpose();
+    double fx = 0.0;
+    try {
+      solver.minimize(f, x, fx);
+    } catch (const std::runtime_error&) {  // the line search found no decrease: keep the best
+    } catch (const std::logic_error&) {
+    }
+  }
+  return best_x;
+}
+
 void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding& out,
                Progress& progress) {
   const int N = static_cast<int>(X.rows());
-  if (N > kGplvmMaxFrames) {
-    throw ParameterError("gplvm: " + std::to_string(N) + " frames; the full model maps at most " +
-                         std::to_string(kGplvmMaxFrames) +
-                         " (its N × N kernel is factorised at every step, and the sparse "
-                         "approximation is not built yet): map every k-th frame with --stride");
-  }
+  const int M = gplvm_inducing_points(N, options.inducing);
   // Start from the PCA scores, each axis scaled to unit variance (the prior's).
   Embedding pca;
   run_pca(X, options, pca, progress);
@@ -212,15 +471,22 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
   }
   const Eigen::MatrixXd Y = X.rowwise() - X.colwise().mean();
   progress.stage("optimise", 0.05, 1.0);
-  const GplvmFit fit =
-      fit_gplvm(Y, X0, initial_gplvm_kernel(Y), options.max_iterations, progress.control());
+  // The sparse model: inducing inputs from a seeded subset of the start's latent points.
+  const Eigen::MatrixXd Z0 = M > 0 ? gplvm_inducing_start(X0, M) : Eigen::MatrixXd();
+  const GplvmFit fit = fit_gplvm(Y, X0, initial_gplvm_kernel(Y), options.max_iterations,
+                                 progress.control(), M > 0 ? &Z0 : nullptr);
   out.coordinates = fit.X;
+  out.gplvm_kernel = {fit.kernel.log_rbf_variance, fit.kernel.log_lengthscale,
+                      fit.kernel.log_bias_variance, fit.kernel.log_noise_variance};
+  out.gplvm_inducing = fit.Z;
   out.eigenvalues = pca.eigenvalues;  // of the start, as umap reports its spectral start's
   out.notes.push_back(
-      "gplvm: " + (fit.iterations >= 0 ? std::to_string(fit.iterations) + " iterations, " : "") +
-      std::to_string(fit.evaluations) + " evaluations (" + fit.stopped + "), −log likelihood " +
-      std::to_string(fit.objective) + ", σ_f² " +
-      std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +
+      "gplvm" +
+      (M > 0 ? " (sparse, " + std::to_string(M) + " inducing points)" : std::string(" (full)")) +
+      ": " + (fit.iterations >= 0 ? std::to_string(fit.iterations) + " iterations, " : "") +
+      std::to_string(fit.evaluations) + " evaluations (" + fit.stopped + "), " +
+      (M > 0 ? "bound on −log likelihood " : "−log likelihood ") + std::to_string(fit.objective) +
+      ", σ_f² " + std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +
       std::to_string(std::exp(fit.kernel.log_lengthscale)) + ", σ_n² " +
       std::to_string(std::exp(fit.kernel.log_noise_variance)));
 }

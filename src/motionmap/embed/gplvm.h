@@ -12,16 +12,41 @@
 //   L = D/2 log|K| + 1/2 tr(K⁻¹ Y Yᵀ) + N D/2 log 2π + 1/2 |X|²_F + N q/2 log 2π,
 // over X and θ = (log σ_f², log ℓ, log σ_b², log σ_n²), with analytic gradients, by LBFGS++'s
 // L-BFGS (Debian's liblbfgspp-dev) with a strong-Wolfe line search (Nocedal & Wright), from X = the
-// PCA scores scaled to unit variance per axis. The full model costs O(N³) per evaluation; this is
-// the full model only (no sparse approximation yet): kGplvmMaxFrames frames at most.
+// PCA scores scaled to unit variance per axis. The full model costs O(N³) per evaluation.
+//
+// The sparse model (above kGplvmSparseAbove frames, or with EmbedOptions::inducing): M inducing
+// inputs Z (M × q) and Titsias's collapsed variational bound ("Variational learning of inducing
+// variables in sparse Gaussian processes", AISTATS 2009; the variational DTC of Titsias &
+// Lawrence's Bayesian GP-LVM and GPy's SparseGPLVM), with K_uu = k(Z, Z) + ε I, Q = K_fu K_uu⁻¹
+// K_uf, s = σ_n² + ε (ε = 10⁻⁸ σ_f², the full model's jitter) and t = Σ_i k(x_i, x_i) without the
+// noise, N (σ_f² + σ_b²):
+//   L_s = D/2 log|Q + s I| + 1/2 tr((Q + s I)⁻¹ Y Yᵀ) + N D/2 log 2π + D/(2s) (t − tr Q)
+//         + 1/2 |X|²_F + N q/2 log 2π,
+// over X, Z and θ together (the same optimiser). It is an upper bound of L (a lower bound of the
+// likelihood) for every Z, tightens as inducing inputs are added, and equals L up to the jitter
+// when Z = X. O(N M² + N M D) per evaluation.
 #include <Eigen/Core>
 
 #include "motionmap/core/control.h"
 
 namespace motionmap::embed {
 
-/// The most frames gplvm maps (the full model's N × N kernel is factorised at every step).
-inline constexpr int kGplvmMaxFrames = 2000;
+/// Above this many frames gplvm fits the sparse model (the full model's N × N kernel is
+/// factorised at every step).
+inline constexpr int kGplvmSparseAbove = 1000;
+/// Inducing inputs of the sparse model when EmbedOptions::inducing is 0.
+inline constexpr int kGplvmDefaultInducing = 100;
+/// The seed of the inducing inputs' starting subset (gplvm_inducing_start).
+inline constexpr unsigned kGplvmInducingSeed = 25;
+
+/// The inducing points gplvm fits `frames` frames with when EmbedOptions::inducing is `inducing`:
+/// 0 for the full model (inducing 0 and at most kGplvmSparseAbove frames), else `inducing`, or
+/// min(kGplvmDefaultInducing, frames) when it is 0.
+inline int gplvm_inducing_points(int frames, int inducing) {
+  if (inducing > 0) return inducing;
+  if (frames <= kGplvmSparseAbove) return 0;
+  return frames < kGplvmDefaultInducing ? frames : kGplvmDefaultInducing;
+}
 
 /// The kernel's parameters, as their logarithms (the optimiser's coordinates).
 struct GplvmKernel {
@@ -38,8 +63,22 @@ double gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
                        const GplvmKernel& kernel, Eigen::MatrixXd* grad_X = nullptr,
                        Eigen::VectorXd* grad_kernel = nullptr);
 
+/// The sparse model's objective L_s above at latent points X (N × q), inducing inputs Z (M × q)
+/// and kernel θ; gradients as gplvm_objective, and `grad_Z` (M × q). @throws NumericalError when
+/// K_uu is not positive definite.
+double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
+                              const Eigen::MatrixXd& Z, const GplvmKernel& kernel,
+                              Eigen::MatrixXd* grad_X = nullptr, Eigen::MatrixXd* grad_Z = nullptr,
+                              Eigen::VectorXd* grad_kernel = nullptr);
+
+/// The starting inducing inputs: M of the rows of X (N × q), a uniformly random subset drawn
+/// with std::mt19937(kGplvmInducingSeed) by a partial Fisher–Yates shuffle (index i swapped with
+/// i + r mod (N − i)), in frame order. @throws ParameterError unless 1 ≤ M ≤ N.
+Eigen::MatrixXd gplvm_inducing_start(const Eigen::MatrixXd& X, int M);
+
 struct GplvmFit {
   Eigen::MatrixXd X;  ///< the latent points (N × q)
+  Eigen::MatrixXd Z;  ///< the sparse model's inducing inputs (M × q); empty for the full model
   GplvmKernel kernel;
   double objective = 0.0;
   /// L-BFGS iterations; −1 when the line search stopped it (LBFGS++ does not say how many).
@@ -52,14 +91,44 @@ struct GplvmFit {
 };
 
 /// Fits the model to Y (N × D, centred) from latent points X0 (N × q) and `kernel`, at most
-/// `max_iterations` L-BFGS iterations. `control` hears the iterations and is polled for cancel.
+/// `max_iterations` L-BFGS iterations: the full model, or with `Z0` (M × q) the sparse one from
+/// those inducing inputs. `control` hears the iterations and is polled for cancel.
 /// @throws ParameterError for mismatched sizes or non-finite inputs; NumericalError as
 ///   gplvm_objective(); Cancelled.
 GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const GplvmKernel& kernel,
-                   int max_iterations, const Control& control = {});
+                   int max_iterations, const Control& control = {},
+                   const Eigen::MatrixXd* Z0 = nullptr);
 
 /// The starting kernel for Y and latent points of unit variance: σ_f² = the mean column variance
 /// of Y, ℓ = 1, σ_b² = 10⁻³ σ_f², σ_n² = 10⁻¹ σ_f² (σ_f² = 1 when Y has no variance).
 GplvmKernel initial_gplvm_kernel(const Eigen::MatrixXd& Y);
+
+/// What placing new frames on a fitted map needs: the GP's predictive at a latent point x,
+///   μ(x) = k(x)ᵀ alpha,   σ²(x) = prior_variance − k(x)ᵀ C k(x),
+/// k(x) the kernel without noise (RBF + bias) between x and the rows of `basis`. Full model:
+/// basis = the latent points X, alpha = K⁻¹Y, C = K⁻¹ (K with the noise). Sparse model (Titsias's
+/// predictive, the same as DTC's): basis = the inducing inputs Z, alpha = P⁻¹K_uf Y / s,
+/// C = K_uu⁻¹ − P⁻¹, P = K_uu + K_uf K_fu / s. prior_variance = σ_f² + σ_b² + s.
+struct GplvmPredictive {
+  Eigen::MatrixXd basis;  ///< B × q
+  Eigen::MatrixXd alpha;  ///< B × D
+  Eigen::MatrixXd C;      ///< B × B
+  double rbf_variance = 0.0, lengthscale = 1.0, bias_variance = 0.0, prior_variance = 0.0;
+};
+
+/// The predictive of the model fitted to Y (N × D, centred) at latent points X, with inducing
+/// inputs Z (empty: the full model) and `kernel`. @throws NumericalError as the objectives.
+GplvmPredictive gplvm_predictive(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
+                                 const Eigen::MatrixXd& Z, const GplvmKernel& kernel);
+
+/// −log p(y | x) − log p(x) up to constants: D/2 log σ²(x) + |y − μ(x)|²/(2σ²(x)) + |x|²/2, for
+/// a centred pose y (D) at latent point x (q); with `grad`, its gradient in x.
+double gplvm_place_objective(const GplvmPredictive& p, const Eigen::VectorXd& y,
+                             const Eigen::VectorXd& x, Eigen::VectorXd* grad = nullptr);
+
+/// The minimum of gplvm_place_objective over x by L-BFGS (at most 100 iterations) from each of
+/// `starts` (rows, q), the lowest kept.
+Eigen::VectorXd gplvm_place(const GplvmPredictive& p, const Eigen::VectorXd& y,
+                            const Eigen::MatrixXd& starts);
 
 }  // namespace motionmap::embed

@@ -105,10 +105,18 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
     if (!ok) throw ParameterError(w + what + " of the " + std::to_string(n) + " mapped frames");
   };
   switch (map.method) {
-    case Method::Gplvm:
-      throw ParameterError(
-          "gplvm: a GP-LVM map cannot place new frames yet (the latent point that best explains "
-          "a new pose is not built), so it cannot be saved (--save) or placed on (--onto)");
+    case Method::Gplvm: {
+      require(input.features && input.features->rows() == n, "make_model needs the features X");
+      require(map.gplvm_kernel.size() == 4, "make_model needs the GP-LVM's kernel");
+      const Eigen::MatrixXd& X = *input.features;
+      model.mean = X.colwise().mean();
+      model.features = RowMatrix(X);
+      const GplvmKernel kernel{map.gplvm_kernel[0], map.gplvm_kernel[1], map.gplvm_kernel[2],
+                               map.gplvm_kernel[3]};
+      model.gplvm =
+          gplvm_predictive(X.rowwise() - model.mean, model.coordinates, map.gplvm_inducing, kernel);
+      break;
+    }
     case Method::Pca:
     case Method::Svd: {
       require(input.features && input.features->rows() == n, "make_model needs the features X");
@@ -209,7 +217,42 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
 namespace {
 
 bool searches(const MapModel& model) {
-  return model.method != Method::Pca && model.method != Method::Svd && !model.points_are_landmarks;
+  return model.method != Method::Pca && model.method != Method::Svd &&
+         model.method != Method::Gplvm && !model.points_are_landmarks;
+}
+
+// gplvm: each frame's latent point from the latent points of its kGplvmPlaceStarts nearest
+// training frames (Euclidean, in X), in parallel.
+Eigen::MatrixXd place_gplvm(const MapModel& model, const Eigen::MatrixXd& features,
+                            const Control& control) {
+  const Eigen::Index frames = features.rows(), n = model.features.rows();
+  const int starts = static_cast<int>(std::min<Eigen::Index>(kGplvmPlaceStarts, n));
+  Eigen::MatrixXd out(frames, model.dimensions);
+  const Eigen::VectorXd train_norms = model.features.rowwise().squaredNorm();
+  const int chunks = static_cast<int>((frames + kFramesPerChunk - 1) / kFramesPerChunk);
+  parallel_chunks(
+      chunks,
+      [&](int c, int) {
+        const Eigen::Index begin = Eigen::Index(c) * kFramesPerChunk;
+        const Eigen::Index end = std::min<Eigen::Index>(frames, begin + kFramesPerChunk);
+        std::vector<std::pair<double, int>> order(static_cast<std::size_t>(n));
+        for (Eigen::Index f = begin; f < end; ++f) {
+          control.check();
+          const Eigen::VectorXd y = features.row(f).transpose();
+          const Eigen::VectorXd d2 =
+              (train_norms - 2.0 * (model.features * y)).array() + y.squaredNorm();
+          for (Eigen::Index i = 0; i < n; ++i) order[std::size_t(i)] = {d2[i], int(i)};
+          std::partial_sort(order.begin(), order.begin() + starts, order.end());
+          Eigen::MatrixXd from(starts, model.dimensions);
+          for (int a = 0; a < starts; ++a) {
+            from.row(a) = model.coordinates.row(order[std::size_t(a)].second);
+          }
+          const Eigen::VectorXd centred = y - model.mean.transpose();
+          out.row(f) = gplvm_place(model.gplvm, centred, from).transpose();
+        }
+      },
+      [&](int done) { control.update(double(done) / chunks); });
+  return out;
 }
 
 }  // namespace
@@ -224,8 +267,9 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
   const Method method = model.method;
   const int dims = model.dimensions;
   const bool projection = method == Method::Pca || method == Method::Svd;
-  const bool needs_features = projection || method == Method::Lle;
-  const bool needs_points = !projection;
+  const bool gplvm = method == Method::Gplvm;
+  const bool needs_features = projection || method == Method::Lle || gplvm;
+  const bool needs_points = !projection && !gplvm;
   if (needs_features && !input.features) {
     throw ParameterError(who(method) + "this map places frames by their features X; none given");
   }
@@ -244,6 +288,7 @@ Eigen::MatrixXd place(const MapModel& model, const PlaceInput& input, const Cont
                          std::to_string(frames) + " of points");
   }
 
+  if (gplvm) return place_gplvm(model, *input.features, control);
   Eigen::MatrixXd out(frames, dims);
   if (frames == 0) return out;
   // The nearest samples of every frame (the k-d tree search the fit's k-NN uses, exact): every

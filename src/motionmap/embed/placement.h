@@ -18,7 +18,14 @@
 //             same way): x = Σ_s w_s·y_s;
 //   umap      the fuzzy-weighted average of the k (n_neighbors) nearest samples' map points,
 //             umap-learn's start for transform (its layout steps after it are not run):
-//             w_s = exp(−d_s/sigma), sigma by the fit's bisection to Σ w_s = log2(k).
+//             w_s = exp(−d_s/sigma), sigma by the fit's bisection to Σ w_s = log2(k);
+//   gplvm     the latent point x that best explains the frame's features y under the fitted GP:
+//             the minimum of −log p(y | x) − log p(x) = D/2 log σ²(x) + |y − μ(x)|²/(2σ²(x))
+//             + |x|²/2 (+ constants), μ and σ² the GP's predictive mean and variance (full or
+//             sparse model, gplvm.h), by L-BFGS from the latent points of the frame's
+//             kGplvmPlaceStarts nearest training frames (in X), the lowest kept. A map's own
+//             frames land near, not on, their latent points (the fit also weighs their
+//             neighbours and the kernel).
 // A frame whose point equals a sample's (distance 0) lands on that sample's coordinates, so
 // placing the map's own frames gives their coordinates back: exactly for pca/svd (to rounding),
 // landmark maps and every sample of le and lle; for dense mds and isomap to the eigen solver's
@@ -31,6 +38,7 @@
 
 #include "motionmap/core/control.h"
 #include "motionmap/core/metric.h"
+#include "motionmap/embed/gplvm.h"
 #include "motionmap/embed/neighbors.h"
 #include "motionmap/embed/points.h"
 #include "motionmap/embed/types.h"
@@ -67,7 +75,14 @@ struct MapModel {
   /// lle: the samples' features (X, rows), which the barycentric weights are solved in, and reg.
   RowMatrix features;
   double reg = 1e-3;
+
+  /// gplvm: the GP's predictive (gplvm.h); `features` holds the training frames' X (the
+  /// searches start at their nearest's latent points) and `mean` X's column means.
+  GplvmPredictive gplvm;
 };
+
+/// gplvm: the nearest training frames whose latent points start the search of a new frame's.
+inline constexpr int kGplvmPlaceStarts = 3;
 
 /// What place() reads of the new frames: their features (pca, svd, lle: X's columns) and/or their
 /// points (mds, isomap, le, lle: the rows D would be computed from, in the model's metric).

@@ -61,6 +61,10 @@ struct EmbedOptions {
   int seed = 0;
   /// gplvm: L-BFGS iterations at most (gplvm.h); in [1, 100000].
   int max_iterations = 300;
+  /// gplvm: inducing points of the sparse model (gplvm.h); 0 = the full model up to
+  /// kGplvmSparseAbove (1 000) frames and kGplvmDefaultInducing (100) above, capped at #frames.
+  /// Given (1 ≤ inducing ≤ #frames), the sparse model with that many at any size.
+  int inducing = 0;
   /// Points path, mds and isomap: number of landmarks (0 = min(#frames, kDefaultLandmarks)).
   int landmarks = 0;
   /// Points path, graph methods: how the k nearest neighbours are found (points.h).
@@ -178,6 +182,11 @@ struct Embedding {
   /// (the stress is then measured over the landmark pairs); on the dense path every frame is a
   /// landmark.
   std::optional<LandmarkFit> landmarks;
+  /// gplvm: the kernel's parameters (log σ_f², log ℓ, log σ_b², log σ_n²) the fit ended at, and
+  /// the sparse model's inducing inputs (M by dims; empty for the full model): with the
+  /// coordinates and X, what placing frames needs (placement.h).
+  std::vector<double> gplvm_kernel;
+  Eigen::MatrixXd gplvm_inducing;
 };
 
 }  // namespace motionmap::embed

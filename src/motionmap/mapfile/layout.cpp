@@ -296,6 +296,17 @@ void write_map_file(const std::string& path, const MapFile& f) {
     write_ints(w, "/model/graph/targets", m.graph.targets);
     w.doubles("/model/graph/weights", m.graph.weights.data(), m.graph.weights.size());
   }
+  if (m.method == embed::Method::Gplvm) {  // the GP's predictive (embed::GplvmPredictive)
+    const embed::GplvmPredictive& p = m.gplvm;
+    w.group("/model/gplvm");
+    w.attribute("/model/gplvm", "rbf_variance", p.rbf_variance);
+    w.attribute("/model/gplvm", "lengthscale", p.lengthscale);
+    w.attribute("/model/gplvm", "bias_variance", p.bias_variance);
+    w.attribute("/model/gplvm", "prior_variance", p.prior_variance);
+    write_matrix(w, "/model/gplvm/basis", p.basis);
+    write_matrix(w, "/model/gplvm/alpha", p.alpha);
+    write_matrix(w, "/model/gplvm/C", p.C);
+  }
   w.close();
 }
 

@@ -672,7 +672,8 @@ void read_model(const Input& in, std::int64_t version, MapFile& f) {
   const bool projection = method == Method::Pca || method == Method::Svd;
   const std::string who = "the " + std::string(embed::method_name(method)) + " map";
   const std::int64_t X = f.x_columns, V = f.point_columns;
-  if (need(in, g + "/mean", method == Method::Pca, who))
+  const bool gplvm = method == Method::Gplvm;
+  if (need(in, g + "/mean", method == Method::Pca || gplvm, who))
     m.mean = in.vector(g + "/mean", X, "#features");
   if (need(in, g + "/scale", method == Method::Pca && eo.standardize, who)) {
     m.scale = in.vector(g + "/scale", X, "#features");
@@ -680,7 +681,7 @@ void read_model(const Input& in, std::int64_t version, MapFile& f) {
   }
   if (need(in, g + "/axes", projection, who))
     m.axes = in.matrix(g + "/axes", X, dims, "#features by dims");
-  if (need(in, g + "/points", !projection, who)) {
+  if (need(in, g + "/points", !projection && !gplvm, who)) {
     // A landmark mds map keeps the landmarks' rows; the others every sample's.
     m.points = in.row_matrix(
         g + "/points", m.points_are_landmarks ? -1 : M, V,
@@ -692,7 +693,7 @@ void read_model(const Input& in, std::int64_t version, MapFile& f) {
       in.fail(g + "/eigenvalues holds 1 (the Nyström extension divides by 1 − λ)");
     }
   }
-  if (need(in, g + "/features", method == Method::Lle, who)) {
+  if (need(in, g + "/features", method == Method::Lle || gplvm, who)) {
     m.features = in.row_matrix(g + "/features", M, X, "#model samples by #features");
   }
   if (uses_graph_method(method) && (m.k < 1 || m.k > M)) {
@@ -718,6 +719,25 @@ void read_model(const Input& in, std::int64_t version, MapFile& f) {
   const bool dense_isomap =
       method == Method::Isomap && m.landmarks && m.landmarks->geodesic.size() == 0;
   if (need(in, g + "/graph", dense_isomap, who)) m.graph = read_graph(in, M);
+  if (need(in, g + "/gplvm", gplvm, who)) {
+    // The GP's predictive (embed::GplvmPredictive) over B basis points: the model's samples
+    // (the full model) or its inducing inputs.
+    const std::string p = g + "/gplvm";
+    embed::GplvmPredictive& gp = m.gplvm;
+    gp.basis = in.matrix(p + "/basis", -1, dims, "#basis points by dims");
+    const std::int64_t B = gp.basis.rows();
+    if (B == 0) in.fail(p + "/basis has no rows");
+    gp.alpha = in.matrix(p + "/alpha", B, X, "#basis points by #features");
+    gp.C = in.matrix(p + "/C", B, B, "#basis points by #basis points");
+    gp.rbf_variance = in.real(p, "rbf_variance", "the kernel's RBF variance");
+    gp.lengthscale = in.real(p, "lengthscale", "the kernel's lengthscale");
+    gp.bias_variance = in.real(p, "bias_variance", "the kernel's bias variance");
+    gp.prior_variance = in.real(p, "prior_variance", "the predictive variance far from the map");
+    if (!(gp.rbf_variance > 0 && gp.lengthscale > 0 && gp.bias_variance >= 0 &&
+          gp.prior_variance > 0)) {
+      in.fail(p + ": the kernel's variances and lengthscale must be > 0");
+    }
+  }
 }
 
 // The root attribute `datasets` (layout 3): every dataset written must be there, so that one a

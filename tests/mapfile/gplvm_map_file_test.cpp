@@ -1,0 +1,75 @@
+// A GP-LVM map saved and read back (mapfile/, /model/gplvm): what placing frames needs comes back
+// bit for bit, and frames placed on the file land where they land on the map in memory.
+#include <unistd.h>
+
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/embed/placement.h"
+#include "motionmap/io/load.h"
+#include "motionmap/mapfile/map_file.h"
+#include "motionmap/pipeline/clip_map.h"
+#include "support/test_data.h"
+
+namespace motionmap::mapfile {
+namespace {
+
+class TempDir {
+ public:
+  TempDir() {
+    m_path = std::filesystem::temp_directory_path() /
+             ("motionmap-gplvm-mapfile-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(m_path);
+    std::filesystem::create_directories(m_path);
+  }
+  ~TempDir() { std::filesystem::remove_all(m_path); }
+  std::string file(const std::string& name) const { return (m_path / name).string(); }
+
+ private:
+  std::filesystem::path m_path;
+};
+
+TEST(GplvmMapFile, SavedMapsPlaceFramesAsTheMapInMemoryDoes) {
+  const TempDir dir;
+  const std::vector<Clip> clips{io::load_clip(test::shared_file("cmu/64_08.bvh"))};
+  const std::vector<Clip> other{io::load_clip(test::shared_file("cmu/64_09.bvh"))};
+  for (int inducing : {0, 20}) {  // the full model and the sparse one
+    SCOPED_TRACE("inducing " + std::to_string(inducing));
+    pipeline::ClipMapOptions options;
+    options.embed.method = embed::Method::Gplvm;
+    options.embed.max_iterations = 10;
+    options.embed.inducing = inducing;
+    options.features.stride = 3;
+    const pipeline::ClipMap map = pipeline::map_clips(clips, options);
+    const MapFile made = make_map_file(clips, map, options);
+    const std::string path = dir.file("gplvm.mmap.h5");
+    write_map_file(path, made);
+    const MapFile read = read_map_file(path);
+    const embed::GplvmPredictive &a = made.model.gplvm, &b = read.model.gplvm;
+    EXPECT_EQ(a.basis.rows(), inducing > 0 ? inducing : map.embedding.coordinates.rows());
+    EXPECT_EQ(a.basis, b.basis);
+    EXPECT_EQ(a.alpha, b.alpha);
+    EXPECT_EQ(a.C, b.C);
+    EXPECT_EQ(a.rbf_variance, b.rbf_variance);
+    EXPECT_EQ(a.lengthscale, b.lengthscale);
+    EXPECT_EQ(a.bias_variance, b.bias_variance);
+    EXPECT_EQ(a.prior_variance, b.prior_variance);
+    EXPECT_EQ(made.model.mean, read.model.mean);
+    EXPECT_EQ(made.model.features, read.model.features);
+    // Another clip, every 20th frame: the same places from the file as from memory.
+    PlaceOptions some;
+    some.stride = 20;
+    const Placement from_file = place_clips(other, read, some);
+    const Placement from_memory = place_clips(other, made, some);
+    ASSERT_GT(from_file.coordinates.rows(), 10);
+    EXPECT_TRUE(from_file.coordinates.allFinite());
+    EXPECT_EQ(from_file.coordinates, from_memory.coordinates);
+  }
+}
+
+}  // namespace
+}  // namespace motionmap::mapfile

@@ -35,11 +35,15 @@ inline std::vector<std::filesystem::path> write_map_seeds(const std::filesystem:
                                    embed::Method::Isomap,
                                    embed::Method::LaplacianEigenmap,
                                    embed::Method::Lle,
-                                   embed::Method::Umap};
+                                   embed::Method::Umap,
+                                   embed::Method::Gplvm};
   std::vector<std::filesystem::path> written;
   for (const embed::Method method : methods) {
     for (const bool landmarks : {false, true}) {
-      if (landmarks && (method == embed::Method::Pca || method == embed::Method::Svd)) continue;
+      if (landmarks && (method == embed::Method::Pca || method == embed::Method::Svd ||
+                        method == embed::Method::Gplvm)) {
+        continue;
+      }
       pipeline::ClipMapOptions o;
       o.embed.method = method;
       o.embed.k = 6;

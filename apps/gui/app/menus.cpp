@@ -37,7 +37,7 @@ QString methodHelp(embed::Method method) {
     case embed::Method::Gplvm:
       return MotionMenu::tr(
           "GP-LVM: the latent points from which a Gaussian process best predicts the poses "
-          "(slow: an optimisation; up to 2 000 frames)");
+          "(an optimisation, slower than the others; sparse above 1 000 frames)");
   }
   return {};
 }

@@ -1,9 +1,11 @@
-// `motionmap figure FILE… -o fig.png`: the reference evaluation — all six methods side by side.
+// `motionmap figure FILE… -o fig.png`: the reference evaluation — all six methods side by side
+// (`--methods` chooses others, umap and gplvm among them).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "commands.h"
 #include "map_options.h"
@@ -22,7 +24,42 @@ struct FigureCommand {
   std::string output;
   int panel_px = 500;
   std::string axes = "fill";
+  std::string methods;  ///< comma-separated; empty: the six spectral methods
 };
+
+// The methods of --methods (comma-separated names, in the order given, each once); empty: the
+// reference evaluation's six spectral methods (umap and gplvm, optimised and slower, on request).
+std::vector<embed::Method> figure_methods(const std::string& list) {
+  std::vector<embed::Method> methods;
+  if (list.empty()) {
+    for (embed::Method m : embed::all_methods()) {
+      if (m != embed::Method::Umap && m != embed::Method::Gplvm) methods.push_back(m);
+    }
+    return methods;
+  }
+  std::stringstream in(list);
+  for (std::string name; std::getline(in, name, ',');) {
+    if (name.empty()) throw ParameterError("--methods: an empty name in '" + list + "'");
+    const std::optional<embed::Method> m = embed::parse_method(name);
+    if (!m) {
+      throw ParameterError("--methods: unknown method '" + name +
+                           "' (expected a comma-separated list of pca, svd, mds, isomap, le, "
+                           "lle, umap, gplvm)");
+    }
+    if (std::find(methods.begin(), methods.end(), *m) != methods.end()) {
+      throw ParameterError("--methods: " + name + " is given twice");
+    }
+    methods.push_back(*m);
+  }
+  return methods;
+}
+
+// Panels per row: one row up to 3, then 2 × 2, then rows of 3 (up to 6 and 9) or 4 (7, 8).
+int figure_columns(std::size_t panels) {
+  if (panels <= 3) return static_cast<int>(panels);
+  if (panels == 4) return 2;
+  return panels == 7 || panels == 8 ? 4 : 3;
+}
 
 const char* long_name(embed::Method m) {
   switch (m) {
@@ -58,11 +95,15 @@ void setup_figure(CLI::App& app) {
   auto cmd = std::make_shared<FigureCommand>();
   auto* sub = app.add_subcommand(
       "figure",
-      "Map the clips with all six methods (PCA, SVD, MDS / Isomap, LE, LLE) and draw them in a\n"
-      "2×3 grid with each map's quality metrics under it (trustworthiness T and continuity C at\n"
-      "k = 10, stress for MDS/Isomap, jump score). Also prints the metrics as a table.");
+      "Map the clips with all six methods (PCA, SVD, MDS / Isomap, LE, LLE), or those of\n"
+      "--methods, and draw them in a grid with each map's quality metrics under it\n"
+      "(trustworthiness T and continuity C at k = 10, stress for MDS/Isomap, jump score). Also\n"
+      "prints the metrics as a table.");
   add_map_options(sub, cmd->map, MapOptionsFor::Figure);
   sub->add_option("-o,--output", cmd->output, "Figure to write: .png, .svg or .pdf")->required();
+  sub->add_option("--methods", cmd->methods,
+                  "Comma-separated methods to draw, in order, e.g. pca,isomap,umap,gplvm "
+                  "(default: pca,svd,mds,isomap,le,lle)");
   sub->add_option("--panel-size", cmd->panel_px, "Pixels per panel (default 500)")
       ->check(CLI::Range(64, 4096));
   sub->add_option(
@@ -73,12 +114,7 @@ void setup_figure(CLI::App& app) {
   sub->callback([cmd] {
     const std::vector<Clip> clips = load_inputs(cmd->map);
     const std::optional<pipeline::LabelTable> table = read_clip_labels(cmd->map, clips);
-    // The reference evaluation's six spectral methods; umap and gplvm (optimised, slower) are
-    // mapped on their own with `map --method umap|gplvm`.
-    std::vector<embed::Method> methods;
-    for (embed::Method m : embed::all_methods()) {
-      if (m != embed::Method::Umap && m != embed::Method::Gplvm) methods.push_back(m);
-    }
+    const std::vector<embed::Method> methods = figure_methods(cmd->methods);
     pipeline::ClipMapOptions options =
         clip_map_options(cmd->map, methods.front(), /*metrics=*/true);
     const Control overall = progress_line(cmd->map, "figure");
@@ -112,7 +148,8 @@ void setup_figure(CLI::App& app) {
       panel.options = colored;
       panel.options.title = long_name(methods[i]);
       panel.segment_starts = set.segment_starts;
-      options.embed.method = methods[i];
+      // Each method's own defaults (umap's k is 15, the others' 20, when -k is not given).
+      options = clip_map_options(cmd->map, methods[i], /*metrics=*/true);
       const auto t0 = std::chrono::steady_clock::now();
       try {
         const pipeline::ClipMap map =
@@ -199,12 +236,13 @@ void setup_figure(CLI::App& app) {
                               features::distance_kind_name(options.features.distance))) +
                           (cmd->axes == "fill" ? ", axes scaled to fill each panel" : "");
     ensure_gui_application();
-    render::save_figure(cmd->output, panels, 3, cmd->panel_px, title);
+    render::save_figure(cmd->output, panels, figure_columns(panels.size()), cmd->panel_px, title);
     const double total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "wrote " << cmd->output << " (" << total << " s)\n";
     if (failures > 0)
-      throw Error(std::to_string(failures) + " of the six maps failed (shown as empty panels)");
+      throw Error(std::to_string(failures) + " of the " + std::to_string(methods.size()) +
+                  " maps failed (shown as empty panels)");
   });
 }
 

@@ -323,6 +323,26 @@ def figure_draws_six_methods():
 
 
 @test
+def figure_methods_chooses_the_panels_umap_and_gplvm_among_them():
+    path = os.path.join(TMP, "swing-fig.bvh")
+    code, _, err = run("sample", "--kind", "swing", "--seconds", "2", "--fps", "30", "-o", path)
+    assert code == 0, err
+    png = os.path.join(TMP, "fig-methods.png")
+    code, out, err = run("figure", path, "-o", png, "-q", "--methods", "gplvm,pca,umap",
+                         "--max-iter", "20", "--seed", "1")
+    assert code == 0, err
+    rows = [line.split()[0] for line in out.splitlines()[1:] if line.strip()]
+    assert rows == ["gplvm", "pca", "umap"], out
+    with open(png, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    for methods, word in (("pca,tsne", "unknown method 'tsne'"), ("pca,pca", "given twice"),
+                          ("pca,,mds", "an empty name")):
+        code, out, err = run("figure", path, "-o", png, "-q", "--methods", methods)
+        assert code != 0 and word in err, (methods, code, err)
+        assert out == "", (methods, out)
+
+
+@test
 def a_static_clip_maps_to_one_point_with_a_note():
     # A hierarchy file whose 60 frames are one pose: the centred data are zero (Spectra's
     # Lanczos used to throw on PCA and return garbage for SVD's second axis).

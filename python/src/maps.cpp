@@ -180,9 +180,15 @@ auto naming_n_inducing(Fn&& fn) {
   try {
     return fn();
   } catch (const ParameterError& e) {
-    const std::string what = e.what();
-    if (what.find("inducing = ") != std::string::npos) throw ParameterError("n_inducing: " + what);
-    throw;
+    std::string what = e.what();
+    const std::size_t at = what.find("inducing = ");
+    if (at == std::string::npos) throw;
+    // "gplvm: inducing = 500 is out of range; …, or 0 for the default (…)" in Python's terms.
+    what = what.substr(at + 11);
+    if (const std::size_t zero = what.find("or 0 for"); zero != std::string::npos) {
+      what.replace(zero, 4, "or None");
+    }
+    throw ParameterError("n_inducing: " + what);
   }
 }
 

@@ -137,9 +137,10 @@ def test_matrix_fit_transform_and_pickle(golf, n_inducing):
 
 def test_bad_values_name_the_parameter(golf):
     X = motionmap.features(golf, stride=4)
+    too_many = r"n_inducing: 92 is out of range; it must be in \[1, 91\]"  # 91 frames
     for bad, name in ((dict(max_iter=0), "max_iter"), (dict(max_iter=100001), "max_iter"),
                       (dict(n_inducing=-1), "n_inducing"), (dict(n_inducing=0), "n_inducing"),
-                      (dict(n_inducing=92), "n_inducing")):
+                      (dict(n_inducing=92), too_many)):
         with pytest.raises(ValueError, match=name):
             motionmap.GPLVM(stride=4, **bad).fit(golf)
         with pytest.raises(motionmap.Error, match=name):

@@ -22,7 +22,8 @@ from ._motionmap import Clip, Error, Skeleton, load
 __all__ = [
     "Clip", "Error", "Skeleton", "load", "features", "read_map", "write_map", "synthesize",
     "edit_path", "inbetween",
-    "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "UMAP", "NotFittedError",
+    "PCA", "SVD", "MDS", "Isomap", "LaplacianEigenmap", "LLE", "UMAP", "GPLVM",
+    "NotFittedError",
 ]
 __version__ = "0.1.0"
 
@@ -141,7 +142,7 @@ class _MapEstimator:
         params = self.get_params()
         options = {"method": self._method}
         for key in ("n_components", "n_neighbors", "heat", "reg", "min_dist", "n_epochs",
-                    "random_state", "standardize", "strict",
+                    "random_state", "max_iter", "n_inducing", "standardize", "strict",
                     "n_landmarks", "path", "features", "distance", "exclude", "up", "joints",
                     "frames", "stride", "keep_first"):
             if key in params:
@@ -384,8 +385,27 @@ class UMAP(_MapEstimator):
         _keep_arguments(self, locals())
 
 
+class GPLVM(_MapEstimator):
+    __doc__ = """Gaussian-process latent variable model (Lawrence 2005): the latent points whose GP
+    mapping to X (an RBF-plus-bias kernel) has the greatest marginal likelihood, from PCA's map
+    (docs/methods/gplvm.md). Fitted in X; there is no metric="precomputed".
+
+    max_iter: L-BFGS iterations at most, in [1, 100000]; n_inducing: inducing points of the
+    sparse model (DTC), 1 to #frames, or None = the full model up to 1 000 frames and 100
+    inducing points above. transform places each new frame at the latent point that best explains
+    it under the fitted GP, searched from the latent points of its nearest fitted frames.
+    eigenvalues_: those of the PCA map the fit starts from.
+    """ + _FEATURE_DOC
+    _method = "gplvm"
+
+    def __init__(self, n_components=2, *, max_iter=300, n_inducing=None, features="quat",
+                 distance="pointcloud", exclude=None, up="y", joints="all", frames=None,
+                 stride=1, keep_first=False, path="auto"):
+        _keep_arguments(self, locals())
+
+
 _ESTIMATORS = {cls._method: cls
-               for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE, UMAP)}
+               for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE, UMAP, GPLVM)}
 
 
 def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend="local",

@@ -69,6 +69,19 @@ pipeline::ClipMapOptions clip_map_options(const py::dict& o) {
       e.epochs = value.is_none() ? 0 : value.cast<int>();
     } else if (k == "random_state") {
       e.seed = value.is_none() ? 0 : value.cast<int>();
+    } else if (k == "max_iter") {
+      e.max_iterations = value.cast<int>();
+      if (e.max_iterations < 1 || e.max_iterations > 100000) {
+        throw ParameterError("max_iter: " + std::to_string(e.max_iterations) +
+                             " is out of range; it must be in [1, 100000] (default 300)");
+      }
+    } else if (k == "n_inducing") {
+      e.inducing = value.is_none() ? 0 : value.cast<int>();
+      if (!value.is_none() && e.inducing < 1) {
+        throw ParameterError("n_inducing: " + std::to_string(e.inducing) +
+                             " is not a number of inducing points >= 1 (None: the full model up "
+                             "to 1000 frames, 100 inducing points above)");
+      }
     } else if (k == "standardize") {
       e.standardize = value.cast<bool>();
     } else if (k == "strict") {
@@ -108,6 +121,8 @@ py::dict option_dict(const pipeline::ClipMapOptions& o) {
   d["min_dist"] = e.min_dist;
   d["n_epochs"] = e.epochs > 0 ? py::cast(e.epochs) : py::none();
   d["random_state"] = e.seed;
+  d["max_iter"] = e.max_iterations;
+  d["n_inducing"] = e.inducing > 0 ? py::cast(e.inducing) : py::none();
   d["standardize"] = e.standardize;
   d["strict"] = e.strict;
   d["n_landmarks"] = e.landmarks;
@@ -157,6 +172,25 @@ class SearchOnce {
   std::once_flag m_once;
   std::unique_ptr<embed::SampleSearch> m_search;
 };
+
+// The library's check of EmbedOptions::inducing against the number of frames (known only once the
+// frames are chosen) reported under the estimator's name for it, n_inducing.
+template <typename Fn>
+auto naming_n_inducing(Fn&& fn) {
+  try {
+    return fn();
+  } catch (const ParameterError& e) {
+    std::string what = e.what();
+    const std::size_t at = what.find("inducing = ");
+    if (at == std::string::npos) throw;
+    // "gplvm: inducing = 500 is out of range; …, or 0 for the default (…)" in Python's terms.
+    what = what.substr(at + 11);
+    if (const std::size_t zero = what.find("or 0 for"); zero != std::string::npos) {
+      what.replace(zero, 4, "or None");
+    }
+    throw ParameterError("n_inducing: " + what);
+  }
+}
 
 // ---- maps of clips ----------------------------------------------------------------------------
 
@@ -211,16 +245,18 @@ std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict&
   const pipeline::ClipMapOptions opts = clip_map_options(options);
   std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
   auto state = std::make_shared<ClipMapState>();
-  run_released(std::move(progress), [&](const Control& control) {
-    const std::optional<pipeline::LabelTable> table =
-        clip_labels(loaded, labels_from_name, labels_file);
-    state->map = pipeline::map_clips(loaded, opts, control);
-    state->file = mapfile::make_map_file(loaded, *state->map, opts);
-    if (table) {
-      state->file.labels =
-          pipeline::sample_labels(*table, state->file.clip_of, state->file.frame_of);
-    }
-    return 0;
+  naming_n_inducing([&] {
+    return run_released(std::move(progress), [&](const Control& control) {
+      const std::optional<pipeline::LabelTable> table =
+          clip_labels(loaded, labels_from_name, labels_file);
+      state->map = pipeline::map_clips(loaded, opts, control);
+      state->file = mapfile::make_map_file(loaded, *state->map, opts);
+      if (table) {
+        state->file.labels =
+            pipeline::sample_labels(*table, state->file.clip_of, state->file.frame_of);
+      }
+      return 0;
+    });
   });
   for (const Clip& c : loaded) state->paths.push_back(c.path);
   state->clips = std::move(loaded);
@@ -670,6 +706,11 @@ std::shared_ptr<MatrixMapState> fit_matrix(const InputArray& array, bool precomp
   s->options = opts.embed;
   s->precomputed = precomputed;
   s->columns = static_cast<int>(rows.cols());
+  if (opts.embed.method == embed::Method::Gplvm && opts.embed.inducing > rows.rows()) {
+    throw ParameterError("n_inducing: " + std::to_string(opts.embed.inducing) +
+                         " is out of range; it must be in [1, " + std::to_string(rows.rows()) +
+                         "] (the number of frames), or None for the default");
+  }
   run_released(std::move(progress), [&](const Control& control) {
     if (precomputed) {
       if (!embed::reads_distances(opts.embed.method)) {
@@ -752,6 +793,8 @@ py::tuple matrix_state(const MatrixMapState& s) {
   o["min_dist"] = s.options.min_dist;
   o["n_epochs"] = s.options.epochs > 0 ? py::cast(s.options.epochs) : py::none();
   o["random_state"] = s.options.seed;
+  o["max_iter"] = s.options.max_iterations;
+  o["n_inducing"] = s.options.inducing > 0 ? py::cast(s.options.inducing) : py::none();
   o["standardize"] = s.options.standardize;
   o["strict"] = s.options.strict;
   o["n_landmarks"] = s.options.landmarks;
@@ -780,6 +823,18 @@ py::tuple matrix_state(const MatrixMapState& s) {
   m["eigenvalues"] = mm.eigenvalues;
   m["features"] = Eigen::MatrixXd(mm.features);
   m["reg"] = mm.reg;
+  if (mm.method == embed::Method::Gplvm) {
+    const embed::GplvmPredictive& p = mm.gplvm;
+    py::dict g;
+    g["basis"] = p.basis;
+    g["alpha"] = p.alpha;
+    g["C"] = p.C;
+    g["rbf_variance"] = p.rbf_variance;
+    g["lengthscale"] = p.lengthscale;
+    g["bias_variance"] = p.bias_variance;
+    g["prior_variance"] = p.prior_variance;
+    m["gplvm"] = g;
+  }
   return py::make_tuple(1, o, e, m, s.precomputed, s.columns);
 }
 
@@ -818,6 +873,19 @@ std::shared_ptr<MatrixMapState> matrix_from_state(const py::tuple& t) {
   mm.eigenvalues = m["eigenvalues"].cast<Eigen::VectorXd>();
   mm.features = m["features"].cast<Eigen::MatrixXd>();
   mm.reg = m["reg"].cast<double>();
+  if (m.contains("gplvm")) {
+    const py::dict g = m["gplvm"];
+    embed::GplvmPredictive& p = mm.gplvm;
+    p.basis = g["basis"].cast<Eigen::MatrixXd>();
+    p.alpha = g["alpha"].cast<Eigen::MatrixXd>();
+    p.C = g["C"].cast<Eigen::MatrixXd>();
+    p.rbf_variance = g["rbf_variance"].cast<double>();
+    p.lengthscale = g["lengthscale"].cast<double>();
+    p.bias_variance = g["bias_variance"].cast<double>();
+    p.prior_variance = g["prior_variance"].cast<double>();
+  } else if (mm.method == embed::Method::Gplvm) {
+    throw Error("unpickling a matrix map: a gplvm map without its GP's predictive");
+  }
   s->precomputed = t[4].cast<bool>();
   s->columns = t[5].cast<int>();
   return s;

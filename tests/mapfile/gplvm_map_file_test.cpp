@@ -1,5 +1,6 @@
 // A GP-LVM map saved and read back (mapfile/, /model/gplvm): what placing frames needs comes back
-// bit for bit, and frames placed on the file land where they land on the map in memory.
+// bit for bit with the fit's max_iterations and inducing, and frames placed on the file land where
+// they land on the map in memory.
 #include <unistd.h>
 
 #include <filesystem>
@@ -60,6 +61,9 @@ TEST(GplvmMapFile, SavedMapsPlaceFramesAsTheMapInMemoryDoes) {
     EXPECT_EQ(a.prior_variance, b.prior_variance);
     EXPECT_EQ(made.model.mean, read.model.mean);
     EXPECT_EQ(made.model.features, read.model.features);
+    // The fit's options come back too (read_map's GPLVM(max_iter=, n_inducing=) in Python).
+    EXPECT_EQ(read.options.embed.max_iterations, 10);
+    EXPECT_EQ(read.options.embed.inducing, inducing);
     // Another clip, every 20th frame: the same places from the file as from memory.
     PlaceOptions some;
     some.stride = 20;

@@ -214,6 +214,10 @@ void write_map_file(const std::string& path, const MapFile& f) {
     w.attribute(p, "epochs", eo.epochs);
     w.attribute(p, "seed", eo.seed);
   }
+  if (eo.method == embed::Method::Gplvm) {  // likewise only gplvm maps
+    w.attribute(p, "max_iterations", eo.max_iterations);
+    w.attribute(p, "inducing", eo.inducing);
+  }
   w.attribute(p, "standardize", eo.standardize);
   w.attribute(p, "strict", eo.strict);
   w.attribute(p, "landmarks", eo.landmarks);

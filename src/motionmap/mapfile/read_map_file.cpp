@@ -500,6 +500,11 @@ void read_parameters(const Input& in, MapFile& f) {
     eo.epochs = in.integer32(p, "epochs", 0, "umap's layout epochs (0: the default)");
     eo.seed = in.integer32(p, "seed", 0, "umap's random seed");
   }
+  // gplvm maps written before these were kept read with the defaults.
+  if (eo.method == Method::Gplvm && in.has_attribute(p, "max_iterations")) {
+    eo.max_iterations = in.integer32(p, "max_iterations", 1, "gplvm's L-BFGS iteration limit");
+    eo.inducing = in.integer32(p, "inducing", 0, "gplvm's inducing points (0: the default)");
+  }
   eo.standardize = in.flag(p, "standardize", "standardised PCA");
   eo.strict = in.flag(p, "strict", "strict neighbour graphs");
   eo.landmarks = in.integer32(p, "landmarks", 0, "landmarks asked for (0: the default)");

@@ -368,16 +368,22 @@ synth::MapPath map_path(const InputArray& xy, const py::object& times, const std
   return path;
 }
 
-Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
-                     double speed, double fps, double smooth, const std::string& mode,
-                     int neighbors, double reach, bool clean_feet, py::object progress) {
-  const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
+// The options of synthesize and edit_path, checked.
+synth::SynthOptions synth_options(double speed, double fps, double smooth, bool clean_feet) {
   synth::SynthOptions options;
   options.speed = speed;
   options.fps = fps;
   options.smooth = smooth;
   options.clean_feet = clean_feet;
   options.validate();
+  return options;
+}
+
+Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py::object& times,
+                     double speed, double fps, double smooth, const std::string& mode,
+                     int neighbors, double reach, bool clean_feet, py::object progress) {
+  const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
+  const synth::SynthOptions options = synth_options(speed, fps, smooth, clean_feet);
   return run_released(std::move(progress), [&](const Control& control) {
     const synth::MapBlender blender =
         make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.3));
@@ -404,12 +410,7 @@ py::tuple edit_path(const ClipMapState& s, const InputArray& previous_xy,
   const synth::MapPath previous =
       map_path(previous_xy, previous_times, "previous_xy", "previous_times");
   const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
-  synth::SynthOptions options;
-  options.speed = speed;
-  options.fps = fps;
-  options.smooth = smooth;
-  options.clean_feet = clean_feet;
-  options.validate();
+  const synth::SynthOptions options = synth_options(speed, fps, smooth, clean_feet);
   Clip out;
   synth::PathEditResult edit = run_released(std::move(progress), [&](const Control& control) {
     const synth::MapBlender blender =

@@ -27,7 +27,7 @@
 //    repainted (a smooth 6 000-frame loop through the blobs), the frame; must stay under 16 ms.
 //    PanFrame1M: one move of a pan drag, the same. Argument 1: coloured by a label of 7 values
 //    (one per blob; View → Colour by), one of them hidden: the density binned by category
-//    (categoryDensityImage) — the same 16 ms.
+//    (render::category_density_image) — the same 16 ms.
 //  - LegendToggle1M: a legend click on 10⁶ coloured points: a value hidden or shown again (every
 //    sample's category set, MapView::setSampleCategories) and the view drawn.
 // Data (argument 0/1): CMU 64_08 (365 frames), and a 10 000-frame concatenation of 64_08 and

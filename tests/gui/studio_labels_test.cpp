@@ -24,7 +24,6 @@
 #include "explore/map_coloring.h"
 #include "explore/nearest_panel.h"
 #include "explore/selection_panel.h"
-#include "map/category_density.h"
 #include "map/map_gestures.h"
 #include "map/map_view.h"
 #include "motionmap/core/error.h"
@@ -466,8 +465,8 @@ TEST(StudioLabels, AComputedMapColoursByLabelsReadFromTheClipsNames) {
 TEST(StudioLabels, TheCategoryDensityMixesColoursAndLeavesHiddenPointsOut) {
   Eigen::MatrixXd points(4, 2);
   points << 0.5, 0.5, 0.5, 0.5, 1.5, 0.5, 1.5, 0.5;
-  const QImage image =
-      categoryDensityImage(points, {0, 1, 2, MapView::kHiddenCategory}, QTransform(), QSize(2, 1));
+  const QImage image = render::category_density_image(points, {0, 1, 2, MapView::kHiddenCategory},
+                                                      QTransform(), QSize(2, 1));
   ASSERT_EQ(image.size(), QSize(2, 1));
   // Pixel 0: the mean of colours 0 and 1 at full opacity (the most points); pixel 1: colour 2
   // alone (its hidden point left out) at the opacity of one point of two.
@@ -479,8 +478,9 @@ TEST(StudioLabels, TheCategoryDensityMixesColoursAndLeavesHiddenPointsOut) {
   EXPECT_TRUE(near(colourAt(image, 1, 0), render::category_color(2), 2));
   EXPECT_EQ(qAlpha(image.pixel(1, 0)),
             int(std::lround(255 * (0.12 + 0.88 * std::log1p(1.0) / std::log1p(2.0)))));
-  EXPECT_THROW(categoryDensityImage(points, {0, 1}, QTransform(), QSize(2, 1)), ParameterError);
-  EXPECT_TRUE(categoryDensityImage(points, {0, 0, 0, 0}, QTransform(), QSize()).isNull());
+  EXPECT_THROW(render::category_density_image(points, {0, 1}, QTransform(), QSize(2, 1)),
+               ParameterError);
+  EXPECT_TRUE(render::category_density_image(points, {0, 0, 0, 0}, QTransform(), QSize()).isNull());
 }
 
 }  // namespace

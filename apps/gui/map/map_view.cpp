@@ -15,8 +15,6 @@
 #include <QToolTip>
 #include <QWheelEvent>
 
-#include "map/category_density.h"
-
 namespace motionmap::studio {
 
 namespace {
@@ -52,7 +50,8 @@ bool MapView::sampleShown(int sample) const {
 }
 
 QImage MapView::density(const QTransform& toPixel, const QSize& size) const {
-  if (categoriesShown()) return categoryDensityImage(*m_density, m_categories, toPixel, size);
+  if (categoriesShown())
+    return render::category_density_image(*m_density, m_categories, toPixel, size);
   return render::density_image(*m_density, toPixel, size);
 }
 

@@ -119,8 +119,9 @@ class MapView : public QWidget {
   /// (the CLI's palette; −1: the grey of "other"), or kHiddenCategory: left out of the drawing
   /// (and of hover, click, nearest and selection, which ask sampleShown). A computed map's
   /// trajectory is drawn in its samples' colours, framed as the whole map; a saved map's density
-  /// image mixes the colours of each pixel's samples (categoryDensityImage). Empty, or a count that
-  /// is not the map's: the map's own colours. setMap, setDensityMap and clearMap remove them.
+  /// image mixes the colours of each pixel's samples (render::category_density_image). Empty, or a
+  /// count that is not the map's: the map's own colours. setMap, setDensityMap and clearMap remove
+  /// them.
   void setSampleCategories(std::vector<int> categories);
   const std::vector<int>& sampleCategories() const { return m_categories; }
   /// Whether the samples are coloured by category (setSampleCategories, of the map shown).

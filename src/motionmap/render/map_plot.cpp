@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <QCoreApplication>
 #include <QFont>
@@ -486,45 +488,119 @@ QTransform unit_transform(const QRectF& rect, const MapPlotOptions& options) {
   return unit_to_rect(data_area(rect, options));
 }
 
+namespace {
+
+// Calls visit(i, pixel) for each point i of `points` that falls in the image of `size` at
+// `data_to_pixel`, pixel its row-major index; points outside and non-finite rows are skipped.
+// The transform is a similarity (scale, translate, maybe flip): its affine part, applied here.
+template <class Visit>
+void for_each_binned(const Eigen::MatrixXd& points, const QTransform& data_to_pixel,
+                     const QSize& size, Visit visit) {
+  const int w = size.width(), h = size.height();
+  const double m11 = data_to_pixel.m11(), m12 = data_to_pixel.m12(), m21 = data_to_pixel.m21(),
+               m22 = data_to_pixel.m22(), dx = data_to_pixel.dx(), dy = data_to_pixel.dy();
+  const Eigen::Index n = points.rows();
+  const double* xs = points.data();
+  const double* ys = points.data() + n;  // column-major: column 1 follows column 0
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double px = m11 * xs[i] + m21 * ys[i] + dx, py = m12 * xs[i] + m22 * ys[i] + dy;
+    if (!(px >= 0.0 && px < w && py >= 0.0 && py < h)) continue;  // outside, or NaN
+    visit(std::size_t(i), std::size_t(int(py)) * std::size_t(w) + std::size_t(int(px)));
+  }
+}
+
+// The opacity (0–255) of a pixel holding `count` of at most `most` points:
+// 0.12 + 0.88 · log(1 + count) / log(1 + most), through a table (counts repeat, logarithms are
+// dear).
+class DensityAlpha {
+ public:
+  explicit DensityAlpha(std::uint32_t most) : m_scale(1.0 / std::log1p(double(most))) {
+    m_table.resize(std::min<std::uint32_t>(most, 4096) + 1);
+    for (std::uint32_t c = 1; c < m_table.size(); ++c) m_table[c] = compute(c);
+  }
+  int operator()(std::uint32_t count) const {
+    return count < m_table.size() ? m_table[count] : compute(count);
+  }
+
+ private:
+  int compute(std::uint32_t count) const {
+    const double a = 0.12 + 0.88 * std::log1p(double(count)) * m_scale;
+    return std::clamp(int(std::lround(255.0 * a)), 0, 255);
+  }
+  double m_scale;
+  std::vector<int> m_table;
+};
+
+}  // namespace
+
 QImage density_image(const Eigen::MatrixXd& points, const QTransform& data_to_pixel,
                      const QSize& size, const QColor& ink) {
   check_columns(points, "density points");
   if (size.isEmpty()) return {};
   const int w = size.width(), h = size.height();
   std::vector<std::uint32_t> counts(std::size_t(w) * std::size_t(h), 0);
-  // The transform is a similarity (scale, translate, maybe flip): its affine part, applied here.
-  const double m11 = data_to_pixel.m11(), m12 = data_to_pixel.m12(), m21 = data_to_pixel.m21(),
-               m22 = data_to_pixel.m22(), dx = data_to_pixel.dx(), dy = data_to_pixel.dy();
-  const Eigen::Index n = points.rows();
-  const double* xs = points.data();
-  const double* ys = points.data() + n;  // column-major: column 1 follows column 0
   std::uint32_t most = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double px = m11 * xs[i] + m21 * ys[i] + dx, py = m12 * xs[i] + m22 * ys[i] + dy;
-    if (!(px >= 0.0 && px < w && py >= 0.0 && py < h)) continue;  // outside, or NaN
-    std::uint32_t& c = counts[std::size_t(int(py)) * std::size_t(w) + std::size_t(int(px))];
-    most = std::max(most, ++c);
-  }
+  for_each_binned(points, data_to_pixel, size,
+                  [&](std::size_t, std::size_t pixel) { most = std::max(most, ++counts[pixel]); });
   QImage image(size, QImage::Format_ARGB32_Premultiplied);
   image.fill(Qt::transparent);
   if (most == 0) return image;
-  // Opacity per count through a table: counts repeat, logarithms are dear.
-  const double scale = 1.0 / std::log1p(double(most));
-  auto pixel = [&](std::uint32_t c) {
-    const double a = 0.12 + 0.88 * std::log1p(double(c)) * scale;
-    const int alpha = std::clamp(int(std::lround(255.0 * a)), 0, 255);
-    return qRgba(ink.red() * alpha / 255, ink.green() * alpha / 255, ink.blue() * alpha / 255,
-                 alpha);
-  };
-  std::vector<QRgb> table(std::min<std::uint32_t>(most, 4096) + 1);
-  for (std::uint32_t c = 1; c < table.size(); ++c) table[c] = pixel(c);
+  const DensityAlpha alpha_of(most);
   for (int y = 0; y < h; ++y) {
     auto* line = reinterpret_cast<QRgb*>(image.scanLine(y));
     const std::uint32_t* row = counts.data() + std::size_t(y) * std::size_t(w);
     for (int x = 0; x < w; ++x) {
-      const std::uint32_t c = row[x];
-      if (c == 0) continue;
-      line[x] = c < table.size() ? table[c] : pixel(c);
+      if (row[x] == 0) continue;
+      const int alpha = alpha_of(row[x]);
+      line[x] = qRgba(ink.red() * alpha / 255, ink.green() * alpha / 255, ink.blue() * alpha / 255,
+                      alpha);
+    }
+  }
+  return image;
+}
+
+QImage category_density_image(const Eigen::MatrixXd& points, const std::vector<int>& categories,
+                              const QTransform& data_to_pixel, const QSize& size) {
+  check_columns(points, "density points");
+  if (Eigen::Index(categories.size()) != points.rows()) {
+    throw ParameterError("categories: " + std::to_string(categories.size()) + " for " +
+                         std::to_string(points.rows()) + " points");
+  }
+  if (size.isEmpty()) return {};
+  // The palette once: slot 0 is "other" (−1), slot c + 1 category c (cycling as category_color).
+  std::vector<QRgb> palette(std::size_t(kCategoryColors) + 1);
+  for (int c = -1; c < kCategoryColors; ++c) palette[std::size_t(c + 1)] = category_color(c).rgb();
+  struct Bin {
+    std::uint32_t count = 0, r = 0, g = 0, b = 0;
+  };
+  const int w = size.width(), h = size.height();
+  std::vector<Bin> bins(std::size_t(w) * std::size_t(h));
+  std::uint32_t most = 0;
+  for_each_binned(points, data_to_pixel, size, [&](std::size_t i, std::size_t pixel) {
+    const int category = categories[i];
+    if (category < -1) return;  // hidden
+    Bin& bin = bins[pixel];
+    const QRgb colour = palette[std::size_t(category % kCategoryColors + 1)];
+    bin.r += std::uint32_t(qRed(colour));
+    bin.g += std::uint32_t(qGreen(colour));
+    bin.b += std::uint32_t(qBlue(colour));
+    most = std::max(most, ++bin.count);
+  });
+  QImage image(size, QImage::Format_ARGB32_Premultiplied);
+  image.fill(Qt::transparent);
+  if (most == 0) return image;
+  const DensityAlpha alpha_of(most);
+  for (int y = 0; y < h; ++y) {
+    auto* line = reinterpret_cast<QRgb*>(image.scanLine(y));
+    const Bin* row = bins.data() + std::size_t(y) * std::size_t(w);
+    for (int x = 0; x < w; ++x) {
+      const Bin& bin = row[x];
+      if (bin.count == 0) continue;
+      const auto alpha = std::uint64_t(alpha_of(bin.count));
+      // The mean colour, premultiplied: sum · alpha / (count · 255).
+      const std::uint64_t div = std::uint64_t(bin.count) * 255u;
+      line[x] = qRgba(int(bin.r * alpha / div), int(bin.g * alpha / div), int(bin.b * alpha / div),
+                      int(alpha));
     }
   }
   return image;

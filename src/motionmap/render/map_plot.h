@@ -151,6 +151,14 @@ QTransform map_transform(const Eigen::MatrixXd& coords, const QRectF& rect,
 QImage density_image(const Eigen::MatrixXd& points, const QTransform& data_to_pixel,
                      const QSize& size, const QColor& ink = QColor(40, 50, 90));
 
+/// The same histogram coloured by category: `categories` (one per point) gives each point's
+/// colour (category_color(); −1: "other", grey), and a pixel is the mean colour of its points at
+/// density_image()'s opacity for their count; a category below −1 leaves its point out (hidden).
+/// For a map of a library coloured by a label (Studio's saved maps).
+/// @throws ParameterError if points has < 2 columns or categories is not one per point.
+QImage category_density_image(const Eigen::MatrixXd& points, const std::vector<int>& categories,
+                              const QTransform& data_to_pixel, const QSize& size);
+
 /// Draws one panel into `rect`: background, title on top, a square data area with a thin frame,
 /// the backdrop's dots, the trajectory coloured by each clip's own time, start markers, notes at
 /// the bottom.

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -14,6 +15,8 @@
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/map_file.h"
 #include "motionmap/pipeline/clip_map.h"
+#include "support/error_message.h"
+#include "support/map_edit.h"
 #include "support/test_data.h"
 
 namespace motionmap::mapfile {
@@ -73,6 +76,47 @@ TEST(GplvmMapFile, SavedMapsPlaceFramesAsTheMapInMemoryDoes) {
     EXPECT_TRUE(from_file.coordinates.allFinite());
     EXPECT_EQ(from_file.coordinates, from_memory.coordinates);
   }
+}
+
+// A GP-LVM file edited (and resealed, as another program would write it) so that its predictive
+// cannot be used: each is refused, naming what is wrong, instead of placing frames with it.
+TEST(GplvmMapFile, APredictiveThatCannotBeUsedIsRefusedNamingIt) {
+  const TempDir dir;
+  const std::vector<Clip> clips{io::load_clip(test::shared_file("cmu/64_08.bvh"))};
+  pipeline::ClipMapOptions options;
+  options.embed.method = embed::Method::Gplvm;
+  options.embed.max_iterations = 5;
+  options.features.stride = 6;
+  const pipeline::ClipMap map = pipeline::map_clips(clips, options);
+  const MapFile good = make_map_file(clips, map, options);
+  const auto B = static_cast<hsize_t>(good.model.gplvm.basis.rows());
+  int count = 0;
+  auto refused = [&](const std::function<void(test::Edit&)>& edit) {
+    const std::string path = dir.file("bad" + std::to_string(count++) + ".mmap.h5");
+    write_map_file(path, good);
+    {
+      test::Edit e(path);
+      edit(e);
+    }
+    return test::error_message([&] { read_map_file(path); });
+  };
+  auto has = [](const std::string& message, const std::string& part) {
+    EXPECT_NE(message.find(part), std::string::npos) << message;
+  };
+  has(refused([](test::Edit& e) { e.remove("/model/gplvm"); }), "/model/gplvm");
+  has(refused([](test::Edit& e) { e.int_attribute("/model/gplvm", "lengthscale", -1); }),
+      "/model/gplvm: the kernel's variances and lengthscale must be > 0");
+  has(refused([](test::Edit& e) { e.remove_attribute("/model/gplvm", "rbf_variance"); }),
+      "rbf_variance");
+  has(refused([](test::Edit& e) { e.replace("/model/gplvm/basis", 0, 2, H5T_NATIVE_DOUBLE, 0.0); }),
+      "/model/gplvm/basis has no rows");
+  has(refused([&](test::Edit& e) {
+        e.replace("/model/gplvm/C", B + 1, B + 1, H5T_NATIVE_DOUBLE, 0.0);
+      }),
+      "/model/gplvm/C");
+  has(refused(
+          [&](test::Edit& e) { e.replace("/model/gplvm/alpha", B, 3, H5T_NATIVE_DOUBLE, 0.0); }),
+      "/model/gplvm/alpha");
 }
 
 }  // namespace

@@ -368,6 +368,14 @@ synth::MapPath map_path(const InputArray& xy, const py::object& times, const std
   return path;
 }
 
+// A synthesized clip's warning when frames of its path lay outside the map's data.
+void warn_clamped(Clip& clip, int clamped_frames) {
+  if (clamped_frames > 0) {
+    clip.warnings.push_back(std::to_string(clamped_frames) +
+                            " frames were outside the map's data and moved to its edge");
+  }
+}
+
 // The options of synthesize and edit_path, checked.
 synth::SynthOptions synth_options(double speed, double fps, double smooth, bool clean_feet) {
   synth::SynthOptions options;
@@ -392,10 +400,7 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
     out.path = "<motion along a path of " + std::to_string(path.points.size()) + " points>";
     out.skeleton = blender.skeleton();
     out.motion = std::move(result.motion);
-    if (result.clamped_frames > 0) {
-      out.warnings.push_back(std::to_string(result.clamped_frames) +
-                             " frames were outside the map's data and moved to its edge");
-    }
+    warn_clamped(out, result.clamped_frames);
     return out;
   });
 }
@@ -420,10 +425,7 @@ py::tuple edit_path(const ClipMapState& s, const InputArray& previous_xy,
   });
   out.path = "<motion along an edited path of " + std::to_string(path.points.size()) + " points>";
   out.motion = std::move(edit.result.motion);
-  if (edit.result.clamped_frames > 0) {
-    out.warnings.push_back(std::to_string(edit.result.clamped_frames) +
-                           " frames were outside the map's data and moved to its edge");
-  }
+  warn_clamped(out, edit.result.clamped_frames);
   py::dict window;
   window["first"] = edit.first;
   window["end"] = edit.end;

@@ -55,8 +55,9 @@ test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # The library, the CLI and their tests under AddressSanitizer + UndefinedBehaviorSanitizer: what
-# parses files, places frames and meets bad input. Studio and the benchmarks are left out (their
-# tests run in the Release build): they were half of this build's time. -g1: line tables, all a
+# parses files, places frames and meets bad input. Studio, the benchmarks, and the tests of the
+# numerical kernels and of the methods against their references (tests/CMakeLists.txt) are left
+# out: they run in the Release build, and were most of this build's time. -g1: line tables, all a
 # sanitizer's stack trace needs, at a fraction of full debug information's compile and link time.
 test-sanitize: deps
 	cmake -S . -B build-asan $(call cmake_gen,build-asan) -DCMAKE_BUILD_TYPE=RelWithDebInfo \

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <string>
@@ -273,6 +274,41 @@ TEST(Gplvm, ObjectiveAndGradientsMatchNumpy) {
   const Eigen::VectorXd theta = start.numbers("theta");
   EXPECT_NEAR(k0.log_rbf_variance, theta[0], 1e-12);
   EXPECT_NEAR(k0.log_noise_variance, theta[3], 1e-12);
+}
+
+// MotionMap's fit and scipy's L-BFGS-B (tests/reference/make_gplvm_fixtures.py, optimum.txt),
+// from the same start on CMU 64_08 every 8th frame, the lengthscale held (with it free the
+// objective has no minimum: gplvm.h), reach the same optimum: the same latent points up to a
+// rotation of the plane (the objective's symmetry) and the same objective.
+TEST(Gplvm, ReachesScipysOptimumFromTheSameStart) {
+  const test::Fixture clip = test::read_fixture(test::fixture_dir() + "/clip_cmu_64_08/X.txt");
+  Eigen::MatrixXd Y(clip.matrix.rows() / 2 + clip.matrix.rows() % 2, clip.matrix.cols());
+  for (Eigen::Index i = 0; i < Y.rows(); ++i) Y.row(i) = clip.matrix.row(2 * i);
+  Y = Y.rowwise() - Y.colwise().mean();
+  const test::Fixture f =
+      test::read_fixture(std::string(MOTIONMAP_SOURCE_DIR) + "/tests/reference/gplvm/optimum.txt");
+  ASSERT_EQ(f.matrix.rows(), Y.rows());
+  const Eigen::VectorXd t0 = f.numbers("theta_start");
+  const Eigen::MatrixXd X0 = f.matrix.leftCols(2), want = f.matrix.rightCols(2);
+  // The fixture starts where MotionMap's gplvm does.
+  const GplvmKernel k0 = initial_gplvm_kernel(Y);
+  ASSERT_NEAR(k0.log_rbf_variance, t0[0], 1e-12);
+  ASSERT_NEAR(k0.log_noise_variance, t0[3], 1e-12);
+  const GplvmFit fit = fit_gplvm(Y, X0, k0, 100000, {}, nullptr, /*fit_lengthscale=*/false);
+  EXPECT_STREQ(fit.stopped, "converged");
+  const double disparity = test::procrustes_disparity(fit.X, want);
+  const double objective = f.number("objective");
+  std::printf(
+      "[ figures ] gplvm optimum, 46 frames: MotionMap %d iterations, objective %.10f; scipy "
+      "%d iterations, %.10f; Procrustes disparity %.2e\n",
+      fit.iterations, fit.objective, int(f.number("iterations")), objective, disparity);
+  EXPECT_LE(disparity, 1e-4);
+  // σ_b² drifts towards 0 at the optimum (scipy: log σ_b² = −18.7), a direction so flat that
+  // the two stopping rules leave the objectives 1.5e-6 apart (relative).
+  EXPECT_NEAR(fit.objective, objective, 1e-5 * std::abs(objective));
+  EXPECT_EQ(fit.kernel.log_lengthscale, 0.0);  // ℓ is kept
+  const Eigen::VectorXd theta = f.numbers("theta");
+  EXPECT_NEAR(fit.kernel.log_noise_variance, theta[3], 1e-3 * std::abs(theta[3]));
 }
 
 TEST(Gplvm, TheFitLowersTheObjective) {

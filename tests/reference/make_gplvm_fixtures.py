@@ -33,9 +33,15 @@ over X and theta = (log sf2, log l, log sb2, log sn2). Files ("# key value..." h
                rows SPARSE_ROWS of X perturbed by seeded noise, theta: header theta, objective,
                grad_theta, rows; matrix [X | dL/dX] over [Z | dL/dZ] (N + M rows)
 
-Not written: a common optimum. On this clip (D = 120 features ≥ N = 91 frames) the likelihood has
-none: the noise variance falls towards 0 and the lengthscale with it (scipy's L-BFGS-B, 14 587
-iterations from the start below: log sn2 = -12.4 and falling), as MotionMap's fit does.
+  optimum.txt  the fit's optimum by scipy's L-BFGS-B (gtol 1e-10, ftol 1e-16) on every 2nd row of
+               Y (CMU 64_08 every 8th frame: 46 frames), from its start (as start.txt's, for those
+               rows) over X and (log sf2, log sb2, log sn2), the lengthscale held at 1 (as
+               fit_gplvm with fit_lengthscale false): header theta_start, theta, objective, iterations;
+               matrix [X0 | X*]. The objective has a rotation of the latent plane as a symmetry,
+               so maps are compared by Procrustes. With the lengthscale fitted too there is no
+               optimum: (X, l) -> (cX, cl) leaves the likelihood as it is and lowers |X|^2/2, so X
+               and l slide towards 0 (scipy: 14 587 iterations on the 91 frames, log sn2 = -12.4
+               and still falling).
 """
 import os
 
@@ -190,6 +196,30 @@ def main():
     sparse_fixture("sparse_start.txt", Y, X0, Z0, theta0)
     Zr = Xr[SPARSE_ROWS] + rng.normal(scale=0.3, size=(len(SPARSE_ROWS), 2))
     sparse_fixture("sparse_random.txt", Y, Xr, Zr, thetar)
+    optimum_fixture(Y[::2] - Y[::2].mean(axis=0))
+
+
+def optimum_fixture(Y):
+    from scipy.optimize import minimize
+    X0, theta0 = start(Y)
+    for a in range(2):
+        if X0[np.argmax(np.abs(X0[:, a])), a] < 0:
+            X0[:, a] = -X0[:, a]
+    N, q = X0.shape
+    fitted = [0, 2, 3]  # log sf2, log sb2, log sn2; log l stays at theta0[1] = 0
+
+    def f(p):
+        theta = theta0.copy()
+        theta[fitted] = p[N * q:]
+        L, dX, dtheta = objective(Y, p[:N * q].reshape(N, q), theta)
+        return L, np.concatenate([dX.ravel(), dtheta[fitted]])
+    r = minimize(f, np.concatenate([X0.ravel(), theta0[fitted]]), jac=True, method="L-BFGS-B",
+                 options=dict(maxiter=50000, maxfun=100000, gtol=1e-10, ftol=1e-16))
+    theta = theta0.copy()
+    theta[fitted] = r.x[N * q:]
+    write("optimum.txt", [("theta_start", fmt(theta0)), ("theta", fmt(theta)),
+                          ("objective", "%.17g" % r.fun), ("iterations", "%d" % r.nit)],
+          np.hstack([X0, r.x[:N * q].reshape(N, q)]))
 
 
 if __name__ == "__main__":

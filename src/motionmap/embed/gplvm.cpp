@@ -213,37 +213,44 @@ GplvmKernel initial_gplvm_kernel(const Eigen::MatrixXd& Y) {
 
 namespace {
 
-// The optimiser's coordinates: X row-major, Z row-major (the sparse model), then θ.
-Eigen::VectorXd pack(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, const GplvmKernel& k) {
-  Eigen::VectorXd v(X.size() + Z.size() + 4);
+// The optimiser's coordinates: X row-major, Z row-major (the sparse model), then log σ_f², log ℓ
+// (unless the lengthscale is held), log σ_b², log σ_n².
+Eigen::VectorXd pack(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Z, const GplvmKernel& k,
+                     bool fit_lengthscale) {
+  Eigen::VectorXd v(X.size() + Z.size() + (fit_lengthscale ? 4 : 3));
   Eigen::Index at = 0;
   for (Eigen::Index i = 0; i < X.rows(); ++i)
     for (Eigen::Index a = 0; a < X.cols(); ++a) v[at++] = X(i, a);
   for (Eigen::Index i = 0; i < Z.rows(); ++i)
     for (Eigen::Index a = 0; a < Z.cols(); ++a) v[at++] = Z(i, a);
   v[at++] = k.log_rbf_variance;
-  v[at++] = k.log_lengthscale;
+  if (fit_lengthscale) v[at++] = k.log_lengthscale;
   v[at++] = k.log_bias_variance;
   v[at++] = k.log_noise_variance;
   return v;
 }
 
-void unpack(const Eigen::VectorXd& v, Eigen::MatrixXd& X, Eigen::MatrixXd& Z, GplvmKernel& k) {
+void unpack(const Eigen::VectorXd& v, Eigen::MatrixXd& X, Eigen::MatrixXd& Z, GplvmKernel& k,
+            bool fit_lengthscale) {
   Eigen::Index at = 0;
   for (Eigen::Index i = 0; i < X.rows(); ++i)
     for (Eigen::Index a = 0; a < X.cols(); ++a) X(i, a) = v[at++];
   for (Eigen::Index i = 0; i < Z.rows(); ++i)
     for (Eigen::Index a = 0; a < Z.cols(); ++a) Z(i, a) = v[at++];
   k.log_rbf_variance = v[at++];
-  k.log_lengthscale = v[at++];
+  if (fit_lengthscale) k.log_lengthscale = v[at++];
   k.log_bias_variance = v[at++];
   k.log_noise_variance = v[at++];
 }
 
+// Fresh starts of L-BFGS from the best point after a failed line search (fit_gplvm).
+constexpr int kMaxRestarts = 50;
+
 }  // namespace
 
 GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const GplvmKernel& kernel,
-                   int max_iterations, const Control& control, const Eigen::MatrixXd* Z0) {
+                   int max_iterations, const Control& control, const Eigen::MatrixXd* Z0,
+                   bool fit_lengthscale) {
   if (X0.rows() != Y.rows() || X0.cols() < 1 || Y.rows() < 2 || Y.cols() < 1) {
     throw ParameterError("gplvm: latent points of " + std::to_string(X0.rows()) + " × " +
                          std::to_string(X0.cols()) + " for data of " + std::to_string(Y.rows()) +
@@ -278,7 +285,7 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
   bool last_failed = false;  // the last evaluation was of a kernel that cannot be factorised
   auto objective = [&](const Eigen::VectorXd& v, Eigen::VectorXd& grad) {
     control.check();
-    unpack(v, X, Z, k);
+    unpack(v, X, Z, k, fit_lengthscale);
     last_failed = true;
     double value;
     try {
@@ -304,7 +311,9 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
       for (Eigen::Index a = 0; a < gX.cols(); ++a) grad[at++] = gX(i, a);
     for (Eigen::Index i = 0; i < Z.rows(); ++i)
       for (Eigen::Index a = 0; a < Z.cols(); ++a) grad[at++] = gZ(i, a);
-    for (int j = 0; j < 4; ++j) grad[at++] = gk[j];
+    for (int j = 0; j < 4; ++j) {
+      if (j != 1 || fit_lengthscale) grad[at++] = gk[j];  // pack()'s order
+    }
     return value;
   };
   LBFGSpp::LBFGSParam<double> param;
@@ -313,30 +322,39 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
   param.past = 5;
   param.delta = 1e-10;
   param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
-  Eigen::VectorXd v = pack(X0, fit.Z, kernel);
+  Eigen::VectorXd v = pack(X0, fit.Z, kernel, fit_lengthscale);
   double fx = 0.0;
-  // LBFGS++'s line search, out of trials, returns its last one: when that was a kernel that
-  // cannot be factorised (its zero gradient would read as convergence), start again from the
-  // best point (a fresh L-BFGS memory), a few times while iterations remain.
+  // LBFGS++'s line search, out of trials, either returns its last one — when that was a kernel
+  // that cannot be factorised, its zero gradient would read as convergence — or gives up. Either
+  // way the fit starts again from the best point (a fresh L-BFGS memory) while that keeps
+  // lowering the objective and iterations remain; a line search that gave up counts its
+  // evaluations as iterations (each iteration evaluates at least once).
   int used = 0;
+  double best_at_restart = std::numeric_limits<double>::infinity();
   for (int restart = 0;; ++restart) {
     param.max_iterations = max_iterations - used;
     LBFGSpp::LBFGSSolver<double, LBFGSpp::LineSearchNocedalWright> solver(param);
+    const int evaluations_before = evaluations;
+    bool gave_up = false;
     try {
       used += solver.minimize(objective, v, fx);
-      fit.iterations = used;
-      fit.stopped = used >= max_iterations ? "iteration limit" : "converged";
     } catch (const std::runtime_error&) {  // LBFGS++: the line search found no decrease
-      fit.iterations = -1;
-      fit.stopped = "line search";
-      break;
+      gave_up = true;
     } catch (const std::logic_error&) {
-      fit.iterations = -1;
-      fit.stopped = "line search";
-      break;
+      gave_up = true;
     }
-    if (!last_failed || used >= max_iterations || restart == 5 || !std::isfinite(best)) break;
-    v = pack(fit.X, fit.Z, fit.kernel);
+    if (gave_up) used += std::max(1, evaluations - evaluations_before);
+    fit.iterations = gave_up ? -1 : used;
+    fit.stopped = used >= max_iterations ? "iteration limit"
+                  : gave_up              ? "line search"
+                                         : "converged";
+    const bool stuck = gave_up || last_failed;
+    const bool progress = best < best_at_restart - 1e-12 * std::abs(best);
+    if (!stuck || used >= max_iterations || restart == kMaxRestarts || !std::isfinite(best) ||
+        !progress)
+      break;
+    best_at_restart = best;
+    v = pack(fit.X, fit.Z, fit.kernel, fit_lengthscale);
   }
   if (last_failed && fit.iterations >= 0 && fit.iterations < max_iterations) {
     fit.stopped = "line search";

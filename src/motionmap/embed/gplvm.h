@@ -12,7 +12,10 @@
 //   L = D/2 log|K| + 1/2 tr(K⁻¹ Y Yᵀ) + N D/2 log 2π + 1/2 |X|²_F + N q/2 log 2π,
 // over X and θ = (log σ_f², log ℓ, log σ_b², log σ_n²), with analytic gradients, by LBFGS++'s
 // L-BFGS (Debian's liblbfgspp-dev) with a strong-Wolfe line search (Nocedal & Wright), from X = the
-// PCA scores scaled to unit variance per axis. The full model costs O(N³) per evaluation.
+// PCA scores scaled to unit variance per axis. The full model costs O(N³) per evaluation. L has no
+// minimum over X and ℓ together — the kernel sees X only through |x − x'|/ℓ, so (X, ℓ) → (cX, cℓ)
+// keeps the likelihood and lowers ½|X|², and the fit slides X and ℓ towards 0 until its iteration
+// limit; with ℓ held (fit_gplvm's fit_lengthscale) it has minima, which the fit converges to.
 //
 // The sparse model (above kGplvmSparseAbove frames, or with EmbedOptions::inducing): M inducing
 // inputs Z (M × q) and Titsias's collapsed variational bound ("Variational learning of inducing
@@ -90,14 +93,15 @@ struct GplvmFit {
   const char* stopped = "";
 };
 
-/// Fits the model to Y (N × D, centred) from latent points X0 (N × q) and `kernel`, at most
-/// `max_iterations` L-BFGS iterations: the full model, or with `Z0` (M × q) the sparse one from
-/// those inducing inputs. `control` hears the iterations and is polled for cancel.
+/// Fits the model to Y (N × D, centred) from latent points X0 (N × q) and `kernel` (with
+/// `fit_lengthscale` false, its lengthscale held), at most `max_iterations` L-BFGS iterations: the
+/// full model, or with `Z0` (M × q) the sparse one from those inducing inputs. `control` hears the
+/// iterations and is polled for cancel.
 /// @throws ParameterError for mismatched sizes or non-finite inputs; NumericalError as
 ///   gplvm_objective(); Cancelled.
 GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const GplvmKernel& kernel,
                    int max_iterations, const Control& control = {},
-                   const Eigen::MatrixXd* Z0 = nullptr);
+                   const Eigen::MatrixXd* Z0 = nullptr, bool fit_lengthscale = true);
 
 /// The starting kernel for Y and latent points of unit variance: σ_f² = the mean column variance
 /// of Y, ℓ = 1, σ_b² = 10⁻³ σ_f², σ_n² = 10⁻¹ σ_f² (σ_f² = 1 when Y has no variance).

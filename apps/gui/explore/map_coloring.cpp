@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <exception>
-#include <numeric>
 #include <string>
 
 #include <QFileInfo>
@@ -80,20 +79,11 @@ bool MapColoring::build() {
   for (const int code : m_codes) {
     if (code >= 0 && std::size_t(code) < counts.size()) ++counts[std::size_t(code)];
   }
-  // The CLI's rule (apps/cli/labels.cpp, color_plot): by count (most first, ties in value
-  // order) the first kCategoryColors coloured — kCategoryColors − 1 when there are more, the
-  // others grey — and the coloured ones numbered in value order.
-  std::vector<int> order(counts.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return counts[std::size_t(a)] > counts[std::size_t(b)]; });
-  const bool grouped = order.size() > std::size_t(render::kCategoryColors);
-  const std::size_t coloured = grouped ? std::size_t(render::kCategoryColors - 1) : order.size();
-  std::vector<int> kept(order.begin(), order.begin() + std::ptrdiff_t(coloured));
-  std::sort(kept.begin(), kept.end());
+  // The CLI's rule (render::category_slots): the most frequent values coloured, the rest grey.
+  const std::vector<int> slot_of = render::category_slots(counts);
   m_entries.resize(values.size());
-  for (std::size_t v = 0; v < values.size(); ++v) m_entries[v] = {values[v], counts[v], -1, true};
-  for (std::size_t c = 0; c < kept.size(); ++c) m_entries[std::size_t(kept[c])].category = int(c);
+  for (std::size_t v = 0; v < values.size(); ++v)
+    m_entries[v] = {values[v], counts[v], slot_of[v], true};
   return true;
 }
 

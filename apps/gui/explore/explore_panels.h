@@ -33,7 +33,7 @@ class ExplorePanels : public QObject {
   ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
                 std::function<const MapSource*()> source, const MapController* maps);
   /// The docks' show/hide actions and the Colour by submenu (time, clip, each label of the map,
-  /// and Labels from File Names…), added to `view` (the View menu).
+  /// Labels from file names… and Labels from file…), added to `view` (the View menu).
   void addViewActions(QMenu* view);
   MapColoring* coloring() const { return m_coloring; }
   LegendPanel* legend() const { return m_legend; }
@@ -43,6 +43,9 @@ class ExplorePanels : public QObject {
   /// View → Colour by → Labels from file names…: a pattern asked for
   /// (MapColoring::labelsFromNames).
   void askNamePattern();
+  /// View → Colour by → Labels from file… (or the Legend's button): a CSV or JSON label file
+  /// asked for (MapColoring::labelsFromFile).
+  void askLabelFile();
 
  signals:
   /// A panel or the search asks to play clip `clip` from frame `frame`.

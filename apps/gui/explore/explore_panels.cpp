@@ -21,8 +21,9 @@
 
 namespace motionmap::studio {
 
-ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
-                             std::function<const MapSource*()> source, const MapController* maps)
+ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, SkeletonView* main3d,
+                             Playback* playback, std::function<const MapSource*()> source,
+                             const MapController* maps)
     : QObject(window), m_source(source), m_window(window) {
   const auto request = [this](int clip, int frame) { emit clipRequested(clip, frame); };
   // Box and lasso selections of the map's frames, listed, played and exported (a dock, shown with
@@ -65,7 +66,7 @@ ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, Playback* playb
     if (!clips || c < 0 || c >= int(clips->size())) return nullptr;
     return std::shared_ptr<const Clip>(clips, &(*clips)[std::size_t(c)]);
   };
-  m_compare = new ComparePanel(view, playback, source, clipOf);
+  m_compare = new ComparePanel(view, main3d, playback, source, clipOf);
   window->addDockWidget(Qt::LeftDockWidgetArea, m_compare);
   m_compare->hide();
   connect(m_compare, &ComparePanel::failed, this, &ExplorePanels::failed);
@@ -110,8 +111,9 @@ void ExplorePanels::addViewActions(QMenu* view) {
   });
   view->addAction(m_legend->toggleViewAction());
   view->addAction(tr("Compare with clip…"), this, &ExplorePanels::askCompare)
-      ->setToolTip(tr("Plays another clip of the map beside the one playing, in sync: its "
-                      "character in the Compare dock, its trajectory on the map"));
+      ->setToolTip(tr("Plays another clip of the map with the one playing, in sync: its "
+                      "character in the Compare dock or overlaid in the 3-D view, its trajectory "
+                      "on the map"));
 }
 
 void ExplorePanels::askCompare() {

@@ -24,13 +24,15 @@ class MapColoring;
 class NearestPanel;
 class Playback;
 class SelectionPanel;
+class SkeletonView;
 
 class ExplorePanels : public QObject {
   Q_OBJECT
  public:
-  /// Adds the search bar and the docks to `window`; `source` gives the map source shown, `maps`
-  /// the clips of a map computed here. All must outlive this.
-  ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
+  /// Adds the search bar and the docks to `window`; `main3d` is its 3-D view (a compared clip
+  /// overlaid there), `source` gives the map source shown, `maps` the clips of a map computed
+  /// here. All must outlive this.
+  ExplorePanels(QMainWindow* window, MapView* view, SkeletonView* main3d, Playback* playback,
                 std::function<const MapSource*()> source, const MapController* maps);
   /// The docks' show/hide actions and the Colour by submenu (time, clip, each label of the map,
   /// Labels from file names… and Labels from file…), added to `view` (the View menu).

@@ -310,6 +310,21 @@ TEST_F(LabelledLibrary, AHiddenActionIsNeitherDrawnNorPicked) {
   ASSERT_GE(hit, 0);
 }
 
+TEST_F(LabelledLibrary, ALegendClickComposesThePictureAFullRedrawDraws) {
+  // A click recolours the density under the trajectory layer kept from before (not stroked
+  // again): the picture is the one a redraw of everything gives.
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  MapView* view = m_window->mapView();
+  const QImage before = view->grab().toImage();
+  clickRow(m_legend, entryOf(*m_coloring, "walk"));
+  const QImage hidden = view->grab().toImage();
+  EXPECT_NE(hidden, before);
+  view->setHighlight(Eigen::MatrixXd(0, 2));  // the whole picture drawn again
+  EXPECT_EQ(view->grab().toImage(), hidden);
+  clickRow(m_legend, entryOf(*m_coloring, "walk"));
+  EXPECT_EQ(view->grab().toImage(), before);
+}
+
 TEST_F(LabelledLibrary, CtrlClickSolosAValueAndAgainShowsAll) {
   ASSERT_TRUE(m_coloring->setColorBy("style"));
   const int old = entryOf(*m_coloring, "old");

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
-#include <numeric>
 
 #include "map_options.h"
 #include "motionmap/core/error.h"
@@ -120,34 +119,29 @@ void color_plot(render::MapPlotOptions& plot, const MapCliOptions& opt,
     column = labels.find(opt.color_by);
     if (!column) throw ParameterError("--color-by: no label named '" + opt.color_by + "'");
   }
-  // The values by count (most first; ties in value order), the first kCategoryColors coloured,
-  // or kCategoryColors − 1 and "other" when there are more.
+  // The values' colours by render's rule (the most frequent coloured, the rest grey 'other').
   const std::vector<int> counts = column->counts();
-  std::vector<int> order(counts.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return counts[std::size_t(a)] > counts[std::size_t(b)]; });
-  const bool grouped = order.size() > std::size_t(render::kCategoryColors);
-  const std::size_t shown = grouped ? std::size_t(render::kCategoryColors - 1) : order.size();
-  // Shown values in value order, so colours follow the names, not the counts.
-  std::vector<int> kept(order.begin(), order.begin() + std::ptrdiff_t(shown));
-  std::sort(kept.begin(), kept.end());
-  std::vector<int> colour(counts.size(), -1);
-  for (std::size_t c = 0; c < kept.size(); ++c) {
-    colour[std::size_t(kept[c])] = int(c);
-    const std::string& value = column->categories[std::size_t(kept[c])];
+  const std::vector<int> colour = render::category_slots(counts);
+  int others = 0;
+  int other = 0;
+  for (std::size_t v = 0; v < counts.size(); ++v) {
+    if (colour[v] < 0) {
+      ++others;
+      other += counts[v];
+      continue;
+    }
+    const std::string& value = column->categories[v];
     plot.categories << QString::fromStdString(value.empty() ? "(none)" : value) + " (" +
-                           QString::number(counts[std::size_t(kept[c])]) + ")";
+                           QString::number(counts[v]) + ")";
   }
-  if (grouped) {
-    int other = 0;
-    for (std::size_t k = shown; k < order.size(); ++k) other += counts[std::size_t(order[k])];
-    plot.other_category = "other (" + QString::number(int(order.size() - shown)) + " values, " +
-                          QString::number(other) + ")";
+  if (others > 0) {
+    const std::size_t shown = counts.size() - std::size_t(others);
+    plot.other_category =
+        "other (" + QString::number(others) + " values, " + QString::number(other) + ")";
     std::cerr << "note: " << (column == &by_clip ? "the map" : "label '" + column->name + "'")
-              << " has " << order.size() << (column == &by_clip ? " clips" : " values")
+              << " has " << counts.size() << (column == &by_clip ? " clips" : " values")
               << "; the plot colours the " << shown << " most frequent and shows the other "
-              << order.size() - shown << " in grey as 'other'\n";
+              << others << " in grey as 'other'\n";
   }
   plot.point_category.resize(column->codes.size());
   for (std::size_t i = 0; i < column->codes.size(); ++i) {

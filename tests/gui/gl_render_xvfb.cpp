@@ -326,6 +326,54 @@ TEST(StudioGl, BandaiWalkAndSwingWithShadowCapsulesAndATrail) {
   }
 }
 
+// Compare, overlaid: a second character drawn by OpenGL in the same view, translucent in the
+// comparison colour (its depth first, then its colour once), over the first and the grid.
+TEST(StudioGl, AnOverlaidCharacterIsTranslucentInItsColour) {
+  const Clip clip = sample::make_sample_clip(sample::SampleKind::Swing);
+  SkeletonView view;
+  view.resize(640, 480);
+  view.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&view));
+  view.setSkeleton(clip.skeleton);
+  view.setMotion(clip.motion);
+  view.setPose(clip.motion, 0);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return view.glReady(); }, kTimeoutMs));
+  const auto teal = [](const QImage& image) {
+    int n = 0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) {
+        const QColor c = image.pixelColor(x, y);
+        n += c.green() > c.red() + 40 && c.blue() > c.red() + 40 &&
+             std::abs(c.green() - c.blue()) < 50;
+      }
+    return n;
+  };
+  QTest::qWait(20);
+  const QImage alone = view.renderImage().convertToFormat(QImage::Format_RGB32);
+  EXPECT_LT(teal(alone), 20);
+  // The same pose a little to the side.
+  WorldPose moved = forward_kinematics(clip.skeleton, clip.motion, 0);
+  for (Eigen::Vector3d& p : moved.positions) p.x() += 0.3 * view.extent();
+  view.setOverlay(clip.skeleton, moved, {}, MapView::comparisonColor());
+  QTest::qWait(20);
+  const QImage both = view.renderImage().convertToFormat(QImage::Format_RGB32);
+  ASSERT_TRUE(both.save(artefact("studio-gl-overlay.png")));
+  EXPECT_GT(teal(both), 300);
+  // Translucent: no pixel is the comparison colour itself at full strength over the background.
+  const std::vector<QPointF> pixels = view.overlayJointPixels();
+  int seen = 0;
+  for (const QPointF& p : pixels) {
+    if (!both.rect().contains(p.toPoint())) continue;
+    const QColor c = both.pixelColor(p.toPoint());
+    ++seen;
+    EXPECT_GT(c.red(), 30) << "an opaque teal joint at " << p.x() << "," << p.y();
+  }
+  EXPECT_GT(seen, 5);
+  view.clearOverlay();
+  QTest::qWait(20);
+  EXPECT_LT(teal(view.renderImage().convertToFormat(QImage::Format_RGB32)), 20);
+}
+
 TEST(StudioGl, WindowScreenshotHasTheGlViewAndTheMap) {
   MainWindow w;
   w.setInteractive(false);

@@ -1,9 +1,12 @@
 // Compare two clips (View → Compare with clip…, the Compare dock): a second clip of the map plays
 // in sync with the one playing (the same time from its start, at its own frame rate), its
 // character in the dock's 3-D view and its trajectory on the map with a ring at its frame; on a
-// map computed here of two Bandai takes and on a saved map of them.
+// map computed here of two Bandai takes and on a saved map of them. Overlaid, the compared
+// character is drawn in the main 3-D view over the one playing (where its clip places it, or on
+// the playing one's root), translucent in the comparison colour.
 #include <unistd.h>
 
+#include <QComboBox>
 #include <QDir>
 #include <QLabel>
 #include <QPushButton>
@@ -16,6 +19,7 @@
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/saved_map.h"
 #include "motionmap/pipeline/clip_map.h"
+#include "motionmap/skeleton/forward_kinematics.h"
 #include "scene/skeleton_view.h"
 #include "studio_test_util.h"
 
@@ -125,6 +129,126 @@ TEST(StudioCompare, AComputedMapsSecondClipPlaysInSyncBesideTheFirst) {
   EXPECT_FALSE(view->comparisonPoint().has_value());
   const QImage picture = w.grab().toImage();
   EXPECT_FALSE(picture.isNull());
+}
+
+/// Pixels of `image` close to the comparison colour laid over the 3-D view's background.
+int comparisonPixels(const QImage& image) {
+  const QColor teal = MapView::comparisonColor();
+  int n = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const QColor c = image.pixelColor(x, y);
+      // Teal (shaded, translucent over the light grey): blue and green well above red.
+      n += c.green() > c.red() + 40 && c.blue() > c.red() + 40 &&
+           std::abs(c.green() - c.blue()) < 40 + std::abs(teal.green() - teal.blue());
+    }
+  return n;
+}
+
+TEST(StudioCompare, OverlaidTheComparedCharacterIsDrawnInTheMainView) {
+  if (!fs::exists(kWalk) || !fs::exists(kRun)) GTEST_SKIP() << "no Bandai takes in " << kBandai;
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(1280, 720);
+  w.show();
+  w.setMethod(embed::Method::Pca);
+  ASSERT_TRUE(w.openFile(QString::fromStdString(kWalk)));
+  ASSERT_TRUE(w.addFile(QString::fromStdString(kRun)));
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 2; },
+      testing::kTimeoutMs));
+  ComparePanel* compare = w.explore()->compare();
+  SkeletonView* main = w.skeletonView();
+  ASSERT_TRUE(compare->compareWith(1));
+  EXPECT_EQ(compare->placement(), ComparePanel::Placement::SideBySide);
+  EXPECT_FALSE(main->hasOverlay());
+  const Clip run = io::load_clip(kRun);
+  w.setFrame(40);
+  QTest::qWait(20);
+  const QImage alone = main->renderImage();
+  EXPECT_LT(comparisonPixels(alone), 20);  // no teal character yet
+
+  // Overlaid, each at its own place: the run's pose of the synced frame, as its clip places it,
+  // in the main view; the dock's own view hidden.
+  compare->placementChoice()->setCurrentIndex(1);
+  emit compare->placementChoice()->activated(1);
+  ASSERT_EQ(compare->placement(), ComparePanel::Placement::Overlaid);
+  EXPECT_FALSE(compare->view3d()->isVisible());
+  ASSERT_TRUE(main->hasOverlay());
+  EXPECT_EQ(main->overlayColor(), MapView::comparisonColor());
+  const auto expectPose = [&](int frame, const Eigen::Vector3d& shift) {
+    const WorldPose want = forward_kinematics(run.skeleton, run.motion, frame);
+    const WorldPose& got = main->overlayPose();
+    ASSERT_EQ(got.positions.size(), want.positions.size());
+    for (std::size_t j = 0; j < want.positions.size(); ++j)
+      ASSERT_TRUE(got.positions[j].isApprox(want.positions[j] + shift, 1e-9)) << "joint " << j;
+  };
+  expectPose(compare->syncedFrame(40), Eigen::Vector3d::Zero());
+  EXPECT_TRUE(compare->overlayShift().isZero());
+  EXPECT_TRUE(showsFrame(*main, w.clip()->motion, 40));  // the walk as before
+  EXPECT_FALSE(main->overlayBones().empty());
+  // In sync while the frame moves.
+  w.setFrame(80);
+  expectPose(compare->syncedFrame(80), Eigen::Vector3d::Zero());
+  // Drawn where its clip places it: at a frame where the run is in the walk's view (the camera
+  // follows the walk; the run runs away from it), its teal figure over the scene.
+  const int runRoot = motion_root(run.skeleton, run.motion);
+  int inView = -1;
+  for (int f = 0; f < w.clip()->motion.num_frames && inView < 0; f += 5) {
+    w.setFrame(f);
+    const QPointF root = main->overlayJointPixels()[std::size_t(runRoot)];
+    if (QRectF(main->rect()).adjusted(80, 80, -80, -80).contains(root)) inView = f;
+  }
+  ASSERT_GE(inView, 0) << "the run never in the walk's view";
+  w.setFrame(inView);
+  expectPose(compare->syncedFrame(inView), Eigen::Vector3d::Zero());
+  QTest::qWait(20);
+  const QImage overlaid = main->renderImage();
+  EXPECT_GT(comparisonPixels(overlaid), 200);
+  EXPECT_TRUE(overlaid.save(QDir::current().filePath("studio-compare-overlaid.png")));
+  // The overlay's joints project where its pose is (drawn in the same camera).
+  ASSERT_EQ(main->overlayJointPixels().size(), run.skeleton.joints.size());
+
+  // Roots together: its root's floor point on the walk's, heights kept.
+  compare->setPlacement(ComparePanel::Placement::Together);
+  EXPECT_EQ(compare->placementChoice()->currentIndex(), 2);
+  const int walkRoot = main->motionRoot();
+  const Eigen::Vector3d& walkAt = main->worldPose().positions[std::size_t(walkRoot)];
+  const Eigen::Vector3d& runAt = main->overlayPose().positions[std::size_t(runRoot)];
+  EXPECT_NEAR(runAt.x(), walkAt.x(), 1e-9);
+  EXPECT_NEAR(runAt.z(), walkAt.z(), 1e-9);
+  const Eigen::Vector3d shift = compare->overlayShift();
+  EXPECT_EQ(shift.y(), 0.0);
+  expectPose(compare->syncedFrame(80), shift);
+  // Playing, the run follows the walk's root frame by frame.
+  w.setFrame(120);
+  const Eigen::Vector3d& walkNow = main->worldPose().positions[std::size_t(walkRoot)];
+  const Eigen::Vector3d& runNow = main->overlayPose().positions[std::size_t(runRoot)];
+  EXPECT_NEAR(runNow.x(), walkNow.x(), 1e-9);
+  EXPECT_NEAR(runNow.z(), walkNow.z(), 1e-9);
+  QTest::qWait(20);
+  const QImage together = main->renderImage();
+  EXPECT_GT(comparisonPixels(together), 200);
+  EXPECT_TRUE(together.save(QDir::current().filePath("studio-compare-together.png")));
+  EXPECT_TRUE(w.grab().toImage().save(QDir::current().filePath("studio-compare-window.png")));
+
+  // Side by side again: no overlay, the dock's view shows the run.
+  compare->setPlacement(ComparePanel::Placement::SideBySide);
+  EXPECT_FALSE(main->hasOverlay());
+  EXPECT_TRUE(compare->view3d()->isVisible());
+  EXPECT_TRUE(showsFrame(*compare->view3d(), run.motion, compare->syncedFrame(120)));
+  w.setFrame(60);
+  EXPECT_FALSE(main->hasOverlay());
+  EXPECT_TRUE(showsFrame(*compare->view3d(), run.motion, compare->syncedFrame(60)));
+  // Stop comparing overlaid: the overlay goes with it; the placement stays chosen.
+  compare->setPlacement(ComparePanel::Placement::Overlaid);
+  ASSERT_TRUE(main->hasOverlay());
+  compare->stop();
+  EXPECT_FALSE(main->hasOverlay());
+  EXPECT_LT(comparisonPixels(main->renderImage()), 20);
+  ASSERT_TRUE(compare->compareWith(1));
+  EXPECT_EQ(compare->placement(), ComparePanel::Placement::Overlaid);
+  EXPECT_TRUE(main->hasOverlay());
 }
 
 TEST(StudioCompare, ASavedMapsClipIsLoadedToCompare) {

@@ -16,6 +16,7 @@
 #include <QPushButton>
 #include <QTest>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -89,6 +90,48 @@ int entryOf(const MapColoring& coloring, const QString& value) {
   for (std::size_t e = 0; e < coloring.entries().size(); ++e)
     if (coloring.entries()[e].value == value) return int(e);
   return -1;
+}
+
+/// Writes `text` to `path`.
+void writeText(const fs::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+}
+
+/// The entries `motionmap map --labels FILE --color-by LABEL` colours by: the library's reader
+/// (pipeline::read_label_file, as the CLI reads --labels), sampled on the map's samples, and
+/// render::category_slots' colours.
+struct CliEntry {
+  std::string value;
+  int count = 0;
+  int category = -1;
+};
+std::vector<CliEntry> cliEntries(const std::string& file, const std::vector<std::string>& paths,
+                                 const std::vector<int>& frames, const std::vector<int>& clipOf,
+                                 const std::vector<int>& frameOf, const std::string& label) {
+  const pipeline::Labels labels =
+      pipeline::sample_labels(pipeline::read_label_file(file, paths, frames), clipOf, frameOf);
+  const pipeline::LabelColumn* column = labels.find(label);
+  if (!column) return {};
+  const std::vector<int> counts = column->counts();
+  const std::vector<int> slot_of = render::category_slots(counts);
+  std::vector<CliEntry> out;
+  for (std::size_t v = 0; v < counts.size(); ++v)
+    out.push_back(
+        {column->categories[v].empty() ? "(none)" : column->categories[v], counts[v], slot_of[v]});
+  return out;
+}
+
+/// Expects the colouring's entries to be `want`, value by value.
+void expectEntries(const MapColoring& coloring, const std::vector<CliEntry>& want) {
+  const auto& entries = coloring.entries();
+  ASSERT_EQ(entries.size(), want.size());
+  for (std::size_t e = 0; e < want.size(); ++e) {
+    EXPECT_EQ(entries[e].value.toStdString(), want[e].value);
+    EXPECT_EQ(entries[e].count, want[e].count) << want[e].value;
+    EXPECT_EQ(entries[e].category, want[e].category) << want[e].value;
+    EXPECT_EQ(entries[e].color(), render::category_color(want[e].category)) << want[e].value;
+  }
 }
 
 // The twelve takes' PCA map saved with their labels (action, style, take) as lib.mmap.h5.
@@ -267,6 +310,21 @@ TEST_F(LabelledLibrary, AHiddenActionIsNeitherDrawnNorPicked) {
   ASSERT_GE(hit, 0);
 }
 
+TEST_F(LabelledLibrary, ALegendClickComposesThePictureAFullRedrawDraws) {
+  // A click recolours the density under the trajectory layer kept from before (not stroked
+  // again): the picture is the one a redraw of everything gives.
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  MapView* view = m_window->mapView();
+  const QImage before = view->grab().toImage();
+  clickRow(m_legend, entryOf(*m_coloring, "walk"));
+  const QImage hidden = view->grab().toImage();
+  EXPECT_NE(hidden, before);
+  view->setHighlight(Eigen::MatrixXd(0, 2));  // the whole picture drawn again
+  EXPECT_EQ(view->grab().toImage(), hidden);
+  clickRow(m_legend, entryOf(*m_coloring, "walk"));
+  EXPECT_EQ(view->grab().toImage(), before);
+}
+
 TEST_F(LabelledLibrary, CtrlClickSolosAValueAndAgainShowsAll) {
   ASSERT_TRUE(m_coloring->setColorBy("style"));
   const int old = entryOf(*m_coloring, "old");
@@ -318,8 +376,8 @@ TEST_F(LabelledLibrary, TheViewMenuAndTheLegendsChoiceColourTheMap) {
       EXPECT_TRUE(a->isChecked());
     }
   }
-  EXPECT_EQ(entries,
-            QStringList({"Time", "Clip", "action", "style", "take", "Labels from file names…"}));
+  EXPECT_EQ(entries, QStringList({"Time", "Clip", "action", "style", "take",
+                                  "Labels from file names…", "Labels from file…"}));
   ASSERT_NE(style, nullptr);
   style->trigger();
   EXPECT_EQ(m_coloring->colorBy(), "style");
@@ -377,6 +435,121 @@ TEST_F(LabelledLibrary, ThePictureShowsTheColoursAndTheLegend) {
   EXPECT_TRUE(m_window->rect().contains(legend));
   EXPECT_FALSE(legend.intersects(QRect(m_window->mapView()->mapTo(m_window.get(), QPoint(0, 0)),
                                        m_window->mapView()->size())));
+}
+
+TEST_F(LabelledLibrary, ALabelFileColoursASavedMapAsTheCliReadsIt) {
+  // One row per clip, named by file name or by stem: a "speed" label, and "style" again (the
+  // file's takes the place of the map's), leaving one clip unlabelled ("(none)").
+  std::string csv = "# speed of each take\nclip,speed,style\n";
+  for (std::size_t c = 0; c + 1 < m_paths.size(); ++c) {
+    const fs::path p(m_paths[c]);
+    const std::string action = actionOf(m_paths[c]);
+    csv += (c % 2 ? p.filename().string() : p.stem().string()) + "," +
+           (action == "run" || action == "dash" ? "fast" : "slow") + ",s" + std::to_string(c % 3) +
+           "\n";
+  }
+  const fs::path labels = m_dir / "speed.csv";
+  writeText(labels, csv);
+  ASSERT_TRUE(m_coloring->labelsFromFile(QString::fromStdString(labels.string())))
+      << m_window->lastError().toStdString();
+  EXPECT_EQ(m_coloring->labelFile().toStdString(), labels.string());
+  EXPECT_EQ(m_coloring->choices(),
+            QStringList({"time", "clip", "action", "style", "take", "speed"}));
+  EXPECT_EQ(m_coloring->colorBy(), "speed");  // the file's first label
+  EXPECT_TRUE(m_legend->isVisible());
+  std::vector<int> frames;
+  for (const auto& clip : file().clips) frames.push_back(clip.frames);
+  const auto want = [&](const std::string& label) {
+    return cliEntries(labels.string(), m_paths, frames, file().clip_of, file().frame_of, label);
+  };
+  expectEntries(*m_coloring, want("speed"));
+  ASSERT_EQ(m_coloring->entries().size(), 3u);  // (none), fast, slow
+  EXPECT_EQ(m_coloring->entries()[0].value, "(none)");
+  EXPECT_EQ(m_coloring->entries()[0].count, file().clips.back().samples);
+  // Each sample's category is its value's.
+  const std::vector<int>& categories = m_window->mapView()->sampleCategories();
+  ASSERT_EQ(int(categories.size()), file().num_samples());
+  const auto& speed = want("speed");
+  const pipeline::Labels sampled = pipeline::sample_labels(
+      pipeline::read_label_file(labels.string(), m_paths, frames), file().clip_of, file().frame_of);
+  const pipeline::LabelColumn* column = sampled.find("speed");
+  ASSERT_NE(column, nullptr);
+  for (int r = 0; r < file().num_samples(); ++r)
+    ASSERT_EQ(categories[std::size_t(r)],
+              speed[std::size_t(column->codes[std::size_t(r)])].category)
+        << "row " << r;
+  // The file's "style" in place of the map's: its values s0, s1, s2 and (none).
+  ASSERT_TRUE(m_coloring->setColorBy("style"));
+  expectEntries(*m_coloring, want("style"));
+  EXPECT_EQ(m_coloring->entries().size(), 4u);
+  // The map's own labels still colour it.
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  EXPECT_EQ(m_coloring->entries().size(), 5u);
+  // The Legend's button and the menu's entry ask for a file (here, the dialog is not shown).
+  EXPECT_TRUE(m_legend->labelFileButton()->isVisible());
+}
+
+TEST_F(LabelledLibrary, SpansOfFramesGiveTheClisColoursAndGreyBeyondTheTwelve) {
+  // Two halves of each take, each its own value: 24 values, the 11 most frequent coloured and
+  // the others grey, as `motionmap map --labels … --color-by half` colours them.
+  std::string csv = "clip,start,end,half\n";
+  for (std::size_t c = 0; c < m_paths.size(); ++c) {
+    const int frames = file().clips[c].frames;
+    const std::string name = fs::path(m_paths[c]).filename().string();
+    csv += name + ",0," + std::to_string(frames / 2 - 1) + ",c" + std::to_string(c) + "a\n";
+    csv += "\"" + name + "\"," + std::to_string(frames / 2) + "," + std::to_string(frames - 1) +
+           ",c" + std::to_string(c) + "b\n";
+  }
+  const fs::path labels = m_dir / "halves.csv";
+  writeText(labels, csv);
+  ASSERT_TRUE(m_coloring->labelsFromFile(QString::fromStdString(labels.string())))
+      << m_window->lastError().toStdString();
+  EXPECT_EQ(m_coloring->colorBy(), "half");
+  std::vector<int> frames;
+  for (const auto& clip : file().clips) frames.push_back(clip.frames);
+  const std::vector<CliEntry> want =
+      cliEntries(labels.string(), m_paths, frames, file().clip_of, file().frame_of, "half");
+  ASSERT_EQ(want.size(), 24u);
+  expectEntries(*m_coloring, want);
+  int grey = 0;
+  for (const auto& e : m_coloring->entries()) grey += e.category < 0;
+  EXPECT_EQ(grey, 24 - (render::kCategoryColors - 1));
+  EXPECT_EQ(m_legend->list()->count(), 24);
+  // The same clips in another map file: the file's labels stay; a map of other clips drops them.
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  EXPECT_EQ(m_coloring->colorBy(), "half");
+  expectEntries(*m_coloring, want);
+  ASSERT_TRUE(m_window->openFile(QString::fromStdString(m_paths[0])));
+  EXPECT_EQ(m_coloring->colorBy(), "time");
+  EXPECT_TRUE(m_coloring->labelFile().isEmpty());
+}
+
+TEST_F(LabelledLibrary, ABadLabelFileIsAMessageNamingTheFileAndLine) {
+  ASSERT_TRUE(m_coloring->setColorBy("action"));
+  const auto refused = [&](const std::string& name, const std::string& text,
+                           const std::string& line, const std::string& what) {
+    const fs::path path = m_dir / name;
+    writeText(path, text);
+    EXPECT_FALSE(m_coloring->labelsFromFile(QString::fromStdString(path.string())));
+    const std::string error = m_window->lastError().toStdString();
+    EXPECT_NE(error.find(path.string() + ":" + line + ":"), std::string::npos) << error;
+    EXPECT_NE(error.find(what), std::string::npos) << error;
+    // Nothing changed: the colouring before stays.
+    EXPECT_EQ(m_coloring->colorBy(), "action");
+    EXPECT_EQ(m_coloring->entries().size(), 5u);
+    EXPECT_TRUE(m_coloring->labelFile().isEmpty());
+  };
+  const std::string first = fs::path(m_paths[0]).filename().string();
+  refused("unknown.csv", "clip,speed\n" + first + ",slow\nnot_a_take.bvh,fast\n", "3",
+          "not_a_take");
+  refused("fields.csv", "clip,speed\n" + first + ",slow,extra\n", "2", "");
+  refused("beyond.csv", "clip,start,end,half\n" + first + ",0,99999,a\n", "2", "");
+  refused("bad.json", "[{\"clip\": \"" + first + "\", \"speed\": }]", "1", "");
+  // A file that cannot be read: its path in the message.
+  EXPECT_FALSE(m_coloring->labelsFromFile(QString::fromStdString((m_dir / "none.csv").string())));
+  EXPECT_NE(m_window->lastError().toStdString().find("none.csv"), std::string::npos)
+      << m_window->lastError().toStdString();
+  EXPECT_EQ(m_coloring->colorBy(), "action");
 }
 
 // A map computed here of four takes, labelled from their names in Studio.
@@ -450,6 +623,30 @@ TEST(StudioLabels, AComputedMapColoursByLabelsReadFromTheClipsNames) {
       EXPECT_EQ(actionOfRow(hit), "walk");
     }
   }
+  // A label file on a map computed here: read as the CLI reads it (spans of frames).
+  {
+    const fs::path dir = fs::temp_directory_path() /
+                         ("motionmap-studio-labels-computed-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::string csv = "clip,start,end,phase\n";
+    std::vector<int> frames;
+    for (const std::string& p : paths) {
+      const int n = io::load_clip(p).motion.num_frames;
+      frames.push_back(n);
+      csv += fs::path(p).stem().string() + ",0," + std::to_string(n / 3) + ",early\n";
+    }
+    writeText(dir / "phase.csv", csv);
+    ASSERT_TRUE(coloring->labelsFromFile(QString::fromStdString((dir / "phase.csv").string())))
+        << w.lastError().toStdString();
+    EXPECT_EQ(coloring->choices(),
+              QStringList({"time", "clip", "action", "style", "take", "phase"}));
+    expectEntries(*coloring, cliEntries((dir / "phase.csv").string(), paths, frames, clipOf,
+                                        map.map.features->frame_of, "phase"));
+    ASSERT_EQ(coloring->entries().size(), 2u);  // (none), early
+    fs::remove_all(dir);
+    ASSERT_TRUE(coloring->setColorBy("action"));
+    coloring->solo(walk);
+  }
   // Another method: the labels and the solo stay with the same clips.
   w.setMethod(embed::Method::Isomap);
   ASSERT_TRUE(QTest::qWaitFor(
@@ -460,6 +657,7 @@ TEST(StudioLabels, AComputedMapColoursByLabelsReadFromTheClipsNames) {
   EXPECT_EQ(coloring->colorBy(), "action");
   EXPECT_FALSE(coloring->entries()[std::size_t(run)].shown);
   EXPECT_TRUE(view->hidesSamples());
+  EXPECT_TRUE(coloring->choices().contains("phase"));
 }
 
 TEST(StudioLabels, TheCategoryDensityMixesColoursAndLeavesHiddenPointsOut) {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <QCoreApplication>
@@ -133,6 +134,38 @@ TEST(TimeColorTest, IsLinearBetweenKnotsAndClamped) {
 }
 
 // --- plain-data geometry ----------------------------------------------------------------------
+
+TEST(CategorySlotsTest, UpToTwelveValuesAreEachColouredInValueOrder) {
+  EXPECT_TRUE(category_slots(std::vector<int>{}).empty());
+  // Colours follow the values, not their counts (a value with no sample still has its colour).
+  EXPECT_EQ(category_slots(std::vector<int>{5, 50, 0, 7}), (std::vector<int>{0, 1, 2, 3}));
+  std::vector<int> twelve(kCategoryColors, 0);
+  for (int v = 0; v < kCategoryColors; ++v) twelve[std::size_t(v)] = 100 - v;
+  std::vector<int> all(kCategoryColors, 0);
+  for (int v = 0; v < kCategoryColors; ++v) all[std::size_t(v)] = v;
+  EXPECT_EQ(category_slots(twelve), all);
+}
+
+TEST(CategorySlotsTest, MoreThanTwelveColourTheElevenMostFrequentAndGreyTheRest) {
+  // 14 values: counts 1 … 14 backwards but values 3 and 9 rare; the 11 most frequent coloured
+  // and numbered in value order, the 3 least frequent grey.
+  const std::vector<int> counts = {40, 39, 38, 1, 36, 35, 34, 33, 32, 2, 30, 29, 28, 3};
+  const std::vector<int> slot_of = category_slots(counts);
+  EXPECT_EQ(slot_of, (std::vector<int>{0, 1, 2, -1, 3, 4, 5, 6, 7, -1, 8, 9, 10, -1}));
+  // Ties in value order: of 13 equal counts the first 11 values are coloured.
+  const std::vector<int> tied = category_slots(std::vector<int>(13, 5));
+  for (int v = 0; v < 11; ++v) EXPECT_EQ(tied[std::size_t(v)], v);
+  EXPECT_EQ(tied[11], -1);
+  EXPECT_EQ(tied[12], -1);
+  // A tie at the cut is broken by value order, wherever the tied values lie.
+  std::vector<int> cut(13, 10);
+  cut[0] = 1;   // least frequent: grey
+  cut[12] = 1;  // tied with value 0 at the bottom: grey
+  const std::vector<int> s = category_slots(cut);
+  EXPECT_EQ(s[0], -1);
+  EXPECT_EQ(s[12], -1);
+  for (int v = 1; v < 12; ++v) EXPECT_EQ(s[std::size_t(v)], v - 1);
+}
 
 TEST(TrajectorySegmentsTest, OneClipGivesColouredUnitSquareSegments) {
   const Eigen::MatrixXd c = arc(121, 3.0, 10.0, -5.0);

@@ -73,7 +73,7 @@ void MainWindow::buildUi() {
   addDockWidget(Qt::RightDockWidgetArea, m_takesPanel);
   resizeDocks({m_takesPanel}, {200}, Qt::Horizontal);  // room for its buttons, the rest the views
   m_explore = new ExplorePanels(
-      this, m_mapView, &m_playback, [this] { return m_source; }, &m_maps);
+      this, m_mapView, m_skeletonView, &m_playback, [this] { return m_source; }, &m_maps);
   connect(m_explore, &ExplorePanels::clipRequested, this, &MainWindow::setCurrentClip);
   connect(m_explore, &ExplorePanels::message, this, [this](const QString& text) {
     if (m_status) m_status->setText(text);

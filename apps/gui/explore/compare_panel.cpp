@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 
+#include <QComboBox>
 #include <QFileInfo>
 #include <QLabel>
 #include <QMainWindow>
@@ -12,19 +13,22 @@
 
 #include "map/map_source.h"
 #include "map/map_view.h"
+#include "motionmap/skeleton/bones.h"
+#include "motionmap/skeleton/forward_kinematics.h"
 #include "playback/playback.h"
 #include "scene/skeleton_view.h"
 
 namespace motionmap::studio {
 
-ComparePanel::ComparePanel(MapView* view, Playback* playback,
+ComparePanel::ComparePanel(MapView* view, SkeletonView* main, Playback* playback,
                            std::function<const MapSource*()> source,
                            std::function<std::shared_ptr<const Clip>(int)> clipOf, QWidget* parent)
     : QDockWidget(tr("Compare"), parent),
       m_view(view),
       m_playback(playback),
       m_source(std::move(source)),
-      m_clipOf(std::move(clipOf)) {
+      m_clipOf(std::move(clipOf)),
+      m_main(main) {
   setObjectName(QStringLiteral("comparePanel"));
   auto* body = new QWidget;
   auto* layout = new QVBoxLayout(body);
@@ -32,6 +36,15 @@ ComparePanel::ComparePanel(MapView* view, Playback* playback,
   m_caption = new QLabel;
   m_caption->setWordWrap(true);
   layout->addWidget(m_caption);
+  m_placementChoice = new QComboBox;
+  m_placementChoice->addItem(tr("Side by side"));
+  m_placementChoice->addItem(tr("Overlaid, each at its place"));
+  m_placementChoice->addItem(tr("Overlaid, roots together"));
+  m_placementChoice->setToolTip(
+      tr("Where the compared character is drawn: in its own view here, or in the main 3-D view "
+         "over the one playing (translucent, in the comparison colour) — where its clip places "
+         "it, or moved onto the playing character's root so the two poses coincide"));
+  layout->addWidget(m_placementChoice);
   m_view3d = new SkeletonView;
   m_view3d->setMinimumSize(160, 160);
   layout->addWidget(m_view3d, 1);
@@ -39,9 +52,16 @@ ComparePanel::ComparePanel(MapView* view, Playback* playback,
   m_stop->setToolTip(
       tr("Ends the comparison: the dock hides, the clip's trajectory leaves the map"));
   layout->addWidget(m_stop);
+  layout->addStretch();  // overlaid (no view here): the controls at the top
   setWidget(body);
   toggleViewAction()->setToolTip(tr("The clip compared with the one playing, in sync"));
   connect(m_stop, &QPushButton::clicked, this, &ComparePanel::stop);
+  connect(m_placementChoice, &QComboBox::activated, this,
+          [this](int index) { setPlacement(Placement(index)); });
+  // The main view shows another pose (or clip): an overlay together follows its root.
+  connect(m_main, &SkeletonView::poseChanged, this, [this] {
+    if (m_compared && m_placement == Placement::Together) drawOverlay();
+  });
   connect(m_playback, &Playback::frameChanged, this, &ComparePanel::follow);
   connect(m_view, &MapView::mapReplaced, this, [this] {
     if (m_clip < 0) return;
@@ -76,11 +96,14 @@ bool ComparePanel::compareWith(int clip) {
   m_name = QFileInfo(source->clipPaths().value(clip)).fileName();
   m_view3d->setSkeleton(m_compared->skeleton);
   m_view3d->setMotion(m_compared->motion);
+  m_detached = detached_joints(m_compared->skeleton, m_compared->motion);
+  m_root = motion_root(m_compared->skeleton, m_compared->motion);
   drawTrajectory();
   show();
   raise();
   // Room for the character: a quarter of the window's width.
-  if (auto* window = qobject_cast<QMainWindow*>(parentWidget()))
+  auto* window = qobject_cast<QMainWindow*>(parentWidget());
+  if (window && m_placement == Placement::SideBySide)
     window->resizeDocks({this}, {std::max(width(), window->width() / 4)}, Qt::Horizontal);
   follow(m_playback->frame());
   return true;
@@ -92,7 +115,44 @@ void ComparePanel::stop() {
   m_trajectory.resize(0, 2);
   m_rowOfFrame.clear();
   m_view->setComparison({}, std::nullopt);
+  m_main->clearOverlay();
+  m_shift.setZero();
   hide();
+}
+
+void ComparePanel::setPlacement(Placement placement) {
+  m_placement = placement;
+  m_placementChoice->setCurrentIndex(int(placement));
+  m_view3d->setVisible(placement == Placement::SideBySide);
+  // Overlaid, the dock needs room for its controls only; side by side, for the character.
+  if (auto* window = qobject_cast<QMainWindow*>(parentWidget()); window && isVisible()) {
+    const int wide = placement == Placement::SideBySide ? std::max(width(), window->width() / 4)
+                                                        : minimumSizeHint().width();
+    window->resizeDocks({this}, {wide}, Qt::Horizontal);
+  }
+  if (!m_compared) return;
+  if (placement == Placement::SideBySide) m_view3d->setPose(m_compared->motion, m_frame);
+  drawOverlay();
+}
+
+void ComparePanel::drawOverlay() {
+  m_shift.setZero();
+  if (!m_compared || m_placement == Placement::SideBySide) {
+    m_main->clearOverlay();
+    return;
+  }
+  WorldPose world = forward_kinematics(m_compared->skeleton, m_compared->motion, m_frame);
+  const WorldPose& playing = m_main->worldPose();
+  const int root = m_main->motionRoot();
+  if (m_placement == Placement::Together && std::size_t(m_root) < world.positions.size() &&
+      std::size_t(root) < playing.positions.size()) {
+    // Its root's floor point onto the playing one's; heights stay.
+    const Eigen::Vector3d d =
+        playing.positions[std::size_t(root)] - world.positions[std::size_t(m_root)];
+    m_shift = Eigen::Vector3d(d.x(), 0.0, d.z());
+    for (Eigen::Vector3d& p : world.positions) p += m_shift;
+  }
+  m_main->setOverlay(m_compared->skeleton, world, m_detached, MapView::comparisonColor());
 }
 
 int ComparePanel::syncedFrame(int frame) const {
@@ -107,7 +167,8 @@ int ComparePanel::syncedFrame(int frame) const {
 void ComparePanel::follow(int frame) {
   if (!m_compared) return;
   m_frame = syncedFrame(frame);
-  m_view3d->setPose(m_compared->motion, m_frame);
+  if (m_placement == Placement::SideBySide) m_view3d->setPose(m_compared->motion, m_frame);
+  drawOverlay();
   std::optional<Eigen::Vector2d> point;
   if (m_frame < int(m_rowOfFrame.size()) && m_rowOfFrame[std::size_t(m_frame)] >= 0) {
     const Eigen::Index row = m_rowOfFrame[std::size_t(m_frame)];

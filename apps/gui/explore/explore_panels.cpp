@@ -2,6 +2,7 @@
 
 #include <QAction>
 #include <QActionGroup>
+#include <QFileDialog>
 #include <QFileInfo>
 #include <QInputDialog>
 #include <QLineEdit>
@@ -20,8 +21,9 @@
 
 namespace motionmap::studio {
 
-ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
-                             std::function<const MapSource*()> source, const MapController* maps)
+ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, SkeletonView* main3d,
+                             Playback* playback, std::function<const MapSource*()> source,
+                             const MapController* maps)
     : QObject(window), m_source(source), m_window(window) {
   const auto request = [this](int clip, int frame) { emit clipRequested(clip, frame); };
   // Box and lasso selections of the map's frames, listed, played and exported (a dock, shown with
@@ -37,11 +39,24 @@ ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, Playback* playb
   connect(ClipSearch::addTo(window, view, source), &ClipSearch::clipRequested, this,
           &ExplorePanels::clipRequested);
   // Colour by label: the legend beside the map while a label (or the clip) colours it.
-  m_coloring = new MapColoring(view, source, this);
+  // A label file's spans are checked against the frames of each clip (as the CLI checks them).
+  const auto clipFrames = [source, maps]() -> std::vector<int> {
+    std::vector<int> frames;
+    if (const auto* saved = dynamic_cast<const SavedMapSource*>(source())) {
+      if (saved->map()) {
+        for (const auto& clip : saved->map()->file().clips) frames.push_back(clip.frames);
+      }
+    } else if (const std::shared_ptr<const std::vector<Clip>> clips = maps->clips()) {
+      for (const Clip& clip : *clips) frames.push_back(clip.motion.num_frames);
+    }
+    return frames;
+  };
+  m_coloring = new MapColoring(view, source, clipFrames, this);
   m_legend = new LegendPanel(m_coloring);
   window->addDockWidget(Qt::RightDockWidgetArea, m_legend);
   m_legend->hide();
   connect(m_coloring, &MapColoring::failed, this, &ExplorePanels::failed);
+  connect(m_legend, &LegendPanel::labelFileRequested, this, &ExplorePanels::askLabelFile);
   // Two clips compared: a saved map's clip loaded (and checked) from its file, a computed map's
   // shared with the map.
   const auto clipOf = [source, maps](int c) -> std::shared_ptr<const Clip> {
@@ -51,7 +66,7 @@ ExplorePanels::ExplorePanels(QMainWindow* window, MapView* view, Playback* playb
     if (!clips || c < 0 || c >= int(clips->size())) return nullptr;
     return std::shared_ptr<const Clip>(clips, &(*clips)[std::size_t(c)]);
   };
-  m_compare = new ComparePanel(view, playback, source, clipOf);
+  m_compare = new ComparePanel(view, main3d, playback, source, clipOf);
   window->addDockWidget(Qt::LeftDockWidgetArea, m_compare);
   m_compare->hide();
   connect(m_compare, &ComparePanel::failed, this, &ExplorePanels::failed);
@@ -89,11 +104,16 @@ void ExplorePanels::addViewActions(QMenu* view) {
     colourBy->addAction(tr("Labels from file names…"), this, &ExplorePanels::askNamePattern)
         ->setToolTip(tr("Labels the clips of a map computed here by their file names, e.g. "
                         "{action}_{style}_{take} (as motionmap map --labels-from-name)"));
+    colourBy->addAction(tr("Labels from file…"), this, &ExplorePanels::askLabelFile)
+        ->setToolTip(tr("Labels the map's clips from a CSV or JSON file: a clip column and one "
+                        "column per label, or clip,start,end,label spans (as motionmap map "
+                        "--labels)"));
   });
   view->addAction(m_legend->toggleViewAction());
   view->addAction(tr("Compare with clip…"), this, &ExplorePanels::askCompare)
-      ->setToolTip(tr("Plays another clip of the map beside the one playing, in sync: its "
-                      "character in the Compare dock, its trajectory on the map"));
+      ->setToolTip(tr("Plays another clip of the map with the one playing, in sync: its "
+                      "character in the Compare dock or overlaid in the 3-D view, its trajectory "
+                      "on the map"));
 }
 
 void ExplorePanels::askCompare() {
@@ -110,6 +130,12 @@ void ExplorePanels::askCompare() {
       QInputDialog::getItem(m_window, tr("Compare with clip"),
                             tr("The clip to play beside the one playing:"), names, 0, false, &ok);
   if (ok) m_compare->compareWith(int(names.indexOf(chosen)));
+}
+
+void ExplorePanels::askLabelFile() {
+  const QString path = QFileDialog::getOpenFileName(
+      m_window, tr("Labels from file"), QString(), tr("Label files (*.csv *.json);;All files (*)"));
+  if (!path.isEmpty()) m_coloring->labelsFromFile(path);
 }
 
 void ExplorePanels::askNamePattern() {

@@ -24,16 +24,18 @@ class MapColoring;
 class NearestPanel;
 class Playback;
 class SelectionPanel;
+class SkeletonView;
 
 class ExplorePanels : public QObject {
   Q_OBJECT
  public:
-  /// Adds the search bar and the docks to `window`; `source` gives the map source shown, `maps`
-  /// the clips of a map computed here. All must outlive this.
-  ExplorePanels(QMainWindow* window, MapView* view, Playback* playback,
+  /// Adds the search bar and the docks to `window`; `main3d` is its 3-D view (a compared clip
+  /// overlaid there), `source` gives the map source shown, `maps` the clips of a map computed
+  /// here. All must outlive this.
+  ExplorePanels(QMainWindow* window, MapView* view, SkeletonView* main3d, Playback* playback,
                 std::function<const MapSource*()> source, const MapController* maps);
   /// The docks' show/hide actions and the Colour by submenu (time, clip, each label of the map,
-  /// and Labels from File Names…), added to `view` (the View menu).
+  /// Labels from file names… and Labels from file…), added to `view` (the View menu).
   void addViewActions(QMenu* view);
   MapColoring* coloring() const { return m_coloring; }
   LegendPanel* legend() const { return m_legend; }
@@ -43,6 +45,9 @@ class ExplorePanels : public QObject {
   /// View → Colour by → Labels from file names…: a pattern asked for
   /// (MapColoring::labelsFromNames).
   void askNamePattern();
+  /// View → Colour by → Labels from file… (or the Legend's button): a CSV or JSON label file
+  /// asked for (MapColoring::labelsFromFile).
+  void askLabelFile();
 
  signals:
   /// A panel or the search asks to play clip `clip` from frame `frame`.

@@ -54,7 +54,13 @@ LegendPanel::LegendPanel(MapColoring* coloring, QWidget* parent)
   layout->addWidget(m_summary);
   m_showAll = new QPushButton(tr("Show all"));
   m_showAll->setToolTip(tr("Shows the frames of every value"));
-  layout->addWidget(m_showAll);
+  m_labelFile = new QPushButton(tr("Labels from file…"));
+  m_labelFile->setToolTip(
+      tr("Colours the map by labels read from a CSV or JSON file (as motionmap map --labels)"));
+  auto* buttons = new QHBoxLayout;
+  buttons->addWidget(m_showAll);
+  buttons->addWidget(m_labelFile);
+  layout->addLayout(buttons);
   setWidget(body);
   toggleViewAction()->setToolTip(
       tr("The colours of the map's values, each with its frames: hide, show or solo a value"));
@@ -76,6 +82,7 @@ LegendPanel::LegendPanel(MapColoring* coloring, QWidget* parent)
     menu.exec(m_list->viewport()->mapToGlobal(at));
   });
   connect(m_showAll, &QPushButton::clicked, m_coloring, &MapColoring::showAll);
+  connect(m_labelFile, &QPushButton::clicked, this, &LegendPanel::labelFileRequested);
   connect(m_coloring, &MapColoring::changed, this, &LegendPanel::refresh);
   refresh();
 }

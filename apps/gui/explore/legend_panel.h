@@ -3,7 +3,7 @@
 // choice and one row per value — its colour, its name, its number of frames. A click on a row
 // hides or shows that value; a Ctrl-click (or Alt-click, or the row's context menu → Solo) shows
 // it alone, and again shows every value; "Show all" shows every value. Hidden values are drawn
-// hollow and grey.
+// hollow and grey. "Labels from file…" asks for a label file (CSV or JSON) to colour by.
 #include <QDockWidget>
 
 class QComboBox;
@@ -26,8 +26,13 @@ class LegendPanel : public QDockWidget {
   /// "12 345 of 20 000 frames shown".
   QLabel* summary() const { return m_summary; }
   QPushButton* showAllButton() const { return m_showAll; }
+  QPushButton* labelFileButton() const { return m_labelFile; }
   /// What a click on row `row` does: Ctrl or Alt held → solo, else hide/show.
   void activate(int row, Qt::KeyboardModifiers modifiers);
+
+ signals:
+  /// "Labels from file…" was clicked: the window asks for the file.
+  void labelFileRequested();
 
  protected:
   /// Keeps the modifiers of a press on the list (a click's solo or hide/show).
@@ -42,6 +47,7 @@ class LegendPanel : public QDockWidget {
   QListWidget* m_list;
   QLabel* m_summary;
   QPushButton* m_showAll;
+  QPushButton* m_labelFile;
   bool m_refreshing = false;
   Qt::KeyboardModifiers m_pressModifiers;  ///< of the last press on the list
 };

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <exception>
-#include <numeric>
 #include <string>
 
 #include <QFileInfo>
@@ -18,23 +17,31 @@ QColor MapColoring::Entry::color() const {
   return render::category_color(category);
 }
 
-MapColoring::MapColoring(MapView* view, std::function<const MapSource*()> source, QObject* parent)
-    : QObject(parent), m_view(view), m_source(std::move(source)) {
+MapColoring::MapColoring(MapView* view, std::function<const MapSource*()> source,
+                         std::function<std::vector<int>()> clipFrames, QObject* parent)
+    : QObject(parent),
+      m_view(view),
+      m_source(std::move(source)),
+      m_clipFrames(std::move(clipFrames)) {
   connect(view, &MapView::mapReplaced, this, &MapColoring::mapReplaced);
 }
 
-const pipeline::Labels* MapColoring::labels() const {
-  if (m_savedLabels) return m_savedLabels.get();
-  return m_nameLabels.empty() ? nullptr : &m_nameLabels;
+const pipeline::LabelColumn* MapColoring::column(const std::string& name) const {
+  if (const pipeline::LabelColumn* c = m_fileLabels.find(name)) return c;
+  if (m_savedLabels) return m_savedLabels->find(name);
+  return m_nameLabels.find(name);
 }
 
 QStringList MapColoring::choices() const {
   QStringList out{timeChoice()};
   const MapSource* source = m_source();
   if (source && source->clipCount() > 1) out << clipChoice();
-  if (const pipeline::Labels* l = labels()) {
-    for (const pipeline::LabelColumn& column : l->columns)
-      out << QString::fromStdString(column.name);
+  for (const pipeline::Labels* l : {m_savedLabels ? m_savedLabels.get() : &m_nameLabels,
+                                    static_cast<const pipeline::Labels*>(&m_fileLabels)}) {
+    for (const pipeline::LabelColumn& c : l->columns) {
+      const QString name = QString::fromStdString(c.name);
+      if (!out.contains(name)) out << name;
+    }
   }
   return out;
 }
@@ -65,12 +72,11 @@ bool MapColoring::build() {
     for (const QString& path : source->clipPaths()) values.push_back(QFileInfo(path).fileName());
     m_codes.assign(samples.clipOf->begin(), samples.clipOf->end());
   } else {
-    const pipeline::Labels* l = labels();
-    const pipeline::LabelColumn* column = l ? l->find(m_colorBy.toStdString()) : nullptr;
-    if (!column || column->codes.size() != n) return false;
-    for (const std::string& value : column->categories)
+    const pipeline::LabelColumn* c = column(m_colorBy.toStdString());
+    if (!c || c->codes.size() != n) return false;
+    for (const std::string& value : c->categories)
       values.push_back(value.empty() ? tr("(none)") : QString::fromStdString(value));
-    m_codes.assign(column->codes.begin(), column->codes.end());
+    m_codes.assign(c->codes.begin(), c->codes.end());
   }
   if (m_codes.size() != n) {
     m_codes.clear();
@@ -80,20 +86,11 @@ bool MapColoring::build() {
   for (const int code : m_codes) {
     if (code >= 0 && std::size_t(code) < counts.size()) ++counts[std::size_t(code)];
   }
-  // The CLI's rule (apps/cli/labels.cpp, color_plot): by count (most first, ties in value
-  // order) the first kCategoryColors coloured — kCategoryColors − 1 when there are more, the
-  // others grey — and the coloured ones numbered in value order.
-  std::vector<int> order(counts.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return counts[std::size_t(a)] > counts[std::size_t(b)]; });
-  const bool grouped = order.size() > std::size_t(render::kCategoryColors);
-  const std::size_t coloured = grouped ? std::size_t(render::kCategoryColors - 1) : order.size();
-  std::vector<int> kept(order.begin(), order.begin() + std::ptrdiff_t(coloured));
-  std::sort(kept.begin(), kept.end());
+  // The CLI's rule (render::category_slots): the most frequent values coloured, the rest grey.
+  const std::vector<int> slot_of = render::category_slots(counts);
   m_entries.resize(values.size());
-  for (std::size_t v = 0; v < values.size(); ++v) m_entries[v] = {values[v], counts[v], -1, true};
-  for (std::size_t c = 0; c < kept.size(); ++c) m_entries[std::size_t(kept[c])].category = int(c);
+  for (std::size_t v = 0; v < values.size(); ++v)
+    m_entries[v] = {values[v], counts[v], slot_of[v], true};
   return true;
 }
 
@@ -170,6 +167,53 @@ bool MapColoring::labelsFromNames(const QString& pattern) {
   return setColorBy(QString::fromStdString(m_nameLabels.columns.front().name));
 }
 
+bool MapColoring::labelsFromFile(const QString& path) {
+  const MapSource* source = m_source();
+  const MapSource::Samples samples = source ? source->samples() : MapSource::Samples{};
+  if (!samples.clipOf || !samples.frameOf) {
+    emit failed(tr("Labels from a file need a map: open clips or a map first"));
+    return false;
+  }
+  const QStringList paths = source->clipPaths();
+  pipeline::LabelTable table;
+  pipeline::Labels labels;
+  try {
+    std::vector<std::string> names;
+    for (const QString& p : paths) names.push_back(p.toStdString());
+    std::vector<int> frames = m_clipFrames ? m_clipFrames() : std::vector<int>{};
+    if (frames.size() != names.size()) frames.clear();
+    table = pipeline::read_label_file(path.toStdString(), names, frames);
+    labels = pipeline::sample_labels(table, *samples.clipOf, *samples.frameOf);
+  } catch (const std::exception& e) {
+    emit failed(QString::fromStdString(e.what()));
+    return false;
+  }
+  m_fileTable = std::move(table);
+  m_fileLabels = std::move(labels);
+  m_filePath = path;
+  m_filePaths = paths;
+  // The first label the file names colours the map.
+  return setColorBy(QString::fromStdString(m_fileLabels.columns.front().name));
+}
+
+void MapColoring::sampleFileLabels() {
+  m_fileLabels = {};
+  const MapSource* source = m_source();
+  if (m_filePath.isEmpty() || !source || source->clipPaths() != m_filePaths) {
+    m_fileTable = {};
+    m_filePath.clear();
+    m_filePaths.clear();
+    return;
+  }
+  const MapSource::Samples samples = source->samples();
+  if (!samples.clipOf || !samples.frameOf) return;
+  try {
+    m_fileLabels = pipeline::sample_labels(m_fileTable, *samples.clipOf, *samples.frameOf);
+  } catch (const std::exception&) {
+    m_fileLabels = {};
+  }
+}
+
 void MapColoring::mapReplaced() {
   const MapSource* source = m_source();
   const auto* saved = dynamic_cast<const SavedMapSource*>(source);
@@ -196,6 +240,8 @@ void MapColoring::mapReplaced() {
       }
     }
   }
+  // A label file's labels stay with the clips they were read against, saved map or not.
+  sampleFileLabels();
   // The same colouring on the new map when it has it (the values shown kept by name).
   std::vector<QString> hidden;
   for (const Entry& e : m_entries) {

@@ -1,9 +1,10 @@
 #pragma once
 // Colour by label (View → Colour by): the map's samples drawn in the colours of a label's values
 // — a saved map's labels (/labels of the map file), labels read from the clips' file names (a
-// pattern, as `--labels-from-name`), or the clip each sample belongs to — with the CLI's palette
-// and rule (render::category_color; up to kCategoryColors values each in its colour, in value
-// order; with more, the kCategoryColors − 1 most frequent coloured and the others grey, as
+// pattern, as `--labels-from-name`) or from a label file (CSV or JSON, as `--labels`), or the
+// clip each sample belongs to — with the CLI's palette and rule (render::category_color and
+// render::category_slots: up to kCategoryColors values each in its colour, in value order; with
+// more, the kCategoryColors − 1 most frequent coloured and the others grey, as
 // `motionmap map --color-by` draws them). Each value can be hidden, shown, or shown alone (solo):
 // hidden samples are neither drawn nor picked (MapView::setSampleCategories). No widgets: the
 // View menu and the legend (LegendPanel) drive it.
@@ -42,9 +43,13 @@ class MapColoring : public QObject {
 
   /// Colours `view`'s map; `source` gives the source shown (its samples, clips and, for a saved
   /// map, its labels). Both must outlive this.
-  MapColoring(MapView* view, std::function<const MapSource*()> source, QObject* parent = nullptr);
+  /// `clipFrames` (optional) gives the frames of each clip of the map shown, which a label file's
+  /// spans must lie within (as the CLI checks them).
+  MapColoring(MapView* view, std::function<const MapSource*()> source,
+              std::function<std::vector<int>()> clipFrames = {}, QObject* parent = nullptr);
 
-  /// timeChoice(), clipChoice() (a map of several clips) and the map's label names.
+  /// timeChoice(), clipChoice() (a map of several clips), the map's label names, then those of
+  /// a label file not already among them.
   QStringList choices() const;
   QString colorBy() const { return m_colorBy; }
   /// Colours by `name` (one of choices()), every value shown. False, with failed(), for a name
@@ -64,6 +69,15 @@ class MapColoring : public QObject {
   /// computed here (a saved map has its own). False, with failed(), for a bad pattern or a name
   /// it does not match.
   bool labelsFromNames(const QString& pattern);
+  /// Labels read from the label file `path` (pipeline::read_label_file, as `motionmap map
+  /// --labels`: a clip column and one column per label, or clip,start,end,label spans, or JSON;
+  /// a clip named by its path, file name or stem), kept while the map's clips are the same: for
+  /// computed and saved maps. A label of the file takes the place of one of the same name.
+  /// Colours by the file's first label. False, with failed() naming the file and the line, for a
+  /// file that cannot be read or names a clip the map does not have.
+  bool labelsFromFile(const QString& path);
+  /// The label file read (empty: none).
+  QString labelFile() const { return m_filePath; }
 
  signals:
   /// The colouring, its entries or which are shown changed.
@@ -77,7 +91,10 @@ class MapColoring : public QObject {
   bool build();
   /// The view told each sample's category (hidden ones kHiddenCategory).
   void apply();
-  const pipeline::Labels* labels() const;
+  /// The column of label `name`: the label file's, else the saved map's or the names'.
+  const pipeline::LabelColumn* column(const std::string& name) const;
+  /// The file's labels sampled on the map shown (none when it has other clips).
+  void sampleFileLabels();
 
   MapView* m_view;
   std::function<const MapSource*()> m_source;
@@ -85,6 +102,11 @@ class MapColoring : public QObject {
   pipeline::Labels m_nameLabels;                          ///< labelsFromNames'
   QString m_pattern;                                      ///< labelsFromNames' pattern
   QStringList m_patternPaths;                             ///< the clips it was read from
+  std::function<std::vector<int>()> m_clipFrames;
+  pipeline::LabelTable m_fileTable;  ///< labelsFromFile's, as read
+  pipeline::Labels m_fileLabels;     ///< m_fileTable per sample of the map shown
+  QString m_filePath;                ///< labelsFromFile's file
+  QStringList m_filePaths;           ///< the clips it was read against
   QString m_colorBy = timeChoice();
   std::vector<int> m_codes;  ///< per sample: its entry
   std::vector<Entry> m_entries;

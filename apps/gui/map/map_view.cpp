@@ -34,7 +34,14 @@ MapView::MapView(QWidget* parent) : QWidget(parent) {
 void MapView::setSampleCategories(std::vector<int> categories) {
   m_categories = std::move(categories);
   m_hidden = std::count(m_categories.begin(), m_categories.end(), kHiddenCategory);
-  invalidate();
+  if (m_density) {
+    // Only the density's colours change: the picture is composed again from the points binned
+    // again and the trajectory layer as it was (a legend click does not stroke it again).
+    m_cache = QPixmap();
+    m_densityImage = QImage();
+  } else {
+    invalidate();
+  }
   update();
 }
 
@@ -79,6 +86,7 @@ void MapView::paintTrajectory(QPainter& painter, const render::MapPlotOptions& o
 
 void MapView::invalidate() {
   m_cache = QPixmap();
+  m_overLayer = QImage();
   m_densityImage = QImage();
   m_transformValid = false;
 }
@@ -120,6 +128,7 @@ void MapView::setTrajectory(const Eigen::MatrixXd& trajectory) {
   m_coords = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
   m_segmentStarts.clear();
   m_cache = QPixmap();  // the density image and the transform stay
+  m_overLayer = QImage();
   m_transformValid = false;
   update();
 }
@@ -185,6 +194,7 @@ void MapView::clearMap(const QString& hint) {
 void MapView::setHighlight(const Eigen::MatrixXd& points) {
   m_highlight = points.leftCols(std::min<Eigen::Index>(2, points.cols()));
   m_cache = QPixmap();
+  m_overLayer = QImage();
   update();
 }
 
@@ -215,6 +225,7 @@ void MapView::setSelection(const Eigen::MatrixXd& points, const QPolygonF& outli
   m_selection = points.leftCols(std::min<Eigen::Index>(2, points.cols()));
   m_selectionOutline = outline;
   m_cache = QPixmap();
+  m_overLayer = QImage();
   update();
 }
 
@@ -346,12 +357,14 @@ void MapView::setSketchMode(bool on) {
 void MapView::setShadingReach(double reach) {
   m_shadingReach = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
   m_cache = QPixmap();
+  m_overLayer = QImage();
   update();
 }
 
 void MapView::setShadingVisible(bool on) {
   m_shadingVisible = on;
   m_cache = QPixmap();
+  m_overLayer = QImage();
   update();
 }
 
@@ -459,12 +472,22 @@ void MapView::paintEvent(QPaintEvent*) {
       cachePainter.setClipRect(plotRect());
       cachePainter.drawImage(QPointF(0, 0), densityImage());
       cachePainter.restore();
-      paintMarks(cachePainter, m_highlight, highlightColor());
-      paintMarks(cachePainter, m_selection, selectionColor());
-      render::MapPlotOptions over = options;
-      over.background = QColor();
-      if (m_coords.rows() > 0)
-        render::paint_map(cachePainter, QRectF(rect()), m_coords, m_segmentStarts, over);
+      // The marks and the trajectory over it, a layer of their own: kept while only the
+      // density's colours change.
+      if (m_overLayer.isNull() || m_overLayer.size() != m_cache.size()) {
+        m_overLayer = QImage(m_cache.size(), QImage::Format_ARGB32_Premultiplied);
+        m_overLayer.setDevicePixelRatio(dpr);
+        m_overLayer.fill(Qt::transparent);
+        QPainter layer(&m_overLayer);
+        layer.setRenderHint(QPainter::Antialiasing);
+        paintMarks(layer, m_highlight, highlightColor());
+        paintMarks(layer, m_selection, selectionColor());
+        render::MapPlotOptions over = options;
+        over.background = QColor();
+        if (m_coords.rows() > 0)
+          render::paint_map(layer, QRectF(rect()), m_coords, m_segmentStarts, over);
+      }
+      cachePainter.drawImage(QPointF(0, 0), m_overLayer);
     } else {
       paintTrajectory(cachePainter, options);
       paintMarks(cachePainter, m_highlight, highlightColor());

@@ -299,6 +299,9 @@ class MapView : public QWidget {
   render::MapPlotOptions m_options;
   QString m_hint;
   QPixmap m_cache;  ///< the painted trajectory at the current size; null when stale
+  /// A density map's marks and trajectory over its density image (transparent elsewhere), at
+  /// m_cache's size; null when stale. A legend click composes the picture again from it.
+  QImage m_overLayer;
   // Cached with the size they were computed for (mutable: filled lazily by const conversions).
   mutable QSize m_transformSize;
   mutable bool m_transformValid = false;

@@ -43,6 +43,7 @@ const char* kFragmentShader = R"(#version 330 core
 in vec3 v_normal;
 in vec3 v_color;
 uniform bool lit;
+uniform float alpha;
 out vec4 frag;
 void main() {
   vec3 c = v_color;
@@ -52,7 +53,7 @@ void main() {
     float fill = max(dot(n, normalize(vec3(-0.6, 0.2, -0.4))), 0.0);
     c = v_color * (0.4 + 0.55 * key + 0.25 * fill);  // no black sides: bones stay their colour
   }
-  frag = vec4(c, 1.0);
+  frag = vec4(c, alpha);
 })";
 
 /// Whether this platform gives an OpenGL context (the offscreen platform does not; a window
@@ -67,6 +68,9 @@ double gridStep(double extent) {
 }
 
 const Eigen::Vector3f kBackground(0.93f, 0.94f, 0.96f);
+
+/// The opacity of an overlaid character (setOverlay).
+constexpr double kOverlayOpacity = 0.6;
 
 /// The hovered joint's name: dark text on a light rounded box beside the joint.
 void drawLabel(QPainter& painter, QPointF at, const QString& text) {
@@ -174,6 +178,7 @@ void SkeletonCanvas::paintGL() {
   const OrbitCamera& camera = m_view->camera();
   m_program->bind();
   m_program->setUniformValue("mvp", camera.projection(size()) * camera.view());
+  m_program->setUniformValue("alpha", 1.0f);
   m_vao.bind();
   drawVertices(gridLines(camera.target, gridStep(m_view->extent())), GL_LINES, false);
   const WorldPose& world = m_view->worldPose();
@@ -184,7 +189,10 @@ void SkeletonCanvas::paintGL() {
     glEnable(GL_BLEND);
     glBlendEquation(GL_MIN);
     glDepthMask(GL_FALSE);
-    drawVertices(shadowMesh(bones, m_view->extent(), 0.0, kBackground), GL_TRIANGLES, false);
+    std::vector<BoneSegment> shadowed = bones;
+    const std::vector<BoneSegment> overlay = m_view->overlayBones();
+    shadowed.insert(shadowed.end(), overlay.begin(), overlay.end());
+    drawVertices(shadowMesh(shadowed, m_view->extent(), 0.0, kBackground), GL_TRIANGLES, false);
     glDepthMask(GL_TRUE);
     glBlendEquation(GL_FUNC_ADD);
     glDisable(GL_BLEND);
@@ -192,6 +200,22 @@ void SkeletonCanvas::paintGL() {
                               m_view->selectedJoint()),
                  GL_TRIANGLES, true);
     drawVertices(trailMesh(m_view->trail(), m_view->extent()), GL_TRIANGLES, true);
+  }
+  if (m_view->hasOverlay()) {
+    // The second character translucent: its depth first, then its colour blended where it is
+    // nearest, so its own overlapping capsules blend once.
+    const std::vector<MeshVertex> mesh = m_view->overlayMesh();
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    drawVertices(mesh, GL_TRIANGLES, true);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthFunc(GL_LEQUAL);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    m_program->setUniformValue("alpha", GLfloat(kOverlayOpacity));
+    drawVertices(mesh, GL_TRIANGLES, true);
+    m_program->setUniformValue("alpha", 1.0f);
+    glDisable(GL_BLEND);
+    glDepthFunc(GL_LESS);
   }
   m_vao.release();
   m_program->release();
@@ -208,6 +232,15 @@ void SkeletonView::installSurfaceFormat() {
   format.setSamples(4);
   QSurfaceFormat::setDefaultFormat(format);
 }
+
+/// setOverlay's character.
+struct SkeletonView::Overlay {
+  Skeleton skeleton;
+  WorldPose world;
+  std::vector<bool> detached;
+  std::vector<bool> body;
+  QColor color;
+};
 
 SkeletonView::SkeletonView(QWidget* parent) : QWidget(parent) {
   setMinimumSize(200, 200);
@@ -228,6 +261,73 @@ SkeletonView::SkeletonView(QWidget* parent) : QWidget(parent) {
 }
 
 SkeletonView::~SkeletonView() = default;
+
+void SkeletonView::setOverlay(const Skeleton& skeleton, const WorldPose& pose,
+                              const std::vector<bool>& detached, const QColor& color) {
+  if (pose.positions.size() != std::size_t(skeleton.num_joints())) return clearOverlay();
+  if (!m_overlay) m_overlay = std::make_unique<Overlay>();
+  m_overlay->skeleton = skeleton;
+  m_overlay->detached = detached.size() == pose.positions.size()
+                            ? detached
+                            : std::vector<bool>(pose.positions.size(), false);
+  m_overlay->body = body_joints(skeleton, m_overlay->detached);
+  m_overlay->world = pose;
+  m_overlay->color = color;
+  refresh();
+}
+
+void SkeletonView::clearOverlay() {
+  if (!m_overlay) return;
+  m_overlay.reset();
+  refresh();
+}
+
+const WorldPose& SkeletonView::overlayPose() const {
+  static const WorldPose none;
+  return m_overlay ? m_overlay->world : none;
+}
+
+QColor SkeletonView::overlayColor() const {
+  return m_overlay ? m_overlay->color : QColor();
+}
+
+std::vector<BoneSegment> SkeletonView::overlayBones() const {
+  if (!m_overlay) return {};
+  return bone_segments(m_overlay->skeleton, m_overlay->world, m_overlay->detached);
+}
+
+std::vector<QPointF> SkeletonView::overlayJointPixels() const {
+  std::vector<QPointF> out;
+  if (!m_overlay) return out;
+  for (const auto& p : m_overlay->world.positions)
+    out.push_back(projectToPixels(m_camera, size(), p));
+  return out;
+}
+
+std::vector<MeshVertex> SkeletonView::overlayMesh() const {
+  if (!m_overlay) return {};
+  // Translucent, each surface may be drawn once: coincident joints (one sphere, not several at
+  // the same depth, blended twice) and bones of no length (spheres inside their joint's) dropped.
+  const std::vector<Eigen::Vector3d>& at = m_overlay->world.positions;
+  const double tiny = 1e-6 * m_extent;
+  std::vector<bool> body = m_overlay->body;
+  body.resize(at.size(), true);
+  for (std::size_t j = 0; j < at.size(); ++j) {
+    for (std::size_t k = 0; k < j && body[j]; ++k) {
+      if (body[k] && (at[k] - at[j]).norm() <= tiny) body[j] = false;
+    }
+  }
+  std::vector<BoneSegment> bones = overlayBones();
+  std::erase_if(bones, [&](const BoneSegment& b) { return (b.to - b.from).norm() <= tiny; });
+  std::vector<MeshVertex> mesh = skeletonMesh(bones, m_overlay->world, m_extent, {}, body);
+  const QColor& c = m_overlay->color;
+  for (MeshVertex& v : mesh) {
+    v.color[0] = float(c.redF());
+    v.color[1] = float(c.greenF());
+    v.color[2] = float(c.blueF());
+  }
+  return mesh;
+}
 
 bool SkeletonView::glReady() const {
   return m_canvas && m_canvas->ready();
@@ -465,6 +565,7 @@ void SkeletonView::paintFallback(QPainter& painter) {
     painter.drawLine(p(grid[i]), p(grid[i + 1]));
   }
   const std::vector<BoneSegment> bones = this->bones();
+  const std::vector<BoneSegment> overlayBones = this->overlayBones();
   const double radius = boneRadius(m_extent);
   const Eigen::Vector3d right = m_camera.right();
   const auto pixelRadius = [&](const Eigen::Vector3d& p, double r) {
@@ -473,14 +574,16 @@ void SkeletonView::paintFallback(QPainter& painter) {
   };
   // The shadow: the bones' floor projections drawn opaque on a layer, blurred by scaling down
   // and back up, then laid over the floor translucent (overlaps do not darken twice).
-  if (!bones.empty()) {
+  std::vector<BoneSegment> shadowed = bones;
+  shadowed.insert(shadowed.end(), overlayBones.begin(), overlayBones.end());
+  if (!shadowed.empty()) {
     QImage layer(size() / 4, QImage::Format_ARGB32_Premultiplied);
     layer.fill(Qt::transparent);
     {
       QPainter lp(&layer);
       lp.setRenderHint(QPainter::Antialiasing);
       lp.scale(0.25, 0.25);
-      for (const BoneSegment& bone : bones) {
+      for (const BoneSegment& bone : shadowed) {
         const Eigen::Vector3d a(bone.from.x(), 0.0, bone.from.z()),
             b(bone.to.x(), 0.0, bone.to.z());
         const double fade =
@@ -550,6 +653,58 @@ void SkeletonView::paintFallback(QPainter& painter) {
       painter.setBrush(shade);
       painter.drawEllipse(p, std::max(r, 2.5), std::max(r, 2.5));
     }
+  }
+  // The overlaid character: its capsules and spheres far to near in its colour on a layer,
+  // laid over the scene translucent (so its own overlaps do not darken).
+  if (m_overlay) {
+    QImage layer(size(), QImage::Format_ARGB32_Premultiplied);
+    layer.fill(Qt::transparent);
+    {
+      QPainter lp(&layer);
+      lp.setRenderHint(QPainter::Antialiasing);
+      const WorldPose& world = m_overlay->world;
+      std::vector<Item> ghost;
+      for (std::size_t b = 0; b < overlayBones.size(); ++b)
+        ghost.push_back(
+            {(0.5 * (overlayBones[b].from + overlayBones[b].to) - eye).norm(), int(b), -1});
+      for (std::size_t j = 0; j < world.positions.size(); ++j) {
+        if (j < m_overlay->body.size() && !m_overlay->body[j]) continue;
+        ghost.push_back({(world.positions[j] - eye).norm(), -1, int(j)});
+      }
+      std::sort(ghost.begin(), ghost.end(),
+                [](const Item& a, const Item& b) { return a.depth > b.depth; });
+      const QColor base = m_overlay->color;
+      const Eigen::Vector3f c(float(base.redF()), float(base.greenF()), float(base.blueF()));
+      for (const Item& item : ghost) {
+        if (item.bone >= 0) {
+          const BoneSegment& bone = overlayBones[std::size_t(item.bone)];
+          const QPointF a = pixel(bone.from), b = pixel(bone.to);
+          const double w = 2.0 * std::max(pixelRadius(bone.from, radius), 1.5);
+          QPointF normal(-(b - a).y(), (b - a).x());
+          const double len = std::hypot(normal.x(), normal.y());
+          normal = len > 0 ? normal * (0.5 * w / len) : QPointF(0, 0.5 * w);
+          QLinearGradient shade(a + normal, a - normal);
+          shade.setColorAt(0.0, qcolor(c, 0.6));
+          shade.setColorAt(0.35, qcolor(c, 1.15));
+          shade.setColorAt(1.0, qcolor(c, 0.55));
+          lp.setPen(QPen(QBrush(shade), w, Qt::SolidLine, Qt::RoundCap));
+          lp.drawLine(a, b);
+        } else {
+          const Eigen::Vector3d& at = world.positions[std::size_t(item.joint)];
+          const QPointF p = pixel(at);
+          const double r = std::max(pixelRadius(at, radius * 1.25), 2.5);
+          QRadialGradient shade(p - QPointF(0.35 * r, 0.35 * r), 1.3 * r);
+          shade.setColorAt(0.0, qcolor(c, 1.3));
+          shade.setColorAt(1.0, qcolor(c, 0.6));
+          lp.setPen(Qt::NoPen);
+          lp.setBrush(shade);
+          lp.drawEllipse(p, r, r);
+        }
+      }
+    }
+    painter.setOpacity(kOverlayOpacity);
+    painter.drawImage(0, 0, layer);
+    painter.setOpacity(1.0);
   }
   // The selected joint's trail, red → blue over the clip.
   for (std::size_t i = 0; i + 1 < m_trail.size(); ++i) {

@@ -8,6 +8,8 @@
 // With joint dragging enabled (setJointDragEnabled: a map to pose from), a left drag that starts
 // on a joint drags it instead of orbiting: the view reports where in space the mouse puts it
 // (jointDragged; a JointDrag controller poses the body), and Shift-click pins or unpins a joint.
+// A second character can be drawn with the first (setOverlay: Compare, overlaid): one colour,
+// translucent, over the scene, in the same shadow; it is not picked, hovered or followed.
 // Drawn by an OpenGL 3.3 core child widget when the platform gives a context, else (offscreen
 // tests, no GL) by QPainter from the same scene data. The pose shown is kept on the CPU
 // (currentPose(), jointPixels()) so it is testable without a GL context.
@@ -15,6 +17,7 @@
 #include <optional>
 #include <vector>
 
+#include <QColor>
 #include <QImage>
 #include <QWidget>
 
@@ -78,6 +81,9 @@ class SkeletonView : public QWidget {
   const Motion& currentPose() const { return m_pose; }
   const Skeleton& skeleton() const { return m_skeleton; }
   const WorldPose& worldPose() const { return m_world; }
+  /// The joint that carries the body's motion (motion_root of the motion shown), whose floor
+  /// point the camera follows.
+  int motionRoot() const { return m_root; }
   const OrbitCamera& camera() const { return m_camera; }
   double extent() const { return m_extent; }
   /// Whether the camera follows the motion root (on by default); off, it stays where it is. On,
@@ -99,6 +105,20 @@ class SkeletonView : public QWidget {
   void setPinnedJoints(std::vector<int> joints);
   /// The dragged joint's target, drawn as a cross joined to the joint (nothing: none).
   void setDragTarget(std::optional<Eigen::Vector3d> target);
+
+  /// Draws `skeleton` in pose `pose` (world positions) with the character shown, in `color`
+  /// (translucent); no bone to a joint `detached` marks (empty: none). Copied; replaces the
+  /// overlay before.
+  void setOverlay(const Skeleton& skeleton, const WorldPose& pose,
+                  const std::vector<bool>& detached, const QColor& color);
+  /// No overlay drawn.
+  void clearOverlay();
+  bool hasOverlay() const { return m_overlay != nullptr; }
+  /// The overlay's pose (empty without one), its bones and its joints' pixels.
+  const WorldPose& overlayPose() const;
+  std::vector<BoneSegment> overlayBones() const;
+  std::vector<QPointF> overlayJointPixels() const;
+  QColor overlayColor() const;
 
   /// Pixel positions of the joints shown, as the camera projects them in this widget.
   std::vector<QPointF> jointPixels() const;
@@ -177,6 +197,10 @@ class SkeletonView : public QWidget {
   std::vector<int> m_pinned;
   std::optional<Eigen::Vector3d> m_dragTarget;
   SkeletonCanvas* m_canvas = nullptr;  ///< the GL child, null without OpenGL
+  struct Overlay;
+  std::unique_ptr<Overlay> m_overlay;  ///< setOverlay's character, null when none
+  /// The overlay's capsules and spheres in its colour (for the GL view).
+  std::vector<MeshVertex> overlayMesh() const;
 };
 
 }  // namespace motionmap::studio

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -382,6 +383,23 @@ QColor category_color(int category) {
   if (category < 0) return QColor(200, 200, 200);
   const int* c = kPalette[category % kCategoryColors];
   return QColor(c[0], c[1], c[2]);
+}
+
+std::vector<int> category_slots(std::span<const int> counts) {
+  std::vector<int> order(counts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return counts[std::size_t(a)] > counts[std::size_t(b)]; });
+  const bool grouped = order.size() > std::size_t(kCategoryColors);
+  const std::size_t coloured = grouped ? std::size_t(kCategoryColors - 1) : order.size();
+  std::vector<bool> kept(counts.size(), false);
+  for (std::size_t k = 0; k < coloured; ++k) kept[std::size_t(order[k])] = true;
+  std::vector<int> slot_of(counts.size(), -1);
+  int next = 0;
+  for (std::size_t v = 0; v < counts.size(); ++v) {
+    if (kept[v]) slot_of[v] = next++;
+  }
+  return slot_of;
 }
 
 QColor clip_color(int clip) {

@@ -18,6 +18,7 @@
 //
 // Coordinates are "#samples by ≥ 2" matrices; only columns 0 (x, to the right) and 1 (y, up)
 // are drawn. Rows with a non-finite x or y are gaps: no segment touches them.
+#include <span>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,13 @@ QColor clip_color(int clip);
 /// c ≥ kCategoryColors cycles, and a negative c is the light grey of "other".
 constexpr int kCategoryColors = 12;
 QColor category_color(int category);
+/// Which values of a label get a colour, given each value's number of samples (`counts[v]` for
+/// value v): the values by count (most first, ties in value order), the first kCategoryColors
+/// coloured — or kCategoryColors − 1 and the rest grey ("other") when there are more — and the
+/// coloured ones numbered in value order, so colours follow the names, not the counts. Returns
+/// each value's category for category_color() (0 … kCategoryColors − 1), or −1 for "other".
+/// The one rule of `motionmap map --color-by` and Studio's Colour by.
+std::vector<int> category_slots(std::span<const int> counts);
 /// Clip `clip`'s colour (clip_color) shaded by time t ∈ [0, 1] within the clip: light (half-way to
 /// white) at its first frame, the colour itself half-way, dark (40 % of the way to black) at its
 /// last; t is clamped; NaN gives the colour itself. Each trajectory of a map of several clips

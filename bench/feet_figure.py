@@ -3,6 +3,7 @@
 
     /usr/bin/python3 bench/feet_figure.py                 # table on stdout, picture docs/feet.png
     /usr/bin/python3 bench/feet_figure.py --png /tmp/feet.png --motionmap build/apps/cli/motionmap
+    /usr/bin/python3 bench/feet_figure.py --smooth 0.1 --png /tmp/feet-smooth.png
 
 Two real 30 fps walks of one performer (Bandai Namco's normal and proud walks) are mapped
 together (pca); `motionmap synth` then makes three motions: along the normal walk's own map
@@ -14,7 +15,10 @@ normal walk). Each is written raw (`--no-clean-feet`) and cleaned (the default),
 a foot in contact moves faster than 0.5 m/s over the floor) and the ankles' mean horizontal speed
 in contact. The picture shows the every-other-frame motion's left ankle, raw and cleaned: the
 distance it has travelled on the floor over time (flat while it stands), and its horizontal speed
-with the frames where it is under 5 cm shaded.
+with the frames where it is under 5 cm shaded. With `--smooth σ` the normal walk's own trajectory
+is also synthesized with its blend weights smoothed over time (`synth --smooth σ`), and the
+picture shows that motion's left ankle instead, raw, cleaned and as captured: its height above
+its lowest point (the measure's 5 cm contact line drawn) and its horizontal speed.
 """
 import argparse
 import json
@@ -42,6 +46,9 @@ def main():
     parser.add_argument("--python", default=os.path.join(ROOT, "build/python"))
     parser.add_argument("--data", default=os.path.join(ROOT, "..", "shared", "data"))
     parser.add_argument("--png", default=os.path.join(ROOT, "docs", "feet.png"))
+    parser.add_argument("--smooth", type=float, default=0.0,
+                        help="also synthesize the own trajectory with the weights smoothed "
+                        "(σ in seconds) and draw its ankle's height and speed")
     args = parser.parse_args()
     sys.path.insert(0, args.python)
     import motionmap
@@ -71,6 +78,9 @@ def main():
         clips = {"normal walk (captured)": normal, "proud walk (captured)": proud}
         names = {"own": "own trajectory", "halfway": "halfway path",
                  "stride": "own trajectory, map of every other frame"}
+        if args.smooth > 0:
+            paths["smooth"] = (a, dt, ["--smooth", repr(args.smooth)])
+            names["smooth"] = f"own trajectory, weights smoothed (σ {args.smooth:g} s)"
         for name, (points, step, extra) in paths.items():
             path = os.path.join(work, name + ".csv")
             with open(path, "w") as f:
@@ -94,6 +104,9 @@ def main():
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        if args.smooth > 0:
+            draw_smoothed(motionmap, plt, clips, info, names["smooth"], normal, args.png)
+            return 0
         fig, (top, speed) = plt.subplots(1, 2, figsize=(11, 4.2))
         lines = {}
         shown = "own trajectory, map of every other frame"
@@ -133,6 +146,49 @@ def main():
         fig.savefig(args.png, dpi=110)
         print(f"\nwrote {args.png}")
     return 0
+
+
+def draw_smoothed(motionmap, plt, clips, info, shown, captured, png):
+    """The smoothed motion's left ankle, raw, cleaned and captured: height and speed."""
+    fig, (height, speed) = plt.subplots(2, 1, figsize=(11, 6.4), sharex=True)
+    for label, path, style in (
+            ("captured", captured, dict(color="0.45", lw=1.0, ls="--")),
+            ("raw", clips[shown + ", raw"], dict(color="tab:red", lw=1.0, alpha=0.8)),
+            ("cleaned", clips[shown + ", cleaned"], dict(color="tab:blue", lw=1.6))):
+        clip = motionmap.load(path)
+        ankle = np.asarray(clip.positions())[:, clip.skeleton.names.index("Foot_L")]
+        fps = clip.fps
+        up = ankle[:, 1] - ankle[:, 1].min()
+        horizontal = np.linalg.norm(np.diff(ankle[:, [0, 2]], axis=0), axis=1) * fps
+        if label == "captured":
+            name = "captured"
+        else:
+            k = info[shown + ", " + label]["skating"]
+            name = (f"{label}: skating {k['ratio']:.2f}, "
+                    f"{k['contact_speed_cm_s']:.0f} cm/s in contact")
+        t = np.arange(len(up)) / fps
+        height.plot(t, up, label=name, **style)
+        speed.plot(t[:-1] + 0.5 / fps, horizontal, label=name, **style)
+        if label == "cleaned":
+            both = (up[:-1] < 5.0) & (up[1:] < 5.0)
+            speed.fill_between(t[:-1] + 0.5 / fps, 0, 1, where=both, color="0.85",
+                               transform=speed.get_xaxis_transform(), lw=0,
+                               label="cleaned ankle under 5 cm (in contact)")
+    height.axhline(5.0, color="k", lw=0.8, ls=":", label="5 cm: the measure's contact below")
+    height.set_ylabel("height above its lowest (cm)")
+    height.set_title("left ankle's height", fontsize=10)
+    height.legend(fontsize=8, loc="upper right")
+    speed.axhline(50.0, color="k", lw=0.8, ls=":", label="0.5 m/s: skating above")
+    speed.set_xlabel("time (s)")
+    speed.set_ylabel("horizontal speed (cm/s)")
+    speed.set_ylim(0, 300)
+    speed.set_title("left ankle's horizontal speed", fontsize=10)
+    speed.legend(fontsize=8, loc="upper right")
+    fig.suptitle(f"The normal walk's map trajectory, {shown.split(', ', 1)[1]}: raw, cleaned "
+                 "and captured", fontsize=11)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    print(f"\nwrote {png}")
 
 
 if __name__ == "__main__":

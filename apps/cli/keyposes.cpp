@@ -13,7 +13,6 @@
 #include "motionmap/pipeline/key_poses.h"
 #include "motionmap/render/pose_sheet.h"
 #include "motionmap/skeleton/bones.h"
-#include "motionmap/skeleton/forward_kinematics.h"
 
 namespace motionmap::cli {
 
@@ -59,23 +58,6 @@ std::string frames_text(const std::vector<int>& frames) {
   std::string s;
   for (std::size_t i = 0; i < frames.size(); ++i) s += (i ? "," : "") + std::to_string(frames[i]);
   return s;
-}
-
-render::SheetPose sheet_pose(const Clip& clip, const std::vector<bool>& detached, int frame) {
-  const WorldPose world = forward_kinematics(clip.skeleton, clip.motion, frame);
-  const std::vector<JointSide> sides = joint_sides(clip.skeleton);
-  render::SheetPose pose;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const BoneSegment& b : bone_segments(clip.skeleton, world, detached)) {
-    const Eigen::Vector3f c = side_color(sides[std::size_t(b.joint)]);
-    pose.bones.push_back({b.from, b.to, QColor::fromRgbF(c.x(), c.y(), c.z())});
-    sum += b.from + b.to;
-  }
-  if (!pose.bones.empty()) pose.center = sum / (2.0 * double(pose.bones.size()));
-  char caption[64];
-  std::snprintf(caption, sizeof caption, "frame %d\n%.2f s", frame, frame * clip.motion.frame_time);
-  pose.caption = QString::fromUtf8(caption);
-  return pose;
 }
 
 }  // namespace
@@ -145,7 +127,8 @@ void setup_keyposes(CLI::App& app) {
       row.coords = coords.middleRows(begin, end - begin);
       const std::vector<bool> detached = detached_joints(clips[c].skeleton, clips[c].motion);
       for (std::size_t i = 0; i < found[c].keys.size(); ++i) {
-        row.poses.push_back(sheet_pose(clips[c], detached, found[c].keys[i]));
+        row.poses.push_back(
+            render::sheet_pose(clips[c].skeleton, clips[c].motion, detached, found[c].keys[i]));
         row.marked.push_back(found[c].rows[i] - begin);
       }
       rows.push_back(std::move(row));

@@ -94,5 +94,44 @@ TEST(PoseSheet, BadInputsAreRefused) {
             "cannot write 'sheet.gif': unknown extension '.gif' (expected .png, .svg or .pdf)");
 }
 
+TEST(PoseSheet, PosesDrawnAloneStandInTheirRectsAtOneScale) {
+  // Studio's key pose strip: the figures without the sheet, each in the rect it is given.
+  const std::vector<SheetPose> poses{figure(0, "a"), figure(300, "b")};
+  QImage image(400, 200, QImage::Format_RGB32);
+  image.fill(Qt::white);
+  QPainter painter(&image);
+  const std::vector<QRectF> figures{QRectF(0, 20, 200, 160), QRectF(200, 20, 200, 160)};
+  paint_sheet_poses(painter, figures, poses, 1);
+  painter.end();
+  // Each figure in its rect: the spine's ochre in both halves, nothing drawn outside the rects;
+  // one scale: the two figures, of one height, drawn equally tall.
+  int heights[2] = {0, 0};
+  for (int half = 0; half < 2; ++half) {
+    int ochre = 0, outside = 0, highest = 200;
+    for (int y = 0; y < 200; ++y) {
+      for (int x = 200 * half; x < 200 * half + 200; ++x) {
+        const QRgb c = image.pixel(x, y);
+        ochre += near(c, QColor(200, 160, 70));
+        if (c == qRgb(255, 255, 255)) continue;
+        outside += y < 20 || y >= 180;
+        highest = std::min(highest, y);
+      }
+    }
+    EXPECT_GT(ochre, 30) << half;
+    EXPECT_EQ(outside, 0) << half;
+    heights[half] = 180 - highest;
+  }
+  EXPECT_NEAR(heights[0], heights[1], 1);
+  EXPECT_GT(heights[0], 100);  // scaled to the rect's height, not drawn tiny
+  QImage other(10, 10, QImage::Format_RGB32);
+  QPainter p2(&other);
+  EXPECT_EQ(
+      test::error_message<ParameterError>([&] { paint_sheet_poses(p2, {figures[0]}, poses, 1); }),
+      "pose sheet: 1 places for 2 poses");
+  EXPECT_EQ(test::error_message<ParameterError>([&] { paint_sheet_poses(p2, figures, poses, 3); }),
+            "pose sheet: up axis 3, expected 0, 1 or 2");
+  p2.end();
+}
+
 }  // namespace
 }  // namespace motionmap::render

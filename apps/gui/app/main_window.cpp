@@ -5,6 +5,7 @@
 #include <QDir>
 #include <QDragEnterEvent>
 #include <QFileInfo>
+#include <QMenu>
 #include <QMimeData>
 #include <QSettings>
 #include <QSplitter>
@@ -27,6 +28,7 @@
 #include "map/map_view.h"
 #include "motionmap/io/load.h"
 #include "motionmap/sample/sample_clip.h"
+#include "playback/key_pose_strip.h"
 #include "playback/motion_player.h"
 #include "playback/playback_actions.h"
 #include "playback/transport_bar.h"
@@ -145,6 +147,11 @@ void MainWindow::buildMenus() {
     if (m_player->playsTake()) setCurrentClip(currentClip(), 0);
   });
   QMenu* view = addViewMenu(this, m_skeletonView, m_mapView);
+  auto* keyPoses = new KeyPoseStrip(
+      this, [this] { return m_source; }, [this] { return m_player && !m_player->playsTake(); });
+  view->addAction(keyPoses->toggleViewAction());
+  connect(keyPoses, &KeyPoseStrip::clipRequested, this, &MainWindow::setCurrentClip);
+  connect(this, &MainWindow::frameChanged, keyPoses, &KeyPoseStrip::showFrame);
   m_explore->addViewActions(view);
   addCameraMenu(view, m_skeletonView);
   addJointsPanel(this, m_skeletonView, view);

@@ -11,7 +11,8 @@
 // clips, or SavedMapSource for a map file), SynthesisController (a sketch synthesized on a second
 // worker), TakesController (takes and the undo history), ExportController, Playback (the
 // clock) with MotionPlayer (the clip or the current take plays), ExplorePanels (search,
-// selection, nearest frames, colour by label and its legend, two clips compared) and
+// selection, nearest frames, colour by label and its legend, two clips compared), KeyPoseStrip
+// (View → Key poses: the clip's key poses under the views; a click plays from one) and
 // StatusLine. Both workers show a progress bar and a Cancel button in the status bar, so the GUI
 // thread only ever runs short calls (a locate + blend per mouse move). New features belong in those
 // controllers (or new ones), not here.

@@ -259,6 +259,11 @@ std::optional<embed::Method> ComputedMapSource::shownMethod() const {
   return map->options.embed.method;
 }
 
+Axis ComputedMapSource::upAxis() const {
+  const std::shared_ptr<const MapResult> map = m_maps->current();
+  return map ? map->options.features.up : Axis::Y;
+}
+
 // ---- SavedMapBlends ----
 
 SavedMapBlends::SavedMapBlends(std::shared_ptr<const mapfile::SavedMap> map)
@@ -552,6 +557,10 @@ Eigen::MatrixXd SavedMapSource::clipPoints(int clip) const {
   if (clip < 0 || clip >= clipCount()) return Eigen::MatrixXd(0, 2);
   const mapfile::ClipRecord& record = file.clips[std::size_t(clip)];
   return file.coordinates.block(record.first_sample, 0, record.samples, 2);
+}
+
+Axis SavedMapSource::upAxis() const {
+  return m_map->file().options.features.up;
 }
 
 MapSource::Samples SavedMapSource::samples() const {

@@ -66,6 +66,8 @@ class MapSource : public QObject {
   virtual QStringList statusParts() const = 0;
   /// The method of the map shown (nothing: no map shown).
   virtual std::optional<embed::Method> shownMethod() const = 0;
+  /// The up axis of the clips as the map shown was made with them (Y without a map).
+  virtual Axis upAxis() const = 0;
   /// Why `change` cannot be made on this map (empty: it can).
   virtual QString refusal(Change /*change*/) const { return {}; }
   /// The clips' file paths, in the map's order (clip i is "clip i + 1" in hover texts).
@@ -165,6 +167,7 @@ class ComputedMapSource : public MapSource {
   std::optional<Eigen::Vector2d> framePoint(int frame) const override;
   QStringList statusParts() const override;
   std::optional<embed::Method> shownMethod() const override;
+  Axis upAxis() const override;
   QStringList clipPaths() const override;
   Eigen::MatrixXd clipPoints(int clip) const override;
   Samples samples() const override;
@@ -247,6 +250,7 @@ class SavedMapSource : public MapSource {
   std::optional<Eigen::Vector2d> framePoint(int frame) const override;
   QStringList statusParts() const override;
   std::optional<embed::Method> shownMethod() const override;
+  Axis upAxis() const override;
   QString refusal(Change change) const override;
   QStringList clipPaths() const override;
   Eigen::MatrixXd clipPoints(int clip) const override;

@@ -133,7 +133,10 @@ std::vector<int> uniform_key_poses(int frames, int count) {
 }
 
 std::vector<int> clip_rows(const ClipMap& map, int clip) {
-  const std::vector<int>& clip_of = map.features->clip_of;
+  return clip_rows(std::span<const int>(map.features->clip_of), clip);
+}
+
+std::vector<int> clip_rows(std::span<const int> clip_of, int clip) {
   std::vector<int> rows;
   for (std::size_t i = 0; i < clip_of.size(); ++i) {
     if (clip_of[i] == clip) rows.push_back(static_cast<int>(i));

@@ -47,6 +47,9 @@ std::vector<int> uniform_key_poses(int frames, int count);
 
 /// The rows of `map` that are clip `clip`'s samples, in time order.
 std::vector<int> clip_rows(const ClipMap& map, int clip);
+/// The same for any map's samples given each one's clip (a saved map's clip_of): the rows whose
+/// clip is `clip`, in order.
+std::vector<int> clip_rows(std::span<const int> clip_of, int clip);
 
 /// The key poses of clip `clip` of `map`: select_key_poses on its rows of the map (clip_rows), as
 /// rows of the map (their file frames: map.features->frame_of). @throws ParameterError if the

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -12,6 +13,8 @@
 #include "motionmap/core/error.h"
 #include "motionmap/render/drawing_file.h"
 #include "motionmap/render/map_plot.h"
+#include "motionmap/skeleton/bones.h"
+#include "motionmap/skeleton/forward_kinematics.h"
 
 namespace motionmap::render {
 namespace {
@@ -33,16 +36,33 @@ std::size_t most_poses(const std::vector<SheetRow>& rows) {
   return n;
 }
 
+void check_up_axis(int up_axis) {
+  if (up_axis < 0 || up_axis > 2) {
+    throw ParameterError("pose sheet: up axis " + std::to_string(up_axis) + ", expected 0, 1 or 2");
+  }
+}
+
+// `where` names the poses' row in messages.
+void check_poses(const std::vector<SheetPose>& poses, const std::string& where) {
+  for (const SheetPose& p : poses) {
+    if (p.bones.empty() || !p.center.allFinite()) {
+      throw ParameterError("pose sheet: a pose of " + where + " has no bone or no centre");
+    }
+    for (const SheetBone& b : p.bones) {
+      if (!b.from.allFinite() || !b.to.allFinite()) {
+        throw ParameterError("pose sheet: a bone of " + where + " has a non-finite end");
+      }
+    }
+  }
+}
+
 void check(const std::vector<SheetRow>& rows, const PoseSheetOptions& options) {
   if (rows.empty()) throw ParameterError("pose sheet: no row to draw");
   if (options.pose_px < 32 || options.pose_px > 2000) {
     throw ParameterError("pose sheet: a pose cell of " + std::to_string(options.pose_px) +
                          " pixels, expected 32 to 2000");
   }
-  if (options.up_axis < 0 || options.up_axis > 2) {
-    throw ParameterError("pose sheet: up axis " + std::to_string(options.up_axis) +
-                         ", expected 0, 1 or 2");
-  }
+  check_up_axis(options.up_axis);
   for (const SheetRow& r : rows) {
     if (r.poses.empty())
       throw ParameterError("pose sheet: row '" + r.title.toStdString() + "' has no pose");
@@ -58,18 +78,7 @@ void check(const std::vector<SheetRow>& rows, const PoseSheetOptions& options) {
                              "'");
       }
     }
-    for (const SheetPose& p : r.poses) {
-      if (p.bones.empty() || !p.center.allFinite()) {
-        throw ParameterError("pose sheet: a pose of row '" + r.title.toStdString() +
-                             "' has no bone or no centre");
-      }
-      for (const SheetBone& b : p.bones) {
-        if (!b.from.allFinite() || !b.to.allFinite()) {
-          throw ParameterError("pose sheet: a bone of row '" + r.title.toStdString() +
-                               "' has a non-finite end");
-        }
-      }
-    }
+    check_poses(r.poses, "row '" + r.title.toStdString() + "'");
   }
 }
 
@@ -82,13 +91,13 @@ struct View {
   double depth(const Eigen::Vector3d& p) const { return -across.y() * p[h1] + across.x() * p[h2]; }
 };
 
-View row_view(const SheetRow& row, int up) {
+View row_view(const std::vector<SheetPose>& poses, int up) {
   View v;
   v.up = up;
   v.h1 = up == 0 ? 1 : 0;
   v.h2 = up == 2 ? 1 : 2;
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-  for (const SheetPose& p : row.poses) {
+  for (const SheetPose& p : poses) {
     for (const SheetBone& b : p.bones) {
       for (const Eigen::Vector3d& q : {b.from, b.to}) {
         const Eigen::Vector2d d(q[v.h1] - p.center[v.h1], q[v.h2] - p.center[v.h2]);
@@ -145,6 +154,64 @@ void paint_badge(QPainter& p, const QPointF& at, int number, const QColor& fill)
 }
 
 }  // namespace
+
+SheetPose sheet_pose(const Skeleton& skeleton, const Motion& motion,
+                     const std::vector<bool>& detached, int frame) {
+  const WorldPose world = forward_kinematics(skeleton, motion, frame);
+  const std::vector<JointSide> sides = joint_sides(skeleton);
+  SheetPose pose;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const BoneSegment& b : bone_segments(skeleton, world, detached)) {
+    const Eigen::Vector3f c = side_color(sides[std::size_t(b.joint)]);
+    pose.bones.push_back({b.from, b.to, QColor::fromRgbF(c.x(), c.y(), c.z())});
+    sum += b.from + b.to;
+  }
+  if (!pose.bones.empty()) pose.center = sum / (2.0 * double(pose.bones.size()));
+  char caption[64];
+  std::snprintf(caption, sizeof caption, "frame %d\n%.2f s", frame, frame * motion.frame_time);
+  pose.caption = QString::fromUtf8(caption);
+  return pose;
+}
+
+void paint_sheet_poses(QPainter& p, const std::vector<QRectF>& figures,
+                       const std::vector<SheetPose>& poses, int up_axis) {
+  check_up_axis(up_axis);
+  check_poses(poses, "the poses drawn");
+  if (figures.size() != poses.size()) {
+    throw ParameterError("pose sheet: " + std::to_string(figures.size()) + " places for " +
+                         std::to_string(poses.size()) + " poses");
+  }
+  if (poses.empty()) return;
+  const View view = row_view(poses, up_axis);
+  double ground = 1e300, top = -1e300, half_width = 0.0, depth_lo = 1e300, depth_hi = -1e300;
+  for (const SheetPose& pose : poses) {
+    const double cx = view.x(pose.center), cd = view.depth(pose.center);
+    for (const SheetBone& b : pose.bones) {
+      for (const Eigen::Vector3d& q : {b.from, b.to}) {
+        ground = std::min(ground, q[view.up]);
+        top = std::max(top, q[view.up]);
+        half_width = std::max(half_width, std::abs(view.x(q) - cx));
+        depth_lo = std::min(depth_lo, view.depth(q) - cd);
+        depth_hi = std::max(depth_hi, view.depth(q) - cd);
+      }
+    }
+  }
+  double figure_w = 1e300, figure_h = 1e300;
+  for (const QRectF& r : figures) {
+    figure_w = std::min(figure_w, r.width());
+    figure_h = std::min(figure_h, r.height());
+  }
+  const double height = std::max(top - ground, 1e-9);
+  const double scale = std::max(
+      0.0,
+      std::min(0.92 * figure_h / height, half_width > 0 ? 0.45 * figure_w / half_width : 1e300));
+  p.save();
+  p.setRenderHint(QPainter::Antialiasing);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    paint_pose(p, figures[i], poses[i], view, scale, ground, depth_lo, depth_hi);
+  }
+  p.restore();
+}
 
 QSize pose_sheet_size(const std::vector<SheetRow>& rows, const PoseSheetOptions& options) {
   check(rows, options);
@@ -206,29 +273,16 @@ void paint_pose_sheet(QPainter& p, const QRectF& rect, const std::vector<SheetRo
     }
 
     // The poses: one view, one scale, one ground for the row.
-    const View view = row_view(row, options.up_axis);
-    double ground = 1e300, top = -1e300, half_width = 0.0, depth_lo = 1e300, depth_hi = -1e300;
-    for (const SheetPose& pose : row.poses) {
-      const double cx = view.x(pose.center), cd = view.depth(pose.center);
-      for (const SheetBone& b : pose.bones) {
-        for (const Eigen::Vector3d& q : {b.from, b.to}) {
-          ground = std::min(ground, q[view.up]);
-          top = std::max(top, q[view.up]);
-          half_width = std::max(half_width, std::abs(view.x(q) - cx));
-          depth_lo = std::min(depth_lo, view.depth(q) - cd);
-          depth_hi = std::max(depth_hi, view.depth(q) - cd);
-        }
-      }
-    }
     const double figure_h = cell_h - kCaptionHeight - 8.0;
-    const double height = std::max(top - ground, 1e-9);
-    const double scale = std::min(0.92 * figure_h / height,
-                                  half_width > 0 ? 0.45 * options.pose_px / half_width : 1e300);
-    double x = map_rect.right() + kRowGap;
+    const double first_x = map_rect.right() + kRowGap;
+    std::vector<QRectF> figures;
+    for (std::size_t i = 0; i < row.poses.size(); ++i) {
+      figures.emplace_back(first_x + double(i) * options.pose_px, y + 4, options.pose_px, figure_h);
+    }
+    paint_sheet_poses(p, figures, row.poses, options.up_axis);
+    double x = first_x;
     for (std::size_t i = 0; i < row.poses.size(); ++i) {
       const QRectF cell(x, y, options.pose_px, cell_h);
-      const QRectF figure(cell.left(), cell.top() + 4, cell.width(), figure_h);
-      paint_pose(p, figure, row.poses[i], view, scale, ground, depth_lo, depth_hi);
       const SheetPose& pose = row.poses[i];
       paint_badge(p, QPointF(cell.left() + 12, cell.top() + 14), int(i) + 1,
                   time_color(row.marked[i] / last));

@@ -310,6 +310,90 @@ void expect_same_motion(const Motion& a, const Motion& b, const std::string& wha
       << what;
 }
 
+// A saved map's pose (SavedMap::pose_at, which blends its K nearest samples' states straight from
+// their clips) is the blend of the whole map's blender (make_blender with idw, K neighbours) at
+// the same weights, bit for bit: the map's motion root and moving joints, its first sample's
+// translations for the others. On samples, between consecutive samples, between two clips and
+// outside the data; on a map of one skeleton (a Bandai walk and run) and on one of two subjects
+// whose bone lengths differ (joints whose translations are averaged).
+TEST(SavedMap, PoseIsTheSavedMapBlendersPoseBitForBit) {
+  struct Case {
+    std::vector<std::string> clips;
+    bool moving;  // the map averages some joints' translations
+    // Every clip has the map's motion root. Not so for Bandai's: joint_Root above the hips moves
+    // in the run only, so a blend of walk samples without the map's record takes the hips, as a
+    // blender of the walk alone would.
+    bool same_roots;
+  };
+  const Case cases[] = {
+      {{"bandai/dataset-1_walk_old_001.bvh", "bandai/dataset-1_run_normal_001.bvh"}, false, false},
+      {{"cmu/64_08.bvh", "cmu/02_03.bvh"}, true, true}};
+  for (const Case& c : cases) {
+    if (!fs::exists(kData + "/" + c.clips[0]) || !fs::exists(kData + "/" + c.clips[1]))
+      GTEST_SKIP() << "no shared data in " << kData;
+    TempDir dir;
+    const SavedLibrary lib = save_library(dir, c.clips, embed::Method::Pca);
+    const MapFile file = read_map_file(lib.file, {.model = false});
+    ASSERT_TRUE(file.blend.has_value());
+    if (c.moving) {
+      EXPECT_FALSE(file.blend->moving.empty()) << c.clips[1];
+    }
+    const Axis up = file.options.features.up;
+    const Eigen::MatrixXd& xy = file.coordinates;
+    const int second = file.clips[1].first_sample;
+    const int n = file.num_samples();
+    const auto at = [&](int i) { return Eigen::Vector2d(xy(i, 0), xy(i, 1)); };
+    const std::vector<Eigen::Vector2d> points = {
+        at(17),                                         // on a sample
+        at(second + 25),                                // on one of the second clip
+        at(n - 1),                                      // the last sample
+        0.5 * (at(40) + at(41)),                        // between consecutive samples
+        0.3 * at(second + 10) + 0.7 * at(second + 11),  // again, nearer the second
+        0.5 * (at(60) + at(second + 60)),               // between the two clips
+        at(n / 2) + Eigen::Vector2d(1e-3, -2e-3),       // just off a sample
+        xy.leftCols(2).colwise().maxCoeff().transpose() * 3.0 + Eigen::Vector2d(50.0, 50.0)};
+    // The map file without the blend record (an older one): pose_at then blends with the motion
+    // root and moving joints of the samples' own clips; where those clips have the map's motion
+    // root, the same pose up to rounding (the joints averaged only here hold the same
+    // translations in these samples) and the same rotations exactly.
+    MapFile old = file;
+    old.blend.reset();
+    const SavedMap without(std::move(old));
+    for (const int K : {1, 4, 12}) {
+      auto map = std::make_shared<const SavedMap>(file);
+      synth::BlendOptions idw;
+      idw.mode = synth::BlendMode::Idw;
+      idw.neighbors = K;
+      idw.up = up;
+      const synth::MapBlender blender = make_blender(map, idw);
+      for (std::size_t q = 0; q < points.size(); ++q) {
+        const std::string what =
+            c.clips[1] + ", K = " + std::to_string(K) + ", point " + std::to_string(q);
+        const SavedPose pose = map->pose_at(points[q], K, up);
+        ASSERT_EQ(pose.around.size(), std::size_t(K)) << what;
+        synth::MapWeights w;
+        for (std::size_t i = 0; i < pose.around.size(); ++i) {
+          w.samples.push_back(pose.around[i].sample);
+          w.weights.push_back(pose.weights[i]);
+        }
+        expect_same_motion(pose.pose, blender.pose(w), what);
+        EXPECT_EQ(pose.root, blender.motion_root()) << what;
+        const SavedPose other = without.pose_at(points[q], K, up);
+        EXPECT_EQ(other.weights, pose.weights) << what;
+        ASSERT_EQ(other.pose.num_joints, pose.pose.num_joints) << what;
+        if (!c.same_roots) continue;
+        EXPECT_EQ(other.root, pose.root) << what;
+        EXPECT_EQ(other.pose.rotations, pose.pose.rotations) << what;
+        for (int j = 0; j < pose.pose.num_joints; ++j) {
+          EXPECT_LE((other.pose.translation(0, j) - pose.pose.translation(0, j)).norm(),
+                    1e-9 * (1.0 + pose.pose.translation(0, j).norm()))
+              << what << ", joint " << j;
+        }
+      }
+    }
+  }
+}
+
 TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
   if (!have_data() || !fs::exists(kData + "/cmu/02_03.bvh"))
     GTEST_SKIP() << "no shared data in " << kData;

@@ -170,9 +170,9 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
       m_waitingDrag.reset();
       const Axis up = m_saved->file().options.features.up;
       mapfile::SavedPose pose = m_saved->pose_at(point, m_neighbors, up);
-      // pose_at's root (the joint motion_root finds in a one-frame pose, the same as the shown
-      // pose's) faces heading 0 at the origin: placed like a computed map's blends.
-      const int root = motion_root(m_skeletonView->skeleton(), pose.pose);
+      // pose_at's root (the map's motion root, as a computed map's blender has it) faces
+      // heading 0 at the origin: placed like a computed map's blends.
+      const int root = pose.root;
       if (!m_inDrag || !m_placement) {
         m_inDrag = true;
         const Motion& shown = m_skeletonView->currentPose();

@@ -11,6 +11,7 @@
 #include "motionmap/core/sha256.h"
 #include "motionmap/core/stats.h"
 #include "motionmap/io/load.h"
+#include "motionmap/synth/blend_state.h"
 
 namespace motionmap::mapfile {
 
@@ -234,7 +235,52 @@ std::vector<int> SavedMap::clips_near(const Eigen::Vector2d& p, int neighbors) c
     const int c = m_file.clip_of[std::size_t(n.sample)];
     if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
   }
+  bool based = true;
+  if (m_file.blend) {
+    const std::lock_guard lock(m_mutex);
+    based = m_base != nullptr;
+  }
+  // pose_at reads the first sample's clip first, once (blend_base).
+  if (!based && std::find(out.begin(), out.end(), m_file.clip_of[0]) == out.end())
+    out.insert(out.begin(), m_file.clip_of[0]);
   return out;
+}
+
+std::shared_ptr<const SavedMap::BlendBase> SavedMap::blend_base() const {
+  {
+    const std::lock_guard lock(m_mutex);
+    if (m_base) return m_base;
+  }
+  // As synth::MapBlender made from this map (make_blender) keeps them.
+  const std::shared_ptr<const Clip> first = clip(m_file.clip_of[0]);
+  const int J = first->motion.num_joints;
+  const BlendRecord& record = *m_file.blend;
+  const std::string map_name = m_file.path.empty() ? std::string("map") : m_file.path;
+  if (record.motion_root < 0 || record.motion_root >= J) {
+    throw ParameterError(map_name + ": the blend record names joint " +
+                         std::to_string(record.motion_root) + " as the motion root, but " +
+                         first->path + " has " + std::to_string(J) + " joints");
+  }
+  for (std::size_t k = 0; k < record.moving.size(); ++k) {
+    const int j = record.moving[k];
+    if (j < 0 || j >= J || j == record.motion_root || (k > 0 && j <= record.moving[k - 1])) {
+      throw ParameterError(map_name + ": the blend record lists joint " + std::to_string(j) +
+                           " as moving; expected increasing joints of " + first->path +
+                           " other than the motion root");
+    }
+  }
+  auto base = std::make_shared<BlendBase>();
+  base->skeleton = first->skeleton;
+  base->fixed_translations.resize(std::size_t(J));
+  for (int j = 0; j < J; ++j)
+    base->fixed_translations[std::size_t(j)] = first->motion.translation(m_file.frame_of[0], j);
+  base->fixed_translations[std::size_t(record.motion_root)] = Eigen::Vector3d::Zero();
+  // The frame time of clip 0 as load() gives it (clips_summary(): an .amc's is computed).
+  const ClipRecord& r0 = m_file.clips[0];
+  base->frame_time = is_amc(resolve_path(0), r0) ? 1.0 / (1.0 / r0.frame_time) : r0.frame_time;
+  const std::lock_guard lock(m_mutex);
+  if (!m_base) m_base = std::move(base);
+  return m_base;
 }
 
 SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) const {
@@ -259,41 +305,72 @@ SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) co
   for (std::size_t i = 0; i < count; ++i) distances[i] = found[i].distance;
   synth::franke_little_weights(distances.data(), static_cast<int>(count), R, w.data());
 
-  // A blender over just these samples: each becomes a one-frame clip cut from its clip (loaded
-  // on demand), so a pose copies K frames, not K clips.
-  std::vector<Clip> clips;
-  clips.reserve(found.size());
-  features::FeatureSet set;
-  Eigen::MatrixXd coords(static_cast<Eigen::Index>(found.size()), 2);
-  for (std::size_t i = 0; i < found.size(); ++i) {
-    const int s = found[i].sample;
-    const std::shared_ptr<const Clip> source = clip(m_file.clip_of[std::size_t(s)]);
-    const int f = m_file.frame_of[std::size_t(s)];
-    Clip one;
-    one.path = source->path;
-    one.skeleton = source->skeleton;
-    one.motion.frame_time = source->motion.frame_time;
-    one.motion.resize(1, source->motion.num_joints);
-    const PoseView view = source->motion.pose(f);
-    std::copy(view.rotations.begin(), view.rotations.end(), one.motion.rotations.begin());
-    std::copy(view.translations.begin(), view.translations.end(), one.motion.translations.begin());
-    clips.push_back(std::move(one));
-    set.clip_of.push_back(static_cast<int>(i));
-    set.frame_of.push_back(0);
-    set.segment_starts.push_back(static_cast<int>(i));
-    coords.row(static_cast<Eigen::Index>(i)) = m_file.coordinates.row(s).head<2>();
+  // The blended samples' clips (loaded on demand, the first sample's first when the map's base is
+  // not read yet).
+  const std::shared_ptr<const BlendBase> base = m_file.blend ? blend_base() : nullptr;
+  std::vector<std::shared_ptr<const Clip>> clips(count);
+  for (std::size_t i = 0; i < count; ++i)
+    clips[i] = clip(m_file.clip_of[std::size_t(found[i].sample)]);
+  const int nearest_frame = m_file.frame_of[std::size_t(found.front().sample)];
+
+  // The joints and translations of the map's blend (as make_blender's blender has them), or,
+  // without the map's record, of these samples' clips: as a blender over just those clips.
+  int root = 0;
+  std::vector<int> moving;
+  std::vector<Eigen::Vector3d> fixed;
+  const Skeleton* skeleton = nullptr;
+  double frame_time = 0.0;
+  if (base) {
+    root = m_file.blend->motion_root;
+    moving = m_file.blend->moving;
+    fixed = base->fixed_translations;
+    skeleton = &base->skeleton;
+    frame_time = base->frame_time;
+  } else {
+    std::vector<std::shared_ptr<const Clip>> distinct;
+    features::FeatureSet set;
+    for (std::size_t i = 0; i < count; ++i) {
+      auto it = std::find(distinct.begin(), distinct.end(), clips[i]);
+      if (it == distinct.end()) it = distinct.insert(distinct.end(), clips[i]);
+      set.clip_of.push_back(static_cast<int>(it - distinct.begin()));
+      set.frame_of.push_back(m_file.frame_of[std::size_t(found[i].sample)]);
+    }
+    const synth::ClipsSummary summary = synth::summarize_clips(
+        static_cast<int>(distinct.size()), [&](int c) { return distinct[std::size_t(c)]; }, set);
+    root = summary.motion_root;
+    moving = summary.moving;
+    const Motion& m0 = clips.front()->motion;
+    fixed.resize(std::size_t(m0.num_joints));
+    for (int j = 0; j < m0.num_joints; ++j)
+      fixed[std::size_t(j)] = m0.translation(nearest_frame, j);
+    skeleton = &clips.front()->skeleton;
+    frame_time = m0.frame_time;
   }
-  synth::BlendOptions options;
-  options.mode = synth::BlendMode::Idw;
-  options.neighbors = 1;
-  options.up = up;
-  const synth::MapBlender blender(clips, set, coords, options);
-  synth::MapWeights weights;
-  for (std::size_t i = 0; i < found.size(); ++i) {
-    weights.samples.push_back(static_cast<int>(i));
-    weights.weights.push_back(w[i]);
+
+  // Each sample's state, read from its clip, and their blend.
+  std::vector<synth::SampleState> states(count);
+  std::vector<synth::SampleStateView> views(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Clip& c = *clips[i];
+    if (!c.skeleton.same_hierarchy(*skeleton)) {
+      throw ParameterError(c.path +
+                           ": its joint hierarchy differs from the map's first clip's; clips "
+                           "blended together must share one");
+    }
+    const int f = m_file.frame_of[std::size_t(found[i].sample)];
+    states[i] = synth::sample_state(c.motion, f, root, up, moving);
+    if (!states[i].finite()) {
+      throw NumericalError(c.path + ": frame " + std::to_string(f) +
+                           " (or the next) holds a NaN or infinite value");
+    }
+    views[i] = states[i].view();
   }
-  out.pose = blender.pose(weights);
+  const synth::BlendedFrame blended = synth::blend_states(views, w, fixed, moving, root, up);
+  out.pose.frame_time = frame_time;
+  out.pose.resize(1, static_cast<int>(fixed.size()));
+  out.pose.rotations = blended.rotations;
+  out.pose.translations = blended.translations;
+  out.root = root;
   out.around = std::move(found);
   out.weights = std::move(w);
   return out;

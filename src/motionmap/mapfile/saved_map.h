@@ -35,7 +35,10 @@ namespace motionmap::mapfile {
 
 /// A pose blended from the samples nearest a map point (SavedMap::pose_at).
 struct SavedPose {
-  Motion pose;                   ///< one frame of the clips' skeleton, as MapBlender::pose
+  Motion pose;  ///< one frame of the clips' skeleton, as MapBlender::pose
+  /// The motion root of the blend: the joint that faces heading 0 at the floor origin in `pose`
+  /// (the map's, as synth::MapBlender::motion_root() of make_blender(); see SavedMap::pose_at).
+  int root = 0;
   std::vector<Neighbor> around;  ///< the samples blended (nearest first) with their distances
   std::vector<double> weights;   ///< one per entry of `around`, summing to 1
   /// The nearest sample is farther than SavedMap::reach_distance(): the point is outside the
@@ -96,22 +99,42 @@ class SavedMap : public synth::ClipSource {
 
   /// The pose at map point `p` blended from its `neighbors` nearest samples with Franke–Little
   /// inverse-distance weights (R = the distance of the (neighbors + 1)-th nearest; a sample at p
-  /// takes all the weight) — synth::BlendMode::Idw's weights, found by the index, blended by
-  /// synth::MapBlender::pose over the clips those samples belong to (loaded on demand). Only
-  /// those clips are read, so a pose costs O(log N) plus their loading when not cached. The
-  /// blender's idw merges samples that share a map point (within 1e-9 of the map's extent) and
-  /// takes the K nearest points; this takes the K nearest samples: the same where no two samples
-  /// of the neighbourhood share a point. A point outside the data is not moved to its edge
-  /// (`outside` says so); the pose is then mostly its nearest samples'.
-  /// @throws ParameterError for a non-finite p or neighbors < 1; as clip().
+  /// takes all the weight) — synth::BlendMode::Idw's weights, found by the index — and blended
+  /// by synth::blend_states from the samples' states read from their clips (loaded on demand),
+  /// as the blender of the whole map blends them: with the map's motion root and moving joints
+  /// (MapFile::blend) and its first sample's translations for the other joints, so that the pose
+  /// equals, bit for bit, make_blender(map, idw with K = neighbors).pose() of the same weights
+  /// (samples in the order of `around`). Only those clips are read, and the first time also the
+  /// first sample's, so a pose costs O(log N) plus their loading when not cached. A map without
+  /// the blend record (clips of several hierarchies, placed clips, an older file) blends with
+  /// the motion root and moving joints of these samples' clips (synth::summarize_clips of them)
+  /// and the nearest sample's translations instead, reading no other clip. The blender's idw
+  /// merges samples that share a map point (within 1e-9 of the map's extent) and takes the K
+  /// nearest points; this takes the K nearest samples: the same where no two samples of the
+  /// neighbourhood share a point. A point outside the data is not moved to its edge (`outside`
+  /// says so); the pose is then mostly its nearest samples'.
+  /// @throws ParameterError for a non-finite p or neighbors < 1, clips of different hierarchies
+  ///   or a blend record that does not fit them; NumericalError for a non-finite value in a
+  ///   sample blended; as clip().
   SavedPose pose_at(const Eigen::Vector2d& p, int neighbors = 12, Axis up = Axis::Y) const;
 
-  /// The clips pose_at(p, neighbors) reads (of its `neighbors` nearest samples), each once, in
-  /// order of first use: what a caller that must not wait for files loads first (is_loaded()).
+  /// The clips pose_at(p, neighbors) reads (of its `neighbors` nearest samples, and before the
+  /// first pose of a map with a blend record the first sample's), each once, in order of first
+  /// use: what a caller that must not wait for files loads first (is_loaded()).
   std::vector<int> clips_near(const Eigen::Vector2d& p, int neighbors = 12) const;
 
  private:
   std::shared_ptr<const Clip> load(int c) const;
+  /// What every blend of a map with a blend record keeps (as make_blender's blender): the
+  /// skeleton of the first sample's clip, that sample's translations (the motion root's 0) and
+  /// the frame time of clip 0.
+  struct BlendBase {
+    Skeleton skeleton;
+    std::vector<Eigen::Vector3d> fixed_translations;
+    double frame_time = 0.0;
+  };
+  /// The map's BlendBase, read from the first sample's clip the first time. @throws as clip().
+  std::shared_ptr<const BlendBase> blend_base() const;
 
   MapFile m_file;
   PointIndex m_index;
@@ -120,6 +143,7 @@ class SavedMap : public synth::ClipSource {
   mutable std::mutex m_mutex;
   mutable std::vector<std::pair<int, std::shared_ptr<const Clip>>> m_cache;  ///< most recent last
   mutable int m_loads = 0;
+  mutable std::shared_ptr<const BlendBase> m_base;  ///< under m_mutex; null until blend_base()
 };
 
 /// A blender over `map`'s samples that reads the clips on demand (synth::MapBlender's ClipSource

@@ -21,7 +21,6 @@
 #include "motionmap/skeleton/contacts.h"
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
-#include "motionmap/synth/detail/root_motion.h"
 
 namespace motionmap::synth {
 
@@ -166,25 +165,6 @@ void BlendOptions::validate(int num_samples) const {
   if (up != Axis::X && up != Axis::Y && up != Axis::Z) throw ParameterError("up: not an axis");
 }
 
-namespace {
-
-// One sample's state as the blend reads it: its #joints rotations (the motion root's its tilt),
-// its moving joints' translations, its height and root motion.
-void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int> moving,
-                  Eigen::Quaterniond* rotations, Eigen::Vector3d* translations, double& height,
-                  Eigen::Vector3d& velocity, double& yaw_rate) {
-  const int J = m.num_joints;
-  for (int j = 0; j < J; ++j) rotations[j] = m.rotation(f, j).normalized();
-  const detail::RootSample r = detail::root_sample(m, f, root, up);
-  rotations[root] = r.tilt;
-  height = r.height;
-  velocity = r.velocity;
-  yaw_rate = r.yaw_rate;
-  for (std::size_t k = 0; k < moving.size(); ++k) translations[k] = m.translation(f, moving[k]);
-}
-
-}  // namespace
-
 ClipsSummary summarize_clips(int num_clips,
                              const std::function<std::shared_ptr<const Clip>(int)>& clip_at,
                              const features::FeatureSet& samples, const Control& control) {
@@ -286,15 +266,12 @@ struct MapBlender::Impl {
   std::shared_ptr<const ClipSource> source;
   std::vector<int> clip_of, frame_of, clip_frames;
   // The states of the samples blended so far (read from their clips), by sample.
-  struct SampleState {
-    std::vector<Eigen::Quaterniond> rotations;
-    std::vector<Eigen::Vector3d> translations;  // the moving joints'
-    double height = 0.0, yaw_rate = 0.0;
-    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  struct KeptState {
+    SampleState state;
     std::uint8_t contact = 0;  // as `contacts`
   };
   mutable std::mutex state_mutex;
-  mutable std::unordered_map<int, SampleState> states;
+  mutable std::unordered_map<int, KeptState> states;
 
   std::optional<detail::MapIndex> index;
   std::optional<detail::LocalKriging> local;     // local mode
@@ -375,6 +352,14 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
   heights.resize(count);
   velocities.resize(count);
   yaw_rates.resize(count);
+  // Entry k of the outputs: `st`.
+  const auto put = [&](std::size_t k, const SampleState& st) {
+    std::copy(st.rotations.begin(), st.rotations.end(), rots.begin() + k * uJ);
+    std::copy(st.translations.begin(), st.translations.end(), translations.begin() + k * mv);
+    heights[k] = st.height;
+    velocities[k] = st.velocity;
+    yaw_rates[k] = st.yaw_rate;
+  };
   // The states read before; the others, by clip.
   std::vector<std::pair<int, std::size_t>> missing;  // (clip, entry)
   {
@@ -385,17 +370,12 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
         missing.emplace_back(clip_of[static_cast<std::size_t>(samples[k])], k);
         continue;
       }
-      const SampleState& st = hit->second;
-      std::copy(st.rotations.begin(), st.rotations.end(), rots.begin() + k * uJ);
-      std::copy(st.translations.begin(), st.translations.end(), translations.begin() + k * mv);
-      heights[k] = st.height;
-      velocities[k] = st.velocity;
-      yaw_rates[k] = st.yaw_rate;
+      put(k, hit->second.state);
     }
   }
   if (missing.empty()) return;
   std::sort(missing.begin(), missing.end());
-  std::vector<std::pair<int, SampleState>> read;
+  std::vector<std::pair<int, KeptState>> read;
   for (std::size_t b = 0; b < missing.size();) {
     const int c = missing[b].first;
     // Each clip is held only while its samples' states are taken.
@@ -419,28 +399,19 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
     for (; b < missing.size() && missing[b].first == c; ++b) {
       const std::size_t k = missing[b].second;
       const int f = frame_of[static_cast<std::size_t>(samples[k])];
-      sample_state(clip->motion, f, motion_root, options.up, moving, rots.data() + k * uJ,
-                   translations.data() + k * mv, heights[k], velocities[k], yaw_rates[k]);
+      KeptState kept;
+      kept.state = sample_state(clip->motion, f, motion_root, options.up, moving);
       // The values blended must be finite (a blender given the clips checks every frame).
-      bool finite =
-          std::isfinite(heights[k]) && std::isfinite(yaw_rates[k]) && velocities[k].allFinite();
-      for (std::size_t j = 0; j < uJ && finite; ++j) finite = rots[k * uJ + j].coeffs().allFinite();
-      for (std::size_t j = 0; j < mv && finite; ++j) finite = translations[k * mv + j].allFinite();
-      if (!finite) {
+      if (!kept.state.finite()) {
         throw NumericalError(clip->path + ": frame " + std::to_string(f) +
                              " (or the next) holds a NaN or infinite value");
       }
-      SampleState st;
-      st.rotations.assign(rots.begin() + k * uJ, rots.begin() + (k + 1) * uJ);
-      st.translations.assign(translations.begin() + k * mv, translations.begin() + (k + 1) * mv);
-      st.height = heights[k];
-      st.velocity = velocities[k];
-      st.yaw_rate = yaw_rates[k];
+      put(k, kept.state);
       if (feet) {
-        st.contact = static_cast<std::uint8_t>((clip_contacts[0].in_contact(f) ? 1 : 0) |
-                                               (clip_contacts[1].in_contact(f) ? 2 : 0));
+        kept.contact = static_cast<std::uint8_t>((clip_contacts[0].in_contact(f) ? 1 : 0) |
+                                                 (clip_contacts[1].in_contact(f) ? 2 : 0));
       }
-      read.emplace_back(samples[k], std::move(st));
+      read.emplace_back(samples[k], std::move(kept));
     }
   }
   const std::lock_guard lock(state_mutex);
@@ -676,7 +647,7 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
                          std::to_string(w.weights.size()) +
                          " weights (need equal, non-zero counts)");
   }
-  std::size_t ref = 0;
+  // The weights' checks before any clip is read (blend_states() makes them again).
   double total = 0.0;
   for (std::size_t k = 0; k < w.samples.size(); ++k) {
     if (w.samples[k] < 0 || w.samples[k] >= s.n) {
@@ -685,7 +656,6 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
     }
     if (!std::isfinite(w.weights[k]))
       throw ParameterError("blend: weight " + std::to_string(k) + " is not finite");
-    if (w.weights[k] > w.weights[ref]) ref = k;
     total += w.weights[k];
   }
   if (!(std::abs(total) > 1e-12))
@@ -694,52 +664,28 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   const auto J = static_cast<std::size_t>(s.joints);
   const std::size_t count = w.samples.size();
   const std::size_t mv = s.moving.size();
-  // Per entry k of the weights: its sample's rotations (J), moving translations (mv), height,
-  // yaw rate and velocity — the blender's tables, or (with a source) read from the clips now.
+  // Per entry k of the weights: its sample's state — the blender's tables, or (with a source)
+  // read from the clips now.
   std::vector<Eigen::Quaterniond> read_rotations;
   std::vector<Eigen::Vector3d> read_translations, read_velocity;
   std::vector<double> read_height, read_yaw;
   if (s.source)
     s.read_samples(w.samples, read_rotations, read_translations, read_height, read_velocity,
                    read_yaw);
-  auto rotations_of = [&](std::size_t k) {
-    return s.source ? read_rotations.data() + k * J
-                    : s.rotations.data() + static_cast<std::size_t>(w.samples[k]) * J;
-  };
-  BlendedFrame out;
-  // Rotations: per joint, the weighted average aligned to the largest-weight sample's.
-  const Eigen::Quaterniond* qref = rotations_of(ref);
-  std::vector<Eigen::Quaterniond> q(count);
-  out.rotations.resize(J);
-  for (std::size_t j = 0; j < J; ++j) {
-    for (std::size_t k = 0; k < count; ++k) q[k] = rotations_of(k)[j];
-    out.rotations[j] = weighted_average(q, w.weights, qref[j]);
-  }
-  // A blend of heading-free tilts can keep a trace of heading: remove it, so the pose faces
-  // heading 0 exactly (a no-op at samples).
-  Eigen::Quaterniond& tilt = out.rotations[static_cast<std::size_t>(s.motion_root)];
-  tilt = detail::remove_heading(tilt, s.options.up);
-
-  // Translations, height and root motion: weighted sums.
-  std::vector<Eigen::Vector3d> tsum(mv, Eigen::Vector3d::Zero());
-  double height = 0.0, yaw = 0.0;
-  Eigen::Vector3d vel = Eigen::Vector3d::Zero();
+  std::vector<SampleStateView> states(count);
   for (std::size_t k = 0; k < count; ++k) {
-    const auto i = static_cast<std::size_t>(w.samples[k]);
-    const double wk = w.weights[k];
-    const Eigen::Vector3d* t =
-        s.source ? read_translations.data() + k * mv : s.moving_translations.data() + i * mv;
-    for (std::size_t k2 = 0; k2 < mv; ++k2) tsum[k2] += wk * t[k2];
-    height += wk * (s.source ? read_height[k] : s.height[i]);
-    yaw += wk * (s.source ? read_yaw[k] : s.yaw_rate[i]);
-    vel += wk * (s.source ? read_velocity[k] : s.velocity[i]);
+    SampleStateView& v = states[k];
+    if (s.source) {
+      v = {read_rotations.data() + k * J, read_translations.data() + k * mv, read_height[k],
+           read_velocity[k], read_yaw[k]};
+    } else {
+      const auto i = static_cast<std::size_t>(w.samples[k]);
+      v = {s.rotations.data() + i * J, s.moving_translations.data() + i * mv, s.height[i],
+           s.velocity[i], s.yaw_rate[i]};
+    }
   }
-  out.translations = s.fixed_translations;
-  for (std::size_t k = 0; k < mv; ++k) out.translations[s.moving[k]] = tsum[k] / total;
-  out.translations[s.motion_root][static_cast<int>(s.options.up)] = height / total;
-  out.velocity = vel / total;
-  out.yaw_rate = yaw / total;
-  return out;
+  return blend_states(states, w.weights, s.fixed_translations, s.moving, s.motion_root,
+                      s.options.up);
 }
 
 Motion MapBlender::pose_at(const Eigen::Vector2d& p) const {

@@ -37,7 +37,8 @@
 // about the up axis, from features::heading_angle), floor position, height and tilt (rotation
 // with the heading removed); a blended pose keeps height and tilt and stands at the origin
 // facing the heading-0 direction (+Z for the usual Y-up BVH). Its heading-local velocity and yaw
-// rate are blended too, for synthesize() to integrate (synth/detail/root_motion.h).
+// rate are blended too, for synthesize() to integrate (synth/detail/root_motion.h). The arithmetic
+// is blend_state.h's (sample_state, blend_states), which a saved map's pose uses too.
 //
 // A MapBlender copies what it needs from the clips; its const member functions are thread-safe.
 // One made from a ClipSource instead (a saved map of 10⁶ frames: mapfile::make_blender) copies
@@ -59,6 +60,7 @@
 #include "motionmap/core/rotation.h"
 #include "motionmap/features/features.h"
 #include "motionmap/skeleton/skeleton.h"
+#include "motionmap/synth/blend_state.h"
 
 namespace motionmap::synth {
 
@@ -129,18 +131,6 @@ struct MapWeights {
   std::vector<int> samples;     ///< sample indices (rows of the map), strictly increasing
   std::vector<double> weights;  ///< one per entry of samples; may be negative (kriging, local)
   PointValidity validity;
-};
-
-/// One blended frame before root motion is applied.
-struct BlendedFrame {
-  /// #joints local rotations; the motion root's is its tilt (rotation with the heading removed).
-  std::vector<Eigen::Quaterniond> rotations;
-  /// #joints local translations; the motion root's has floor components 0 and the blended height
-  /// along the up axis.
-  std::vector<Eigen::Vector3d> translations;
-  /// Blended root floor velocity in the heading frame (units per second, up component 0).
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-  double yaw_rate = 0.0;  ///< blended heading change, radians per second about the up axis
 };
 
 /// Where a one-frame pose's motion root stands on the floor: its heading (yaw about the up axis,

@@ -1,0 +1,117 @@
+// The blend's arithmetic on its own (synth/blend_state.h): MapBlender::blend is blend_states over
+// the samples' sample_state()s, bit for bit, and the functions refuse what they cannot blend.
+#include "motionmap/synth/blend_state.h"
+
+#include <cstring>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/core/error.h"
+#include "motionmap/synth/blender.h"
+#include "synth/synth_fixtures.h"
+
+namespace motionmap::synth {
+namespace {
+
+// The walking clip with a spine that stretches a little: joint 1's translation varies, so the
+// blend averages it (ClipsSummary::moving = {1}).
+Clip stretching_clip() {
+  Clip clip = test::walking_clip(80);
+  for (int f = 0; f < clip.motion.num_frames; ++f)
+    clip.motion.translation(f, 1) = Eigen::Vector3d(0.0, 10.0 + 0.3 * std::sin(0.2 * f), 0.1);
+  return clip;
+}
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(SynthBlendState, BlendStatesIsTheBlendersArithmeticBitForBit) {
+  const Clip clip = stretching_clip();
+  const int n = clip.motion.num_frames;
+  const features::FeatureSet set = test::all_frames(n);
+  const Eigen::MatrixXd map = test::curve_map(n);
+  const ClipsSummary summary = summarize_clips(std::span<const Clip>(&clip, 1), set);
+  ASSERT_EQ(summary.moving, std::vector<int>{1});
+  // What the blender keeps for the joints it does not average: sample 0's translations.
+  std::vector<Eigen::Vector3d> fixed(std::size_t(clip.motion.num_joints));
+  for (int j = 0; j < clip.motion.num_joints; ++j)
+    fixed[std::size_t(j)] = clip.motion.translation(0, j);
+  std::vector<SampleState> states;
+  for (int f = 0; f < n; ++f)
+    states.push_back(sample_state(clip.motion, f, summary.motion_root, Axis::Y, summary.moving));
+  for (const BlendMode mode : {BlendMode::Kriging, BlendMode::Local, BlendMode::Idw}) {
+    BlendOptions options;
+    options.mode = mode;
+    const MapBlender blender(std::span<const Clip>(&clip, 1), set, map, options);
+    ASSERT_EQ(blender.motion_root(), summary.motion_root);
+    for (const Eigen::Vector2d& p :
+         {Eigen::Vector2d(map(30, 0), map(30, 1)), Eigen::Vector2d(2.05, 0.3),
+          Eigen::Vector2d(5.51, -0.2), Eigen::Vector2d(40.0, 3.0)}) {
+      const MapWeights w = blender.locate(p);
+      std::vector<SampleStateView> views;
+      for (const int s : w.samples) views.push_back(states[std::size_t(s)].view());
+      const BlendedFrame a = blender.blend(w);
+      const BlendedFrame b =
+          blend_states(views, w.weights, fixed, summary.moving, summary.motion_root, Axis::Y);
+      const std::string what = std::string(blend_mode_name(mode)) + " at (" +
+                               std::to_string(p.x()) + ", " + std::to_string(p.y()) + ")";
+      EXPECT_TRUE(same_bytes(a.rotations, b.rotations)) << what;
+      EXPECT_TRUE(same_bytes(a.translations, b.translations)) << what;
+      EXPECT_EQ(std::memcmp(a.velocity.data(), b.velocity.data(), sizeof(double) * 3), 0) << what;
+      EXPECT_EQ(std::memcmp(&a.yaw_rate, &b.yaw_rate, sizeof(double)), 0) << what;
+    }
+  }
+}
+
+TEST(SynthBlendState, AtOneSampleItIsThatSamplesState) {
+  const Clip clip = stretching_clip();
+  const std::vector<int> moving = {1};
+  const SampleState s = sample_state(clip.motion, 12, 0, Axis::Y, moving);
+  ASSERT_TRUE(s.finite());
+  ASSERT_EQ(s.rotations.size(), 5u);
+  ASSERT_EQ(s.translations.size(), 1u);
+  EXPECT_EQ(s.translations[0], clip.motion.translation(12, 1));
+  EXPECT_EQ(s.height, clip.motion.translation(12, 0).y());
+  std::vector<Eigen::Vector3d> fixed(5, Eigen::Vector3d(7.0, 8.0, 9.0));
+  const std::vector<SampleStateView> one = {s.view()};
+  const std::vector<double> w = {1.0};
+  const BlendedFrame b = blend_states(one, w, fixed, moving, 0, Axis::Y);
+  for (int j = 1; j < 5; ++j)
+    EXPECT_LE(rotation_angle(b.rotations[std::size_t(j)], s.rotations[std::size_t(j)]), 1e-15);
+  EXPECT_EQ(b.translations[1], clip.motion.translation(12, 1));
+  EXPECT_EQ(b.translations[2], Eigen::Vector3d(7.0, 8.0, 9.0));  // not averaged: kept
+  // The motion root stands at the floor origin at the sample's height.
+  EXPECT_EQ(b.translations[0], Eigen::Vector3d(0.0, s.height, 0.0));
+  EXPECT_EQ(b.velocity, s.velocity);
+  EXPECT_EQ(b.yaw_rate, s.yaw_rate);
+}
+
+TEST(SynthBlendState, RefusesWhatItCannotBlend) {
+  const Clip clip = stretching_clip();
+  const std::vector<int> moving = {1};
+  EXPECT_THROW(sample_state(clip.motion, 80, 0, Axis::Y, moving), ParameterError);
+  EXPECT_THROW(sample_state(clip.motion, -1, 0, Axis::Y, moving), ParameterError);
+  EXPECT_THROW(sample_state(clip.motion, 0, 5, Axis::Y, moving), ParameterError);
+  EXPECT_THROW(sample_state(clip.motion, 0, 0, Axis::Y, std::vector<int>{5}), ParameterError);
+  const SampleState s = sample_state(clip.motion, 3, 0, Axis::Y, moving);
+  const std::vector<SampleStateView> two = {s.view(), s.view()};
+  const std::vector<Eigen::Vector3d> fixed(5, Eigen::Vector3d::Zero());
+  const auto blend = [&](std::vector<double> w, int root = 0, std::vector<int> mv = {1}) {
+    return blend_states(two, w, fixed, mv, root, Axis::Y);
+  };
+  EXPECT_NO_THROW(blend({0.5, 0.5}));
+  EXPECT_THROW(blend({1.0}), ParameterError);
+  EXPECT_THROW(blend_states({}, {}, fixed, moving, 0, Axis::Y), ParameterError);
+  EXPECT_THROW(blend({0.5, std::nan("")}), ParameterError);
+  EXPECT_THROW(blend({1.0, -1.0}), ParameterError);
+  EXPECT_THROW(blend({0.5, 0.5}, 5), ParameterError);
+  EXPECT_THROW(blend({0.5, 0.5}, 0, {-1}), ParameterError);
+}
+
+}  // namespace
+}  // namespace motionmap::synth

@@ -342,15 +342,24 @@ TEST(SavedMap, PoseIsTheSavedMapBlendersPoseBitForBit) {
     const Eigen::MatrixXd& xy = file.coordinates;
     const int second = file.clips[1].first_sample;
     const int n = file.num_samples();
-    const auto at = [&](int i) { return Eigen::Vector2d(xy(i, 0), xy(i, 1)); };
+    // Rows by the clips' sample counts (the second clip can be short).
+    const int first_count = second, second_count = n - second;
+    ASSERT_GE(first_count, 4);
+    ASSERT_GE(second_count, 4);
+    const auto at = [&](int i) {
+      EXPECT_TRUE(i >= 0 && i < n) << i;
+      i = std::clamp(i, 0, n - 1);
+      return Eigen::Vector2d(xy(i, 0), xy(i, 1));
+    };
+    const int a = first_count / 3, b = second + second_count / 3;
     const std::vector<Eigen::Vector2d> points = {
-        at(17),                                         // on a sample
-        at(second + 25),                                // on one of the second clip
-        at(n - 1),                                      // the last sample
-        0.5 * (at(40) + at(41)),                        // between consecutive samples
-        0.3 * at(second + 10) + 0.7 * at(second + 11),  // again, nearer the second
-        0.5 * (at(60) + at(second + 60)),               // between the two clips
-        at(n / 2) + Eigen::Vector2d(1e-3, -2e-3),       // just off a sample
+        at(first_count / 5),                                          // on a sample
+        at(second + second_count / 2),                                // on one of the second clip
+        at(n - 1),                                                    // the last sample
+        0.5 * (at(a) + at(a + 1)),                                    // between consecutive samples
+        0.3 * at(b) + 0.7 * at(b + 1),                                // again, nearer the second
+        0.5 * (at(first_count / 2) + at(second + second_count / 2)),  // between the two clips
+        at(n / 2) + Eigen::Vector2d(1e-3, -2e-3),                     // just off a sample
         xy.leftCols(2).colwise().maxCoeff().transpose() * 3.0 + Eigen::Vector2d(50.0, 50.0)};
     // The map file without the blend record (an older one): pose_at then blends with the motion
     // root and moving joints of the samples' own clips; where those clips have the map's motion

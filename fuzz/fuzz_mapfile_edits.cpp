@@ -253,6 +253,12 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
   write_programs(*argc, *argv);
   folder() = fs::temp_directory_path() / ("fuzz-mapfile-edits-" + std::to_string(::getpid()));
   fs::create_directories(folder());
+  // libFuzzer ends a run with exit(): the seeds and the edited copy go with it (a crash keeps
+  // them, beside the crashing input).
+  std::atexit([] {
+    std::error_code ignored;
+    fs::remove_all(folder(), ignored);
+  });
   try {
     for (const fs::path& path :
          motionmap::fuzz::write_map_seeds(folder(), (folder() / "swing.bvh").string(), true)) {

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -33,6 +34,11 @@ std::string scratch_file() {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
+  // libFuzzer ends a run with exit(): the scratch map goes with it (a crash keeps it).
+  std::atexit([] {
+    std::error_code ignored;
+    fs::remove(scratch_file(), ignored);
+  });
   for (int i = *argc - 1; i > 0; --i) {
     const std::string arg = (*argv)[i];
     std::error_code ec;

@@ -202,11 +202,8 @@ synth::ClipsSummary SavedMap::clips_summary(const Control& control) const {
   }
   synth::ClipsSummary out;
   for (int c = 0; c < num_clips(); ++c) {
-    const ClipRecord& r = m_file.clips[std::size_t(c)];
-    out.frames.push_back(r.frames);
-    // The frame time load() gives the clip: an .amc's is computed from the recorded one.
-    out.frame_times.push_back(is_amc(resolve_path(c), r) ? 1.0 / (1.0 / r.frame_time)
-                                                         : r.frame_time);
+    out.frames.push_back(m_file.clips[std::size_t(c)].frames);
+    out.frame_times.push_back(loaded_frame_time(c));
   }
   out.motion_root = m_file.blend->motion_root;
   out.moving = m_file.blend->moving;
@@ -246,6 +243,12 @@ std::vector<int> SavedMap::clips_near(const Eigen::Vector2d& p, int neighbors) c
   return out;
 }
 
+double SavedMap::loaded_frame_time(int c) const {
+  // An .amc's is computed from the recorded one, as load() computes it.
+  const ClipRecord& r = m_file.clips[std::size_t(c)];
+  return is_amc(resolve_path(c), r) ? 1.0 / (1.0 / r.frame_time) : r.frame_time;
+}
+
 std::shared_ptr<const SavedMap::BlendBase> SavedMap::blend_base() const {
   {
     const std::lock_guard lock(m_mutex);
@@ -256,28 +259,15 @@ std::shared_ptr<const SavedMap::BlendBase> SavedMap::blend_base() const {
   const int J = first->motion.num_joints;
   const BlendRecord& record = *m_file.blend;
   const std::string map_name = m_file.path.empty() ? std::string("map") : m_file.path;
-  if (record.motion_root < 0 || record.motion_root >= J) {
-    throw ParameterError(map_name + ": the blend record names joint " +
-                         std::to_string(record.motion_root) + " as the motion root, but " +
-                         first->path + " has " + std::to_string(J) + " joints");
-  }
-  for (std::size_t k = 0; k < record.moving.size(); ++k) {
-    const int j = record.moving[k];
-    if (j < 0 || j >= J || j == record.motion_root || (k > 0 && j <= record.moving[k - 1])) {
-      throw ParameterError(map_name + ": the blend record lists joint " + std::to_string(j) +
-                           " as moving; expected increasing joints of " + first->path +
-                           " other than the motion root");
-    }
-  }
+  synth::check_blend_joints(record.motion_root, record.moving, J, map_name + ": the blend record",
+                            first->path);
   auto base = std::make_shared<BlendBase>();
   base->skeleton = first->skeleton;
   base->fixed_translations.resize(std::size_t(J));
   for (int j = 0; j < J; ++j)
     base->fixed_translations[std::size_t(j)] = first->motion.translation(m_file.frame_of[0], j);
   base->fixed_translations[std::size_t(record.motion_root)] = Eigen::Vector3d::Zero();
-  // The frame time of clip 0 as load() gives it (clips_summary(): an .amc's is computed).
-  const ClipRecord& r0 = m_file.clips[0];
-  base->frame_time = is_amc(resolve_path(0), r0) ? 1.0 / (1.0 / r0.frame_time) : r0.frame_time;
+  base->frame_time = loaded_frame_time(0);
   const std::lock_guard lock(m_mutex);
   if (!m_base) m_base = std::move(base);
   return m_base;
@@ -357,12 +347,8 @@ SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) co
                            ": its joint hierarchy differs from the map's first clip's; clips "
                            "blended together must share one");
     }
-    const int f = m_file.frame_of[std::size_t(found[i].sample)];
-    states[i] = synth::sample_state(c.motion, f, root, up, moving);
-    if (!states[i].finite()) {
-      throw NumericalError(c.path + ": frame " + std::to_string(f) +
-                           " (or the next) holds a NaN or infinite value");
-    }
+    states[i] = synth::clip_sample_state(c, m_file.frame_of[std::size_t(found[i].sample)], root, up,
+                                         moving);
     views[i] = states[i].view();
   }
   const synth::BlendedFrame blended = synth::blend_states(views, w, fixed, moving, root, up);

@@ -125,6 +125,8 @@ class SavedMap : public synth::ClipSource {
 
  private:
   std::shared_ptr<const Clip> load(int c) const;
+  /// Clip c's frame time as load() gives it, from its record (without reading the clip).
+  double loaded_frame_time(int c) const;
   /// What every blend of a map with a blend record keeps (as make_blender's blender): the
   /// skeleton of the first sample's clip, that sample's translations (the motion root's 0) and
   /// the frame time of clip 0.

@@ -68,6 +68,34 @@ SampleState sample_state(const Motion& m, int f, int root, Axis up, std::span<co
   return s;
 }
 
+SampleState clip_sample_state(const Clip& clip, int frame, int root, Axis up,
+                              std::span<const int> moving) {
+  SampleState s = sample_state(clip.motion, frame, root, up, moving);
+  // The values blended must be finite (a blender given the clips checks every frame).
+  if (!s.finite()) {
+    throw NumericalError(clip.path + ": frame " + std::to_string(frame) +
+                         " (or the next) holds a NaN or infinite value");
+  }
+  return s;
+}
+
+void check_blend_joints(int motion_root, std::span<const int> moving, int joints,
+                        const std::string& named_by, const std::string& clip_path) {
+  if (motion_root < 0 || motion_root >= joints) {
+    throw ParameterError(named_by + " names joint " + std::to_string(motion_root) +
+                         " as the motion root, but " + clip_path + " has " +
+                         std::to_string(joints) + " joints");
+  }
+  for (std::size_t k = 0; k < moving.size(); ++k) {
+    const int j = moving[k];
+    if (j < 0 || j >= joints || j == motion_root || (k > 0 && j <= moving[k - 1])) {
+      throw ParameterError(named_by + " lists joint " + std::to_string(j) +
+                           " as moving; expected increasing joints of " + clip_path +
+                           " other than the motion root");
+    }
+  }
+}
+
 BlendedFrame blend_states(std::span<const SampleStateView> states, std::span<const double> weights,
                           std::span<const Eigen::Vector3d> fixed_translations,
                           std::span<const int> moving, int motion_root, Axis up) {

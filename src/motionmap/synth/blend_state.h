@@ -17,6 +17,7 @@
 // joints alike); `fixed` the #joints translations the other joints keep (a blender's: its first
 // sample's).
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -78,6 +79,19 @@ SampleState sample_state(const Motion& motion, int frame, int root, Axis up,
 void sample_state(const Motion& motion, int frame, int root, Axis up, std::span<const int> moving,
                   Eigen::Quaterniond* rotations, Eigen::Vector3d* translations, double& height,
                   Eigen::Vector3d& velocity, double& yaw_rate);
+
+/// sample_state() of frame `frame` of a clip a blend has read (a blender from its ClipSource,
+/// SavedMap::pose_at), checked before it is blended.
+/// @throws NumericalError naming the clip and frame when a value is not finite; as above.
+SampleState clip_sample_state(const Clip& clip, int frame, int root, Axis up,
+                              std::span<const int> moving);
+
+/// Checks the motion root and moving joints a blend is given (a clips' summary, a map file's
+/// blend record) against the first clip, `clip_path`, of `joints` joints: the root one of them,
+/// the moving joints increasing, others than the root. `named_by` begins the messages, e.g.
+/// "map: the clips' summary". @throws ParameterError.
+void check_blend_joints(int motion_root, std::span<const int> moving, int joints,
+                        const std::string& named_by, const std::string& clip_path);
 
 /// The blend of `states` with `weights` (one each, finite, any sign, summing to about 1), with
 /// #joints = fixed_translations.size() (each state holding #joints rotations and moving.size()

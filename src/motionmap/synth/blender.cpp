@@ -400,12 +400,7 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
       const std::size_t k = missing[b].second;
       const int f = frame_of[static_cast<std::size_t>(samples[k])];
       KeptState kept;
-      kept.state = sample_state(clip->motion, f, motion_root, options.up, moving);
-      // The values blended must be finite (a blender given the clips checks every frame).
-      if (!kept.state.finite()) {
-        throw NumericalError(clip->path + ": frame " + std::to_string(f) +
-                             " (or the next) holds a NaN or infinite value");
-      }
+      kept.state = clip_sample_state(*clip, f, motion_root, options.up, moving);
       put(k, kept.state);
       if (feet) {
         kept.contact = static_cast<std::uint8_t>((clip_contacts[0].in_contact(f) ? 1 : 0) |
@@ -548,19 +543,8 @@ MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSumm
   s.frame_time = first->motion.frame_time;
   s.joints = s.skeleton.num_joints();
   const int J = s.joints;
-  if (summary.motion_root < 0 || summary.motion_root >= J) {
-    throw ParameterError("map: the clips' summary names joint " +
-                         std::to_string(summary.motion_root) + " as the motion root, but " +
-                         first->path + " has " + std::to_string(J) + " joints");
-  }
-  for (std::size_t k = 0; k < summary.moving.size(); ++k) {
-    const int j = summary.moving[k];
-    if (j < 0 || j >= J || j == summary.motion_root || (k > 0 && j <= summary.moving[k - 1])) {
-      throw ParameterError("map: the clips' summary lists joint " + std::to_string(j) +
-                           " as moving; expected increasing joints of " + first->path +
-                           " other than the motion root");
-    }
-  }
+  check_blend_joints(summary.motion_root, summary.moving, J, "map: the clips' summary",
+                     first->path);
   s.motion_root = summary.motion_root;
   s.moving = summary.moving;
   const std::shared_ptr<const Clip> clip0 =

@@ -403,6 +403,72 @@ TEST(SavedMap, PoseIsTheSavedMapBlendersPoseBitForBit) {
   }
 }
 
+// A blend record that does not fit the map's clips (a root or a moving joint the first clip does
+// not have, moving joints out of order) is refused by the saved map's pose and by the map's
+// blender alike, naming the map, the joint and the clip; never a pose of other joints.
+TEST(SavedMap, ABlendRecordThatDoesNotFitTheClipsIsRefused) {
+  if (!have_data()) GTEST_SKIP() << "no shared data in " << kData;
+  TempDir dir;
+  const SavedLibrary lib =
+      save_library(dir, {"cmu/64_08.bvh", "cmu/64_09.bvh"}, embed::Method::Pca);
+  const MapFile file = read_map_file(lib.file, {.model = false});
+  ASSERT_TRUE(file.blend.has_value());
+  const int joints = lib.clips[0].skeleton.num_joints();
+  const Eigen::Vector2d p(file.coordinates(5, 0), file.coordinates(5, 1));
+  synth::BlendOptions idw;
+  idw.mode = synth::BlendMode::Idw;
+  const auto pose_message = [&](const MapFile& f) {
+    try {
+      SavedMap(f).pose_at(p, 4);
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const auto blender_message = [&](const MapFile& f) {
+    try {
+      make_blender(std::make_shared<const SavedMap>(f), idw);
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  {
+    MapFile bad = file;
+    bad.blend->motion_root = joints;
+    const std::string m = pose_message(bad);
+    EXPECT_NE(m.find(lib.file + ": the blend record names joint " + std::to_string(joints) +
+                     " as the motion root, but "),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("64_08.bvh has " + std::to_string(joints) + " joints"), std::string::npos)
+        << m;
+    const std::string b = blender_message(bad);
+    EXPECT_NE(b.find("map: the clips' summary names joint " + std::to_string(joints) +
+                     " as the motion root"),
+              std::string::npos)
+        << b;
+  }
+  {
+    MapFile bad = file;
+    bad.blend->moving = {joints + 2};
+    const std::string m = pose_message(bad);
+    EXPECT_NE(m.find(": the blend record lists joint " + std::to_string(joints + 2) +
+                     " as moving; expected increasing joints of "),
+              std::string::npos)
+        << m;
+    EXPECT_NE(blender_message(bad).find("the clips' summary lists joint " +
+                                        std::to_string(joints + 2) + " as moving"),
+              std::string::npos);
+  }
+  {
+    MapFile bad = file;
+    bad.blend->moving = {3, 3};
+    EXPECT_NE(pose_message(bad).find("lists joint 3 as moving"), std::string::npos);
+    EXPECT_NE(blender_message(bad).find("lists joint 3 as moving"), std::string::npos);
+  }
+}
+
 TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
   if (!have_data() || !fs::exists(kData + "/cmu/02_03.bvh"))
     GTEST_SKIP() << "no shared data in " << kData;

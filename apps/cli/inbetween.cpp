@@ -40,6 +40,7 @@ struct InbetweenCommand {
   std::vector<std::string> keys;
   int frames_between = -1;
   std::vector<double> times;
+  std::string route = "clips";
   int grid = 0;
   bool no_smooth = false;
   bool no_clean_feet = false;
@@ -230,6 +231,11 @@ void setup_inbetween(CLI::App& app) {
                   "each key); keys land on the nearest frames")
       ->delimiter(',')
       ->excludes(between);
+  sub->add_option("--route", cmd->route,
+                  "How the motion goes from key to key: clips (the default: the clips' own frames "
+                  "played on, jumping between clips where their map points meet) or grid (Shin & "
+                  "Lee's cheapest path through the valid region, blended along)")
+      ->check(CLI::IsMember({"clips", "grid"}));
   sub->add_option("--grid", cmd->grid,
                   "Route grid: cells along the longer side of the map (default: from the map's "
                   "density, cells of half the reach, 20 to 200)")
@@ -270,6 +276,7 @@ void setup_inbetween(CLI::App& app) {
     const std::vector<synth::Key> keys = resolve_keys(*cmd, texts, p);
     synth::InbetweenOptions options;
     options.frames_between = cmd->frames_between;
+    options.route.mode = synth::parse_route_mode(cmd->route);
     options.route.grid = cmd->grid;
     options.route.smooth = !cmd->no_smooth;
     options.clean_feet = !cmd->no_clean_feet;

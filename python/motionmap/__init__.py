@@ -449,7 +449,7 @@ def edit_path(fitted, path_xy, times=None, *, previous_xy, previous_times=None, 
         float(smooth), blend, int(neighbors), float(reach), bool(clean_feet), progress)
 
 
-def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=True,
+def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", grid=0, smooth=True,
               blend="local", neighbors=12, reach=3.0, asf=None, fps=None, clean_feet=True,
               progress=None):
     """A motion through key poses on a fitted 2-D map of clips (what `motionmap inbetween` does;
@@ -459,8 +459,10 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=T
     skeleton and a frame from 0; a frame that is not a sample of the map is placed on it as
     transform() places frames — or (x, y), a map point (the blend there, root free). times:
     seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
-    times, or the samples' own speed along each route); grid: cells along the map's longer side
-    (0 = from its density); smooth: smooth the grid route; blend, neighbors, reach: as
+    times, or the samples' own speed along each route); route: "clips" (the clips' own frames
+    played on, jumping between clips where their map points meet) or "grid" (the cheapest path
+    over a grid through the valid region); grid: cells along the map's longer side (0 = from its
+    density); smooth: smooth the grid route; blend, neighbors, reach: as
     inverse_transform; asf, fps: for .amc keys; clean_feet: hold the feet still through their
     contacts, the keys' frames left exact (as synthesize). Returns (Clip, route): route is a dict with
     "points" (#frames by 2: each frame's map point), "key_frames", "routes" (per segment, the
@@ -470,7 +472,8 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, grid=0, smooth=T
         raise Error("inbetween: motions are blended from clips; this map was fitted on an array")
     return fitted.map_.inbetween(
         list(keys), None if times is None else [float(t) for t in times],
-        -1 if frames_between is None else int(frames_between), int(grid), bool(smooth), blend,
+        -1 if frames_between is None else int(frames_between), str(route), int(grid),
+        bool(smooth), blend,
         int(neighbors), float(reach), "" if asf is None else os.fspath(asf),
         0.0 if fps is None else float(fps), bool(clean_feet), progress)
 

@@ -484,9 +484,9 @@ struct InbetweenOut {
 };
 
 py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const py::object& times,
-                         int frames_between, int grid, bool smooth, const std::string& mode,
-                         int neighbors, double reach, const std::string& asf, double fps,
-                         bool clean_feet, py::object progress) {
+                         int frames_between, const std::string& route, int grid, bool smooth,
+                         const std::string& mode, int neighbors, double reach,
+                         const std::string& asf, double fps, bool clean_feet, py::object progress) {
   std::vector<PyKey> keys = keys_from_python(key_items, asf, fps);
   std::vector<double> key_times;
   if (!times.is_none()) {
@@ -498,6 +498,7 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
   }
   synth::InbetweenOptions options;
   options.frames_between = frames_between;
+  options.route.mode = synth::parse_route_mode(route);
   options.route.grid = grid;
   options.route.smooth = smooth;
   options.clean_feet = clean_feet;
@@ -937,8 +938,8 @@ void bind_maps(py::module_& m) {
       .def("poses_at", &poses_at, py::arg("Y"), py::arg("blend"), py::arg("neighbors"),
            py::arg("reach"), py::arg("progress"))
       .def("inbetween", &inbetween_keys, py::arg("keys"), py::arg("times"),
-           py::arg("frames_between"), py::arg("grid"), py::arg("smooth"), py::arg("blend"),
-           py::arg("neighbors"), py::arg("reach"), py::arg("asf"), py::arg("fps"),
+           py::arg("frames_between"), py::arg("route"), py::arg("grid"), py::arg("smooth"),
+           py::arg("blend"), py::arg("neighbors"), py::arg("reach"), py::arg("asf"), py::arg("fps"),
            py::arg("clean_feet"), py::arg("progress"))
       .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
            py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),

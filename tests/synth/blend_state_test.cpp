@@ -10,7 +10,10 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "motionmap/io/load.h"
+#include "motionmap/skeleton/forward_kinematics.h"
 #include "motionmap/synth/blender.h"
+#include "support/test_data.h"
 #include "synth/synth_fixtures.h"
 
 namespace motionmap::synth {
@@ -89,6 +92,73 @@ TEST(SynthBlendState, AtOneSampleItIsThatSamplesState) {
   EXPECT_EQ(b.translations[0], Eigen::Vector3d(0.0, s.height, 0.0));
   EXPECT_EQ(b.velocity, s.velocity);
   EXPECT_EQ(b.yaw_rate, s.yaw_rate);
+}
+
+TEST(SynthBlendState, ALibraryWhoseClipsMoveDifferentJointsBlendsTheBodysRoot) {
+  // Bandai Namco's run_normal carries its travel in joint_Root above the hips, walk_angry in the
+  // hips (joint_Root at the origin): the blend folds joint_Root into the hips, so it blends the
+  // hips' world transform and never averages the clips' world positions.
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_run_normal_001.bvh");
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const std::vector<Clip> clips{
+      io::load_clip(motionmap::test::shared_file("bandai/dataset-1_walk_angry_001.bvh")),
+      io::load_clip(motionmap::test::shared_file("bandai/dataset-1_run_normal_001.bvh"))};
+  ASSERT_EQ(motion_root(clips[0].skeleton, clips[0].motion), 1);
+  ASSERT_EQ(motion_root(clips[1].skeleton, clips[1].motion), 0);
+  features::FeatureSet set;
+  for (int c = 0; c < 2; ++c) {
+    for (int f = 0; f < clips[c].motion.num_frames; ++f) {
+      set.clip_of.push_back(c);
+      set.frame_of.push_back(f);
+    }
+  }
+  const ClipsSummary summary = summarize_clips(clips, set);
+  EXPECT_EQ(summary.motion_root, 1);
+  const std::vector<int> ancestors = root_ancestors(clips[0].skeleton, summary.motion_root);
+  EXPECT_EQ(ancestors, std::vector<int>{0});
+  for (const int j : summary.moving) EXPECT_NE(j, 0);
+
+  // Folding keeps the world: the run's frame folded has the same joint positions from the hips
+  // down (joint_Root itself now rests at the origin).
+  const int f = 12;  // run_normal has 24 frames
+  Motion folded = clips[1].motion;
+  fold_root(folded, f, 1, ancestors);
+  const WorldPose before = forward_kinematics(clips[1].skeleton, clips[1].motion, f);
+  const WorldPose after = forward_kinematics(clips[1].skeleton, folded, f);
+  for (std::size_t j = 1; j < before.positions.size(); ++j)
+    EXPECT_LE((before.positions[j] - after.positions[j]).norm(), 1e-9) << j;
+  for (std::size_t e = 0; e < before.end_sites.size(); ++e)
+    EXPECT_LE((before.end_sites[e] - after.end_sites[e]).norm(), 1e-9) << e;
+  EXPECT_EQ(folded.translation(f, 0), Eigen::Vector3d::Zero());
+
+  // The run's state moves at the run's speed (the hips' world velocity), the walk's at the walk's.
+  const Axis up = Axis::Y;
+  for (int c = 0; c < 2; ++c) {
+    const Motion& m = clips[c].motion;
+    const SampleState s = sample_state(m, f, 1, up, summary.moving, ancestors);
+    const WorldPose a = forward_kinematics(clips[c].skeleton, m, f);
+    const WorldPose b = forward_kinematics(clips[c].skeleton, m, f + 1);
+    Eigen::Vector3d world = (b.positions[1] - a.positions[1]) / m.frame_time;
+    world.y() = 0.0;
+    EXPECT_NEAR(s.velocity.norm(), world.norm(), 1e-6 * world.norm()) << "clip " << c;
+    EXPECT_NEAR(s.height, a.positions[1].y(), 1e-9) << "clip " << c;
+    EXPECT_GT(world.norm(), 50.0) << "clip " << c;  // both travel (cm/s)
+  }
+
+  // Half the walk, half the run: joint_Root at rest, the hips on the floor origin at the mean
+  // height — not half-way between the clips' places in the world.
+  const SampleState w = sample_state(clips[0].motion, f, 1, up, summary.moving, ancestors);
+  const SampleState r = sample_state(clips[1].motion, f, 1, up, summary.moving, ancestors);
+  const std::vector<SampleStateView> views{w.view(), r.view()};
+  const std::vector<double> half{0.5, 0.5};
+  std::vector<Eigen::Vector3d> fixed(static_cast<std::size_t>(clips[0].motion.num_joints));
+  for (int j = 0; j < clips[0].motion.num_joints; ++j) fixed[j] = clips[0].motion.translation(0, j);
+  const BlendedFrame blend = blend_states(views, half, fixed, summary.moving, 1, up, ancestors);
+  EXPECT_EQ(blend.translations[0], Eigen::Vector3d::Zero());
+  EXPECT_TRUE(blend.rotations[0].isApprox(Eigen::Quaterniond::Identity(), 0.0));
+  EXPECT_EQ(blend.translations[1].x(), 0.0);
+  EXPECT_EQ(blend.translations[1].z(), 0.0);
+  EXPECT_NEAR(blend.translations[1].y(), 0.5 * (w.height + r.height), 1e-9);
 }
 
 TEST(SynthBlendState, RefusesWhatItCannotBlend) {

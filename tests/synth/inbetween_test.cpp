@@ -69,23 +69,32 @@ struct Synthetic {
 TEST(SynthInbetween, FramesBetweenPutsTheKeysWhereAskedAndHitsThemExactly) {
   const Synthetic s;
   const std::vector<Key> keys{s.key(10), s.key(60), s.key(100)};
-  const InbetweenResult r = inbetween(s.blender, s.set, keys, between(24));
-  ASSERT_EQ(r.motion.num_frames, 51);
-  EXPECT_EQ(r.key_frames, (std::vector<int>{0, 25, 50}));
-  EXPECT_EQ(r.motion.frame_time, s.clip.motion.frame_time);
-  ASSERT_EQ(r.routes.size(), 2u);
-  ASSERT_EQ(r.points.size(), 51u);
-  ASSERT_EQ(r.validity.size(), 51u);
-  EXPECT_EQ(r.outside_frames, 0);
-  for (int i = 0; i < 3; ++i) {
-    // The key's own world placement, as in the clip: root position and heading included.
-    expect_key_hit(s.blender, r.motion, r.key_frames[i], keys[i]);
-    EXPECT_EQ(r.points[r.key_frames[i]], keys[i].point);
+  for (const RouteMode mode : {RouteMode::Clips, RouteMode::Grid}) {
+    SCOPED_TRACE(route_mode_name(mode));
+    InbetweenOptions options = between(24);
+    options.route.mode = mode;
+    const InbetweenResult r = inbetween(s.blender, s.set, keys, options);
+    ASSERT_EQ(r.motion.num_frames, 51);
+    EXPECT_EQ(r.key_frames, (std::vector<int>{0, 25, 50}));
+    EXPECT_EQ(r.motion.frame_time, s.clip.motion.frame_time);
+    ASSERT_EQ(r.routes.size(), 2u);
+    ASSERT_EQ(r.points.size(), 51u);
+    ASSERT_EQ(r.validity.size(), 51u);
+    EXPECT_EQ(r.outside_frames, 0);
+    for (int i = 0; i < 3; ++i) {
+      // The key's own world placement, as in the clip: root position and heading included.
+      expect_key_hit(s.blender, r.motion, r.key_frames[i], keys[i]);
+      // The grid route blends a key's frame at its point; a clip route at the sample it passes
+      // there (the displacement map makes the pose the key's all the same).
+      if (mode == RouteMode::Grid) {
+        EXPECT_EQ(r.points[r.key_frames[i]], keys[i].point);
+      }
+    }
+    EXPECT_EQ(r.routes[0].front(), keys[0].point);
+    EXPECT_EQ(r.routes[0].back(), keys[1].point);
+    const MapField field(s.blender);
+    for (const auto& p : r.points) EXPECT_TRUE(field.valid(p)) << p.transpose();
   }
-  EXPECT_EQ(r.routes[0].front(), keys[0].point);
-  EXPECT_EQ(r.routes[0].back(), keys[1].point);
-  const MapField field(s.blender);
-  for (const auto& p : r.points) EXPECT_TRUE(field.valid(p)) << p.transpose();
 }
 
 TEST(SynthInbetween, KeysOnTheClipsOwnTrajectoryReproduceItsFrames) {

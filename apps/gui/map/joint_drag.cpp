@@ -65,7 +65,8 @@ void JointDrag::onStarted(int joint, const Eigen::Vector3d&) {
     const synth::MapBlender& blender = *map->blender;
     m_goal = synth::ReachGoal{};
     m_goal.joint = joint;
-    m_goal.placement = synth::root_placement(shown, 0, blender.motion_root(), blender.options().up);
+    m_goal.placement = synth::root_placement(shown, 0, blender.motion_root(), blender.options().up,
+                                             blender.root_ancestors());
     // Pins stay where they are now (world positions of the pose shown, placed like the goal).
     const WorldPose& world = m_skeletonView->worldPose();
     for (const int pin : m_skeletonView->pinnedJoints()) {

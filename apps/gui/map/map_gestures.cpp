@@ -177,7 +177,7 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
         m_inDrag = true;
         const Motion& shown = m_skeletonView->currentPose();
         m_placement = shown.num_frames > 0 && shown.num_joints == pose.pose.num_joints
-                          ? synth::root_placement(shown, 0, root, up)
+                          ? synth::root_placement(shown, 0, root, up, pose.ancestors)
                           : synth::RootPlacement{};
       }
       synth::place_root(pose.pose, root, *m_placement, up);
@@ -204,13 +204,14 @@ void MapGestures::onDrag(const Eigen::Vector2d& point) {
       const synth::MapBlender& blender = *map->blender;
       const Motion& shown = m_skeletonView->currentPose();
       if (shown.num_frames > 0 && shown.num_joints == blender.skeleton().num_joints()) {
-        m_placement = synth::root_placement(shown, 0, blender.motion_root(), blender.options().up);
+        m_placement = synth::root_placement(shown, 0, blender.motion_root(), blender.options().up,
+                                            blender.root_ancestors());
       } else {
         const features::FeatureSet& set = *map->map.features;
         const auto row = std::size_t(weights.validity.nearest_sample);
-        m_placement =
-            synth::root_placement((*m_maps->clips())[std::size_t(set.clip_of[row])].motion,
-                                  set.frame_of[row], blender.motion_root(), blender.options().up);
+        m_placement = synth::root_placement(
+            (*m_maps->clips())[std::size_t(set.clip_of[row])].motion, set.frame_of[row],
+            blender.motion_root(), blender.options().up, blender.root_ancestors());
       }
     }
     m_skeletonView->setPose(map->blender->pose(weights, *m_placement), 0);

@@ -337,6 +337,8 @@ SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) co
     frame_time = m0.frame_time;
   }
 
+  const std::vector<int> ancestors = synth::root_ancestors(*skeleton, root);
+
   // Each sample's state, read from its clip, and their blend.
   std::vector<synth::SampleState> states(count);
   std::vector<synth::SampleStateView> views(count);
@@ -348,15 +350,17 @@ SavedPose SavedMap::pose_at(const Eigen::Vector2d& p, int neighbors, Axis up) co
                            "blended together must share one");
     }
     states[i] = synth::clip_sample_state(c, m_file.frame_of[std::size_t(found[i].sample)], root, up,
-                                         moving);
+                                         moving, ancestors);
     views[i] = states[i].view();
   }
-  const synth::BlendedFrame blended = synth::blend_states(views, w, fixed, moving, root, up);
+  const synth::BlendedFrame blended =
+      synth::blend_states(views, w, fixed, moving, root, up, ancestors);
   out.pose.frame_time = frame_time;
   out.pose.resize(1, static_cast<int>(fixed.size()));
   out.pose.rotations = blended.rotations;
   out.pose.translations = blended.translations;
   out.root = root;
+  out.ancestors = ancestors;
   out.around = std::move(found);
   out.weights = std::move(w);
   return out;

@@ -39,6 +39,8 @@ struct SavedPose {
   /// The motion root of the blend: the joint that faces heading 0 at the floor origin in `pose`
   /// (the map's, as synth::MapBlender::motion_root() of make_blender(); see SavedMap::pose_at).
   int root = 0;
+  /// The motion root's ancestors, folded into it (synth::root_ancestors; at rest in `pose`).
+  std::vector<int> ancestors;
   std::vector<Neighbor> around;  ///< the samples blended (nearest first) with their distances
   std::vector<double> weights;   ///< one per entry of `around`, summing to 1
   /// The nearest sample is farther than SavedMap::reach_distance(): the point is outside the

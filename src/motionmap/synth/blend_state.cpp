@@ -15,14 +15,15 @@ namespace motionmap::synth {
 
 namespace {
 
-void check_joints(const char* what, int num_joints, int root, std::span<const int> moving) {
+void check_joints(const char* what, int num_joints, int root, std::span<const int> joints,
+                  const char* kind = "moving joint") {
   if (root < 0 || root >= num_joints) {
     throw ParameterError(std::string(what) + ": the motion root " + std::to_string(root) +
                          " is not a joint of " + std::to_string(num_joints));
   }
-  for (const int j : moving) {
+  for (const int j : joints) {
     if (j < 0 || j >= num_joints) {
-      throw ParameterError(std::string(what) + ": the moving joint " + std::to_string(j) +
+      throw ParameterError(std::string(what) + ": the " + kind + " " + std::to_string(j) +
                            " is not a joint of " + std::to_string(num_joints));
     }
   }
@@ -41,9 +42,49 @@ bool SampleState::finite() const {
   return true;
 }
 
+RootTransform root_transform(const Motion& m, int f, int root, std::span<const int> ancestors) {
+  const int J = m.num_joints;
+  if (f < 0 || f >= m.num_frames) {
+    throw ParameterError("root_transform: frame " + std::to_string(f) + " is out of range [0, " +
+                         std::to_string(m.num_frames) + ")");
+  }
+  check_joints("root_transform", J, root, ancestors, "ancestor");
+  if (ancestors.empty()) return {m.rotation(f, root), m.translation(f, root)};
+  RootTransform out;
+  for (const int j : ancestors) {
+    out.translation += out.rotation * m.translation(f, j);
+    out.rotation = (out.rotation * m.rotation(f, j).normalized()).normalized();
+  }
+  out.translation += out.rotation * m.translation(f, root);
+  out.rotation = out.rotation * m.rotation(f, root);
+  return out;
+}
+
+std::vector<int> root_ancestors(const Skeleton& skeleton, int root) {
+  if (root < 0 || root >= skeleton.num_joints()) {
+    throw ParameterError("root_ancestors: joint " + std::to_string(root) + " is not one of " +
+                         std::to_string(skeleton.num_joints()));
+  }
+  std::vector<int> out;
+  for (int j = skeleton.joints[root].parent; j >= 0; j = skeleton.joints[j].parent)
+    out.insert(out.begin(), j);
+  return out;
+}
+
+void fold_root(Motion& m, int f, int root, std::span<const int> ancestors) {
+  const RootTransform t = root_transform(m, f, root, ancestors);
+  for (const int j : ancestors) {
+    m.rotation(f, j) = Eigen::Quaterniond::Identity();
+    m.translation(f, j) = Eigen::Vector3d::Zero();
+  }
+  m.rotation(f, root) = t.rotation;
+  m.translation(f, root) = t.translation;
+}
+
 void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int> moving,
-                  Eigen::Quaterniond* rotations, Eigen::Vector3d* translations, double& height,
-                  Eigen::Vector3d& velocity, double& yaw_rate) {
+                  std::span<const int> ancestors, Eigen::Quaterniond* rotations,
+                  Eigen::Vector3d* translations, double& height, Eigen::Vector3d& velocity,
+                  double& yaw_rate) {
   const int J = m.num_joints;
   if (f < 0 || f >= m.num_frames) {
     throw ParameterError("sample_state: frame " + std::to_string(f) + " is out of range [0, " +
@@ -51,7 +92,8 @@ void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int
   }
   check_joints("sample_state", J, root, moving);
   for (int j = 0; j < J; ++j) rotations[j] = m.rotation(f, j).normalized();
-  const detail::RootSample r = detail::root_sample(m, f, root, up);
+  for (const int j : ancestors) rotations[j] = Eigen::Quaterniond::Identity();
+  const detail::RootSample r = detail::root_sample(m, f, root, up, ancestors);
   rotations[root] = r.tilt;
   height = r.height;
   velocity = r.velocity;
@@ -59,18 +101,19 @@ void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int
   for (std::size_t k = 0; k < moving.size(); ++k) translations[k] = m.translation(f, moving[k]);
 }
 
-SampleState sample_state(const Motion& m, int f, int root, Axis up, std::span<const int> moving) {
+SampleState sample_state(const Motion& m, int f, int root, Axis up, std::span<const int> moving,
+                         std::span<const int> ancestors) {
   SampleState s;
   s.rotations.resize(static_cast<std::size_t>(std::max(m.num_joints, 0)));
   s.translations.resize(moving.size());
-  sample_state(m, f, root, up, moving, s.rotations.data(), s.translations.data(), s.height,
-               s.velocity, s.yaw_rate);
+  sample_state(m, f, root, up, moving, ancestors, s.rotations.data(), s.translations.data(),
+               s.height, s.velocity, s.yaw_rate);
   return s;
 }
 
 SampleState clip_sample_state(const Clip& clip, int frame, int root, Axis up,
-                              std::span<const int> moving) {
-  SampleState s = sample_state(clip.motion, frame, root, up, moving);
+                              std::span<const int> moving, std::span<const int> ancestors) {
+  SampleState s = sample_state(clip.motion, frame, root, up, moving, ancestors);
   // The values blended must be finite (a blender given the clips checks every frame).
   if (!s.finite()) {
     throw NumericalError(clip.path + ": frame " + std::to_string(frame) +
@@ -98,13 +141,15 @@ void check_blend_joints(int motion_root, std::span<const int> moving, int joints
 
 BlendedFrame blend_states(std::span<const SampleStateView> states, std::span<const double> weights,
                           std::span<const Eigen::Vector3d> fixed_translations,
-                          std::span<const int> moving, int motion_root, Axis up) {
+                          std::span<const int> moving, int motion_root, Axis up,
+                          std::span<const int> ancestors) {
   if (states.size() != weights.size() || states.empty()) {
     throw ParameterError("blend: " + std::to_string(states.size()) + " samples for " +
                          std::to_string(weights.size()) + " weights (need equal, non-zero counts)");
   }
   const std::size_t J = fixed_translations.size();
   check_joints("blend", static_cast<int>(J), motion_root, moving);
+  check_joints("blend", static_cast<int>(J), motion_root, ancestors, "ancestor");
   std::size_t ref = 0;
   double total = 0.0;
   for (std::size_t k = 0; k < weights.size(); ++k) {
@@ -151,6 +196,10 @@ BlendedFrame blend_states(std::span<const SampleStateView> states, std::span<con
   root[static_cast<int>(up)] = height / total;
   out.velocity = vel / total;
   out.yaw_rate = yaw / total;
+  for (const int j : ancestors) {
+    out.rotations[static_cast<std::size_t>(j)] = Eigen::Quaterniond::Identity();
+    out.translations[static_cast<std::size_t>(j)] = Eigen::Vector3d::Zero();
+  }
   return out;
 }
 

@@ -15,7 +15,10 @@
 // `root` is the motion root and `moving` the joints other than it whose translations the blend
 // averages (ClipsSummary in blender.h: the map's, so that every blend over a map treats the same
 // joints alike); `fixed` the #joints translations the other joints keep (a blender's: its first
-// sample's).
+// sample's). `ancestors` are the motion root's ancestors (root_ancestors()), folded into it: a
+// library whose clips carry their travel in different joints (Bandai Namco's runs in a joint_Root
+// above the hips, its walks in the hips) blends the same world transform of the body's root, and
+// the blend leaves the ancestors at rest (identity rotation, zero translation).
 #include <span>
 #include <string>
 #include <vector>
@@ -27,6 +30,26 @@
 #include "motionmap/skeleton/skeleton.h"
 
 namespace motionmap::synth {
+
+/// The motion root's transform with its ancestors' folded in: with A₀ … A_k the ancestors from
+/// the top and R the root, rotation q_A₀·…·q_A_k·q_R and translation t_A₀ + q_A₀(t_A₁ + …
+/// q_A_k(t_R)) — the root's world transform below the ancestors' parent. No ancestors: the root's
+/// own local transform.
+struct RootTransform {
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+};
+/// @throws ParameterError if `frame`, `root` or an ancestor is out of range.
+RootTransform root_transform(const Motion& motion, int frame, int root,
+                             std::span<const int> ancestors);
+
+/// The ancestors of joint `root` in `skeleton`, from the top down (empty for a root joint).
+/// @throws ParameterError if `root` is out of range.
+std::vector<int> root_ancestors(const Skeleton& skeleton, int root);
+
+/// Frame `frame` of `motion` with `ancestors` folded into `root` (root_transform) and left at
+/// rest: what a blend of that frame alone gives, placed where the frame stands.
+void fold_root(Motion& motion, int frame, int root, std::span<const int> ancestors);
 
 /// One blended frame before root motion is applied.
 struct BlendedFrame {
@@ -72,19 +95,21 @@ struct SampleState {
 /// The state of frame `frame` of `motion` for a blend whose motion root is `root` and whose
 /// averaged translations are those of the joints `moving`.
 /// @throws ParameterError if `frame`, `root` or a joint of `moving` is out of range.
+/// The root's `ancestors` are folded into it (root_transform), their rotations identity.
 SampleState sample_state(const Motion& motion, int frame, int root, Axis up,
-                         std::span<const int> moving);
+                         std::span<const int> moving, std::span<const int> ancestors = {});
 /// The same, written where a caller keeps it: #joints rotations at `rotations`, moving.size()
 /// translations at `translations`. @throws as above.
 void sample_state(const Motion& motion, int frame, int root, Axis up, std::span<const int> moving,
-                  Eigen::Quaterniond* rotations, Eigen::Vector3d* translations, double& height,
-                  Eigen::Vector3d& velocity, double& yaw_rate);
+                  std::span<const int> ancestors, Eigen::Quaterniond* rotations,
+                  Eigen::Vector3d* translations, double& height, Eigen::Vector3d& velocity,
+                  double& yaw_rate);
 
 /// sample_state() of frame `frame` of a clip a blend has read (a blender from its ClipSource,
 /// SavedMap::pose_at), checked before it is blended.
 /// @throws NumericalError naming the clip and frame when a value is not finite; as above.
 SampleState clip_sample_state(const Clip& clip, int frame, int root, Axis up,
-                              std::span<const int> moving);
+                              std::span<const int> moving, std::span<const int> ancestors = {});
 
 /// Checks the motion root and moving joints a blend is given (a clips' summary, a map file's
 /// blend record) against the first clip, `clip_path`, of `joints` joints: the root one of them,
@@ -102,13 +127,16 @@ void check_blend_joints(int motion_root, std::span<const int> moving, int joints
 ///  - translations: the moving joints' weighted sums over the weights' sum; every other joint's
 ///    is its entry of `fixed_translations`, the motion root's 0 on the floor and the blended
 ///    height along `up`;
-///  - velocity and yaw rate: weighted sums over the weights' sum.
+///  - velocity and yaw rate: weighted sums over the weights' sum;
+///  - the motion root's `ancestors` (folded into the states' root) at rest: identity rotation,
+///    zero translation.
 /// The states are summed in the order given: the same states and weights in the same order give
 /// the same frame, bit for bit.
 /// @throws ParameterError for no states, as many weights as states, a weight that is not finite,
 ///   weights summing to about 0, or `motion_root` or a joint of `moving` out of range.
 BlendedFrame blend_states(std::span<const SampleStateView> states, std::span<const double> weights,
                           std::span<const Eigen::Vector3d> fixed_translations,
-                          std::span<const int> moving, int motion_root, Axis up);
+                          std::span<const int> moving, int motion_root, Axis up,
+                          std::span<const int> ancestors = {});
 
 }  // namespace motionmap::synth

@@ -207,7 +207,11 @@ ClipsSummary summarize_clips(int num_clips,
     }
     out.frames.push_back(clip->motion.num_frames);
     out.frame_times.push_back(clip->motion.frame_time);
-    root = std::min(root, motion_root(clip->skeleton, clip->motion));
+    // The deepest of the clips' motion roots: each clip's lies on the chain from the skeleton's
+    // root down to it, so folding its ancestors into it (blend_state.h) carries every clip's
+    // travel, whichever joint of the chain a clip moves.
+    const int own = motion_root(clip->skeleton, clip->motion);
+    root = root == std::numeric_limits<int>::max() ? own : std::max(root, own);
     for (int k = start[c]; k < start[c + 1]; ++k) {
       const int i = order[k];
       if (samples.frame_of[i] < 0 || samples.frame_of[i] >= clip->motion.num_frames) {
@@ -222,8 +226,11 @@ ClipsSummary summarize_clips(int num_clips,
     }
   }
   out.motion_root = root;
+  const std::vector<int> ancestors = root_ancestors(skeleton, root);
   for (int j = 0; j < J; ++j) {
-    if (j != root && varies[j]) out.moving.push_back(j);
+    if (j != root && varies[j] &&
+        std::find(ancestors.begin(), ancestors.end(), j) == ancestors.end())
+      out.moving.push_back(j);
   }
   return out;
 }
@@ -248,7 +255,8 @@ struct MapBlender::Impl {
 
   // Per sample, precomputed so a query only sums (given every clip; empty with a source).
   std::vector<Eigen::Quaterniond> rotations;  // #samples × #joints; the motion root's is its tilt
-  std::vector<int> moving;  // joints other than the motion root whose translation varies
+  std::vector<int> moving;     // joints other than the motion root whose translation varies
+  std::vector<int> ancestors;  // the motion root's, folded into it (blend_state.h)
   std::vector<Eigen::Vector3d> moving_translations;  // #samples × moving.size()
   // #joints: sample 0's, the motion root's zeroed (its height is blended)
   std::vector<Eigen::Vector3d> fixed_translations;
@@ -299,6 +307,7 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips,
   const ClipsSummary summary = summarize_clips(clips, samples);
   motion_root = summary.motion_root;
   moving = summary.moving;
+  ancestors = synth::root_ancestors(clips.front().skeleton, motion_root);
   const int r = motion_root;
 
   const auto un = static_cast<std::size_t>(n);
@@ -311,8 +320,8 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips,
   for (int i = 0; i < n; ++i) {
     const auto ui = static_cast<std::size_t>(i);
     sample_state(clips[samples.clip_of[i]].motion, samples.frame_of[i], r, options.up, moving,
-                 rotations.data() + ui * uJ, moving_translations.data() + ui * mv, height[ui],
-                 velocity[ui], yaw_rate[ui]);
+                 ancestors, rotations.data() + ui * uJ, moving_translations.data() + ui * mv,
+                 height[ui], velocity[ui], yaw_rate[ui]);
   }
   // The samples' contacts, from their own clips (captured feet are found reliably there).
   feet = try_find_feet(clips.front().skeleton, options.up);
@@ -400,7 +409,7 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
       const std::size_t k = missing[b].second;
       const int f = frame_of[static_cast<std::size_t>(samples[k])];
       KeptState kept;
-      kept.state = clip_sample_state(*clip, f, motion_root, options.up, moving);
+      kept.state = clip_sample_state(*clip, f, motion_root, options.up, moving, ancestors);
       put(k, kept.state);
       if (feet) {
         kept.contact = static_cast<std::uint8_t>((clip_contacts[0].in_contact(f) ? 1 : 0) |
@@ -547,6 +556,7 @@ MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSumm
                      first->path);
   s.motion_root = summary.motion_root;
   s.moving = summary.moving;
+  s.ancestors = synth::root_ancestors(s.skeleton, s.motion_root);
   const std::shared_ptr<const Clip> clip0 =
       samples.clip_of[0] == 0 ? first : source->clip(samples.clip_of[0]);
   if (!clip0->skeleton.same_hierarchy(s.skeleton)) {
@@ -669,7 +679,7 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
     }
   }
   return blend_states(states, w.weights, s.fixed_translations, s.moving, s.motion_root,
-                      s.options.up);
+                      s.options.up, s.ancestors);
 }
 
 Motion MapBlender::pose_at(const Eigen::Vector2d& p) const {
@@ -711,16 +721,18 @@ void place_root(Motion& pose, int root, const RootPlacement& placement, Axis up)
   t[u] = height;
 }
 
-RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up) {
+RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up,
+                             std::span<const int> ancestors) {
   if (frame < 0 || frame >= motion.num_frames || root < 0 || root >= motion.num_joints) {
     throw ParameterError("root_placement: frame " + std::to_string(frame) + " or joint " +
                          std::to_string(root) + " is out of range (" +
                          std::to_string(motion.num_frames) + " frames, " +
                          std::to_string(motion.num_joints) + " joints)");
   }
+  const RootTransform t = root_transform(motion, frame, root, ancestors);
   RootPlacement p;
-  p.heading = features::heading_angle(motion.rotation(frame, root).normalized(), up);
-  p.floor = motion.translation(frame, root);
+  p.heading = features::heading_angle(t.rotation.normalized(), up);
+  p.floor = t.translation;
   p.floor[static_cast<int>(up)] = 0.0;
   return p;
 }
@@ -742,6 +754,9 @@ double MapBlender::frame_time() const {
 }
 int MapBlender::motion_root() const {
   return m->motion_root;
+}
+std::span<const int> MapBlender::root_ancestors() const {
+  return m->ancestors;
 }
 double MapBlender::median_step() const {
   return m->index->median_step();

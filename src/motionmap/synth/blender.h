@@ -142,9 +142,11 @@ struct RootPlacement {
 };
 
 /// The placement of the motion root `root` in frame `frame` of `motion` (a viewer keeps it while
-/// the user drags over a map, so the body does not turn to heading 0 or jump to the origin).
-/// @throws ParameterError if `frame` or `root` is out of range.
-RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up = Axis::Y);
+/// the user drags over a map, so the body does not turn to heading 0 or jump to the origin), its
+/// `ancestors` folded in (MapBlender::root_ancestors(); blend_state.h's root_transform).
+/// @throws ParameterError if `frame`, `root` or an ancestor is out of range.
+RootPlacement root_placement(const Motion& motion, int frame, int root, Axis up = Axis::Y,
+                             std::span<const int> ancestors = {});
 
 /// Turns the one-frame `pose`, whose joint `root` faces heading 0 at the floor origin (as
 /// MapBlender::pose and mapfile::SavedMap::pose_at make it), to `placement.heading` about `up` and
@@ -166,11 +168,12 @@ class ClipSource {
 struct ClipsSummary {
   std::vector<int> frames;          ///< per clip: its frame count
   std::vector<double> frame_times;  ///< per clip: seconds per frame
-  /// The joint carrying the root motion (MapBlender::motion_root()): the shallowest of the
-  /// clips' motion_root()s.
+  /// The joint carrying the root motion (MapBlender::motion_root()): the deepest of the clips'
+  /// motion_root()s, its ancestors folded into it (blend_state.h).
   int motion_root = 0;
-  /// The joints other than motion_root whose translation differs between the map's samples
-  /// (beyond 1e-12 relative to the first sample's), increasing: the ones a blend averages.
+  /// The joints other than motion_root and its ancestors whose translation differs between the
+  /// map's samples (beyond 1e-12 relative to the first sample's), increasing: the ones a blend
+  /// averages.
   std::vector<int> moving;
 };
 
@@ -256,10 +259,13 @@ class MapBlender {
   int num_points() const;
   /// Frame time of the first clip (seconds).
   double frame_time() const;
-  /// The joint whose translation and heading carry the root motion: the first root, or below it
-  /// while a joint is constant over the clips and has exactly one child (a static "joint_Root"
-  /// above the hips).
+  /// The joint whose translation and heading carry the root motion (ClipsSummary::motion_root):
+  /// the first root, or below it while a joint has exactly one child and is constant over a clip
+  /// (a static "joint_Root" above the hips), the deepest over the clips.
   int motion_root() const;
+  /// The motion root's ancestors, from the top: folded into it by the blend, left at rest in
+  /// its poses (blend_state.h).
+  std::span<const int> root_ancestors() const;
   /// Median of the non-zero map distances between consecutive samples of a clip (0 if none).
   double median_step() const;
   /// reach_radius(reach, median_step(), the map's size): how far from every sample a point may be

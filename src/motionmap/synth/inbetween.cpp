@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <unordered_map>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
@@ -22,6 +24,16 @@ constexpr int kSpeedNeighbors = 8;
 constexpr double kMinSpeedFraction = 0.1;
 // A route is walked in pieces of at most reach / kWalkSteps for its time.
 constexpr double kWalkSteps = 4.0;
+// A clip route's ends pay (mean angle between their pose's joints and the key's / kPoseAngle)².
+constexpr double kPoseAngle = 0.1;
+// The rates a clip route is tried at (its steps = the segment's samples × rate), on segments of at
+// least kMinRatedSteps samples.
+constexpr double kClipRouteRates[] = {0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.4};
+constexpr double kMinRatedSteps = 12.0;
+// A segment's root path is turned and scaled onto the later key when it travels between this
+// fraction and its inverse of the keys' distance, turned by at most kMaxTravelTurn radians.
+constexpr double kMinTravelRatio = 0.5;
+constexpr double kMaxTravelTurn = 1.0;
 
 // Per sample: its map speed towards the next sample of its clip (the previous one's for the last
 // frame of a clip; 0 for a clip of one sample), map units per second.
@@ -44,6 +56,30 @@ std::vector<double> sample_speeds(const MapBlender& blender, const features::Fea
     }
   }
   return speed;
+}
+
+// Per sample: the next sample of its clip, −1 for a clip's last.
+std::vector<int> next_samples(const features::FeatureSet& samples) {
+  const int n = samples.num_samples();
+  std::vector<int> next(static_cast<std::size_t>(n), -1);
+  for (int i = 0; i + 1 < n; ++i) {
+    if (samples.clip_of[i] == samples.clip_of[i + 1] &&
+        samples.frame_of[i + 1] > samples.frame_of[i])
+      next[i] = i + 1;
+  }
+  return next;
+}
+
+// The median time between consecutive samples of a clip, in frames of the blender (1 when no
+// clip has two samples).
+double median_sample_step(const features::FeatureSet& samples, const std::vector<int>& next) {
+  std::vector<int> steps;
+  for (int i = 0; i < samples.num_samples(); ++i) {
+    if (next[i] >= 0) steps.push_back(samples.frame_of[next[i]] - samples.frame_of[i]);
+  }
+  if (steps.empty()) return 1.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
 }
 
 // A route walked at the samples' own speed: points at most reach / kWalkSteps apart and the
@@ -185,6 +221,13 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
         "frames_between: the keys have times; give either times or frames between keys");
   }
   const double dt = blender.frame_time();
+  // The key poses as the blend makes poses: the motion root's ancestors folded into it.
+  std::vector<Motion> key_poses(static_cast<std::size_t>(K));
+  for (int i = 0; i < K; ++i) {
+    if (!keys[i].has_pose()) continue;
+    key_poses[i] = keys[i].pose;
+    fold_root(key_poses[i], 0, blender.motion_root(), blender.root_ancestors());
+  }
 
   // Frames of the keys.
   std::vector<long long> key_frames(static_cast<std::size_t>(K), 0);
@@ -213,13 +256,57 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   result.grid = make_grid(field, options.route);
   const std::vector<double> speeds = sample_speeds(blender, samples);
   const double floor_speed = kMinSpeedFraction * blender.median_speed();
+  const bool clip_routes = options.route.mode == RouteMode::Clips;
+  const std::vector<int> next = clip_routes ? next_samples(samples) : std::vector<int>{};
+  const double sample_step = clip_routes ? median_sample_step(samples, next) : 1.0;
+  // How far apart two poses are: the mean over the joints of the squared angle between their
+  // rotations (the motion root's heading aside), in units of kPoseAngle². Samples' poses are
+  // blended at their points once, when first asked for.
+  const int root_joint = blender.motion_root();
+  const auto pose_distance = [J, root_joint, up = blender.options().up](const Motion& a,
+                                                                        const Motion& b) {
+    double sum = 0.0;
+    for (int j = 0; j < J; ++j) {
+      Eigen::Quaterniond qa = a.rotation(0, j).normalized(), qb = b.rotation(0, j).normalized();
+      if (j == root_joint) {
+        qa = detail::remove_heading(qa, up);
+        qb = detail::remove_heading(qb, up);
+      }
+      sum += std::pow(qa.angularDistance(qb) / kPoseAngle, 2);
+    }
+    return sum / J;
+  };
+  std::unordered_map<int, Motion> sample_poses;
+  const auto sample_pose = [&](int s) -> const Motion& {
+    auto it = sample_poses.find(s);
+    if (it == sample_poses.end())
+      it = sample_poses.emplace(s, blender.pose_at(blender.sample_point(s))).first;
+    return it->second;
+  };
+  const auto pose_cost = [&](const Motion& key) {
+    return [&](int s) { return pose_distance(key, sample_pose(s)); };
+  };
+  const auto jump_cost = [&](int from, int to) {
+    return pose_distance(sample_pose(from), sample_pose(to));
+  };
   std::vector<WalkedRoute> walked;
+  int last_visited = -1;  // the sample the previous clip route ended on
   for (int i = 0; i + 1 < K; ++i) {
     routing.check();
-    result.routes.push_back(
-        find_route(field, result.grid, keys[i].point, keys[i + 1].point, options.route));
-    walked.push_back(walk(field, speeds, floor_speed, result.routes.back()));
-    if (!timed && options.frames_between < 0) {
+    const bool untimed = !timed && options.frames_between < 0;
+    // Steps of a clip route: one sample each, over the segment's frames (known now when timed).
+    const auto clip_steps = [&](long long span) {
+      return std::max(1.0, std::round(static_cast<double>(span) / sample_step));
+    };
+    const bool clip_route =
+        clip_routes && (untimed || clip_steps(key_frames[i + 1] - key_frames[i]) <=
+                                       static_cast<double>(kMaxClipRouteSteps));
+    if (!clip_route || untimed) {
+      result.routes.push_back(
+          find_route(field, result.grid, keys[i].point, keys[i + 1].point, options.route));
+      walked.push_back(walk(field, speeds, floor_speed, result.routes.back()));
+    }
+    if (untimed) {
       const double duration = walked.back().times.back();
       if (!std::isfinite(duration)) {
         throw ParameterError(
@@ -234,6 +321,53 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       }
       key_frames[i + 1] = key_frames[i] + static_cast<long long>(frames);
     }
+    const double want = clip_steps(key_frames[i + 1] - key_frames[i]);
+    if (!clip_route || want > static_cast<double>(kMaxClipRouteSteps)) {
+      last_visited = -1;
+    } else {
+      // The clips' own frames, one sample per step, the steps spread evenly over the segment.
+      ClipRouteEnds ends;
+      ends.start = last_visited;
+      ends.jump_cost = jump_cost;
+      if (keys[i].has_pose()) ends.start_cost = pose_cost(key_poses[i]);
+      if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(key_poses[i + 1]);
+      // The cheapest of the route played at a few uniform rates (a walk of another cadence
+      // lands in step), when the segment is long enough for a rate to change its length.
+      ClipRoute best;
+      best.cost = std::numeric_limits<double>::infinity();
+      for (const double rate : kClipRouteRates) {
+        if (want < kMinRatedSteps && rate != 1.0) continue;
+        const int rated = static_cast<int>(
+            std::clamp(std::round(want * rate), 1.0, static_cast<double>(kMaxClipRouteSteps)));
+        ClipRoute route =
+            find_clip_route(field, next, keys[i].point, keys[i + 1].point, rated, ends);
+        if (route.cost < best.cost) best = std::move(route);
+      }
+      const std::vector<int>& visited = best.samples;
+      const int steps_taken = static_cast<int>(visited.size()) - 1;
+      last_visited = visited.back();
+      // Frames blend at the visited samples' points; a map-point key's frame at its point.
+      WalkedRoute w;
+      for (int t = 0; t <= steps_taken; ++t) {
+        w.points.push_back(field.sample(visited[static_cast<std::size_t>(t)]));
+        w.times.push_back(static_cast<double>(t));
+      }
+      if (!keys[i].has_pose()) w.points.front() = keys[i].point;
+      if (!keys[i + 1].has_pose()) w.points.back() = keys[i + 1].point;
+      // The route drawn: from key i's point through the samples to key i + 1's.
+      std::vector<Eigen::Vector2d> drawn{keys[i].point};
+      for (const Eigen::Vector2d& p : w.points) {
+        if (p != drawn.back()) drawn.push_back(p);
+      }
+      if (keys[i + 1].point != drawn.back()) drawn.push_back(keys[i + 1].point);
+      if (untimed) {
+        walked.back() = std::move(w);
+        result.routes.back() = std::move(drawn);
+      } else {
+        walked.push_back(std::move(w));
+        result.routes.push_back(std::move(drawn));
+      }
+    }
     routing.update(static_cast<double>(i + 1) / (K - 1));
   }
 
@@ -245,12 +379,10 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     const long long a = key_frames[i], b = key_frames[i + 1];
     for (long long k = a; k < b; ++k) {
       result.points[static_cast<std::size_t>(k)] =
-          k == a ? keys[i].point
-                 : at_time(
-                       w, w.times.back() * static_cast<double>(k - a) / static_cast<double>(b - a));
+          at_time(w, w.times.back() * static_cast<double>(k - a) / static_cast<double>(b - a));
     }
   }
-  result.points.back() = keys[K - 1].point;
+  result.points.back() = walked.back().points.back();
 
   // Blended poses and root motion along them: a path timed at the frames.
   MapPath path;
@@ -296,7 +428,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       std::vector<Eigen::Vector3d>(static_cast<std::size_t>(J), Eigen::Vector3d::Zero()));
   for (int i = 0; i < K; ++i) {
     if (!keys[i].has_pose()) continue;
-    const Motion& p = keys[i].pose;
+    const Motion& p = key_poses[i];
     const int f = static_cast<int>(key_frames[i]);
     for (int j = 0; j < J; ++j) {
       if (j == root) {
@@ -319,7 +451,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   for (int i = 0; i < K; ++i) {
     if (!keys[i].has_pose()) continue;
     placed.push_back(i);
-    placement[i] = root_placement(keys[i].pose, 0, root, up);
+    placement[i] = root_placement(key_poses[i], 0, root, up);
     placement[i].floor -= placement[i].floor.dot(up_unit) * up_unit;
   }
   // The free placement of frame k moved rigidly so that frame `at` stands at `p`.
@@ -369,8 +501,22 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
           r = aligned(k, fa, placement[earlier]);
           const RootPlacement end = aligned(fb, fa, placement[earlier]);
           const double u = static_cast<double>(k - fa) / static_cast<double>(fb - fa);
-          r.floor += u * (placement[later].floor - end.floor);
-          r.heading += u * wrap_angle(placement[later].heading - end.heading);
+          // Where the blend travels about as far as the keys are apart and in about their
+          // direction, its path is turned and scaled about the earlier key onto the later one,
+          // so the error spreads with the distance walked (a slower or faster walk's steps keep
+          // their length ratio); elsewhere (in place, or far off) it spreads with time.
+          const Eigen::Vector3d& start = placement[earlier].floor;
+          const Eigen::Vector3d went = end.floor - start, want = placement[later].floor - start;
+          const double ratio = want.norm() / went.norm();
+          const double turn = wrap_angle(std::atan2(went.cross(want).dot(up_unit), went.dot(want)));
+          if (ratio >= kMinTravelRatio && ratio <= 1.0 / kMinTravelRatio &&
+              std::abs(turn) <= kMaxTravelTurn) {
+            r.floor = start + ratio * (axis_rotation(up, turn) * (r.floor - start));
+            r.heading += turn + u * wrap_angle(placement[later].heading - (end.heading + turn));
+          } else {
+            r.floor += u * (placement[later].floor - end.floor);
+            r.heading += u * wrap_angle(placement[later].heading - end.heading);
+          }
         }
       }
       m.rotation(f, root) = (axis_rotation(up, r.heading) * tilt[ks]).normalized();

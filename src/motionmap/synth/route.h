@@ -32,8 +32,10 @@
 // leave the valid region is kept. Every segment of a route between two valid points is checked
 // valid (everywhere: the distance to the samples is 1-Lipschitz) and, where it is not, split at
 // its midpoint pulled to 0.9·r of its nearest sample (depth-limited).
+#include <functional>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -55,7 +57,24 @@ inline constexpr int kMaxGridCells = 200;
 /// Most cells along the longer side that RouteOptions::grid may ask for.
 inline constexpr int kMaxGridOption = 2000;
 
+/// How a route between two keys is found.
+enum class RouteMode {
+  /// Through the clips' own frames (find_clip_route): the motion between the keys is the
+  /// samples' own, played on, held, sped up or jumping to a nearby sample of another clip.
+  Clips,
+  /// Shin & Lee's: the cheapest path over the grid through the valid region, smoothed
+  /// (find_route), walked at the samples' own speed.
+  Grid,
+};
+
+/// "clips" or "grid".
+const char* route_mode_name(RouteMode mode);
+/// @throws ParameterError naming `route` and the accepted names.
+RouteMode parse_route_mode(const std::string& name);
+
 struct RouteOptions {
+  /// How the route is found (see RouteMode).
+  RouteMode mode = RouteMode::Clips;
   /// Cells along the longer side of the grid; 0 = from the map's density (see the top).
   int grid = 0;
   /// String pulling and Chaikin smoothing of the grid route.
@@ -150,6 +169,51 @@ RouteGrid make_grid(const MapField& field, const RouteOptions& options = {});
 std::vector<Eigen::Vector2d> find_route(const MapField& field, const RouteGrid& grid,
                                         const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                         const RouteOptions& options = {});
+
+/// Costs of a clip route's steps, in units of (map distance / reach)² (see find_clip_route).
+struct ClipRouteCosts {
+  double hold = 0.2;  ///< a sample repeated (time slowed)
+  double skip = 0.2;  ///< a sample skipped (time sped up)
+  double jump = 1.0;  ///< to another sample than the next, plus (its distance from the next / r)²
+  double ends = 1.0;  ///< times (distance / r)² of the first sample from a and the last from b
+};
+
+/// Nearest samples a clip route may start or end on, and jump to from a sample's successor.
+inline constexpr int kClipRouteEnds = 16;
+inline constexpr int kClipRouteJumps = 8;
+/// Most samples a clip route keeps per step (the cheapest; the search is exact below it).
+inline constexpr int kClipRouteBeam = 4096;
+/// Most steps a clip route may take (inbetween() takes the grid route for longer segments).
+inline constexpr int kMaxClipRouteSteps = 2000;
+
+/// The samples a route through the clips' own frames visits from a to b in exactly `steps`
+/// steps (steps + 1 samples): the path minimising
+///     (|s₀ − a|/r)² + Σ step costs + (|s_T − b|/r)²,
+/// a step from sample s going to next[s] (its clip's next sample) at no cost, or staying on s
+/// (costs.hold), or to next[next[s]] (costs.skip), or to one of the kClipRouteJumps samples
+/// nearest next[s]'s point (nearest s's at a clip's end) within r, at costs.jump + (d/r)². The
+/// ends are among the kClipRouteEnds samples nearest a and b. Exact while no step has more than
+/// kClipRouteBeam samples reached; beyond, the cheapest are kept, ranked with their distance to
+/// b. `next[s]` = −1 at a clip's last sample.
+/// @throws ParameterError if next's size is not the field's number of samples, an entry is out
+///         of range, steps is outside [1, kMaxClipRouteSteps], or a or b is not finite.
+/// `ends`: where the route may start (a sample, e.g. a previous route's last) and what starting
+/// or ending on a sample costs beyond its distance (e.g. how far its pose is from a key's).
+struct ClipRouteEnds {
+  int start = -1;                         ///< ≥ 0: the route starts on this sample, not near a
+  std::function<double(int)> start_cost;  ///< extra cost of starting on a sample; null: none
+  std::function<double(int)> end_cost;    ///< extra cost of ending on a sample; null: none
+  /// Extra cost of a jump from one sample (the next one's place) to another, e.g. how far apart
+  /// their poses are; null: none.
+  std::function<double(int, int)> jump_cost;
+};
+struct ClipRoute {
+  std::vector<int> samples;  ///< steps + 1 samples
+  double cost = 0.0;         ///< the path's cost (see above)
+};
+ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
+                          const Eigen::Vector2d& a, const Eigen::Vector2d& b, int steps,
+                          const ClipRouteEnds& ends = {}, const ClipRouteCosts& costs = {});
 
 /// Length of a polyline.
 double polyline_length(std::span<const Eigen::Vector2d> points);

@@ -28,16 +28,14 @@ struct RootSample {
   double yaw_rate = 0.0;
 };
 
-/// The joint carrying the root motion of every clip: the shallowest of their motion_root()s (a
-/// joint that moves in any clip carries motion). The clips share one hierarchy; at least one.
-int shared_motion_root(std::span<const Clip> clips);
-
 /// `q` with its heading about `up` removed: yaw(−heading_angle(q, up))·q, normalised.
 Eigen::Quaterniond remove_heading(const Eigen::Quaterniond& q, Axis up);
 
-/// Root motion of frame f of `motion` at joint `root`. Velocity and yaw rate are forward
-/// differences to the next frame (the last frame repeats its predecessor's; a one-frame motion
-/// stands still), so integrating a clip's own samples retraces the clip exactly.
-RootSample root_sample(const Motion& motion, int frame, int root, Axis up);
+/// Root motion of frame f of `motion` at joint `root`, its `ancestors` folded in (root_transform
+/// in blend_state.h). Velocity and yaw rate are forward differences to the next frame (the last
+/// frame repeats its predecessor's; a one-frame motion stands still), so integrating a clip's own
+/// samples retraces the clip exactly.
+RootSample root_sample(const Motion& motion, int frame, int root, Axis up,
+                       std::span<const int> ancestors = {});
 
 }  // namespace motionmap::synth::detail

@@ -19,7 +19,8 @@ The protocol as published (LAFAN1's benchmark), applied to a library instead of 
   * Zero-velocity repeats frame 9; Interp lerps the root's translation and slerps every local
     rotation between frame 9 and frame 10 + n.
 MotionMap: the library's map (isomap, default options, every frame), and `motionmap.inbetween`
-with keys (held-out clip, frame) — not in the map, so placed on it — and n frames between.
+with keys (held-out clip, frame) — not in the map, so placed on it — and n frames between, by its
+default route through the clips' own frames ("MotionMap") and by the grid route ("MM grid").
 
 The split (kept here): the library is the Bandai Namco clips of ../shared/data/bandai but the
 held-out take, dataset-1_walk_proud_001.bvh. (The CMU clips have another skeleton.)
@@ -175,9 +176,10 @@ def interpolation(take, a, b):
     return rot, trans
 
 
-def motionmap_inbetween(estimator, take, a, b):
+def motionmap_inbetween(estimator, take, a, b, route):
     n = b - a - 1
-    motion, _ = motionmap.inbetween(estimator, [(take.clip, a), (take.clip, b)], frames_between=n)
+    motion, _ = motionmap.inbetween(estimator, [(take.clip, a), (take.clip, b)], frames_between=n,
+                                    route=route)
     return motion.rotations[1:n + 1], motion.translations[1:n + 1]
 
 
@@ -234,7 +236,8 @@ def main():
     test = [Take(motionmap.load(p)) for p in held_out]
     stats = train_stats(train)
     methods = {
-        "MotionMap": lambda take, a, b: motionmap_inbetween(estimator, take, a, b),
+        "MotionMap": lambda take, a, b: motionmap_inbetween(estimator, take, a, b, "clips"),
+        "MM grid": lambda take, a, b: motionmap_inbetween(estimator, take, a, b, "grid"),
         "Interp": interpolation,
         "Zero-vel": zero_velocity,
     }

@@ -300,7 +300,11 @@ void setup_inbetween(CLI::App& app) {
     std::cerr << "wrote " << cmd->output << ": " << r.motion.num_frames << " frames at "
               << format_number(r.motion.fps(), 4) << " fps ("
               << format_number(r.motion.duration(), 4) << " s); keys at frames " << at
-              << "; route grid " << r.grid.nx << "×" << r.grid.ny << "\n";
+              << (options.route.mode == synth::RouteMode::Clips
+                      ? std::string("; routes through the clips' frames")
+                      : "; route grid " + std::to_string(r.grid.nx) + "×" +
+                            std::to_string(r.grid.ny))
+              << "\n";
   });
 }
 

@@ -17,16 +17,17 @@ def test_keys_are_hit_exactly(golf):
     clip = motionmap.load(golf)
     # 40 and 200 are samples (stride 2 from frame 1: the T-pose is left out) or not: either way.
     keys = [(golf, 41), (golf, 200), (clip, 300)]
-    motion, route = motionmap.inbetween(est, keys, frames_between=20)
-    assert isinstance(motion, motionmap.Clip) and motion.num_frames == 43
-    assert route["key_frames"] == [0, 21, 42]
-    assert route["points"].shape == (43, 2)
-    assert all(route["valid"])
-    assert len(route["routes"]) == 2 and route["routes"][0].shape[1] == 2
-    for k, f in zip(route["key_frames"], (41, 200, 300)):
-        same_rotations(motion.rotations[k], clip.rotations[f], 1e-9)
-        np.testing.assert_allclose(motion.translations[k, 0], clip.translations[f, 0], rtol=1e-9,
-                                   atol=1e-9)
+    for kind in ("clips", "grid"):
+        motion, route = motionmap.inbetween(est, keys, frames_between=20, route=kind)
+        assert isinstance(motion, motionmap.Clip) and motion.num_frames == 43
+        assert route["key_frames"] == [0, 21, 42]
+        assert route["points"].shape == (43, 2)
+        assert all(route["valid"])
+        assert len(route["routes"]) == 2 and route["routes"][0].shape[1] == 2
+        for k, f in zip(route["key_frames"], (41, 200, 300)):
+            same_rotations(motion.rotations[k], clip.rotations[f], 1e-9)
+            np.testing.assert_allclose(motion.translations[k, 0], clip.translations[f, 0],
+                                       rtol=1e-9, atol=1e-9)
 
 
 def test_timing(golf):
@@ -49,6 +50,8 @@ def test_bad_keys(golf, other):
         motionmap.inbetween(est, [(golf, 10), (other, 5)])
     with pytest.raises(motionmap.Error, match="a key is"):
         motionmap.inbetween(est, [(golf, 10), "x"])
+    with pytest.raises(motionmap.Error, match="'fast' is not a route"):
+        motionmap.inbetween(est, [(golf, 10), (golf, 20)], route="fast")
     with pytest.raises(motionmap.Error, match="at least 2"):
         motionmap.inbetween(est, [(golf, 10)])
     with pytest.raises(motionmap.Error, match="fitted on an array"):

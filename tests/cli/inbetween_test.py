@@ -168,21 +168,27 @@ def on_a_saved_map():
 
 
 @test
-def grid_and_smoothing_options():
+def route_grid_and_smoothing_options():
     if not have():
         return
     keys = f"{data(ANGRY)}:20,{data(RUN)}:40"
-    for extra in (["--grid", "20"], ["--grid", "40", "--no-smooth"], ["--no-smooth"]):
+    for extra in (["--grid", "20"], ["--grid", "40", "--no-smooth"], ["--no-smooth"], []):
         out = tmp("grid.bvh")
-        code, _, err = inbetween("--keys", keys, "--frames-between", "12", "-o", out, *extra)
+        route = ["--route", "grid"] if extra else []
+        code, _, err = inbetween("--keys", keys, "--frames-between", "12", "-o", out, *route,
+                                 *extra)
         assert code == 0, (extra, err)
         if extra[:1] == ["--grid"]:
             assert f"route grid {extra[1]}×" in err, err
+        if not extra:  # the default: through the clips' own frames
+            assert "routes through the clips' frames" in err, err
         rows = motion_rows(out)
         assert len(rows) == 14 and close(rows[0], converted(ANGRY)[20])
         assert close(rows[13], converted(RUN)[40])
     code, _, err = inbetween("--keys", keys, "--grid", "1", "-o", tmp("grid.bvh"))
     assert code == 2 and "--grid" in err, err
+    code, _, err = inbetween("--keys", keys, "--route", "fast", "-o", tmp("grid.bvh"))
+    assert code == 2 and "--route" in err, err
 
 
 @test

@@ -87,6 +87,9 @@ double median_sample_step(const features::FeatureSet& samples, const std::vector
 struct WalkedRoute {
   std::vector<Eigen::Vector2d> points;
   std::vector<double> times;
+  /// A clip route's: per step, the clips' frames it advances (0 for a hold); empty for a grid
+  /// route, whose blended root velocities are the samples' own speed already.
+  std::vector<double> advance;
 };
 
 WalkedRoute walk(const MapField& field, const std::vector<double>& speeds, double floor_speed,
@@ -349,8 +352,17 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       // Frames blend at the visited samples' points; a map-point key's frame at its point.
       WalkedRoute w;
       for (int t = 0; t <= steps_taken; ++t) {
-        w.points.push_back(field.sample(visited[static_cast<std::size_t>(t)]));
+        const int at = visited[static_cast<std::size_t>(t)];
+        w.points.push_back(field.sample(at));
         w.times.push_back(static_cast<double>(t));
+        if (t == 0) continue;
+        const int from = visited[static_cast<std::size_t>(t) - 1];
+        const int on = next[static_cast<std::size_t>(from)];
+        w.advance.push_back(at == from ? 0.0
+                            : on >= 0 && at == next[static_cast<std::size_t>(on)]
+                                ? samples.frame_of[at] - samples.frame_of[from]
+                            : on >= 0 && at == on ? samples.frame_of[on] - samples.frame_of[from]
+                                                  : sample_step);
       }
       if (!keys[i].has_pose()) w.points.front() = keys[i].point;
       if (!keys[i + 1].has_pose()) w.points.back() = keys[i + 1].point;
@@ -417,6 +429,43 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     const Eigen::Vector3d t = m.translation(static_cast<int>(k), root);
     height[ks] = t.dot(up_unit);
     floor[ks] = t - height[ks] * up_unit;
+  }
+  // On a clip route the frames play the clips at the route's pace (held, on, or skipping, over
+  // the segment's frames), and so must the root: each frame's floor step and turn (the blend's,
+  // at the clips' own pace) scaled by the clips' frames the route advances per output frame.
+  const std::vector<double> blend_heading = heading;
+  const std::vector<Eigen::Vector3d> blend_floor = floor;
+  for (int i = 0; i + 1 < K; ++i) {
+    const WalkedRoute& w = walked[static_cast<std::size_t>(i)];
+    if (w.advance.empty()) continue;
+    const long long a = key_frames[i], b = key_frames[i + 1];
+    const double steps = static_cast<double>(w.advance.size());
+    Eigen::Vector3d at = floor[static_cast<std::size_t>(a)];
+    double turned = heading[static_cast<std::size_t>(a)];
+    for (long long k = a + 1; k <= b; ++k) {
+      const auto ks = static_cast<std::size_t>(k);
+      const auto step = static_cast<std::size_t>(std::min(
+          steps - 1.0,
+          std::floor(steps * static_cast<double>(k - 1 - a) / static_cast<double>(b - a))));
+      const double pace = w.advance[step] * steps / static_cast<double>(b - a);
+      const Eigen::Vector3d local =
+          axis_rotation(up, -blend_heading[ks - 1]) * (blend_floor[ks] - blend_floor[ks - 1]);
+      const double turn = wrap_angle(blend_heading[ks] - blend_heading[ks - 1]);
+      const Eigen::Vector3d next_at = at + axis_rotation(up, turned) * (pace * local);
+      floor[ks - 1] = at;
+      heading[ks - 1] = turned;
+      at = next_at;
+      turned += pace * turn;
+    }
+    // Frames after this segment move rigidly with its end.
+    const auto bs = static_cast<std::size_t>(b);
+    const double shift_turn = turned - heading[bs];
+    const Eigen::Vector3d from = floor[bs];
+    for (long long k = b; k < frames; ++k) {
+      const auto ks = static_cast<std::size_t>(k);
+      floor[ks] = at + axis_rotation(up, shift_turn) * (floor[ks] - from);
+      heading[ks] += shift_turn;
+    }
   }
 
   // The displacement map at each key: rotations (the root's of the tilts) and translations.

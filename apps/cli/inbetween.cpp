@@ -1,6 +1,7 @@
 // `motionmap inbetween FILE… --keys walk.bvh:9,walk.bvh:40 -o out.bvh`: a motion through key
-// poses, each segment following the cheapest route through the valid region of the clips' map
-// (synth/inbetween.h; docs/synthesis.md, "Key poses and in-betweening"). With `--map lib.mmap.h5`
+// poses, each segment following a route through the clips' own frames (--route clips) or the
+// cheapest route through the valid region of the clips' map (--route grid) (synth/inbetween.h;
+// docs/synthesis.md, "Key poses and in-betweening"). With `--map lib.mmap.h5`
 // no FILE is given: the saved map's clips are loaded on demand and checked against their SHA-256.
 //
 // A key is FILE:FRAME (a frame, 0-based, of any clip of the map's skeleton; a frame that is not a
@@ -206,8 +207,9 @@ void setup_inbetween(CLI::App& app) {
   auto cmd = std::make_shared<InbetweenCommand>();
   auto* sub = app.add_subcommand(
       "inbetween",
-      "In-betweening: a motion through key poses, exactly, each segment following the cheapest\n"
-      "route through the valid region of the clips' map (near the data), written as BVH.\n"
+      "In-betweening: a motion through key poses, exactly, each segment playing the clips' own\n"
+      "frames (jumping between clips where their poses meet on the map; --route grid: the\n"
+      "cheapest route through the valid region of the map), written as BVH.\n"
       "A key is FILE:FRAME (frame from 0 of any clip of the map's skeleton; one that is not a\n"
       "sample of the map is placed on it as `map --onto` does) or X:Y (a map point), each with an\n"
       "optional @SECONDS. Then each foot is held still through its contacts with the floor, the\n"

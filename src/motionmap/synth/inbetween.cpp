@@ -331,7 +331,9 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       // The clips' own frames, one sample per step, the steps spread evenly over the segment.
       ClipRouteEnds ends;
       ends.start = last_visited;
-      ends.jump_cost = jump_cost;
+      // A blender reading its clips on demand (a saved map's) would read a clip for almost every
+      // sample the search reaches: jumps are priced by their map distance alone there.
+      if (!blender.reads_on_demand()) ends.jump_cost = jump_cost;
       if (keys[i].has_pose()) ends.start_cost = pose_cost(key_poses[i]);
       if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(key_poses[i + 1]);
       // The cheapest of the route played at a few uniform rates (a walk of another cadence

@@ -1,7 +1,8 @@
 #pragma once
 // Key poses and in-betweening: a motion that passes through given key poses exactly, at their
-// times, following between consecutive keys the cheapest route through the valid region of the
-// map (route.h) — Shin & Lee's motion-map in-betweening.
+// times, following between consecutive keys a route on the map (route.h): by default through the
+// clips' own frames (RouteMode::Clips, find_clip_route), or the cheapest route through the valid
+// region of the map (RouteMode::Grid, find_route) — Shin & Lee's motion-map in-betweening.
 //
 //   using namespace motionmap::synth;
 //   MapBlender blender(clips, set, coords);
@@ -20,7 +21,9 @@
 // free.
 //
 // The motion, segment by segment between consecutive keys i and i + 1 at frames f_i < f_{i+1}:
-//  1. map points: the route (find_route) from key i's point to key i + 1's, walked so that the
+//  1. map points: a clip route's samples, one per step, the steps spread evenly over the
+//     segment's frames (the root then follows the route's pace: 0 on a hold, twice on a skip);
+//     or the grid route (find_route) from key i's point to key i + 1's, walked so that the
 //     frames fall at equal steps of the samples' own time along it: ∫ ds / v(s), v the mean map
 //     speed of the 8 samples nearest s (at least a tenth of MapBlender::median_speed());
 //  2. poses: synthesize() along those points, every frame on its point (a path timed at the

@@ -119,6 +119,8 @@ void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
   m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
+  m_shadingIndex.reset();  // another map's samples
+  m_reachField.reset();
   invalidate();
   update();
   emit mapReplaced();
@@ -165,6 +167,8 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
+  m_shadingIndex.reset();  // another map's samples
+  m_reachField.reset();
   invalidate();
   update();
   emit mapReplaced();
@@ -185,6 +189,8 @@ void MapView::clearMap(const QString& hint) {
   m_comparisonPoint.reset();
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
+  m_shadingIndex.reset();  // another map's samples
+  m_reachField.reset();
   if (!hint.isEmpty()) m_hint = hint;
   invalidate();
   update();
@@ -354,8 +360,10 @@ void MapView::setSketchMode(bool on) {
   m_sketchMode = on;
 }
 
-void MapView::setShadingReach(double reach) {
+void MapView::setShadingReach(double reach, std::shared_ptr<const synth::PointIndex> index) {
   m_shadingReach = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
+  m_shadingIndex = std::move(index);
+  m_reachField.reset();
   m_cache = QPixmap();
   m_overLayer = QImage();
   update();
@@ -463,15 +471,17 @@ void MapView::paintEvent(QPaintEvent*) {
     QPainter cachePainter(&m_cache);
     cachePainter.setRenderHint(QPainter::Antialiasing);
     const render::MapPlotOptions options = viewOptions();
+    const bool shading = m_shadingVisible && shadingAvailable();
     if (m_density) {
-      // Background, the saved map's density (inside the frame), then the current clip's
-      // trajectory over it.
+      // Background, the saved map's density (inside the frame), the shading, then the current
+      // clip's trajectory over it.
       cachePainter.fillRect(
           rect(), m_options.background.isValid() ? m_options.background : QColor(Qt::white));
       cachePainter.save();
       cachePainter.setClipRect(plotRect());
       cachePainter.drawImage(QPointF(0, 0), densityImage());
       cachePainter.restore();
+      if (shading) paintShading(cachePainter);
       // The marks and the trajectory over it, a layer of their own: kept while only the
       // density's colours change.
       if (m_overLayer.isNull() || m_overLayer.size() != m_cache.size()) {
@@ -492,9 +502,19 @@ void MapView::paintEvent(QPaintEvent*) {
       paintTrajectory(cachePainter, options);
       paintMarks(cachePainter, m_highlight, highlightColor());
       paintMarks(cachePainter, m_selection, selectionColor());
+      if (shading) {
+        paintShading(cachePainter);
+        // The trajectory stays on top, in its own colours (clipped: the title, colour bar and
+        // notes are not drawn twice).
+        cachePainter.save();
+        cachePainter.setClipRect(plotRect());
+        render::MapPlotOptions over = options;
+        over.background = QColor();
+        paintTrajectory(cachePainter, over);
+        cachePainter.restore();
+      }
     }
-    if (m_shadingVisible && m_shadingReach > 0.0 && !m_density && m_coords.rows() > 0)
-      paintShading(cachePainter);
+    if (shading) paintShadingKey(cachePainter);
   }
   painter.drawPixmap(0, 0, m_cache);
   painter.setRenderHint(QPainter::Antialiasing);
@@ -538,45 +558,92 @@ QRectF MapView::plotRect() const {
 }
 
 double MapView::shadingRadius() const {
-  if (m_coords.rows() == 0 || m_shadingReach <= 0.0) return 0.0;
+  if (!shadingAvailable()) return 0.0;
   ensureTransform();
   return QLineF(m_toWidget.map(QPointF(0.0, 0.0)), m_toWidget.map(QPointF(m_shadingReach, 0.0)))
       .length();
 }
 
-void MapView::paintShading(QPainter& painter) const {
+namespace {
+/// The shading's colour, drawn at kShadingOpacity.
+const QColor kShadingGreen(30, 170, 70);
+constexpr double kShadingOpacity = 0.3;
+}  // namespace
+
+void MapView::ensureReachField() const {
+  if (m_reachField) return;
+  const Eigen::MatrixXd& samples = m_density ? *m_density : m_coords;
+  if (!m_shadingIndex) m_shadingIndex = std::make_shared<const synth::PointIndex>(samples);
+  m_reachField = std::make_shared<const render::ReachField>(samples, m_shadingReach);
+}
+
+bool MapView::withinReach(const Eigen::Vector2d& p) const {
+  const synth::Neighbor nearest = m_shadingIndex->nearest(p);
+  return nearest.sample >= 0 && nearest.distance <= m_shadingReach;
+}
+
+QImage MapView::shadingLayer() const {
+  if (!shadingAvailable()) return {};
   ensureTransform();
-  const QRectF plot = plotRect();
-  const double radius = shadingRadius();
-  if (radius <= 0.0) return;
-  const QColor green(30, 170, 70);
-  constexpr double kOpacity = 0.3;
-  // The union of the samples' discs, opaque in a layer, laid over at one alpha.
-  const qreal dpr = m_cache.devicePixelRatio();
-  QImage layer(m_cache.size(), QImage::Format_ARGB32_Premultiplied);
+  ensureReachField();
+  const qreal dpr = devicePixelRatioF();
+  const QSize pixels = size() * dpr;
+  const QTransform toMap =
+      dpr == 1.0 ? m_toMap : QTransform::fromScale(1.0 / dpr, 1.0 / dpr) * m_toMap;
+  // The pixels whose centres lie inside the plot's frame: never over the title, the colour bar
+  // or the notes.
+  const QRectF plot(plotRect().topLeft() * dpr, plotRect().size() * dpr);
+  const QRect clip(
+      QPoint(int(std::ceil(plot.left() - 0.5)), int(std::ceil(plot.top() - 0.5))),
+      QPoint(int(std::floor(plot.right() - 0.5)), int(std::floor(plot.bottom() - 0.5))));
+  QImage layer = render::reach_image(
+      *m_reachField, toMap, pixels, kShadingGreen,
+      [this](const Eigen::Vector2d& p) { return withinReach(p); }, clip);
   layer.setDevicePixelRatio(dpr);
-  layer.fill(Qt::transparent);
-  QPainter discs(&layer);
-  discs.setRenderHint(QPainter::Antialiasing);
-  discs.setClipRect(plot);  // never over the title, the colour bar or the notes
-  discs.setPen(Qt::NoPen);
-  discs.setBrush(green);
-  for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
-    const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
-    if (std::isfinite(p.x()) && std::isfinite(p.y())) discs.drawEllipse(p, radius, radius);
-  }
-  discs.end();
+  return layer;
+}
+
+void MapView::paintShading(QPainter& painter) const {
+  const QImage layer = shadingLayer();
+  if (layer.isNull()) return;
   painter.save();
-  painter.setOpacity(kOpacity);
+  painter.setOpacity(kShadingOpacity);
   painter.drawImage(QPointF(0, 0), layer);
-  painter.setOpacity(1.0);
-  // The trajectory stays on top, in its own colours (clipped: the title, colour bar and notes
-  // are not drawn twice).
-  painter.setClipRect(plot);
-  render::MapPlotOptions over = viewOptions();
-  over.background = QColor();
-  paintTrajectory(painter, over);
-  // The key, inside the plot's lower-left corner.
+  painter.restore();
+}
+
+void MapView::paintLensShading(QPainter& painter, const QRectF& bounds) const {
+  ensureReachField();
+  const QRectF plot = plotRect();
+  const QPointF centre = m_lensCenter;
+  const double R = lensRadius();
+  // On whole pixels (the lens's centre follows the mouse to fractions of one), each decided at
+  // its centre.
+  const QRect box = bounds.toAlignedRect();
+  QImage lensed(box.size(), QImage::Format_ARGB32_Premultiplied);
+  lensed.fill(Qt::transparent);
+  const QRgb ink = kShadingGreen.rgba();
+  for (int y = 0; y < lensed.height(); ++y) {
+    auto* line = reinterpret_cast<QRgb*>(lensed.scanLine(y));
+    for (int x = 0; x < lensed.width(); ++x) {
+      const QPointF shown = QPointF(box.topLeft()) + QPointF(x + 0.5, y + 0.5);
+      if (!plot.contains(shown) || QLineF(shown, centre).length() > R) continue;
+      const QPointF at = m_toMap.map(unlens(shown));
+      const auto side = m_reachField->side(at.x(), at.y());
+      if (side == render::ReachField::Side::Inside ||
+          (side == render::ReachField::Side::Unsure && withinReach({at.x(), at.y()})))
+        line[x] = ink;
+    }
+  }
+  painter.save();
+  painter.setOpacity(kShadingOpacity);
+  painter.drawImage(box.topLeft(), lensed);
+  painter.restore();
+}
+
+void MapView::paintShadingKey(QPainter& painter) const {
+  const QRectF plot = plotRect();
+  painter.save();
   QFont font = painter.font();
   font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
   painter.setFont(font);
@@ -589,8 +656,8 @@ void MapView::paintShading(QPainter& painter) const {
   painter.setPen(QPen(QColor(150, 150, 150), 1));
   painter.setBrush(QColor(255, 255, 255, 220));
   painter.drawRect(key);
-  QColor fill = green;
-  fill.setAlphaF(kOpacity);
+  QColor fill = kShadingGreen;
+  fill.setAlphaF(kShadingOpacity);
   painter.setPen(Qt::NoPen);
   painter.setBrush(fill);
   painter.drawRect(QRectF(key.left() + pad, key.top() + pad, swatch, swatch));
@@ -688,6 +755,7 @@ void MapView::paintLens(QPainter& painter) const {
     }
     painter.drawImage(bounds.topLeft(), lensed);
   }
+  if (m_shadingVisible && shadingAvailable()) paintLensShading(painter, bounds);
   // The segments near the lens, bent: only those whose box meets the lens's box are looked at.
   const double width = m_options.line_width * std::sqrt(m_lensPower + 1.0);
   for (const auto& s : m_pixelSegments) {

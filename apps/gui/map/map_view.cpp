@@ -117,6 +117,7 @@ void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
   m_highlight.resize(0, 2);
   m_comparison.resize(0, 2);
   m_comparisonPoint.reset();
+  m_comparisonClip = -1;
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   m_shadingIndex.reset();  // another map's samples
@@ -165,6 +166,7 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_highlight.resize(0, 2);
   m_comparison.resize(0, 2);
   m_comparisonPoint.reset();
+  m_comparisonClip = -1;
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   m_shadingIndex.reset();  // another map's samples
@@ -187,6 +189,7 @@ void MapView::clearMap(const QString& hint) {
   m_highlight.resize(0, 2);
   m_comparison.resize(0, 2);
   m_comparisonPoint.reset();
+  m_comparisonClip = -1;
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
   m_shadingIndex.reset();  // another map's samples
@@ -205,10 +208,22 @@ void MapView::setHighlight(const Eigen::MatrixXd& points) {
 }
 
 void MapView::setComparison(const Eigen::MatrixXd& trajectory,
-                            const std::optional<Eigen::Vector2d>& point) {
+                            const std::optional<Eigen::Vector2d>& point, int clip) {
   m_comparison = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
   m_comparisonPoint = m_comparison.rows() > 0 ? point : std::nullopt;
+  const int compared = m_comparison.rows() > 0 ? std::max(clip, -1) : -1;
+  if (compared != m_comparisonClip) {
+    // Its trajectory and legend swatch change colour: the cached picture is painted again (a
+    // frame of the comparison only moves the ring).
+    m_comparisonClip = compared;
+    m_cache = QPixmap();
+    m_overLayer = QImage();
+  }
   update();
+}
+
+QColor MapView::clipColor(int clip, double t) const {
+  return render::drawn_clip_color(shownOptions(), clip, t);
 }
 
 void MapView::paintComparison(QPainter& painter) const {
@@ -758,6 +773,7 @@ void MapView::paintLens(QPainter& painter) const {
   if (m_shadingVisible && shadingAvailable()) paintLensShading(painter, bounds);
   // The segments near the lens, bent: only those whose box meets the lens's box are looked at.
   const double width = m_options.line_width * std::sqrt(m_lensPower + 1.0);
+  const render::MapPlotOptions shown = shownOptions();  // the clips' colours, as drawn
   for (const auto& s : m_pixelSegments) {
     if (std::max(s.from.x(), s.to.x()) < bounds.left() ||
         std::min(s.from.x(), s.to.x()) > bounds.right() ||
@@ -773,9 +789,9 @@ void MapView::paintLens(QPainter& painter) const {
     for (int i = 1; i <= pieces; ++i)
       path.lineTo(lens(s.from + (s.to - s.from) * (double(i) / pieces)));
     const QColor color = byCategory ? render::category_color(m_categories[std::size_t(s.sample)])
-                         : m_options.clip_names.isEmpty() ? s.color
-                         : m_options.clip_time_ramp       ? render::clip_time_color(s.clip, s.time)
-                                                          : render::clip_color(s.clip);
+                         : m_options.clip_names.isEmpty()
+                             ? s.color
+                             : render::drawn_clip_color(shown, s.clip, s.time);
     painter.setPen(QPen(color, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     painter.drawPath(path);
   }
@@ -1049,6 +1065,10 @@ render::MapPlotOptions MapView::shownOptions() const {
     options.clip_names.clear();
     options.clip_time_ramp = false;
     options.time_legend = false;
+  } else if (m_comparisonClip >= 0 && m_comparisonClip < options.clip_names.size()) {
+    // The compared clip in the comparison's colour: its trajectory and its legend swatch.
+    options.clip_colors.resize(std::size_t(options.clip_names.size()));
+    options.clip_colors[std::size_t(m_comparisonClip)] = comparisonColor();
   }
   return options;
 }

@@ -90,8 +90,17 @@ class MapView : public QWidget {
   /// drawn over the map in comparisonColor(), and its frame's point as a ring in that colour
   /// (nothing: none). An empty trajectory: no comparison. setMap, setDensityMap and clearMap
   /// remove it.
-  void setComparison(const Eigen::MatrixXd& trajectory,
-                     const std::optional<Eigen::Vector2d>& point);
+  /// `clip`: the compared clip's index in the map's clip legend (−1: not one of them); that clip
+  /// is drawn in comparisonColor() under the ring, its trajectory and its legend swatch alike
+  /// (see clipColor).
+  void setComparison(const Eigen::MatrixXd& trajectory, const std::optional<Eigen::Vector2d>& point,
+                     int clip = -1);
+  /// The clip being compared (setComparison), or −1.
+  int comparisonClip() const { return m_comparisonClip; }
+  /// The colour clip `clip` of a map of several clips is drawn in at time t ∈ [0, 1] within it —
+  /// its trajectory, under the magnifier too, and its legend swatch: render::drawn_clip_color of
+  /// the options shown (comparisonColor() for the compared clip).
+  QColor clipColor(int clip, double t) const;
   const Eigen::MatrixXd& comparisonTrajectory() const { return m_comparison; }
   std::optional<Eigen::Vector2d> comparisonPoint() const { return m_comparisonPoint; }
   /// The takes drawn over the map (replacing those before).
@@ -354,6 +363,7 @@ class MapView : public QWidget {
   double m_lensPower = 3.0;
   Eigen::MatrixXd m_comparison;  ///< setComparison's trajectory (#frames by 2)
   std::optional<Eigen::Vector2d> m_comparisonPoint;
+  int m_comparisonClip = -1;     ///< setComparison's clip
   Eigen::MatrixXd m_highlight;   ///< setHighlight's points (#points by 2)
   Eigen::MatrixXd m_selection;   ///< setSelection's points
   QPolygonF m_selectionOutline;  ///< map coordinates

@@ -132,6 +132,9 @@ TEST(ReachShading, EmptyAndBadInput) {
   EXPECT_EQ(single.side(1.0, 2.0), ReachField::Side::Inside);
   EXPECT_EQ(single.side(1.0, 3.0), ReachField::Side::Outside);
   EXPECT_EQ(single.side(100.0, 2.0), ReachField::Side::Outside);
+  Eigen::MatrixXd huge(2, 2);
+  huge << -1e308, 0.0, 1e308, 0.0;
+  EXPECT_TRUE(ReachField(huge, 1.0).empty());
   EXPECT_THROW(ReachField(Eigen::MatrixXd(3, 1), 1.0), ParameterError);
   EXPECT_THROW(ReachField(one, 1.0, 8), ParameterError);
   const QImage blank = reach_image(empty, QTransform(), QSize(8, 8), Qt::green,

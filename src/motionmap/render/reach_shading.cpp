@@ -64,6 +64,7 @@ ReachField::ReachField(const Eigen::MatrixXd& points, double reach, int cells) {
   // Cells of side h over the box grown by reach + 2h: a point off the grid is farther than the
   // reach from every sample.
   const double extent = (hi - lo).maxCoeff() + 2.0 * reach;
+  if (!std::isfinite(extent)) return;  // a box wider than a double holds: no grid
   m_cell = extent / double(cells - 4);
   m_inv_cell = 1.0 / m_cell;
   const double pad = reach + 2.0 * m_cell;

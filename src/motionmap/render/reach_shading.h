@@ -40,7 +40,8 @@ class ReachField {
   ReachField() = default;
   /// The first two columns of `points` (non-finite rows left out) and the reach `reach` (map
   /// units): a grid over the samples' box grown by the reach, at most `cells` cells along its
-  /// longer side. No sample or reach ≤ 0 (or not finite): an empty field.
+  /// longer side. No sample, reach ≤ 0 (or not finite), or a box too wide for a double: an
+  /// empty field.
   /// @throws ParameterError if points has fewer than 2 columns or cells < 16.
   ReachField(const Eigen::MatrixXd& points, double reach, int cells = 2048);
 

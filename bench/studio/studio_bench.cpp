@@ -27,7 +27,13 @@
 //    repainted (a smooth 6 000-frame loop through the blobs), the frame; must stay under 16 ms.
 //    PanFrame1M: one move of a pan drag, the same. Argument 1: coloured by a label of 7 values
 //    (one per blob; View → Colour by), one of them hidden: the density binned by category
-//    (render::category_density_image) — the same 16 ms.
+//    (render::category_density_image) — the same 16 ms. Argument 2: with View → Shade
+//    trustworthy blends on (reach 5 % of the map's size, the least synth::reach_radius gives):
+//    the shading decided again at every pixel of the view (render::reach_image) — the same 16 ms;
+//    argument 3: the same zoomed on the shading's edge, where the exact k-d lookups are.
+//  - ReachField1M: what turning the shading on first costs on 10⁶ points (once per map and
+//    reach): render::ReachField's grid and distance transform; the view's k-d tree over the
+//    points is SavedMapIndex's (a saved map's own, not built again).
 //  - LegendToggle1M: a legend click on 10⁶ coloured points: a value hidden or shown again (every
 //    sample's category set, MapView::setSampleCategories) and the view drawn.
 // Data (argument 0/1): CMU 64_08 (365 frames), and a 10 000-frame concatenation of 64_08 and
@@ -357,11 +363,25 @@ void SavedMapDensity(benchmark::State& state) {
 
 /// A map view of 10⁶ clustered points (seven blobs, as a library's actions) with a 6 000-frame
 /// trajectory over them, drawn once.
+/// The million points of millionView() (set when it is first made).
+std::shared_ptr<const Eigen::MatrixXd>& millionPoints() {
+  static std::shared_ptr<const Eigen::MatrixXd> points;
+  return points;
+}
+
+/// The shading's reach over the million points: 5 % of the map's size (the larger side of their
+/// box), synth::reach_radius's least reach.
+double millionReach() {
+  const Eigen::MatrixXd& xy = *millionPoints();
+  return 0.05 * (xy.colwise().maxCoeff() - xy.colwise().minCoeff()).maxCoeff();
+}
+
 MapView& millionView() {
   static std::unique_ptr<MapView> view;
   if (!view) {
     constexpr int kPoints = 1000000;
     auto xy = std::make_shared<Eigen::MatrixXd>(kPoints, 2);
+    millionPoints() = xy;
     std::uint64_t state = 12345;
     auto uniform = [&state] {  // splitmix-style: reproducible, no <random> distributions
       state += 0x9E3779B97F4A7C15ull;
@@ -388,8 +408,36 @@ MapView& millionView() {
           2.0 * std::sin(2 * t) + 0.2 * std::cos(5 * t);
     }
     view->setDensityMap(xy, clip, options);
+    view->setShadingReach(millionReach());
   }
   return *view;
+}
+
+/// Arguments 2 and 3 of the zoom and pan steps: the shading on (else off).
+void shadeMillion(MapView& view, int argument) {
+  view.setShadingVisible(argument >= 2);
+}
+
+/// Where the steps zoom: inside the blobs, or for argument 3 on the shading's edge (the first
+/// unshaded pixel right of the plot's centre at the whole map), so the edge crosses the view.
+QPointF zoomPoint(const MapView& view, int argument, const QPointF& inside) {
+  if (argument != 3) return inside;
+  const QImage layer = view.shadingLayer();
+  const QPoint c = view.plotRect().center().toPoint();
+  for (int x = c.x(); x < int(view.plotRect().right()); ++x)
+    if (qAlpha(layer.pixel(x, c.y())) == 0) return QPointF(x, c.y());
+  return inside;
+}
+
+/// The share of the plot's pixels the shading covers, for the label: what the step decided.
+QString shadedShare(const MapView& view) {
+  const QImage layer = view.shadingLayer();
+  const QRect plot = view.plotRect().toAlignedRect().intersected(layer.rect());
+  long long shaded = 0;
+  for (int y = plot.top(); y <= plot.bottom(); ++y)
+    for (int x = plot.left(); x <= plot.right(); ++x) shaded += qAlpha(layer.pixel(x, y)) != 0;
+  return QString(", %1 % of the plot shaded")
+      .arg(100.0 * double(shaded) / double(plot.width() * plot.height()), 0, 'f', 0);
 }
 
 /// The million points coloured by blob (7 values, blob 3 hidden) for argument 1, else plain.
@@ -406,10 +454,12 @@ void colourMillion(MapView& view, bool on, int hidden = 3) {
 void ZoomFrame1M(benchmark::State& state) {
   MapView& view = millionView();
   view.resetView();
-  colourMillion(view, state.range(0) != 0);
+  colourMillion(view, state.range(0) == 1);
+  shadeMillion(view, int(state.range(0)));
   QImage image = canvas(&view);
   view.render(&image);
-  const QPointF at = view.plotRect().center() + QPointF(40, -30);
+  const QPointF at =
+      zoomPoint(view, int(state.range(0)), view.plotRect().center() + QPointF(40, -30));
   view.zoomAt(at, 8.0);  // start well inside, then one notch in and out
   int k = 0;
   for (auto _ : state) {
@@ -417,16 +467,24 @@ void ZoomFrame1M(benchmark::State& state) {
     view.render(&image);
     benchmark::DoNotOptimize(image.constBits());
   }
-  state.SetLabel(state.range(0) ? "640x640 px, 10^6 points by 7 colours, zoom ~8-10x"
-                                : "640x640 px, 10^6 points, zoom ~8-10x");
+  state.SetLabel(state.range(0) == 1 ? "640x640 px, 10^6 points by 7 colours, zoom ~8-10x"
+                 : state.range(0) >= 2
+                     ? ("640x640 px, 10^6 points, shaded, zoom ~8-10x" +
+                        QString(state.range(0) == 3 ? " at the data's edge" : "") +
+                        shadedShare(view))
+                           .toStdString()
+                     : "640x640 px, 10^6 points, zoom ~8-10x");
+  shadeMillion(view, 0);
 }
 
 void PanFrame1M(benchmark::State& state) {
   MapView& view = millionView();
   view.resetView();
-  colourMillion(view, state.range(0) != 0);
+  colourMillion(view, state.range(0) == 1);
+  shadeMillion(view, int(state.range(0)));
   QImage image = canvas(&view);
-  view.zoomAt(view.plotRect().center(), 4.0);
+  view.render(&image);
+  view.zoomAt(zoomPoint(view, int(state.range(0)), view.plotRect().center()), 4.0);
   view.render(&image);
   int k = 0;
   for (auto _ : state) {
@@ -434,8 +492,24 @@ void PanFrame1M(benchmark::State& state) {
     view.render(&image);
     benchmark::DoNotOptimize(image.constBits());
   }
-  state.SetLabel(state.range(0) ? "640x640 px, 10^6 points by 7 colours, zoom 4x"
-                                : "640x640 px, 10^6 points, zoom 4x");
+  state.SetLabel(state.range(0) == 1 ? "640x640 px, 10^6 points by 7 colours, zoom 4x"
+                 : state.range(0) >= 2
+                     ? ("640x640 px, 10^6 points, shaded, zoom 4x" +
+                        QString(state.range(0) == 3 ? " at the data's edge" : "") +
+                        shadedShare(view))
+                           .toStdString()
+                     : "640x640 px, 10^6 points, zoom 4x");
+  shadeMillion(view, 0);
+}
+
+void ReachField1M(benchmark::State& state) {
+  millionView();
+  const Eigen::MatrixXd& xy = *millionPoints();
+  for (auto _ : state) {
+    const render::ReachField field(xy, millionReach());
+    benchmark::DoNotOptimize(field.nx());
+  }
+  state.SetLabel("10^6 points, 2048-cell grid");
 }
 
 void LegendToggle1M(benchmark::State& state) {
@@ -586,8 +660,9 @@ BENCHMARK(SavedMapClickLoad)->Iterations(32)->Unit(benchmark::kMicrosecond);
 BENCHMARK(SavedMapClipLoad)->Iterations(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(SavedMapDrag)->Unit(benchmark::kMicrosecond);
 
-BENCHMARK(ZoomFrame1M)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(PanFrame1M)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(ZoomFrame1M)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(PanFrame1M)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(ReachField1M)->Iterations(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(LegendToggle1M)->Unit(benchmark::kMillisecond);
 BENCHMARK(MapViewFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(MapViewFullRepaint)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);

@@ -131,6 +131,57 @@ TEST(StudioCompare, AComputedMapsSecondClipPlaysInSyncBesideTheFirst) {
   EXPECT_FALSE(picture.isNull());
 }
 
+/// Pixels of `image` below the map's plot (its clip legend) in the comparison colour.
+int tealLegendPixels(MapView& view) {
+  QImage image(view.size(), QImage::Format_ARGB32);
+  view.render(&image);
+  const QColor teal = MapView::comparisonColor();
+  int n = 0;
+  for (int y = int(view.plotRect().bottom()) + 2; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const QColor c = image.pixelColor(x, y);
+      n += std::abs(c.red() - teal.red()) + std::abs(c.green() - teal.green()) +
+               std::abs(c.blue() - teal.blue()) <
+           12;
+    }
+  return n;
+}
+
+// The compared clip is drawn in the comparison colour, its legend swatch too (one colour rule,
+// render::drawn_clip_color): not in its own palette colour under a teal trajectory.
+TEST(StudioCompare, TheComparedClipsLegendSwatchIsInTheColourItIsDrawnIn) {
+  if (!fs::exists(kWalk) || !fs::exists(kRun)) GTEST_SKIP() << "no Bandai takes in " << kBandai;
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(1280, 720);
+  w.show();
+  w.setMethod(embed::Method::Pca);
+  ASSERT_TRUE(w.openFile(QString::fromStdString(kWalk)));
+  ASSERT_TRUE(w.addFile(QString::fromStdString(kRun)));
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 2; },
+      testing::kTimeoutMs));
+  MapView* view = w.mapView();
+  ASSERT_EQ(view->plotOptions().clip_names.size(), 2);  // a legend of the two clips
+  EXPECT_NE(view->clipColor(1, 0.5), MapView::comparisonColor());
+  EXPECT_EQ(tealLegendPixels(*view), 0);
+  ComparePanel* compare = w.explore()->compare();
+  ASSERT_TRUE(compare->compareWith(1));
+  EXPECT_EQ(view->comparisonClip(), 1);
+  for (const double t : {0.0, 0.5, 1.0}) {
+    EXPECT_EQ(view->clipColor(1, t), MapView::comparisonColor()) << t;
+    EXPECT_NE(view->clipColor(0, t), MapView::comparisonColor()) << t;
+  }
+  EXPECT_GT(tealLegendPixels(*view), 10);
+  // A frame of the comparison keeps it; stopping gives the clip its own colour back.
+  w.setFrame(5);
+  EXPECT_EQ(view->clipColor(1, 0.5), MapView::comparisonColor());
+  compare->stop();
+  EXPECT_EQ(view->comparisonClip(), -1);
+  EXPECT_NE(view->clipColor(1, 0.5), MapView::comparisonColor());
+  EXPECT_EQ(tealLegendPixels(*view), 0);
+}
+
 /// Pixels of `image` close to the comparison colour laid over the 3-D view's background.
 int comparisonPixels(const QImage& image) {
   const QColor teal = MapView::comparisonColor();

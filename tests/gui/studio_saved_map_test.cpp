@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <QAction>
+#include <QDir>
 #include <QImage>
 #include <QLabel>
 #include <QTest>
@@ -382,6 +383,149 @@ TEST_F(SavedMapFixture, TheStatusBarShowsTheMapCoordinatesUnderTheMouse) {
   const QStringList zoomed = label->text().split(' ', Qt::SkipEmptyParts);
   ASSERT_EQ(zoomed.size(), 5);
   EXPECT_EQ(int(zoomed[2].size() - zoomed[2].indexOf('.') - 1), digits + 2);
+}
+
+/// Pixels of the view's shading layer (device pixels) that disagree with the disc rule at their
+/// centres — the map point toMap(centre) within the reach of some sample, by brute force over
+/// every sample — and how many are shaded and how many were looked at.
+struct DiscRule {
+  int shaded = 0, looked = 0, disagree = 0;
+};
+DiscRule compareWithDiscRule(const MapView& view, const Eigen::MatrixXd& xy, double reach) {
+  const QImage layer = view.shadingLayer();
+  DiscRule count;
+  EXPECT_FALSE(layer.isNull());
+  if (layer.isNull()) return count;
+  EXPECT_EQ(layer.devicePixelRatio(), 1.0);  // offscreen: device pixels are widget pixels
+  const QRect plot = view.plotRect().toAlignedRect().adjusted(1, 1, -1, -1);
+  for (int y = plot.top(); y <= plot.bottom(); ++y) {
+    for (int x = plot.left(); x <= plot.right(); ++x) {
+      const Eigen::Vector2d p = view.toMap(QPointF(x + 0.5, y + 0.5));
+      bool within = false;
+      for (Eigen::Index i = 0; i < xy.rows() && !within; ++i)
+        within = (Eigen::Vector2d(xy(i, 0), xy(i, 1)) - p).norm() <= reach;
+      const bool shaded = qAlpha(layer.pixel(x, y)) != 0;
+      count.shaded += shaded;
+      count.disagree += shaded != within;
+      ++count.looked;
+    }
+  }
+  return count;
+}
+
+// View → Shade trustworthy blends on a saved map: the same rule as on a computed map — green
+// where a map point lies within the blender's reach of a sample (SavedMap::reach_distance, the
+// blender's reach_distance) — drawn exactly at every pixel's centre, whole and zoomed, and under
+// the magnifier; only inside the plot.
+TEST_F(SavedMapFixture, ShadesTrustworthyBlendsWithinTheBlendersReachOfASample) {
+  ASSERT_TRUE(m_window->openMapFile(QString::fromStdString(m_file)));
+  const mapfile::SavedMap* saved = m_window->savedMap();
+  ASSERT_NE(saved, nullptr);
+  MapView* view = m_window->mapView();
+  ASSERT_TRUE(view->hasDensity());
+  EXPECT_TRUE(view->shadingAvailable());
+  const double reach = saved->reach_distance();
+  EXPECT_GT(reach, 0.0);
+  EXPECT_EQ(view->shadingReach(), reach);
+  // The blender built over the same samples for sketches has the same reach.
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return m_window->currentMap() != nullptr; }, testing::kTimeoutMs));
+  ASSERT_NE(m_window->currentMap()->blender, nullptr);
+  EXPECT_DOUBLE_EQ(m_window->currentMap()->blender->reach_distance(), reach);
+  EXPECT_DOUBLE_EQ(m_window->currentMap()->blender->median_step(), saved->median_step());
+
+  // Off until asked for (View → Shade trustworthy blends); the menu turns it on.
+  EXPECT_FALSE(view->shadingVisible());
+  QAction* shade = nullptr;
+  for (QAction* a : m_window->findChildren<QAction*>())
+    if (a->text().contains("Shade")) shade = a;
+  ASSERT_NE(shade, nullptr);
+  QImage off(view->size(), QImage::Format_ARGB32), on(view->size(), QImage::Format_ARGB32);
+  view->render(&off);
+  shade->setChecked(true);
+  EXPECT_TRUE(view->shadingVisible());
+  view->render(&on);
+  const QRect plot = view->plotRect().toAlignedRect();
+  int changedInside = 0, changedOutside = 0;
+  for (int y = 0; y < on.height(); ++y)
+    for (int x = 0; x < on.width(); ++x)
+      (plot.contains(x, y) ? changedInside : changedOutside) += on.pixel(x, y) != off.pixel(x, y);
+  EXPECT_GT(changedInside, 1000);
+  EXPECT_EQ(changedOutside, 0);
+
+  const Eigen::MatrixXd& xy = saved->file().coordinates;
+  const QImage layer = view->shadingLayer();
+  ASSERT_EQ(layer.size(), view->size());
+  // The pixel under a sample is shaded.
+  const QPointF sample = view->toWidget(Eigen::Vector2d(xy(40, 0), xy(40, 1)));
+  ASSERT_TRUE(view->plotRect().contains(sample));
+  EXPECT_NE(qAlpha(layer.pixel(sample.toPoint())), 0);
+  // A pixel of the plot farther than the reach from every sample is not: the plot's pixel
+  // farthest from the samples (the map's frame leaves room around them).
+  QPoint far;
+  double farthest = 0.0;
+  for (int y = plot.top() + 1; y < plot.bottom(); y += 3) {
+    for (int x = plot.left() + 1; x < plot.right(); x += 3) {
+      const double d = saved->index().nearest(view->toMap(QPointF(x + 0.5, y + 0.5))).distance;
+      if (d > farthest) {
+        farthest = d;
+        far = QPoint(x, y);
+      }
+    }
+  }
+  ASSERT_GT(farthest, reach);
+  EXPECT_EQ(qAlpha(layer.pixel(far)), 0);
+  // Every pixel as the disc rule says, the whole map and zoomed in 6× near the data's edge.
+  const DiscRule whole = compareWithDiscRule(*view, xy, reach);
+  std::printf("whole map: %d of %d plot pixels shaded (reach %.1f px), %d disagree\n", whole.shaded,
+              whole.looked, view->shadingRadius(), whole.disagree);
+  EXPECT_GT(whole.shaded, whole.looked / 20);
+  EXPECT_LT(whole.shaded, whole.looked * 19 / 20);
+  EXPECT_EQ(whole.disagree, 0);
+  view->zoomAt(QPointF(sample) + QPointF(view->shadingRadius(), 0.0), 6.0);
+  const DiscRule zoomed = compareWithDiscRule(*view, xy, reach);
+  std::printf("zoomed 6x: %d of %d plot pixels shaded (reach %.1f px), %d disagree\n",
+              zoomed.shaded, zoomed.looked, view->shadingRadius(), zoomed.disagree);
+  EXPECT_GT(zoomed.shaded, 0);
+  EXPECT_LT(zoomed.shaded, zoomed.looked);
+  EXPECT_EQ(zoomed.disagree, 0);
+  view->resetView();
+
+  // Under the magnifier the shading follows the lens: a pixel inside the lens is shaded where the
+  // map point it shows is within reach (the lens spreads the shaded disc around a sample).
+  view->setLensEnabled(true);
+  view->setLensCenter(sample);
+  QImage lensOff(view->size(), QImage::Format_ARGB32), lensOn(view->size(), QImage::Format_ARGB32);
+  shade->setChecked(false);
+  view->render(&lensOff);
+  shade->setChecked(true);
+  view->render(&lensOn);
+  int lensShaded = 0, lensDisagree = 0;
+  ASSERT_TRUE(view->pointer().has_value());
+  const QPointF pointer = view->toWidget(*view->pointer());
+  const double R = view->lensRadius();
+  for (int y = int(sample.y() - R) + 2; y < int(sample.y() + R) - 2; y += 2) {
+    for (int x = int(sample.x() - R) + 2; x < int(sample.x() + R) - 2; x += 2) {
+      const QPointF centre(x + 0.5, y + 0.5);
+      if (QLineF(centre, sample).length() > R - 3 || !view->plotRect().contains(centre)) continue;
+      if (lensOff.pixel(x, y) != qRgb(255, 255, 255)) continue;  // density, trajectory
+      if (QLineF(centre, pointer).length() < 12) continue;       // the pointer (white)
+      const double d = saved->index().nearest(view->toMap(centre)).distance;
+      if (std::abs(d - reach) < 1e-3 * reach) continue;  // the rim
+      const bool shaded = lensOn.pixel(x, y) != lensOff.pixel(x, y);
+      lensShaded += shaded;
+      lensDisagree += shaded != (d <= reach);
+    }
+  }
+  std::printf("under the lens: %d background pixels shaded, %d disagree\n", lensShaded,
+              lensDisagree);
+  EXPECT_GT(lensShaded, 20);
+  EXPECT_EQ(lensDisagree, 0);
+  view->setLensEnabled(false);
+  if (!qEnvironmentVariableIsEmpty("MOTIONMAP_TEST_PNG_DIR"))
+    m_window->screenshot().save(
+        QDir(qEnvironmentVariable("MOTIONMAP_TEST_PNG_DIR")).filePath("studio-saved-shading.png"));
+  shade->setChecked(false);
 }
 
 }  // namespace

@@ -595,7 +595,7 @@ TEST(StudioExecutableTimeline, HelpAndVersionWorkWithoutADisplay) {
   EXPECT_EQ(studio.exitStatus(), QProcess::NormalExit);
   EXPECT_EQ(studio.exitCode(), 0) << studio.readAllStandardError().toStdString();
   EXPECT_TRUE(help.contains("Usage:")) << help.toStdString();
-  for (const char* option : {"--method", "--frame", "--screenshot", "--version"})
+  for (const char* option : {"--method", "--frame", "--screenshot", "--shade", "--version"})
     EXPECT_TRUE(help.contains(option)) << option;
 
   studio.start(MOTIONMAP_STUDIO_EXE, {"--version"});
@@ -615,6 +615,38 @@ std::map<QString, QByteArray> filesUnder(const QString& dir) {
     files[file.fileName()] = file.readAll();
   }
   return files;
+}
+
+// --shade starts with View → Shade trustworthy blends on: a screenshot with it has the green
+// shading (and its key) where one without has white.
+TEST(StudioExecutableTimeline, ShadeStartsWithTheTrustworthyBlendShadingOn) {
+  QTemporaryDir dir;
+  const QString clip = dir.filePath("swing.bvh");
+  const Clip sample = swing(1.0);
+  io::write_bvh(io::from_motion(sample.skeleton, sample.motion), clip.toStdString());
+  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+  env.insert("XDG_CONFIG_HOME", dir.filePath("config"));
+  QImage shots[2];
+  for (int shade = 0; shade < 2; ++shade) {
+    QProcess studio;
+    studio.setProcessEnvironment(env);
+    const QString png = dir.filePath(QString("shot%1.png").arg(shade));
+    QStringList args{clip, "--method", "pca", "--screenshot", png};
+    if (shade) args << "--shade";
+    studio.start(MOTIONMAP_STUDIO_EXE, args);
+    ASSERT_TRUE(studio.waitForFinished(kTimeoutMs));
+    ASSERT_EQ(studio.exitCode(), 0) << studio.readAllStandardError().toStdString();
+    shots[shade] = QImage(png).convertToFormat(QImage::Format_RGB32);
+    ASSERT_FALSE(shots[shade].isNull());
+  }
+  ASSERT_EQ(shots[0].size(), shots[1].size());
+  int greened = 0;  // white without, green-tinted with
+  for (int y = 0; y < shots[0].height(); ++y)
+    for (int x = 0; x < shots[0].width(); ++x) {
+      const QColor off = shots[0].pixelColor(x, y), on = shots[1].pixelColor(x, y);
+      greened += off == QColor(Qt::white) && on.green() > on.red() + 30 && on.green() > on.blue();
+    }
+  EXPECT_GT(greened, 1000);
 }
 
 TEST(StudioExecutableTimeline, AScreenshotRunLeavesTheSettingsAsTheyWere) {

@@ -459,6 +459,50 @@ TEST_F(MapPlotTest, ColourByClipDrawsEachClipInItsOwnColourWithANamedLegend) {
   EXPECT_EQ(clip_color(-1), QColor(128, 128, 128));
 }
 
+TEST_F(MapPlotTest, AClipGivenAColourIsDrawnAndKeyedInItTrajectoryAndSwatchAlike) {
+  // clip_colors: clip 1 (e.g. compared with another) in teal, flat, over a time ramp; its legend
+  // swatch in the same teal, clip 0's as before (drawn_clip_color, one rule).
+  Eigen::MatrixXd c(100, 2);
+  c << line(50, 0, 1, 0), line(50, 0, 1, 1);
+  MapPlotOptions o;
+  o.line_width = 3.0;
+  o.clip_names = {"first.bvh", "second.bvh"};
+  o.time_legend = true;
+  o.clip_time_ramp = true;
+  const QColor teal(0, 140, 150);
+  o.clip_colors = {QColor(), teal};
+  EXPECT_EQ(drawn_clip_color(o, 1, 0.0), teal);
+  EXPECT_EQ(drawn_clip_color(o, 1, 1.0), teal);
+  EXPECT_EQ(drawn_clip_color(o, 0, 0.3), clip_time_color(0, 0.3));
+  EXPECT_EQ(drawn_clip_color(o, 5, 0.3), clip_time_color(5, 0.3));  // past the list: its own
+  const std::string path = temp_file("clip-colour.png");
+  save_map_plot(path, c, {0, 50}, o, 300);
+  QImage img(QString::fromStdString(path));
+  const QTransform t = map_transform(c, QRectF(0, 0, 300, 300), o);
+  auto is_teal = [teal](QColor p) {
+    return std::abs(p.red() - teal.red()) + std::abs(p.green() - teal.green()) +
+               std::abs(p.blue() - teal.blue()) <
+           12;
+  };
+  for (const double x : {0.1, 0.5, 0.95}) {
+    EXPECT_TRUE(any_near(img, t.map(QPointF(x, 1)), 1, is_teal)) << x;
+    EXPECT_FALSE(any_near(img, t.map(QPointF(x, 0)), 1, is_teal)) << x;
+  }
+  const QRectF d = data_area(QRectF(0, 0, 300, 300), o);
+  int swatch = 0;
+  for (int y = static_cast<int>(d.bottom()) + 3; y < 300; ++y)
+    for (int x = 0; x < 300; ++x) swatch += is_teal(img.pixelColor(x, y));
+  EXPECT_GT(swatch, 10);
+  // Without the colour no teal in the legend.
+  o.clip_colors.clear();
+  save_map_plot(path, c, {0, 50}, o, 300);
+  QImage own(QString::fromStdString(path));
+  int none = 0;
+  for (int y = static_cast<int>(d.bottom()) + 3; y < 300; ++y)
+    for (int x = 0; x < 300; ++x) none += is_teal(own.pixelColor(x, y));
+  EXPECT_EQ(none, 0);
+}
+
 TEST_F(MapPlotTest, ColourByCategoryDrawsEachSampleInItsValuesColourWithALegend) {
   // One clip of 100 samples along y = 0: the first 40 category 0, the next 40 category 2, the
   // last 20 "other" (−1).

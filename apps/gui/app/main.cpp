@@ -1,8 +1,10 @@
-// motionmap-studio [FILE [MORE…]] [--method M] [--frame N] [--screenshot out.png]
+// motionmap-studio [FILE [MORE…]] [--method M] [--frame N] [--screenshot out.png] [--shade]
 // Opens FILE (a .bvh, or an .amc with its .asf) and shows its map (MORE: clips of the same
 // skeleton added to that map), or a saved map file (lib.mmap.h5, from `motionmap map --save`)
 // without refitting it; with --screenshot, renders the window once to a PNG and exits (1
-// with a message on any error), leaving the user's settings as they were.
+// with a message on any error), leaving the user's settings as they were; --shade turns View →
+// Shade trustworthy blends on (for a screenshot of it).
+#include <QAction>
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QEventLoop>
@@ -29,6 +31,9 @@ struct Options {
                           "Render the window to a PNG and exit (the settings are left as they "
                           "were)",
                           "PNG"};
+  QCommandLineOption shade{"shade",
+                           "Start with View → Shade trustworthy blends on (green where a drag "
+                           "blends real frames)"};
 
   explicit Options(QCommandLineParser& parser)
       : help(parser.addHelpOption()), version(parser.addVersionOption()) {
@@ -40,7 +45,7 @@ struct Options {
         "map. Or a saved map file (.mmap.h5, from `motionmap map --save`), opened without "
         "refitting",
         "[FILE [MORE…]]");
-    parser.addOptions({method, frame, shot});
+    parser.addOptions({method, frame, shot, shade});
   }
 };
 
@@ -127,6 +132,11 @@ int main(int argc, char** argv) {
     frame = parser.value(frameOption).toInt(&ok);
     if (!ok || frame < 0)
       return fail("--frame: '" + parser.value(frameOption) + "' is not a frame number");
+  }
+  if (parser.isSet(options.shade)) {
+    // The menu's own action, so its check mark says so too.
+    if (auto* shade = window.findChild<QAction*>(QStringLiteral("shadeTrustworthyBlends")))
+      shade->setChecked(true);
   }
   window.show();
 

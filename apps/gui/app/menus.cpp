@@ -94,6 +94,7 @@ QMenu* addViewMenu(QMainWindow* window, SkeletonView* skeleton, MapView* map) {
   lens->setShortcut(QKeySequence(QMainWindow::tr("M")));
   QObject::connect(lens, &QAction::toggled, map, &MapView::setLensEnabled);
   QAction* shading = view->addAction(QMainWindow::tr("Shade &trustworthy blends"));
+  shading->setObjectName(QStringLiteral("shadeTrustworthyBlends"));  // motionmap-studio --shade
   shading->setCheckable(true);
   explain(shading, QMainWindow::tr("Green where a map point is within 5 % of the map's size of a "
                                    "frame: a drag there blends frames close to it. The same "

@@ -174,7 +174,7 @@ void ComparePanel::follow(int frame) {
     const Eigen::Index row = m_rowOfFrame[std::size_t(m_frame)];
     point = Eigen::Vector2d(m_trajectory(row, 0), m_trajectory(row, 1));
   }
-  m_view->setComparison(m_trajectory, point);
+  m_view->setComparison(m_trajectory, point, m_clip);
   m_caption->setText(tr("clip %1: %2 · frame %3 of %4")
                          .arg(m_clip + 1)
                          .arg(m_name)

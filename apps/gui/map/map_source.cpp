@@ -373,7 +373,10 @@ void SavedMapSource::show() {
   m_mapView->setDensityMap(
       std::shared_ptr<const Eigen::MatrixXd>(m_map, &m_map->file().coordinates),
       Eigen::MatrixXd(0, 2), options);
-  m_mapView->setShadingReach(0.0);
+  // The blender's reach over the same samples (SavedMap::reach_distance is the blender's rule,
+  // synth::reach_radius), decided exactly by the map's own k-d tree.
+  m_mapView->setShadingReach(m_map->reach_distance(blendOptions().reach),
+                             std::shared_ptr<const synth::PointIndex>(m_map, &m_map->index()));
   prepareBlend();  // ready by the first sketch, key or joint drag
 }
 

@@ -117,8 +117,11 @@ void MapView::setDensityMap(std::shared_ptr<const Eigen::MatrixXd> points,
   m_highlight.resize(0, 2);
   m_comparison.resize(0, 2);
   m_comparisonPoint.reset();
+  m_comparisonClip = -1;
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
+  m_shadingIndex.reset();  // another map's samples
+  m_reachField.reset();
   invalidate();
   update();
   emit mapReplaced();
@@ -163,8 +166,11 @@ void MapView::setMap(const Eigen::MatrixXd& coords, const std::vector<int>& segm
   m_highlight.resize(0, 2);
   m_comparison.resize(0, 2);
   m_comparisonPoint.reset();
+  m_comparisonClip = -1;
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
+  m_shadingIndex.reset();  // another map's samples
+  m_reachField.reset();
   invalidate();
   update();
   emit mapReplaced();
@@ -183,8 +189,11 @@ void MapView::clearMap(const QString& hint) {
   m_highlight.resize(0, 2);
   m_comparison.resize(0, 2);
   m_comparisonPoint.reset();
+  m_comparisonClip = -1;
   m_selection.resize(0, 2);
   m_selectionOutline.clear();
+  m_shadingIndex.reset();  // another map's samples
+  m_reachField.reset();
   if (!hint.isEmpty()) m_hint = hint;
   invalidate();
   update();
@@ -199,10 +208,22 @@ void MapView::setHighlight(const Eigen::MatrixXd& points) {
 }
 
 void MapView::setComparison(const Eigen::MatrixXd& trajectory,
-                            const std::optional<Eigen::Vector2d>& point) {
+                            const std::optional<Eigen::Vector2d>& point, int clip) {
   m_comparison = trajectory.leftCols(std::min<Eigen::Index>(2, trajectory.cols()));
   m_comparisonPoint = m_comparison.rows() > 0 ? point : std::nullopt;
+  const int compared = m_comparison.rows() > 0 ? std::max(clip, -1) : -1;
+  if (compared != m_comparisonClip) {
+    // Its trajectory and legend swatch change colour: the cached picture is painted again (a
+    // frame of the comparison only moves the ring).
+    m_comparisonClip = compared;
+    m_cache = QPixmap();
+    m_overLayer = QImage();
+  }
   update();
+}
+
+QColor MapView::clipColor(int clip, double t) const {
+  return render::drawn_clip_color(shownOptions(), clip, t);
 }
 
 void MapView::paintComparison(QPainter& painter) const {
@@ -354,8 +375,10 @@ void MapView::setSketchMode(bool on) {
   m_sketchMode = on;
 }
 
-void MapView::setShadingReach(double reach) {
+void MapView::setShadingReach(double reach, std::shared_ptr<const synth::PointIndex> index) {
   m_shadingReach = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
+  m_shadingIndex = std::move(index);
+  m_reachField.reset();
   m_cache = QPixmap();
   m_overLayer = QImage();
   update();
@@ -463,15 +486,17 @@ void MapView::paintEvent(QPaintEvent*) {
     QPainter cachePainter(&m_cache);
     cachePainter.setRenderHint(QPainter::Antialiasing);
     const render::MapPlotOptions options = viewOptions();
+    const bool shading = m_shadingVisible && shadingAvailable();
     if (m_density) {
-      // Background, the saved map's density (inside the frame), then the current clip's
-      // trajectory over it.
+      // Background, the saved map's density (inside the frame), the shading, then the current
+      // clip's trajectory over it.
       cachePainter.fillRect(
           rect(), m_options.background.isValid() ? m_options.background : QColor(Qt::white));
       cachePainter.save();
       cachePainter.setClipRect(plotRect());
       cachePainter.drawImage(QPointF(0, 0), densityImage());
       cachePainter.restore();
+      if (shading) paintShading(cachePainter);
       // The marks and the trajectory over it, a layer of their own: kept while only the
       // density's colours change.
       if (m_overLayer.isNull() || m_overLayer.size() != m_cache.size()) {
@@ -492,9 +517,19 @@ void MapView::paintEvent(QPaintEvent*) {
       paintTrajectory(cachePainter, options);
       paintMarks(cachePainter, m_highlight, highlightColor());
       paintMarks(cachePainter, m_selection, selectionColor());
+      if (shading) {
+        paintShading(cachePainter);
+        // The trajectory stays on top, in its own colours (clipped: the title, colour bar and
+        // notes are not drawn twice).
+        cachePainter.save();
+        cachePainter.setClipRect(plotRect());
+        render::MapPlotOptions over = options;
+        over.background = QColor();
+        paintTrajectory(cachePainter, over);
+        cachePainter.restore();
+      }
     }
-    if (m_shadingVisible && m_shadingReach > 0.0 && !m_density && m_coords.rows() > 0)
-      paintShading(cachePainter);
+    if (shading) paintShadingKey(cachePainter);
   }
   painter.drawPixmap(0, 0, m_cache);
   painter.setRenderHint(QPainter::Antialiasing);
@@ -538,45 +573,92 @@ QRectF MapView::plotRect() const {
 }
 
 double MapView::shadingRadius() const {
-  if (m_coords.rows() == 0 || m_shadingReach <= 0.0) return 0.0;
+  if (!shadingAvailable()) return 0.0;
   ensureTransform();
   return QLineF(m_toWidget.map(QPointF(0.0, 0.0)), m_toWidget.map(QPointF(m_shadingReach, 0.0)))
       .length();
 }
 
-void MapView::paintShading(QPainter& painter) const {
+namespace {
+/// The shading's colour, drawn at kShadingOpacity.
+const QColor kShadingGreen(30, 170, 70);
+constexpr double kShadingOpacity = 0.3;
+}  // namespace
+
+void MapView::ensureReachField() const {
+  if (m_reachField) return;
+  const Eigen::MatrixXd& samples = m_density ? *m_density : m_coords;
+  if (!m_shadingIndex) m_shadingIndex = std::make_shared<const synth::PointIndex>(samples);
+  m_reachField = std::make_shared<const render::ReachField>(samples, m_shadingReach);
+}
+
+bool MapView::withinReach(const Eigen::Vector2d& p) const {
+  const synth::Neighbor nearest = m_shadingIndex->nearest(p);
+  return nearest.sample >= 0 && nearest.distance <= m_shadingReach;
+}
+
+QImage MapView::shadingLayer() const {
+  if (!shadingAvailable()) return {};
   ensureTransform();
-  const QRectF plot = plotRect();
-  const double radius = shadingRadius();
-  if (radius <= 0.0) return;
-  const QColor green(30, 170, 70);
-  constexpr double kOpacity = 0.3;
-  // The union of the samples' discs, opaque in a layer, laid over at one alpha.
-  const qreal dpr = m_cache.devicePixelRatio();
-  QImage layer(m_cache.size(), QImage::Format_ARGB32_Premultiplied);
+  ensureReachField();
+  const qreal dpr = devicePixelRatioF();
+  const QSize pixels = size() * dpr;
+  const QTransform toMap =
+      dpr == 1.0 ? m_toMap : QTransform::fromScale(1.0 / dpr, 1.0 / dpr) * m_toMap;
+  // The pixels whose centres lie inside the plot's frame: never over the title, the colour bar
+  // or the notes.
+  const QRectF plot(plotRect().topLeft() * dpr, plotRect().size() * dpr);
+  const QRect clip(
+      QPoint(int(std::ceil(plot.left() - 0.5)), int(std::ceil(plot.top() - 0.5))),
+      QPoint(int(std::floor(plot.right() - 0.5)), int(std::floor(plot.bottom() - 0.5))));
+  QImage layer = render::reach_image(
+      *m_reachField, toMap, pixels, kShadingGreen,
+      [this](const Eigen::Vector2d& p) { return withinReach(p); }, clip);
   layer.setDevicePixelRatio(dpr);
-  layer.fill(Qt::transparent);
-  QPainter discs(&layer);
-  discs.setRenderHint(QPainter::Antialiasing);
-  discs.setClipRect(plot);  // never over the title, the colour bar or the notes
-  discs.setPen(Qt::NoPen);
-  discs.setBrush(green);
-  for (Eigen::Index i = 0; i < m_coords.rows(); ++i) {
-    const QPointF p = m_toWidget.map(QPointF(m_coords(i, 0), m_coords(i, 1)));
-    if (std::isfinite(p.x()) && std::isfinite(p.y())) discs.drawEllipse(p, radius, radius);
-  }
-  discs.end();
+  return layer;
+}
+
+void MapView::paintShading(QPainter& painter) const {
+  const QImage layer = shadingLayer();
+  if (layer.isNull()) return;
   painter.save();
-  painter.setOpacity(kOpacity);
+  painter.setOpacity(kShadingOpacity);
   painter.drawImage(QPointF(0, 0), layer);
-  painter.setOpacity(1.0);
-  // The trajectory stays on top, in its own colours (clipped: the title, colour bar and notes
-  // are not drawn twice).
-  painter.setClipRect(plot);
-  render::MapPlotOptions over = viewOptions();
-  over.background = QColor();
-  paintTrajectory(painter, over);
-  // The key, inside the plot's lower-left corner.
+  painter.restore();
+}
+
+void MapView::paintLensShading(QPainter& painter, const QRectF& bounds) const {
+  ensureReachField();
+  const QRectF plot = plotRect();
+  const QPointF centre = m_lensCenter;
+  const double R = lensRadius();
+  // On whole pixels (the lens's centre follows the mouse to fractions of one), each decided at
+  // its centre.
+  const QRect box = bounds.toAlignedRect();
+  QImage lensed(box.size(), QImage::Format_ARGB32_Premultiplied);
+  lensed.fill(Qt::transparent);
+  const QRgb ink = kShadingGreen.rgba();
+  for (int y = 0; y < lensed.height(); ++y) {
+    auto* line = reinterpret_cast<QRgb*>(lensed.scanLine(y));
+    for (int x = 0; x < lensed.width(); ++x) {
+      const QPointF shown = QPointF(box.topLeft()) + QPointF(x + 0.5, y + 0.5);
+      if (!plot.contains(shown) || QLineF(shown, centre).length() > R) continue;
+      const QPointF at = m_toMap.map(unlens(shown));
+      const auto side = m_reachField->side(at.x(), at.y());
+      if (side == render::ReachField::Side::Inside ||
+          (side == render::ReachField::Side::Unsure && withinReach({at.x(), at.y()})))
+        line[x] = ink;
+    }
+  }
+  painter.save();
+  painter.setOpacity(kShadingOpacity);
+  painter.drawImage(box.topLeft(), lensed);
+  painter.restore();
+}
+
+void MapView::paintShadingKey(QPainter& painter) const {
+  const QRectF plot = plotRect();
+  painter.save();
   QFont font = painter.font();
   font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
   painter.setFont(font);
@@ -589,8 +671,8 @@ void MapView::paintShading(QPainter& painter) const {
   painter.setPen(QPen(QColor(150, 150, 150), 1));
   painter.setBrush(QColor(255, 255, 255, 220));
   painter.drawRect(key);
-  QColor fill = green;
-  fill.setAlphaF(kOpacity);
+  QColor fill = kShadingGreen;
+  fill.setAlphaF(kShadingOpacity);
   painter.setPen(Qt::NoPen);
   painter.setBrush(fill);
   painter.drawRect(QRectF(key.left() + pad, key.top() + pad, swatch, swatch));
@@ -688,8 +770,10 @@ void MapView::paintLens(QPainter& painter) const {
     }
     painter.drawImage(bounds.topLeft(), lensed);
   }
+  if (m_shadingVisible && shadingAvailable()) paintLensShading(painter, bounds);
   // The segments near the lens, bent: only those whose box meets the lens's box are looked at.
   const double width = m_options.line_width * std::sqrt(m_lensPower + 1.0);
+  const render::MapPlotOptions shown = shownOptions();  // the clips' colours, as drawn
   for (const auto& s : m_pixelSegments) {
     if (std::max(s.from.x(), s.to.x()) < bounds.left() ||
         std::min(s.from.x(), s.to.x()) > bounds.right() ||
@@ -705,9 +789,9 @@ void MapView::paintLens(QPainter& painter) const {
     for (int i = 1; i <= pieces; ++i)
       path.lineTo(lens(s.from + (s.to - s.from) * (double(i) / pieces)));
     const QColor color = byCategory ? render::category_color(m_categories[std::size_t(s.sample)])
-                         : m_options.clip_names.isEmpty() ? s.color
-                         : m_options.clip_time_ramp       ? render::clip_time_color(s.clip, s.time)
-                                                          : render::clip_color(s.clip);
+                         : m_options.clip_names.isEmpty()
+                             ? s.color
+                             : render::drawn_clip_color(shown, s.clip, s.time);
     painter.setPen(QPen(color, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     painter.drawPath(path);
   }
@@ -981,6 +1065,10 @@ render::MapPlotOptions MapView::shownOptions() const {
     options.clip_names.clear();
     options.clip_time_ramp = false;
     options.time_legend = false;
+  } else if (m_comparisonClip >= 0 && m_comparisonClip < options.clip_names.size()) {
+    // The compared clip in the comparison's colour: its trajectory and its legend swatch.
+    options.clip_colors.resize(std::size_t(options.clip_names.size()));
+    options.clip_colors[std::size_t(m_comparisonClip)] = comparisonColor();
   }
   return options;
 }

@@ -42,7 +42,9 @@
 #include <QWidget>
 
 #include "motionmap/render/map_plot.h"
+#include "motionmap/render/reach_shading.h"
 #include "motionmap/synth/path.h"
+#include "motionmap/synth/point_index.h"
 #include "takes/takes.h"
 
 namespace motionmap::studio {
@@ -88,8 +90,17 @@ class MapView : public QWidget {
   /// drawn over the map in comparisonColor(), and its frame's point as a ring in that colour
   /// (nothing: none). An empty trajectory: no comparison. setMap, setDensityMap and clearMap
   /// remove it.
-  void setComparison(const Eigen::MatrixXd& trajectory,
-                     const std::optional<Eigen::Vector2d>& point);
+  /// `clip`: the compared clip's index in the map's clip legend (−1: not one of them); that clip
+  /// is drawn in comparisonColor() under the ring, its trajectory and its legend swatch alike
+  /// (see clipColor).
+  void setComparison(const Eigen::MatrixXd& trajectory, const std::optional<Eigen::Vector2d>& point,
+                     int clip = -1);
+  /// The clip being compared (setComparison), or −1.
+  int comparisonClip() const { return m_comparisonClip; }
+  /// The colour clip `clip` of a map of several clips is drawn in at time t ∈ [0, 1] within it —
+  /// its trajectory, under the magnifier too, and its legend swatch: render::drawn_clip_color of
+  /// the options shown (comparisonColor() for the compared clip).
+  QColor clipColor(int clip, double t) const;
   const Eigen::MatrixXd& comparisonTrajectory() const { return m_comparison; }
   std::optional<Eigen::Vector2d> comparisonPoint() const { return m_comparisonPoint; }
   /// The takes drawn over the map (replacing those before).
@@ -166,13 +177,26 @@ class MapView : public QWidget {
   bool sketchMode() const { return m_sketchMode; }
 
   /// Trustworthy-blend shading: a translucent green over every map point within `reach` (map
-  /// units) of a sample: the blender's reach_distance(), synth::reach_radius()'s one rule of where
-  /// a blend is inside the data (beyond it, a drag or sketch is moved to its edge). Drawn into the
-  /// cached trajectory, clipped to plotRect(), with a key in the plot's lower-left corner.
-  /// 0: no shading (no blender, or a saved map's density).
-  void setShadingReach(double reach);
+  /// units) of a sample — a computed map's points (setMap), a saved map's density points
+  /// (setDensityMap): the blender's reach_distance(), synth::reach_radius()'s one rule of where
+  /// a blend is inside the data (beyond it, a drag or sketch is moved to its edge). One way for
+  /// both kinds of map, exact at each pixel's centre at any zoom: render::ReachField (built
+  /// once per map and reach) decides most pixels of the view, `index`'s nearest distance the
+  /// thin band along the edge (render::reach_image); without an index the view builds one over
+  /// the samples when the shading is first drawn. Drawn into the cached picture, clipped to
+  /// plotRect(), and under the magnifier at its magnification, with a key in the plot's
+  /// lower-left corner. 0: no shading (no blender).
+  void setShadingReach(double reach, std::shared_ptr<const synth::PointIndex> index = {});
+  double shadingReach() const { return m_shadingReach; }
   void setShadingVisible(bool on);
   bool shadingVisible() const { return m_shadingVisible; }
+  /// Whether there is a shading to show (a map and a reach).
+  bool shadingAvailable() const { return hasMap() && m_shadingReach > 0.0; }
+  /// The shading of the current view, as drawn under the magnifier-free picture: an image of the
+  /// widget's size in device pixels, opaque green at every pixel of plotRect() whose centre's
+  /// map point lies within the reach of a sample, transparent elsewhere (drawn at 30 %). Null
+  /// when !shadingAvailable().
+  QImage shadingLayer() const;
   /// The shading's radius in pixels (0 without a map).
   double shadingRadius() const;
   /// The plot's frame in widget pixels (render::data_area with its margin): the trajectory,
@@ -275,8 +299,17 @@ class MapView : public QWidget {
   QPointF lens(const QPointF& pixel) const;    ///< undistorted → shown
   QPointF unlens(const QPointF& pixel) const;  ///< shown → undistorted
   void paintLens(QPainter& painter) const;
-  /// The shading and its key, into the cached trajectory (see setShadingAvailable).
+  /// The shading (shadingLayer) at its opacity, into the cached picture.
   void paintShading(QPainter& painter) const;
+  /// The shading's key, inside the plot's lower-left corner.
+  void paintShadingKey(QPainter& painter) const;
+  /// The shading under the lens: each pixel of the lens's disc decided at the map point it
+  /// shows (`bounds`: the lens's box).
+  void paintLensShading(QPainter& painter, const QRectF& bounds) const;
+  /// The reach field and the nearest-sample index of the shading's samples, built when stale.
+  void ensureReachField() const;
+  /// The exact rule: the nearest sample of map point `p` lies within the reach.
+  bool withinReach(const Eigen::Vector2d& p) const;
   /// `points` as 3 × 3 px marks in `color`, into the cached picture (clipped to the plot).
   void paintMarks(QPainter& painter, const Eigen::MatrixXd& points, const QColor& color) const;
   /// The selection's outline (or the one being drawn) in widget pixels.
@@ -319,6 +352,9 @@ class MapView : public QWidget {
   bool m_sketchMode = false;
   std::vector<Eigen::Vector2d> m_pendingKeys;
   double m_shadingReach = 0.0;  ///< map units (setShadingReach)
+  /// The shading's exact nearest-sample index (given, or built over the samples) and its field.
+  mutable std::shared_ptr<const synth::PointIndex> m_shadingIndex;
+  mutable std::shared_ptr<const render::ReachField> m_reachField;
   QString m_busyText;
   bool m_shadingVisible = false;
   bool m_lensEnabled = false;
@@ -327,6 +363,7 @@ class MapView : public QWidget {
   double m_lensPower = 3.0;
   Eigen::MatrixXd m_comparison;  ///< setComparison's trajectory (#frames by 2)
   std::optional<Eigen::Vector2d> m_comparisonPoint;
+  int m_comparisonClip = -1;     ///< setComparison's clip
   Eigen::MatrixXd m_highlight;   ///< setHighlight's points (#points by 2)
   Eigen::MatrixXd m_selection;   ///< setSelection's points
   QPolygonF m_selectionOutline;  ///< map coordinates

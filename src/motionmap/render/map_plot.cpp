@@ -254,8 +254,9 @@ void draw_text_line(QPainter& p, const QRectF& r, const QString& text, const QFo
 }
 
 // "▬ name  ▬ name …": the clip colours, centred in `area` (names elided to fit).
-void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringList& names,
-                      bool ramp, bool elide_right) {
+void draw_clip_legend(QPainter& p, const QRectF& area, double px, const MapPlotOptions& o) {
+  const QStringList& names = o.clip_names;
+  const bool elide_right = o.legend_elide_right;
   const QFont font = font_px(px);
   const QFontMetricsF fm(font);
   const double swatch = px * 1.2, gap = px * 0.4, spacing = px * 1.2;
@@ -273,13 +274,16 @@ void draw_clip_legend(QPainter& p, const QRectF& area, double px, const QStringL
   for (qsizetype c = 0; c < shown.size(); ++c) {
     p.setPen(Qt::NoPen);
     const QRectF box(x, cy - px * 0.3, swatch, px * 0.6);
-    if (ramp) {  // light → dark, as the clip's time runs
+    // The clip's colours as drawn: light → dark as its time runs with a ramp, else flat.
+    const QColor first = drawn_clip_color(o, static_cast<int>(c), 0.0);
+    const QColor last = drawn_clip_color(o, static_cast<int>(c), 1.0);
+    if (first != last) {
       QLinearGradient g(box.topLeft(), box.topRight());
-      g.setColorAt(0.0, clip_time_color(static_cast<int>(c), 0.0));
-      g.setColorAt(1.0, clip_time_color(static_cast<int>(c), 1.0));
+      g.setColorAt(0.0, first);
+      g.setColorAt(1.0, last);
       p.setBrush(g);
     } else {
-      p.setBrush(clip_color(static_cast<int>(c)));
+      p.setBrush(first);
     }
     p.drawRect(box);
     x += swatch + gap;
@@ -400,6 +404,13 @@ std::vector<int> category_slots(std::span<const int> counts) {
     if (kept[v]) slot_of[v] = next++;
   }
   return slot_of;
+}
+
+QColor drawn_clip_color(const MapPlotOptions& options, int clip, double t) {
+  if (clip >= 0 && std::size_t(clip) < options.clip_colors.size() &&
+      options.clip_colors[std::size_t(clip)].isValid())
+    return options.clip_colors[std::size_t(clip)];
+  return options.clip_time_ramp ? clip_time_color(clip, t) : clip_color(clip);
 }
 
 QColor clip_color(int clip) {
@@ -649,7 +660,7 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
   const auto sample_color = [&](int sample, int clip, double t) {
     if (by_category) return category_color(options.point_category[std::size_t(sample)]);
     if (!by_clip) return time_color(t);
-    return options.clip_time_ramp ? clip_time_color(clip, t) : clip_color(clip);
+    return drawn_clip_color(options, clip, t);
   };
 
   painter.save();
@@ -771,8 +782,7 @@ void paint_map(QPainter& painter, const QRectF& rect, const Eigen::MatrixXd& coo
     if (!options.categories.isEmpty()) {
       draw_category_legend(painter, l.legend, l.notes_px, options);
     } else if (by_clip) {
-      draw_clip_legend(painter, l.legend, l.notes_px, options.clip_names, options.clip_time_ramp,
-                       options.legend_elide_right);
+      draw_clip_legend(painter, l.legend, l.notes_px, options);
     } else {
       draw_time_legend(painter, l.legend, l.notes_px);
     }
@@ -855,9 +865,7 @@ void save_figure(const std::string& path, const std::vector<FigurePanel>& panels
                   if (category_legend) {
                     draw_category_legend(painter, QRectF(0, y, width, legend_h), legend_px, first);
                   } else if (!first.clip_names.isEmpty()) {
-                    draw_clip_legend(painter, QRectF(0, y, width, legend_h), legend_px,
-                                     first.clip_names, first.clip_time_ramp,
-                                     first.legend_elide_right);
+                    draw_clip_legend(painter, QRectF(0, y, width, legend_h), legend_px, first);
                   } else {
                     draw_time_legend(painter, QRectF(0, y, width, legend_px * 2.2), legend_px);
                   }

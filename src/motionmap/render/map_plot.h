@@ -82,6 +82,10 @@ struct MapPlotOptions {
   /// With clip_names: each clip's trajectory and dots run light → dark in its colour over its
   /// time (clip_time_color) instead of one flat colour.
   bool clip_time_ramp = false;
+  /// With clip_names, optional (one entry per clip, or fewer): a colour that clip c is drawn in
+  /// flat — its trajectory, its dots and its legend swatch — in place of its own (e.g. a clip
+  /// compared with another); an invalid entry keeps its own. See drawn_clip_color().
+  std::vector<QColor> clip_colors;
   /// The legend's clip names, when too long, are cut at their end ("clip 2: …happy_0…") instead
   /// of in the middle: for names whose distinguishing part comes first (their common prefix
   /// removed, a number in front).
@@ -102,6 +106,12 @@ struct MapPlotOptions {
   /// view (an `extent` smaller than the data), so nothing is drawn over the title, legend or notes.
   bool clip_to_frame = false;
 };
+
+/// The colour paint_map() draws clip `clip` in at time t ∈ [0, 1] within it, with clip_names set:
+/// options.clip_colors[clip] when given and valid, else clip_time_color(clip, t) with
+/// clip_time_ramp, else clip_color(clip). The one rule of a clip's trajectory, dots and legend
+/// swatch.
+QColor drawn_clip_color(const MapPlotOptions& options, int clip, double t);
 
 /// One piece of a trajectory, from sample `sample` to sample `sample + 1` of the same clip, in
 /// unit-square coordinates (see data_to_unit()).

@@ -69,6 +69,48 @@ TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
   }
 }
 
+TEST(SynthSynthesize, GivenWeightsMakeTheMotionThePathsLocatedWeightsMake) {
+  // synthesize(weights) is synthesize(path) without the locating: the path's own located weights
+  // give its motion bit for bit, smoothing and cleaning included.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map, BlendMode::Local);
+  MapPath path = own_trajectory(map, clip.motion.frame_time);
+  for (Eigen::Vector2d& p : path.points) p += Eigen::Vector2d(0.01, -0.02);  // between samples
+  SynthOptions options;
+  options.smooth = 0.05;
+  const SynthResult from_path = synthesize(blender, path, options);
+  const std::vector<MapWeights> weights = blender.locate(path.points);
+  const SynthResult from_weights = synthesize(blender, weights, options);
+  ASSERT_EQ(from_weights.motion.num_frames, from_path.motion.num_frames);
+  EXPECT_EQ(from_weights.motion.rotations, from_path.motion.rotations);
+  EXPECT_EQ(from_weights.motion.translations, from_path.motion.translations);
+  EXPECT_EQ(from_weights.clamped_frames, from_path.clamped_frames);
+
+  // Two samples' weights half and half: the frame between them.
+  const std::vector<MapWeights> between{MapWeights{{10, 11}, {0.5, 0.5}, {}}};
+  const SynthResult half = synthesize(blender, between);
+  EXPECT_NEAR(rotation_angle(half.motion.rotation(0, 2), clip.motion.rotation(10, 2)),
+              rotation_angle(half.motion.rotation(0, 2), clip.motion.rotation(11, 2)), 1e-9);
+
+  EXPECT_NE(parameter_message([&] {
+              synthesize(blender, std::vector<MapWeights>{});
+            }).find("no frames' weights"),
+            std::string::npos);
+  EXPECT_NE(parameter_message([&] {
+              synthesize(blender, std::vector<MapWeights>{MapWeights{{11, 10}, {0.5, 0.5}, {}}});
+            }).find("frame 0's weights"),
+            std::string::npos);
+  EXPECT_NE(parameter_message([&] {
+              synthesize(blender, std::vector<MapWeights>{MapWeights{{0}, {NAN}, {}}});
+            }).find("frame 0's weights"),
+            std::string::npos);
+  EXPECT_NE(parameter_message([&] {
+              synthesize(blender, std::vector<MapWeights>{MapWeights{{100000}, {1.0}, {}}});
+            }).find("frame 0's weights"),
+            std::string::npos);
+}
+
 TEST(SynthSynthesize, ASketchedWalkWalksEvenWhenThePathTurnsBack) {
   // Forward along the map then back: the blended heading-local velocity is always ≈ 30 units/s
   // forward, so the body keeps walking (and turning at 0.4 rad/s), whatever the map direction.

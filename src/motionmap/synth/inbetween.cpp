@@ -90,6 +90,11 @@ struct WalkedRoute {
   /// A clip route's: per step, the clips' frames it advances (0 for a hold); empty for a grid
   /// route, whose blended root velocities are the samples' own speed already.
   std::vector<double> advance;
+  /// A clip route's: per step, whether it jumps to another clip's sample (its frames are not
+  /// blended between the two: each takes the nearer end).
+  std::vector<char> jumps;
+  /// A clip route's samples, one per point.
+  std::vector<int> samples;
 };
 
 WalkedRoute walk(const MapField& field, const std::vector<double>& speeds, double floor_speed,
@@ -353,6 +358,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       last_visited = visited.back();
       // Frames blend at the visited samples' points; a map-point key's frame at its point.
       WalkedRoute w;
+      w.samples = visited;
       for (int t = 0; t <= steps_taken; ++t) {
         const int at = visited[static_cast<std::size_t>(t)];
         w.points.push_back(field.sample(at));
@@ -360,11 +366,12 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
         if (t == 0) continue;
         const int from = visited[static_cast<std::size_t>(t) - 1];
         const int on = next[static_cast<std::size_t>(from)];
+        const bool skip = on >= 0 && at == next[static_cast<std::size_t>(on)];
+        const bool jump = at != from && at != on && !skip;
         w.advance.push_back(at == from ? 0.0
-                            : on >= 0 && at == next[static_cast<std::size_t>(on)]
-                                ? samples.frame_of[at] - samples.frame_of[from]
-                            : on >= 0 && at == on ? samples.frame_of[on] - samples.frame_of[from]
-                                                  : sample_step);
+                            : jump     ? sample_step
+                                       : samples.frame_of[at] - samples.frame_of[from]);
+        w.jumps.push_back(jump ? 1 : 0);
       }
       if (!keys[i].has_pose()) w.points.front() = keys[i].point;
       if (!keys[i + 1].has_pose()) w.points.back() = keys[i + 1].point;
@@ -385,30 +392,73 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     routing.update(static_cast<double>(i + 1) / (K - 1));
   }
 
-  // The map point of every frame: equal steps of the samples' time along each route.
+  // The map point of every frame: equal steps of the samples' time along each route. On a clip
+  // route a frame between two of its samples blends those two (the clip's frames in between);
+  // across a jump it takes the nearer one (blending there would mix the nearby samples of
+  // neither clip); a map-point key's frame is the blend at its point.
   const long long frames = key_frames.back() + 1;
   result.points.resize(static_cast<std::size_t>(frames));
+  std::vector<MapWeights> frame_weights;
+  if (clip_routes) frame_weights.resize(static_cast<std::size_t>(frames));
+  const auto clip_frame = [&](const WalkedRoute& w, double t, const Eigen::Vector2d& point) {
+    const double steps = static_cast<double>(w.samples.size()) - 1.0;
+    const double i = std::min(std::floor(t), steps - 1.0);
+    const auto step = static_cast<std::size_t>(i);
+    double f = t - i;
+    int a = w.samples[step], b = w.samples[step + 1];
+    if (w.jumps[step]) f = f < 0.5 ? 0.0 : 1.0;
+    MapWeights out;
+    if (a == b || f <= 0.0 || f >= 1.0) {
+      out.samples = {f >= 1.0 ? b : a};
+      out.weights = {1.0};
+    } else {
+      double wa = 1.0 - f, wb = f;
+      if (b < a) {
+        std::swap(a, b);
+        std::swap(wa, wb);
+      }
+      out.samples = {a, b};
+      out.weights = {wa, wb};
+    }
+    PointValidity& v = out.validity;
+    v.query = v.point = point;
+    const int nearest = f < 0.5 ? w.samples[step] : w.samples[step + 1];
+    v.nearest_sample = nearest;
+    v.distance = (point - blender.sample_point(nearest)).norm();
+    return out;
+  };
   for (int i = 0; i + 1 < K; ++i) {
     const WalkedRoute& w = walked[static_cast<std::size_t>(i)];
     const long long a = key_frames[i], b = key_frames[i + 1];
-    for (long long k = a; k < b; ++k) {
-      result.points[static_cast<std::size_t>(k)] =
-          at_time(w, w.times.back() * static_cast<double>(k - a) / static_cast<double>(b - a));
+    const bool last = i + 2 == K;
+    for (long long k = a; k < b || (last && k == b); ++k) {
+      const double t = w.times.back() * static_cast<double>(k - a) / static_cast<double>(b - a);
+      const auto ks = static_cast<std::size_t>(k);
+      result.points[ks] = k == b ? w.points.back() : at_time(w, t);
+      if (!clip_routes) continue;
+      const bool key_point = (k == a && !keys[i].has_pose()) || (k == b && !keys[i + 1].has_pose());
+      frame_weights[ks] = w.samples.empty() || key_point ? blender.locate(result.points[ks])
+                                                         : clip_frame(w, t, result.points[ks]);
     }
   }
-  result.points.back() = walked.back().points.back();
 
-  // Blended poses and root motion along them: a path timed at the frames.
-  MapPath path;
-  path.points = result.points;
-  path.times.resize(static_cast<std::size_t>(frames));
-  for (long long k = 0; k < frames; ++k)
-    path.times[static_cast<std::size_t>(k)] = static_cast<double>(k) * dt;
+  // Blended poses and root motion along them: a path timed at the frames (or the clip routes'
+  // weights).
   // The feet are cleaned last, once the keys' poses and roots are in place.
   SynthOptions blend_only;
   blend_only.clean_feet = false;
-  SynthResult synth =
-      synthesize(blender, path, blend_only, control.stage("blending frames", 0.2, 0.9));
+  const Control blending = control.stage("blending frames", 0.2, 0.9);
+  SynthResult synth;
+  if (clip_routes) {
+    synth = synthesize(blender, frame_weights, blend_only, blending);
+  } else {
+    MapPath path;
+    path.points = result.points;
+    path.times.resize(static_cast<std::size_t>(frames));
+    for (long long k = 0; k < frames; ++k)
+      path.times[static_cast<std::size_t>(k)] = static_cast<double>(k) * dt;
+    synth = synthesize(blender, path, blend_only, blending);
+  }
   if (synth.motion.num_frames != frames) {
     throw NumericalError("inbetween: " + std::to_string(synth.motion.num_frames) +
                          " frames synthesized where " + std::to_string(frames) + " were asked");

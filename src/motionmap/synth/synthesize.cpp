@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -22,6 +23,13 @@ constexpr int kBlockFrames = 256;
 constexpr int kLocateBatch = 64;
 // Most kriging weights the smoothing window may hold (each a dense vector over the samples).
 constexpr long long kMaxWindowWeights = 50'000'000;
+
+// The motion of `frames` frames at `dt` whose weights weights_of(first, count) gives, asked for
+// block by block as the smoothing window moves on (see the top of synthesize.h).
+SynthResult synthesize_frames(
+    const MapBlender& blender, long long frames, double dt,
+    const std::function<std::vector<MapWeights>(long long, long long)>& weights_of,
+    const SynthOptions& options, const Control& control);
 
 }  // namespace
 
@@ -57,8 +65,59 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   // 0 fps keeps the clip's exact frame time, so a path timed like the clip hits its samples.
   const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
   const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
-  const auto frames = static_cast<long long>(points.size());
+  return synthesize_frames(
+      blender, static_cast<long long>(points.size()), dt,
+      [&](long long first, long long count) {
+        std::vector<MapWeights> fresh(static_cast<std::size_t>(count));
+        const int batches = static_cast<int>((count + kLocateBatch - 1) / kLocateBatch);
+        parallel_for(batches, [&](int b) {
+          const long long from = static_cast<long long>(b) * kLocateBatch;
+          const long long last = std::min(count, from + kLocateBatch);
+          auto located = blender.locate(std::span<const Eigen::Vector2d>(points).subspan(
+              static_cast<std::size_t>(first + from), static_cast<std::size_t>(last - from)));
+          std::move(located.begin(), located.end(), fresh.begin() + from);
+        });
+        return fresh;
+      },
+      options, control);
+}
 
+SynthResult synthesize(const MapBlender& blender, std::span<const MapWeights> weights,
+                       const SynthOptions& options, const Control& control) {
+  options.validate();
+  if (weights.empty()) throw ParameterError("synthesize: no frames' weights given");
+  if (static_cast<long long>(weights.size()) > kMaxSynthFrames) {
+    throw ParameterError("synthesize: " + std::to_string(weights.size()) +
+                         " frames, more than the limit of " + std::to_string(kMaxSynthFrames));
+  }
+  for (std::size_t k = 0; k < weights.size(); ++k) {
+    const MapWeights& w = weights[k];
+    bool fine = !w.samples.empty() && w.samples.size() == w.weights.size();
+    for (std::size_t i = 0; fine && i < w.samples.size(); ++i) {
+      fine = w.samples[i] >= 0 && w.samples[i] < blender.num_samples() &&
+             (i == 0 || w.samples[i] > w.samples[i - 1]) && std::isfinite(w.weights[i]);
+    }
+    if (!fine) {
+      throw ParameterError("synthesize: frame " + std::to_string(k) +
+                           "'s weights are not one finite weight per sample of the map, the "
+                           "samples increasing");
+    }
+  }
+  const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
+  return synthesize_frames(
+      blender, static_cast<long long>(weights.size()), dt,
+      [&](long long first, long long count) {
+        return std::vector<MapWeights>(weights.begin() + first, weights.begin() + first + count);
+      },
+      options, control);
+}
+
+namespace {
+
+SynthResult synthesize_frames(
+    const MapBlender& blender, long long frames, double dt,
+    const std::function<std::vector<MapWeights>(long long, long long)>& weights_of,
+    const SynthOptions& options, const Control& control) {
   // The Gaussian kernel over ±3σ frames.
   const std::vector<double> kernel = detail::smoothing_kernel(options.smooth, dt, frames);
   const auto half = static_cast<long long>(kernel.size() / 2);
@@ -103,17 +162,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
     }
     const long long have_end = raw_first + static_cast<long long>(raw.size());
     if (have_end < need_end) {
-      const long long count = need_end - have_end;
-      std::vector<MapWeights> fresh(static_cast<std::size_t>(count));
-      const int batches = static_cast<int>((count + kLocateBatch - 1) / kLocateBatch);
-      parallel_for(batches, [&](int b) {
-        const long long first = static_cast<long long>(b) * kLocateBatch;
-        const long long last = std::min(count, first + kLocateBatch);
-        auto located = blender.locate(std::span<const Eigen::Vector2d>(points).subspan(
-            static_cast<std::size_t>(have_end + first), static_cast<std::size_t>(last - first)));
-        std::move(located.begin(), located.end(), fresh.begin() + first);
-      });
-      for (auto& w : fresh) raw.push_back(std::move(w));
+      for (auto& w : weights_of(have_end, need_end - have_end)) raw.push_back(std::move(w));
     }
     // A blender reading its clips on demand reads this block's samples now, each clip once.
     if (blender.reads_on_demand()) {
@@ -187,5 +236,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   }
   return result;
 }
+
+}  // namespace
 
 }  // namespace motionmap::synth

@@ -20,6 +20,7 @@
 // the floor, the legs bent to reach; a skeleton without feet (find_feet) is left as blended, with
 // a note. Set SynthOptions::clean_feet = false to get the blend as it is.
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,16 @@ struct SynthResult {
 ///         Cancelled if `control` says so (polled between blocks of frames). Reports "blending
 ///         frames".
 SynthResult synthesize(const MapBlender& blender, const MapPath& path,
+                       const SynthOptions& options = {}, const Control& control = {});
+
+/// The same, one frame per entry of `weights` (as MapBlender::locate gives them, or any weights
+/// over the map's samples: in-betweening blends two consecutive frames of a clip route this way),
+/// at options.fps (0: the blender's frame rate); options.speed is not used. Each frame's validity
+/// is its weights'.
+/// @throws ParameterError for bad options, no frames or more than kMaxSynthFrames, a frame whose
+///         weights are empty, not one per sample, not finite or not of increasing samples of the
+///         map; as above.
+SynthResult synthesize(const MapBlender& blender, std::span<const MapWeights> weights,
                        const SynthOptions& options = {}, const Control& control = {});
 
 }  // namespace motionmap::synth

@@ -992,6 +992,73 @@ Labels sample_labels(const LabelTable& table, std::span<const int> clip_of,
   return labels;
 }
 
+void merge_labels(LabelTable& table, LabelTable later, const std::string& source) {
+  // Each of later's labels: its index in the table's names, new names after the table's.
+  std::vector<std::string> names = table.names;
+  std::vector<int> index;
+  for (const std::string& name : later.names) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) {
+      index.push_back(int(it - names.begin()));
+      continue;
+    }
+    if (int(names.size()) == kMaxLabels) {
+      throw ParameterError(source + ": error: more than " + std::to_string(kMaxLabels) +
+                           " labels together with the map's");
+    }
+    names.push_back(name);
+    index.push_back(int(names.size()) - 1);
+  }
+  table.names = std::move(names);
+  // Later spans win where they cover a frame (sample_labels: the last covering span).
+  for (LabelSpan& span : later.spans) {
+    span.label = index[std::size_t(span.label)];
+    table.spans.push_back(std::move(span));
+  }
+  table.notes.insert(table.notes.end(), std::make_move_iterator(later.notes.begin()),
+                     std::make_move_iterator(later.notes.end()));
+}
+
+LabelTable label_table(const Labels& labels, std::span<const int> clip_of,
+                       std::span<const int> frame_of) {
+  if (clip_of.size() != frame_of.size()) {
+    throw ParameterError("labels: " + std::to_string(clip_of.size()) + " clips and " +
+                         std::to_string(frame_of.size()) + " frames per sample");
+  }
+  // The samples by clip and frame: a run of equal values in this order covers no other sample.
+  std::vector<std::size_t> order(clip_of.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return clip_of[a] != clip_of[b] ? clip_of[a] < clip_of[b] : frame_of[a] < frame_of[b];
+  });
+  LabelTable table;
+  for (std::size_t l = 0; l < labels.columns.size(); ++l) {
+    const LabelColumn& column = labels.columns[l];
+    if (column.codes.size() != clip_of.size()) {
+      throw ParameterError("labels: label " + quoted(column.name) + ": " +
+                           std::to_string(column.codes.size()) + " values for " +
+                           std::to_string(clip_of.size()) + " samples");
+    }
+    table.names.push_back(column.name);
+    for (std::size_t r = 0; r < order.size();) {
+      const std::size_t first = order[r];
+      const int clip = clip_of[first];
+      const std::int32_t code = column.codes[first];
+      std::size_t end = r + 1;
+      while (end < order.size() && clip_of[order[end]] == clip &&
+             column.codes[order[end]] == code) {
+        ++end;
+      }
+      const std::string& value = column.categories.at(std::size_t(code));
+      if (!value.empty()) {
+        table.spans.push_back({clip, frame_of[first], frame_of[order[end - 1]], int(l), value});
+      }
+      r = end;
+    }
+  }
+  return table;
+}
+
 void check_labels(const Labels& labels, int samples) {
   if (int(labels.columns.size()) > kMaxLabels) {
     throw ParameterError("labels: " + std::to_string(labels.columns.size()) + " labels; at most " +

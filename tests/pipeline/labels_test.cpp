@@ -12,7 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/metric.h"
 #include "motionmap/embed/embed.h"
+#include "motionmap/embed/metrics.h"
 #include "motionmap/io/load.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "support/test_data.h"
@@ -433,6 +435,77 @@ TEST(LabelAccuracy, OnTheBandaiTakesAsTheDefinitionSays) {
   const auto map_only = label_accuracy(*set, Y, labels, 10, 5000, {}, false);
   EXPECT_EQ(map_only[0].map, accuracy[0].map);
   EXPECT_TRUE(std::isnan(map_only[0].features));
+}
+
+// label_accuracy() skips frames that cannot vote (a search along sorted projections with lower
+// bounds of the distances); its counts of right votes are those of every frame's distance: on
+// clustered points with exact ties (integer coordinates, repeated rows), unlabelled frames, a
+// label some clips lack, k from 1 to 12, a map of few distinct points and a map of one column.
+TEST(LabelAccuracy, TheSearchThatSkipsFramesVotesAsEveryFramesDistanceDoes) {
+  std::mt19937 random(7);
+  for (int trial = 0; trial < 6; ++trial) {
+    const int clips = 12 + 5 * trial;
+    const int per_clip = 20 + trial * 7;
+    const int n = clips * per_clip;
+    const int dims = trial % 2 ? 12 : 30;
+    features::FeatureSet set;
+    set.distance = features::DistanceKind::PointCloud;
+    set.distance_input.resize(n, dims);
+    Eigen::MatrixXd map(n, trial == 5 ? 1 : 2);
+    Labels labels;
+    labels.columns.resize(2);
+    labels.columns[0] = {"action", {"", "a", "b", "c"}, {}};
+    labels.columns[1] = {"style", {"", "x", "y"}, {}};
+    std::uniform_int_distribution<int> small(-3, 3), code(1, 3), coin(0, 3);
+    for (int c = 0; c < clips; ++c) {
+      const int action = code(random);
+      for (int f = 0; f < per_clip; ++f) {
+        const int i = c * per_clip + f;
+        set.clip_of.push_back(c);
+        set.frame_of.push_back(f);
+        // Clusters by action, integer offsets (ties), some rows repeated from the frame before.
+        if (f > 0 && coin(random) == 0) {
+          set.distance_input.row(i) = set.distance_input.row(i - 1);
+        } else {
+          for (int d = 0; d < dims; ++d)
+            set.distance_input(i, d) = 10.0 * action * (d % 3 == 0) + small(random);
+        }
+        for (Eigen::Index d = 0; d < map.cols(); ++d)
+          map(i, d) = trial >= 4 ? double(small(random)) : 5.0 * action + small(random);
+        labels.columns[0].codes.push_back(coin(random) == 0 ? 0 : action);
+        labels.columns[1].codes.push_back(c % 4 == 0 ? 0 : 1 + (c + f / 7) % 2);
+      }
+    }
+    for (const int k : {1, 3, 10, 12}) {
+      const std::vector<LabelAccuracy> got = label_accuracy(set, map, labels, k, 0);
+      ASSERT_EQ(got.size(), 2u);
+      // Every frame's distance: knn_label_vote over all of them.
+      for (std::size_t l = 0; l < 2; ++l) {
+        std::vector<int> codes(labels.columns[l].codes.begin(), labels.columns[l].codes.end());
+        for (int& c : codes) c = c == 0 ? -1 : c;
+        int right_map = 0, right_features = 0, queries = 0;
+        std::vector<double> dm(static_cast<std::size_t>(n)), df(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) {
+          if (codes[std::size_t(i)] < 0) continue;
+          for (int j = 0; j < n; ++j) {
+            dm[std::size_t(j)] = (map.row(j) - map.row(i)).norm();
+            df[std::size_t(j)] =
+                euclidean_distance(set.distance_input.row(i), set.distance_input.row(j));
+          }
+          ++queries;
+          right_map += embed::knn_label_vote(dm, codes, set.clip_of, set.clip_of[std::size_t(i)],
+                                             k) == codes[std::size_t(i)];
+          right_features +=
+              embed::knn_label_vote(df, codes, set.clip_of, set.clip_of[std::size_t(i)], k) ==
+              codes[std::size_t(i)];
+        }
+        EXPECT_EQ(got[l].queries, queries) << "trial " << trial << " k " << k;
+        EXPECT_EQ(got[l].map, double(right_map) / queries) << "trial " << trial << " k " << k;
+        EXPECT_EQ(got[l].features, double(right_features) / queries)
+            << "trial " << trial << " k " << k;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -184,6 +184,9 @@ struct LabelAccuracy {
 /// sample index; a tied vote goes to the label of the nearest neighbour among the tied labels.
 /// `feature_space` false leaves the feature space's figures out (NaN; they do not depend on the
 /// map: a figure of several maps of one feature set measures them once).
+/// On the map and on points by the Euclidean distance, frames that cannot be among the k nearest
+/// are skipped by lower bounds of their distance (a walk along sorted projections); the figures
+/// are those of every frame's distance (docs/labels.md).
 /// @throws ParameterError if the sizes differ or k < 1; Cancelled.
 std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
                                           const Eigen::MatrixXd& coordinates, const Labels& labels,

@@ -63,28 +63,10 @@ std::optional<pipeline::LabelTable> read_clip_labels(const MapCliOptions& opt,
     table = pipeline::labels_from_names(paths, pipeline::NamePattern(opt.labels_from_name));
   }
   if (!opt.labels_file.empty()) {
-    pipeline::LabelTable file = pipeline::read_label_file(opt.labels_file, paths, frames);
-    // The file's labels after the names': its names join the table's, its spans come later (win).
-    std::vector<int> index;
-    for (const std::string& name : file.names) {
-      const auto it = std::find(table.names.begin(), table.names.end(), name);
-      if (it == table.names.end()) {
-        if (int(table.names.size()) == pipeline::kMaxLabels) {
-          throw ParameterError(opt.labels_file + ": error: more than " +
-                               std::to_string(pipeline::kMaxLabels) +
-                               " labels with the file names'");
-        }
-        table.names.push_back(name);
-        index.push_back(int(table.names.size()) - 1);
-      } else {
-        index.push_back(int(it - table.names.begin()));
-      }
-    }
-    for (pipeline::LabelSpan& span : file.spans) {
-      span.label = index[std::size_t(span.label)];
-      table.spans.push_back(std::move(span));
-    }
-    table.notes.insert(table.notes.end(), file.notes.begin(), file.notes.end());
+    // The file's labels after the names', span by span (the rule Studio's "Labels from file…"
+    // follows too).
+    pipeline::merge_labels(table, pipeline::read_label_file(opt.labels_file, paths, frames),
+                           opt.labels_file);
   }
   if (by_label &&
       std::find(table.names.begin(), table.names.end(), opt.color_by) == table.names.end()) {

@@ -1,6 +1,7 @@
 // `motionmap map FILE… --method M -o map.csv [--plot map.png] [--metrics] [--save lib.mmap.h5]`:
 // one map of the clips; `motionmap map NEW… --onto lib.mmap.h5 -o new.csv`: the clips' frames
 // placed on a saved map without refitting it.
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -262,8 +263,15 @@ void setup_map(CLI::App& app) {
     if (map.metrics && !labels.empty()) {
       if (map.features->has_distances() ||
           map.features->distance_input.rows() == map.features->num_samples()) {
+        const auto start = std::chrono::steady_clock::now();
         accuracy = pipeline::label_accuracy(*map.features, map.embedding.coordinates, labels,
                                             options.metrics_k, kLabelQueries);
+        if (cmd->map.verbose) {
+          std::fprintf(
+              stderr, "verbose: label accuracy: %.2f s, peak %.0f MiB\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              double(peak_memory()) / (1024.0 * 1024.0));
+        }
       } else {
         std::cerr << "note: label accuracy not measured: this map's features were not kept\n";
       }

@@ -223,17 +223,8 @@ std::optional<pipeline::LabelTable> clip_labels(const std::vector<Clip>& clips,
     table = pipeline::labels_from_names(paths, pipeline::NamePattern(labels_from_name));
   }
   if (!labels_file.empty()) {
-    pipeline::LabelTable file = pipeline::read_label_file(labels_file, paths, frames);
-    std::vector<int> index;
-    for (const std::string& name : file.names) {
-      const auto it = std::find(table.names.begin(), table.names.end(), name);
-      index.push_back(int(it - table.names.begin()));
-      if (it == table.names.end()) table.names.push_back(name);
-    }
-    for (pipeline::LabelSpan& span : file.spans) {
-      span.label = index[std::size_t(span.label)];
-      table.spans.push_back(std::move(span));
-    }
+    pipeline::merge_labels(table, pipeline::read_label_file(labels_file, paths, frames),
+                           labels_file);
   }
   return table;
 }

@@ -13,6 +13,7 @@
 #include <QListWidget>
 #include <QMenu>
 #include <QMenuBar>
+#include <QProcess>
 #include <QPushButton>
 #include <QTest>
 #include <filesystem>
@@ -98,9 +99,12 @@ void writeText(const fs::path& path, const std::string& text) {
   out << text;
 }
 
-/// The entries `motionmap map --labels FILE --color-by LABEL` colours by: the library's reader
-/// (pipeline::read_label_file, as the CLI reads --labels), sampled on the map's samples, and
-/// render::category_slots' colours.
+const std::string kTemplate = "{action}_{style}_{take}";
+
+/// The entries `motionmap map --labels-from-name kTemplate --labels FILE --color-by LABEL`
+/// colours by: the library's reader (pipeline::read_label_file, as the CLI reads --labels), the
+/// file's labels merged into the names' (pipeline::merge_labels, as the CLI merges them),
+/// sampled on the map's samples, and render::category_slots' colours.
 struct CliEntry {
   std::string value;
   int count = 0;
@@ -109,8 +113,9 @@ struct CliEntry {
 std::vector<CliEntry> cliEntries(const std::string& file, const std::vector<std::string>& paths,
                                  const std::vector<int>& frames, const std::vector<int>& clipOf,
                                  const std::vector<int>& frameOf, const std::string& label) {
-  const pipeline::Labels labels =
-      pipeline::sample_labels(pipeline::read_label_file(file, paths, frames), clipOf, frameOf);
+  pipeline::LabelTable table = pipeline::labels_from_names(paths, pipeline::NamePattern(kTemplate));
+  pipeline::merge_labels(table, pipeline::read_label_file(file, paths, frames), file);
+  const pipeline::Labels labels = pipeline::sample_labels(table, clipOf, frameOf);
   const pipeline::LabelColumn* column = labels.find(label);
   if (!column) return {};
   const std::vector<int> counts = column->counts();
@@ -120,6 +125,74 @@ std::vector<CliEntry> cliEntries(const std::string& file, const std::vector<std:
     out.push_back(
         {column->categories[v].empty() ? "(none)" : column->categories[v], counts[v], slot_of[v]});
   return out;
+}
+
+/// The label columns `names` of the map CSV that `motionmap ARGS -o OUT` writes, by (clip, frame):
+/// the CLI run in a child process. Empty (with a failure) when it fails.
+std::map<std::pair<int, int>, std::vector<std::string>> cliLabels(
+    const QStringList& args, const fs::path& out, const std::vector<std::string>& names) {
+  std::map<std::pair<int, int>, std::vector<std::string>> rows;
+#ifdef MOTIONMAP_CLI_EXE
+  QProcess cli;
+  cli.start(MOTIONMAP_CLI_EXE,
+            args + QStringList{"-q", "-o", QString::fromStdString(out.string())});
+  EXPECT_TRUE(cli.waitForFinished(testing::kTimeoutMs));
+  EXPECT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
+  std::ifstream in(out);
+  std::string line;
+  std::vector<std::size_t> column;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+      cells.push_back(line.substr(start, comma - start));
+    cells.push_back(line.substr(start));
+    if (column.empty()) {  // the header: clip, frame, coordinates, labels
+      for (const std::string& name : names) {
+        const auto it = std::find(cells.begin(), cells.end(), name);
+        EXPECT_NE(it, cells.end()) << "no column " << name << " in " << line;
+        if (it == cells.end()) return {};
+        column.push_back(std::size_t(it - cells.begin()));
+      }
+      EXPECT_EQ(cells[0], "clip");
+      EXPECT_EQ(cells[1], "frame");
+      continue;
+    }
+    std::vector<std::string>& values = rows[{std::stoi(cells[0]), std::stoi(cells[1])}];
+    for (const std::size_t c : column) values.push_back(cells.at(c));
+  }
+#else
+  (void)args, (void)out, (void)names;
+  ADD_FAILURE() << "the CLI (motionmap) was not built with these tests";
+#endif
+  return rows;
+}
+
+/// Expects the colouring's values of each label of `names` on every sample (clipOf, frameOf) to
+/// be the CLI's `cli` values of the same clip and frame; returns the samples compared.
+int expectCliValues(const MapColoring& coloring, const std::vector<std::string>& names,
+                    const std::vector<int>& clipOf, const std::vector<int>& frameOf,
+                    const std::map<std::pair<int, int>, std::vector<std::string>>& cli) {
+  EXPECT_EQ(cli.size(), clipOf.size());
+  int compared = 0;
+  for (std::size_t l = 0; l < names.size(); ++l) {
+    const pipeline::LabelColumn* column = coloring.column(names[l]);
+    EXPECT_NE(column, nullptr) << names[l];
+    if (!column) return 0;
+    int mismatches = 0;
+    for (std::size_t r = 0; r < clipOf.size(); ++r) {
+      const auto it = cli.find({clipOf[r], frameOf[r]});
+      EXPECT_NE(it, cli.end()) << "clip " << clipOf[r] << " frame " << frameOf[r];
+      if (it == cli.end()) return 0;
+      if (column->value(int(r)) != it->second[l] && ++mismatches <= 5)
+        ADD_FAILURE() << names[l] << " of clip " << clipOf[r] << " frame " << frameOf[r] << ": '"
+                      << column->value(int(r)) << "', the CLI '" << it->second[l] << "'";
+      compared += l == 0;
+    }
+    EXPECT_EQ(mismatches, 0) << names[l];
+  }
+  return compared;
 }
 
 /// Expects the colouring's entries to be `want`, value by value.
@@ -439,7 +512,8 @@ TEST_F(LabelledLibrary, ThePictureShowsTheColoursAndTheLegend) {
 
 TEST_F(LabelledLibrary, ALabelFileColoursASavedMapAsTheCliReadsIt) {
   // One row per clip, named by file name or by stem: a "speed" label, and "style" again (the
-  // file's takes the place of the map's), leaving one clip unlabelled ("(none)").
+  // file's values replace the map's where it gives them: the last clip keeps its name's),
+  // leaving one clip without a speed ("(none)").
   std::string csv = "# speed of each take\nclip,speed,style\n";
   for (std::size_t c = 0; c + 1 < m_paths.size(); ++c) {
     const fs::path p(m_paths[c]);
@@ -478,15 +552,66 @@ TEST_F(LabelledLibrary, ALabelFileColoursASavedMapAsTheCliReadsIt) {
     ASSERT_EQ(categories[std::size_t(r)],
               speed[std::size_t(column->codes[std::size_t(r)])].category)
         << "row " << r;
-  // The file's "style" in place of the map's: its values s0, s1, s2 and (none).
+  // The file's "style" merged into the map's: its values s0, s1, s2 and the last clip's "tired".
   ASSERT_TRUE(m_coloring->setColorBy("style"));
   expectEntries(*m_coloring, want("style"));
-  EXPECT_EQ(m_coloring->entries().size(), 4u);
+  ASSERT_EQ(m_coloring->entries().size(), 4u);
+  EXPECT_EQ(m_coloring->entries()[3].value, "tired");
+  EXPECT_EQ(m_coloring->entries()[3].count, file().clips.back().samples);
   // The map's own labels still colour it.
   ASSERT_TRUE(m_coloring->setColorBy("action"));
   EXPECT_EQ(m_coloring->entries().size(), 5u);
   // The Legend's button and the menu's entry ask for a file (here, the dialog is not shown).
   EXPECT_TRUE(m_legend->labelFileButton()->isVisible());
+}
+
+TEST_F(LabelledLibrary, ALabelFileMergesIntoTheMapsLabelsSpanBySpanAsTheCliDoes) {
+  // Spans of some frames of three takes: a label the map has from the names ("action") and a
+  // new one ("mood"). The file's values where its spans cover frames, the names' elsewhere: the
+  // values of `motionmap map TAKES --labels-from-name … --labels FILE`'s label columns.
+  const fs::path labels = m_dir / "spans.csv";
+  writeText(labels,
+            "clip,start,end,action,mood\n"
+            "dataset-1_walk_old_001.bvh,10,59,limp,calm\n"
+            "dataset-1_run_angry_001,0,29,sprint,tense\n"
+            "dataset-1_bow_normal_001,40,137,bow_deep,calm\n"
+            "dataset-1_walk_old_001,30,39,stumble,tense\n");
+  ASSERT_TRUE(m_coloring->labelsFromFile(QString::fromStdString(labels.string())))
+      << m_window->lastError().toStdString();
+  EXPECT_EQ(m_coloring->choices(),
+            QStringList({"time", "clip", "action", "style", "take", "mood"}));
+  EXPECT_EQ(m_coloring->colorBy(), "action");  // the file's first label
+  // Every value of "action": the names' five and the file's three.
+  QStringList values;
+  for (const auto& e : m_coloring->entries()) values << e.value;
+  EXPECT_EQ(values, QStringList({"bow", "bow_deep", "dash", "limp", "punch", "run", "sprint",
+                                 "stumble", "walk"}));
+  QStringList args{"map"};
+  for (const std::string& p : m_paths) args << QString::fromStdString(p);
+  args << "-m"
+       << "pca"
+       << "--labels-from-name" << QString::fromStdString(kTemplate) << "--labels"
+       << QString::fromStdString(labels.string());
+  const std::vector<std::string> names = {"action", "style", "take", "mood"};
+  const auto cli = cliLabels(args, m_dir / "cli.csv", names);
+  EXPECT_EQ(expectCliValues(*m_coloring, names, file().clip_of, file().frame_of, cli),
+            file().num_samples());
+  // Frames outside the spans keep the names' action: some walk_old frames are still "walk".
+  const pipeline::LabelColumn* action = m_coloring->column("action");
+  ASSERT_NE(action, nullptr);
+  const int walkOld = int(
+      std::find_if(m_paths.begin(), m_paths.end(),
+                   [](const std::string& p) { return p.find("walk_old") != std::string::npos; }) -
+      m_paths.begin());
+  std::set<std::string> walkOldActions;
+  for (int r = 0; r < file().num_samples(); ++r)
+    if (file().clip_of[std::size_t(r)] == walkOld) walkOldActions.insert(action->value(r));
+  EXPECT_EQ(walkOldActions, (std::set<std::string>{"limp", "stumble", "walk"}));
+  // The colours are the CLI's for the merged labels.
+  std::vector<int> frames;
+  for (const auto& clip : file().clips) frames.push_back(clip.frames);
+  expectEntries(*m_coloring, cliEntries(labels.string(), m_paths, frames, file().clip_of,
+                                        file().frame_of, "action"));
 }
 
 TEST_F(LabelledLibrary, SpansOfFramesGiveTheClisColoursAndGreyBeyondTheTwelve) {
@@ -658,6 +783,73 @@ TEST(StudioLabels, AComputedMapColoursByLabelsReadFromTheClipsNames) {
   EXPECT_FALSE(coloring->entries()[std::size_t(run)].shown);
   EXPECT_TRUE(view->hidesSamples());
   EXPECT_TRUE(coloring->choices().contains("phase"));
+}
+
+// A map computed here, labelled from the names in Studio, then from a file of one row per clip for
+// some clips: the names' labels with the file's values where it gives them, as the CLI merges.
+TEST(StudioLabels, OnAComputedMapAFilesLabelsMergeIntoTheNamesAsTheCliDoes) {
+  const std::vector<std::string> all = bandaiPaths();
+  if (all.size() != 12) GTEST_SKIP() << "the 12 Bandai takes are not in " << kBandai;
+  std::vector<std::string> paths;
+  for (const std::string& p : all)
+    if (p.find("run_angry") != std::string::npos || p.find("run_old") != std::string::npos ||
+        p.find("walk_angry") != std::string::npos || p.find("walk_old") != std::string::npos)
+      paths.push_back(p);
+  ASSERT_EQ(paths.size(), 4u);
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(1000, 600);
+  w.show();
+  w.setMethod(embed::Method::Pca);
+  ASSERT_TRUE(w.openFile(QString::fromStdString(paths[0])));
+  for (std::size_t i = 1; i < paths.size(); ++i)
+    ASSERT_TRUE(w.addFile(QString::fromStdString(paths[i]))) << w.lastError().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 4; },
+      testing::kTimeoutMs));
+  MapColoring* coloring = w.explore()->coloring();
+  const fs::path dir =
+      fs::temp_directory_path() / ("motionmap-studio-labels-merge-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  // The file first, the names after: the file's values still win where it gives them.
+  writeText(dir / "styles.csv",
+            "clip,style,speed\ndataset-1_run_old_001,brisk,fast\ndataset-1_walk_angry_001.bvh,"
+            "stomp,slow\n");
+  ASSERT_TRUE(coloring->labelsFromFile(QString::fromStdString((dir / "styles.csv").string())))
+      << w.lastError().toStdString();
+  EXPECT_EQ(coloring->choices(), QStringList({"time", "clip", "style", "speed"}));
+  ASSERT_TRUE(coloring->labelsFromNames(QString::fromStdString(kTemplate)))
+      << w.lastError().toStdString();
+  EXPECT_EQ(coloring->choices(), QStringList({"time", "clip", "action", "style", "take", "speed"}));
+  ASSERT_TRUE(coloring->setColorBy("style"));
+  QStringList values;
+  for (const auto& e : coloring->entries()) values << e.value;
+  EXPECT_EQ(values, QStringList({"angry", "brisk", "old", "stomp"}));
+  QStringList args{"map"};
+  for (const std::string& p : paths) args << QString::fromStdString(p);
+  args << "-m"
+       << "pca"
+       << "--labels-from-name" << QString::fromStdString(kTemplate) << "--labels"
+       << QString::fromStdString((dir / "styles.csv").string());
+  const std::vector<std::string> names = {"action", "style", "take", "speed"};
+  const auto cli = cliLabels(args, dir / "cli.csv", names);
+  const MapResult& map = *w.currentMap();
+  EXPECT_EQ(
+      expectCliValues(*coloring, names, map.map.features->clip_of, map.map.features->frame_of, cli),
+      int(map.map.features->clip_of.size()));
+  // Another method: the merged labels stay.
+  w.setMethod(embed::Method::Svd);
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        return w.currentMap() && w.currentMap()->options.embed.method == embed::Method::Svd &&
+               !w.isComputing();
+      },
+      testing::kTimeoutMs));
+  const MapResult& svd = *w.currentMap();
+  EXPECT_EQ(
+      expectCliValues(*coloring, names, svd.map.features->clip_of, svd.map.features->frame_of, cli),
+      int(svd.map.features->clip_of.size()));
+  fs::remove_all(dir);
 }
 
 TEST(StudioLabels, TheCategoryDensityMixesColoursAndLeavesHiddenPointsOut) {

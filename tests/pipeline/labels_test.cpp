@@ -12,7 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/metric.h"
 #include "motionmap/embed/embed.h"
+#include "motionmap/embed/metrics.h"
 #include "motionmap/io/load.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "support/test_data.h"
@@ -250,6 +252,77 @@ TEST(Labels, PerSampleTheLaterSpanWinsAndUnlabelledFramesAreEmpty) {
             std::string::npos);
 }
 
+TEST(Labels, AFilesLabelsMergeIntoTheNamesSpanBySpan) {
+  // The names give every clip an action and a style; the file gives some frames of one clip
+  // another action, another whole clip another style, and a new label.
+  LabelTable table =
+      parse_label_csv("clip,action,style\nwalk_1,walk,proud\nrun_1,run,old\nrun_2,run,tired\n",
+                      kPaths, kFrames, "names");
+  const LabelTable file =
+      parse_label_csv("clip,start,end,action,phase\nwalk_1,10,19,turn,a\nrun_2,0,59,run,b\n",
+                      kPaths, kFrames, "l.csv");
+  LabelTable more = parse_label_csv("clip,style\nrun_1,calm\n", kPaths, kFrames, "more.csv");
+  more.notes = {"a note"};
+  merge_labels(table, file, "l.csv");
+  merge_labels(table, more, "more.csv");
+  EXPECT_EQ(table.names, (std::vector<std::string>{"action", "style", "phase"}));
+  // The notes of both, in order.
+  ASSERT_EQ(table.notes.size(), 2u);
+  EXPECT_EQ(table.notes[0].rfind("l.csv: 1 of 3 clips have no labels there", 0), 0u);
+  EXPECT_EQ(table.notes[1], "a note");
+  const std::vector<int> clip_of = {0, 0, 0, 1, 2};
+  const std::vector<int> frame_of = {0, 15, 20, 5, 5};
+  const Labels labels = sample_labels(table, clip_of, frame_of);
+  std::vector<std::vector<std::string>> values(3);
+  for (std::size_t l = 0; l < 3; ++l) {
+    for (int i = 0; i < 5; ++i) values[l].push_back(labels.columns[l].value(i));
+  }
+  // The file's values where it covers frames, the names' elsewhere.
+  EXPECT_EQ(values[0], (std::vector<std::string>{"walk", "turn", "walk", "run", "run"}));
+  EXPECT_EQ(values[1], (std::vector<std::string>{"proud", "proud", "proud", "calm", "tired"}));
+  EXPECT_EQ(values[2], (std::vector<std::string>{"", "a", "", "", "b"}));
+  // More than kMaxLabels names: refused, the table unchanged.
+  LabelTable many;
+  std::string header = "clip";
+  std::string row = "walk_1";
+  for (int l = 0; l < kMaxLabels - 1; ++l) {
+    header += ",l" + std::to_string(l);
+    row += ",v";
+  }
+  const LabelTable full = parse_label_csv(header + "\n" + row + "\n", kPaths, kFrames, "full");
+  many = full;
+  merge_labels(many, parse_label_csv("clip,l0,extra\nrun_1,w,x\n", kPaths, kFrames, "x"), "x");
+  EXPECT_EQ(int(many.names.size()), kMaxLabels);
+  const LabelTable before = many;
+  EXPECT_EQ(error_of([&] {
+              merge_labels(many, parse_label_csv("clip,w\nrun_1,w\n", kPaths, kFrames, "w"),
+                           "w.csv");
+            }),
+            "w.csv: error: more than 32 labels together with the map's");
+  EXPECT_EQ(many.names, before.names);
+  EXPECT_EQ(many.spans.size(), before.spans.size());
+}
+
+TEST(Labels, ATableOfPerSampleLabelsGivesThemBack) {
+  // Samples out of order, a stride, a clip in two runs of one value around another value,
+  // unlabelled samples, and a clip without samples.
+  const std::vector<int> clip_of = {2, 0, 0, 0, 0, 0, 2, 2, 0};
+  const std::vector<int> frame_of = {4, 0, 2, 4, 6, 8, 0, 2, 10};
+  LabelTable spans = parse_label_csv(
+      "clip,start,end,phase\nwalk_1,0,3,a\nwalk_1,4,7,b\nwalk_1,8,99,a\nrun_2,2,4,c\n", kPaths,
+      kFrames, "l.csv");
+  const Labels labels = sample_labels(spans, clip_of, frame_of);
+  const LabelTable table = label_table(labels, clip_of, frame_of);
+  EXPECT_EQ(table.names, (std::vector<std::string>{"phase"}));
+  EXPECT_EQ(table.spans.size(), 4u);  // walk_1: a, b, a; run_2: c (its frame 0 unlabelled)
+  const Labels back = sample_labels(table, clip_of, frame_of);
+  ASSERT_EQ(back.columns.size(), 1u);
+  EXPECT_EQ(back.columns[0].categories, labels.columns[0].categories);
+  EXPECT_EQ(back.columns[0].codes, labels.columns[0].codes);
+  EXPECT_THROW(label_table(labels, clip_of, std::vector<int>(3)), ParameterError);
+  EXPECT_THROW(label_table(labels, std::vector<int>(3), std::vector<int>(3)), ParameterError);
+}
+
 TEST(LabelVote, OtherClipsOnlyTiesToTheSmallerIndexAndToTheNearestVoter) {
   // Frames 0-1 are the query's clip (group 0) and nearest, but never vote.
   const std::vector<double> d = {0.0, 0.1, 1.0, 2.0, 2.0, 3.0, 4.0};
@@ -362,6 +435,77 @@ TEST(LabelAccuracy, OnTheBandaiTakesAsTheDefinitionSays) {
   const auto map_only = label_accuracy(*set, Y, labels, 10, 5000, {}, false);
   EXPECT_EQ(map_only[0].map, accuracy[0].map);
   EXPECT_TRUE(std::isnan(map_only[0].features));
+}
+
+// label_accuracy() skips frames that cannot vote (a search along sorted projections with lower
+// bounds of the distances); its counts of right votes are those of every frame's distance: on
+// clustered points with exact ties (integer coordinates, repeated rows), unlabelled frames, a
+// label some clips lack, k from 1 to 12, a map of few distinct points and a map of one column.
+TEST(LabelAccuracy, TheSearchThatSkipsFramesVotesAsEveryFramesDistanceDoes) {
+  std::mt19937 random(7);
+  for (int trial = 0; trial < 6; ++trial) {
+    const int clips = 12 + 5 * trial;
+    const int per_clip = 20 + trial * 7;
+    const int n = clips * per_clip;
+    const int dims = trial % 2 ? 12 : 30;
+    features::FeatureSet set;
+    set.distance = features::DistanceKind::PointCloud;
+    set.distance_input.resize(n, dims);
+    Eigen::MatrixXd map(n, trial == 5 ? 1 : 2);
+    Labels labels;
+    labels.columns.resize(2);
+    labels.columns[0] = {"action", {"", "a", "b", "c"}, {}};
+    labels.columns[1] = {"style", {"", "x", "y"}, {}};
+    std::uniform_int_distribution<int> small(-3, 3), code(1, 3), coin(0, 3);
+    for (int c = 0; c < clips; ++c) {
+      const int action = code(random);
+      for (int f = 0; f < per_clip; ++f) {
+        const int i = c * per_clip + f;
+        set.clip_of.push_back(c);
+        set.frame_of.push_back(f);
+        // Clusters by action, integer offsets (ties), some rows repeated from the frame before.
+        if (f > 0 && coin(random) == 0) {
+          set.distance_input.row(i) = set.distance_input.row(i - 1);
+        } else {
+          for (int d = 0; d < dims; ++d)
+            set.distance_input(i, d) = 10.0 * action * (d % 3 == 0) + small(random);
+        }
+        for (Eigen::Index d = 0; d < map.cols(); ++d)
+          map(i, d) = trial >= 4 ? double(small(random)) : 5.0 * action + small(random);
+        labels.columns[0].codes.push_back(coin(random) == 0 ? 0 : action);
+        labels.columns[1].codes.push_back(c % 4 == 0 ? 0 : 1 + (c + f / 7) % 2);
+      }
+    }
+    for (const int k : {1, 3, 10, 12}) {
+      const std::vector<LabelAccuracy> got = label_accuracy(set, map, labels, k, 0);
+      ASSERT_EQ(got.size(), 2u);
+      // Every frame's distance: knn_label_vote over all of them.
+      for (std::size_t l = 0; l < 2; ++l) {
+        std::vector<int> codes(labels.columns[l].codes.begin(), labels.columns[l].codes.end());
+        for (int& c : codes) c = c == 0 ? -1 : c;
+        int right_map = 0, right_features = 0, queries = 0;
+        std::vector<double> dm(static_cast<std::size_t>(n)), df(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) {
+          if (codes[std::size_t(i)] < 0) continue;
+          for (int j = 0; j < n; ++j) {
+            dm[std::size_t(j)] = (map.row(j) - map.row(i)).norm();
+            df[std::size_t(j)] =
+                euclidean_distance(set.distance_input.row(i), set.distance_input.row(j));
+          }
+          ++queries;
+          right_map += embed::knn_label_vote(dm, codes, set.clip_of, set.clip_of[std::size_t(i)],
+                                             k) == codes[std::size_t(i)];
+          right_features +=
+              embed::knn_label_vote(df, codes, set.clip_of, set.clip_of[std::size_t(i)], k) ==
+              codes[std::size_t(i)];
+        }
+        EXPECT_EQ(got[l].queries, queries) << "trial " << trial << " k " << k;
+        EXPECT_EQ(got[l].map, double(right_map) / queries) << "trial " << trial << " k " << k;
+        EXPECT_EQ(got[l].features, double(right_features) / queries)
+            << "trial " << trial << " k " << k;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -27,7 +27,8 @@ MapColoring::MapColoring(MapView* view, std::function<const MapSource*()> source
 }
 
 const pipeline::LabelColumn* MapColoring::column(const std::string& name) const {
-  if (const pipeline::LabelColumn* c = m_fileLabels.find(name)) return c;
+  // With a label file: the map's labels and the file's, merged (every label there).
+  if (!m_fileLabels.empty()) return m_fileLabels.find(name);
   if (m_savedLabels) return m_savedLabels->find(name);
   return m_nameLabels.find(name);
 }
@@ -155,8 +156,17 @@ bool MapColoring::labelsFromNames(const QString& pattern) {
     std::vector<std::string> names;
     for (const QString& path : paths) names.push_back(path.toStdString());
     const pipeline::NamePattern parsed(pattern.toStdString());
-    m_nameLabels = pipeline::sample_labels(pipeline::labels_from_names(names, parsed),
-                                           *samples.clipOf, *samples.frameOf);
+    pipeline::LabelTable table = pipeline::labels_from_names(names, parsed);
+    pipeline::Labels labels = pipeline::sample_labels(table, *samples.clipOf, *samples.frameOf);
+    // A label file read before is merged into the new names' labels (as the CLI merges them).
+    pipeline::Labels merged;
+    if (!m_filePath.isEmpty()) {
+      merged =
+          withFile(table, m_fileTable, m_filePath.toStdString(), *samples.clipOf, *samples.frameOf);
+    }
+    m_nameTable = std::move(table);
+    m_nameLabels = std::move(labels);
+    m_fileLabels = std::move(merged);
   } catch (const std::exception& e) {
     emit failed(QString::fromStdString(e.what()));
     return false;
@@ -183,7 +193,8 @@ bool MapColoring::labelsFromFile(const QString& path) {
     std::vector<int> frames = m_clipFrames ? m_clipFrames() : std::vector<int>{};
     if (frames.size() != names.size()) frames.clear();
     table = pipeline::read_label_file(path.toStdString(), names, frames);
-    labels = pipeline::sample_labels(table, *samples.clipOf, *samples.frameOf);
+    labels = withFile(baseTable(*samples.clipOf, *samples.frameOf), table, path.toStdString(),
+                      *samples.clipOf, *samples.frameOf);
   } catch (const std::exception& e) {
     emit failed(QString::fromStdString(e.what()));
     return false;
@@ -193,10 +204,24 @@ bool MapColoring::labelsFromFile(const QString& path) {
   m_filePath = path;
   m_filePaths = paths;
   // The first label the file names colours the map.
-  return setColorBy(QString::fromStdString(m_fileLabels.columns.front().name));
+  return setColorBy(QString::fromStdString(m_fileTable.names.front()));
 }
 
-void MapColoring::sampleFileLabels() {
+pipeline::LabelTable MapColoring::baseTable(std::span<const int> clipOf,
+                                            std::span<const int> frameOf) const {
+  if (m_savedLabels) return pipeline::label_table(*m_savedLabels, clipOf, frameOf);
+  return m_nameTable;
+}
+
+pipeline::Labels MapColoring::withFile(pipeline::LabelTable base, const pipeline::LabelTable& file,
+                                       const std::string& path, std::span<const int> clipOf,
+                                       std::span<const int> frameOf) {
+  // One rule with the CLI's (`map --labels-from-name … --labels FILE`): pipeline::merge_labels.
+  pipeline::merge_labels(base, file, path);
+  return pipeline::sample_labels(base, clipOf, frameOf);
+}
+
+void MapColoring::mergeFileLabels() {
   m_fileLabels = {};
   const MapSource* source = m_source();
   if (m_filePath.isEmpty() || !source || source->clipPaths() != m_filePaths) {
@@ -208,7 +233,8 @@ void MapColoring::sampleFileLabels() {
   const MapSource::Samples samples = source->samples();
   if (!samples.clipOf || !samples.frameOf) return;
   try {
-    m_fileLabels = pipeline::sample_labels(m_fileTable, *samples.clipOf, *samples.frameOf);
+    m_fileLabels = withFile(baseTable(*samples.clipOf, *samples.frameOf), m_fileTable,
+                            m_filePath.toStdString(), *samples.clipOf, *samples.frameOf);
   } catch (const std::exception&) {
     m_fileLabels = {};
   }
@@ -223,6 +249,7 @@ void MapColoring::mapReplaced() {
   if (m_savedLabels && m_savedLabels->empty()) m_savedLabels.reset();
   // Labels from names stay with the clips they were read from (a map of other clips drops them).
   if (saved || !source || source->clipPaths() != m_patternPaths) {
+    m_nameTable = {};
     m_nameLabels = {};
     m_pattern.clear();
     m_patternPaths.clear();
@@ -232,16 +259,18 @@ void MapColoring::mapReplaced() {
       try {
         std::vector<std::string> names;
         for (const QString& path : m_patternPaths) names.push_back(path.toStdString());
-        m_nameLabels = pipeline::sample_labels(
-            pipeline::labels_from_names(names, pipeline::NamePattern(m_pattern.toStdString())),
-            *samples.clipOf, *samples.frameOf);
+        m_nameTable =
+            pipeline::labels_from_names(names, pipeline::NamePattern(m_pattern.toStdString()));
+        m_nameLabels = pipeline::sample_labels(m_nameTable, *samples.clipOf, *samples.frameOf);
       } catch (const std::exception&) {
+        m_nameTable = {};
         m_nameLabels = {};
       }
     }
   }
-  // A label file's labels stay with the clips they were read against, saved map or not.
-  sampleFileLabels();
+  // A label file's labels stay with the clips they were read against, saved map or not, merged
+  // into the new map's labels.
+  mergeFileLabels();
   // The same colouring on the new map when it has it (the values shown kept by name).
   std::vector<QString> hidden;
   for (const Entry& e : m_entries) {

@@ -10,6 +10,8 @@
 // View menu and the legend (LegendPanel) drive it.
 #include <functional>
 #include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
 #include <QColor>
@@ -72,12 +74,19 @@ class MapColoring : public QObject {
   /// Labels read from the label file `path` (pipeline::read_label_file, as `motionmap map
   /// --labels`: a clip column and one column per label, or clip,start,end,label spans, or JSON;
   /// a clip named by its path, file name or stem), kept while the map's clips are the same: for
-  /// computed and saved maps. A label of the file takes the place of one of the same name.
-  /// Colours by the file's first label. False, with failed() naming the file and the line, for a
-  /// file that cannot be read or names a clip the map does not have.
+  /// computed and saved maps. The file's labels are merged into the map's (a saved map's, or
+  /// those from the names) by the CLI's rule for `--labels-from-name … --labels`
+  /// (pipeline::merge_labels): a label of the file with the name of one of the map's is that
+  /// label, the file's values winning where its rows or spans cover frames and the map's staying
+  /// elsewhere; its other labels are new. Colours by the file's first label. False, with failed()
+  /// naming the file and the line, for a file that cannot be read or names a clip the map does not
+  /// have.
   bool labelsFromFile(const QString& path);
   /// The label file read (empty: none).
   QString labelFile() const { return m_filePath; }
+  /// The values of label `name` per sample of the map shown (nullptr: no such label): with a
+  /// label file, the map's labels and the file's merged; else the saved map's or the names'.
+  const pipeline::LabelColumn* column(const std::string& name) const;
 
  signals:
   /// The colouring, its entries or which are shown changed.
@@ -91,22 +100,31 @@ class MapColoring : public QObject {
   bool build();
   /// The view told each sample's category (hidden ones kHiddenCategory).
   void apply();
-  /// The column of label `name`: the label file's, else the saved map's or the names'.
-  const pipeline::LabelColumn* column(const std::string& name) const;
-  /// The file's labels sampled on the map shown (none when it has other clips).
-  void sampleFileLabels();
+  /// The map's labels before a file's: a saved map's (as a table of spans) or the names'.
+  /// @throws ParameterError as pipeline::label_table().
+  pipeline::LabelTable baseTable(std::span<const int> clipOf, std::span<const int> frameOf) const;
+  /// `base` with `file`'s labels merged in (pipeline::merge_labels, as the CLI), per sample.
+  /// @throws ParameterError as pipeline::merge_labels() and sample_labels().
+  static pipeline::Labels withFile(pipeline::LabelTable base, const pipeline::LabelTable& file,
+                                   const std::string& path, std::span<const int> clipOf,
+                                   std::span<const int> frameOf);
+  /// The file's labels merged into the map's and sampled on the map shown (none when it has
+  /// other clips).
+  void mergeFileLabels();
 
   MapView* m_view;
   std::function<const MapSource*()> m_source;
   std::shared_ptr<const pipeline::Labels> m_savedLabels;  ///< a saved map's, or none
-  pipeline::Labels m_nameLabels;                          ///< labelsFromNames'
+  pipeline::LabelTable m_nameTable;                       ///< labelsFromNames', as read
+  pipeline::Labels m_nameLabels;                          ///< m_nameTable per sample
   QString m_pattern;                                      ///< labelsFromNames' pattern
   QStringList m_patternPaths;                             ///< the clips it was read from
   std::function<std::vector<int>()> m_clipFrames;
   pipeline::LabelTable m_fileTable;  ///< labelsFromFile's, as read
-  pipeline::Labels m_fileLabels;     ///< m_fileTable per sample of the map shown
-  QString m_filePath;                ///< labelsFromFile's file
-  QStringList m_filePaths;           ///< the clips it was read against
+  /// The map's labels with m_fileTable merged in, per sample of the map shown (empty: no file).
+  pipeline::Labels m_fileLabels;
+  QString m_filePath;       ///< labelsFromFile's file
+  QStringList m_filePaths;  ///< the clips it was read against
   QString m_colorBy = timeChoice();
   std::vector<int> m_codes;  ///< per sample: its entry
   std::vector<Entry> m_entries;

@@ -295,23 +295,23 @@ int knn_label_vote(std::span<const double> distances, std::span<const int> codes
                          std::to_string(codes.size()) + " codes and " +
                          std::to_string(groups.size()) + " groups; they must be as many");
   }
-  // The k nearest candidates as (distance, index), the largest on top of a max-heap: ties go to
-  // the smaller index because pairs compare the index second.
-  std::vector<std::pair<double, int>> nearest;
-  nearest.reserve(static_cast<std::size_t>(k) + 1);
+  NearestVoters voters(k);
   for (std::size_t j = 0; j < distances.size(); ++j) {
     const double d = distances[j];
     if (codes[j] < 0 || groups[j] == group || !std::isfinite(d)) continue;
-    const std::pair<double, int> candidate(d, int(j));
-    if (int(nearest.size()) < k) {
-      nearest.push_back(candidate);
-      std::push_heap(nearest.begin(), nearest.end());
-    } else if (candidate < nearest.front()) {
-      std::pop_heap(nearest.begin(), nearest.end());
-      nearest.back() = candidate;
-      std::push_heap(nearest.begin(), nearest.end());
-    }
+    voters.offer(d, int(j));
   }
+  return voters.vote(codes);
+}
+
+NearestVoters::NearestVoters(int k) : m_k(k) {
+  if (k < 1) throw ParameterError("knn_label_vote: k is " + std::to_string(k) + "; it must be ≥ 1");
+  m_heap.reserve(static_cast<std::size_t>(k));
+}
+
+int NearestVoters::vote(std::span<const int> codes) const {
+  // The kept candidates nearest first ((distance, index) pairs: ties to the smaller index).
+  std::vector<std::pair<double, int>> nearest = m_heap;
   if (nearest.empty()) return -1;
   std::sort(nearest.begin(), nearest.end());
   // Votes per code, and the rank of each code's nearest voter (the tie-break).

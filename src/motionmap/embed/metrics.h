@@ -4,7 +4,11 @@
 //
 //   auto q = neighborhood_quality(D, map.coordinates);  // q.trustworthiness, q.continuity ∈ [0, 1]
 //   double jumps = jump_score(map.coordinates);         // ≈1 smooth; ≫1 the map tears the motion
+#include <algorithm>
+#include <limits>
 #include <span>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -53,6 +57,41 @@ double normalized_stress(const Eigen::MatrixXd& T, const Eigen::MatrixXd& Y,
 /// the median is 0 but not the 95th percentile.
 /// @throws ParameterError for fewer than 2 frames.
 double jump_score(const Eigen::MatrixXd& Y);
+
+/// The voters of knn_label_vote(), gathered as candidates are met: the k smallest (distance,
+/// index) pairs offered (ties to the smaller index), whatever the order they are offered in, so
+/// a search that skips candidates that cannot be among them (label_accuracy's) votes as a scan
+/// of every distance does.
+class NearestVoters {
+ public:
+  /// @throws ParameterError if k < 1.
+  explicit NearestVoters(int k);
+  /// Candidate `index` at `distance` (finite; the caller has chosen the candidates).
+  void offer(double distance, int index) {
+    const std::pair<double, int> candidate(distance, index);
+    if (int(m_heap.size()) < m_k) {
+      m_heap.push_back(candidate);
+      std::push_heap(m_heap.begin(), m_heap.end());
+    } else if (candidate < m_heap.front()) {
+      std::pop_heap(m_heap.begin(), m_heap.end());
+      m_heap.back() = candidate;
+      std::push_heap(m_heap.begin(), m_heap.end());
+    }
+  }
+  /// Whether k candidates are kept: then a candidate farther than bound() cannot enter.
+  bool full() const { return int(m_heap.size()) == m_k; }
+  /// The farthest distance kept (+inf until full()).
+  double bound() const {
+    return full() ? m_heap.front().first : std::numeric_limits<double>::infinity();
+  }
+  /// The code that wins the vote of the candidates kept (codes[index] each), by
+  /// knn_label_vote()'s rule; −1 when none was offered.
+  int vote(std::span<const int> codes) const;
+
+ private:
+  int m_k;
+  std::vector<std::pair<double, int>> m_heap;  ///< a max-heap: the farthest on top
+};
 
 /// The label a k-nearest-neighbour vote gives a query frame, from its distances to every frame
 /// (`distances[j]`, j < #frames): the candidates are the frames j with codes[j] ≥ 0 (labelled)

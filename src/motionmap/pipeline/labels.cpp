@@ -6,10 +6,13 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <optional>
 #include <random>
 #include <regex>
 #include <set>
 #include <unordered_map>
+
+#include <Eigen/Eigenvalues>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
@@ -992,6 +995,73 @@ Labels sample_labels(const LabelTable& table, std::span<const int> clip_of,
   return labels;
 }
 
+void merge_labels(LabelTable& table, LabelTable later, const std::string& source) {
+  // Each of later's labels: its index in the table's names, new names after the table's.
+  std::vector<std::string> names = table.names;
+  std::vector<int> index;
+  for (const std::string& name : later.names) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) {
+      index.push_back(int(it - names.begin()));
+      continue;
+    }
+    if (int(names.size()) == kMaxLabels) {
+      throw ParameterError(source + ": error: more than " + std::to_string(kMaxLabels) +
+                           " labels together with the map's");
+    }
+    names.push_back(name);
+    index.push_back(int(names.size()) - 1);
+  }
+  table.names = std::move(names);
+  // Later spans win where they cover a frame (sample_labels: the last covering span).
+  for (LabelSpan& span : later.spans) {
+    span.label = index[std::size_t(span.label)];
+    table.spans.push_back(std::move(span));
+  }
+  table.notes.insert(table.notes.end(), std::make_move_iterator(later.notes.begin()),
+                     std::make_move_iterator(later.notes.end()));
+}
+
+LabelTable label_table(const Labels& labels, std::span<const int> clip_of,
+                       std::span<const int> frame_of) {
+  if (clip_of.size() != frame_of.size()) {
+    throw ParameterError("labels: " + std::to_string(clip_of.size()) + " clips and " +
+                         std::to_string(frame_of.size()) + " frames per sample");
+  }
+  // The samples by clip and frame: a run of equal values in this order covers no other sample.
+  std::vector<std::size_t> order(clip_of.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return clip_of[a] != clip_of[b] ? clip_of[a] < clip_of[b] : frame_of[a] < frame_of[b];
+  });
+  LabelTable table;
+  for (std::size_t l = 0; l < labels.columns.size(); ++l) {
+    const LabelColumn& column = labels.columns[l];
+    if (column.codes.size() != clip_of.size()) {
+      throw ParameterError("labels: label " + quoted(column.name) + ": " +
+                           std::to_string(column.codes.size()) + " values for " +
+                           std::to_string(clip_of.size()) + " samples");
+    }
+    table.names.push_back(column.name);
+    for (std::size_t r = 0; r < order.size();) {
+      const std::size_t first = order[r];
+      const int clip = clip_of[first];
+      const std::int32_t code = column.codes[first];
+      std::size_t end = r + 1;
+      while (end < order.size() && clip_of[order[end]] == clip &&
+             column.codes[order[end]] == code) {
+        ++end;
+      }
+      const std::string& value = column.categories.at(std::size_t(code));
+      if (!value.empty()) {
+        table.spans.push_back({clip, frame_of[first], frame_of[order[end - 1]], int(l), value});
+      }
+      r = end;
+    }
+  }
+  return table;
+}
+
 void check_labels(const Labels& labels, int samples) {
   if (int(labels.columns.size()) > kMaxLabels) {
     throw ParameterError("labels: " + std::to_string(labels.columns.size()) + " labels; at most " +
@@ -1028,6 +1098,117 @@ void check_labels(const Labels& labels, int samples) {
 
 // ---------------------------------------------------------------------------------------------
 // Label accuracy
+
+namespace {
+
+// The voters of label_accuracy() without every frame's distance: the frames in order of a key
+// (their first projection onto orthonormal directions), walked outwards from the query's, each
+// tested against lower bounds of its distance before the distance is computed — the gap of the
+// keys (which also ends the walk) and, with `bounded`, the distance of the projections (a
+// projection onto orthonormal directions is no longer than the vector). A frame is skipped only
+// when its bound less `margin` (for rounding) exceeds the k-th nearest distance kept of every
+// label it could vote in: the voters kept are then those of a scan of every frame (the k
+// smallest (distance, index) pairs, embed::NearestVoters), and so are the votes.
+class ProjectedSearch {
+ public:
+  ProjectedSearch(const RowMatrix& projections, double margin, bool bounded)
+      : m_margin(margin), m_bounded(bounded) {
+    const int n = int(projections.rows());
+    m_order.resize(std::size_t(n));
+    for (int i = 0; i < n; ++i) m_order[std::size_t(i)] = i;
+    std::stable_sort(m_order.begin(), m_order.end(),
+                     [&](int a, int b) { return projections(a, 0) < projections(b, 0); });
+    m_position.resize(std::size_t(n));
+    m_sorted.resize(n, projections.cols());
+    for (int p = 0; p < n; ++p) {
+      m_position[std::size_t(m_order[std::size_t(p)])] = p;
+      m_sorted.row(p) = projections.row(m_order[std::size_t(p)]);
+    }
+  }
+
+  // Offers `query`'s candidates to voters[l] (frames of other clips than groups[query] with
+  // codes[l][j] ≥ 0 and a finite distance(j)), skipping those that cannot be kept.
+  template <class Distance>
+  void search(int query, const Distance& distance, std::span<const std::span<const int>> codes,
+              std::span<const int> groups, std::vector<embed::NearestVoters>& voters) const {
+    const int n = int(m_order.size());
+    const int p0 = m_position[std::size_t(query)];
+    const int group = groups[std::size_t(query)];
+    const double key = m_sorted(p0, 0);
+    double bound = std::numeric_limits<double>::infinity();
+    for (int lo = p0 - 1, hi = p0 + 1;;) {
+      const double gap_lo = lo >= 0 ? key - m_sorted(lo, 0) : kInf;
+      const double gap_hi = hi < n ? m_sorted(hi, 0) - key : kInf;
+      const bool low = gap_lo <= gap_hi;
+      if (low ? lo < 0 : hi >= n) break;
+      const int p = low ? lo-- : hi++;
+      // Every frame further along the keys is at least as far: none can be kept.
+      if ((low ? gap_lo : gap_hi) - m_margin > bound) break;
+      const int j = m_order[std::size_t(p)];
+      if (groups[std::size_t(j)] == group) continue;
+      bool candidate = false;
+      for (const std::span<const int>& c : codes) candidate |= c[std::size_t(j)] >= 0;
+      if (!candidate) continue;
+      if (m_bounded && bound < kInf &&
+          (m_sorted.row(p) - m_sorted.row(p0)).norm() - m_margin > bound)
+        continue;
+      const double d = distance(j);
+      if (!std::isfinite(d)) continue;
+      bound = 0.0;
+      for (std::size_t l = 0; l < codes.size(); ++l) {
+        if (codes[l][std::size_t(j)] >= 0) voters[l].offer(d, j);
+        bound = std::max(bound, voters[l].bound());
+      }
+    }
+  }
+
+ private:
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  RowMatrix m_sorted;           // the projections in key order
+  std::vector<int> m_order;     // key position → frame
+  std::vector<int> m_position;  // frame → key position
+  double m_margin;
+  bool m_bounded;
+};
+
+// The margin for rounding of bounds on distances between rows of magnitude up to `scale`: the
+// rounding of a projection or a distance is ~1e-15 of it, far below this.
+double rounding_margin(double scale) {
+  return 1e-9 * (1.0 + scale);
+}
+
+// A search of the map's coordinates (keyed by the first; the distances are computed, being
+// as cheap as a bound); nullopt when a coordinate is not finite.
+std::optional<ProjectedSearch> map_search(const Eigen::MatrixXd& coordinates) {
+  if (coordinates.cols() < 1 || !coordinates.allFinite()) return std::nullopt;
+  const RowMatrix rows = coordinates;
+  return ProjectedSearch(rows, rounding_margin(rows.rowwise().norm().maxCoeff()), false);
+}
+
+// A search of points by the Euclidean distance, on their projections onto their (up to) 8
+// principal directions (from a sample of ≤ 20 000 rows: the directions need only be
+// orthonormal, how well they fit changes the speed, not the result); nullopt when a value is
+// not finite.
+std::optional<ProjectedSearch> point_search(const RowMatrix& points) {
+  const Eigen::Index n = points.rows();
+  const Eigen::Index dims = points.cols();
+  if (n < 1 || dims < 1 || !points.allFinite()) return std::nullopt;
+  const Eigen::Index step = std::max<Eigen::Index>(1, n / 20000);
+  RowMatrix sample(n / step, dims);
+  for (Eigen::Index r = 0; r < sample.rows(); ++r) sample.row(r) = points.row(r * step);
+  sample.rowwise() -= sample.colwise().mean();
+  const Eigen::MatrixXd covariance = sample.transpose() * sample;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
+  if (eigen.info() != Eigen::Success) return std::nullopt;
+  const Eigen::Index m = std::min<Eigen::Index>(8, dims);
+  // The largest eigenvalues' vectors, the largest first (the key spreads the frames most).
+  const Eigen::MatrixXd directions = eigen.eigenvectors().rightCols(m).rowwise().reverse();
+  const RowMatrix projections = points * directions;
+  return ProjectedSearch(projections, rounding_margin(points.rowwise().norm().maxCoeff()),
+                         m < dims);
+}
+
+}  // namespace
 
 std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
                                           const Eigen::MatrixXd& coordinates, const Labels& labels,
@@ -1094,30 +1275,48 @@ std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
   const std::size_t L = measured.size();
   std::vector<signed char> right(queries.size() * L * 2, -1);
   const std::span<const int> groups(features.clip_of);
+  const auto distance = [&](int space, int i, int j) {
+    if (space == 0) return (coordinates.row(j) - coordinates.row(i)).norm();
+    if (dense) return features.D(j, i);
+    return pose_distance(features.distance_input.row(i), features.distance_input.row(j), metric);
+  };
+  // The voters found without every frame's distance where a bound of the distance is at hand
+  // (the map; the points by the Euclidean distance), the same as a scan of every frame finds;
+  // else (D, the quaternion metric, values that are not finite) every frame's distance.
+  std::optional<ProjectedSearch> search[2] = {map_search(coordinates),
+                                              feature_space && !dense && metric == Metric::Euclidean
+                                                  ? point_search(features.distance_input)
+                                                  : std::nullopt};
   parallel_for(
       int(queries.size()),
       [&](int q) {
         const int i = queries[std::size_t(q)];
-        std::vector<double> d(static_cast<std::size_t>(n));
+        // The labels this frame has (those it is a query of).
+        std::vector<std::size_t> voted;
+        std::vector<std::span<const int>> codes;
+        for (std::size_t l = 0; l < L; ++l) {
+          if (measured[l].codes[std::size_t(i)] < 0) continue;
+          voted.push_back(l);
+          codes.emplace_back(measured[l].codes);
+        }
+        std::vector<double> d;
         for (int space = 0; space < (feature_space ? 2 : 1); ++space) {
-          if (space == 0) {
-            for (int j = 0; j < n; ++j) {
-              d[std::size_t(j)] = (coordinates.row(j) - coordinates.row(i)).norm();
-            }
-          } else if (dense) {
-            for (int j = 0; j < n; ++j) d[std::size_t(j)] = features.D(j, i);
+          std::vector<int> votes(voted.size());
+          if (search[space]) {
+            std::vector<embed::NearestVoters> voters(voted.size(), embed::NearestVoters(k));
+            search[space]->search(
+                i, [&](int j) { return distance(space, i, j); }, codes, groups, voters);
+            for (std::size_t v = 0; v < voted.size(); ++v) votes[v] = voters[v].vote(codes[v]);
           } else {
-            for (int j = 0; j < n; ++j) {
-              d[std::size_t(j)] = pose_distance(features.distance_input.row(i),
-                                                features.distance_input.row(j), metric);
-            }
+            d.resize(static_cast<std::size_t>(n));
+            for (int j = 0; j < n; ++j) d[std::size_t(j)] = distance(space, i, j);
+            for (std::size_t v = 0; v < voted.size(); ++v)
+              votes[v] = embed::knn_label_vote(d, codes[v], groups, groups[std::size_t(i)], k);
           }
-          for (std::size_t l = 0; l < L; ++l) {
-            const int truth = measured[l].codes[std::size_t(i)];
-            if (truth < 0) continue;
-            const int vote =
-                embed::knn_label_vote(d, measured[l].codes, groups, groups[std::size_t(i)], k);
-            right[(std::size_t(q) * L + l) * 2 + std::size_t(space)] = vote == truth ? 1 : 0;
+          for (std::size_t v = 0; v < voted.size(); ++v) {
+            const int truth = measured[voted[v]].codes[std::size_t(i)];
+            right[(std::size_t(q) * L + voted[v]) * 2 + std::size_t(space)] =
+                votes[v] == truth ? 1 : 0;
           }
         }
       },

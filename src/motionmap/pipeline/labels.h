@@ -117,6 +117,15 @@ LabelTable parse_label_json(std::string_view text, std::span<const std::string> 
 LabelTable read_label_file(const std::string& path, std::span<const std::string> paths,
                            std::span<const int> frame_counts = {});
 
+/// Adds the labels of `later` (a label file's) after those of `table` (the file names'): the rule
+/// of `motionmap map --labels-from-name … --labels FILE`, and of Studio's "Labels from file…" on
+/// a map that has labels. A label of `later` whose name `table` has is the same label: its spans
+/// come after the table's, so they win where they cover frames (span by span) and the table's
+/// values stay where they do not; the other labels of `later` join the table's names, in order.
+/// Notes are appended. `source` (the file) names the table in messages.
+/// @throws ParameterError if the names would be more than kMaxLabels; `table` is then unchanged.
+void merge_labels(LabelTable& table, LabelTable later, const std::string& source);
+
 /// One label of every sample: the distinct values (sorted by byte order; "" for samples no span
 /// covers) and each sample's index into them.
 struct LabelColumn {
@@ -141,6 +150,17 @@ struct Labels {
 Labels sample_labels(const LabelTable& table, std::span<const int> clip_of,
                      std::span<const int> frame_of);
 
+/// A table that gives each sample (clip_of[i], frame_of[i]) its value of `labels` (a saved map's
+/// labels, for merge_labels()): per label and clip, one span per run of samples with the same
+/// value in frame order (first and last: the run's first and last sampled frame); samples with
+/// "" get none. sample_labels() of it on the same samples gives `labels` back (up to the order
+/// of each column's categories, which is sorted in both). Samples of one clip and frame are
+/// expected to share their values (as every map's are); where they do not, the one later in
+/// frame order wins.
+/// @throws ParameterError if clip_of and frame_of differ in size or a column in size from them.
+LabelTable label_table(const Labels& labels, std::span<const int> clip_of,
+                       std::span<const int> frame_of);
+
 /// Checks a Labels for use with `samples` samples: sizes, codes in range, names distinct,
 /// non-empty, UTF-8 and within kMaxLabelBytes (what reading a map file checks).
 /// @throws ParameterError naming the label and the problem.
@@ -164,6 +184,9 @@ struct LabelAccuracy {
 /// sample index; a tied vote goes to the label of the nearest neighbour among the tied labels.
 /// `feature_space` false leaves the feature space's figures out (NaN; they do not depend on the
 /// map: a figure of several maps of one feature set measures them once).
+/// On the map and on points by the Euclidean distance, frames that cannot be among the k nearest
+/// are skipped by lower bounds of their distance (a walk along sorted projections); the figures
+/// are those of every frame's distance (docs/labels.md).
 /// @throws ParameterError if the sizes differ or k < 1; Cancelled.
 std::vector<LabelAccuracy> label_accuracy(const features::FeatureSet& features,
                                           const Eigen::MatrixXd& coordinates, const Labels& labels,

@@ -268,31 +268,40 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const std::vector<int> next = clip_routes ? next_samples(samples) : std::vector<int>{};
   const double sample_step = clip_routes ? median_sample_step(samples, next) : 1.0;
   // How far apart two poses are: the mean over the joints of the squared angle between their
-  // rotations (the motion root's heading aside), in units of kPoseAngle². Samples' poses are
-  // blended at their points once, when first asked for.
+  // rotations (the motion root's heading aside), in units of kPoseAngle². A pose is compared by
+  // its joints' rotations, normalised, the root's heading removed; a sample's pose is blended at
+  // its point once, when first asked for.
   const int root_joint = blender.motion_root();
-  const auto pose_distance = [J, root_joint, up = blender.options().up](const Motion& a,
-                                                                        const Motion& b) {
-    double sum = 0.0;
+  const Axis up_axis = blender.options().up;
+  using Rotations = std::vector<Eigen::Quaterniond>;
+  const auto rotations_of = [&](const Motion& pose) {
+    Rotations q(static_cast<std::size_t>(J));
     for (int j = 0; j < J; ++j) {
-      Eigen::Quaterniond qa = a.rotation(0, j).normalized(), qb = b.rotation(0, j).normalized();
-      if (j == root_joint) {
-        qa = detail::remove_heading(qa, up);
-        qb = detail::remove_heading(qb, up);
-      }
-      sum += std::pow(qa.angularDistance(qb) / kPoseAngle, 2);
+      q[j] = pose.rotation(0, j).normalized();
+      if (j == root_joint) q[j] = detail::remove_heading(q[j], up_axis);
     }
+    return q;
+  };
+  const auto pose_distance = [J](const Rotations& a, const Rotations& b) {
+    double sum = 0.0;
+    for (int j = 0; j < J; ++j) sum += std::pow(a[j].angularDistance(b[j]) / kPoseAngle, 2);
     return sum / J;
   };
-  std::unordered_map<int, Motion> sample_poses;
-  const auto sample_pose = [&](int s) -> const Motion& {
-    auto it = sample_poses.find(s);
-    if (it == sample_poses.end())
-      it = sample_poses.emplace(s, blender.pose_at(blender.sample_point(s))).first;
+  std::unordered_map<int, Rotations> sample_rotations;
+  const auto sample_pose = [&](int s) -> const Rotations& {
+    auto it = sample_rotations.find(s);
+    if (it == sample_rotations.end()) {
+      it =
+          sample_rotations.emplace(s, rotations_of(blender.pose_at(blender.sample_point(s)))).first;
+    }
     return it->second;
   };
-  const auto pose_cost = [&](const Motion& key) {
-    return [&](int s) { return pose_distance(key, sample_pose(s)); };
+  std::vector<Rotations> key_rotations(static_cast<std::size_t>(K));
+  for (int i = 0; i < K; ++i) {
+    if (keys[i].has_pose()) key_rotations[i] = rotations_of(key_poses[i]);
+  }
+  const auto pose_cost = [&](int key) {
+    return [&, key](int s) { return pose_distance(key_rotations[key], sample_pose(s)); };
   };
   const auto jump_cost = [&](int from, int to) {
     return pose_distance(sample_pose(from), sample_pose(to));
@@ -339,8 +348,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       // A blender reading its clips on demand (a saved map's) would read a clip for almost every
       // sample the search reaches: jumps are priced by their map distance alone there.
       if (!blender.reads_on_demand()) ends.jump_cost = jump_cost;
-      if (keys[i].has_pose()) ends.start_cost = pose_cost(key_poses[i]);
-      if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(key_poses[i + 1]);
+      if (keys[i].has_pose()) ends.start_cost = pose_cost(i);
+      if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(i + 1);
       // The cheapest of the route played at a few uniform rates (a walk of another cadence
       // lands in step), when the segment is long enough for a rate to change its length.
       ClipRoute best;
@@ -356,7 +365,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       const std::vector<int>& visited = best.samples;
       const int steps_taken = static_cast<int>(visited.size()) - 1;
       last_visited = visited.back();
-      // Frames blend at the visited samples' points; a map-point key's frame at its point.
+      // The route's points are its samples' (a map-point key's end, its point), a step a unit of
+      // time; what each step advances in the clips, and whether it jumps.
       WalkedRoute w;
       w.samples = visited;
       for (int t = 0; t <= steps_taken; ++t) {

@@ -250,7 +250,8 @@ class TableBuilder {
     if (m_labelled.size() < m_names.size()) {
       table.notes.push_back(m_path + ": " + std::to_string(m_names.size() - m_labelled.size()) +
                             " of " + std::to_string(m_names.size()) +
-                            " clips have no labels there (their label is \"\")");
+                            " clips have no labels there (their label is \"\" unless their "
+                            "file names give one)");
     }
     return std::move(table);
   }

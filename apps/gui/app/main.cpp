@@ -21,11 +21,19 @@ using motionmap::studio::MainWindow;
 
 namespace {
 
+/// Every method's name, as motionmap::embed names them: "pca, svd, …, gplvm".
+QString method_names() {
+  QStringList names;
+  for (const motionmap::embed::Method m : motionmap::embed::all_methods())
+    names << QString::fromStdString(std::string(motionmap::embed::method_name(m)));
+  return names.join(", ");
+}
+
 /// The command line; `parser` holds the options once this returns.
 struct Options {
   QCommandLineOption help;     // -h, --help (and --help-all)
   QCommandLineOption version;  // -v, --version
-  QCommandLineOption method{"method", "Embedding method: pca, svd, mds, isomap, le, lle", "M"};
+  QCommandLineOption method{"method", "Embedding method: " + method_names(), "M"};
   QCommandLineOption frame{"frame", "Frame to show", "N"};
   QCommandLineOption shot{"screenshot",
                           "Render the window to a PNG and exit (the settings are left as they "
@@ -122,8 +130,7 @@ int main(int argc, char** argv) {
     const auto method =
         motionmap::embed::parse_method(parser.value(methodOption).toLower().toStdString());
     if (!method)
-      return fail("unknown method '" + parser.value(methodOption) +
-                  "' (pca, svd, mds, isomap, le, lle)");
+      return fail("unknown method '" + parser.value(methodOption) + "' (" + method_names() + ")");
     window.setMethod(*method);
   }
   int frame = 0;

@@ -2,6 +2,7 @@
 // synthesized from two Bandai Namco walks. The figures are printed for docs/synthesis.md.
 #include "motionmap/synth/clean_feet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -192,6 +193,44 @@ TEST(SynthCleanFeet, PlantsTheFeetOfASkatingWalk) {
     for (const Leg& leg : feet.legs) {
       EXPECT_LT(rotation_angle(wa[f].rotations[leg.ankle], wb[f].rotations[leg.ankle]), 1e-9);
     }
+  }
+}
+
+TEST(SynthCleanFeet, TwoFixedFramesInOneContactHoldTheAnkleOnTheLineBetweenThem) {
+  // In-betweening fixes its keys' frames; two keys in one contact whose captured foot slid a
+  // little: the ankle goes straight from one key's place to the other's (no leg stretched to
+  // hold it at the first's), before the first at the first's, after the last at the last's.
+  const Clip clip = skating_walk();
+  const Feet feet = find_feet(clip.skeleton);
+  const CleanFeetResult plain = clean_feet(clip.skeleton, clip.motion, feet);
+  // The longest contact of either foot.
+  int side = 0;
+  ContactInterval c = plain.contacts[0].intervals.front();
+  for (int s = 0; s < 2; ++s) {
+    for (const ContactInterval& i : plain.contacts[s].intervals) {
+      if (i.frames() > c.frames()) {
+        c = i;
+        side = s;
+      }
+    }
+  }
+  ASSERT_GE(c.last - c.first, 6);
+  const int a = c.first + 2, b = c.last - 2;
+  CleanFeetOptions options;
+  options.fixed_frames = {a, b};
+  const CleanFeetResult r = clean_feet(clip.skeleton, clip.motion, feet, options);
+  const int ankle = feet.legs[side].ankle;
+  const auto before = joint_trajectory(clip.skeleton, clip.motion, ankle);
+  const auto after = joint_trajectory(clip.skeleton, r.motion, ankle);
+  ASSERT_GT((before[b] - before[a]).norm(), 0.5);  // the skating foot slid between them (cm)
+  for (int f = c.first; f <= c.last; ++f) {
+    const double u = std::clamp(static_cast<double>(f - a) / (b - a), 0.0, 1.0);
+    const Eigen::Vector3d want = (1.0 - u) * before[a] + u * before[b];
+    EXPECT_LT((after[f] - want).norm(), 0.05) << f;  // cm
+  }
+  for (const int f : {a, b}) {
+    for (int j = 0; j < clip.motion.num_joints; ++j)
+      EXPECT_EQ(r.motion.rotation(f, j).coeffs(), clip.motion.rotation(f, j).coeffs()) << f;
   }
 }
 

@@ -53,20 +53,39 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
   plan.offset.assign(static_cast<std::size_t>(frames), Vector3d::Zero());
   plan.touched.assign(static_cast<std::size_t>(frames), 0);
   const auto& iv = fc.intervals;
-  std::vector<Vector3d> target(iv.size());
+  // Per contact, the ankle's target at its first and its last frame (the fades start from them).
+  std::vector<Vector3d> first_target(iv.size()), last_target(iv.size());
   for (std::size_t c = 0; c < iv.size(); ++c) {
-    Vector3d sum = Vector3d::Zero();
-    for (int f = iv[c].first; f <= iv[c].last; ++f) sum += plan.ankle[f];
-    target[c] = sum / iv[c].frames();
-    // A fixed frame in the contact: the ankle stays where that frame has it.
+    std::vector<int> held;  // the fixed frames in the contact
     for (int f = iv[c].first; f <= iv[c].last; ++f) {
-      if (fixed[static_cast<std::size_t>(f)]) {
-        target[c] = plan.ankle[f];
-        break;
+      if (fixed[static_cast<std::size_t>(f)]) held.push_back(f);
+    }
+    if (held.empty()) {
+      // The ankle's mean position over the contact.
+      Vector3d sum = Vector3d::Zero();
+      for (int f = iv[c].first; f <= iv[c].last; ++f) sum += plan.ankle[f];
+      for (int f = iv[c].first; f <= iv[c].last; ++f) plan.offset[f] = sum / iv[c].frames();
+    } else {
+      // Fixed frames in the contact: the ankle stays where the first has it before it and where
+      // the last has it after; between two, it goes straight from one's place to the other's, so
+      // no leg stretches between two keys whose captured foot slid a little.
+      std::size_t k = 0;
+      for (int f = iv[c].first; f <= iv[c].last; ++f) {
+        while (k + 1 < held.size() && held[k + 1] <= f) ++k;
+        const int a = held[k];
+        if (f <= a || k + 1 == held.size()) {
+          plan.offset[f] = plan.ankle[a];
+        } else {
+          const int b = held[k + 1];
+          const double u = static_cast<double>(f - a) / static_cast<double>(b - a);
+          plan.offset[f] = (1.0 - u) * plan.ankle[a] + u * plan.ankle[b];
+        }
       }
     }
+    first_target[c] = plan.offset[iv[c].first];
+    last_target[c] = plan.offset[iv[c].last];
     for (int f = iv[c].first; f <= iv[c].last; ++f) {
-      plan.offset[f] = target[c] - plan.ankle[f];
+      plan.offset[f] -= plan.ankle[f];  // the target, as a displacement
       plan.touched[f] = 1;
     }
   }
@@ -81,12 +100,12 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
     if (next > 0) {
       const ContactInterval& c = iv[next - 1];
       w1 = falloff(static_cast<double>(f - c.last) / (blend + 1));
-      d1 = target[next - 1] - plan.ankle[c.last];
+      d1 = last_target[next - 1] - plan.ankle[c.last];
     }
     if (next < iv.size()) {
       const ContactInterval& c = iv[next];
       w2 = falloff(static_cast<double>(c.first - f) / (blend + 1));
-      d2 = target[next] - plan.ankle[c.first];
+      d2 = first_target[next] - plan.ankle[c.first];
     }
     if (w1 + w2 <= 0.0) continue;
     plan.offset[f] = (w1 * d1 + w2 * d2) / std::max(1.0, w1 + w2);

@@ -55,8 +55,10 @@ struct CleanFeetOptions {
   /// Most the root is lowered, × the leg length, in [0, 1].
   double max_root_drop = 0.25;
   /// Frames whose pose must stay exactly as given (in-betweening's keys): a contact holding
-  /// one holds the ankle where that frame has it (the first such frame's), rather than at the
-  /// contact's mean, and the frame itself is left bit for bit. Any order; out of range ignored.
+  /// one holds the ankle where that frame has it rather than at the contact's mean — between two
+  /// such frames on the straight line from one's place to the other's, before the first at the
+  /// first's, after the last at the last's — and the frame itself is left bit for bit. Any
+  /// order; out of range ignored.
   std::vector<int> fixed_frames;
 
   /// @throws ParameterError naming the field (contacts.height, …), its value and its range.

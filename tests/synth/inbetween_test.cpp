@@ -320,6 +320,24 @@ TEST_F(SynthInbetweenBandai, RoutesStayInTheDataAndKeysAreHitExactly) {
     std::printf("frames between %d: skating %.3f → %.3f, %.1f → %.1f cm/s in contact\n", n,
                 before.ratio, after.ratio, before.contact_speed_cm_s, after.contact_speed_cm_s);
     EXPECT_LE(after.contact_speed_cm_s, before.contact_speed_cm_s + 1.0);
+    // The keys stay as given, root included, and the clean-up's root lowering fades to nothing
+    // towards them: next to a key the root is lowered by at most half the most it is lowered
+    // anywhere (a fade over ±blend_seconds), so it never steps down at a key.
+    const int root = L.blender->motion_root();
+    const int u = static_cast<int>(L.blender->options().up);
+    const auto lowered = [&](int f) {
+      return raw.motion.translation(f, root)[u] - r.motion.translation(f, root)[u];
+    };
+    double most = 0.0;
+    for (int f = 0; f < r.motion.num_frames; ++f) most = std::max(most, lowered(f));
+    for (const int k : r.key_frames) {
+      EXPECT_EQ(lowered(k), 0.0) << "key frame " << k;
+      for (const int next : {k - 1, k + 1}) {
+        if (next >= 0 && next < r.motion.num_frames) {
+          EXPECT_LE(lowered(next), 0.5 * most + 1e-9) << "key frame " << k << ", frame " << next;
+        }
+      }
+    }
   }
 }
 

@@ -366,10 +366,20 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
         widened[g] = std::max(widened[g], need[f]);
       }
     }
+    // A fixed frame stays as given, its root too: the drop fades to 0 over ±blend towards it
+    // (where that leaves a target out of reach, the leg reaches as far as it can), so the root
+    // never steps at a key.
+    std::vector<double> taper(static_cast<std::size_t>(F), 1.0);
+    for (const int k : options.fixed_frames) {
+      if (k < 0 || k >= F) continue;
+      for (int g = std::max(0, k - r); g <= std::min(F - 1, k + r); ++g) {
+        taper[g] = std::min(taper[g], static_cast<double>(std::abs(g - k)) / (r + 1));
+      }
+    }
     for (int f = 0; f < F; ++f) {
       double sum = 0.0;
       for (int g = f - r; g <= f + r; ++g) sum += widened[std::clamp(g, 0, F - 1)];
-      drop[f] = sum / (2 * r + 1);
+      drop[f] = taper[f] * sum / (2 * r + 1);
       if (drop[f] < 1e-12 * plans[0].length) drop[f] = 0.0;
       result.root_drop[f] = drop[f];
       result.max_root_drop = std::max(result.max_root_drop, drop[f]);

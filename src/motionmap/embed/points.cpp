@@ -75,6 +75,23 @@ void exact_all_pairs(const PointSet& points, NeighborLists& out, const Control& 
 
 }  // namespace
 
+Eigen::MatrixXd principal_axes(const RowMatrix& points, Eigen::Index max_samples) {
+  const Eigen::Index n = points.rows(), dims = points.cols();
+  if (n < 1 || dims < 1 || max_samples < 1) {
+    throw ParameterError("principal_axes: " + std::to_string(n) + " points of " +
+                         std::to_string(dims) + " values, " + std::to_string(max_samples) +
+                         " samples (need at least 1 of each)");
+  }
+  const Eigen::RowVectorXd mean = points.colwise().mean();
+  const Eigen::Index samples = std::min<Eigen::Index>(n, max_samples);
+  Eigen::MatrixXd sample(samples, dims);
+  for (Eigen::Index s = 0; s < samples; ++s) sample.row(s) = points.row((s * n) / samples) - mean;
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(dims, dims);
+  covariance.selfadjointView<Eigen::Lower>().rankUpdate(sample.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
+  return eigen.eigenvectors().rowwise().reverse();  // largest first
+}
+
 // An exact k-d tree over the points turned into their principal axes. A rotation keeps every
 // distance, and mocap poses lie near a low-dimensional manifold: in the principal frame the
 // splits fall on the few axes that separate poses, and a partial distance over the leading
@@ -91,18 +108,10 @@ class PrincipalKdTree {
   PrincipalKdTree(const RowMatrix& points, const Control& control) {
     const Eigen::Index n = points.rows();
     m_dims = static_cast<int>(points.cols());
-    // 1. The principal axes, from the covariance of at most kAxisSamples frames spread evenly
-    //    over the set (any orthonormal axes keep the result exact; good ones make it fast).
+    // 1. The principal axes (any orthonormal axes keep the result exact; good ones make it
+    //    fast).
     const Eigen::RowVectorXd mean = points.colwise().mean();
-    const Eigen::Index samples = std::min<Eigen::Index>(n, kAxisSamples);
-    Eigen::MatrixXd sample(samples, m_dims);
-    for (Eigen::Index s = 0; s < samples; ++s) {
-      sample.row(s) = points.row((s * n) / samples) - mean;
-    }
-    Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(m_dims, m_dims);
-    covariance.selfadjointView<Eigen::Lower>().rankUpdate(sample.transpose());
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
-    const Eigen::MatrixXd axes = eigen.eigenvectors().rowwise().reverse();  // largest first
+    const Eigen::MatrixXd axes = principal_axes(points, kAxisSamples);
     control.check();
     // 2. Every frame in those axes, stored as floats (half the memory: 456 MB at 10⁶ frames of
     //    114 values) and summed in double. Storing rounds each y = (p − mean)·axes by at most

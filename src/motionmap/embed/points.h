@@ -29,6 +29,13 @@ struct PointSet {
   }
 };
 
+/// Orthonormal axes of `points` (#values by #values, a column per axis), the directions of
+/// largest spread first: the eigenvectors of the covariance of at most `max_samples` rows spread
+/// evenly over them. Any orthonormal axes keep a distance; these make the leading coordinates
+/// separate the points most (k-d trees and bounds on distances search faster in them).
+/// @throws ParameterError if points has no row or no column, or max_samples < 1.
+Eigen::MatrixXd principal_axes(const RowMatrix& points, Eigen::Index max_samples = 32768);
+
 /// How knn_from_points searches.
 enum class NeighborSearch {
   /// Exact up to kExactNeighborLimit frames. Above, exact too for Euclidean points when the

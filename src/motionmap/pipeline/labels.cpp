@@ -12,13 +12,12 @@
 #include <set>
 #include <unordered_map>
 
-#include <Eigen/Eigenvalues>
-
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/metric.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/embed/points.h"
 
 namespace motionmap::pipeline {
 
@@ -1187,24 +1186,15 @@ std::optional<ProjectedSearch> map_search(const Eigen::MatrixXd& coordinates) {
 }
 
 // A search of points by the Euclidean distance, on their projections onto their (up to) 8
-// principal directions (from a sample of ≤ 20 000 rows: the directions need only be
+// principal directions (embed::principal_axes of ≤ 20 000 rows: the directions need only be
 // orthonormal, how well they fit changes the speed, not the result); nullopt when a value is
 // not finite.
 std::optional<ProjectedSearch> point_search(const RowMatrix& points) {
-  const Eigen::Index n = points.rows();
   const Eigen::Index dims = points.cols();
-  if (n < 1 || dims < 1 || !points.allFinite()) return std::nullopt;
-  const Eigen::Index step = std::max<Eigen::Index>(1, n / 20000);
-  RowMatrix sample(n / step, dims);
-  for (Eigen::Index r = 0; r < sample.rows(); ++r) sample.row(r) = points.row(r * step);
-  sample.rowwise() -= sample.colwise().mean();
-  const Eigen::MatrixXd covariance = sample.transpose() * sample;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
-  if (eigen.info() != Eigen::Success) return std::nullopt;
+  if (points.rows() < 1 || dims < 1 || !points.allFinite()) return std::nullopt;
   const Eigen::Index m = std::min<Eigen::Index>(8, dims);
-  // The largest eigenvalues' vectors, the largest first (the key spreads the frames most).
-  const Eigen::MatrixXd directions = eigen.eigenvectors().rightCols(m).rowwise().reverse();
-  const RowMatrix projections = points * directions;
+  // The largest first (the key spreads the frames most).
+  const RowMatrix projections = points * embed::principal_axes(points, 20000).leftCols(m);
   return ProjectedSearch(projections, rounding_margin(points.rowwise().norm().maxCoeff()),
                          m < dims);
 }

@@ -266,7 +266,6 @@ std::shared_ptr<const SavedMap::BlendBase> SavedMap::blend_base() const {
   base->fixed_translations.resize(std::size_t(J));
   for (int j = 0; j < J; ++j)
     base->fixed_translations[std::size_t(j)] = first->motion.translation(m_file.frame_of[0], j);
-  base->fixed_translations[std::size_t(record.motion_root)] = Eigen::Vector3d::Zero();
   base->frame_time = loaded_frame_time(0);
   const std::lock_guard lock(m_mutex);
   if (!m_base) m_base = std::move(base);

@@ -130,7 +130,7 @@ class SavedMap : public synth::ClipSource {
   /// Clip c's frame time as load() gives it, from its record (without reading the clip).
   double loaded_frame_time(int c) const;
   /// What every blend of a map with a blend record keeps (as make_blender's blender): the
-  /// skeleton of the first sample's clip, that sample's translations (the motion root's 0) and
+  /// skeleton of the first sample's clip, that sample's translations and
   /// the frame time of clip 0.
   struct BlendBase {
     Skeleton skeleton;

@@ -258,7 +258,7 @@ struct MapBlender::Impl {
   std::vector<int> moving;     // joints other than the motion root whose translation varies
   std::vector<int> ancestors;  // the motion root's, folded into it (blend_state.h)
   std::vector<Eigen::Vector3d> moving_translations;  // #samples × moving.size()
-  // #joints: sample 0's, the motion root's zeroed (its height is blended)
+  // #joints: sample 0's (blend_states() sets the motion root's and its ancestors')
   std::vector<Eigen::Vector3d> fixed_translations;
   std::vector<double> height;
   std::vector<Eigen::Vector3d> velocity;  // heading-local floor velocity, units/s
@@ -345,7 +345,6 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips,
   const Motion& m0 = clips[samples.clip_of[0]].motion;
   fixed_translations.resize(uJ);
   for (int j = 0; j < J; ++j) fixed_translations[j] = m0.translation(samples.frame_of[0], j);
-  fixed_translations[r] = Eigen::Vector3d::Zero();
 }
 
 void MapBlender::Impl::read_samples(std::span<const int> samples,
@@ -566,7 +565,6 @@ MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSumm
   s.fixed_translations.resize(static_cast<std::size_t>(J));
   for (int j = 0; j < J; ++j)
     s.fixed_translations[j] = clip0->motion.translation(samples.frame_of[0], j);
-  s.fixed_translations[s.motion_root] = Eigen::Vector3d::Zero();
   s.source = std::move(source);
   s.clip_of = samples.clip_of;
   s.frame_of = samples.frame_of;

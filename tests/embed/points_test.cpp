@@ -3,6 +3,7 @@
 // max-min landmarks are those of the definition; landmark Isomap's geodesic distances are the
 // dense shortest paths' bits. (The maps themselves against the dense ones: points_path_test.cpp.)
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 #include <string>
@@ -75,6 +76,29 @@ RowMatrix sheet_points(int n, int d, int manifold, unsigned seed, bool integer =
 
 Eigen::MatrixXd distances_of(const RowMatrix& P) {
   return features::pairwise_distances(P);
+}
+
+TEST(EmbedPoints, PrincipalAxesAreOrthonormalLargestSpreadFirst) {
+  // Points spread 10 along (1, 1, 0)/√2, 3 along z, 0.1 along (1, −1, 0)/√2.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  RowMatrix points(500, 3);
+  const Eigen::Vector3d a = Eigen::Vector3d(1, 1, 0).normalized(), b(0, 0, 1),
+                        c = Eigen::Vector3d(1, -1, 0).normalized();
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    points.row(i) = (10 * g(rng) * a + 3 * g(rng) * b + 0.1 * g(rng) * c).transpose();
+  for (const Eigen::Index samples : {Eigen::Index(500), Eigen::Index(50)}) {
+    const Eigen::MatrixXd axes = principal_axes(points, samples);
+    ASSERT_EQ(axes.rows(), 3);
+    ASSERT_EQ(axes.cols(), 3);
+    EXPECT_LT((axes.transpose() * axes - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_GT(std::abs(axes.col(0).dot(a)), 0.99) << samples;
+    EXPECT_GT(std::abs(axes.col(1).dot(b)), 0.99) << samples;
+    EXPECT_GT(std::abs(axes.col(2).dot(c)), 0.99) << samples;
+  }
+  EXPECT_THROW(principal_axes(RowMatrix(0, 3)), ParameterError);
+  EXPECT_THROW(principal_axes(RowMatrix(4, 0)), ParameterError);
+  EXPECT_THROW(principal_axes(points, 0), ParameterError);
 }
 
 TEST(EmbedPoints, ExactSearchEqualsDistanceMatrixOnRealClips) {

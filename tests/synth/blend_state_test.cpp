@@ -181,6 +181,18 @@ TEST(SynthBlendState, RefusesWhatItCannotBlend) {
   EXPECT_THROW(blend({1.0, -1.0}), ParameterError);
   EXPECT_THROW(blend({0.5, 0.5}, 5), ParameterError);
   EXPECT_THROW(blend({0.5, 0.5}, 0, {-1}), ParameterError);
+  // The motion root's ancestors: named, and each a joint.
+  EXPECT_THROW(blend_states(two, std::vector<double>{0.5, 0.5}, fixed, moving, 1, Axis::Y,
+                            std::vector<int>{7}),
+               ParameterError);
+  EXPECT_THROW(root_ancestors(clip.skeleton, 5), ParameterError);
+  EXPECT_THROW(root_ancestors(clip.skeleton, -1), ParameterError);
+  EXPECT_EQ(root_ancestors(clip.skeleton, 0), std::vector<int>{});
+  EXPECT_THROW(root_transform(clip.motion, 80, 1, std::vector<int>{0}), ParameterError);
+  EXPECT_THROW(root_transform(clip.motion, 0, 1, std::vector<int>{9}), ParameterError);
+  Motion m = clip.motion;
+  EXPECT_THROW(fold_root(m, 0, 5, std::vector<int>{}), ParameterError);
+  EXPECT_THROW(sample_state(clip.motion, 0, 1, Axis::Y, {}, std::vector<int>{-2}), ParameterError);
 }
 
 }  // namespace

@@ -364,6 +364,46 @@ TEST_F(SynthInbetweenBandai, AKeyFromAClipNotInTheMapIsPlacedAndReproduced) {
   EXPECT_LT(step, 0.3);
 }
 
+TEST_F(SynthInbetweenBandai, AHeldOutWalksKeysJoinWithoutTurningTheBodyRound) {
+  // Keys 45 frames apart on a walk not in the map: between keys the root's path is turned and
+  // scaled onto the next key, its heading error spread with time, so no frame turns the body
+  // round (turning it by the path's turn at once swung it on the frame after a key). The
+  // largest ankle step is printed, not bounded: a clip route's skips at a rate above 1 play a
+  // stretch of a clip two or three times as fast (docs/synthesis.md).
+  const Library& L = *lib;
+  const Clip held_out = io::load_clip(Library::path("walk_feminine"));
+  std::vector<Key> keys;
+  for (int f = 20; f <= 158; f += 46) keys.push_back(L.key(held_out, -1, f));
+  const InbetweenResult r = inbetween(*L.blender, *L.set, keys, between(45));
+  const int root = L.blender->motion_root();
+  const Axis up = L.blender->options().up;
+  const Feet feet = find_feet(L.blender->skeleton());
+  const auto ankles = [&](const Motion& m, int side) {
+    return joint_trajectory(L.blender->skeleton(), m, feet.legs[side].ankle);
+  };
+  double turn = 0.0, own_turn = 0.0, step = 0.0, own_step = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    const auto a = ankles(r.motion, side), b = ankles(held_out.motion, side);
+    for (std::size_t f = 1; f < a.size(); ++f) step = std::max(step, (a[f] - a[f - 1]).norm());
+    for (std::size_t f = 1; f < b.size(); ++f)
+      own_step = std::max(own_step, (b[f] - b[f - 1]).norm());
+  }
+  const auto heading = [&](const Motion& m, int f) {
+    return root_placement(m, f, root, up).heading;
+  };
+  for (int f = 1; f < r.motion.num_frames; ++f)
+    turn = std::max(turn, std::abs(wrap_angle(heading(r.motion, f) - heading(r.motion, f - 1))));
+  for (int f = 1; f < held_out.motion.num_frames; ++f) {
+    own_turn = std::max(own_turn, std::abs(wrap_angle(heading(held_out.motion, f) -
+                                                      heading(held_out.motion, f - 1))));
+  }
+  std::printf(
+      "[ figures  ] held-out walk's in-between: largest turn %.3f rad (the walk's %.3f), "
+      "ankle step %.1f cm (the walk's %.1f)\n",
+      turn, own_turn, step, own_step);
+  EXPECT_LE(turn, 2.0 * own_turn);
+}
+
 TEST_F(SynthInbetweenBandai, AKeyOnItsOwnTrajectoryReproducesTheClip) {
   // Consecutive samples of a clip as keys, no frame between: the clip's frames, where they stood.
   const Library& L = *lib;

@@ -623,11 +623,12 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
           if (ratio >= kMinTravelRatio && ratio <= 1.0 / kMinTravelRatio &&
               std::abs(turn) <= kMaxTravelTurn) {
             r.floor = start + ratio * (axis_rotation(up, turn) * (r.floor - start));
-            r.heading += turn + u * wrap_angle(placement[later].heading - (end.heading + turn));
           } else {
             r.floor += u * (placement[later].floor - end.floor);
-            r.heading += u * wrap_angle(placement[later].heading - end.heading);
           }
+          // The heading's error spreads with time either way: turning the body by `turn` at
+          // once would swing it round on the frame after the earlier key.
+          r.heading += u * wrap_angle(placement[later].heading - end.heading);
         }
       }
       m.rotation(f, root) = (axis_rotation(up, r.heading) * tilt[ks]).normalized();

@@ -91,6 +91,7 @@ void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int
                          std::to_string(m.num_frames) + ")");
   }
   check_joints("sample_state", J, root, moving);
+  check_joints("sample_state", J, root, ancestors, "ancestor");  // before they are written
   for (int j = 0; j < J; ++j) rotations[j] = m.rotation(f, j).normalized();
   for (const int j : ancestors) rotations[j] = Eigen::Quaterniond::Identity();
   const detail::RootSample r = detail::root_sample(m, f, root, up, ancestors);

@@ -87,15 +87,38 @@ double median_sample_step(const features::FeatureSet& samples, const std::vector
 struct WalkedRoute {
   std::vector<Eigen::Vector2d> points;
   std::vector<double> times;
-  /// A clip route's: per step, the clips' frames it advances (0 for a hold); empty for a grid
-  /// route, whose blended root velocities are the samples' own speed already.
+  /// A clip route's: per step, the clips' frames it advances, the same for every step of a run
+  /// (the steps between two jumps: see play_runs_evenly); empty for a grid route, whose blended
+  /// root velocities are the samples' own speed already.
   std::vector<double> advance;
   /// A clip route's: per step, whether it jumps to another clip's sample (its frames are not
   /// blended between the two: each takes the nearer end).
   std::vector<char> jumps;
+  /// A clip route's: per step, the first step of its run.
+  std::vector<int> run_start;
   /// A clip route's samples, one per point.
   std::vector<int> samples;
 };
+
+// A clip route's steps each hold a sample, go on to the next or skip one, wherever the search
+// found it cheapest: played step by step, a stretch would stop and rush (a skip plays a step at
+// twice the clip's pace). Each run of steps between jumps plays its clip at one even pace
+// instead, from the run's first sample to its last, which it still reaches at the same step.
+void play_runs_evenly(WalkedRoute& w) {
+  const int steps = static_cast<int>(w.advance.size());
+  w.run_start.assign(static_cast<std::size_t>(steps), 0);
+  for (int t0 = 0; t0 < steps;) {
+    int t1 = t0 + 1;
+    if (!w.jumps[t0]) {
+      while (t1 < steps && !w.jumps[t1]) ++t1;
+      double total = 0.0;
+      for (int t = t0; t < t1; ++t) total += w.advance[t];
+      for (int t = t0; t < t1; ++t) w.advance[t] = total / (t1 - t0);
+    }
+    for (int t = t0; t < t1; ++t) w.run_start[t] = t0;
+    t0 = t1;
+  }
+}
 
 WalkedRoute walk(const MapField& field, const std::vector<double>& speeds, double floor_speed,
                  const std::vector<Eigen::Vector2d>& route) {
@@ -383,6 +406,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
                                        : samples.frame_of[at] - samples.frame_of[from]);
         w.jumps.push_back(jump ? 1 : 0);
       }
+      play_runs_evenly(w);
       if (!keys[i].has_pose()) w.points.front() = keys[i].point;
       if (!keys[i + 1].has_pose()) w.points.back() = keys[i + 1].point;
       // The route drawn: from key i's point through the samples to key i + 1's.
@@ -403,23 +427,41 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   }
 
   // The map point of every frame: equal steps of the samples' time along each route. On a clip
-  // route a frame between two of its samples blends those two (the clip's frames in between);
-  // across a jump it takes the nearer one (blending there would mix the nearby samples of
-  // neither clip); a map-point key's frame is the blend at its point.
+  // route a frame blends the two samples of its run around its clip frame (the clip's frames in
+  // between), at its place between their points; across a jump it takes the nearer one
+  // (blending there would mix the nearby samples of neither clip); a map-point key's frame is
+  // the blend at its point.
   const long long frames = key_frames.back() + 1;
   result.points.resize(static_cast<std::size_t>(frames));
   std::vector<MapWeights> frame_weights;
   if (clip_routes) frame_weights.resize(static_cast<std::size_t>(frames));
-  const auto clip_frame = [&](const WalkedRoute& w, double t, const Eigen::Vector2d& point) {
+  const auto clip_frame = [&](const WalkedRoute& w, double t) {
     const double steps = static_cast<double>(w.samples.size()) - 1.0;
     const double i = std::min(std::floor(t), steps - 1.0);
     const auto step = static_cast<std::size_t>(i);
     double f = t - i;
     int a = w.samples[step], b = w.samples[step + 1];
-    if (w.jumps[step]) f = f < 0.5 ? 0.0 : 1.0;
+    if (w.jumps[step]) {
+      f = f < 0.5 ? 0.0 : 1.0;
+    } else {
+      // In a run, the clip's frame at the run's even pace, between the two samples around it
+      // (consecutive rows of the map: next_samples).
+      const int t0 = w.run_start[step];
+      const int first = w.samples[static_cast<std::size_t>(t0)];
+      const double frame = samples.frame_of[first] + (t - t0) * w.advance[step];
+      a = b = first;
+      while (next[b] >= 0 && samples.frame_of[b] < frame) b = next[b];
+      a = b;
+      while (a != first && samples.frame_of[a] > frame) --a;
+      const double span = samples.frame_of[b] - samples.frame_of[a];
+      f = span > 0.0 ? std::clamp((frame - samples.frame_of[a]) / span, 0.0, 1.0) : 0.0;
+    }
+    // The frame's map point: where its samples' are, weighted alike.
+    const Eigen::Vector2d point = (1.0 - f) * blender.sample_point(a) + f * blender.sample_point(b);
+    const int nearest = f < 0.5 ? a : b;
     MapWeights out;
     if (a == b || f <= 0.0 || f >= 1.0) {
-      out.samples = {f >= 1.0 ? b : a};
+      out.samples = {nearest};
       out.weights = {1.0};
     } else {
       double wa = 1.0 - f, wb = f;
@@ -432,7 +474,6 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     }
     PointValidity& v = out.validity;
     v.query = v.point = point;
-    const int nearest = f < 0.5 ? w.samples[step] : w.samples[step + 1];
     v.nearest_sample = nearest;
     v.distance = (point - blender.sample_point(nearest)).norm();
     return out;
@@ -447,8 +488,12 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       result.points[ks] = k == b ? w.points.back() : at_time(w, t);
       if (!clip_routes) continue;
       const bool key_point = (k == a && !keys[i].has_pose()) || (k == b && !keys[i + 1].has_pose());
-      frame_weights[ks] = w.samples.empty() || key_point ? blender.locate(result.points[ks])
-                                                         : clip_frame(w, t, result.points[ks]);
+      if (w.samples.empty() || key_point) {
+        frame_weights[ks] = blender.locate(result.points[ks]);
+      } else {
+        frame_weights[ks] = clip_frame(w, t);
+        result.points[ks] = frame_weights[ks].validity.point;
+      }
     }
   }
 

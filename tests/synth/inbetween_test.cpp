@@ -383,11 +383,24 @@ TEST_F(SynthInbetweenBandai, AHeldOutWalksKeysJoinWithoutTurningTheBodyRound) {
     return joint_trajectory(L.blender->skeleton(), m, feet.legs[side].ankle);
   };
   double turn = 0.0, own_turn = 0.0, step = 0.0, own_step = 0.0;
+  // Transitions in which an ankle stands (moves less than 0.5 cm on the floor: 15 cm/s).
+  const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(L.blender->options().up));
+  const auto standing = [&](const std::vector<Eigen::Vector3d>& p) {
+    int n = 0;
+    for (std::size_t f = 1; f < p.size(); ++f) {
+      const Eigen::Vector3d d = p[f] - p[f - 1];
+      n += (d - d.dot(up_unit) * up_unit).norm() < 0.5;
+    }
+    return static_cast<double>(n) / static_cast<double>(p.size() - 1);
+  };
+  double stands = 0.0, own_stands = 0.0;
   for (int side = 0; side < 2; ++side) {
     const auto a = ankles(r.motion, side), b = ankles(held_out.motion, side);
     for (std::size_t f = 1; f < a.size(); ++f) step = std::max(step, (a[f] - a[f - 1]).norm());
     for (std::size_t f = 1; f < b.size(); ++f)
       own_step = std::max(own_step, (b[f] - b[f - 1]).norm());
+    stands += standing(a) / 2.0;
+    own_stands += standing(b) / 2.0;
   }
   const auto heading = [&](const Motion& m, int f) {
     return root_placement(m, f, root, up).heading;
@@ -400,8 +413,9 @@ TEST_F(SynthInbetweenBandai, AHeldOutWalksKeysJoinWithoutTurningTheBodyRound) {
   }
   std::printf(
       "[ figures  ] held-out walk's in-between: largest turn %.3f rad (the walk's %.3f), "
-      "ankle step %.1f cm (the walk's %.1f)\n",
-      turn, own_turn, step, own_step);
+      "ankle step %.1f cm (the walk's %.1f), ankles standing %.2f of transitions (the walk's "
+      "%.2f)\n",
+      turn, own_turn, step, own_step, stands, own_stands);
   EXPECT_LE(turn, 2.0 * own_turn);
   EXPECT_LE(step, 1.25 * own_step);
 }

@@ -519,6 +519,11 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
                          " frames synthesized where " + std::to_string(frames) + " were asked");
   }
   Motion& m = synth.motion;
+  // The feet's contacts are found in the blend as it is now, before the keys' displacement map:
+  // spread over a segment, it lifts a planted foot slowly towards a key's, which no longer looks
+  // planted in the result (a left foot rose 7 cm through a stance of a held-out walk's in-between
+  // and slid at 0.3 m/s).
+  const Motion blended = options.clean_feet ? m : Motion{};
   const int root = blender.motion_root();
   const Axis up = blender.options().up;
   const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
@@ -689,11 +694,36 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       clean.contacts.up = up;
       clean.fixed_frames = result.key_frames;
       const Control cleaning = control.stage("cleaning feet", 0.9, 1.0);
-      CleanFeetResult cleaned =
+      std::array<FootContacts, 2> contacts =
           synth.contact_shares.empty()
-              ? clean_feet(blender.skeleton(), synth.motion, *feet, clean, cleaning)
-              : clean_feet_from_shares(blender.skeleton(), synth.motion, *feet,
-                                       synth.contact_shares, clean, cleaning);
+              ? detect_contacts(blender.skeleton(), blended, *feet, clean.contacts)
+              : contacts_from_shares(blender.skeleton(), blended, *feet, synth.contact_shares,
+                                     clean.contacts);
+      // ... and kept where the keys left the foot low: near a key whose foot is in the air, a
+      // foot planted in the blend must lift to it, not float held at the key's height.
+      const AnklePaths ankles = ankle_paths(blender.skeleton(), synth.motion, *feet);
+      for (int side = 0; side < 2; ++side) {
+        FootContacts& c = contacts[side];
+        const double top = c.floor + clean.contacts.height * c.leg_length;
+        const auto low = [&](int f) { return ankles[side][f].dot(up_unit) <= top; };
+        const int shortest = static_cast<int>(std::ceil(clean.contacts.min_seconds / dt - 1e-9));
+        std::vector<ContactInterval> kept;
+        for (const ContactInterval& in : c.intervals) {
+          for (int f = in.first; f <= in.last;) {
+            if (!low(f)) {
+              ++f;
+              continue;
+            }
+            int g = f;
+            while (g + 1 <= in.last && low(g + 1)) ++g;
+            if (g - f + 1 >= shortest) kept.push_back({f, g});
+            f = g + 1;
+          }
+        }
+        c.intervals = std::move(kept);
+      }
+      CleanFeetResult cleaned =
+          clean_feet(blender.skeleton(), synth.motion, *feet, contacts, clean, cleaning);
       synth.motion = std::move(cleaned.motion);
       result.feet_cleaned = true;
     } else {

@@ -135,9 +135,10 @@ void setup_synth(CLI::App& app) {
       "Gaussian smoothing of the blend weights over time, σ in seconds (default 0: a path "
       "retracing the clip's trajectory at its timing reproduces the clip)");
   sub->add_flag("--no-clean-feet", cmd->no_clean_feet,
-                "Keep the feet as blended: by default each foot is held still through its "
-                "contacts with the floor, the legs bent to reach (docs/synthesis.md, \"Clean "
-                "feet\"); a skeleton without feet is left as blended, with a note");
+                "Keep the feet as blended: by default the root moves with the planted feet and "
+                "each foot is held still through its contacts with the floor, the legs bent to "
+                "reach (docs/synthesis.md, \"Clean feet\"); a skeleton without feet is left as "
+                "blended, with a note");
   sub->callback([cmd] {
     const synth::MapPath path = synth::read_path_csv(cmd->path);
     synth::SynthOptions options;

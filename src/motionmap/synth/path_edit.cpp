@@ -8,6 +8,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/synth/clean_feet.h"
+#include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/detail/smoothing.h"
 
 namespace motionmap::synth {
@@ -168,11 +169,20 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   }
   control.check();
 
+  // The feet the clean-up holds (a previous result with clean feet: the skeleton has them).
+  const std::optional<Feet> feet =
+      clean ? std::optional<Feet>(find_feet(skeleton, blender.options().up)) : std::nullopt;
+
   // Root states: the previous ones outside [a, b); inside, integrated from the previous state at
-  // a, the mismatch at b spread linearly over the window.
+  // a (as synthesize() does: with clean feet, following the planted feet), the mismatch at b
+  // spread linearly over the window.
   r.root_positions.resize(static_cast<std::size_t>(F));
   r.headings.resize(static_cast<std::size_t>(F));
   {
+    const std::vector<detail::FeetFrame> standing =
+        clean && shares_known
+            ? detail::feet_frames(skeleton, raw_motion, blender.motion_root(), *feet, shares)
+            : std::vector<detail::FeetFrame>{};
     Eigen::Vector3d position = previous.root_positions[static_cast<std::size_t>(a)];
     double heading = previous.headings[static_cast<std::size_t>(a)];
     const Axis up = blender.options().up;
@@ -180,8 +190,14 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
       r.root_positions[static_cast<std::size_t>(k)] = position;
       r.headings[static_cast<std::size_t>(k)] = heading;
       const auto i = static_cast<std::size_t>(k - x0);
-      position += axis_rotation(up, heading) * velocity[i] * dt;
-      heading += yaw_rate[i] * dt;
+      const Eigen::Quaterniond yaw = axis_rotation(up, heading);
+      const double next_heading = heading + yaw_rate[i] * dt;
+      const Eigen::Vector3d blended = yaw * velocity[i] * dt;
+      position += standing.empty() || k + 1 >= x1
+                      ? blended
+                      : detail::root_step(blended, yaw, axis_rotation(up, next_heading),
+                                          standing[i], standing[i + 1], up);
+      heading = next_heading;
     }
     if (b < F) {
       const Eigen::Vector3d dx = previous.root_positions[static_cast<std::size_t>(b)] - position;
@@ -233,7 +249,6 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
 
   // Feet: clean [x0, x1) with the borders of [c0, c1) given as the previous motion's and fixed,
   // then fade from the previous frames to the new ones over the margins.
-  const Feet feet = find_feet(skeleton, up);
   CleanFeetOptions clean_options;
   clean_options.contacts.up = up;
   Motion input = raw_motion;
@@ -256,8 +271,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   }
   const CleanFeetResult cleaned =
       input_shares.empty()
-          ? clean_feet(skeleton, input, feet, clean_options, control)
-          : clean_feet_from_shares(skeleton, input, feet, input_shares, clean_options, control);
+          ? clean_feet(skeleton, input, *feet, clean_options, control)
+          : clean_feet_from_shares(skeleton, input, *feet, input_shares, clean_options, control);
   out.first = c0;
   out.end = c1;
   for (int k = c0; k < c1; ++k) {

@@ -1,5 +1,9 @@
 #include "motionmap/synth/detail/root_motion.h"
 
+#include <algorithm>
+
+#include "motionmap/core/error.h"
+
 #include "motionmap/features/point_cloud.h"
 #include "motionmap/synth/blend_state.h"
 
@@ -29,6 +33,54 @@ RootSample root_sample(const Motion& motion, int frame, int root, Axis up,
   s.velocity = axis_rotation(up, -ha) * floor / dt;
   s.yaw_rate = wrap_angle(hb - ha) / dt;
   return s;
+}
+
+double planted_weight(double share) {
+  return std::clamp((share - kFollowShare) / (1.0 - kFollowShare), 0.0, 1.0);
+}
+
+std::vector<FeetFrame> feet_frames(const Skeleton& skeleton, const Motion& motion, int root,
+                                   const Feet& feet,
+                                   std::span<const std::array<double, 2>> shares) {
+  if (shares.size() != static_cast<std::size_t>(motion.num_frames)) {
+    throw ParameterError("feet_frames: " + std::to_string(shares.size()) + " contact shares for " +
+                         std::to_string(motion.num_frames) + " frames");
+  }
+  const std::vector<Eigen::Vector3d> at = joint_trajectory(skeleton, motion, root);
+  std::vector<FeetFrame> out(shares.size());
+  for (int side = 0; side < 2; ++side) {
+    const Leg& leg = feet.legs[static_cast<std::size_t>(side)];
+    const double slack = (skeleton.joints[static_cast<std::size_t>(leg.knee)].offset.norm() +
+                          skeleton.joints[static_cast<std::size_t>(leg.ankle)].offset.norm()) *
+                         motion.frame_time;
+    const std::vector<Eigen::Vector3d> ankle = joint_trajectory(skeleton, motion, leg.ankle);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      out[k].ankle[side] = ankle[k] - at[k];
+      out[k].planted[side] = planted_weight(shares[k][side]);
+      out[k].slack[side] = slack;
+    }
+  }
+  return out;
+}
+
+Eigen::Vector3d root_step(const Eigen::Vector3d& blended, const Eigen::Quaterniond& yaw,
+                          const Eigen::Quaterniond& next_yaw, const FeetFrame& now,
+                          const FeetFrame& next, Axis up) {
+  const int u = static_cast<int>(up);
+  double total = 0.0;
+  Eigen::Vector3d by_feet = Eigen::Vector3d::Zero();
+  for (int side = 0; side < 2; ++side) {
+    const double w = std::min(now.planted[side], next.planted[side]);
+    if (w <= 0.0) continue;
+    Eigen::Vector3d step = yaw * now.ankle[side] - next_yaw * next.ankle[side];
+    step[u] = 0.0;
+    if ((step - blended).norm() > blended.norm() + now.slack[side]) continue;
+    by_feet += w * step;
+    total += w;
+  }
+  if (total <= 0.0) return blended;
+  const double share = std::min(1.0, total);
+  return (1.0 - share) * blended + share * by_feet / total;
 }
 
 }  // namespace motionmap::synth::detail

@@ -11,6 +11,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/detail/smoothing.h"
 
 namespace motionmap::synth {
@@ -198,6 +199,11 @@ SynthResult synthesize_frames(
   // Root motion: integrate the heading-local velocity and yaw rate from the origin, heading 0.
   const int root = blender.motion_root();
   const Axis up = blender.options().up;
+  // With clean feet, a planted foot stays where it stands and the root moves with it (the blend
+  // of several stances glides over the floor: its velocity is not what its legs do).
+  const std::vector<detail::FeetFrame> standing =
+      feet && shares_known ? detail::feet_frames(skeleton, result.motion, root, *feet, shares)
+                           : std::vector<detail::FeetFrame>{};
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double heading = 0.0;
   result.options = options;
@@ -210,8 +216,14 @@ SynthResult synthesize_frames(
     Eigen::Quaterniond& q = result.motion.rotation(static_cast<int>(k), root);
     q = (yaw * q).normalized();
     result.motion.translation(static_cast<int>(k), root) += position;
-    position += yaw * velocity[static_cast<std::size_t>(k)] * dt;
-    heading += yaw_rate[static_cast<std::size_t>(k)] * dt;
+    const auto ks = static_cast<std::size_t>(k);
+    const double next_heading = heading + yaw_rate[ks] * dt;
+    const Eigen::Vector3d blended = yaw * velocity[ks] * dt;
+    position += standing.empty() || k + 1 == frames
+                    ? blended
+                    : detail::root_step(blended, yaw, axis_rotation(up, next_heading), standing[ks],
+                                        standing[ks + 1], up);
+    heading = next_heading;
   }
   for (const PointValidity& v : result.validity) result.clamped_frames += v.clamped ? 1 : 0;
   if (shares_known) result.contact_shares = std::move(shares);

@@ -16,9 +16,11 @@
 //   position_{k+1} = position_k + yaw(θ_k)·v_k·Δt,   θ_{k+1} = θ_k + ω_k·Δt.
 // The samples' velocities are forward differences, so a path that retraces the clip's own map
 // trajectory at its own timing reproduces the clip (up to the start's position and heading).
-// Then, by default, the feet are cleaned (clean_feet.h): held still through each contact with
-// the floor, the legs bent to reach; a skeleton without feet (find_feet) is left as blended, with
-// a note. Set SynthOptions::clean_feet = false to get the blend as it is.
+// Then, by default, the feet are cleaned (clean_feet.h): the root is led by the planted feet (a
+// foot most of the frame's blend weight plants stays where it stands: detail/root_motion.h,
+// root_step) and each foot is held still through its contacts with the floor, the legs bent to
+// reach; a skeleton without feet (find_feet) is left as blended, with a note. Set
+// SynthOptions::clean_feet = false to get the blend as it is.
 #include <array>
 #include <span>
 #include <string>
@@ -47,9 +49,10 @@ struct SynthOptions {
   /// σ in seconds of a Gaussian smoothing of the weights over time, in [0, kMaxSmoothSeconds];
   /// 0 = none (a retraced trajectory then reproduces the clip).
   double smooth = 0.0;
-  /// Hold each foot still through its contacts with the floor (clean_feet()) when the skeleton
-  /// has feet (find_feet(), along BlendOptions::up); false: the blend as it is (a retraced
-  /// trajectory then reproduces the clip).
+  /// When the skeleton has feet (find_feet(), along BlendOptions::up): lead the root by the
+  /// planted feet (where the blender knows its samples' contacts) and hold each foot still through
+  /// its contacts with the floor (clean_feet()); false: the blend as it is (a retraced trajectory
+  /// then reproduces the clip).
   bool clean_feet = true;
 
   /// @throws ParameterError naming `speed`, `fps` or `smooth`, its value and the valid range.
@@ -78,9 +81,9 @@ struct SynthResult {
   std::vector<std::string> notes;
   /// The options it was made with (edit_path() re-synthesizes a part of it with them).
   SynthOptions options;
-  /// Per frame: the integrated root's floor position (up component 0) and heading (radians about
-  /// the up axis, not wrapped), before the feet were cleaned — where edit_path() starts and
-  /// rejoins the root motion.
+  /// Per frame: the integrated root's floor position (up component 0; led by the planted feet
+  /// with clean feet) and heading (radians about the up axis, not wrapped), before the feet were
+  /// held — where edit_path() starts and rejoins the root motion.
   std::vector<Eigen::Vector3d> root_positions;
   std::vector<double> headings;
 };

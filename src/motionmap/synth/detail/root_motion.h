@@ -6,12 +6,15 @@
 //
 //   const RootSample r = root_sample(clip.motion, f, blender_root, Axis::Y);
 //   // r.tilt: no heading; r.velocity: units/s in the heading frame (up component 0)
+#include <array>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "motionmap/core/rotation.h"
+#include "motionmap/skeleton/contacts.h"
 #include "motionmap/skeleton/skeleton.h"
 
 namespace motionmap::synth::detail {
@@ -37,5 +40,46 @@ Eigen::Quaterniond remove_heading(const Eigen::Quaterniond& q, Axis up);
 /// samples retraces the clip exactly.
 RootSample root_sample(const Motion& motion, int frame, int root, Axis up,
                        std::span<const int> ancestors = {});
+
+/// Where a blended frame's feet stand, for the root to follow: per foot (left, right), the
+/// ankle's position relative to the motion root with the root at the floor origin facing heading
+/// 0 (as MapBlender blends a frame), and how planted the foot is, in [0, 1].
+struct FeetFrame {
+  std::array<Eigen::Vector3d, 2> ankle{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<double, 2> planted{0.0, 0.0};
+  /// How much farther than the blended step a foot's step may go before root_step() takes it
+  /// for a jump of the blend rather than a stride: its leg's length × the frame time (a leg per
+  /// second, the contacts' speed threshold).
+  std::array<double, 2> slack{0.0, 0.0};
+};
+
+/// The contact share (MapBlender::contact_share: the blend weight on samples whose foot is on the
+/// floor) from which a foot starts to lead the root. The clean-up holds a foot from half a share
+/// on; a foot half the blend plants is as much a foot in the air, and one that led the root
+/// there would drag the body with a swing (on the Bandai walks of tests/synth, leading from half
+/// a share made the root follow the blend's jumps and moved the legs of a path edit 2° from a
+/// full re-synthesis).
+inline constexpr double kFollowShare = 0.7;
+
+/// How planted a blended foot is from its contact share: 0 up to kFollowShare, rising linearly
+/// to 1 at a whole share.
+double planted_weight(double share);
+
+/// The FeetFrame of every frame of `motion`, blended frames whose root stands at the floor origin
+/// facing heading 0 (not yet integrated), with one contact share per frame.
+std::vector<FeetFrame> feet_frames(const Skeleton& skeleton, const Motion& motion, int root,
+                                   const Feet& feet, std::span<const std::array<double, 2>> shares);
+
+/// The root's floor step from a frame to the next: the blended one, `blended` (world units, the
+/// heading-local velocity turned by `yaw` and times the frame time), where no foot is planted;
+/// where feet are planted in both frames (the lesser of the two frames' weights), the step that
+/// keeps them where they stand — the ankle at `now` turned by `yaw` and at `next` by `next_yaw`
+/// land on the same floor point —, averaged over the feet by weight and mixed with the blended
+/// step by the feet's total weight (at most 1). A foot whose step differs from the blended one
+/// by more than the blended step's length plus its slack is left out: its ankle jumped with the
+/// blend (a pose that changes at once), and the root must not jump with it.
+Eigen::Vector3d root_step(const Eigen::Vector3d& blended, const Eigen::Quaterniond& yaw,
+                          const Eigen::Quaterniond& next_yaw, const FeetFrame& now,
+                          const FeetFrame& next, Axis up);
 
 }  // namespace motionmap::synth::detail

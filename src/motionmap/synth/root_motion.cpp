@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "motionmap/core/error.h"
-
 #include "motionmap/features/point_cloud.h"
 #include "motionmap/synth/blend_state.h"
 

@@ -685,7 +685,8 @@ void MapView::paintShadingKey(QPainter& painter) const {
   font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
   painter.setFont(font);
   const QFontMetricsF fm(font);
-  const QString text = tr("a blend of nearby frames (outside: moved to the edge)");
+  const QString text = m_shadingGplvm ? tr("the GP's pose is sure (outside: moved to the edge)")
+                                      : tr("a blend of nearby frames (outside: moved to the edge)");
   const double pad = 4.0, swatch = fm.height();
   const double textWidth = std::min(fm.horizontalAdvance(text), plot.width() - swatch - 5 * pad);
   const QRectF key(plot.left() + pad, plot.bottom() - pad - swatch - 2 * pad,

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "motionmap/io/load.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/synth/blender.h"
+#include "motionmap/synth/route.h"
 #include "support/error_message.h"
 #include "support/test_data.h"
 
@@ -150,6 +152,42 @@ TEST(SynthBlenderGp, ClampsToTheEdgeOfTheGpsRegionInEveryMode) {
     EXPECT_FALSE(at.clamped);
     EXPECT_EQ(at.point, Eigen::Vector2d(coords.row(7).transpose()));
     EXPECT_DOUBLE_EQ(at.variance, m.gp->variance(at.point));
+  }
+}
+
+// The grid route on a GP-LVM map keeps to the GP's rule, the blender's: the field's validity is
+// the blender's at random points, its cost finite exactly there, a far point pulled in is valid,
+// and a route within one stretch of the swing (frames 2 to 20, the backswing: no jump between)
+// runs where the blender does not clamp.
+TEST(SynthBlenderGp, TheGridRouteKeepsToTheGpsRule) {
+  SKIP_WITHOUT_64_08();
+  const GpMap m = gp_map();
+  const MapBlender blender = blender_of(m, BlendMode::Gp);
+  const MapField field(blender);
+  const Eigen::MatrixXd& coords = m.map.embedding.coordinates;
+  const Eigen::Vector2d lo = coords.colwise().minCoeff(), hi = coords.colwise().maxCoeff();
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int valid = 0;
+  for (int t = 0; t < 400; ++t) {
+    const Eigen::Vector2d p = lo + (hi - lo).cwiseProduct(Eigen::Vector2d(u(random), u(random)));
+    const bool inside = blender.inside(p);
+    EXPECT_EQ(field.valid(p), inside);
+    EXPECT_EQ(std::isfinite(field.cost(p)), inside);
+    valid += inside;
+  }
+  EXPECT_GT(valid, 40);
+  EXPECT_LT(valid, 360);
+  const Eigen::Vector2d far = hi * 3.0;
+  EXPECT_FALSE(field.valid(far));
+  EXPECT_TRUE(field.valid(field.pulled_in(far)));
+  EXPECT_FALSE(blender.locate(field.pulled_in(far)).validity.clamped);
+  const Eigen::Vector2d a = coords.row(2).transpose(), b = coords.row(20).transpose();
+  const std::vector<Eigen::Vector2d> route = find_route(field, make_grid(field), a, b);
+  ASSERT_GE(route.size(), 2u);
+  for (std::size_t i = 1; i < route.size(); ++i) {
+    EXPECT_TRUE(field.segment_valid(route[i - 1], route[i])) << i;
+    EXPECT_FALSE(blender.locate(0.5 * (route[i - 1] + route[i])).validity.clamped) << i;
   }
 }
 

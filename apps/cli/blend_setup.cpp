@@ -3,6 +3,8 @@
 #include <iostream>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
+#include "motionmap/embed/gplvm.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/pipeline/map_csv.h"
 
@@ -37,6 +39,16 @@ void note_kriging(const BlendCliOptions& o, const synth::BlendOptions& blend, in
   }
 }
 
+// A gplvm map's GP: the map's rule of where it is valid in every mode, and its blends (the gp
+// mode) unless --blend chose another.
+void use_gplvm(const BlendCliOptions& o, std::shared_ptr<const embed::GplvmMap> gp,
+               synth::BlendOptions& blend) {
+  if (!gp) return;
+  const CLI::Option* given = o.sub->get_option_no_throw("--blend");
+  if (!given || given->count() == 0) blend.mode = synth::BlendMode::Gp;
+  blend.gplvm = std::move(gp);
+}
+
 PreparedBlender prepare_saved(const BlendCliOptions& o, const std::string& who) {
   for (const char* name : kFixedBySavedMap) {
     const CLI::Option* option = o.sub->get_option_no_throw(name);
@@ -52,10 +64,11 @@ PreparedBlender prepare_saved(const BlendCliOptions& o, const std::string& who) 
   if (!o.map.quiet) {
     for (const std::string& note : file.read_notes) std::cerr << "note: " << note << '\n';
   }
-  const synth::BlendOptions blend = blend_options(o, file.options.features.up);
+  synth::BlendOptions blend = blend_options(o, file.options.features.up);
   const int num_clips = static_cast<int>(file.clips.size());
   PreparedBlender p;
   p.saved = std::make_shared<const mapfile::SavedMap>(std::move(file));
+  use_gplvm(o, p.saved->gplvm(), blend);
   p.samples = p.saved->samples();
   for (const mapfile::ClipRecord& record : p.saved->file().clips)
     p.clip_paths.push_back(record.path);
@@ -100,7 +113,8 @@ void add_blend_options(CLI::App* sub, BlendCliOptions& o, const std::string& map
   sub->add_option(
          "--blend", o.blend,
          "Weights of the samples around a map point: local (kriging on the K map-nearest "
-         "samples, default), kriging (over all samples, ≤ 10 000) or idw (inverse distance)")
+         "samples, default), kriging (over all samples, ≤ 10 000), idw (inverse distance) or gp "
+         "(a gplvm map's predictive mean, its default)")
       ->transform(CLI::CheckedTransformer(choices(synth::all_blend_modes(), synth::blend_mode_name),
                                           CLI::ignore_case));
   sub->add_option("--neighbors", o.neighbors,
@@ -108,7 +122,18 @@ void add_blend_options(CLI::App* sub, BlendCliOptions& o, const std::string& map
   sub->add_option("--reach", o.reach,
                   "A point farther from every sample than reach × the median step between "
                   "consecutive samples (and than 5 % of the map's size) is moved to the edge of "
-                  "the data, with a note (default 3)");
+                  "the data, with a note (default 3). On a gplvm map the GP decides instead: a "
+                  "point whose predictive variance exceeds " +
+                      format_number(embed::kGplvmValidFraction) + " of its prior is moved");
+}
+
+std::string outside_rule(const synth::MapBlender& blender) {
+  if (blender.options().gplvm) {
+    return "where the GP's predictive variance exceeds " +
+           format_number(embed::kGplvmValidFraction) + " of its prior";
+  }
+  return "farther than the reach " + format_number(blender.reach_distance(), 4) +
+         " from every sample";
 }
 
 synth::BlendOptions blend_options(const BlendCliOptions& o, Axis up) {
@@ -156,7 +181,8 @@ PreparedBlender prepare_blender(const BlendCliOptions& o, const std::string& who
     p.samples = *p.map->features;
     coords = p.map->embedding.coordinates;
   }
-  const synth::BlendOptions blend = blend_options(o, p.options.features.up);
+  synth::BlendOptions blend = blend_options(o, p.options.features.up);
+  if (p.map) use_gplvm(o, pipeline::map_gplvm(*p.map), blend);
   note_kriging(o, blend, p.samples.num_samples());
   p.blender = std::make_unique<synth::MapBlender>(*clips, p.samples, coords, blend,
                                                   progress_line(o.map, "blend"));

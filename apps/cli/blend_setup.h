@@ -37,6 +37,11 @@ void add_blend_options(CLI::App* sub, BlendCliOptions& o, const std::string& map
 /// The blend options chosen, along the up axis `up` (the map's).
 synth::BlendOptions blend_options(const BlendCliOptions& o, Axis up);
 
+/// Where `blender`'s map ends, in words, for the notes on points moved to its edge: "farther
+/// than the reach R from every sample", or on a gplvm map "where the GP's predictive variance
+/// exceeds τ of its prior".
+std::string outside_rule(const synth::MapBlender& blender);
+
 /// A blender and what it was made from.
 struct PreparedBlender {
   std::unique_ptr<synth::MapBlender> blender;

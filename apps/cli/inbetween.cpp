@@ -287,9 +287,8 @@ void setup_inbetween(CLI::App& app) {
         synth::inbetween(*p.b.blender, p.b.samples, keys, options, line);
     if (r.outside_frames > 0) {
       std::cerr << "note: " << r.outside_frames << " of " << r.motion.num_frames
-                << " frames lie outside the data (beyond the reach "
-                << format_number(p.b.blender->reach_distance(), 4)
-                << " from every sample: a key outside the data, or a gap between parts of the "
+                << " frames lie outside the data (" << outside_rule(*p.b.blender)
+                << ": a key outside the data, or a gap between parts of the "
                    "map that the route had to cross) and were blended at the nearest edge of the "
                    "data\n";
     }

@@ -91,9 +91,9 @@ void setup_pose(CLI::App& app) {
     const synth::PointValidity& v = weights.validity;
     if (v.clamped) {
       std::cerr << "note: " << point_text(p) << " is " << format_number(v.distance, 4)
-                << " map units from the nearest sample, beyond the reach "
-                << format_number(blender.reach_distance(), 4) << ": the pose is taken at "
-                << point_text(v.point) << ", the nearest edge of the data\n";
+                << " map units from the nearest sample, outside the data (" << outside_rule(blender)
+                << "): the pose is taken at " << point_text(v.point)
+                << ", the nearest edge of the data\n";
     }
     write_motion(blender, blender.pose(weights), cmd->output);
     const int nearest = v.nearest_sample;
@@ -166,9 +166,8 @@ void setup_synth(CLI::App& app) {
         edit ? std::move(edit->result) : synth::synthesize(blender, path, options, blending);
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
-                << " frames lie outside the data (beyond the reach "
-                << format_number(blender.reach_distance(), 4)
-                << " from every sample) and were blended at the nearest edge of the data\n";
+                << " frames lie outside the data (" << outside_rule(blender)
+                << ") and were blended at the nearest edge of the data\n";
     }
     if (!cmd->o.map.quiet) {
       for (const std::string& note : result.notes) std::cerr << "note: " << note << '\n';

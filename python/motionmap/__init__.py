@@ -225,17 +225,19 @@ class _MapEstimator:
         """fit(X), then the map of X's frames (embedding_)."""
         return self.fit(X, y, **fit_params).embedding_
 
-    def inverse_transform(self, Y, *, blend="local", neighbors=12, reach=3.0, progress=None):
+    def inverse_transform(self, Y, *, blend=None, neighbors=12, reach=3.0, progress=None):
         """The poses at map points: MotionMap's pose synthesis (docs/synthesis.md), blended from
         the map's frames around each point. Y: #points by 2 (a 2-D map of clips). blend: "local"
-        (kriging on small neighbourhoods), "kriging" or "idw"; neighbors: K; reach: how far (in
+        (kriging on small neighbourhoods), "kriging", "idw" or "gp" (a GPLVM's predictive mean);
+        None: the map's default, "gp" on a GPLVM map (whose GP also decides where the map is
+        valid, in place of reach) and "local" on the others; neighbors: K; reach: how far (in
         median steps) a point may be from the data before it is moved to its edge. Returns a
         Clip of one frame per point (the root at the origin, facing heading 0)."""
         self._check_fitted()
         if not isinstance(self.map_, _motionmap._ClipMap):
             raise Error("inverse_transform: poses are blended from clips; this map was fitted "
                         "on an array")
-        return self.map_.poses_at(Y, blend, int(neighbors), float(reach), progress)
+        return self.map_.poses_at(Y, blend or "", int(neighbors), float(reach), progress)
 
     def write_csv(self, path):
         """Writes the fitted map of clips as the CLI's `motionmap map -o` writes it (byte for
@@ -408,7 +410,7 @@ _ESTIMATORS = {cls._method: cls
                for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE, UMAP, GPLVM)}
 
 
-def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend="local",
+def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend=None,
                neighbors=12, reach=3.0, clean_feet=True, progress=None):
     """A new motion along a path on a fitted 2-D map of clips (what `motionmap synth` does;
     docs/synthesis.md): every frame blended at a point of the path, root motion integrated from
@@ -423,12 +425,12 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, b
     if not isinstance(fitted.map_, _motionmap._ClipMap):
         raise Error("synthesize: motions are blended from clips; this map was fitted on an array")
     return fitted.map_.synthesize(path_xy, None if times is None else [float(t) for t in times],
-                                  float(speed), float(fps), float(smooth), blend, int(neighbors),
+                                  float(speed), float(fps), float(smooth), blend or "", int(neighbors),
                                   float(reach), bool(clean_feet), progress)
 
 
 def edit_path(fitted, path_xy, times=None, *, previous_xy, previous_times=None, speed=0.0,
-              fps=0.0, smooth=0.0, blend="local", neighbors=12, reach=3.0, clean_feet=True,
+              fps=0.0, smooth=0.0, blend=None, neighbors=12, reach=3.0, clean_feet=True,
               progress=None):
     """The motion along an edited path, re-made only where the edit changes it (what `motionmap
     synth --edit-of` does; docs/synthesis.md, "Editing a path"). previous_xy, previous_times: the
@@ -446,11 +448,11 @@ def edit_path(fitted, path_xy, times=None, *, previous_xy, previous_times=None, 
     return fitted.map_.edit_path(
         previous_xy, None if previous_times is None else [float(t) for t in previous_times],
         path_xy, None if times is None else [float(t) for t in times], float(speed), float(fps),
-        float(smooth), blend, int(neighbors), float(reach), bool(clean_feet), progress)
+        float(smooth), blend or "", int(neighbors), float(reach), bool(clean_feet), progress)
 
 
 def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", grid=0, smooth=True,
-              blend="local", neighbors=12, reach=3.0, asf=None, fps=None, clean_feet=True,
+              blend=None, neighbors=12, reach=3.0, asf=None, fps=None, clean_feet=True,
               progress=None):
     """A motion through key poses on a fitted 2-D map of clips (what `motionmap inbetween` does;
     docs/synthesis.md, "Key poses and in-betweening"): every key pose is hit exactly, root
@@ -473,7 +475,7 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     return fitted.map_.inbetween(
         list(keys), None if times is None else [float(t) for t in times],
         -1 if frames_between is None else int(frames_between), str(route), int(grid),
-        bool(smooth), blend,
+        bool(smooth), blend or "",
         int(neighbors), float(reach), "" if asf is None else os.fspath(asf),
         0.0 if fps is None else float(fps), bool(clean_feet), progress)
 

@@ -259,8 +259,10 @@ std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict&
 // A blender over the map's clips: the fitted clips, or (a map read back or unpickled) its clips
 // loaded again from their recorded paths and checked to give the map's samples. Call with the
 // GIL released.
+// A gplvm map's GP is its rule of where it is valid, and with `default_mode` (blend=None in
+// Python) its blends are the GP's predictive mean (the gp mode).
 synth::MapBlender make_blender(const ClipMapState& s, const synth::BlendOptions& blend,
-                               const Control& control,
+                               bool default_mode, const Control& control,
                                features::FeatureSet* samples_out = nullptr) {
   if (s.file.coordinates.cols() != 2) {
     throw ParameterError("poses are blended on 2-D maps; this map has " +
@@ -289,6 +291,9 @@ synth::MapBlender make_blender(const ClipMapState& s, const synth::BlendOptions&
   }
   synth::BlendOptions options = blend;
   options.up = s.file.options.features.up;
+  options.gplvm = s.map ? pipeline::map_gplvm(*s.map) : nullptr;
+  if (!options.gplvm) options.gplvm = embed::gplvm_map(s.file.model, s.file.coordinates);
+  if (options.gplvm && default_mode) options.mode = synth::BlendMode::Gp;
   synth::MapBlender blender(clips, samples, s.file.coordinates, options, control);
   if (samples_out) *samples_out = std::move(samples);
   return blender;
@@ -296,10 +301,11 @@ synth::MapBlender make_blender(const ClipMapState& s, const synth::BlendOptions&
 
 synth::BlendOptions blend_options(const std::string& mode, int neighbors, double reach) {
   synth::BlendOptions b;
-  const auto parsed = synth::parse_blend_mode(mode);
+  // "": the map's default (local; gp on a gplvm map, make_blender).
+  const auto parsed = mode.empty() ? synth::BlendMode::Local : synth::parse_blend_mode(mode);
   if (!parsed) {
     throw ParameterError("blend: unknown name '" + mode +
-                         "' (expected one of local, kriging, idw)");
+                         "' (expected one of local, kriging, idw, gp)");
   }
   b.mode = *parsed;
   b.neighbors = neighbors;
@@ -322,8 +328,8 @@ Clip poses_at(const ClipMapState& s, const InputArray& Y, const std::string& mod
               double reach, py::object progress) {
   const std::vector<Eigen::Vector2d> points = map_points(Y, "Y");
   return run_released(std::move(progress), [&](const Control& control) {
-    const synth::MapBlender blender =
-        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.5));
+    const synth::MapBlender blender = make_blender(s, blend_options(mode, neighbors, reach),
+                                                   mode.empty(), control.part(0.0, 0.5));
     Clip out;
     out.path = "<poses at " + std::to_string(points.size()) + " map points>";
     out.skeleton = blender.skeleton();
@@ -384,8 +390,8 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
   const synth::MapPath path = map_path(path_xy, times, "path_xy", "times");
   const synth::SynthOptions options = synth_options(speed, fps, smooth, clean_feet);
   return run_released(std::move(progress), [&](const Control& control) {
-    const synth::MapBlender blender =
-        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.3));
+    const synth::MapBlender blender = make_blender(s, blend_options(mode, neighbors, reach),
+                                                   mode.empty(), control.part(0.0, 0.3));
     synth::SynthResult result = synth::synthesize(blender, path, options, control.part(0.3, 1.0));
     Clip out;
     out.path = "<motion along a path of " + std::to_string(path.points.size()) + " points>";
@@ -409,8 +415,8 @@ py::tuple edit_path(const ClipMapState& s, const InputArray& previous_xy,
   const synth::SynthOptions options = synth_options(speed, fps, smooth, clean_feet);
   Clip out;
   synth::PathEditResult edit = run_released(std::move(progress), [&](const Control& control) {
-    const synth::MapBlender blender =
-        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.3));
+    const synth::MapBlender blender = make_blender(s, blend_options(mode, neighbors, reach),
+                                                   mode.empty(), control.part(0.0, 0.3));
     out.skeleton = blender.skeleton();
     return synth::edit_path(blender, previous, path, options, {}, control.part(0.3, 1.0));
   });
@@ -496,8 +502,8 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
   options.validate();
   InbetweenOut out = run_released(std::move(progress), [&](const Control& control) {
     features::FeatureSet samples;
-    const synth::MapBlender blender =
-        make_blender(s, blend_options(mode, neighbors, reach), control.part(0.0, 0.2), &samples);
+    const synth::MapBlender blender = make_blender(s, blend_options(mode, neighbors, reach),
+                                                   mode.empty(), control.part(0.0, 0.2), &samples);
     Clip reference;
     reference.path = s.paths.empty() ? std::string("the map") : s.paths.front();
     reference.skeleton = blender.skeleton();

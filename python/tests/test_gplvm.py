@@ -107,6 +107,27 @@ def test_transform_pickle_and_map_file(golf, golf2, cli, tmp_path):
     assert isinstance(poses, motionmap.Clip) and poses.num_frames == 2
 
 
+def test_poses_default_to_the_gps_predictive_mean(golf, tmp_path):
+    # blend=None on a GPLVM map is the gp mode (the GP's predictive mean), read back the same;
+    # local blends other weights; a point far off the map is moved to the GP's edge (the pose
+    # there, not a wild extrapolation), for every mode alike.
+    est = motionmap.GPLVM(max_iter=ITER, stride=4).fit(golf)
+    Y = est.embedding_
+    at = np.vstack([Y[[3, 40]], 0.5 * (Y[10] + Y[11])])
+    default = est.inverse_transform(at)
+    gp = est.inverse_transform(at, blend="gp")
+    local = est.inverse_transform(at, blend="local")
+    np.testing.assert_array_equal(default.rotations, gp.rotations)
+    assert np.abs(default.rotations - local.rotations).max() > 1e-3
+    path = tmp_path / "g.mmap.h5"
+    motionmap.write_map(est, path)
+    np.testing.assert_allclose(motionmap.read_map(path).inverse_transform(at).rotations,
+                               default.rotations, atol=1e-12)
+    far = Y.max(axis=0) * 5
+    edge = est.inverse_transform(far[None, :])
+    assert np.all(np.isfinite(edge.rotations))
+
+
 @pytest.mark.parametrize("n_inducing", [None, 15])
 def test_matrix_fit_transform_and_pickle(golf, n_inducing):
     X = motionmap.features(golf, stride=4)

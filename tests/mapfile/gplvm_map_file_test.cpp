@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "motionmap/embed/placement.h"
 #include "motionmap/io/load.h"
 #include "motionmap/mapfile/map_file.h"
+#include "motionmap/mapfile/saved_map.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "support/error_message.h"
 #include "support/map_edit.h"
@@ -117,6 +119,56 @@ TEST(GplvmMapFile, APredictiveThatCannotBeUsedIsRefusedNamingIt) {
   has(refused(
           [&](test::Edit& e) { e.replace("/model/gplvm/alpha", B, 3, H5T_NATIVE_DOUBLE, 0.0); }),
       "/model/gplvm/alpha");
+}
+
+// A saved gplvm map's blender takes the map's GP (read even without the placement model):
+// it blends as the map in memory does in the gp mode. A file whose GP does not belong to its
+// coordinates (one edited and resealed, as another program would write it) is refused when it
+// is opened, naming why, instead of blending with weights that are not the GP's.
+TEST(GplvmMapFile, ASavedMapBlendsWithItsGpAndOneWhoseGpDoesNotBelongIsRefused) {
+  const TempDir dir;
+  const std::vector<Clip> clips{io::load_clip(test::shared_file("cmu/64_08.bvh"))};
+  for (int inducing : {0, 20}) {  // the full model and the sparse one
+    SCOPED_TRACE("inducing " + std::to_string(inducing));
+    pipeline::ClipMapOptions options;
+    options.embed.method = embed::Method::Gplvm;
+    options.embed.max_iterations = 5;
+    options.embed.inducing = inducing;
+    options.features.stride = 6;
+    const pipeline::ClipMap map = pipeline::map_clips(clips, options);
+    const std::string path = dir.file("gp" + std::to_string(inducing) + ".mmap.h5");
+    write_map_file(path, make_map_file(clips, map, options));
+    const auto saved = std::make_shared<const SavedMap>(read_map_file(path, {.model = false}));
+    ASSERT_TRUE(saved->gplvm());
+    synth::BlendOptions gp;
+    gp.mode = synth::BlendMode::Gp;
+    const synth::MapBlender from_file = make_blender(saved, gp);
+    gp.gplvm = pipeline::map_gplvm(map);
+    const synth::MapBlender in_memory(clips, *map.features, map.embedding.coordinates, gp);
+    for (const Eigen::Vector2d& p : {Eigen::Vector2d(map.embedding.coordinates.row(4).transpose()),
+                                     Eigen::Vector2d(0.3, -0.2), Eigen::Vector2d(40.0, 40.0)}) {
+      const synth::MapWeights a = from_file.locate(p), b = in_memory.locate(p);
+      EXPECT_EQ(a.validity.clamped, b.validity.clamped);
+      EXPECT_EQ(a.validity.point, b.validity.point);
+      EXPECT_EQ(a.samples, b.samples);
+      EXPECT_EQ(a.weights, b.weights);
+    }
+    EXPECT_TRUE(from_file.locate(Eigen::Vector2d(40.0, 40.0)).validity.clamped);
+
+    const std::string moved = dir.file("moved" + std::to_string(inducing) + ".mmap.h5");
+    write_map_file(moved, make_map_file(clips, map, options));
+    {
+      test::Edit e(moved);
+      e.set("/coordinates", 3, 0, map.embedding.coordinates(3, 0) + 0.3);
+    }
+    const std::string message =
+        test::error_message([&] { SavedMap(read_map_file(moved, {.model = false})); });
+    EXPECT_NE(message.find(moved), std::string::npos) << message;
+    EXPECT_NE(message.find(inducing ? "does not belong to these frames"
+                                    : "basis is not the latent points"),
+              std::string::npos)
+        << message;
+  }
 }
 
 }  // namespace

@@ -143,5 +143,58 @@ TEST(ReachShading, EmptyAndBadInput) {
   EXPECT_EQ(qAlpha(blank.pixel(3, 3)), 0);
 }
 
+// A level field (a GP-LVM map's variance in Studio): its cells sure on their corners, level()
+// exact at the corners and for a bilinear function everywhere, and reach_image over it, with
+// level() deciding the unsure cells, as the threshold says at all but the pixels beside the edge.
+TEST(ReachShading, ALevelFieldDecidesFromItsCornersAndInterpolatesBetween) {
+  // A bowl: inside the unit circle.
+  const auto bowl = [](const Eigen::Vector2d& p) { return p.squaredNorm(); };
+  const ReachField f =
+      ReachField::level_set(Eigen::Vector2d(-2, -2), Eigen::Vector2d(2, 2), 64, bowl, 1.0, 0.25);
+  EXPECT_EQ(f.nx(), 64);
+  EXPECT_DOUBLE_EQ(f.reach(), 1.0);
+  EXPECT_EQ(f.side(0.01, 0.02), ReachField::Side::Inside);
+  EXPECT_EQ(f.side(1.9, 1.9), ReachField::Side::Outside);
+  EXPECT_EQ(f.side(0.0, 0.999), ReachField::Side::Unsure);
+  EXPECT_EQ(f.side(3.0, 0.0), ReachField::Side::Outside);  // off the grid
+  EXPECT_DOUBLE_EQ(f.level(-2.0 + 10 * f.cell(), -2.0 + 7 * f.cell()),
+                   bowl(Eigen::Vector2d(-2.0 + 10 * f.cell(), -2.0 + 7 * f.cell())));
+  EXPECT_TRUE(std::isinf(f.level(3.0, 0.0)));
+  const auto plane = [](const Eigen::Vector2d& p) {
+    return 2 * p.x() - p.y() + 0.5 * p.x() * p.y();
+  };
+  const ReachField g =
+      ReachField::level_set(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1), 16, plane, 0.0, 0.1);
+  std::mt19937 random(4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int t = 0; t < 100; ++t) {
+    const Eigen::Vector2d p(u(random), u(random));
+    EXPECT_NEAR(g.level(p.x(), p.y()), plane(p), 1e-12);
+  }
+  // The image of the bowl's field at 200 × 200 pixels over [−2, 2]²: pixels decided by the
+  // corners and the interpolation, against the circle, differ only within a cell of the edge.
+  const QTransform to_map = QTransform::fromScale(0.02, 0.02) * QTransform::fromTranslate(-2, -2);
+  const QImage image =
+      reach_image(f, to_map, QSize(200, 200), Qt::green,
+                  [&](const Eigen::Vector2d& p) { return f.level(p.x(), p.y()) <= 1.0; });
+  int inside = 0;
+  for (int j = 0; j < 200; ++j) {
+    for (int i = 0; i < 200; ++i) {
+      const QPointF m = to_map.map(QPointF(i + 0.5, j + 0.5));
+      const double r = std::hypot(m.x(), m.y());
+      const bool shaded = qAlpha(image.pixel(i, j)) != 0;
+      inside += shaded;
+      if (std::abs(r - 1.0) > f.cell()) {
+        EXPECT_EQ(shaded, r <= 1.0) << i << " " << j;
+      }
+    }
+  }
+  EXPECT_NEAR(inside, 3.14159 * 50 * 50, 60);
+  EXPECT_THROW(ReachField::level_set(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), 8, bowl, 1, 0),
+               ParameterError);
+  EXPECT_THROW(ReachField::level_set(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), 16, bowl, 1, 1),
+               ParameterError);
+}
+
 }  // namespace
 }  // namespace motionmap::render

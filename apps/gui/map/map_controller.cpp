@@ -8,6 +8,14 @@
 
 namespace motionmap::studio {
 
+// A gplvm map's GP is its rule of where it is valid, and its blends are the GP's predictive mean
+// while the chosen mode is the default (local).
+void gplvm_blend(synth::BlendOptions& blend, std::shared_ptr<const MapGp> gp) {
+  if (!gp) return;
+  if (blend.mode == synth::BlendOptions().mode) blend.mode = synth::BlendMode::Gp;
+  blend.gplvm = std::move(gp);
+}
+
 namespace {
 
 /// [clip][frame]: the map row shown for each frame. Frames left out of the map (a bind pose)
@@ -106,37 +114,39 @@ bool MapController::request(embed::Method method, const MapParameters& parameter
   const pipeline::ClipMapOptions base = parameters.options(method);
   synth::BlendOptions blend = blendOptions;
   blend.up = base.features.up;
-  m_job.start([this, clips, cache, base, blend,
-               key = m_currentKey](const BackgroundJob::Ticket& ticket) {
-    runJob<MapResult>(
-        this, m_job, ticket,
-        [this](double fraction, const QString& stage) { emit progress(fraction, stage); },
-        [&](const Control& control) {
-          auto result = std::make_shared<MapResult>();
-          pipeline::ClipMapOptions options = base;
-          int frames = 0;
-          for (const Clip& c : *clips) frames += c.motion.num_frames;
-          options.metrics = frames <= kMaxMetricsFrames;
-          QElapsedTimer clock;
-          clock.start();
-          // Kriging's set-up (O(N³)) can outlast the map; the other modes' take moments.
-          const double mapShare = blend.mode == synth::BlendMode::Kriging ? 0.5 : 0.95;
-          result->map =
-              pipeline::map_clips(*clips, options, control.part(0.0, mapShare), cache.get());
-          control.check();
-          result->parameters = pipeline::describe_parameters(result->map.embedding, options);
-          // The blender's set-up stays off the GUI thread too, and polls the same Control
-          // (kriging factors an (N+1)² system: tens of seconds at 10 000 points).
-          result->blender = std::make_unique<synth::MapBlender>(*clips, *result->map.features,
-                                                                result->map.embedding.coordinates,
-                                                                blend, control.part(mapShare, 1.0));
-          result->seconds = double(clock.nsecsElapsed()) * 1e-9;
-          result->options = options;
-          result->rowOfFrame = rowsOfFrames(*clips, *result->map.features);
-          return result;
-        },
-        [this, key](const JobOutcome<MapResult>& outcome) { onResult(key, outcome); });
-  });
+  m_job.start(
+      [this, clips, cache, base, blend, key = m_currentKey](const BackgroundJob::Ticket& ticket) {
+        runJob<MapResult>(
+            this, m_job, ticket,
+            [this](double fraction, const QString& stage) { emit progress(fraction, stage); },
+            [&](const Control& control) {
+              auto result = std::make_shared<MapResult>();
+              pipeline::ClipMapOptions options = base;
+              int frames = 0;
+              for (const Clip& c : *clips) frames += c.motion.num_frames;
+              options.metrics = frames <= kMaxMetricsFrames;
+              QElapsedTimer clock;
+              clock.start();
+              // Kriging's set-up (O(N³)) can outlast the map; the other modes' take moments.
+              const double mapShare = blend.mode == synth::BlendMode::Kriging ? 0.5 : 0.95;
+              result->map =
+                  pipeline::map_clips(*clips, options, control.part(0.0, mapShare), cache.get());
+              control.check();
+              synth::BlendOptions mapBlend = blend;
+              gplvm_blend(mapBlend, pipeline::map_gplvm(result->map));
+              result->parameters = pipeline::describe_parameters(result->map.embedding, options);
+              // The blender's set-up stays off the GUI thread too, and polls the same Control
+              // (kriging factors an (N+1)² system: tens of seconds at 10 000 points).
+              result->blender = std::make_unique<synth::MapBlender>(
+                  *clips, *result->map.features, result->map.embedding.coordinates, mapBlend,
+                  control.part(mapShare, 1.0));
+              result->seconds = double(clock.nsecsElapsed()) * 1e-9;
+              result->options = options;
+              result->rowOfFrame = rowsOfFrames(*clips, *result->map.features);
+              return result;
+            },
+            [this, key](const JobOutcome<MapResult>& outcome) { onResult(key, outcome); });
+      });
   return false;
 }
 

@@ -30,6 +30,11 @@
 
 namespace motionmap::studio {
 
+/// A gplvm map's GP (pipeline::map_gplvm, mapfile::SavedMap::gplvm) into `blend`: the map's rule
+/// of where it is valid, and — while the chosen mode is the default (local) — its blends (the gp
+/// mode: the GP's predictive mean). Nothing for other maps (`gp` null).
+void gplvm_blend(synth::BlendOptions& blend, std::shared_ptr<const MapGp> gp);
+
 /// A computed map of the open clips, with what the app needs to use it.
 struct MapResult {
   pipeline::ClipMap map;

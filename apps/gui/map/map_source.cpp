@@ -204,7 +204,8 @@ bool ComputedMapSource::show() {
     options.legend_elide_right = true;  // "clip 2: …" stays whole, the name's end is cut
   }
   m_mapView->setMap(map->map.embedding.coordinates, map->map.features->segment_starts, options);
-  m_mapView->setShadingReach(map->blender ? map->blender->reach_distance() : 0.0);
+  m_mapView->setShadingReach(map->blender ? map->blender->reach_distance() : 0.0, {},
+                             map->blender ? map->blender->options().gplvm : nullptr);
   return true;
 }
 
@@ -272,6 +273,7 @@ SavedMapBlends::SavedMapBlends(std::shared_ptr<const mapfile::SavedMap> map)
 
 std::string SavedMapBlends::key(synth::BlendOptions& blend) const {
   blend.up = m_map->file().options.features.up;
+  gplvm_blend(blend, m_map->gplvm());
   return std::string(synth::blend_mode_name(blend.mode)) + "," + std::to_string(blend.neighbors) +
          "," + QString::number(blend.reach, 'g', 17).toStdString();
 }
@@ -375,8 +377,10 @@ void SavedMapSource::show() {
       Eigen::MatrixXd(0, 2), options);
   // The blender's reach over the same samples (SavedMap::reach_distance is the blender's rule,
   // synth::reach_radius), decided exactly by the map's own k-d tree.
+  // A gplvm map's rule is its GP's (SavedMap::gplvm, which its blender gets).
   m_mapView->setShadingReach(m_map->reach_distance(blendOptions().reach),
-                             std::shared_ptr<const synth::PointIndex>(m_map, &m_map->index()));
+                             std::shared_ptr<const synth::PointIndex>(m_map, &m_map->index()),
+                             m_map->gplvm());
   prepareBlend();  // ready by the first sketch, key or joint drag
 }
 

@@ -375,9 +375,11 @@ void MapView::setSketchMode(bool on) {
   m_sketchMode = on;
 }
 
-void MapView::setShadingReach(double reach, std::shared_ptr<const synth::PointIndex> index) {
+void MapView::setShadingReach(double reach, std::shared_ptr<const synth::PointIndex> index,
+                              std::shared_ptr<const MapGp> gplvm) {
   m_shadingReach = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
   m_shadingIndex = std::move(index);
+  m_shadingGplvm = std::move(gplvm);
   m_reachField.reset();
   m_cache = QPixmap();
   m_overLayer = QImage();
@@ -582,17 +584,37 @@ double MapView::shadingRadius() const {
 namespace {
 /// The shading's colour, drawn at kShadingOpacity.
 const QColor kShadingGreen(30, 170, 70);
+/// Most cells along the longer side of a GP-LVM map's shading grid.
+constexpr int kGplvmShadingCells = 256;
 constexpr double kShadingOpacity = 0.3;
 }  // namespace
 
 void MapView::ensureReachField() const {
   if (m_reachField) return;
   const Eigen::MatrixXd& samples = m_density ? *m_density : m_coords;
+  if (m_shadingGplvm) {
+    // The GP's variance on a grid over the samples grown by the cutoff (beyond it the variance
+    // is the prior's, outside): cells at most ℓ/8 and kGplvmShadingCells a side, sure more than
+    // 25 % from the threshold, the others' pixels decided by the grid's bilinear interpolation.
+    const MapGp& gp = *m_shadingGplvm;
+    const double pad = embed::kGplvmCutoff * gp.lengthscale();
+    const Eigen::Vector2d lo = samples.leftCols(2).colwise().minCoeff().transpose().array() - pad;
+    const Eigen::Vector2d hi = samples.leftCols(2).colwise().maxCoeff().transpose().array() + pad;
+    const int cells = int(std::clamp((hi - lo).maxCoeff() / (0.125 * gp.lengthscale()), 16.0,
+                                     double(kGplvmShadingCells)));
+    m_reachField = std::make_shared<const render::ReachField>(render::ReachField::level_set(
+        lo, hi, cells, [&gp](const Eigen::Vector2d& p) { return gp.variance(p); }, gp.threshold(),
+        0.25));
+    return;
+  }
   if (!m_shadingIndex) m_shadingIndex = std::make_shared<const synth::PointIndex>(samples);
   m_reachField = std::make_shared<const render::ReachField>(samples, m_shadingReach);
 }
 
 bool MapView::withinReach(const Eigen::Vector2d& p) const {
+  // A GP-LVM map: the field's grid of the GP's variance, interpolated (exact variances per
+  // pixel would cost a zoomed view seconds).
+  if (m_shadingGplvm) return m_reachField->level(p.x(), p.y()) <= m_shadingGplvm->threshold();
   const synth::Neighbor nearest = m_shadingIndex->nearest(p);
   return nearest.sample >= 0 && nearest.distance <= m_shadingReach;
 }
@@ -663,7 +685,8 @@ void MapView::paintShadingKey(QPainter& painter) const {
   font.setPixelSize(int(std::clamp(plot.height() / 34.0, 8.0, 12.0)));
   painter.setFont(font);
   const QFontMetricsF fm(font);
-  const QString text = tr("a blend of nearby frames (outside: moved to the edge)");
+  const QString text = m_shadingGplvm ? tr("the GP's pose is sure (outside: moved to the edge)")
+                                      : tr("a blend of nearby frames (outside: moved to the edge)");
   const double pad = 4.0, swatch = fm.height();
   const double textWidth = std::min(fm.horizontalAdvance(text), plot.width() - swatch - 5 * pad);
   const QRectF key(plot.left() + pad, plot.bottom() - pad - swatch - 2 * pad,

@@ -41,6 +41,7 @@
 #include <QTransform>
 #include <QWidget>
 
+#include "motionmap/embed/gplvm.h"
 #include "motionmap/render/map_plot.h"
 #include "motionmap/render/reach_shading.h"
 #include "motionmap/synth/path.h"
@@ -185,8 +186,12 @@ class MapView : public QWidget {
   /// thin band along the edge (render::reach_image); without an index the view builds one over
   /// the samples when the shading is first drawn. Drawn into the cached picture, clipped to
   /// plotRect(), and under the magnifier at its magnification, with a key in the plot's
-  /// lower-left corner. 0: no shading (no blender).
-  void setShadingReach(double reach, std::shared_ptr<const synth::PointIndex> index = {});
+  /// lower-left corner. 0: no shading (no blender). With `gplvm` (a GP-LVM map's GP, its
+  /// blender's synth::BlendOptions::gplvm) the shading is the GP's rule instead
+  /// (embed::GplvmMap::inside): render::ReachField::level_set of its variance over the GP's
+  /// basis decides most pixels, the exact variance the band along the edge.
+  void setShadingReach(double reach, std::shared_ptr<const synth::PointIndex> index = {},
+                       std::shared_ptr<const MapGp> gplvm = {});
   double shadingReach() const { return m_shadingReach; }
   void setShadingVisible(bool on);
   bool shadingVisible() const { return m_shadingVisible; }
@@ -308,7 +313,8 @@ class MapView : public QWidget {
   void paintLensShading(QPainter& painter, const QRectF& bounds) const;
   /// The reach field and the nearest-sample index of the shading's samples, built when stale.
   void ensureReachField() const;
-  /// The exact rule: the nearest sample of map point `p` lies within the reach.
+  /// The exact rule: the nearest sample of map point `p` lies within the reach (on a GP-LVM map:
+  /// the GP's variance at p is within its threshold).
   bool withinReach(const Eigen::Vector2d& p) const;
   /// `points` as 3 × 3 px marks in `color`, into the cached picture (clipped to the plot).
   void paintMarks(QPainter& painter, const Eigen::MatrixXd& points, const QColor& color) const;
@@ -355,6 +361,7 @@ class MapView : public QWidget {
   /// The shading's exact nearest-sample index (given, or built over the samples) and its field.
   mutable std::shared_ptr<const synth::PointIndex> m_shadingIndex;
   mutable std::shared_ptr<const render::ReachField> m_reachField;
+  std::shared_ptr<const MapGp> m_shadingGplvm;  ///< a GP-LVM map's rule (setShadingReach)
   QString m_busyText;
   bool m_shadingVisible = false;
   bool m_lensEnabled = false;

@@ -328,7 +328,14 @@ void run_method(const EmbedInput& input, const EmbedOptions& options, int frames
       break;
   }
   const Eigen::MatrixXd unsigned_coordinates = out.landmarks ? out.coordinates : Eigen::MatrixXd();
-  normalize_signs(out.coordinates);
+  const std::vector<bool> flipped = normalize_signs(out.coordinates);
+  // The sparse GP-LVM's inducing inputs live in the latent space: flip their axes with the latent
+  // points (the kernel sees only distances, so the fit is the same), or its predictive would be
+  // built from inducing inputs mirrored away from the frames.
+  for (std::size_t a = 0; a < flipped.size(); ++a) {
+    if (flipped[a] && out.gplvm_inducing.rows() > 0)
+      out.gplvm_inducing.col(Eigen::Index(a)) *= -1.0;
+  }
   if (out.landmarks) {
     // The landmark fit maps to the coordinates as they were: flip its axes with them.
     for (Eigen::Index a = 0; a < out.coordinates.cols(); ++a) {

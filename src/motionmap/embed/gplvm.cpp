@@ -14,6 +14,7 @@
 #include <Eigen/Cholesky>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
 
@@ -507,6 +508,206 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
       ", σ_f² " + std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +
       std::to_string(std::exp(fit.kernel.log_lengthscale)) + ", σ_n² " +
       std::to_string(std::exp(fit.kernel.log_noise_variance)));
+}
+
+}  // namespace motionmap::embed
+
+namespace motionmap::embed {
+
+struct GplvmMap::Impl {
+  int N = 0;
+  double sf2 = 0.0, l2 = 1.0, sb2 = 0.0, prior = 0.0, threshold = 0.0;
+  Eigen::MatrixXd basis;  // B × 2
+  Eigen::MatrixXd C;      // B × B
+  Eigen::MatrixXd W;      // N × B: μ(x) = Σ_i (W k(x))_i Y_i
+  Eigen::VectorXd C1, W1;
+  double oneC1 = 0.0;
+  // The basis points in a grid of square cells (side ≥ the cutoff), cell by cell: the points of
+  // cell c are order[start[c] … start[c + 1]).
+  Eigen::Vector2d lo = Eigen::Vector2d::Zero();
+  double cell = 1.0;
+  int nx = 1, ny = 1;
+  std::vector<int> start, order;
+
+  // The basis points within the cutoff of x and their RBF values.
+  void nearby(const Eigen::Vector2d& x, std::vector<int>& idx, std::vector<double>& r) const {
+    if (!x.allFinite()) {
+      throw ParameterError("gplvm map: the point (" + format_number(x.x()) + ", " +
+                           format_number(x.y()) + ") is not finite");
+    }
+    idx.clear();
+    r.clear();
+    const double cut2 = kGplvmCutoff * kGplvmCutoff * l2;
+    const auto cx = static_cast<long>(std::floor((x.x() - lo.x()) / cell));
+    const auto cy = static_cast<long>(std::floor((x.y() - lo.y()) / cell));
+    for (long j = std::max(0L, cy - 1); j <= std::min(long(ny) - 1, cy + 1); ++j) {
+      for (long i = std::max(0L, cx - 1); i <= std::min(long(nx) - 1, cx + 1); ++i) {
+        const auto c = static_cast<std::size_t>(j * nx + i);
+        for (int e = start[c]; e < start[c + 1]; ++e) {
+          const int b = order[std::size_t(e)];
+          const double d2 = (basis.row(b).transpose() - x).squaredNorm();
+          if (d2 < cut2) {
+            idx.push_back(b);
+            r.push_back(sf2 * std::exp(-0.5 * d2 / l2));
+          }
+        }
+      }
+    }
+  }
+};
+
+GplvmMap::GplvmMap(const GplvmPredictive& p, const Eigen::MatrixXd& latent,
+                   const Eigen::MatrixXd* Y)
+    : m(std::make_unique<Impl>()) {
+  Impl& s = *m;
+  const Eigen::Index B = p.basis.rows(), N = latent.rows();
+  if (p.basis.cols() != 2 || latent.cols() != 2) {
+    throw ParameterError("gplvm map: the latent points have " + std::to_string(latent.cols()) +
+                         " and the basis " + std::to_string(p.basis.cols()) +
+                         " dimensions; the GP's blend and validity need a 2-D map");
+  }
+  if (B == 0 || N == 0 || p.C.rows() != B || p.C.cols() != B) {
+    throw ParameterError("gplvm map: " + std::to_string(B) + " basis points, " + std::to_string(N) +
+                         " latent points and a " + std::to_string(p.C.rows()) + " × " +
+                         std::to_string(p.C.cols()) + " matrix C (need B × B, B ≥ 1, N ≥ 1)");
+  }
+  if (!latent.allFinite() || !p.basis.allFinite() || !p.C.allFinite()) {
+    throw ParameterError("gplvm map: non-finite latent points, basis or C");
+  }
+  s.N = static_cast<int>(N);
+  s.sf2 = p.rbf_variance;
+  s.l2 = p.lengthscale * p.lengthscale;
+  s.sb2 = p.bias_variance;
+  const double noise = p.prior_variance - p.rbf_variance - p.bias_variance;
+  if (!(s.sf2 > 0) || !(s.l2 > 0) || !(s.sb2 >= 0) || !(noise > 0) || !std::isfinite(noise)) {
+    throw ParameterError("gplvm map: the kernel's variances (σ_f² " + format_number(s.sf2) +
+                         ", σ_b² " + format_number(s.sb2) + ", prior " +
+                         format_number(p.prior_variance) +
+                         ") leave no noise variance s = prior − σ_f² − σ_b² > 0");
+  }
+  s.prior = s.sf2 + s.sb2;
+  s.threshold = kGplvmValidFraction * s.prior;
+  s.basis = p.basis;
+  s.C = p.C;
+  if (B == N && p.basis == latent) {
+    // The full model: its basis is the latent points, and W = C.
+    s.W = p.C;
+  } else if (B == N) {
+    const double gap = (p.basis - latent).cwiseAbs().maxCoeff();
+    throw ParameterError(
+        "gplvm map: the full model's basis is not the latent points (they differ "
+        "by up to " +
+        format_number(gap) + "); the model does not belong to this map's coordinates");
+  } else {
+    // The sparse model, as gplvm_predictive(): K_uu = LLᵀ, B = I + L⁻¹K_uf K_fu L⁻ᵀ / s,
+    // P = L B Lᵀ, so W = K_fu P⁻¹ / s = (L⁻¹K_uf)ᵀ B⁻¹ L⁻¹ / s.
+    const double eps = kJitter * s.sf2;
+    auto kern = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& Bm) {
+      return Eigen::MatrixXd(
+          (s.sf2 * (-0.5 / s.l2 * cross_squared_distances(A, Bm)).array().exp() + s.sb2).matrix());
+    };
+    Eigen::MatrixXd Kuu = kern(p.basis, p.basis);
+    Kuu.diagonal().array() += eps;
+    const Eigen::LLT<Eigen::MatrixXd> llt(Kuu);
+    const char* not_pd = "gplvm map: the inducing inputs' kernel matrix is not positive definite";
+    if (llt.info() != Eigen::Success) throw NumericalError(not_pd);
+    const auto L = llt.matrixL();
+    const Eigen::MatrixXd LiKuf = L.solve(kern(p.basis, latent));
+    Eigen::MatrixXd Bm = LiKuf * LiKuf.transpose() / noise;
+    Bm.diagonal().array() += 1.0;
+    const Eigen::LLT<Eigen::MatrixXd> lltB(Bm);
+    if (lltB.info() != Eigen::Success) throw NumericalError(not_pd);
+    const Eigen::MatrixXd Li = L.solve(Eigen::MatrixXd::Identity(B, B));
+    s.W = LiKuf.transpose() * lltB.solve(Li) / noise;
+  }
+  if (Y != nullptr) {
+    // W ᵀ Y is the predictive's alpha when the predictive was fitted to these frames.
+    if (Y->rows() != N || Y->cols() != p.alpha.cols() || p.alpha.rows() != B) {
+      throw ParameterError("gplvm map: features of " + std::to_string(Y->rows()) + " × " +
+                           std::to_string(Y->cols()) + " for " + std::to_string(N) +
+                           " latent points and a predictive of " + std::to_string(p.alpha.rows()) +
+                           " × " + std::to_string(p.alpha.cols()));
+    }
+    const double err = (s.W.transpose() * *Y - p.alpha).norm(), scale = p.alpha.norm();
+    if (!(err <= 1e-6 * scale + std::numeric_limits<double>::min())) {
+      throw ParameterError(
+          "gplvm map: the GP's predictive does not belong to these frames and latent points "
+          "(its weights reproduce its alpha to " +
+          format_number(err / std::max(scale, std::numeric_limits<double>::min())) +
+          " relative, need 1e-6)");
+    }
+  }
+  s.C1 = s.C.rowwise().sum();
+  s.W1 = s.W.rowwise().sum();
+  s.oneC1 = s.C1.sum();
+  // The grid: cells of side the cutoff (larger when that would make over 512 per side).
+  s.lo = p.basis.colwise().minCoeff().transpose();
+  const Eigen::Vector2d extent = p.basis.colwise().maxCoeff().transpose() - s.lo;
+  s.cell = std::max({kGplvmCutoff * std::sqrt(s.l2), extent.maxCoeff() / 512.0,
+                     std::numeric_limits<double>::min()});
+  s.nx = static_cast<int>(extent.x() / s.cell) + 1;
+  s.ny = static_cast<int>(extent.y() / s.cell) + 1;
+  std::vector<int> cell_of(static_cast<std::size_t>(B));
+  s.start.assign(static_cast<std::size_t>(s.nx) * s.ny + 1, 0);
+  for (Eigen::Index b = 0; b < B; ++b) {
+    const int cx = std::min(s.nx - 1, static_cast<int>((p.basis(b, 0) - s.lo.x()) / s.cell));
+    const int cy = std::min(s.ny - 1, static_cast<int>((p.basis(b, 1) - s.lo.y()) / s.cell));
+    cell_of[std::size_t(b)] = cy * s.nx + cx;
+    ++s.start[std::size_t(cell_of[std::size_t(b)]) + 1];
+  }
+  for (std::size_t c = 1; c < s.start.size(); ++c) s.start[c] += s.start[c - 1];
+  s.order.resize(static_cast<std::size_t>(B));
+  std::vector<int> fill(s.start.begin(), s.start.end() - 1);
+  for (Eigen::Index b = 0; b < B; ++b)
+    s.order[std::size_t(fill[std::size_t(cell_of[std::size_t(b)])]++)] = static_cast<int>(b);
+}
+
+GplvmMap::~GplvmMap() = default;
+GplvmMap::GplvmMap(GplvmMap&&) noexcept = default;
+GplvmMap& GplvmMap::operator=(GplvmMap&&) noexcept = default;
+
+int GplvmMap::num_frames() const {
+  return m->N;
+}
+
+double GplvmMap::prior_variance() const {
+  return m->prior;
+}
+
+double GplvmMap::threshold() const {
+  return m->threshold;
+}
+
+double GplvmMap::lengthscale() const {
+  return std::sqrt(m->l2);
+}
+
+double GplvmMap::variance(const Eigen::Vector2d& x) const {
+  const Impl& s = *m;
+  thread_local std::vector<int> idx;
+  thread_local std::vector<double> r;
+  s.nearby(x, idx, r);
+  // kᵀCk = rᵀCr + 2σ_b² rᵀ(C1) + σ_b⁴ 1ᵀC1, r over the nearby basis points.
+  double rCr = 0.0, rC1 = 0.0;
+  for (std::size_t a = 0; a < idx.size(); ++a) {
+    double row = 0.0;
+    for (std::size_t b = 0; b < idx.size(); ++b) row += s.C(idx[a], idx[b]) * r[b];
+    rCr += r[a] * row;
+    rC1 += r[a] * s.C1[idx[a]];
+  }
+  const double kCk = rCr + 2.0 * s.sb2 * rC1 + s.sb2 * s.sb2 * s.oneC1;
+  return std::max(0.0, s.prior - kCk);
+}
+
+Eigen::VectorXd GplvmMap::frame_weights(const Eigen::Vector2d& x) const {
+  const Impl& s = *m;
+  std::vector<int> idx;
+  std::vector<double> r;
+  s.nearby(x, idx, r);
+  Eigen::VectorXd w = s.sb2 * s.W1;
+  for (std::size_t a = 0; a < idx.size(); ++a) w += r[a] * s.W.col(idx[a]);
+  w.array() += (1.0 - w.sum()) / s.N;
+  return w;
 }
 
 }  // namespace motionmap::embed

@@ -28,9 +28,12 @@
 // over X, Z and θ together (the same optimiser). It is an upper bound of L (a lower bound of the
 // likelihood) for every Z, tightens as inducing inputs are added, and equals L up to the jitter
 // when Z = X. O(N M² + N M D) per evaluation.
+#include <memory>
+
 #include <Eigen/Core>
 
 #include "motionmap/core/control.h"
+#include "motionmap/core/map_gp.h"
 
 namespace motionmap::embed {
 
@@ -124,6 +127,74 @@ struct GplvmPredictive {
 /// inputs Z (empty: the full model) and `kernel`. @throws NumericalError as the objectives.
 GplvmPredictive gplvm_predictive(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
                                  const Eigen::MatrixXd& Z, const GplvmKernel& kernel);
+
+/// The rule of where a GP-LVM map is valid (docs/methods/gplvm.md, "Where the map is valid"): a
+/// map point x is inside the data when the GP's predictive variance without the noise, σ²(x) − s,
+/// is at most this fraction τ of its prior σ_f² + σ_b² (the variance far from every latent point,
+/// before the bias is learnt). Chosen on pictures of CMU 64_08 and the Bandai walks
+/// (docs/gplvm-variance.png): at 0.1 the region is one piece per cluster of frames, about one
+/// lengthscale around them; 0.05 leaves holes between a sparse model's inducing inputs, 0.2 and
+/// 0.5 reach into the empty map.
+inline constexpr double kGplvmValidFraction = 0.1;
+
+/// A fitted GP-LVM read as a map: the GP's predictive mean as weights over the training frames
+/// (the inverse map: the pose at any map point), and its predictive variance as the rule of where
+/// the map is valid (kGplvmValidFraction). Latent dimension 2 (the map's plane).
+///
+///   GplvmMap gp(model.gplvm, coords, &Y);  // Y: the frames' features, centred
+///   Eigen::VectorXd w = gp.frame_weights({0.3, -1.2});  // sums to 1
+///   // Σ_i w_i (Y_i + mean) = μ(x) + mean: the GP's predictive mean of the features
+///   bool ok = gp.inside({0.3, -1.2});
+///
+/// The predictive mean is a weighted sum of the centred training rows Y_i, μ(x) = Σ_i w_i Y_i with
+/// w = W k(x): full model W = C = K⁻¹ (the basis is the latent points); sparse W = K_fu P⁻¹ / s
+/// (K_fu = k(latent points, Z)). Adding (1 − Σw)/N to every w_i makes the weights sum to 1 and
+/// gives Σ_i w'_i (Y_i + mean) = μ(x) + mean exactly (mean = the rows' mean), so a blend of the
+/// frames with w' is the GP's prediction of every feature the frames have.
+///
+/// Both sums use k(x) = r(x) + σ_b² 1, r the RBF part, which is below e⁻⁴⁰ σ_f² (4·10⁻¹⁸ σ_f²)
+/// beyond kGplvmCutoff·ℓ: only the basis points within it are visited (a grid of cells of that
+/// size), the rest of k(x) is the bias, whose products C 1, 1ᵀC1 and W 1 are kept. The error of
+/// dropping r beyond the cutoff is at most √B · 4·10⁻¹⁸ σ_f² times ‖C‖ or ‖W‖.
+///
+/// Thread-safe (const after construction).
+class GplvmMap final : public MapGp {
+ public:
+  /// `p`: the fitted predictive (gplvm_predictive, or a map file's /model/gplvm); `latent`: the N
+  /// training frames' latent points (N × 2, the map's coordinates, in frame order); `Y`, when
+  /// given: their centred features (N × D), checked against the predictive (W ᵀ Y must give its
+  /// alpha to 1e-6 relative), which catches a predictive that does not belong to these frames.
+  /// @throws ParameterError for a latent dimension other than 2, sizes that do not fit, a full
+  ///         model whose basis is not the latent points, or a predictive inconsistent with Y;
+  ///         NumericalError for a sparse model whose kernel matrices cannot be factorised.
+  GplvmMap(const GplvmPredictive& p, const Eigen::MatrixXd& latent,
+           const Eigen::MatrixXd* Y = nullptr);
+  ~GplvmMap() override;
+  GplvmMap(GplvmMap&&) noexcept;
+  GplvmMap& operator=(GplvmMap&&) noexcept;
+
+  int num_frames() const override;
+  /// σ_f² + σ_b²: the noise-free predictive variance far from every latent point, before the
+  /// bias is learnt.
+  double prior_variance() const;
+  /// σ²(x) − s: the predictive variance of the noise-free value at x (≥ 0), cut off as above.
+  double variance(const Eigen::Vector2d& x) const override;
+  // inside(x) (MapGp): variance(x) ≤ threshold().
+  /// The threshold of inside(): kGplvmValidFraction · prior_variance().
+  double threshold() const override;
+  /// The kernel's lengthscale ℓ (latent units): the scale on which the variance changes.
+  double lengthscale() const override;
+  /// The weights w' (N, summing to 1) of the training frames at x, as above.
+  Eigen::VectorXd frame_weights(const Eigen::Vector2d& x) const override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m;
+};
+
+/// Basis points farther than this many lengthscales from x are left out of k(x)'s RBF part
+/// (e^{−c²/2} = e⁻⁴⁰).
+inline constexpr double kGplvmCutoff = 8.94427190999916;  // √80
 
 /// −log p(y | x) − log p(x) up to constants: D/2 log σ²(x) + |y − μ(x)|²/(2σ²(x)) + |x|²/2, for
 /// a centred pose y (D) at latent point x (q); with `grad`, its gradient in x.

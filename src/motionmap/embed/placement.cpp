@@ -214,6 +214,15 @@ MapModel make_model(const EmbedInput& input, const EmbedOptions& options, Embedd
   return model;
 }
 
+std::shared_ptr<const GplvmMap> gplvm_map(const MapModel& model, const Eigen::MatrixXd& coords) {
+  if (model.method != Method::Gplvm || model.dimensions != 2 || coords.cols() != 2 ||
+      model.coordinates.rows() != coords.rows()) {
+    return nullptr;
+  }
+  const Eigen::MatrixXd Y = Eigen::MatrixXd(model.features).rowwise() - model.mean;
+  return std::make_shared<const GplvmMap>(model.gplvm, coords, &Y);
+}
+
 namespace {
 
 bool searches(const MapModel& model) {

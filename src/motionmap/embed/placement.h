@@ -81,6 +81,15 @@ struct MapModel {
   GplvmPredictive gplvm;
 };
 
+/// A gplvm map's GP read as a map over its coordinates `coords` (#samples by 2, the map's rows in
+/// the model's sample order): the predictive mean as blend weights and the predictive variance as
+/// the rule of where the map is valid (GplvmMap). Null when `model` is not a 2-D gplvm model or
+/// its samples are not as many as `coords`' rows (a map of frames placed on a model fitted on
+/// other frames).
+/// @throws ParameterError as GplvmMap: a model whose predictive does not belong to its latent
+///         points and features (a damaged or edited map file).
+std::shared_ptr<const GplvmMap> gplvm_map(const MapModel& model, const Eigen::MatrixXd& coords);
+
 /// gplvm: the nearest training frames whose latent points start the search of a new frame's.
 inline constexpr int kGplvmPlaceStarts = 3;
 

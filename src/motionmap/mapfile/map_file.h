@@ -142,7 +142,8 @@ struct ReadOptions {
   /// Read and check /model (what placing new frames needs). False leaves MapFile::model empty:
   /// for showing and blending a map (MotionMap Studio, `pose`/`synth --map`), whose model may be
   /// far larger than its coordinates (a landmark Isomap map of 10⁶ frames holds an L × N
-  /// geodesic matrix; an LLE map every sample's X row).
+  /// geodesic matrix; an LLE map every sample's X row). A gplvm map's model is read either way:
+  /// its GP is its blends' and its validity's (SavedMap::gplvm()).
   bool model = true;
 };
 

@@ -775,8 +775,9 @@ MapFile read_checked(const std::string& path, const ReadOptions& options) {
   f.coordinates =
       in.matrix("/coordinates", f.num_samples(), f.options.embed.dimensions, "#samples by dims");
   read_labels(in, f);
-  // Showing or blending the map does not need the model.
-  if (options.model) read_model(in, version, f);
+  // Showing or blending the map does not need the model, except a gplvm map's: its GP is what
+  // its blends and its rule of where it is valid use (synth::BlendOptions::gplvm).
+  if (options.model || f.options.embed.method == Method::Gplvm) read_model(in, version, f);
   read_manifest(in, version);
   if (in.unchecked()) {
     f.read_notes.push_back(path + " was written by an older MotionMap (layout " +

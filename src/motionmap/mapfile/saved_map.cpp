@@ -72,6 +72,11 @@ SavedMap::SavedMap(MapFile file, int cached_clips)
     if (std::isfinite(step) && step > tol && step != 0.0) steps.push_back(step);
   }
   m_median_step = steps.empty() ? 0.0 : upper_median(std::move(steps));
+  try {
+    m_gplvm = embed::gplvm_map(m_file.model, m_file.coordinates);
+  } catch (const ParameterError& e) {
+    throw ParameterError((m_file.path.empty() ? "map" : m_file.path) + ": " + e.what());
+  }
 }
 
 double SavedMap::reach_distance(double reach) const {
@@ -222,7 +227,9 @@ synth::MapBlender make_blender(std::shared_ptr<const SavedMap> map,
   const synth::ClipsSummary summary = map->clips_summary(control.part(0.0, 0.5));
   const features::FeatureSet samples = map->samples();
   const Eigen::MatrixXd& coords = map->file().coordinates;
-  return synth::MapBlender(std::move(map), summary, samples, coords, options,
+  synth::BlendOptions with_gp = options;
+  if (!with_gp.gplvm) with_gp.gplvm = map->gplvm();
+  return synth::MapBlender(std::move(map), summary, samples, coords, with_gp,
                            control.part(0.5, 1.0));
 }
 

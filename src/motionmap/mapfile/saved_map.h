@@ -55,7 +55,8 @@ class SavedMap : public synth::ClipSource {
   static constexpr int kDefaultCachedClips = 8;
 
   /// Takes `file` (as read_map_file returns it) and indexes its coordinates (PointIndex).
-  /// `cached_clips` ≥ 1 clips stay loaded. @throws ParameterError for a map with no samples.
+  /// `cached_clips` ≥ 1 clips stay loaded. @throws ParameterError for a map with no samples, or a
+  /// gplvm map whose GP does not belong to its coordinates and features (embed::GplvmMap).
   explicit SavedMap(MapFile file, int cached_clips = kDefaultCachedClips);
   ~SavedMap() override;
 
@@ -98,6 +99,11 @@ class SavedMap : public synth::ClipSource {
   /// synth::reach_radius(reach, median_step(), the map's size): beyond it from every sample a
   /// point is outside the data, as for a synth::MapBlender of the same map.
   double reach_distance(double reach = 3.0) const;
+
+  /// A gplvm map's GP over its coordinates (embed::gplvm_map of its model; read_map_file reads
+  /// a gplvm map's model even without ReadOptions::model): its blends' weights and its rule of
+  /// where it is valid, which make_blender() gives the blender. Null for other maps.
+  const std::shared_ptr<const embed::GplvmMap>& gplvm() const { return m_gplvm; }
 
   /// The pose at map point `p` blended from its `neighbors` nearest samples with Franke–Little
   /// inverse-distance weights (R = the distance of the (neighbors + 1)-th nearest; a sample at p
@@ -143,6 +149,7 @@ class SavedMap : public synth::ClipSource {
   MapFile m_file;
   PointIndex m_index;
   double m_median_step = 0.0;
+  std::shared_ptr<const embed::GplvmMap> m_gplvm;
   int m_capacity;
   mutable std::mutex m_mutex;
   mutable std::vector<std::pair<int, std::shared_ptr<const Clip>>> m_cache;  ///< most recent last
@@ -156,7 +163,8 @@ class SavedMap : public synth::ClipSource {
 /// blender keeps the states of the samples it read, not their clips, and a synthesis reads each
 /// block of frames' samples one clip at a time, so the default cache is enough. @throws as
 /// clips_summary() and synth::MapBlender (the kriging mode is refused: it blends every sample; use
-/// load_all_clips()).
+/// load_all_clips()). A gplvm map's blender gets its GP (SavedMap::gplvm()) unless `options` has
+/// one: the map's validity is then the GP's, and the gp mode blends with it.
 synth::MapBlender make_blender(std::shared_ptr<const SavedMap> map,
                                const synth::BlendOptions& options, const Control& control = {});
 

@@ -186,6 +186,22 @@ embed::MapModel map_model(ClipMap map, const ClipMapOptions& options) {
                            std::move(map.embedding));
 }
 
+std::shared_ptr<const embed::GplvmMap> map_gplvm(const ClipMap& map) {
+  const Embedding& e = map.embedding;
+  if (map.model) return embed::gplvm_map(*map.model, e.coordinates);
+  if (e.gplvm_kernel.size() != 4 ||  // only a gplvm map has its kernel
+      e.coordinates.cols() != 2 || !map.features ||
+      map.features->X.rows() != e.coordinates.rows()) {
+    return nullptr;
+  }
+  const Eigen::MatrixXd& X = map.features->X;
+  const Eigen::MatrixXd Y = X.rowwise() - X.colwise().mean();
+  const embed::GplvmKernel kernel{e.gplvm_kernel[0], e.gplvm_kernel[1], e.gplvm_kernel[2],
+                                  e.gplvm_kernel[3]};
+  return std::make_shared<const embed::GplvmMap>(
+      embed::gplvm_predictive(Y, e.coordinates, e.gplvm_inducing, kernel), e.coordinates, &Y);
+}
+
 MapMetrics map_metrics(const features::FeatureSet& features, const Embedding& embedding, int k,
                        const Control& control, int sample) {
   MapMetrics m;

@@ -134,6 +134,11 @@ double estimate_map_bytes(embed::Method method, int frames, int values, int colu
 /// std::move(map) when done with it). @throws as embed::make_model().
 embed::MapModel map_model(ClipMap map, const ClipMapOptions& options);
 
+/// A gplvm map's GP over its coordinates (embed::gplvm_map): what its blends and its rule of
+/// where it is valid use (synth::BlendOptions::gplvm). Null for other maps, maps of more than 2
+/// dimensions, and a streamed map without its model. @throws as embed::GplvmMap.
+std::shared_ptr<const embed::GplvmMap> map_gplvm(const ClipMap& map);
+
 /// The effective parameters of a map in one line, for CSV comments, titles and status bars:
 /// "method=isomap dims=2 k=20 features=quat distance=pointcloud up=y".
 std::string describe_parameters(const embed::Embedding& embedding, const ClipMapOptions& options);

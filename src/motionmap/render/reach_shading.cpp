@@ -6,6 +6,7 @@
 #include <string>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/parallel.h"
 
 namespace motionmap::render {
 
@@ -119,6 +120,59 @@ ReachField::ReachField(const Eigen::MatrixXd& points, double reach, int cells) {
                              : distance - margin > reach ? Side::Outside
                                                          : Side::Unsure);
   }
+}
+
+ReachField ReachField::level_set(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, int cells,
+                                 const std::function<double(const Eigen::Vector2d&)>& value,
+                                 double threshold, double margin) {
+  if (cells < 16)
+    throw ParameterError("level field: cells = " + std::to_string(cells) + " (need at least 16)");
+  if (!(margin >= 0.0 && margin < 1.0))
+    throw ParameterError("level field: margin " + std::to_string(margin) + " is not in [0, 1)");
+  if (!lo.allFinite() || !hi.allFinite() || !(lo.x() <= hi.x() && lo.y() <= hi.y()))
+    throw ParameterError("level field: the box is not finite");
+  ReachField f;
+  const double extent = (hi - lo).maxCoeff();
+  f.m_cell = extent > 0.0 ? extent / double(cells) : 1.0;
+  f.m_inv_cell = 1.0 / f.m_cell;
+  f.m_origin = lo;
+  f.m_nx = std::clamp(int(std::ceil((hi.x() - lo.x()) * f.m_inv_cell)), 1, cells);
+  f.m_ny = std::clamp(int(std::ceil((hi.y() - lo.y()) * f.m_inv_cell)), 1, cells);
+  f.m_reach = threshold;
+  const int cx = f.m_nx + 1, cy = f.m_ny + 1;  // corners
+  std::vector<double> corner(std::size_t(cx) * std::size_t(cy));
+  parallel_for(cy, [&](int y) {
+    for (int x = 0; x < cx; ++x)
+      corner[std::size_t(y) * std::size_t(cx) + std::size_t(x)] =
+          value(lo + Eigen::Vector2d(x * f.m_cell, y * f.m_cell));
+  });
+  f.m_side.resize(std::size_t(f.m_nx) * std::size_t(f.m_ny));
+  f.m_level = corner;
+  const double below = threshold * (1.0 - margin), above = threshold * (1.0 + margin);
+  for (int y = 0; y < f.m_ny; ++y) {
+    for (int x = 0; x < f.m_nx; ++x) {
+      const std::size_t c = std::size_t(y) * std::size_t(cx) + std::size_t(x);
+      const double a = corner[c], b = corner[c + 1], d = corner[c + std::size_t(cx)],
+                   e = corner[c + std::size_t(cx) + 1];
+      const double most = std::max({a, b, d, e}), least = std::min({a, b, d, e});
+      f.m_side[std::size_t(y) * std::size_t(f.m_nx) + std::size_t(x)] =
+          std::uint8_t(most < below    ? Side::Inside
+                       : least > above ? Side::Outside
+                                       : Side::Unsure);
+    }
+  }
+  return f;
+}
+
+double ReachField::level(double x, double y) const {
+  if (m_level.empty()) return kInf;
+  const double gx = (x - m_origin.x()) * m_inv_cell, gy = (y - m_origin.y()) * m_inv_cell;
+  if (!(gx >= 0.0 && gy >= 0.0 && gx <= m_nx && gy <= m_ny)) return kInf;
+  const int ix = std::min(int(gx), m_nx - 1), iy = std::min(int(gy), m_ny - 1);
+  const double u = gx - ix, v = gy - iy;
+  const std::size_t cx = std::size_t(m_nx) + 1, c = std::size_t(iy) * cx + std::size_t(ix);
+  return (1 - v) * ((1 - u) * m_level[c] + u * m_level[c + 1]) +
+         v * ((1 - u) * m_level[c + cx] + u * m_level[c + cx + 1]);
 }
 
 QImage reach_image(const ReachField& field, const QTransform& pixel_to_map, const QSize& size,

@@ -45,7 +45,25 @@ class ReachField {
   /// @throws ParameterError if points has fewer than 2 columns or cells < 16.
   ReachField(const Eigen::MatrixXd& points, double reach, int cells = 2048);
 
+  /// Where a smooth function `value` of the map point is at most `threshold` (a GP-LVM map's
+  /// predictive variance and its rule, embed::GplvmMap::inside): a grid over the box `lo`–`hi`
+  /// (points off it are Outside: the caller's box must hold every point where value ≤
+  /// threshold), at most `cells` cells along its longer side, `value` taken at every cell
+  /// corner (in parallel); a cell is Inside when its four corners are below threshold ×
+  /// (1 − `margin`), Outside when above threshold × (1 + `margin`), else Unsure; level()
+  /// interpolates the corners' values bilinearly, for the Unsure cells' pixels. Unlike the
+  /// distance field this is exact only at the corners: it trusts `value` to be nearly bilinear
+  /// within a cell (true when cells are well below the function's lengthscale). reach() is
+  /// `threshold`.
+  /// @throws ParameterError if cells < 16, margin is not in [0, 1) or the box is not finite.
+  static ReachField level_set(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, int cells,
+                              const std::function<double(const Eigen::Vector2d&)>& value,
+                              double threshold, double margin);
+
   double reach() const { return m_reach; }
+  /// A level_set field's value at map point (x, y): its corners' values interpolated
+  /// bilinearly; +∞ off the grid or for a distance field.
+  double level(double x, double y) const;
   bool empty() const { return m_nx == 0; }
   /// The side of a cell (map units).
   double cell() const { return m_cell; }
@@ -68,6 +86,7 @@ class ReachField {
   Eigen::Vector2d m_origin = Eigen::Vector2d::Zero();  ///< corner of cell (0, 0)
   int m_nx = 0, m_ny = 0;
   std::vector<std::uint8_t> m_side;  ///< per cell (index y·nx + x): a Side
+  std::vector<double> m_level;       ///< level_set: per corner (index y·(nx + 1) + x)
 };
 
 /// An image of `size` (Format_ARGB32_Premultiplied): `color` (opaque) at every pixel (i, j) of

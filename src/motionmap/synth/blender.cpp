@@ -106,8 +106,10 @@ void check_inputs(std::span<const Clip> clips, const features::FeatureSet& sampl
 }  // namespace
 
 namespace {
-constexpr EnumName<BlendMode> kBlendModes[] = {
-    {BlendMode::Local, "local"}, {BlendMode::Kriging, "kriging"}, {BlendMode::Idw, "idw"}};
+constexpr EnumName<BlendMode> kBlendModes[] = {{BlendMode::Local, "local"},
+                                               {BlendMode::Kriging, "kriging"},
+                                               {BlendMode::Idw, "idw"},
+                                               {BlendMode::Gp, "gp"}};
 }  // namespace
 
 std::string_view blend_mode_name(BlendMode mode) {
@@ -153,7 +155,17 @@ void franke_little_weights(const double* d, int count, double R, double* phi) {
 }
 
 void BlendOptions::validate(int num_samples) const {
-  if (mode != BlendMode::Kriging && (neighbors < 1 || neighbors > num_samples)) {
+  if (mode == BlendMode::Gp && !gplvm) {
+    throw ParameterError(
+        "blend: the gp mode blends with a GP-LVM map's predictive mean; this map is not a GP-LVM "
+        "map (use local, kriging or idw)");
+  }
+  if (gplvm && gplvm->num_frames() != num_samples) {
+    throw ParameterError("blend: the GP-LVM map's GP has " + std::to_string(gplvm->num_frames()) +
+                         " frames but the map " + std::to_string(num_samples) + " samples");
+  }
+  if ((mode == BlendMode::Local || mode == BlendMode::Idw) &&
+      (neighbors < 1 || neighbors > num_samples)) {
     throw ParameterError("neighbors: " + std::to_string(neighbors) +
                          " is out of range (must be in [1, " + std::to_string(num_samples) +
                          "], the map's sample count)");
@@ -286,6 +298,11 @@ struct MapBlender::Impl {
   std::optional<detail::GlobalKriging> kriging;  // kriging mode
 
   void build_samples(std::span<const Clip> clips, const features::FeatureSet& samples);
+  // Where p is evaluated, by the map's one rule (blender.h): the GP's on a GP-LVM map, else the
+  // index's reach.
+  PointValidity validate(const Eigen::Vector2d& p) const;
+  // The gp mode's weights at v.point (blender.h).
+  MapWeights gp_weights(const PointValidity& v) const;
   // Point weights (point index, weight) at v.point; sets v.variance. Not for kriging.
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
   // Kriging weights of the points out[c].validity.point, into out.
@@ -442,9 +459,63 @@ void MapBlender::Impl::build_systems(const Eigen::MatrixXd& coords,
                            " (a dense (N+1)² system); use the local mode or a frame stride");
     }
     kriging.emplace(index->points(), control.stage("kriging set-up", 0.0, 1.0));
-  } else {
+  } else {  // idw and gp need no systems
     control.check();
   }
+}
+
+PointValidity MapBlender::Impl::validate(const Eigen::Vector2d& p) const {
+  // The nearest sample and its distance (and the check that p is finite) as on every map.
+  PointValidity v = index->validate(p);
+  if (!options.gplvm) return v;
+  const MapGp& gp = *options.gplvm;
+  v.point = p;
+  v.clamped = false;
+  v.variance = gp.variance(p);
+  if (v.variance <= gp.threshold()) return v;
+  // Outside: to the edge of the GP's region on the segment towards the nearest sample.
+  v.clamped = true;
+  const Eigen::Vector2d q = index->sample_point(v.nearest_sample);
+  const double vq = gp.variance(q);
+  if (vq > gp.threshold()) {
+    v.point = q;
+    v.variance = vq;
+    return v;
+  }
+  double in = 0.0, out = 1.0;  // q + t (p − q): inside at t = in, outside at t = out
+  while (out - in > 1e-9) {
+    const double t = 0.5 * (in + out);
+    (gp.variance(q + t * (p - q)) <= gp.threshold() ? in : out) = t;
+  }
+  v.point = q + in * (p - q);
+  v.variance = gp.variance(v.point);
+  return v;
+}
+
+MapWeights MapBlender::Impl::gp_weights(const PointValidity& v) const {
+  const Eigen::VectorXd w = options.gplvm->frame_weights(v.point);
+  // The smallest magnitude kept: the smallest ones summing to at most the tolerance go.
+  std::vector<double> magnitude(static_cast<std::size_t>(w.size()));
+  for (Eigen::Index i = 0; i < w.size(); ++i) magnitude[std::size_t(i)] = std::abs(w[i]);
+  std::sort(magnitude.begin(), magnitude.end());
+  double total = 0.0;
+  for (const double m : magnitude) total += m;
+  double dropped = 0.0;
+  std::size_t first = 0;
+  while (first + 1 < magnitude.size() && dropped + magnitude[first] <= kGpWeightTolerance * total)
+    dropped += magnitude[first++];
+  const double cut = magnitude[first];
+  MapWeights out;
+  out.validity = v;
+  double kept = 0.0;
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    if (std::abs(w[i]) < cut) continue;
+    out.samples.push_back(static_cast<int>(i));
+    out.weights.push_back(w[i]);
+    kept += w[i];
+  }
+  for (double& x : out.weights) x /= kept;
+  return out;
 }
 
 void MapBlender::Impl::point_weights(PointValidity& v,
@@ -488,7 +559,7 @@ void MapBlender::Impl::kriging_block(std::span<MapWeights> out) const {
   std::vector<double> dense(static_cast<std::size_t>(n));
   for (std::size_t c = 0; c < m; ++c) {
     MapWeights& w = out[c];
-    w.validity.variance = variance[c];
+    if (!options.gplvm) w.validity.variance = variance[c];  // a GP-LVM map's is the GP's
     std::fill(dense.begin(), dense.end(), 0.0);
     index->to_sample_weights(x.col(static_cast<Eigen::Index>(c)).data(), dense.data());
     w.samples.resize(static_cast<std::size_t>(n));
@@ -579,20 +650,28 @@ MapBlender& MapBlender::operator=(MapBlender&&) noexcept = default;
 MapWeights MapBlender::locate(const Eigen::Vector2d& p) const {
   if (m->options.mode == BlendMode::Kriging)
     return std::move(locate(std::span<const Eigen::Vector2d>(&p, 1)).front());
-  PointValidity v = m->index->validate(p);
+  PointValidity v = m->validate(p);
+  if (m->options.mode == BlendMode::Gp) return m->gp_weights(v);
   std::vector<std::pair<int, double>> pw;
+  const double gp_variance = v.variance;
   m->point_weights(v, pw);
+  if (m->options.gplvm) v.variance = gp_variance;  // the map's variance is the GP's
   return m->index->to_sample_weights(pw, v);
 }
 
 std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts) const {
   std::vector<MapWeights> out(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) out[i].validity = m->index->validate(pts[i]);
+  for (std::size_t i = 0; i < pts.size(); ++i) out[i].validity = m->validate(pts[i]);
+  if (m->options.mode == BlendMode::Gp) {
+    for (auto& w : out) w = m->gp_weights(w.validity);
+    return out;
+  }
   if (m->options.mode != BlendMode::Kriging) {
     std::vector<std::pair<int, double>> pw;
     for (auto& w : out) {
       PointValidity v = w.validity;
       m->point_weights(v, pw);
+      if (m->options.gplvm) v.variance = w.validity.variance;  // the GP's
       w = m->index->to_sample_weights(pw, v);
     }
     return out;
@@ -759,6 +838,10 @@ std::span<const int> MapBlender::root_ancestors() const {
 double MapBlender::median_step() const {
   return m->index->median_step();
 }
+bool MapBlender::inside(const Eigen::Vector2d& p) const {
+  return !m->validate(p).clamped;
+}
+
 double MapBlender::reach_distance() const {
   return m->index->reach_distance();
 }

@@ -19,17 +19,31 @@
 //    sample and fall to 0 before a sample leaves the 4 nearest.
 //  - Idw: Franke–Little inverse-distance weights on the K nearest samples (R = distance of the
 //    (K+1)-th): non-negative, continuous, the robust fallback.
-// All three are exact at samples (the weights at a sample's own map point are 1 on it) and
+//  - Gp (a GP-LVM map's default; needs BlendOptions::gplvm): the GP's predictive mean as
+//    weights over every sample (embed::GplvmMap::frame_weights: w' = W k(p) + (1 − Σw)/N, summing
+//    to 1); the smallest, together at most kGpWeightTolerance of Σ|w'|, dropped and the rest
+//    rescaled to sum to 1. For the quaternion features the blend is the GP's predictive mean,
+//    normalised per joint; the root and every other value follow the same weights. A smoother, not
+//    an interpolator: at a sample's own point it gives a pose near, not equal to, the sample's.
+// The first three are exact at samples (the weights at a sample's own map point are 1 on it) and
 // continuous in p. Samples closer to each other than 1e-9 × the map's extent share a map point
 // and are merged: such a point gives each of them an equal share of the weight.
 //
-// Outside the data: a point farther from every sample than r = reach_radius() (reach × the median
-// step between consecutive samples, at least 5 % of the map's size) is moved, and reported: to the
-// nearest point q of the trajectory (the polyline through consecutive samples of each clip), then
-// back towards the point by √(r² − e²), e = the distance from q to the nearer end of its segment,
-// so it lands within r of that sample. This is continuous in p except where two stretches of
-// trajectory are equally near (the nearest point of the union of reach disks would jump at
-// every boundary between two samples' cells), and costs O(#samples), for outside points only.
+// Outside the data, on a GP-LVM map (BlendOptions::gplvm, in every mode): a point whose GP
+// variance without the noise exceeds kGplvmValidFraction of its prior (embed::GplvmMap::inside)
+// is moved, and reported, to the edge of that region on the segment towards its nearest sample
+// (bisection to 1e-9 of the segment), or to the sample itself when that is outside too; this is
+// continuous in p except where two samples are equally near. PointValidity::variance is then the
+// GP's variance at the point evaluated.
+//
+// Outside the data, on other maps: a point farther from every sample than r = reach_radius() (reach
+// × the median step between consecutive samples, at least 5 % of the map's size) is moved, and
+// reported: to the nearest point q of the trajectory (the polyline through consecutive samples of
+// each clip), then back towards the point by √(r² − e²), e = the distance from q to the nearer end
+// of its segment, so it lands within r of that sample. This is continuous in p except where two
+// stretches of trajectory are equally near (the nearest point of the union of reach disks would
+// jump at every boundary between two samples' cells), and costs O(#samples), for outside points
+// only.
 //
 // Blending: joint rotations per joint, every sample's quaternion aligned to the hemisphere of the
 // largest-weight sample, weighted sum, normalised (negative weights allowed; weighted_average in
@@ -57,6 +71,7 @@
 #include <Eigen/Geometry>
 
 #include "motionmap/core/control.h"
+#include "motionmap/core/map_gp.h"
 #include "motionmap/core/rotation.h"
 #include "motionmap/features/features.h"
 #include "motionmap/skeleton/skeleton.h"
@@ -64,9 +79,9 @@
 
 namespace motionmap::synth {
 
-enum class BlendMode { Kriging, Local, Idw };
+enum class BlendMode { Kriging, Local, Idw, Gp };
 
-/// "kriging" / "local" / "idw".
+/// "kriging" / "local" / "idw" / "gp".
 std::string_view blend_mode_name(BlendMode mode);
 /// The mode called `name` (exact, lower case as blend_mode_name writes it), or nothing.
 std::optional<BlendMode> parse_blend_mode(std::string_view name);
@@ -82,7 +97,15 @@ inline constexpr int kLocalPartitionSize = 4;
 /// bounding box): see reach_radius().
 inline constexpr double kMinReachFraction = 0.05;
 
-/// The one rule of where a map is valid: a map point is inside the data when a sample lies within
+/// The gp mode drops its smallest weights while their magnitudes sum to at most this fraction of
+/// Σ|w'|, and rescales the rest to sum to 1. The weights are dense and spread (Σ|w'| ≫ 1, the
+/// normalised quaternion sum is sensitive to them): measured on CMU 64_08 (364 frames, full), a
+/// 987-frame full and a 10 778-frame sparse map (docs/methods/gplvm.md), 10⁻⁵ moves a joint by at
+/// most 3.5·10⁻⁴ rad and keeps 87–93 % of the frames; 10⁻⁴ already moves one by 4·10⁻³ rad.
+inline constexpr double kGpWeightTolerance = 1e-5;
+
+/// The one rule of where a map is valid, on maps other than GP-LVM maps (those use the GP's
+/// variance: embed::GplvmMap::inside): a map point is inside the data when a sample lies within
 /// max(reach × median_step, kMinReachFraction × map_size) of it. Blending clamps to it, Studio
 /// shades it, routes keep to it. The multiple of the step keeps a coarse map's reach above its
 /// gaps; the share of the map's size keeps a finely sampled one (120 fps, 4× shorter steps than
@@ -106,9 +129,14 @@ struct BlendOptions {
   double reach = 3.0;
   /// The up axis, as for the features (heading and height are about / along it).
   Axis up = Axis::Y;
+  /// A GP-LVM map's GP over the map's coordinates (embed::GplvmMap; sample i's latent point =
+  /// row i): with it the map's validity is the GP's (MapGp::inside) in every mode, and the gp mode
+  /// blends with its predictive mean. Null for other maps (the gp mode then is an error).
+  std::shared_ptr<const MapGp> gplvm;
 
   /// @throws ParameterError naming `neighbors` or `reach`, its value and the valid range
-  ///         (neighbors is only checked in the local and idw modes).
+  ///         (neighbors is only checked in the local and idw modes), for the gp mode without
+  ///         `gplvm`, or for a `gplvm` of another number of frames than `num_samples`.
   void validate(int num_samples) const;
 };
 
@@ -121,7 +149,9 @@ struct PointValidity {
   double distance = 0.0;        ///< from query to the nearest sample (map units)
   int nearest_sample = 0;       ///< the sample at that distance (the first of merged ones)
   /// Kriging variance at `point` (map units: the linear variogram's), 0 at samples, growing away
-  /// from them: w·a + μ (kriging), the partition-weighted local variances (local); NaN (idw).
+  /// from them: w·a + μ (kriging), the partition-weighted local variances (local); NaN (idw). On
+  /// a GP-LVM map (BlendOptions::gplvm), in every mode: the GP's variance without the noise at
+  /// `point` (embed::GplvmMap::variance, in the features' units squared).
   double variance = 0.0;
 };
 
@@ -269,8 +299,12 @@ class MapBlender {
   /// Median of the non-zero map distances between consecutive samples of a clip (0 if none).
   double median_step() const;
   /// reach_radius(reach, median_step(), the map's size): how far from every sample a point may be
-  /// before it is clamped.
+  /// before it is clamped (on a GP-LVM map the GP's rule decides instead: inside()).
   double reach_distance() const;
+  /// Whether map point p is inside the data, by the map's one rule: the GP's variance on a GP-LVM
+  /// map (BlendOptions::gplvm), else a sample within reach_distance(). locate() clamps exactly
+  /// the points where this is false. @throws ParameterError if p is not finite.
+  bool inside(const Eigen::Vector2d& p) const;
   /// Median of the non-zero map speeds between consecutive samples of a clip (map units per
   /// second: step / time between the two frames); 0 if none.
   double median_speed() const;

@@ -50,7 +50,9 @@ MapField::MapField(const MapBlender& blender)
             for (int i = 0; i < blender.num_samples(); ++i) points[i] = blender.sample_point(i);
             return points;
           }(),
-          blender.reach_distance()) {}
+          blender.reach_distance()) {
+  m_gp = blender.options().gplvm;
+}
 
 MapField::MapField(std::vector<Eigen::Vector2d> points, double reach_distance)
     : m_reach(reach_distance) {
@@ -104,10 +106,16 @@ int MapField::nearest(const Eigen::Vector2d& p, int k, std::vector<int>& indices
 }
 
 bool MapField::valid(const Eigen::Vector2d& p) const {
+  if (m_gp) return m_gp->inside(p);
   return distance(p) <= m_reach;
 }
 
 double MapField::cost(const Eigen::Vector2d& p) const {
+  if (m_gp) {
+    const double v = m_gp->variance(p), tau = m_gp->threshold();
+    if (!(v <= tau)) return kInf;
+    return 1.0 + kRoutePenalty * (v / tau) * (v / tau);
+  }
   const double d = distance(p);
   if (!(d <= m_reach)) return kInf;
   const double u = d / m_reach;
@@ -115,6 +123,16 @@ double MapField::cost(const Eigen::Vector2d& p) const {
 }
 
 bool MapField::segment_valid(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
+  if (m_gp) {
+    // The variance changes on the scale ℓ: checked at steps of ℓ/8.
+    const int steps = static_cast<int>(std::clamp(
+        std::ceil((b - a).norm() / (m_gp->lengthscale() / kCheckSteps)), 1.0, kMaxSteps));
+    for (int s = 0; s <= steps; ++s) {
+      const double t = double(s) / steps;
+      if (!m_gp->inside((1.0 - t) * a + t * b)) return false;
+    }
+    return true;
+  }
   const double da = distance(a), db = distance(b);
   return da <= m_reach && db <= m_reach && interval_valid(a, da, b, db, kValidDepth);
 }
@@ -122,6 +140,21 @@ bool MapField::segment_valid(const Eigen::Vector2d& a, const Eigen::Vector2d& b)
 // The distance to the samples is 1-Lipschitz, so on the segment p–q it is at most
 // (d(p) + d(q) + |p − q|) / 2: where that bound is within the reach the segment is valid; where
 // not, its midpoint is checked and both halves are, down to kValidDepth halvings.
+Eigen::Vector2d MapField::pulled_in(const Eigen::Vector2d& p) const {
+  int nearest = 0;
+  const double d = distance(p, &nearest);
+  const Eigen::Vector2d s = sample(nearest);
+  if (!m_gp) return d <= m_reach ? p : Eigen::Vector2d(s + (p - s) * (kPullFraction * m_reach / d));
+  if (m_gp->inside(p)) return p;
+  if (!m_gp->inside(s)) return s;
+  double in = 0.0, out = 1.0;  // s + t (p − s): valid at t = in, not at t = out
+  while (out - in > 1e-9) {
+    const double t = 0.5 * (in + out);
+    (m_gp->inside(s + t * (p - s)) ? in : out) = t;
+  }
+  return s + kPullFraction * in * (p - s);
+}
+
 bool MapField::interval_valid(const Eigen::Vector2d& p, double dp, const Eigen::Vector2d& q,
                               double dq, int depth) const {
   if (0.5 * (dp + dq + (q - p).norm()) <= m_reach) return true;
@@ -186,7 +219,7 @@ RouteGrid make_grid(const MapField& field, const RouteOptions& options) {
       int nearest = 0;
       const double d = field.distance(centre, &nearest);
       Eigen::Vector2d node = centre;
-      if (!(d <= r)) {
+      if (!field.valid(centre)) {
         if (!holds[c]) {
           // Impassable: only a route across a gap in the data goes through it.
           const double u = d / r;
@@ -194,8 +227,7 @@ RouteGrid make_grid(const MapField& field, const RouteOptions& options) {
           g.gap_cost[c] = kGapPenalty * (1.0 + kRoutePenalty * u * u);
           continue;
         }
-        const Eigen::Vector2d s = field.sample(nearest);
-        node = s + (centre - s) * (kPullFraction * r / d);
+        node = field.pulled_in(centre);
       }
       g.node[c] = node;
       g.cost[c] = g.gap_cost[c] = field.cost(node);
@@ -275,13 +307,8 @@ std::vector<int> grid_path(const RouteGrid& g, int from, int to, bool cross) {
   return cells;
 }
 
-// p moved to kPullFraction × reach of its nearest sample when it is outside the valid region.
 Eigen::Vector2d pull_in(const MapField& field, const Eigen::Vector2d& p) {
-  int nearest = 0;
-  const double d = field.distance(p, &nearest);
-  if (d <= field.reach_distance()) return p;
-  const Eigen::Vector2d s = field.sample(nearest);
-  return s + (p - s) * (kPullFraction * field.reach_distance() / d);
+  return field.pulled_in(p);
 }
 
 // Appends the segment a–b (without a) to `out`, split at pulled midpoints where it leaves the

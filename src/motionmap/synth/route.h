@@ -93,7 +93,10 @@ struct RouteOptions {
 /// Immutable; its const member functions are thread-safe.
 class MapField {
  public:
-  /// The samples of `blender`'s map (sample_point()) and its reach_distance().
+  /// The samples of `blender`'s map (sample_point()) and its reach_distance(); on a GP-LVM map
+  /// (BlendOptions::gplvm) the GP's rule of where the map is valid instead of the reach, as
+  /// MapBlender::locate() has it: valid() is MapGp::inside() and the cost grows with the GP's
+  /// variance, c(p) = 1 + kRoutePenalty·(v/τ)² (v = the variance, τ its threshold).
   explicit MapField(const MapBlender& blender);
   /// `points`: the samples' map points (≥ 1, finite); `reach_distance` > 0.
   /// @throws ParameterError otherwise.
@@ -113,14 +116,20 @@ class MapField {
   double distance(const Eigen::Vector2d& p, int* nearest = nullptr) const;
   /// The k nearest samples (nearest first; fewer when the map has fewer): indices out.
   int nearest(const Eigen::Vector2d& p, int k, std::vector<int>& indices) const;
-  /// distance(p) ≤ reach_distance(): where MapBlender::locate() does not clamp.
+  /// distance(p) ≤ reach_distance() (a GP-LVM map: the GP's rule): where MapBlender::locate()
+  /// does not clamp.
   bool valid(const Eigen::Vector2d& p) const;
-  /// c(p) = 1 + kRoutePenalty·(d/r)², +∞ outside the valid region.
+  /// c(p) = 1 + kRoutePenalty·(d/r)² (a GP-LVM map: 1 + kRoutePenalty·(v/τ)²), +∞ outside the
+  /// valid region.
   double cost(const Eigen::Vector2d& p) const;
   /// Whether every point of the straight segment a–b is valid (shown with the distance's
   /// Lipschitz bound, halving the segment where needed; a segment that touches the edge of the
-  /// valid region may be called invalid).
+  /// valid region may be called invalid). On a GP-LVM map: checked at steps of ℓ/8.
   bool segment_valid(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
+  /// p when valid, else moved towards its nearest sample into the valid region: to
+  /// kPullFraction of the reach from it, or on a GP-LVM map to kPullFraction of the way from it
+  /// to the region's edge on that segment (the sample itself when that is outside too).
+  Eigen::Vector2d pulled_in(const Eigen::Vector2d& p) const;
   /// ∫ c ds along the segment a–b (midpoint rule, steps of at most r/8); +∞ if it leaves the
   /// valid region.
   double segment_cost(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
@@ -132,6 +141,7 @@ class MapField {
   struct Tree;
   std::unique_ptr<Tree> m_tree;
   double m_reach = 0.0;
+  std::shared_ptr<const MapGp> m_gp;  ///< a GP-LVM map's rule (MapField(const MapBlender&))
   Eigen::Vector2d m_min = Eigen::Vector2d::Zero(), m_max = Eigen::Vector2d::Zero();
 };
 

@@ -107,12 +107,16 @@ double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X
         std::to_string(sn2) + ")");
   }
   const auto L = llt.matrixL();
-  // Whitened by K_uu = L Lᵀ: Φ_w = L⁻¹ K_uf K_fu L⁻ᵀ, B = I + Φ_w / s (so that
-  // P = K_uu + K_uf K_fu / s = L B Lᵀ and log|Q + sI| = log|B| + N log s), Ψ_w = L⁻¹ K_uf Y,
-  // c = B⁻¹ Ψ_w (tr(Yᵀ K_fu P⁻¹ K_uf Y) = Ψ_w·c).
-  const Eigen::MatrixXd Phi = Kuf * Kuf.transpose();
-  const Eigen::MatrixXd LiPhi = L.solve(Phi);
-  const Eigen::MatrixXd Phi_w = L.solve(LiPhi.transpose());
+  // Whitened by K_uu = L Lᵀ: A = L⁻¹ K_uf (M × N), Φ_w = A Aᵀ = L⁻¹ K_uf K_fu L⁻ᵀ,
+  // B = I + Φ_w / s (so that P = K_uu + K_uf K_fu / s = L B Lᵀ and log|Q + sI| = log|B| + N log s),
+  // Ψ_w = A Y, c = B⁻¹ Ψ_w (tr(Yᵀ K_fu P⁻¹ K_uf Y) = Ψ_w·c). A is solved for before it is squared:
+  // L⁻¹ (K_uf K_fu) L⁻ᵀ, two solves of an M × M matrix, is not symmetric positive semi-definite to
+  // rounding when K_uu is ill-conditioned (inducing inputs closer than ℓ/100 give cond(K_uu) ≈ 10⁹),
+  // and B then failed to factorise at steps the objective is defined at.
+  const Eigen::MatrixXd A = L.solve(Kuf);
+  Eigen::MatrixXd Phi_w = Eigen::MatrixXd::Zero(M, M);
+  Phi_w.selfadjointView<Eigen::Lower>().rankUpdate(A);
+  Phi_w.triangularView<Eigen::StrictlyUpper>() = Phi_w.transpose();
   Eigen::MatrixXd B = Phi_w / s;
   B.diagonal().array() += 1.0;
   const Eigen::LLT<Eigen::MatrixXd> lltB(B);
@@ -121,12 +125,12 @@ double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X
         "gplvm: the sparse model's matrix I + K_uu⁻¹K_uf K_fu/s is not positive "
         "definite");
   }
-  const Eigen::MatrixXd Psi_w = L.solve(Kuf * Y);
+  const Eigen::MatrixXd Psi_w = A * Y;
   const Eigen::MatrixXd c = lltB.solve(Psi_w);
   const double quad = Psi_w.cwiseProduct(c).sum();
   const double log_det_B = 2.0 * lltB.matrixLLT().diagonal().array().log().sum();
   const double yy = Y.squaredNorm();
-  const double t = double(N) * (sf2 + sb2), trQ = Phi_w.trace();
+  const double t = double(N) * (sf2 + sb2), trQ = A.squaredNorm();
   const double two_pi = std::log(2.0 * std::numbers::pi);
   const double dD = double(D), dN = double(N);
   const double value = 0.5 * dD * (log_det_B + dN * std::log(s)) + 0.5 * (yy / s - quad / (s * s)) +
@@ -148,10 +152,9 @@ double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X
   };
   Eigen::MatrixXd G_uu = unwhiten(core_uu);
   G_uu = 0.5 * (G_uu + G_uu.transpose()).eval();
-  Eigen::MatrixXd G_Phi = unwhiten(core_Phi);
-  G_Phi = 0.5 * (G_Phi + G_Phi.transpose()).eval();
-  const Eigen::MatrixXd PPsi = L.transpose().solve(c);  // P⁻¹ K_uf Y
-  const Eigen::MatrixXd G_uf = (-1.0 / (s * s)) * (PPsi * Y.transpose()) + 2.0 * G_Phi * Kuf;
+  // dL/dK_uf = −P⁻¹K_uf Y Yᵀ/s² + 2 (dL/dΦ) K_uf = L⁻ᵀ (−c Yᵀ/s² + 2 core_Φ A).
+  const Eigen::MatrixXd G_uf = L.transpose().solve(
+      Eigen::MatrixXd((-1.0 / (s * s)) * (c * Y.transpose()) + 2.0 * core_Phi * A));
   const double dL_ds = 0.5 * dD * dN / s - 0.5 * yy / (s * s) + quad / (s * s * s) -
                        0.5 * dD / (s * s) * (t - trQ) - core_P.cwiseProduct(Phi_w).sum() / (s * s);
   const double dL_dt = 0.5 * dD / s;

@@ -14,6 +14,7 @@
 #include <Eigen/Cholesky>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/embed/detail/methods.h"
 #include "motionmap/embed/detail/progress.h"
 
@@ -111,8 +112,8 @@ double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X
   // B = I + Φ_w / s (so that P = K_uu + K_uf K_fu / s = L B Lᵀ and log|Q + sI| = log|B| + N log s),
   // Ψ_w = A Y, c = B⁻¹ Ψ_w (tr(Yᵀ K_fu P⁻¹ K_uf Y) = Ψ_w·c). A is solved for before it is squared:
   // L⁻¹ (K_uf K_fu) L⁻ᵀ, two solves of an M × M matrix, is not symmetric positive semi-definite to
-  // rounding when K_uu is ill-conditioned (inducing inputs closer than ℓ/100 give cond(K_uu) ≈ 10⁹),
-  // and B then failed to factorise at steps the objective is defined at.
+  // rounding when K_uu is ill-conditioned (inducing inputs closer than ℓ/100 give cond(K_uu) ≈
+  // 10⁹), and B then failed to factorise at steps the objective is defined at.
   const Eigen::MatrixXd A = L.solve(Kuf);
   Eigen::MatrixXd Phi_w = Eigen::MatrixXd::Zero(M, M);
   Phi_w.selfadjointView<Eigen::Lower>().rankUpdate(A);
@@ -283,7 +284,7 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
   GplvmKernel k = kernel;
   Eigen::VectorXd gk;
   // The best point evaluated: what is kept when the line search gives up.
-  double best = std::numeric_limits<double>::infinity();
+  double best = std::numeric_limits<double>::infinity(), best_gradient_norm = 0.0;
   int evaluations = 0;
   bool last_failed = false;  // the last evaluation was of a kernel that cannot be factorised
   auto objective = [&](const Eigen::VectorXd& v, Eigen::VectorXd& grad) {
@@ -317,6 +318,7 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
     for (int j = 0; j < 4; ++j) {
       if (j != 1 || fit_lengthscale) grad[at++] = gk[j];  // pack()'s order
     }
+    if (value == best) best_gradient_norm = grad.norm();
     return value;
   };
   LBFGSpp::LBFGSParam<double> param;
@@ -367,6 +369,7 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
     throw NumericalError("gplvm: the kernel matrix is not positive definite at the start");
   }
   fit.objective = best;
+  fit.gradient_norm = best_gradient_norm;
   control.update(1.0);
   return fit;
 }
@@ -494,8 +497,12 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
   progress.stage("optimise", 0.05, 1.0);
   // The sparse model: inducing inputs from a seeded subset of the start's latent points.
   const Eigen::MatrixXd Z0 = M > 0 ? gplvm_inducing_start(X0, M) : Eigen::MatrixXd();
-  const GplvmFit fit = fit_gplvm(Y, X0, initial_gplvm_kernel(Y), options.max_iterations,
-                                 progress.control(), M > 0 ? &Z0 : nullptr);
+  // ℓ held at options.lengthscale, or fitted (0).
+  GplvmKernel kernel = initial_gplvm_kernel(Y);
+  const bool fit_lengthscale = !(options.lengthscale > 0.0);
+  if (!fit_lengthscale) kernel.log_lengthscale = std::log(options.lengthscale);
+  const GplvmFit fit = fit_gplvm(Y, X0, kernel, options.max_iterations, progress.control(),
+                                 M > 0 ? &Z0 : nullptr, fit_lengthscale);
   out.coordinates = fit.X;
   out.gplvm_kernel = {fit.kernel.log_rbf_variance, fit.kernel.log_lengthscale,
                       fit.kernel.log_bias_variance, fit.kernel.log_noise_variance};
@@ -505,11 +512,12 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
       "gplvm" +
       (M > 0 ? " (sparse, " + std::to_string(M) + " inducing points)" : std::string(" (full)")) +
       ": " + (fit.iterations >= 0 ? std::to_string(fit.iterations) + " iterations, " : "") +
-      std::to_string(fit.evaluations) + " evaluations (" + fit.stopped + "), " +
+      std::to_string(fit.evaluations) + " evaluations (" + fit.stopped + ", gradient norm " +
+      format_number(fit.gradient_norm, 2) + "), " +
       (M > 0 ? "bound on −log likelihood " : "−log likelihood ") + std::to_string(fit.objective) +
       ", σ_f² " + std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +
-      std::to_string(std::exp(fit.kernel.log_lengthscale)) + ", σ_n² " +
-      std::to_string(std::exp(fit.kernel.log_noise_variance)));
+      std::to_string(std::exp(fit.kernel.log_lengthscale)) + (fit_lengthscale ? "" : " (held)") +
+      ", σ_n² " + std::to_string(std::exp(fit.kernel.log_noise_variance)));
 }
 
 }  // namespace motionmap::embed

@@ -11,6 +11,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/format.h"
 #include "motionmap/core/memory.h"
 #include "motionmap/io/clip_inputs.h"
 
@@ -84,6 +85,12 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
   sub->add_option("--inducing", opt.inducing,
                   "gplvm: inducing points of the sparse model, 1 to the number of frames "
                   "(default 0: the full model up to 1000 frames, 100 inducing points above)");
+  sub->add_option("--lengthscale", opt.lengthscale,
+                  "gplvm: the kernel's lengthscale, in units of the latent points' prior N(0, I), "
+                  "held through the fit so that it can converge (default " +
+                      format_number(opt.lengthscale) +
+                      "); 0 fits it with the latent points, which has no optimum: the fit then "
+                      "ends at --max-iter (docs/methods/gplvm.md)");
   sub->add_option("--seed", opt.seed,
                   "umap: seed of the layout's random numbers; one seed, one map, whatever the "
                   "thread count (default 0)");
@@ -259,6 +266,7 @@ pipeline::ClipMapOptions clip_map_options(const MapCliOptions& opt, embed::Metho
   e.epochs = opt.epochs;
   e.max_iterations = opt.max_iterations;
   e.inducing = opt.inducing;
+  e.lengthscale = opt.lengthscale;
   e.seed = opt.seed;
   e.reg = opt.reg;
   e.standardize = opt.standardize;

@@ -31,6 +31,7 @@ struct MapCliOptions {
   int epochs = 0;            ///< 0: umap's default (500 up to 10 000 frames, 200 above)
   int max_iterations = 300;  ///< gplvm's L-BFGS iterations at most
   int inducing = 0;          ///< gplvm's inducing points; 0: full model ≤ 1 000 frames, 100 above
+  double lengthscale = embed::EmbedOptions{}.lengthscale;  ///< gplvm's ℓ held; 0: fitted
   int seed = 0;
   std::string heat = "auto";
   double reg = 1e-3;

@@ -20,6 +20,7 @@
 
 #include "common.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/format.h"
 #include "motionmap/features/features.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/io/load.h"
@@ -82,6 +83,13 @@ pipeline::ClipMapOptions clip_map_options(const py::dict& o) {
                              " is not a number of inducing points >= 1 (None: the full model up "
                              "to 1000 frames, 100 inducing points above)");
       }
+    } else if (k == "lengthscale") {
+      e.lengthscale = value.cast<double>();
+      if (!(e.lengthscale >= 0.0 && std::isfinite(e.lengthscale))) {
+        throw ParameterError("lengthscale: " + format_number(e.lengthscale) +
+                             " is out of range; it must be a finite lengthscale > 0 (held "
+                             "through the fit), or 0 to fit it");
+      }
     } else if (k == "standardize") {
       e.standardize = value.cast<bool>();
     } else if (k == "strict") {
@@ -123,6 +131,7 @@ py::dict option_dict(const pipeline::ClipMapOptions& o) {
   d["random_state"] = e.seed;
   d["max_iter"] = e.max_iterations;
   d["n_inducing"] = e.inducing > 0 ? py::cast(e.inducing) : py::none();
+  d["lengthscale"] = e.lengthscale;
   d["standardize"] = e.standardize;
   d["strict"] = e.strict;
   d["n_landmarks"] = e.landmarks;
@@ -796,6 +805,7 @@ py::tuple matrix_state(const MatrixMapState& s) {
   o["random_state"] = s.options.seed;
   o["max_iter"] = s.options.max_iterations;
   o["n_inducing"] = s.options.inducing > 0 ? py::cast(s.options.inducing) : py::none();
+  o["lengthscale"] = s.options.lengthscale;
   o["standardize"] = s.options.standardize;
   o["strict"] = s.options.strict;
   o["n_landmarks"] = s.options.landmarks;

@@ -1,6 +1,7 @@
 """motionmap.GPLVM: the CLI's `map --method gplvm` numbers (full and sparse), placement of new
 frames (transform) on maps of clips and of arrays, pickling and map files that keep the GP's
-predictive, and errors naming max_iter and n_inducing. On CMU 64_08 every 4th frame (91 frames)
+predictive, the lengthscale held or fitted as the CLI's, and errors naming max_iter, n_inducing and
+lengthscale. On CMU 64_08 every 4th frame (91 frames)
 with 30 L-BFGS iterations: each fit well under a second."""
 import pickle
 import subprocess
@@ -156,12 +157,29 @@ def test_matrix_fit_transform_and_pickle(golf, n_inducing):
     np.testing.assert_array_equal(est.transform(new[5:6]), placed[5:6])
 
 
+def test_lengthscale_is_the_clis(golf, cli, tmp_path):
+    # Held at 1 by default ("ℓ 1.000000 (held)" in the note); 0 fits it, as --lengthscale 0.
+    held = motionmap.GPLVM(max_iter=ITER, stride=4)
+    assert held.get_params()["lengthscale"] == 1.0
+    held.fit(golf)
+    held.write_csv(tmp_path / "held.csv")
+    assert "ℓ 1.000000 (held)" in open(tmp_path / "held.csv").read()
+    theirs = cli_map(cli, golf, tmp_path / "cli.csv", "--lengthscale", "0")
+    free = motionmap.GPLVM(max_iter=ITER, lengthscale=0, stride=4)
+    np.testing.assert_array_equal(free.fit_transform(golf), theirs)
+    free.write_csv(tmp_path / "py.csv")
+    text = open(tmp_path / "py.csv").read()
+    assert text == open(tmp_path / "cli.csv").read() and "(held)" not in text
+    assert not np.array_equal(free.embedding_, held.embedding_)
+
+
 def test_bad_values_name_the_parameter(golf):
     X = motionmap.features(golf, stride=4)
     too_many = r"n_inducing: 92 is out of range; it must be in \[1, 91\]"  # 91 frames
     for bad, name in ((dict(max_iter=0), "max_iter"), (dict(max_iter=100001), "max_iter"),
                       (dict(n_inducing=-1), "n_inducing"), (dict(n_inducing=0), "n_inducing"),
-                      (dict(n_inducing=92), too_many)):
+                      (dict(n_inducing=92), too_many), (dict(lengthscale=-1), "lengthscale"),
+                      (dict(lengthscale=float("inf")), "lengthscale")):
         with pytest.raises(ValueError, match=name):
             motionmap.GPLVM(stride=4, **bad).fit(golf)
         with pytest.raises(motionmap.Error, match=name):

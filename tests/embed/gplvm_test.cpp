@@ -201,6 +201,42 @@ TEST(GplvmSparse, TheFitLowersTheBoundAndMovesTheInducingInputs) {
               1e-9 * std::abs(fit.objective));
 }
 
+// With ℓ held the sparse model has minima, and the fit reaches one and says so: CMU 64_08 every
+// 4th frame (91 frames), 20 inducing inputs, from MotionMap's start (PCA scores scaled to unit
+// variance, ℓ = 1). Before K_uf was whitened before squaring (A = L⁻¹K_uf), B lost its positive
+// definiteness to rounding where inducing inputs crowd, and held-ℓ fits stalled in their first
+// iterations (measured on the 1 989 warped walks: docs/methods/gplvm.md, *Sparse model*). It says
+// "converged" by the 5-iteration decrease test (measured: 4 280 iterations, gradient norm 0.24).
+TEST(GplvmSparse, WithTheLengthscaleHeldTheFitConverges) {
+  const test::Fixture clip = test::read_fixture(test::fixture_dir() + "/clip_cmu_64_08/X.txt");
+  const Eigen::MatrixXd Y = clip.matrix.rowwise() - clip.matrix.colwise().mean();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Y, Eigen::ComputeThinU);
+  Eigen::MatrixXd X0 = svd.matrixU().leftCols(2) * std::sqrt(double(Y.rows() - 1));
+  const Eigen::MatrixXd Z0 = gplvm_inducing_start(X0, 20);
+  GplvmKernel k = initial_gplvm_kernel(Y);
+  k.log_lengthscale = 0.0;
+  const GplvmFit fit = fit_gplvm(Y, X0, k, 20000, {}, &Z0, /*fit_lengthscale=*/false);
+  std::printf(
+      "[ figures ] sparse gplvm, ℓ held, 91 frames, M = 20: %s after %d iterations (%d "
+      "evaluations), bound %.6f, gradient norm %.2e\n",
+      fit.stopped, fit.iterations, fit.evaluations, fit.objective, fit.gradient_norm);
+  EXPECT_STREQ(fit.stopped, "converged");
+  EXPECT_GT(fit.iterations, 0);
+  EXPECT_LE(fit.iterations, 6000);
+  EXPECT_EQ(fit.kernel.log_lengthscale, 0.0);
+  // At a minimum: the gradient is small against the start's, and the point is the one kept.
+  Eigen::MatrixXd gX, gZ;
+  Eigen::VectorXd gk;
+  sparse_gplvm_objective(Y, X0, Z0, k, &gX, &gZ, &gk);
+  const double start_norm = std::sqrt(gX.squaredNorm() + gZ.squaredNorm() + gk.squaredNorm());
+  EXPECT_LE(fit.gradient_norm, 1e-4 * start_norm);
+  const double value = sparse_gplvm_objective(Y, fit.X, fit.Z, fit.kernel, &gX, &gZ, &gk);
+  EXPECT_EQ(value, fit.objective);
+  gk[1] = 0.0;  // ℓ is held
+  EXPECT_NEAR(std::sqrt(gX.squaredNorm() + gZ.squaredNorm() + gk.squaredNorm()), fit.gradient_norm,
+              1e-12 * start_norm);
+}
+
 TEST(GplvmSparse, InducingStartIsASeededSubsetOfTheLatentPoints) {
   Eigen::MatrixXd X(50, 2);
   for (int i = 0; i < 50; ++i) X.row(i) << i, -i;
@@ -449,8 +485,9 @@ TEST(GplvmPlace, TheMapsOwnFramesLandNearTheirLatentPoints) {
 // every 6th frame (CMU 64_08, a golf swing, every 4th frame: 30 frames a second), the kept frame
 // whose latent point is nearest where a held-out frame lands is within 10 frames (1/3 s) of it for
 // every held-out frame (by chance: about 1 in 4 each), and for the full model within 2 frames
-// for 13 of the 15 (measured: 14 within 1). The sparse model's (30 inducing points) is looser: the
-// swing's still address pose, frames 0–20, gets one blurred region.
+// for 13 of the 15 (measured: 14 within 1). The swing's still address pose, frames 0–20, is one
+// blurred region: a frame held out of it may land by any frame of it (the sparse model's, 30
+// inducing points; since ℓ is held at 1, the full model's too: 15 → 0).
 TEST(GplvmPlace, AHeldOutFrameLandsNearItsNeighboursInTime) {
   const Eigen::MatrixXd all = clip_features();
   std::vector<int> kept, held;
@@ -473,7 +510,7 @@ TEST(GplvmPlace, AHeldOutFrameLandsNearItsNeighboursInTime) {
       (latent.rowwise() - placed.row(Eigen::Index(i))).rowwise().squaredNorm().minCoeff(&nearest);
       const int apart = std::abs(kept[std::size_t(nearest)] - held[i]);
       within_2 += apart <= 2;
-      within_10 += apart <= 10;
+      within_10 += apart <= 10 || (held[i] <= 20 && kept[std::size_t(nearest)] <= 20);
       report += " " + std::to_string(held[i]) + "→" + std::to_string(kept[std::size_t(nearest)]);
     }
     EXPECT_EQ(within_10, int(held.size())) << "inducing " << inducing << ":" << report;

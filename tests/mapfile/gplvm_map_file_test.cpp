@@ -49,6 +49,7 @@ TEST(GplvmMapFile, SavedMapsPlaceFramesAsTheMapInMemoryDoes) {
     options.embed.method = embed::Method::Gplvm;
     options.embed.max_iterations = 10;
     options.embed.inducing = inducing;
+    options.embed.lengthscale = inducing > 0 ? 0.0 : 1.0;  // fitted, and held (the default)
     options.features.stride = 3;
     const pipeline::ClipMap map = pipeline::map_clips(clips, options);
     const MapFile made = make_map_file(clips, map, options);
@@ -66,9 +67,11 @@ TEST(GplvmMapFile, SavedMapsPlaceFramesAsTheMapInMemoryDoes) {
     EXPECT_EQ(a.prior_variance, b.prior_variance);
     EXPECT_EQ(made.model.mean, read.model.mean);
     EXPECT_EQ(made.model.features, read.model.features);
-    // The fit's options come back too (read_map's GPLVM(max_iter=, n_inducing=) in Python).
+    // The fit's options come back too (read_map's GPLVM(max_iter=, n_inducing=, lengthscale=) in
+    // Python).
     EXPECT_EQ(read.options.embed.max_iterations, 10);
     EXPECT_EQ(read.options.embed.inducing, inducing);
+    EXPECT_EQ(read.options.embed.lengthscale, options.embed.lengthscale);
     // Another clip, every 20th frame: the same places from the file as from memory.
     PlaceOptions some;
     some.stride = 20;

@@ -487,6 +487,11 @@ void EmbedOptions::validate(int num_frames) const {
                          std::to_string(kGplvmSparseAbove) + " frames, " +
                          std::to_string(kGplvmDefaultInducing) + " inducing points above)");
   }
+  if (method == Method::Gplvm && !(lengthscale >= 0.0 && std::isfinite(lengthscale))) {
+    throw ParameterError(who + "lengthscale = " + format_number(lengthscale) +
+                         " is out of range; it must be a finite ℓ > 0 (held through the fit), or 0 "
+                         "to fit it");
+  }
   if (method == Method::Umap && seed < 0) {
     throw ParameterError(who + "seed = " + std::to_string(seed) +
                          " is out of range; it must be ≥ 0");

@@ -108,12 +108,16 @@ double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X
         std::to_string(sn2) + ")");
   }
   const auto L = llt.matrixL();
-  // Whitened by K_uu = L Lᵀ: Φ_w = L⁻¹ K_uf K_fu L⁻ᵀ, B = I + Φ_w / s (so that
-  // P = K_uu + K_uf K_fu / s = L B Lᵀ and log|Q + sI| = log|B| + N log s), Ψ_w = L⁻¹ K_uf Y,
-  // c = B⁻¹ Ψ_w (tr(Yᵀ K_fu P⁻¹ K_uf Y) = Ψ_w·c).
-  const Eigen::MatrixXd Phi = Kuf * Kuf.transpose();
-  const Eigen::MatrixXd LiPhi = L.solve(Phi);
-  const Eigen::MatrixXd Phi_w = L.solve(LiPhi.transpose());
+  // Whitened by K_uu = L Lᵀ: A = L⁻¹ K_uf (M × N), Φ_w = A Aᵀ = L⁻¹ K_uf K_fu L⁻ᵀ,
+  // B = I + Φ_w / s (so that P = K_uu + K_uf K_fu / s = L B Lᵀ and log|Q + sI| = log|B| + N log s),
+  // Ψ_w = A Y, c = B⁻¹ Ψ_w (tr(Yᵀ K_fu P⁻¹ K_uf Y) = Ψ_w·c). A is solved for before it is squared:
+  // L⁻¹ (K_uf K_fu) L⁻ᵀ, two solves of an M × M matrix, is not symmetric positive semi-definite to
+  // rounding when K_uu is ill-conditioned (inducing inputs closer than ℓ/100 give cond(K_uu) ≈
+  // 10⁹), and B then failed to factorise at steps the objective is defined at.
+  const Eigen::MatrixXd A = L.solve(Kuf);
+  Eigen::MatrixXd Phi_w = Eigen::MatrixXd::Zero(M, M);
+  Phi_w.selfadjointView<Eigen::Lower>().rankUpdate(A);
+  Phi_w.triangularView<Eigen::StrictlyUpper>() = Phi_w.transpose();
   Eigen::MatrixXd B = Phi_w / s;
   B.diagonal().array() += 1.0;
   const Eigen::LLT<Eigen::MatrixXd> lltB(B);
@@ -122,12 +126,12 @@ double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X
         "gplvm: the sparse model's matrix I + K_uu⁻¹K_uf K_fu/s is not positive "
         "definite");
   }
-  const Eigen::MatrixXd Psi_w = L.solve(Kuf * Y);
+  const Eigen::MatrixXd Psi_w = A * Y;
   const Eigen::MatrixXd c = lltB.solve(Psi_w);
   const double quad = Psi_w.cwiseProduct(c).sum();
   const double log_det_B = 2.0 * lltB.matrixLLT().diagonal().array().log().sum();
   const double yy = Y.squaredNorm();
-  const double t = double(N) * (sf2 + sb2), trQ = Phi_w.trace();
+  const double t = double(N) * (sf2 + sb2), trQ = A.squaredNorm();
   const double two_pi = std::log(2.0 * std::numbers::pi);
   const double dD = double(D), dN = double(N);
   const double value = 0.5 * dD * (log_det_B + dN * std::log(s)) + 0.5 * (yy / s - quad / (s * s)) +
@@ -149,10 +153,9 @@ double sparse_gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X
   };
   Eigen::MatrixXd G_uu = unwhiten(core_uu);
   G_uu = 0.5 * (G_uu + G_uu.transpose()).eval();
-  Eigen::MatrixXd G_Phi = unwhiten(core_Phi);
-  G_Phi = 0.5 * (G_Phi + G_Phi.transpose()).eval();
-  const Eigen::MatrixXd PPsi = L.transpose().solve(c);  // P⁻¹ K_uf Y
-  const Eigen::MatrixXd G_uf = (-1.0 / (s * s)) * (PPsi * Y.transpose()) + 2.0 * G_Phi * Kuf;
+  // dL/dK_uf = −P⁻¹K_uf Y Yᵀ/s² + 2 (dL/dΦ) K_uf = L⁻ᵀ (−c Yᵀ/s² + 2 core_Φ A).
+  const Eigen::MatrixXd G_uf = L.transpose().solve(
+      Eigen::MatrixXd((-1.0 / (s * s)) * (c * Y.transpose()) + 2.0 * core_Phi * A));
   const double dL_ds = 0.5 * dD * dN / s - 0.5 * yy / (s * s) + quad / (s * s * s) -
                        0.5 * dD / (s * s) * (t - trQ) - core_P.cwiseProduct(Phi_w).sum() / (s * s);
   const double dL_dt = 0.5 * dD / s;
@@ -281,7 +284,7 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
   GplvmKernel k = kernel;
   Eigen::VectorXd gk;
   // The best point evaluated: what is kept when the line search gives up.
-  double best = std::numeric_limits<double>::infinity();
+  double best = std::numeric_limits<double>::infinity(), best_gradient_norm = 0.0;
   int evaluations = 0;
   bool last_failed = false;  // the last evaluation was of a kernel that cannot be factorised
   auto objective = [&](const Eigen::VectorXd& v, Eigen::VectorXd& grad) {
@@ -315,6 +318,7 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
     for (int j = 0; j < 4; ++j) {
       if (j != 1 || fit_lengthscale) grad[at++] = gk[j];  // pack()'s order
     }
+    if (value == best) best_gradient_norm = grad.norm();
     return value;
   };
   LBFGSpp::LBFGSParam<double> param;
@@ -365,6 +369,7 @@ GplvmFit fit_gplvm(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X0, const Gp
     throw NumericalError("gplvm: the kernel matrix is not positive definite at the start");
   }
   fit.objective = best;
+  fit.gradient_norm = best_gradient_norm;
   control.update(1.0);
   return fit;
 }
@@ -492,8 +497,12 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
   progress.stage("optimise", 0.05, 1.0);
   // The sparse model: inducing inputs from a seeded subset of the start's latent points.
   const Eigen::MatrixXd Z0 = M > 0 ? gplvm_inducing_start(X0, M) : Eigen::MatrixXd();
-  const GplvmFit fit = fit_gplvm(Y, X0, initial_gplvm_kernel(Y), options.max_iterations,
-                                 progress.control(), M > 0 ? &Z0 : nullptr);
+  // ℓ held at options.lengthscale, or fitted (0).
+  GplvmKernel kernel = initial_gplvm_kernel(Y);
+  const bool fit_lengthscale = !(options.lengthscale > 0.0);
+  if (!fit_lengthscale) kernel.log_lengthscale = std::log(options.lengthscale);
+  const GplvmFit fit = fit_gplvm(Y, X0, kernel, options.max_iterations, progress.control(),
+                                 M > 0 ? &Z0 : nullptr, fit_lengthscale);
   out.coordinates = fit.X;
   out.gplvm_kernel = {fit.kernel.log_rbf_variance, fit.kernel.log_lengthscale,
                       fit.kernel.log_bias_variance, fit.kernel.log_noise_variance};
@@ -503,11 +512,12 @@ void run_gplvm(const Eigen::MatrixXd& X, const EmbedOptions& options, Embedding&
       "gplvm" +
       (M > 0 ? " (sparse, " + std::to_string(M) + " inducing points)" : std::string(" (full)")) +
       ": " + (fit.iterations >= 0 ? std::to_string(fit.iterations) + " iterations, " : "") +
-      std::to_string(fit.evaluations) + " evaluations (" + fit.stopped + "), " +
+      std::to_string(fit.evaluations) + " evaluations (" + fit.stopped + ", gradient norm " +
+      format_number(fit.gradient_norm, 2) + "), " +
       (M > 0 ? "bound on −log likelihood " : "−log likelihood ") + std::to_string(fit.objective) +
       ", σ_f² " + std::to_string(std::exp(fit.kernel.log_rbf_variance)) + ", ℓ " +
-      std::to_string(std::exp(fit.kernel.log_lengthscale)) + ", σ_n² " +
-      std::to_string(std::exp(fit.kernel.log_noise_variance)));
+      std::to_string(std::exp(fit.kernel.log_lengthscale)) + (fit_lengthscale ? "" : " (held)") +
+      ", σ_n² " + std::to_string(std::exp(fit.kernel.log_noise_variance)));
 }
 
 }  // namespace motionmap::embed

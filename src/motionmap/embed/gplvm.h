@@ -90,9 +90,13 @@ struct GplvmFit {
   /// L-BFGS iterations; −1 when the line search stopped it (LBFGS++ does not say how many).
   int iterations = 0;
   int evaluations = 0;  ///< of the objective and its gradient
-  /// Why the optimiser stopped: "converged" (gradient below tolerance), "iteration limit", or
-  /// "line search" (no further decrease found along the last direction: at the optimum to
-  /// within rounding, or stuck; the best point so far is kept).
+  /// The Euclidean norm of the objective's gradient at the point kept (over the coordinates
+  /// fitted: with the lengthscale held, without its entry).
+  double gradient_norm = 0.0;
+  /// Why the optimiser stopped: "converged" (gradient norm below max(10⁻⁵, 10⁻⁷ × the
+  /// coordinates' norm), or the objective fallen by less than 10⁻¹⁰ of itself in 5 iterations),
+  /// "iteration limit", or "line search" (no further decrease found along the last direction: at
+  /// the optimum to within rounding, or stuck; the best point so far is kept).
   const char* stopped = "";
 };
 

@@ -217,6 +217,7 @@ void write_map_file(const std::string& path, const MapFile& f) {
   if (eo.method == embed::Method::Gplvm) {  // likewise only gplvm maps
     w.attribute(p, "max_iterations", eo.max_iterations);
     w.attribute(p, "inducing", eo.inducing);
+    w.attribute(p, "lengthscale", eo.lengthscale);
   }
   w.attribute(p, "standardize", eo.standardize);
   w.attribute(p, "strict", eo.strict);

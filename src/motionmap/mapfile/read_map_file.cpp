@@ -505,6 +505,12 @@ void read_parameters(const Input& in, MapFile& f) {
     eo.max_iterations = in.integer32(p, "max_iterations", 1, "gplvm's L-BFGS iteration limit");
     eo.inducing = in.integer32(p, "inducing", 0, "gplvm's inducing points (0: the default)");
   }
+  // …and those written before the lengthscale was held were fitted with it free.
+  if (eo.method == Method::Gplvm) {
+    eo.lengthscale = in.has_attribute(p, "lengthscale")
+                         ? in.real(p, "lengthscale", "gplvm's lengthscale held (0: fitted)")
+                         : 0.0;
+  }
   eo.standardize = in.flag(p, "standardize", "standardised PCA");
   eo.strict = in.flag(p, "strict", "strict neighbour graphs");
   eo.landmarks = in.integer32(p, "landmarks", 0, "landmarks asked for (0: the default)");

@@ -86,11 +86,11 @@ void add_map_options(CLI::App* sub, MapCliOptions& opt, MapOptionsFor use) {
                   "gplvm: inducing points of the sparse model, 1 to the number of frames "
                   "(default 0: the full model up to 1000 frames, 100 inducing points above)");
   sub->add_option("--lengthscale", opt.lengthscale,
-                  "gplvm: the kernel's lengthscale, in units of the latent points' prior N(0, I), "
-                  "held through the fit so that it can converge (default " +
-                      format_number(opt.lengthscale) +
-                      "); 0 fits it with the latent points, which has no optimum: the fit then "
-                      "ends at --max-iter (docs/methods/gplvm.md)");
+                  "gplvm: hold the kernel's lengthscale at this value, in units of the latent "
+                  "points' prior N(0, I), so that the fit can converge (try 1 with --max-iter "
+                  "20000); 0 (default) fits it with the latent points, which has no optimum: the "
+                  "fit ends at --max-iter, its short lengthscale keeping the GP's sure region "
+                  "close to the data (docs/methods/gplvm.md)");
   sub->add_option("--seed", opt.seed,
                   "umap: seed of the layout's random numbers; one seed, one map, whatever the "
                   "thread count (default 0)");

@@ -394,14 +394,16 @@ class GPLVM(_MapEstimator):
 
     max_iter: L-BFGS iterations at most, in [1, 100000]; n_inducing: inducing points of the
     sparse model (DTC), 1 to #frames, or None = the full model up to 1 000 frames and 100
-    inducing points above; lengthscale: the kernel's lengthscale, held through the fit (in units
-    of the latent points' prior N(0, I)), or 0 to fit it (the objective then has no optimum). transform places each new frame at the latent point that best explains
+    inducing points above; lengthscale: > 0 holds the kernel's lengthscale at that value through
+    the fit (in units of the latent points' prior N(0, I)) so that it can converge; 0 (default)
+    fits it (the objective then has no optimum). transform places each new frame at the latent
+    point that best explains
     it under the fitted GP, searched from the latent points of its nearest fitted frames.
     eigenvalues_: those of the PCA map the fit starts from.
     """ + _FEATURE_DOC
     _method = "gplvm"
 
-    def __init__(self, n_components=2, *, max_iter=300, n_inducing=None, lengthscale=1.0,
+    def __init__(self, n_components=2, *, max_iter=300, n_inducing=None, lengthscale=0.0,
                  features="quat", distance="pointcloud", exclude=None, up="y", joints="all",
                  frames=None, stride=1, keep_first=False, path="auto"):
         _keep_arguments(self, locals())

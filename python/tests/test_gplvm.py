@@ -158,18 +158,19 @@ def test_matrix_fit_transform_and_pickle(golf, n_inducing):
 
 
 def test_lengthscale_is_the_clis(golf, cli, tmp_path):
-    # Held at 1 by default ("ℓ 1.000000 (held)" in the note); 0 fits it, as --lengthscale 0.
-    held = motionmap.GPLVM(max_iter=ITER, stride=4)
-    assert held.get_params()["lengthscale"] == 1.0
-    held.fit(golf)
-    held.write_csv(tmp_path / "held.csv")
-    assert "ℓ 1.000000 (held)" in open(tmp_path / "held.csv").read()
-    theirs = cli_map(cli, golf, tmp_path / "cli.csv", "--lengthscale", "0")
-    free = motionmap.GPLVM(max_iter=ITER, lengthscale=0, stride=4)
-    np.testing.assert_array_equal(free.fit_transform(golf), theirs)
-    free.write_csv(tmp_path / "py.csv")
+    # Fitted by default (0); a value holds it ("ℓ 1.000000 (held)" in the note), as
+    # --lengthscale 1.
+    free = motionmap.GPLVM(max_iter=ITER, stride=4)
+    assert free.get_params()["lengthscale"] == 0.0
+    free.fit(golf)
+    free.write_csv(tmp_path / "free.csv")
+    assert "(held)" not in open(tmp_path / "free.csv").read()
+    theirs = cli_map(cli, golf, tmp_path / "cli.csv", "--lengthscale", "1")
+    held = motionmap.GPLVM(max_iter=ITER, lengthscale=1, stride=4)
+    np.testing.assert_array_equal(held.fit_transform(golf), theirs)
+    held.write_csv(tmp_path / "py.csv")
     text = open(tmp_path / "py.csv").read()
-    assert text == open(tmp_path / "cli.csv").read() and "(held)" not in text
+    assert text == open(tmp_path / "cli.csv").read() and "ℓ 1.000000 (held)" in text
     assert not np.array_equal(free.embedding_, held.embedding_)
 
 

@@ -487,7 +487,7 @@ TEST(GplvmPlace, TheMapsOwnFramesLandNearTheirLatentPoints) {
 // every held-out frame (by chance: about 1 in 4 each), and for the full model within 2 frames
 // for 13 of the 15 (measured: 14 within 1). The swing's still address pose, frames 0–20, is one
 // blurred region: a frame held out of it may land by any frame of it (the sparse model's, 30
-// inducing points; since ℓ is held at 1, the full model's too: 15 → 0).
+// inducing points; with ℓ held at 1, the full model's too: 15 → 0).
 TEST(GplvmPlace, AHeldOutFrameLandsNearItsNeighboursInTime) {
   const Eigen::MatrixXd all = clip_features();
   std::vector<int> kept, held;

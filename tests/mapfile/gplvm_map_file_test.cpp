@@ -49,7 +49,7 @@ TEST(GplvmMapFile, SavedMapsPlaceFramesAsTheMapInMemoryDoes) {
     options.embed.method = embed::Method::Gplvm;
     options.embed.max_iterations = 10;
     options.embed.inducing = inducing;
-    options.embed.lengthscale = inducing > 0 ? 0.0 : 1.0;  // fitted, and held (the default)
+    options.embed.lengthscale = inducing > 0 ? 0.0 : 1.0;  // fitted (the default), and held
     options.features.stride = 3;
     const pipeline::ClipMap map = pipeline::map_clips(clips, options);
     const MapFile made = make_map_file(clips, map, options);

@@ -65,10 +65,11 @@ struct EmbedOptions {
   /// kGplvmSparseAbove (1 000) frames and kGplvmDefaultInducing (100) above, capped at #frames.
   /// Given (1 ≤ inducing ≤ #frames), the sparse model with that many at any size.
   int inducing = 0;
-  /// gplvm: the RBF kernel's lengthscale ℓ, in latent units (the latent points' prior is
-  /// N(0, I)), held through the fit; 0 fits it with the latent points, a fit without an optimum
-  /// (docs/methods/gplvm.md). Finite, ≥ 0.
-  double lengthscale = 1.0;
+  /// gplvm: > 0 holds the RBF kernel's lengthscale ℓ at this value through the fit, in latent
+  /// units (the latent points' prior is N(0, I)), so that it converges; 0 (the default) fits it
+  /// with the latent points, a fit without an optimum whose short ℓ keeps the GP's variance — the
+  /// map's validity rule — close to the data (docs/methods/gplvm.md). Finite, ≥ 0.
+  double lengthscale = 0.0;
   /// Points path, mds and isomap: number of landmarks (0 = min(#frames, kDefaultLandmarks)).
   int landmarks = 0;
   /// Points path, graph methods: how the k nearest neighbours are found (points.h).

@@ -38,6 +38,36 @@ Eigen::MatrixXd cross_squared_distances(const Eigen::MatrixXd& A, const Eigen::M
   return R2.cwiseMax(0.0);
 }
 
+// The kernel without noise, σ_f² exp(−|a − b|²/(2ℓ²)) + σ_b², between the rows of A and B.
+Eigen::MatrixXd rbf_bias(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, double sf2, double l2,
+                         double sb2) {
+  return (sf2 * (-0.5 / l2 * cross_squared_distances(A, B)).array().exp() + sb2).matrix();
+}
+
+// The sparse model's factors at inducing inputs Z and latent points X: K_uu + εI = L Lᵀ,
+// A = L⁻¹K_uf and B = I + AAᵀ/s, which the predictive and the frames' weights are solved with.
+struct SparseFactors {
+  Eigen::LLT<Eigen::MatrixXd> Kuu;
+  Eigen::MatrixXd A;
+  Eigen::LLT<Eigen::MatrixXd> B;
+};
+
+// @throws NumericalError `not_pd` when K_uu or B is not positive definite.
+SparseFactors sparse_factors(const Eigen::MatrixXd& Z, const Eigen::MatrixXd& X, double sf2,
+                             double l2, double sb2, double eps, double s, const char* not_pd) {
+  SparseFactors f;
+  Eigen::MatrixXd Kuu = rbf_bias(Z, Z, sf2, l2, sb2);
+  Kuu.diagonal().array() += eps;
+  f.Kuu.compute(Kuu);
+  if (f.Kuu.info() != Eigen::Success) throw NumericalError(not_pd);
+  f.A = f.Kuu.matrixL().solve(rbf_bias(Z, X, sf2, l2, sb2));
+  Eigen::MatrixXd B = f.A * f.A.transpose() / s;
+  B.diagonal().array() += 1.0;
+  f.B.compute(B);
+  if (f.B.info() != Eigen::Success) throw NumericalError(not_pd);
+  return f;
+}
+
 }  // namespace
 
 double gplvm_objective(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& X,
@@ -384,14 +414,10 @@ GplvmPredictive gplvm_predictive(const Eigen::MatrixXd& Y, const Eigen::MatrixXd
   p.lengthscale = std::sqrt(l2);
   p.bias_variance = sb2;
   p.prior_variance = sf2 + sb2 + s;
-  auto kern = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-    return Eigen::MatrixXd(
-        (sf2 * (-0.5 / l2 * cross_squared_distances(A, B)).array().exp() + sb2).matrix());
-  };
   const char* not_pd = "gplvm: the fitted model's kernel matrix is not positive definite";
   if (Z.rows() == 0) {
     p.basis = X;
-    Eigen::MatrixXd K = kern(X, X);
+    Eigen::MatrixXd K = rbf_bias(X, X, sf2, l2, sb2);
     K.diagonal().array() += s;
     const Eigen::LLT<Eigen::MatrixXd> llt(K);
     if (llt.info() != Eigen::Success) throw NumericalError(not_pd);
@@ -401,22 +427,13 @@ GplvmPredictive gplvm_predictive(const Eigen::MatrixXd& Y, const Eigen::MatrixXd
   }
   p.basis = Z;
   const Eigen::Index M = Z.rows();
-  Eigen::MatrixXd Kuu = kern(Z, Z);
-  Kuu.diagonal().array() += eps;
-  const Eigen::MatrixXd Kuf = kern(Z, X);
-  const Eigen::LLT<Eigen::MatrixXd> llt(Kuu);
-  if (llt.info() != Eigen::Success) throw NumericalError(not_pd);
-  const auto L = llt.matrixL();
-  const Eigen::MatrixXd LiKuf = L.solve(Kuf);
-  Eigen::MatrixXd B = LiKuf * LiKuf.transpose() / s;
-  B.diagonal().array() += 1.0;
-  const Eigen::LLT<Eigen::MatrixXd> lltB(B);
-  if (lltB.info() != Eigen::Success) throw NumericalError(not_pd);
-  const Eigen::MatrixXd c = lltB.solve(LiKuf * Y);
+  const SparseFactors f = sparse_factors(Z, X, sf2, l2, sb2, eps, s, not_pd);
+  const auto L = f.Kuu.matrixL();
+  const Eigen::MatrixXd c = f.B.solve(f.A * Y);
   p.alpha = L.transpose().solve(c) / s;
   // K_uu⁻¹ − P⁻¹ = L⁻ᵀ (I − B⁻¹) L⁻¹.
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(M, M);
-  const Eigen::MatrixXd T = L.transpose().solve(I - lltB.solve(I));
+  const Eigen::MatrixXd T = L.transpose().solve(I - f.B.solve(I));
   p.C = L.transpose().solve(T.transpose()).transpose();
   p.C = 0.5 * (p.C + p.C.transpose()).eval();
   return p;
@@ -611,24 +628,11 @@ GplvmMap::GplvmMap(const GplvmPredictive& p, const Eigen::MatrixXd& latent,
   } else {
     // The sparse model, as gplvm_predictive(): K_uu = LLᵀ, B = I + L⁻¹K_uf K_fu L⁻ᵀ / s,
     // P = L B Lᵀ, so W = K_fu P⁻¹ / s = (L⁻¹K_uf)ᵀ B⁻¹ L⁻¹ / s.
-    const double eps = kJitter * s.sf2;
-    auto kern = [&](const Eigen::MatrixXd& A, const Eigen::MatrixXd& Bm) {
-      return Eigen::MatrixXd(
-          (s.sf2 * (-0.5 / s.l2 * cross_squared_distances(A, Bm)).array().exp() + s.sb2).matrix());
-    };
-    Eigen::MatrixXd Kuu = kern(p.basis, p.basis);
-    Kuu.diagonal().array() += eps;
-    const Eigen::LLT<Eigen::MatrixXd> llt(Kuu);
-    const char* not_pd = "gplvm map: the inducing inputs' kernel matrix is not positive definite";
-    if (llt.info() != Eigen::Success) throw NumericalError(not_pd);
-    const auto L = llt.matrixL();
-    const Eigen::MatrixXd LiKuf = L.solve(kern(p.basis, latent));
-    Eigen::MatrixXd Bm = LiKuf * LiKuf.transpose() / noise;
-    Bm.diagonal().array() += 1.0;
-    const Eigen::LLT<Eigen::MatrixXd> lltB(Bm);
-    if (lltB.info() != Eigen::Success) throw NumericalError(not_pd);
-    const Eigen::MatrixXd Li = L.solve(Eigen::MatrixXd::Identity(B, B));
-    s.W = LiKuf.transpose() * lltB.solve(Li) / noise;
+    const SparseFactors f =
+        sparse_factors(p.basis, latent, s.sf2, s.l2, s.sb2, kJitter * s.sf2, noise,
+                       "gplvm map: the inducing inputs' kernel matrix is not positive definite");
+    const Eigen::MatrixXd Li = f.Kuu.matrixL().solve(Eigen::MatrixXd::Identity(B, B));
+    s.W = f.A.transpose() * f.B.solve(Li) / noise;
   }
   if (Y != nullptr) {
     // W ᵀ Y is the predictive's alpha when the predictive was fitted to these frames.

@@ -450,6 +450,14 @@ TEST(SynthCleanFeet, PlantedFeetLeadTheRoot) {
   EXPECT_EQ(detail::planted_weight(detail::kFollowShare), 0.0);
   EXPECT_EQ(detail::planted_weight(1.0), 1.0);
   EXPECT_NEAR(detail::planted_weight(0.5 * (1.0 + detail::kFollowShare)), 0.5, 1e-12);
+  // One contact share per frame, or an error that says how many of each.
+  const Clip clip = skating_walk(30.0);
+  const Feet feet = find_feet(clip.skeleton);
+  const std::vector<std::array<double, 2>> shares(3, {1.0, 0.0});
+  EXPECT_EQ(
+      motionmap::test::error_message<ParameterError>(
+          [&] { detail::feet_frames(clip.skeleton, clip.motion, 0, feet, shares); }),
+      "feet_frames: 3 contact shares for " + std::to_string(clip.motion.num_frames) + " frames");
 }
 
 // ---- Real walks ----------------------------------------------------------------------------

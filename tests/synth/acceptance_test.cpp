@@ -2,6 +2,7 @@
 // map trajectory back as a path at its own timing, and compare the synthesized motion with the
 // original: joint rotations (RMS, degrees) and root path (largest error, % of the distance
 // travelled). The figures are printed for docs/synthesis.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -57,8 +58,10 @@ Figures compare(const Motion& orig, int first, const Motion& synth, int root) {
   return out;
 }
 
-// Bounds: rotation RMS (degrees) and root path error (% of the distance travelled).
-void run_acceptance(const std::string& relative, int stride, double max_rms, double max_root) {
+// Bounds: rotation RMS (degrees) and root path error (% of the distance travelled); the local
+// mode's own, where tighter.
+void run_acceptance(const std::string& relative, int stride, double max_rms, double max_root,
+                    double local_rms = INFINITY, double local_root = INFINITY) {
   const Clip clip = io::load_bvh(test::shared_file(relative));
   features::FeatureOptions fo;
   fo.stride = stride;
@@ -95,9 +98,10 @@ void run_acceptance(const std::string& relative, int stride, double max_rms, dou
           relative.c_str(), stride, std::string(embed::method_name(method)).c_str(),
           std::string(blend_mode_name(mode)).c_str(), fig.rms_degrees, fig.root_percent,
           fig.travelled);
-      EXPECT_LT(fig.rms_degrees, max_rms)
+      const bool local = mode == BlendMode::Local;
+      EXPECT_LT(fig.rms_degrees, local ? std::min(max_rms, local_rms) : max_rms)
           << embed::method_name(method) << " " << blend_mode_name(mode);
-      EXPECT_LT(fig.root_percent, max_root)
+      EXPECT_LT(fig.root_percent, local ? std::min(max_root, local_root) : max_root)
           << embed::method_name(method) << " " << blend_mode_name(mode);
     }
   }
@@ -124,15 +128,17 @@ TEST(SynthAcceptance, BandaiWalkKeepsItsRootMotionBelowAStaticRoot) {
 // Maps of every other frame: the frames between samples are blends, close but not exact. The
 // swing visits each region of its map once. The walk's gait cycles overlap on the map, so a point
 // between two samples also draws on the same phase of other cycles (a few degrees different) and
-// the root path drifts with their speeds: only loose bounds.
+// the root path drifts with their speeds: only loose bounds, but for the local mode, which on the
+// trajectory blends the two samples around the point alone (golf 1.9°, 1.9 %; walk 0.16°, 0.21 %:
+// what interpolating between a frame's two neighbours costs).
 TEST(SynthAcceptance, GolfSwingBetweenSamplesOfAHalfRateMap) {
   MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
-  run_acceptance("cmu/64_08.bvh", 2, 5.0, 15.0);
+  run_acceptance("cmu/64_08.bvh", 2, 5.0, 15.0, 2.5, 3.0);
 }
 
 TEST(SynthAcceptance, WalkBetweenSamplesOfAHalfRateMap) {
   MOTIONMAP_REQUIRE_SHARED("other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh");
-  run_acceptance("other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh", 2, 15.0, 100.0);
+  run_acceptance("other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh", 2, 15.0, 100.0, 0.5, 1.0);
 }
 
 TEST(SynthAcceptance, SynthesizedMotionExportsAsBvh) {

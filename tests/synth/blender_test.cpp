@@ -1,5 +1,6 @@
 #include "motionmap/synth/blender.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -313,6 +314,92 @@ TEST(SynthBlender, ClampingSearchesNearbySegmentsAndFindsWhatAScanOfAllFinds) {
     }
     EXPECT_GT(clamped, 1000);
   }
+}
+
+TEST(SynthBlender, TrajectorySearchFindsWhatAScanOfAllFinds) {
+  // Segments of many lengths and time gaps (three frame rates, a gap every 97 frames, jumps);
+  // every segment within the radius and the time limit, nearest first, as a scan finds them.
+  std::mt19937_64 random(5);
+  std::normal_distribution<double> normal;
+  features::FeatureSet samples;
+  std::vector<Eigen::Vector2d> points;
+  Eigen::Vector2d at(0.0, 0.0);
+  for (int clip = 0; clip < 3; ++clip) {
+    for (int f = 0; f < 300; ++f) {
+      samples.clip_of.push_back(clip);
+      samples.frame_of.push_back(f + 20 * (f / 97));  // every 97 frames a gap of 20 frames
+      at += f % 41 == 0 ? Eigen::Vector2d(2.0 * normal(random), 2.0 * normal(random))
+                        : Eigen::Vector2d(0.05 * normal(random), 0.05 * normal(random));
+      points.push_back(at);
+    }
+  }
+  const std::vector<double> frame_times{1.0 / 120, 1.0 / 60, 1.0 / 30};
+  const detail::MapIndex index(frame_times, samples, points, 3.0);
+  const double max_seconds = 0.25;
+  std::vector<detail::MapIndex::TrajectoryHit> hits;
+  for (int i = 0; i < 2000; ++i) {
+    const double radius = i % 2 == 0 ? 0.05 : 0.5;
+    const Eigen::Vector2d p = points[std::size_t(i * 7) % points.size()] +
+                              Eigen::Vector2d(0.2 * normal(random), 0.2 * normal(random));
+    std::vector<detail::MapIndex::TrajectoryHit> expected;
+    for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+      const int a = static_cast<int>(k);
+      if (samples.clip_of[k] != samples.clip_of[k + 1]) continue;
+      const double seconds = (samples.frame_of[k + 1] - samples.frame_of[k]) *
+                             frame_times[static_cast<std::size_t>(samples.clip_of[k])];
+      if (seconds > max_seconds) continue;
+      const Eigen::Vector2d d = points[k + 1] - points[k];
+      const double t = std::clamp((p - points[k]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      const double dist = (p - (points[k] + t * d)).norm();
+      if (dist < radius) expected.push_back({a, a + 1, t, dist});
+    }
+    std::sort(expected.begin(), expected.end(), [](const auto& x, const auto& y) {
+      return x.distance != y.distance ? x.distance < y.distance : x.first < y.first;
+    });
+    index.trajectory_near(p, radius, max_seconds, hits);
+    ASSERT_EQ(hits.size(), expected.size()) << i;
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+      EXPECT_EQ(hits[k].first, expected[k].first) << i;
+      EXPECT_EQ(hits[k].second, expected[k].second) << i;
+      EXPECT_EQ(hits[k].t, expected[k].t) << i;
+      EXPECT_EQ(hits[k].distance, expected[k].distance) << i;
+    }
+  }
+}
+
+TEST(SynthBlender, LocalModeInterpolatesAlongTheTrajectory) {
+  // On the segment between consecutive samples f and f + 1 the local mode blends just those two,
+  // (1 − t, t); the idw mode does not. Off it the segment's share falls smoothly, to 0 at one
+  // median step, and the local kriging takes the rest.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender local = make_blender(clip, map, BlendMode::Local);
+  for (int f = 3; f + 1 < clip.motion.num_frames; f += 11) {
+    for (const double t : {0.1, 0.5, 0.8}) {
+      SCOPED_TRACE("frame " + std::to_string(f) + ", t " + std::to_string(t));
+      const Eigen::Vector2d p = (1.0 - t) * map.row(f).transpose() + t * map.row(f + 1).transpose();
+      const MapWeights w = local.locate(p);
+      ASSERT_EQ(w.samples, (std::vector<int>{f, f + 1}));
+      EXPECT_NEAR(w.weights[0], 1.0 - t, 1e-12);
+      EXPECT_NEAR(w.weights[1], t, 1e-12);
+      EXPECT_GT(make_blender(clip, map, BlendMode::Idw).locate(p).samples.size(), 2u);
+    }
+  }
+  // Across the trajectory at frame 40's segment: the weight of other samples grows from 0 on it.
+  const Eigen::Vector2d a = map.row(40).transpose(), b = map.row(41).transpose();
+  const Eigen::Vector2d mid = 0.5 * (a + b);
+  const Eigen::Vector2d normal = Eigen::Vector2d(-(b - a).y(), (b - a).x()).normalized();
+  const double step = (b - a).norm();  // ≈ the median step on this evenly sampled curve
+  auto others = [&](double d) {
+    const MapWeights w = local.locate(mid + d * normal);
+    double sum = 0.0;
+    for (std::size_t k = 0; k < w.samples.size(); ++k)
+      if (w.samples[k] != 40 && w.samples[k] != 41) sum += std::abs(w.weights[k]);
+    return sum;
+  };
+  EXPECT_EQ(others(0.0), 0.0);
+  EXPECT_GT(others(0.3 * step), 0.0);
+  EXPECT_LT(others(0.01 * step), others(0.3 * step));
 }
 
 TEST(SynthBlender, ClampsOntoTheTrajectoryContinuously) {

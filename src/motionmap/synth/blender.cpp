@@ -305,6 +305,9 @@ struct MapBlender::Impl {
   MapWeights gp_weights(const PointValidity& v) const;
   // Point weights (point index, weight) at v.point; sets v.variance. Not for kriging.
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
+  // The local mode's weights near the trajectory (blender.h): `out`, the local kriging's point
+  // weights at p, becomes their blend with the interpolation of the nearby segments' samples.
+  void trajectory_weights(const Eigen::Vector2d& p, std::vector<std::pair<int, double>>& out) const;
   // Kriging weights of the points out[c].validity.point, into out.
   void kriging_block(std::span<MapWeights> out) const;
   // With a source: the state of `samples` (as sample_state() gives it, one after another),
@@ -547,6 +550,35 @@ void MapBlender::Impl::point_weights(PointValidity& v,
     const double var =
         local->predict(*index, static_cast<int>(idx[i]), v.point, phi[i], out, rhs, sol);
     v.variance += phi[i] * var;
+  }
+  trajectory_weights(v.point, out);
+}
+
+void MapBlender::Impl::trajectory_weights(const Eigen::Vector2d& p,
+                                          std::vector<std::pair<int, double>>& out) const {
+  const double width = kTrajectoryWidth * index->median_step();
+  if (!(width > 0.0)) return;
+  std::vector<detail::MapIndex::TrajectoryHit> hits;
+  index->trajectory_near(p, width, kTrajectoryMaxSeconds, hits);
+  if (hits.empty()) return;
+  const auto count = static_cast<int>(hits.size());
+  std::vector<double> d(hits.size()), phi(hits.size());
+  for (int i = 0; i < count; ++i) d[i] = hits[i].distance;
+  franke_little_weights(d.data(), count, width, phi.data());
+  // The trajectory's share: 1 on it, falling smoothly to 0 at `width` from its nearest segment.
+  const double u = d[0] / width;
+  const double share = 1.0 - u * u * (3.0 - 2.0 * u);
+  if (share >= 1.0) {
+    out.clear();
+  } else {
+    for (auto& [point, w] : out) w *= 1.0 - share;
+  }
+  for (int i = 0; i < count; ++i) {
+    const double w = share * phi[i];
+    if (w == 0.0) continue;
+    const auto& h = hits[i];
+    if (h.t < 1.0) out.emplace_back(index->point_of(h.first), w * (1.0 - h.t));
+    if (h.t > 0.0) out.emplace_back(index->point_of(h.second), w * h.t);
   }
 }
 

@@ -16,7 +16,14 @@
 //    own system on K mutually separated map neighbours (itself included), factored once; a
 //    query blends the predictions of the 4 map-nearest samples' systems with partition-of-unity
 //    weights (Franke–Little: ((R − d)/(R·d))², R = distance of the 5th nearest) that are 1 at a
-//    sample and fall to 0 before a sample leaves the 4 nearest.
+//    sample and fall to 0 before a sample leaves the 4 nearest. Near the trajectory it plays the
+//    clips themselves: every segment between consecutive samples of a clip (≤ kTrajectoryMaxSeconds
+//    apart) that passes within w = kTrajectoryWidth median steps of p interpolates its two
+//    samples at p's foot on it ((1 − t, t)); the segments are weighted by Franke–Little with
+//    R = w, and together take the share 1 − smoothstep(d/w) of the weight (d: the nearest
+//    segment's distance), the local kriging the rest. So a point on a segment blends just its
+//    two samples (a path along a clip's curve replays the clip, between samples too), and the
+//    weights stay continuous.
 //  - Idw: Franke–Little inverse-distance weights on the K nearest samples (R = distance of the
 //    (K+1)-th): non-negative, continuous, the robust fallback.
 //  - Gp (a GP-LVM map's default; needs BlendOptions::gplvm): the GP's predictive mean as
@@ -92,6 +99,13 @@ const std::vector<BlendMode>& all_blend_modes();
 inline constexpr int kMaxKrigingSamples = 10000;
 /// Number of nearest samples whose local systems the local mode blends per query.
 inline constexpr int kLocalPartitionSize = 4;
+
+/// Near the trajectory the local mode blends the trajectory's own samples: within this many median
+/// steps of a segment between consecutive samples of a clip (at most kTrajectoryMaxSeconds apart),
+/// see the top of the file.
+inline constexpr double kTrajectoryWidth = 1.0;
+/// The longest time between two consecutive samples whose segment the local mode interpolates.
+inline constexpr double kTrajectoryMaxSeconds = 0.25;
 
 /// The least reach radius, as a fraction of the map's size (the larger side of its samples'
 /// bounding box): see reach_radius().

@@ -219,7 +219,7 @@ std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Moti
     for (int f = 0; f < F; ++f) {
       // Found by the blended foot's own height and speed, or standing in the samples.
       const bool standing =
-          shares[static_cast<std::size_t>(f)][static_cast<std::size_t>(s)] >= 0.5 &&
+          shares[static_cast<std::size_t>(f)][static_cast<std::size_t>(s)] > 0.5 &&
           ankle[static_cast<std::size_t>(f)].dot(up) <= low;
       if (!fc.in_contact(f) && !standing) continue;
       if (!runs.empty() && f - runs.back().last - 1 <= gap) {

@@ -74,19 +74,23 @@ MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureS
     m_member_start.push_back(static_cast<int>(m_members.size()));
   }
   m_tree = std::make_unique<Tree>(m_points);
+  m_point_of = std::move(point_of);
 
   // Median step and speed over consecutive samples of a clip that do not share a map point.
   auto consecutive = [&](int i) {
     return samples.clip_of[i] == samples.clip_of[i + 1] &&
            samples.frame_of[i + 1] > samples.frame_of[i];
   };
+  auto seconds = [&](int i) {
+    return (samples.frame_of[i + 1] - samples.frame_of[i]) *
+           frame_times[static_cast<std::size_t>(samples.clip_of[i])];
+  };
   std::vector<double> steps, speeds;
   for (int i = 0; i + 1 < n; ++i) {
     if (!consecutive(i)) continue;
     const double step = (m_sample_points[i + 1] - m_sample_points[i]).norm();
     if (step <= tol || step == 0.0) continue;
-    const double dt = (samples.frame_of[i + 1] - samples.frame_of[i]) *
-                      frame_times[static_cast<std::size_t>(samples.clip_of[i])];
+    const double dt = seconds(i);
     steps.push_back(step);
     speeds.push_back(step / dt);
   }
@@ -94,10 +98,13 @@ MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureS
   for (int i = 0; i + 1 < n; ++i) {
     if (!consecutive(i)) continue;
     m_segments.emplace_back(i, i + 1);
+    m_segment_seconds.push_back(seconds(i));
     on_segment[i] = on_segment[i + 1] = 1;
   }
   for (int i = 0; i < n; ++i) {
-    if (!on_segment[i]) m_segments.emplace_back(i, i);
+    if (on_segment[i]) continue;
+    m_segments.emplace_back(i, i);
+    m_segment_seconds.push_back(0.0);
   }
   // clamp()'s search: the segments in tiers of length (each up to twice the last), a k-d tree
   // over each tier's midpoints.
@@ -186,6 +193,31 @@ Eigen::Vector2d MapIndex::clamp(const Eigen::Vector2d& p, double nearest_distanc
   const double s = std::sqrt(std::max(0.0, m_reach_distance * m_reach_distance - e * e));
   const double dist = std::sqrt(best);
   return dist > s ? Eigen::Vector2d(q + (p - q) * (s / dist)) : p;
+}
+
+void MapIndex::trajectory_near(const Eigen::Vector2d& p, double radius, double max_seconds,
+                               std::vector<TrajectoryHit>& out) const {
+  out.clear();
+  std::vector<std::pair<std::uint32_t, double>> found;
+  for (const SegmentTier& tier : m_tiers) {
+    const double r = (radius + tier.half_length) * (1.0 + 1e-9) + m_search_slack;
+    tier.midpoints->index.radiusSearch(p.data(), r * r, found,
+                                       nanoflann::SearchParams(32, 0.0f, false));
+    for (const auto& [i, d2] : found) {
+      const auto segment = static_cast<std::size_t>(tier.segments[i]);
+      const auto [a, b] = m_segments[segment];
+      if (a == b || m_segment_seconds[segment] > max_seconds) continue;
+      const Eigen::Vector2d& ca = m_sample_points[a];
+      const Eigen::Vector2d d = m_sample_points[b] - ca;
+      const double len2 = d.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((p - ca).dot(d) / len2, 0.0, 1.0) : 0.0;
+      const double dist = (p - (ca + t * d)).norm();
+      if (dist < radius) out.push_back({a, b, t, dist});
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const TrajectoryHit& x, const TrajectoryHit& y) {
+    return x.distance != y.distance ? x.distance < y.distance : x.first < y.first;
+  });
 }
 
 PointValidity MapIndex::validate(const Eigen::Vector2d& p) const {

@@ -69,6 +69,21 @@ class MapIndex {
   /// Dense weights over all points (num_points() values) → over all samples (num_samples()).
   void to_sample_weights(const double* point_weights, double* sample_weights) const;
 
+  /// The map point that sample `s` shares with its merged samples.
+  int point_of(int sample) const { return m_point_of[static_cast<std::size_t>(sample)]; }
+
+  /// A piece of the trajectory near a map point: the segment from sample `first` to the next
+  /// sample of its clip, `second`, the parameter t ∈ [0, 1] of its point nearest the map point
+  /// (first + t·(second − first)), and that point's distance to it.
+  struct TrajectoryHit {
+    int first = 0, second = 0;
+    double t = 0.0, distance = 0.0;
+  };
+  /// The segments between consecutive samples of a clip at most `max_seconds` apart in time that
+  /// pass within `radius` (exclusive) of p, nearest first (ties in the order of the samples).
+  void trajectory_near(const Eigen::Vector2d& p, double radius, double max_seconds,
+                       std::vector<TrajectoryHit>& out) const;
+
  private:
   // The point of the trajectory nearest p, moved back towards p (see validate());
   // `nearest_distance`: p's distance to its nearest map point.
@@ -80,9 +95,11 @@ class MapIndex {
   std::unique_ptr<Tree> m_tree;
   // Members of point j: m_members[m_member_start[j] … m_member_start[j+1]).
   std::vector<int> m_member_start, m_members;
+  std::vector<int> m_point_of;  // sample → map point
   // The trajectory: segments between consecutive samples of a clip, and isolated samples as
   // segments of length 0 (start, end sample).
   std::vector<std::pair<int, int>> m_segments;
+  std::vector<double> m_segment_seconds;  // per segment: the time between its samples (0: isolated)
   // clamp()'s search: the segments by length, each tier's midpoints in a k-d tree.
   struct SegmentTier {
     std::vector<int> segments;  // indices into m_segments, increasing

@@ -8,12 +8,13 @@
 Two real 30 fps walks of one performer (Bandai Namco's normal and proud walks) are mapped
 together (pca); `motionmap synth` then makes three motions: along the normal walk's own map
 trajectory at its own timing; the same on the map of every other frame (`--stride 2`: half the
-frames are blends of their neighbours); and along the path halfway between the two walks (point k
+frames lie between samples, where the path follows the walk's curve at its pace and the blend
+interpolates the walk's own two samples); and along the path halfway between the two walks (point k
 of it the midpoint of the two walks' points at the same fraction of their length, timed like the
 normal walk). Each is written raw (`--no-clean-feet`) and cleaned (the default), and `motionmap info
 --skating --json` measures every clip: the skating ratio (the fraction of frame transitions where
 a foot in contact moves faster than 0.5 m/s over the floor) and the ankles' mean horizontal speed
-in contact. The picture shows the every-other-frame motion's left ankle, raw and cleaned: the
+in contact. The picture shows the halfway motion's left ankle, raw and cleaned: the
 distance it has travelled on the floor over time (flat while it stands), and its horizontal speed
 with the frames where it is under 5 cm shaded. With `--smooth σ` the normal walk's own trajectory
 is also synthesized with its blend weights smoothed over time (`synth --smooth σ`), and the
@@ -109,7 +110,7 @@ def main():
             return 0
         fig, (top, speed) = plt.subplots(1, 2, figsize=(11, 4.2))
         lines = {}
-        shown = "own trajectory, map of every other frame"
+        shown = "halfway path"
         for label, style in ((shown + ", raw", dict(color="tab:red", lw=1.0, alpha=0.7)),
                              (shown + ", cleaned", dict(color="tab:blue", lw=1.6))):
             clip = motionmap.load(clips[label])
@@ -140,8 +141,8 @@ def main():
         speed.set_title("left ankle speed: planted feet stand still", fontsize=10)
         speed.legend(fontsize=8, loc="upper right")
         top.legend(fontsize=8, loc="upper left")
-        fig.suptitle("A captured walk's map trajectory synthesized on a map of every other "
-                     "frame, raw and with clean feet", fontsize=11)
+        fig.suptitle("A path halfway between two captured walks' map trajectories, synthesized "
+                     "raw and with clean feet", fontsize=11)
         fig.tight_layout()
         fig.savefig(args.png, dpi=110)
         print(f"\nwrote {args.png}")

@@ -367,39 +367,65 @@ TEST(SynthBlender, TrajectorySearchFindsWhatAScanOfAllFinds) {
   }
 }
 
-TEST(SynthBlender, LocalModeInterpolatesAlongTheTrajectory) {
-  // On the segment between consecutive samples f and f + 1 the local mode blends just those two,
-  // (1 − t, t); the idw mode does not. Off it the segment's share falls smoothly, to 0 at one
-  // median step, and the local kriging takes the rest.
+TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
+  // A path along the clip's map curve at 4× its frame rate: between samples f and f + 1 the
+  // local mode blends just those two, (1 − t, t), where the path keeps the clip's pace. Run at a
+  // quarter of the pace, backwards, or in the idw mode, it gets locate()'s weights.
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender local = make_blender(clip, map, BlendMode::Local);
-  for (int f = 3; f + 1 < clip.motion.num_frames; f += 11) {
-    for (const double t : {0.1, 0.5, 0.8}) {
-      SCOPED_TRACE("frame " + std::to_string(f) + ", t " + std::to_string(t));
-      const Eigen::Vector2d p = (1.0 - t) * map.row(f).transpose() + t * map.row(f + 1).transpose();
-      const MapWeights w = local.locate(p);
-      ASSERT_EQ(w.samples, (std::vector<int>{f, f + 1}));
-      EXPECT_NEAR(w.weights[0], 1.0 - t, 1e-12);
-      EXPECT_NEAR(w.weights[1], t, 1e-12);
-      EXPECT_GT(make_blender(clip, map, BlendMode::Idw).locate(p).samples.size(), 2u);
+  const double dt = clip.motion.frame_time / 4.0;
+  std::vector<Eigen::Vector2d> path;
+  for (int f = 0; f + 1 < clip.motion.num_frames; ++f) {
+    for (int q = 0; q < 4; ++q) {
+      const double t = q / 4.0;
+      path.push_back((1.0 - t) * map.row(f).transpose() + t * map.row(f + 1).transpose());
     }
   }
-  // Across the trajectory at frame 40's segment: the weight of other samples grows from 0 on it.
-  const Eigen::Vector2d a = map.row(40).transpose(), b = map.row(41).transpose();
-  const Eigen::Vector2d mid = 0.5 * (a + b);
-  const Eigen::Vector2d normal = Eigen::Vector2d(-(b - a).y(), (b - a).x()).normalized();
-  const double step = (b - a).norm();  // ≈ the median step on this evenly sampled curve
-  auto others = [&](double d) {
-    const MapWeights w = local.locate(mid + d * normal);
-    double sum = 0.0;
-    for (std::size_t k = 0; k < w.samples.size(); ++k)
-      if (w.samples[k] != 40 && w.samples[k] != 41) sum += std::abs(w.weights[k]);
-    return sum;
-  };
-  EXPECT_EQ(others(0.0), 0.0);
-  EXPECT_GT(others(0.3 * step), 0.0);
-  EXPECT_LT(others(0.01 * step), others(0.3 * step));
+  const std::vector<MapWeights> along = local.locate_path(path, dt, 0, path.size());
+  ASSERT_EQ(along.size(), path.size());
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const int f = static_cast<int>(k / 4), q = static_cast<int>(k % 4);
+    if (q == 0) {  // on a sample: the sample (the neighbours lie on two segments)
+      double own = 0.0, others = 0.0;
+      for (std::size_t e = 0; e < along[k].samples.size(); ++e)
+        (along[k].samples[e] == f ? own : others) += std::abs(along[k].weights[e]);
+      EXPECT_NEAR(own, 1.0, 1e-9) << k;
+      EXPECT_LT(others, 1e-9) << k;
+      continue;
+    }
+    ASSERT_EQ(along[k].samples, (std::vector<int>{f, f + 1})) << k;
+    EXPECT_NEAR(along[k].weights[0], 1.0 - q / 4.0, 1e-12) << k;
+    EXPECT_NEAR(along[k].weights[1], q / 4.0, 1e-12) << k;
+  }
+  // The same points at another pace or backwards: the kriging's weights, as locate() gives.
+  std::vector<Eigen::Vector2d> back(path.rbegin(), path.rend());
+  for (const auto& [points, time] : {std::pair{path, 4.0 * dt}, std::pair{back, dt}}) {
+    const std::vector<MapWeights> w = local.locate_path(points, time, 0, points.size());
+    const std::vector<MapWeights> plain = local.locate(points);
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      EXPECT_EQ(w[k].samples, plain[k].samples) << k;
+      EXPECT_EQ(w[k].weights, plain[k].weights) << k;
+    }
+  }
+  const MapBlender idw = make_blender(clip, map, BlendMode::Idw);
+  const std::vector<MapWeights> w = idw.locate_path(path, dt, 2, 3);
+  EXPECT_GT(w.front().samples.size(), 2u);
+  // A part of the path: the same weights as for the whole.
+  const std::vector<MapWeights> part = local.locate_path(path, dt, 41, 47);
+  for (std::size_t k = 0; k < part.size(); ++k) {
+    EXPECT_EQ(part[k].samples, along[41 + k].samples);
+    EXPECT_EQ(part[k].weights, along[41 + k].weights);
+  }
+  EXPECT_EQ(
+      motionmap::test::error_message<ParameterError>([&] { local.locate_path(path, dt, 5, 4); }),
+      "locate_path: frames [5, 4) of a path of " + std::to_string(path.size()));
+  EXPECT_THAT(motionmap::test::error_message<ParameterError>(
+                  [&] { local.locate_path(path, dt, 0, path.size() + 1); }),
+              HasSubstr("of a path of"));
+  EXPECT_EQ(
+      motionmap::test::error_message<ParameterError>([&] { local.locate_path(path, 0.0, 0, 1); }),
+      "locate_path: frame time 0 is not positive and finite");
 }
 
 TEST(SynthBlender, ClampsOntoTheTrajectoryContinuously) {

@@ -71,7 +71,7 @@ TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
 
 TEST(SynthSynthesize, GivenWeightsMakeTheMotionThePathsLocatedWeightsMake) {
   // synthesize(weights) is synthesize(path) without the locating: the path's own located weights
-  // give its motion bit for bit, smoothing and cleaning included.
+  // (locate_path) give its motion bit for bit, smoothing and cleaning included.
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender blender = make_blender(clip, map, BlendMode::Local);
@@ -80,7 +80,8 @@ TEST(SynthSynthesize, GivenWeightsMakeTheMotionThePathsLocatedWeightsMake) {
   SynthOptions options;
   options.smooth = 0.05;
   const SynthResult from_path = synthesize(blender, path, options);
-  const std::vector<MapWeights> weights = blender.locate(path.points);
+  const std::vector<MapWeights> weights =
+      blender.locate_path(path.points, clip.motion.frame_time, 0, path.points.size());
   const SynthResult from_weights = synthesize(blender, weights, options);
   ASSERT_EQ(from_weights.motion.num_frames, from_path.motion.num_frames);
   EXPECT_EQ(from_weights.motion.rotations, from_path.motion.rotations);

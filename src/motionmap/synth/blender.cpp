@@ -305,9 +305,9 @@ struct MapBlender::Impl {
   MapWeights gp_weights(const PointValidity& v) const;
   // Point weights (point index, weight) at v.point; sets v.variance. Not for kriging.
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
-  // The local mode's weights near the trajectory (blender.h): `out`, the local kriging's point
-  // weights at p, becomes their blend with the interpolation of the nearby segments' samples.
-  void trajectory_weights(const Eigen::Vector2d& p, std::vector<std::pair<int, double>>& out) const;
+  // locate_path()'s share of the trajectory (blender.h): `w`, located at a path point moving at
+  // `velocity` (map units per second), becomes its blend with the nearby segments' samples.
+  void follow_trajectory(MapWeights& w, const Eigen::Vector2d& velocity) const;
   // Kriging weights of the points out[c].validity.point, into out.
   void kriging_block(std::span<MapWeights> out) const;
   // With a source: the state of `samples` (as sample_state() gives it, one after another),
@@ -551,35 +551,6 @@ void MapBlender::Impl::point_weights(PointValidity& v,
         local->predict(*index, static_cast<int>(idx[i]), v.point, phi[i], out, rhs, sol);
     v.variance += phi[i] * var;
   }
-  trajectory_weights(v.point, out);
-}
-
-void MapBlender::Impl::trajectory_weights(const Eigen::Vector2d& p,
-                                          std::vector<std::pair<int, double>>& out) const {
-  const double width = kTrajectoryWidth * index->median_step();
-  if (!(width > 0.0)) return;
-  std::vector<detail::MapIndex::TrajectoryHit> hits;
-  index->trajectory_near(p, width, kTrajectoryMaxSeconds, hits);
-  if (hits.empty()) return;
-  const auto count = static_cast<int>(hits.size());
-  std::vector<double> d(hits.size()), phi(hits.size());
-  for (int i = 0; i < count; ++i) d[i] = hits[i].distance;
-  franke_little_weights(d.data(), count, width, phi.data());
-  // The trajectory's share: 1 on it, falling smoothly to 0 at `width` from its nearest segment.
-  const double u = d[0] / width;
-  const double share = 1.0 - u * u * (3.0 - 2.0 * u);
-  if (share >= 1.0) {
-    out.clear();
-  } else {
-    for (auto& [point, w] : out) w *= 1.0 - share;
-  }
-  for (int i = 0; i < count; ++i) {
-    const double w = share * phi[i];
-    if (w == 0.0) continue;
-    const auto& h = hits[i];
-    if (h.t < 1.0) out.emplace_back(index->point_of(h.first), w * (1.0 - h.t));
-    if (h.t > 0.0) out.emplace_back(index->point_of(h.second), w * h.t);
-  }
 }
 
 void MapBlender::Impl::kriging_block(std::span<MapWeights> out) const {
@@ -713,6 +684,78 @@ std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts)
     m->kriging_block(std::span<MapWeights>(out).subspan(b, e - b));
   }
   return out;
+}
+
+std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d> points,
+                                                double frame_time, std::size_t first,
+                                                std::size_t end) const {
+  if (!(first <= end && end <= points.size())) {
+    throw ParameterError("locate_path: frames [" + std::to_string(first) + ", " +
+                         std::to_string(end) + ") of a path of " + std::to_string(points.size()));
+  }
+  if (!(frame_time > 0.0) || !std::isfinite(frame_time)) {
+    throw ParameterError("locate_path: frame time " + format_number(frame_time) +
+                         " is not positive and finite");
+  }
+  std::vector<MapWeights> out = locate(points.subspan(first, end - first));
+  if (m->options.mode != BlendMode::Local || points.size() < 2) return out;
+  const std::size_t last = points.size() - 1;
+  for (std::size_t k = first; k < end; ++k) {
+    const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(last, k + 1);
+    const Eigen::Vector2d velocity =
+        (points[b] - points[a]) / (static_cast<double>(b - a) * frame_time);
+    m->follow_trajectory(out[k - first], velocity);
+  }
+  return out;
+}
+
+void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& velocity) const {
+  const double width = kTrajectoryWidth * index->median_step();
+  if (!(width > 0.0)) return;
+  std::vector<detail::MapIndex::TrajectoryHit> hits;
+  index->trajectory_near(w.validity.point, width, kTrajectoryMaxSeconds, hits);
+  if (hits.empty()) return;
+  const auto count = static_cast<int>(hits.size());
+  std::vector<double> d(hits.size()), phi(hits.size());
+  for (int i = 0; i < count; ++i) d[i] = hits[i].distance;
+  franke_little_weights(d.data(), count, width, phi.data());
+  const auto fade = [](double u) { return u >= 1.0 ? 0.0 : 1.0 - u * u * (3.0 - 2.0 * u); };
+  // Each segment's share: its Franke–Little weight, times how near (1 on it, 0 at `width`),
+  // times how well the path keeps the clip's pace along it (1 at the same map velocity, 0 at
+  // kTrajectoryPaceTolerance of its speed off it).
+  std::vector<std::pair<int, double>> added;
+  double share = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const auto& h = hits[static_cast<std::size_t>(i)];
+    const Eigen::Vector2d pace =
+        (index->sample_point(h.second) - index->sample_point(h.first)) / h.seconds;
+    const double speed = pace.norm();
+    if (!(speed > 0.0) || phi[i] == 0.0) continue;
+    const double g = phi[i] * fade(h.distance / width) *
+                     fade((velocity - pace).norm() /
+                          ((getenv("PT") ? atof(getenv("PT")) : kTrajectoryPaceTolerance) * speed));
+    if (g == 0.0) continue;
+    share += g;
+    if (h.t < 1.0) added.emplace_back(h.first, g * (1.0 - h.t));
+    if (h.t > 0.0) added.emplace_back(h.second, g * h.t);
+  }
+  if (share == 0.0) return;
+  if (share < 1.0) {
+    for (std::size_t e = 0; e < w.samples.size(); ++e)
+      added.emplace_back(w.samples[e], (1.0 - share) * w.weights[e]);
+  }
+  std::sort(added.begin(), added.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  w.samples.clear();
+  w.weights.clear();
+  for (const auto& [sample, weight] : added) {
+    if (!w.samples.empty() && w.samples.back() == sample) {
+      w.weights.back() += weight;
+    } else {
+      w.samples.push_back(sample);
+      w.weights.push_back(weight);
+    }
+  }
 }
 
 std::optional<std::array<double, 2>> MapBlender::contact_share(const MapWeights& w) const {

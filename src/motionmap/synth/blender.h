@@ -16,14 +16,16 @@
 //    own system on K mutually separated map neighbours (itself included), factored once; a
 //    query blends the predictions of the 4 map-nearest samples' systems with partition-of-unity
 //    weights (Franke–Little: ((R − d)/(R·d))², R = distance of the 5th nearest) that are 1 at a
-//    sample and fall to 0 before a sample leaves the 4 nearest. Near the trajectory it plays the
-//    clips themselves: every segment between consecutive samples of a clip (≤ kTrajectoryMaxSeconds
-//    apart) that passes within w = kTrajectoryWidth median steps of p interpolates its two
-//    samples at p's foot on it ((1 − t, t)); the segments are weighted by Franke–Little with
-//    R = w, and together take the share 1 − smoothstep(d/w) of the weight (d: the nearest
-//    segment's distance), the local kriging the rest. So a point on a segment blends just its
-//    two samples (a path along a clip's curve replays the clip, between samples too), and the
-//    weights stay continuous.
+//    sample and fall to 0 before a sample leaves the 4 nearest. Along a path (locate_path) it
+//    also plays the clips themselves where the path follows one: every segment between
+//    consecutive samples of a clip (≤ kTrajectoryMaxSeconds apart) within w = kTrajectoryWidth
+//    median steps of the path point interpolates its two samples at the point's foot on it
+//    ((1 − t, t)), with the share φ_s·(1 − smoothstep(d_s/w))·(1 − smoothstep(e_s)): φ_s the
+//    segments' Franke–Little weights (R = w), d_s the point's distance to the segment, e_s the
+//    path's map velocity off the segment's (its step over its time) by kTrajectoryPaceTolerance
+//    of that segment's speed; the local kriging takes the rest. So a path along a clip's curve
+//    at the clip's pace replays the clip, between samples too; one that crosses it, runs along it
+//    backwards or much slower or faster, keeps the kriging blend.
 //  - Idw: Franke–Little inverse-distance weights on the K nearest samples (R = distance of the
 //    (K+1)-th): non-negative, continuous, the robust fallback.
 //  - Gp (a GP-LVM map's default; needs BlendOptions::gplvm): the GP's predictive mean as
@@ -100,12 +102,14 @@ inline constexpr int kMaxKrigingSamples = 10000;
 /// Number of nearest samples whose local systems the local mode blends per query.
 inline constexpr int kLocalPartitionSize = 4;
 
-/// Near the trajectory the local mode blends the trajectory's own samples: within this many median
-/// steps of a segment between consecutive samples of a clip (at most kTrajectoryMaxSeconds apart),
-/// see the top of the file.
+/// A path that follows a clip's trajectory plays that clip (locate_path, local mode): within this
+/// many median steps of a segment between consecutive samples of a clip (see the top of the file).
 inline constexpr double kTrajectoryWidth = 1.0;
-/// The longest time between two consecutive samples whose segment the local mode interpolates.
+/// The longest time between two consecutive samples whose segment locate_path interpolates.
 inline constexpr double kTrajectoryMaxSeconds = 0.25;
+/// How far a path's map velocity may leave a segment's before locate_path stops following it, as
+/// a fraction of the segment's speed.
+inline constexpr double kTrajectoryPaceTolerance = 0.5;
 
 /// The least reach radius, as a fraction of the map's size (the larger side of its samples'
 /// bounding box): see reach_radius().
@@ -272,6 +276,15 @@ class MapBlender {
   /// locate() for many points at once (kriging solves them together, much faster than one by
   /// one). @throws ParameterError naming the first non-finite point.
   std::vector<MapWeights> locate(std::span<const Eigen::Vector2d> points) const;
+  /// The weights of frames [first, end) of a path sampled every `frame_time` seconds (`points`:
+  /// every frame's map point): locate()'s, and in the local mode where the path follows a clip's
+  /// trajectory at its pace, that clip's two samples around the point (top of the file); the
+  /// velocity at a frame is the central difference over its neighbours (one-sided at the ends).
+  /// synthesize() and edit_path() locate their paths with it.
+  /// @throws ParameterError if [first, end) is not within points, frame_time is not positive and
+  ///         finite, or as locate().
+  std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, double frame_time,
+                                      std::size_t first, std::size_t end) const;
 
   /// The blend of the samples with `weights` (as from locate(), or smoothed: any sparse weights
   /// over valid sample indices, summing to about 1).

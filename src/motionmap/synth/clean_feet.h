@@ -117,8 +117,8 @@ inline constexpr double kMaxHoldDrift = 0.25;
 inline constexpr double kHoldFadeSeconds = 0.15;
 
 /// The contacts of a blended motion from its blend weights as well as its own feet: foot s is on
-/// the floor in frame f when detect_contacts() finds it there, or when at least half of that
-/// frame's blend weight is on samples whose foot s is (shares[f][s] ≥ 0.5,
+/// the floor in frame f when detect_contacts() finds it there, or when more than half of that
+/// frame's blend weight is on samples whose foot s is (shares[f][s] > 0.5,
 /// MapBlender::contact_share) and its ankle is as low as a standing one (within options.height
 /// leg lengths of the foot's floor level). A run over which the ankle drifts more
 /// than kMaxHoldDrift leg lengths on the floor is cut where it does (a blend gliding at the

@@ -212,7 +212,7 @@ void MapIndex::trajectory_near(const Eigen::Vector2d& p, double radius, double m
       const double len2 = d.squaredNorm();
       const double t = len2 > 0.0 ? std::clamp((p - ca).dot(d) / len2, 0.0, 1.0) : 0.0;
       const double dist = (p - (ca + t * d)).norm();
-      if (dist < radius) out.push_back({a, b, t, dist});
+      if (dist < radius) out.push_back({a, b, t, dist, m_segment_seconds[segment]});
     }
   }
   std::sort(out.begin(), out.end(), [](const TrajectoryHit& x, const TrajectoryHit& y) {

@@ -106,6 +106,9 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     r1 = F - 1;
   }
   if (r0 < 0) return out;  // the same path: the same motion
+  // A frame's weights read its neighbours' points too (the path's velocity: locate_path).
+  r0 = std::max(0, r0 - 1);
+  r1 = std::min(F - 1, r1 + 1);
 
   const std::vector<double> kernel = detail::smoothing_kernel(so.smooth, dt, F);
   const int half = static_cast<int>(kernel.size() / 2);
@@ -132,8 +135,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   std::vector<MapWeights> raw;
   raw.reserve(static_cast<std::size_t>(w1 - w0));
   for (int k = w0; k < w1; k += kLocateBatch) {
-    auto located = blender.locate(std::span<const Eigen::Vector2d>(points).subspan(
-        static_cast<std::size_t>(k), static_cast<std::size_t>(std::min(w1, k + kLocateBatch) - k)));
+    auto located = blender.locate_path(points, dt, static_cast<std::size_t>(k),
+                                       static_cast<std::size_t>(std::min(w1, k + kLocateBatch)));
     for (auto& w : located) raw.push_back(std::move(w));
   }
   std::vector<MapWeights> weights(static_cast<std::size_t>(x1 - x0));
@@ -269,10 +272,14 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
                             : previous.contact_shares[static_cast<std::size_t>(k)];
     }
   }
-  const CleanFeetResult cleaned =
+  // The contacts of the window's blend itself, as a full synthesis finds them in the whole blend
+  // (found in `input`, the border frames' held feet would start or cut a contact elsewhere).
+  const std::array<FootContacts, 2> contacts =
       input_shares.empty()
-          ? clean_feet(skeleton, input, *feet, clean_options, control)
-          : clean_feet_from_shares(skeleton, input, *feet, input_shares, clean_options, control);
+          ? detect_contacts(skeleton, raw_motion, *feet, clean_options.contacts)
+          : contacts_from_shares(skeleton, raw_motion, *feet, input_shares, clean_options.contacts);
+  const CleanFeetResult cleaned =
+      clean_feet(skeleton, input, *feet, contacts, clean_options, control);
   out.first = c0;
   out.end = c1;
   for (int k = c0; k < c1; ++k) {

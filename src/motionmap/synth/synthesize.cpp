@@ -74,8 +74,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
         parallel_for(batches, [&](int b) {
           const long long from = static_cast<long long>(b) * kLocateBatch;
           const long long last = std::min(count, from + kLocateBatch);
-          auto located = blender.locate(std::span<const Eigen::Vector2d>(points).subspan(
-              static_cast<std::size_t>(first + from), static_cast<std::size_t>(last - from)));
+          auto located = blender.locate_path(points, dt, static_cast<std::size_t>(first + from),
+                                             static_cast<std::size_t>(first + last));
           std::move(located.begin(), located.end(), fresh.begin() + from);
         });
         return fresh;

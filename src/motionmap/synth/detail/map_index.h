@@ -74,10 +74,11 @@ class MapIndex {
 
   /// A piece of the trajectory near a map point: the segment from sample `first` to the next
   /// sample of its clip, `second`, the parameter t ∈ [0, 1] of its point nearest the map point
-  /// (first + t·(second − first)), and that point's distance to it.
+  /// (first + t·(second − first)), that point's distance to it, and the seconds between the two
+  /// samples' frames.
   struct TrajectoryHit {
     int first = 0, second = 0;
-    double t = 0.0, distance = 0.0;
+    double t = 0.0, distance = 0.0, seconds = 0.0;
   };
   /// The segments between consecutive samples of a clip at most `max_seconds` apart in time that
   /// pass within `radius` (exclusive) of p, nearest first (ties in the order of the samples).

@@ -732,8 +732,7 @@ void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& v
     const double speed = pace.norm();
     if (!(speed > 0.0) || phi[i] == 0.0) continue;
     const double g = phi[i] * fade(h.distance / width) *
-                     fade((velocity - pace).norm() /
-                          ((getenv("PT") ? atof(getenv("PT")) : kTrajectoryPaceTolerance) * speed));
+                     fade((velocity - pace).norm() / (kTrajectoryPaceTolerance * speed));
     if (g == 0.0) continue;
     share += g;
     if (h.t < 1.0) added.emplace_back(h.first, g * (1.0 - h.t));

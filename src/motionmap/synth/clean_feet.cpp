@@ -49,7 +49,7 @@ struct FootPlan {
 
 // The ankle's target displacement around the contacts (see the top of clean_feet.h).
 void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vector<char>& fixed,
-                  FootPlan& plan) {
+                  const Vector3d& up, FootPlan& plan) {
   plan.offset.assign(static_cast<std::size_t>(frames), Vector3d::Zero());
   plan.touched.assign(static_cast<std::size_t>(frames), 0);
   const auto& iv = fc.intervals;
@@ -69,12 +69,20 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
       // Fixed frames in the contact: the ankle stays where the first has it before it and where
       // the last has it after; between two, it goes straight from one's place to the other's, so
       // no leg stretches between two keys whose captured foot slid a little.
+      // Before the first and after the last it stands at that frame's place, its ankle at that
+      // height or, where the ankle comes down from it, at the ankle's own height down to the
+      // contact's mean (a border frame of a path edit can be one where the ankle settles).
+      double mean = 0.0;
+      for (int f = iv[c].first; f <= iv[c].last; ++f) mean += plan.ankle[f].dot(up);
+      mean /= iv[c].frames();
       std::size_t k = 0;
       for (int f = iv[c].first; f <= iv[c].last; ++f) {
         while (k + 1 < held.size() && held[k + 1] <= f) ++k;
         const int a = held[k];
         if (f <= a || k + 1 == held.size()) {
-          plan.offset[f] = plan.ankle[a];
+          const double at = plan.ankle[a].dot(up);
+          const double height = std::min(at, std::max(plan.ankle[f].dot(up), mean));
+          plan.offset[f] = plan.ankle[a] + (height - at) * up;
         } else {
           const int b = held[k + 1];
           const double u = static_cast<double>(f - a) / static_cast<double>(b - a);
@@ -82,6 +90,19 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
         }
       }
     }
+    // Where the ankle is still coming down at the contact's start (rising at its end) above the
+    // held height, its own height: the foot stands still on the floor while the ankle settles
+    // (lifts), as at a heel strike (heel-off), and the fade into the hold does not pull a foot
+    // still coming down to the floor early, low while still fast. Not past a fixed frame.
+    const auto settle = [&](int f) {
+      const double above = (plan.ankle[f] - plan.offset[f]).dot(up);
+      if (fixed[static_cast<std::size_t>(f)] || above <= 0.0) return false;
+      plan.offset[f] += above * up;
+      return true;
+    };
+    int settled = iv[c].first;
+    while (settled <= iv[c].last && settle(settled)) ++settled;
+    for (int f = iv[c].last; f > settled && settle(f);) --f;
     first_target[c] = plan.offset[iv[c].first];
     last_target[c] = plan.offset[iv[c].last];
     for (int f = iv[c].first; f <= iv[c].last; ++f) {
@@ -298,7 +319,7 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
     plan.leg = feet.legs[static_cast<std::size_t>(s)];
     plan.ankle = std::move(ankles[static_cast<std::size_t>(s)]);
     plan.length = result.contacts[static_cast<std::size_t>(s)].leg_length;
-    plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, fixed, plan);
+    plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, fixed, up, plan);
     result.held[static_cast<std::size_t>(s)] = plan.touched;
   }
   // Hinge axes from the input's most bent frame (sampled: ≤ 512 frames).

@@ -9,7 +9,10 @@
 //
 // Method (docs/synthesis.md, "Clean feet"):
 //  1. Contacts per foot: detect_contacts() (skeleton/contacts.h) with `contacts`.
-//  2. Targets: through a contact the ankle is held at the mean of its positions over the contact.
+//  2. Targets: through a contact the ankle is held at the mean of its positions over the contact;
+//     at its start, while the ankle is still above that height and coming down (at its end, where
+//     it rises), the ankle keeps its own height: the foot stands still on the floor while the
+//     ankle settles, as at a heel strike (heel-off). Fixed frames in a contact: see fixed_frames.
 //     Around it, the displacement that needs at the contact's first (last) frame, held − original,
 //     is added to the ankle's own path with a weight falling from 1 at the contact to 0 over
 //     `blend_seconds` before (after) it (smoothstep, 1 − (3x² − 2x³), x = frames away ÷ (blend
@@ -57,7 +60,8 @@ struct CleanFeetOptions {
   /// Frames whose pose must stay exactly as given (in-betweening's keys): a contact holding
   /// one holds the ankle where that frame has it rather than at the contact's mean — between two
   /// such frames on the straight line from one's place to the other's, before the first at the
-  /// first's, after the last at the last's — and the frame itself is left bit for bit. Any
+  /// first's, after the last at the last's (where the ankle comes down from that height, at its
+  /// own down to the contact's mean height) — and the frame itself is left bit for bit. Any
   /// order; out of range ignored.
   std::vector<int> fixed_frames;
 

@@ -17,7 +17,8 @@ a foot in contact moves faster than 0.5 m/s over the floor) and the ankles' mean
 in contact. The picture shows the halfway motion's left ankle, raw and cleaned: the
 distance it has travelled on the floor over time (flat while it stands), and its horizontal speed
 with the frames where it is under 5 cm shaded. With `--smooth σ` the normal walk's own trajectory
-is also synthesized with its blend weights smoothed over time (`synth --smooth σ`), and the
+traced by hand (every point off by seeded noise, a quarter of the median step on each axis) is
+also synthesized with its blend weights smoothed over time (`synth --smooth σ`), and the
 picture shows that motion's left ankle instead, raw, cleaned and as captured: its height above
 its lowest point (the measure's 5 cm contact line drawn) and its horizontal speed.
 """
@@ -48,8 +49,9 @@ def main():
     parser.add_argument("--data", default=os.path.join(ROOT, "..", "shared", "data"))
     parser.add_argument("--png", default=os.path.join(ROOT, "docs", "feet.png"))
     parser.add_argument("--smooth", type=float, default=0.0,
-                        help="also synthesize the own trajectory with the weights smoothed "
-                        "(σ in seconds) and draw its ankle's height and speed")
+                        help="also synthesize the own trajectory traced by hand (each point "
+                        "off by seeded noise of a quarter of the median step) with the weights "
+                        "smoothed (σ in seconds) and draw its ankle's height and speed")
     args = parser.parse_args()
     sys.path.insert(0, args.python)
     import motionmap
@@ -80,8 +82,12 @@ def main():
         names = {"own": "own trajectory", "halfway": "halfway path",
                  "stride": "own trajectory, map of every other frame"}
         if args.smooth > 0:
-            paths["smooth"] = (a, dt, ["--smooth", repr(args.smooth)])
-            names["smooth"] = f"own trajectory, weights smoothed (σ {args.smooth:g} s)"
+            # Traced by hand: every point of the own trajectory off by seeded noise, σ a quarter
+            # of the median step between its points on each axis, as a drawn copy would be.
+            jitter = 0.25 * np.median(np.linalg.norm(np.diff(a, axis=0), axis=1))
+            traced = a + np.random.default_rng(23).normal(0.0, jitter, a.shape)
+            paths["smooth"] = (traced, dt, ["--smooth", repr(args.smooth)])
+            names["smooth"] = f"own trajectory traced by hand, weights smoothed (σ {args.smooth:g} s)"
         for name, (points, step, extra) in paths.items():
             path = os.path.join(work, name + ".csv")
             with open(path, "w") as f:
@@ -185,7 +191,7 @@ def draw_smoothed(motionmap, plt, clips, info, shown, captured, png):
     speed.set_ylim(0, 300)
     speed.set_title("left ankle's horizontal speed", fontsize=10)
     speed.legend(fontsize=8, loc="upper right")
-    fig.suptitle(f"The normal walk's map trajectory, {shown.split(', ', 1)[1]}: raw, cleaned "
+    fig.suptitle(f"The normal walk's map trajectory {shown.split(' ', 2)[2]}: raw, cleaned "
                  "and captured", fontsize=11)
     fig.tight_layout()
     fig.savefig(png, dpi=110)

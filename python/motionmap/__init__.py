@@ -420,7 +420,8 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, b
     the samples' own velocities. path_xy: #points by 2; times: seconds per point (strictly
     increasing) or None (drawn at `speed` map units per second, 0 = the clip's median map
     speed); fps: output frame rate (0 = the clip's); smooth: σ in seconds of a Gaussian
-    smoothing of the weights over time. blend, neighbors, reach: as inverse_transform;
+    smoothing of the weights over time (each neighbouring frame's moved in its clips by its
+    distance in time first, so a retraced clip stays itself). blend, neighbors, reach: as inverse_transform;
     clean_feet: hold each foot still through its contacts with the floor (False: the blend as it
     is, e.g. to reproduce a clip along its own trajectory). Returns a Clip (save() writes it as
     BVH)."""

@@ -370,7 +370,7 @@ TEST(SynthBlender, TrajectorySearchFindsWhatAScanOfAllFinds) {
 TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   // A path along the clip's map curve at 4× its frame rate: between samples f and f + 1 the
   // local mode blends just those two, (1 − t, t), where the path keeps the clip's pace. Run at a
-  // quarter of the pace, backwards, or in the idw mode, it gets locate()'s weights.
+  // 2.5 times the pace, backwards, or in the idw mode, it gets locate()'s weights.
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender local = make_blender(clip, map, BlendMode::Local);
@@ -400,7 +400,7 @@ TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   }
   // The same points at another pace or backwards: the kriging's weights, as locate() gives.
   std::vector<Eigen::Vector2d> back(path.rbegin(), path.rend());
-  for (const auto& [points, time] : {std::pair{path, 4.0 * dt}, std::pair{back, dt}}) {
+  for (const auto& [points, time] : {std::pair{path, dt / 2.5}, std::pair{back, dt}}) {
     const std::vector<MapWeights> w = local.locate_path(points, time, 0, points.size());
     const std::vector<MapWeights> plain = local.locate(points);
     for (std::size_t k = 0; k < points.size(); ++k) {
@@ -426,6 +426,48 @@ TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   EXPECT_EQ(
       motionmap::test::error_message<ParameterError>([&] { local.locate_path(path, 0.0, 0, 1); }),
       "locate_path: frame time 0 is not positive and finite");
+}
+
+TEST(SynthBlender, WeightsMoveInTheirClipsByTime) {
+  // Two clips at 30 fps, every other frame a sample (frames 0, 2, …): a weight moved 1/30 s on
+  // lands half on the next sample; moved past a clip's end it stays on the clip's last sample.
+  Clip a = walking_clip(20), b = walking_clip(10);
+  features::FeatureSet set;
+  set.segment_starts = {0};
+  Eigen::MatrixXd map(15, 2);
+  for (int f = 0; f < 20; f += 2) {
+    map.row(static_cast<Eigen::Index>(set.clip_of.size())) << 0.1 * f, 0.0;
+    set.clip_of.push_back(0);
+    set.frame_of.push_back(f);
+  }
+  for (int f = 0; f < 10; f += 2) {
+    map.row(static_cast<Eigen::Index>(set.clip_of.size())) << 0.1 * f, 1.0;
+    set.clip_of.push_back(1);
+    set.frame_of.push_back(f);
+  }
+  const std::vector<Clip> clips{a, b};
+  const MapBlender blender(clips, set, map);
+  const double dt = a.motion.frame_time;
+  const MapWeights w{{3, 11}, {0.75, 0.25}, {}};  // frame 6 of clip 0, frame 2 of clip 1
+  const MapWeights half = blender.later_in_clip(w, dt);
+  EXPECT_EQ(half.samples, (std::vector<int>{3, 4, 11, 12}));
+  EXPECT_NEAR(half.weights[0], 0.375, 1e-12);
+  EXPECT_NEAR(half.weights[1], 0.375, 1e-12);
+  EXPECT_NEAR(half.weights[2], 0.125, 1e-12);
+  EXPECT_NEAR(half.weights[3], 0.125, 1e-12);
+  const MapWeights back = blender.later_in_clip(w, -4.0 * dt);  // two samples back
+  EXPECT_EQ(back.samples, (std::vector<int>{1, 10}));
+  EXPECT_EQ(back.weights, (std::vector<double>{0.75, 0.25}));
+  const MapWeights far = blender.later_in_clip(w, 100.0);  // each clip's last sample
+  EXPECT_EQ(far.samples, (std::vector<int>{9, 14}));
+  EXPECT_EQ(blender.later_in_clip(w, 0.0).weights, w.weights);
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>([&] {
+              blender.later_in_clip(MapWeights{{15}, {1.0}, {}}, dt);
+            }),
+            "later_in_clip: sample 15 of a map of 15");
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { blender.later_in_clip(w, std::nan("")); }),
+            "later_in_clip: nan s is not finite");
 }
 
 TEST(SynthBlender, ClampsOntoTheTrajectoryContinuously) {

@@ -51,10 +51,17 @@ TEST(SynthSynthesize, RetracingTheTrajectoryReproducesTheClip) {
   const Eigen::Quaterniond unturn = axis_rotation(Axis::Y, -h0);
   Eigen::Vector3d p0 = orig.translation(0, 0);
   p0.y() = 0;
-  for (BlendMode mode : kModes) {
-    SCOPED_TRACE(std::string(blend_mode_name(mode)));
+  for (const auto& [mode, smooth] :
+       {std::pair{BlendMode::Kriging, 0.0}, std::pair{BlendMode::Local, 0.0},
+        std::pair{BlendMode::Idw, 0.0}, std::pair{BlendMode::Local, 0.2},
+        std::pair{BlendMode::Kriging, 0.2}}) {
+    // Smoothed too: each neighbour's weights are moved back in the clip by its distance in time
+    // before they are averaged, so they all land on the frame itself.
+    SCOPED_TRACE(std::string(blend_mode_name(mode)) + ", smooth " + std::to_string(smooth));
     const MapBlender blender = make_blender(clip, map, mode);
-    const SynthResult r = synthesize(blender, own_trajectory(map, orig.frame_time));
+    SynthOptions options;
+    options.smooth = smooth;
+    const SynthResult r = synthesize(blender, own_trajectory(map, orig.frame_time), options);
     ASSERT_EQ(r.motion.num_frames, orig.num_frames);
     EXPECT_EQ(r.motion.frame_time, orig.frame_time);
     EXPECT_EQ(r.clamped_frames, 0);

@@ -709,6 +709,42 @@ std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d>
   return out;
 }
 
+MapWeights MapBlender::later_in_clip(const MapWeights& weights, double seconds) const {
+  if (!std::isfinite(seconds))
+    throw ParameterError("later_in_clip: " + format_number(seconds) + " s is not finite");
+  if (weights.samples.size() != weights.weights.size()) {
+    throw ParameterError("later_in_clip: " + std::to_string(weights.samples.size()) +
+                         " sample indices for " + std::to_string(weights.weights.size()) +
+                         " weights");
+  }
+  std::vector<std::pair<int, double>> moved;
+  moved.reserve(2 * weights.samples.size());
+  int to[2];
+  double share[2];
+  for (std::size_t e = 0; e < weights.samples.size(); ++e) {
+    const int s = weights.samples[e];
+    if (s < 0 || s >= m->n) {
+      throw ParameterError("later_in_clip: sample " + std::to_string(s) + " of a map of " +
+                           std::to_string(m->n));
+    }
+    const int count = m->index->later_in_clip(s, seconds, to, share);
+    for (int c = 0; c < count; ++c) moved.emplace_back(to[c], share[c] * weights.weights[e]);
+  }
+  std::sort(moved.begin(), moved.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  MapWeights out;
+  out.validity = weights.validity;
+  for (const auto& [sample, weight] : moved) {
+    if (!out.samples.empty() && out.samples.back() == sample) {
+      out.weights.back() += weight;
+    } else {
+      out.samples.push_back(sample);
+      out.weights.push_back(weight);
+    }
+  }
+  return out;
+}
+
 void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& velocity) const {
   const double width = kTrajectoryWidth * index->median_step();
   if (!(width > 0.0)) return;

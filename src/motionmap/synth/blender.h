@@ -109,7 +109,7 @@ inline constexpr double kTrajectoryWidth = 1.0;
 inline constexpr double kTrajectoryMaxSeconds = 0.25;
 /// How far a path's map velocity may leave a segment's before locate_path stops following it, as
 /// a fraction of the segment's speed.
-inline constexpr double kTrajectoryPaceTolerance = 0.5;
+inline constexpr double kTrajectoryPaceTolerance = 0.75;
 
 /// The least reach radius, as a fraction of the map's size (the larger side of its samples'
 /// bounding box): see reach_radius().
@@ -285,6 +285,13 @@ class MapBlender {
   ///         finite, or as locate().
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, double frame_time,
                                       std::size_t first, std::size_t end) const;
+  /// Weights moved `seconds` later (earlier when negative) in their clips: each sample's weight
+  /// goes to the sample of its clip that much later, or is shared linearly between the two
+  /// samples around that time (the first or last sample of its run of consecutive samples beyond
+  /// the run's ends). The sum is kept. What synthesize()'s smoothing does to a neighbouring
+  /// frame's weights before averaging them, so that a path playing a clip stays on it.
+  /// @throws ParameterError if a sample is out of range or seconds is not finite.
+  MapWeights later_in_clip(const MapWeights& weights, double seconds) const;
 
   /// The blend of the samples with `weights` (as from locate(), or smoothed: any sparse weights
   /// over valid sample indices, summing to about 1).

@@ -94,6 +94,16 @@ MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureS
     steps.push_back(step);
     speeds.push_back(step / dt);
   }
+  m_frame_of = samples.frame_of;
+  m_frame_time.resize(static_cast<std::size_t>(n));
+  m_run_first.resize(static_cast<std::size_t>(n));
+  m_run_last.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    m_frame_time[i] = frame_times[static_cast<std::size_t>(samples.clip_of[i])];
+    m_run_first[i] = i > 0 && consecutive(i - 1) ? m_run_first[i - 1] : i;
+  }
+  for (int i = n - 1; i >= 0; --i)
+    m_run_last[i] = i + 1 < n && consecutive(i) ? m_run_last[i + 1] : i;
   std::vector<char> on_segment(static_cast<std::size_t>(n), 0);
   for (int i = 0; i + 1 < n; ++i) {
     if (!consecutive(i)) continue;
@@ -218,6 +228,30 @@ void MapIndex::trajectory_near(const Eigen::Vector2d& p, double radius, double m
   std::sort(out.begin(), out.end(), [](const TrajectoryHit& x, const TrajectoryHit& y) {
     return x.distance != y.distance ? x.distance < y.distance : x.first < y.first;
   });
+}
+
+int MapIndex::later_in_clip(int sample, double seconds, int* samples, double* weights) const {
+  const auto s = static_cast<std::size_t>(sample);
+  double frame = m_frame_of[s] + seconds / m_frame_time[s];
+  if (std::abs(frame - std::round(frame)) < 1e-9) frame = std::round(frame);  // a whole frame
+  const int first = m_run_first[s], last = m_run_last[s];
+  const auto frame_at = [&](int i) {
+    return static_cast<double>(m_frame_of[static_cast<std::size_t>(i)]);
+  };
+  samples[0] = frame <= frame_at(first) ? first : last;
+  weights[0] = 1.0;
+  if (frame <= frame_at(first) || frame >= frame_at(last)) return 1;
+  // The last sample of the run at or before `frame` (frames increase along the run).
+  const auto begin = m_frame_of.begin() + first, end = m_frame_of.begin() + last + 1;
+  const auto at = std::upper_bound(begin, end, frame, [](double f, int g) { return f < g; }) - 1;
+  const int a = static_cast<int>(at - m_frame_of.begin());
+  const double u = (frame - frame_at(a)) / (frame_at(a + 1) - frame_at(a));
+  samples[0] = a;
+  if (u <= 0.0) return 1;
+  samples[1] = a + 1;
+  weights[0] = 1.0 - u;
+  weights[1] = u;
+  return 2;
 }
 
 PointValidity MapIndex::validate(const Eigen::Vector2d& p) const {

@@ -143,7 +143,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   for (int k = x0; k < x1; ++k) {
     weights[static_cast<std::size_t>(k - x0)] =
         half == 0 ? raw[static_cast<std::size_t>(k - w0)]
-                  : detail::smoothed(raw, w0, k, F, kernel, blender.num_samples());
+                  : detail::smoothed(raw, w0, k, F, kernel, dt, blender);
   }
   if (blender.reads_on_demand()) blender.prefetch(weights);
 

@@ -176,8 +176,7 @@ SynthResult synthesize_frames(
       const MapWeights& own = raw[static_cast<std::size_t>(k - raw_first)];
       MapWeights smoothed_weights;
       if (half > 0)
-        smoothed_weights =
-            detail::smoothed(raw, raw_first, k, frames, kernel, blender.num_samples());
+        smoothed_weights = detail::smoothed(raw, raw_first, k, frames, kernel, dt, blender);
       const MapWeights& weights = half == 0 ? own : smoothed_weights;
       const BlendedFrame b = blender.blend(weights);
       if (const auto share = blender.contact_share(weights)) {

@@ -9,10 +9,12 @@
 //   motionmap::io::write_bvh(motionmap::io::from_motion(blender.skeleton(), result.motion),
 //   "new.bvh");
 //
-// Per output frame k (at t0 + k/fps along the path): weights at the path point (optionally
-// smoothed over time with a Gaussian), joint rotations and root height and tilt blended with
-// them (MapBlender::blend), and the blended heading-local root velocity v_k and yaw rate ω_k
-// integrated forward from the origin, heading 0:
+// Per output frame k (at t0 + k/fps along the path): weights at the path point
+// (MapBlender::locate_path: where the path follows a clip's trajectory at its pace, that clip's
+// own frames; optionally smoothed over time with a Gaussian, each neighbouring frame's weights
+// moved back in their clips by its distance in time: MapBlender::later_in_clip), joint rotations
+// and root height and tilt blended with them (MapBlender::blend), and the blended heading-local
+// root velocity v_k and yaw rate ω_k integrated forward from the origin, heading 0:
 //   position_{k+1} = position_k + yaw(θ_k)·v_k·Δt,   θ_{k+1} = θ_k + ω_k·Δt.
 // The samples' velocities are forward differences, so a path that retraces the clip's own map
 // trajectory at its own timing reproduces the clip (up to the start's position and heading).
@@ -47,7 +49,9 @@ struct SynthOptions {
   /// Output frames per second in (0, 1000]; 0 = the source clip's frame rate.
   double fps = 0.0;
   /// σ in seconds of a Gaussian smoothing of the weights over time, in [0, kMaxSmoothSeconds];
-  /// 0 = none (a retraced trajectory then reproduces the clip).
+  /// 0 = none. The neighbours' weights are moved in their clips by their distance in time first,
+  /// so a retraced trajectory still reproduces the clip: smoothing softens a path's jumps and
+  /// jitter between clips, not a clip's own motion.
   double smooth = 0.0;
   /// When the skeleton has feet (find_feet(), along BlendOptions::up): lead the root by the
   /// planted feet (where the blender knows its samples' contacts) and hold each foot still through

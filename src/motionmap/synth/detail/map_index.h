@@ -69,6 +69,12 @@ class MapIndex {
   /// Dense weights over all points (num_points() values) → over all samples (num_samples()).
   void to_sample_weights(const double* point_weights, double* sample_weights) const;
 
+  /// Where sample `sample`'s clip is `seconds` later (earlier when negative), among the samples of
+  /// its run (consecutive samples of the clip, frames increasing): the sample at that time, or the
+  /// two around it weighted linearly by time; the run's first or last sample beyond its ends.
+  /// `samples` and `weights` take up to 2 entries; returns how many (1 or 2).
+  int later_in_clip(int sample, double seconds, int* samples, double* weights) const;
+
   /// The map point that sample `s` shares with its merged samples.
   int point_of(int sample) const { return m_point_of[static_cast<std::size_t>(sample)]; }
 
@@ -97,6 +103,9 @@ class MapIndex {
   // Members of point j: m_members[m_member_start[j] … m_member_start[j+1]).
   std::vector<int> m_member_start, m_members;
   std::vector<int> m_point_of;  // sample → map point
+  // Per sample: its frame, its clip's frame time, and the first and last sample of its run.
+  std::vector<int> m_frame_of, m_run_first, m_run_last;
+  std::vector<double> m_frame_time;
   // The trajectory: segments between consecutive samples of a clip, and isolated samples as
   // segments of length 0 (start, end sample).
   std::vector<std::pair<int, int>> m_segments;

@@ -26,12 +26,17 @@ inline std::vector<double> smoothing_kernel(double smooth, double dt, long long 
   return kernel;
 }
 
-/// Σ g_j·w_{k+j} / Σ g_j over the frames of the window that exist (0 ≤ k + j < frames); `raw`
-/// holds the raw weights of frames raw_first, raw_first + 1, … (a deque or a vector).
+/// Σ g_j·w'_{k+j} / Σ g_j over the frames of the window that exist (0 ≤ k + j < frames), where
+/// w'_{k+j} = blender.later_in_clip(w_{k+j}, −j·dt): each neighbour's weights moved back in their
+/// clips by its distance in time, so that frames playing a clip average to that clip's frame
+/// (a path along a clip at its pace keeps its motion: smoothing softens where the path jumps
+/// between clips, not the clip's own motion). `raw` holds the raw weights of frames raw_first,
+/// raw_first + 1, … (a deque or a vector); dt: the path's frame time.
 template <class Weights>
 MapWeights smoothed(const Weights& raw, long long raw_first, long long k, long long frames,
-                    const std::vector<double>& kernel, int num_samples) {
+                    const std::vector<double>& kernel, double dt, const MapBlender& blender) {
   const auto half = static_cast<long long>(kernel.size() / 2);
+  const int num_samples = blender.num_samples();
   std::vector<double> acc(static_cast<std::size_t>(num_samples), 0.0);
   std::vector<char> seen(static_cast<std::size_t>(num_samples), 0);
   std::vector<int> touched;
@@ -41,7 +46,9 @@ MapWeights smoothed(const Weights& raw, long long raw_first, long long k, long l
     if (f < 0 || f >= frames) continue;
     const double g = kernel[static_cast<std::size_t>(j + half)];
     gsum += g;
-    const MapWeights& w = raw[static_cast<std::size_t>(f - raw_first)];
+    const MapWeights& own = raw[static_cast<std::size_t>(f - raw_first)];
+    const MapWeights moved = j == 0 ? MapWeights{} : blender.later_in_clip(own, -j * dt);
+    const MapWeights& w = j == 0 ? own : moved;
     for (std::size_t e = 0; e < w.samples.size(); ++e) {
       const int s = w.samples[e];
       if (!seen[s]) {

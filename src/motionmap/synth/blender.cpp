@@ -730,19 +730,7 @@ MapWeights MapBlender::later_in_clip(const MapWeights& weights, double seconds) 
     const int count = m->index->later_in_clip(s, seconds, to, share);
     for (int c = 0; c < count; ++c) moved.emplace_back(to[c], share[c] * weights.weights[e]);
   }
-  std::sort(moved.begin(), moved.end(),
-            [](const auto& x, const auto& y) { return x.first < y.first; });
-  MapWeights out;
-  out.validity = weights.validity;
-  for (const auto& [sample, weight] : moved) {
-    if (!out.samples.empty() && out.samples.back() == sample) {
-      out.weights.back() += weight;
-    } else {
-      out.samples.push_back(sample);
-      out.weights.push_back(weight);
-    }
-  }
-  return out;
+  return detail::weights_by_sample(std::move(moved), weights.validity);
 }
 
 void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& velocity) const {
@@ -779,18 +767,7 @@ void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& v
     for (std::size_t e = 0; e < w.samples.size(); ++e)
       added.emplace_back(w.samples[e], (1.0 - share) * w.weights[e]);
   }
-  std::sort(added.begin(), added.end(),
-            [](const auto& x, const auto& y) { return x.first < y.first; });
-  w.samples.clear();
-  w.weights.clear();
-  for (const auto& [sample, weight] : added) {
-    if (!w.samples.empty() && w.samples.back() == sample) {
-      w.weights.back() += weight;
-    } else {
-      w.samples.push_back(sample);
-      w.weights.push_back(weight);
-    }
-  }
+  w = detail::weights_by_sample(std::move(added), w.validity);
 }
 
 std::optional<std::array<double, 2>> MapBlender::contact_share(const MapWeights& w) const {

@@ -283,10 +283,16 @@ MapWeights MapIndex::to_sample_weights(const std::vector<std::pair<int, double>>
     const double share = w / (e - b);
     for (int s = b; s < e; ++s) sw.emplace_back(m_members[s], share);
   }
-  std::sort(sw.begin(), sw.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return weights_by_sample(std::move(sw), validity);
+}
+
+MapWeights weights_by_sample(std::vector<std::pair<int, double>> entries,
+                             const PointValidity& validity) {
+  std::sort(entries.begin(), entries.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   MapWeights out;
   out.validity = validity;
-  for (const auto& [s, w] : sw) {
+  for (const auto& [s, w] : entries) {
     if (!out.samples.empty() && out.samples.back() == s) {
       out.weights.back() += w;
     } else {

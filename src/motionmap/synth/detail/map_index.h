@@ -23,6 +23,11 @@
 
 namespace motionmap::synth::detail {
 
+/// Weights given as (sample, weight) entries, any order, repeats allowed → MapWeights: sorted by
+/// sample, repeats summed, with `validity`.
+MapWeights weights_by_sample(std::vector<std::pair<int, double>> entries,
+                             const PointValidity& validity);
+
 class MapIndex {
  public:
   /// Indexes `sample_points` (one map point per sample of `samples`, whose clip_of and frame_of

@@ -545,6 +545,16 @@ std::vector<Case> walk_paths(const Walks& w) {
   traced.name = "normal walk traced by hand, weights smoothed 0.1 s";
   traced.smooth = 0.1;
   out.push_back(traced);
+  // Drawn steadily: off the curve by a slowly varying offset (half a step, over about a second)
+  // instead of noise on every point.
+  Case offset = own;
+  offset.name = "normal walk traced by a steady hand";
+  for (std::size_t k = 0; k < offset.path.points.size(); ++k) {
+    const double t = offset.path.times[k];
+    offset.path.points[k] += 2.0 * jitter * Eigen::Vector2d(std::sin(5.0 * t), std::cos(3.0 * t));
+  }
+  offset.walks = offset.angles = false;
+  out.push_back(offset);
   // On the map of every other frame: half the frames blended between samples.
   Case half_samples{"normal walk retraced on a map of every other frame", {}};
   for (const auto& [frame, p] : trajectory(w.set2, w.map2, 0)) {
@@ -626,12 +636,13 @@ TEST(SynthCleanFeet, SynthesizedBandaiWalks) {
     // No pops: no joint steps between two frames further than it ever does in the blend (the
     // clean-up also removes the blend's own jumps of a planted foot, so the difference of steps
     // is bounded only for walks, below).
+    // (within 0.5 cm, or 3 % of a blend that jumps further: a steady hand's blend steps 25 cm).
     const double raw_jump = max_jump(skeleton, raw.motion);
-    EXPECT_LE(max_jump(skeleton, cleaned.motion), raw_jump + 0.5);
+    EXPECT_LE(max_jump(skeleton, cleaned.motion), raw_jump + std::max(0.5, 0.03 * raw_jump));
     // The legs away from their contacts keep their angles (retraced, smoothed or not: 0.05°;
     // every other frame 0.54°, 3.8° before the local blend followed the trajectory between
-    // samples). The halfway blend is no walk, and a walk traced by hand jumps between gait
-    // cycles (1.3° and 2.4°: docs/synthesis.md, where it falls short).
+    // samples). The halfway blend is no walk, and a walk traced by hand blends several gait
+    // cycles (1.3°–2.4°: docs/synthesis.md, where it falls short).
     if (c.angles) {
       EXPECT_LE(rms, 1.0);
     }

@@ -26,6 +26,17 @@ class MapGp {
 
   /// variance(x) ≤ threshold(): x is inside the data.
   bool inside(const Eigen::Vector2d& x) const { return variance(x) <= threshold(); }
+
+  /// From a point `in` inside to a point `out` outside: the largest t ∈ [0, 1] found inside on
+  /// in + t·(out − in), by bisection to 1e-9 of the segment (where the region's edge crosses it).
+  double edge_fraction(const Eigen::Vector2d& in, const Eigen::Vector2d& out) const {
+    double lo = 0.0, hi = 1.0;  // inside at t = lo, outside at t = hi
+    while (hi - lo > 1e-9) {
+      const double t = 0.5 * (lo + hi);
+      (inside(in + t * (out - in)) ? lo : hi) = t;
+    }
+    return lo;
+  }
 };
 
 }  // namespace motionmap

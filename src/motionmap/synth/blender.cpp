@@ -21,6 +21,7 @@
 #include "motionmap/skeleton/contacts.h"
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
+#include "motionmap/synth/detail/smoothing.h"
 
 namespace motionmap::synth {
 
@@ -303,11 +304,14 @@ struct MapBlender::Impl {
   PointValidity validate(const Eigen::Vector2d& p) const;
   // The gp mode's weights at v.point (blender.h).
   MapWeights gp_weights(const PointValidity& v) const;
-  // Point weights (point index, weight) at v.point; sets v.variance. Not for kriging.
+  // Point weights (point index, weight) at v.point; sets v.variance (not on a GP-LVM map, whose
+  // variance is the GP's). Not for kriging.
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
   // locate_path()'s share of the trajectory (blender.h): `w`, located at a path point moving at
   // `velocity` (map units per second), becomes its blend with the nearby segments' samples.
   void follow_trajectory(MapWeights& w, const Eigen::Vector2d& velocity) const;
+  // The weights at v.point in every mode but kriging (the gp mode's or the point weights').
+  MapWeights weights(const PointValidity& v) const;
   // Kriging weights of the points out[c].validity.point, into out.
   void kriging_block(std::span<MapWeights> out) const;
   // With a source: the state of `samples` (as sample_state() gives it, one after another),
@@ -485,12 +489,7 @@ PointValidity MapBlender::Impl::validate(const Eigen::Vector2d& p) const {
     v.variance = vq;
     return v;
   }
-  double in = 0.0, out = 1.0;  // q + t (p − q): inside at t = in, outside at t = out
-  while (out - in > 1e-9) {
-    const double t = 0.5 * (in + out);
-    (gp.variance(q + t * (p - q)) <= gp.threshold() ? in : out) = t;
-  }
-  v.point = q + in * (p - q);
+  v.point = q + gp.edge_fraction(q, p) * (p - q);
   v.variance = gp.variance(v.point);
   return v;
 }
@@ -536,21 +535,22 @@ void MapBlender::Impl::point_weights(PointValidity& v,
   const double R =
       found > count ? dist[count] : 2.0 * dist[found - 1] + std::numeric_limits<double>::min();
   franke_little_weights(dist.data(), count, R, phi.data());
+  double variance = std::numeric_limits<double>::quiet_NaN();  // idw has none
   if (!is_local) {
     for (int i = 0; i < count; ++i) {
       if (phi[i] != 0.0) out.emplace_back(static_cast<int>(idx[i]), phi[i]);
     }
-    v.variance = std::numeric_limits<double>::quiet_NaN();
-    return;
+  } else {
+    variance = 0.0;
+    std::vector<double> rhs(static_cast<std::size_t>(local->max_hood() + 1)), sol(rhs.size());
+    for (int i = 0; i < count; ++i) {
+      if (phi[i] == 0.0) continue;
+      const double var =
+          local->predict(*index, static_cast<int>(idx[i]), v.point, phi[i], out, rhs, sol);
+      variance += phi[i] * var;
+    }
   }
-  v.variance = 0.0;
-  std::vector<double> rhs(static_cast<std::size_t>(local->max_hood() + 1)), sol(rhs.size());
-  for (int i = 0; i < count; ++i) {
-    if (phi[i] == 0.0) continue;
-    const double var =
-        local->predict(*index, static_cast<int>(idx[i]), v.point, phi[i], out, rhs, sol);
-    v.variance += phi[i] * var;
-  }
+  if (!options.gplvm) v.variance = variance;  // a GP-LVM map's is the GP's
 }
 
 void MapBlender::Impl::kriging_block(std::span<MapWeights> out) const {
@@ -650,33 +650,25 @@ MapBlender::~MapBlender() = default;
 MapBlender::MapBlender(MapBlender&&) noexcept = default;
 MapBlender& MapBlender::operator=(MapBlender&&) noexcept = default;
 
+MapWeights MapBlender::Impl::weights(const PointValidity& v) const {
+  if (options.mode == BlendMode::Gp) return gp_weights(v);
+  std::vector<std::pair<int, double>> pw;
+  PointValidity at = v;
+  point_weights(at, pw);
+  return index->to_sample_weights(pw, at);
+}
+
 MapWeights MapBlender::locate(const Eigen::Vector2d& p) const {
   if (m->options.mode == BlendMode::Kriging)
     return std::move(locate(std::span<const Eigen::Vector2d>(&p, 1)).front());
-  PointValidity v = m->validate(p);
-  if (m->options.mode == BlendMode::Gp) return m->gp_weights(v);
-  std::vector<std::pair<int, double>> pw;
-  const double gp_variance = v.variance;
-  m->point_weights(v, pw);
-  if (m->options.gplvm) v.variance = gp_variance;  // the map's variance is the GP's
-  return m->index->to_sample_weights(pw, v);
+  return m->weights(m->validate(p));
 }
 
 std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts) const {
   std::vector<MapWeights> out(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) out[i].validity = m->validate(pts[i]);
-  if (m->options.mode == BlendMode::Gp) {
-    for (auto& w : out) w = m->gp_weights(w.validity);
-    return out;
-  }
   if (m->options.mode != BlendMode::Kriging) {
-    std::vector<std::pair<int, double>> pw;
-    for (auto& w : out) {
-      PointValidity v = w.validity;
-      m->point_weights(v, pw);
-      if (m->options.gplvm) v.variance = w.validity.variance;  // the GP's
-      w = m->index->to_sample_weights(pw, v);
-    }
+    for (auto& w : out) w = m->weights(w.validity);
     return out;
   }
   for (std::size_t b = 0; b < pts.size(); b += kKrigingBlock) {
@@ -743,7 +735,6 @@ void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& v
   std::vector<double> d(hits.size()), phi(hits.size());
   for (int i = 0; i < count; ++i) d[i] = hits[i].distance;
   franke_little_weights(d.data(), count, width, phi.data());
-  const auto fade = [](double u) { return u >= 1.0 ? 0.0 : 1.0 - u * u * (3.0 - 2.0 * u); };
   // Each segment's share: its Franke–Little weight, times how near (1 on it, 0 at `width`),
   // times how well the path keeps the clip's pace along it (1 at the same map velocity, 0 at
   // kTrajectoryPaceTolerance of its speed off it).
@@ -755,8 +746,8 @@ void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& v
         (index->sample_point(h.second) - index->sample_point(h.first)) / h.seconds;
     const double speed = pace.norm();
     if (!(speed > 0.0) || phi[i] == 0.0) continue;
-    const double g = phi[i] * fade(h.distance / width) *
-                     fade((velocity - pace).norm() / (kTrajectoryPaceTolerance * speed));
+    const double g = phi[i] * detail::falloff(h.distance / width) *
+                     detail::falloff((velocity - pace).norm() / (kTrajectoryPaceTolerance * speed));
     if (g == 0.0) continue;
     share += g;
     if (h.t < 1.0) added.emplace_back(h.first, g * (1.0 - h.t));

@@ -8,6 +8,7 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/skeleton/forward_kinematics.h"
+#include "motionmap/synth/detail/smoothing.h"
 
 namespace motionmap::synth {
 
@@ -19,12 +20,6 @@ constexpr double kStraightSin = 0.0872;
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
-
-double falloff(double x) {
-  if (x >= 1.0) return 0.0;
-  if (x <= 0.0) return 1.0;
-  return 1.0 - x * x * (3.0 - 2.0 * x);
-}
 
 bool is_ancestor(const Skeleton& s, int ancestor, int joint) {
   for (int j = joint; j >= 0; j = s.joints[j].parent) {
@@ -120,12 +115,12 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
     Vector3d d1 = Vector3d::Zero(), d2 = Vector3d::Zero();
     if (next > 0) {
       const ContactInterval& c = iv[next - 1];
-      w1 = falloff(static_cast<double>(f - c.last) / (blend + 1));
+      w1 = detail::falloff(static_cast<double>(f - c.last) / (blend + 1));
       d1 = last_target[next - 1] - plan.ankle[c.last];
     }
     if (next < iv.size()) {
       const ContactInterval& c = iv[next];
-      w2 = falloff(static_cast<double>(c.first - f) / (blend + 1));
+      w2 = detail::falloff(static_cast<double>(c.first - f) / (blend + 1));
       d2 = first_target[next] - plan.ankle[c.first];
     }
     if (w1 + w2 <= 0.0) continue;

@@ -147,12 +147,7 @@ Eigen::Vector2d MapField::pulled_in(const Eigen::Vector2d& p) const {
   if (!m_gp) return d <= m_reach ? p : Eigen::Vector2d(s + (p - s) * (kPullFraction * m_reach / d));
   if (m_gp->inside(p)) return p;
   if (!m_gp->inside(s)) return s;
-  double in = 0.0, out = 1.0;  // s + t (p − s): valid at t = in, not at t = out
-  while (out - in > 1e-9) {
-    const double t = 0.5 * (in + out);
-    (m_gp->inside(s + t * (p - s)) ? in : out) = t;
-  }
-  return s + kPullFraction * in * (p - s);
+  return s + kPullFraction * m_gp->edge_fraction(s, p) * (p - s);
 }
 
 bool MapField::interval_valid(const Eigen::Vector2d& p, double dp, const Eigen::Vector2d& q,

@@ -1,6 +1,7 @@
 #pragma once
 // The temporal smoothing of blend weights that synthesize() and edit_path() share: a Gaussian
-// over ±3σ frames, renormalised where the window passes the motion's ends.
+// over ±3σ frames, renormalised where the window passes the motion's ends; and the smoothstep
+// fade the synth stages share.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -9,6 +10,14 @@
 #include "motionmap/synth/blender.h"
 
 namespace motionmap::synth::detail {
+
+/// 1 − smoothstep(x): 1 at and below 0, falling as 1 − (3x² − 2x³) to 0 at and above 1 (the
+/// clean-up's fades, the trajectory's share along a path).
+inline double falloff(double x) {
+  if (x >= 1.0) return 0.0;
+  if (x <= 0.0) return 1.0;
+  return 1.0 - x * x * (3.0 - 2.0 * x);
+}
 
 /// The kernel g_j, j = −half…half (half = ⌈3σ⌉ frames, at most `frames`), σ = smooth / dt
 /// frames; {1} for smooth = 0.

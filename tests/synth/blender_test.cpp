@@ -468,6 +468,10 @@ TEST(SynthBlender, WeightsMoveInTheirClipsByTime) {
   EXPECT_EQ(motionmap::test::error_message<ParameterError>(
                 [&] { blender.later_in_clip(w, std::nan("")); }),
             "later_in_clip: nan s is not finite");
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>([&] {
+              blender.later_in_clip(MapWeights{{3, 4}, {1.0}, {}}, dt);
+            }),
+            "later_in_clip: 2 sample indices for 1 weights");
 }
 
 TEST(SynthBlender, ClampsOntoTheTrajectoryContinuously) {

@@ -367,10 +367,88 @@ TEST(SynthBlender, TrajectorySearchFindsWhatAScanOfAllFinds) {
   }
 }
 
+TEST(SynthBlender, TrajectoryAtInterpolatesTheRunByTime) {
+  // Two clips: one sampled every other frame (evenly), one with a gap of 5 frames every 7
+  // samples (unevenly). The point at a time is the run's samples interpolated linearly by frame,
+  // the velocity that of the segment there (ahead at a sample); beyond the run's ends its end
+  // sample, standing still.
+  features::FeatureSet samples;
+  std::vector<Eigen::Vector2d> points;
+  std::mt19937_64 random(9);
+  std::normal_distribution<double> normal;
+  for (int clip = 0; clip < 2; ++clip) {
+    for (int i = 0; i < 40; ++i) {
+      samples.clip_of.push_back(clip);
+      samples.frame_of.push_back(clip == 0 ? 2 * i : i + 5 * (i / 7));
+      points.emplace_back(normal(random), normal(random));
+    }
+  }
+  const std::vector<double> frame_times{1.0 / 30, 1.0 / 120};
+  const detail::MapIndex index(frame_times, samples, points, 3.0);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int s = static_cast<int>(random() % 80);
+    const int clip = s / 40, first = 40 * clip, last = first + 39;
+    const double dt = frame_times[static_cast<std::size_t>(clip)];
+    const double seconds = (std::uniform_real_distribution<double>(-10.0, 90.0)(random) -
+                            samples.frame_of[static_cast<std::size_t>(s)]) *
+                           dt;
+    const double frame = samples.frame_of[static_cast<std::size_t>(s)] + seconds / dt;
+    Eigen::Vector2d expected = points[static_cast<std::size_t>(first)], velocity(0.0, 0.0);
+    if (frame >= samples.frame_of[static_cast<std::size_t>(last)]) {
+      expected = points[static_cast<std::size_t>(last)];
+    } else if (frame > samples.frame_of[static_cast<std::size_t>(first)]) {
+      int a = first;
+      while (samples.frame_of[static_cast<std::size_t>(a + 1)] <= frame) ++a;
+      const double fa = samples.frame_of[static_cast<std::size_t>(a)],
+                   fb = samples.frame_of[static_cast<std::size_t>(a + 1)];
+      const double u = (frame - fa) / (fb - fa);
+      expected = (1.0 - u) * points[static_cast<std::size_t>(a)] +
+                 u * points[static_cast<std::size_t>(a + 1)];
+      velocity = (points[static_cast<std::size_t>(a + 1)] - points[static_cast<std::size_t>(a)]) /
+                 ((fb - fa) * dt);
+    }
+    Eigen::Vector2d v;
+    const Eigen::Vector2d p = index.trajectory_at(s, seconds, v);
+    EXPECT_LT((p - expected).norm(), 1e-9) << trial;
+    EXPECT_LT((v - velocity).norm(), 1e-6 * (1.0 + velocity.norm())) << trial;
+    EXPECT_EQ(index.run_of(s), first);
+  }
+  EXPECT_NEAR(index.seconds_in_run(47), (7 + 5) / 120.0, 1e-15);  // frame 12 of clip 1
+}
+
+TEST(SynthBlender, PathsTracedByHandAlongTheTrajectoryPlayTheClip) {
+  // The clip's map curve at its own pace, every point off by seeded noise (σ a quarter step per
+  // axis, as a hand traces it): each frame blends the clip at about its own time, on two
+  // consecutive samples, where locate() alone blends samples several frames apart.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender local = make_blender(clip, map, BlendMode::Local);
+  const double dt = clip.motion.frame_time;
+  std::mt19937 random(4);
+  std::normal_distribution<double> noise(0.0, 0.025);  // the curve steps about 0.1
+  std::vector<Eigen::Vector2d> path;
+  for (int f = 0; f < clip.motion.num_frames; ++f)
+    path.push_back(map.row(f).transpose() + Eigen::Vector2d(noise(random), noise(random)));
+  const std::vector<MapWeights> traced = local.locate_path(path, dt, 0, path.size());
+  const std::vector<MapWeights> plain = local.locate(path);
+  double worst = 0.0, worst_plain = 0.0;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const auto spread = [](const MapWeights& w) { return w.samples.back() - w.samples.front(); };
+    EXPECT_LE(spread(traced[k]), 1) << k;
+    double frame = 0.0;
+    for (std::size_t e = 0; e < traced[k].samples.size(); ++e)
+      frame += traced[k].weights[e] * traced[k].samples[e];
+    worst = std::max(worst, std::abs(frame - static_cast<double>(k)));
+    worst_plain = std::max(worst_plain, static_cast<double>(spread(plain[k])));
+  }
+  EXPECT_LT(worst, 0.5);
+  EXPECT_GE(worst_plain, 3.0);
+}
+
 TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   // A path along the clip's map curve at 4× its frame rate: between samples f and f + 1 the
-  // local mode blends just those two, (1 − t, t), where the path keeps the clip's pace. Run at a
-  // 2.5 times the pace, backwards, or in the idw mode, it gets locate()'s weights.
+  // local mode blends just those two, (1 − t, t), where the path keeps the clip's pace. Run at
+  // 4 times the pace, backwards, or in the idw mode, it gets locate()'s weights.
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender local = make_blender(clip, map, BlendMode::Local);
@@ -400,7 +478,7 @@ TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   }
   // The same points at another pace or backwards: the kriging's weights, as locate() gives.
   std::vector<Eigen::Vector2d> back(path.rbegin(), path.rend());
-  for (const auto& [points, time] : {std::pair{path, dt / 2.5}, std::pair{back, dt}}) {
+  for (const auto& [points, time] : {std::pair{path, dt / 4.0}, std::pair{back, dt}}) {
     const std::vector<MapWeights> w = local.locate_path(points, time, 0, points.size());
     const std::vector<MapWeights> plain = local.locate(points);
     for (std::size_t k = 0; k < points.size(); ++k) {

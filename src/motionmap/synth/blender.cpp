@@ -27,6 +27,11 @@ namespace motionmap::synth {
 
 namespace {
 
+// The half-width, in frames, of the window locate_path() fits clip times to.
+long long follow_half_window(double dt) {
+  return std::max(1LL, std::llround(kFollowSeconds / dt));
+}
+
 // Local systems pick neighbours at least this fraction of the median step apart, so 120 fps
 // samples almost on top of each other do not make them ill-conditioned.
 constexpr double kSeparationFraction = 0.25;
@@ -307,9 +312,11 @@ struct MapBlender::Impl {
   // Point weights (point index, weight) at v.point; sets v.variance (not on a GP-LVM map, whose
   // variance is the GP's). Not for kriging.
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
-  // locate_path()'s share of the trajectory (blender.h): `w`, located at a path point moving at
-  // `velocity` (map units per second), becomes its blend with the nearby segments' samples.
-  void follow_trajectory(MapWeights& w, const Eigen::Vector2d& velocity) const;
+  // locate_path()'s share of the clips (blender.h): `w`, located at frame k of the path `points`
+  // (one every dt seconds), becomes its blend with the clip times whose trajectory the path
+  // follows around frame k.
+  void follow_clips(MapWeights& w, std::span<const Eigen::Vector2d> points, std::size_t k,
+                    double dt) const;
   // The weights at v.point in every mode but kriging (the gp mode's or the point weights').
   MapWeights weights(const PointValidity& v) const;
   // Kriging weights of the points out[c].validity.point, into out.
@@ -678,6 +685,10 @@ std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts)
   return out;
 }
 
+int MapBlender::path_neighbours(double frame_time) const {
+  return m->options.mode == BlendMode::Local ? static_cast<int>(follow_half_window(frame_time)) : 0;
+}
+
 std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d> points,
                                                 double frame_time, std::size_t first,
                                                 std::size_t end) const {
@@ -691,13 +702,7 @@ std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d>
   }
   std::vector<MapWeights> out = locate(points.subspan(first, end - first));
   if (m->options.mode != BlendMode::Local || points.size() < 2) return out;
-  const std::size_t last = points.size() - 1;
-  for (std::size_t k = first; k < end; ++k) {
-    const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(last, k + 1);
-    const Eigen::Vector2d velocity =
-        (points[b] - points[a]) / (static_cast<double>(b - a) * frame_time);
-    m->follow_trajectory(out[k - first], velocity);
-  }
+  for (std::size_t k = first; k < end; ++k) m->follow_clips(out[k - first], points, k, frame_time);
   return out;
 }
 
@@ -725,35 +730,125 @@ MapWeights MapBlender::later_in_clip(const MapWeights& weights, double seconds) 
   return detail::weights_by_sample(std::move(moved), weights.validity);
 }
 
-void MapBlender::Impl::follow_trajectory(MapWeights& w, const Eigen::Vector2d& velocity) const {
-  const double width = kTrajectoryWidth * index->median_step();
-  if (!(width > 0.0)) return;
+void MapBlender::Impl::follow_clips(MapWeights& w, std::span<const Eigen::Vector2d> points,
+                                    std::size_t k, double dt) const {
+  const double step = index->median_step();
+  if (!(step > 0.0)) return;
+  const double far = kFollowFar * step;
   std::vector<detail::MapIndex::TrajectoryHit> hits;
-  index->trajectory_near(w.validity.point, width, kTrajectoryMaxSeconds, hits);
+  index->trajectory_near(points[k], kFollowSearch * step, kTrajectoryMaxSeconds, hits);
   if (hits.empty()) return;
-  const auto count = static_cast<int>(hits.size());
-  std::vector<double> d(hits.size()), phi(hits.size());
-  for (int i = 0; i < count; ++i) d[i] = hits[i].distance;
-  franke_little_weights(d.data(), count, width, phi.data());
-  // Each segment's share: its Franke–Little weight, times how near (1 on it, 0 at `width`),
-  // times how well the path keeps the clip's pace along it (1 at the same map velocity, 0 at
-  // kTrajectoryPaceTolerance of its speed off it).
-  std::vector<std::pair<int, double>> added;
-  double share = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const auto& h = hits[static_cast<std::size_t>(i)];
-    const Eigen::Vector2d pace =
-        (index->sample_point(h.second) - index->sample_point(h.first)) / h.seconds;
-    const double speed = pace.norm();
-    if (!(speed > 0.0) || phi[i] == 0.0) continue;
-    const double g = phi[i] * detail::falloff(h.distance / width) *
-                     detail::falloff((velocity - pace).norm() / (kTrajectoryPaceTolerance * speed));
-    if (g == 0.0) continue;
-    share += g;
-    if (h.t < 1.0) added.emplace_back(h.first, g * (1.0 - h.t));
-    if (h.t > 0.0) added.emplace_back(h.second, g * h.t);
+  // The window: frames k + j, j ∈ [j0, j1], weighted 1 − |j|/(h + 1).
+  const auto K = static_cast<long long>(k), last = static_cast<long long>(points.size()) - 1;
+  const long long h = follow_half_window(dt);
+  const long long j0 = -std::min(h, K), j1 = std::min(h, last - K);
+  // Every stride-th frame of the window (about kFollowWindowPoints a side) is compared.
+  const long long stride = std::max(1LL, h / static_cast<long long>(kFollowWindowPoints));
+  const auto at = [&](long long j) { return points[static_cast<std::size_t>(K + j)]; };
+  // A clip time followed: the run (its first sample) and the seconds into it at frame k, the
+  // rate the clip plays at, and the window's weighted mean squared distance to the path.
+  struct Timeline {
+    int run = 0;
+    double seconds = 0.0, rate = 1.0, cost = 0.0;
+  };
+  Eigen::Vector2d v;
+  const auto cost_of = [&](Timeline& c, Eigen::Matrix2d* normal, Eigen::Vector2d* gradient) {
+    double sum = 0.0, weights = 0.0;
+    if (normal != nullptr) {
+      normal->setZero();
+      gradient->setZero();
+    }
+    for (long long j = -((-j0) / stride) * stride; j <= j1; j += stride) {
+      const double wj = 1.0 - static_cast<double>(std::abs(j)) / static_cast<double>(h + 1);
+      const double tj = static_cast<double>(j) * dt;
+      const Eigen::Vector2d e = at(j) - index->trajectory_at(c.run, c.seconds + c.rate * tj, v);
+      sum += wj * e.squaredNorm();
+      weights += wj;
+      if (normal != nullptr) {
+        // d(trajectory)/d(seconds) = v, d/d(rate) = v·tj.
+        const Eigen::Vector2d d(v.squaredNorm(), v.squaredNorm() * tj);
+        (*normal)(0, 0) += wj * d(0);
+        (*normal)(0, 1) += wj * d(1);
+        (*normal)(1, 1) += wj * d(1) * tj;
+        (*gradient)(0) += wj * v.dot(e);
+        (*gradient)(1) += wj * v.dot(e) * tj;
+      }
+    }
+    c.cost = sum / weights;
+  };
+  std::vector<Timeline> found;
+  for (const auto& hit : hits) {
+    if (found.size() >= static_cast<std::size_t>(kFollowTimelines)) break;
+    Timeline c;
+    c.run = index->run_of(hit.first);
+    c.seconds = index->seconds_in_run(hit.first) + hit.t * hit.seconds;
+    const auto same = [&](const Timeline& t) {
+      return std::any_of(found.begin(), found.end(), [&](const Timeline& f) {
+        return f.run == t.run && std::abs(f.seconds - t.seconds) < kFollowSameSeconds;
+      });
+    };
+    if (same(c)) continue;
+    // The rate from the window's chord, then Gauss–Newton on (seconds, rate), keeping the best.
+    if (j1 > j0) {
+      const Eigen::Vector2d chord = at(j1) - at(j0);
+      const Eigen::Vector2d clip =
+          index->trajectory_at(c.run, c.seconds + static_cast<double>(j1) * dt, v) -
+          index->trajectory_at(c.run, c.seconds + static_cast<double>(j0) * dt, v);
+      if (clip.squaredNorm() > 0.0)
+        c.rate = std::clamp(chord.dot(clip) / clip.squaredNorm(), kFollowMinRate, kFollowMaxRate);
+    }
+    Timeline best = c;
+    Eigen::Matrix2d normal;
+    Eigen::Vector2d gradient;
+    cost_of(c, &normal, &gradient);
+    // A start this far off (the path crosses the clip, or runs against it) is not followed.
+    if (c.cost > 4.0 * far * far) continue;
+    for (int it = 0; it < kFollowIterations; ++it) {
+      if (it > 0) cost_of(c, &normal, &gradient);
+      if (it == 0 || c.cost < best.cost) best = c;
+      normal(1, 0) = normal(0, 1);
+      normal.diagonal().array() += 1e-9 * (normal.diagonal().array().abs().maxCoeff() + 1e-30);
+      const Eigen::Vector2d delta = normal.ldlt().solve(gradient);
+      if (!delta.allFinite()) break;
+      c.seconds += std::clamp(delta(0), -kTrajectoryMaxSeconds, kTrajectoryMaxSeconds);
+      c.rate =
+          std::clamp(c.rate + std::clamp(delta(1), -0.25, 0.25), kFollowMinRate, kFollowMaxRate);
+    }
+    cost_of(c, nullptr, nullptr);
+    if (c.cost < best.cost) best = c;
+    if (!same(best)) found.push_back(best);
   }
+  // Each timeline's cost, raised as its point at frame k leaves the search radius (where it is
+  // found no more) to that of one kFollowFar off the path, so that every share below is
+  // continuous along the path.
+  const double radius = kFollowSearch * step, near = kFollowNear * step;
+  std::vector<double> reach(found.size()), cost(found.size());
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < found.size(); ++c) {
+    const double d = (points[k] - index->trajectory_at(found[c].run, found[c].seconds, v)).norm();
+    reach[c] = detail::falloff(2.0 * d / radius - 1.0);
+    cost[c] = found[c].cost + (1.0 - reach[c]) * far * far;
+    least = std::min(least, cost[c]);
+  }
+  const double share = detail::falloff((std::sqrt(least) - near) / (far - near));
   if (share == 0.0) return;
+  // The timelines whose costs are within a tie of the least share the clips' part.
+  const double tie = kFollowTie * least + kFollowTieSteps * kFollowTieSteps * step * step;
+  std::vector<double> alpha(found.size());
+  double total = 0.0;
+  for (std::size_t c = 0; c < found.size(); ++c) {
+    alpha[c] = reach[c] * detail::falloff((cost[c] - least) / tie);
+    total += alpha[c];
+  }
+  std::vector<std::pair<int, double>> added;
+  for (std::size_t c = 0; c < found.size(); ++c) {
+    if (alpha[c] == 0.0) continue;
+    int samples[2] = {0, 0};
+    double weights[2] = {1.0, 0.0};
+    const int count = index->later_in_clip(found[c].run, found[c].seconds, samples, weights);
+    for (int e = 0; e < count; ++e)
+      added.emplace_back(samples[e], share * alpha[c] / total * weights[e]);
+  }
   if (share < 1.0) {
     for (std::size_t e = 0; e < w.samples.size(); ++e)
       added.emplace_back(w.samples[e], (1.0 - share) * w.weights[e]);

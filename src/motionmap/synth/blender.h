@@ -17,15 +17,20 @@
 //    query blends the predictions of the 4 map-nearest samples' systems with partition-of-unity
 //    weights (Franke–Little: ((R − d)/(R·d))², R = distance of the 5th nearest) that are 1 at a
 //    sample and fall to 0 before a sample leaves the 4 nearest. Along a path (locate_path) it
-//    also plays the clips themselves where the path follows one: every segment between
-//    consecutive samples of a clip (≤ kTrajectoryMaxSeconds apart) within w = kTrajectoryWidth
-//    median steps of the path point interpolates its two samples at the point's foot on it
-//    ((1 − t, t)), with the share φ_s·(1 − smoothstep(d_s/w))·(1 − smoothstep(e_s)): φ_s the
-//    segments' Franke–Little weights (R = w), d_s the point's distance to the segment, e_s the
-//    path's map velocity off the segment's (its step over its time) by kTrajectoryPaceTolerance
-//    of that segment's speed; the local kriging takes the rest. So a path along a clip's curve
-//    at the clip's pace replays the clip, between samples too; one that crosses it, runs along it
-//    backwards or much slower or faster, keeps the kriging blend.
+//    also plays the clips themselves where the path follows one: each segment between consecutive
+//    samples of a clip (≤ kTrajectoryMaxSeconds apart) within kFollowSearch median steps of
+//    frame k's point starts a fit of a clip time τ and a rate r ∈ [kFollowMinRate,
+//    kFollowMaxRate] that lay the clip's trajectory T(τ + r·j·Δt) on the path's points p_{k+j},
+//    |j·Δt| ≤ kFollowSeconds (Gauss–Newton on the weighted mean squared distance D, weights
+//    1 − |j|/(h + 1)). The least D, as an RMS in median steps, gives the clips' share: 1 up to
+//    kFollowNear, 0 from kFollowFar, smoothstep between; the fits within a tie of it (D ≤
+//    (1 + kFollowTie)·D_min + (kFollowTieSteps steps)²) share that part, each on its two samples
+//    around τ, (1 − t, t); the local kriging takes the rest. A fit's D rises towards kFollowFar's
+//    as its point at frame k nears the search radius, so every share is continuous along the
+//    path. So a path along a clip's curve at its pace replays the clip, between samples too (D =
+//    0, one fit); one drawn near the curve by hand plays a gait cycle through rather than sliding
+//    between cycles; one that crosses it, runs against it, or at over twice or under half its
+//    pace keeps the kriging blend.
 //  - Idw: Franke–Little inverse-distance weights on the K nearest samples (R = distance of the
 //    (K+1)-th): non-negative, continuous, the robust fallback.
 //  - Gp (a GP-LVM map's default; needs BlendOptions::gplvm): the GP's predictive mean as
@@ -102,14 +107,32 @@ inline constexpr int kMaxKrigingSamples = 10000;
 /// Number of nearest samples whose local systems the local mode blends per query.
 inline constexpr int kLocalPartitionSize = 4;
 
-/// A path that follows a clip's trajectory plays that clip (locate_path, local mode): within this
-/// many median steps of a segment between consecutive samples of a clip (see the top of the file).
-inline constexpr double kTrajectoryWidth = 1.0;
-/// The longest time between two consecutive samples whose segment locate_path interpolates.
+/// A path that follows a clip's trajectory plays that clip (locate_path, local mode; see the top of
+/// the file). The window of path frames a frame's clip times are fitted to: ±this many seconds.
+inline constexpr double kFollowSeconds = 0.25;
+/// The window is compared every max(1, ⌊h / this⌋)-th frame (h: its half-width in frames).
+inline constexpr int kFollowWindowPoints = 8;
+/// Segments of the trajectory within this many median steps of a path point start a fit.
+inline constexpr double kFollowSearch = 2.0;
+/// A fitted clip time whose window stays within this many median steps of the path (RMS) plays
+/// wholly; beyond kFollowFar it plays no part; between, it shares with the kriging.
+inline constexpr double kFollowNear = 0.5;
+inline constexpr double kFollowFar = 1.5;
+/// Clip times whose fits' mean squared distances exceed the least, D, by less than
+/// kFollowTie·D + (kFollowTieSteps median steps)² share the clips' part (1 − smoothstep of the
+/// excess over that): several where the path is as near several, one where it runs on one.
+inline constexpr double kFollowTie = 1.0;
+inline constexpr double kFollowTieSteps = 0.02;
+/// The rates a followed clip may play at (1: its own pace).
+inline constexpr double kFollowMinRate = 0.5;
+inline constexpr double kFollowMaxRate = 2.0;
+/// At most this many clip times are fitted per frame (the nearest segments' first), each from a
+/// different place in the clips (kFollowSameSeconds apart), by this many Gauss–Newton steps.
+inline constexpr int kFollowTimelines = 16;
+inline constexpr double kFollowSameSeconds = 0.1;
+inline constexpr int kFollowIterations = 4;
+/// The longest time between two consecutive samples whose segment locate_path starts a fit on.
 inline constexpr double kTrajectoryMaxSeconds = 0.25;
-/// How far a path's map velocity may leave a segment's before locate_path stops following it, as
-/// a fraction of the segment's speed.
-inline constexpr double kTrajectoryPaceTolerance = 0.75;
 
 /// The least reach radius, as a fraction of the map's size (the larger side of its samples'
 /// bounding box): see reach_radius().
@@ -277,14 +300,17 @@ class MapBlender {
   /// one). @throws ParameterError naming the first non-finite point.
   std::vector<MapWeights> locate(std::span<const Eigen::Vector2d> points) const;
   /// The weights of frames [first, end) of a path sampled every `frame_time` seconds (`points`:
-  /// every frame's map point): locate()'s, and in the local mode where the path follows a clip's
-  /// trajectory at its pace, that clip's two samples around the point (top of the file); the
-  /// velocity at a frame is the central difference over its neighbours (one-sided at the ends).
+  /// every frame's map point): locate()'s, and in the local mode where the path around a frame
+  /// follows a clip's trajectory, that clip's samples at the fitted time (top of the file).
   /// synthesize() and edit_path() locate their paths with it.
   /// @throws ParameterError if [first, end) is not within points, frame_time is not positive and
   ///         finite, or as locate().
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, double frame_time,
                                       std::size_t first, std::size_t end) const;
+  /// How many frames either side of a frame locate_path() reads the points of, for a path sampled
+  /// every `frame_time` seconds (0 but in the local mode): a point moved changes the weights of
+  /// that many frames around it.
+  int path_neighbours(double frame_time) const;
   /// Weights moved `seconds` later (earlier when negative) in their clips: each sample's weight
   /// goes to the sample of its clip that much later, or is shared linearly between the two
   /// samples around that time (the first or last sample of its run of consecutive samples beyond

@@ -104,6 +104,14 @@ MapIndex::MapIndex(std::span<const double> frame_times, const features::FeatureS
   }
   for (int i = n - 1; i >= 0; --i)
     m_run_last[i] = i + 1 < n && consecutive(i) ? m_run_last[i + 1] : i;
+  m_run_stride.assign(static_cast<std::size_t>(n), 0);
+  for (int i = 0; i < n; i = m_run_last[i] + 1) {
+    const int first = i, last = m_run_last[i];
+    int stride = last > first ? m_frame_of[first + 1] - m_frame_of[first] : 0;
+    for (int j = first + 1; j <= last && stride > 0; ++j)
+      if (m_frame_of[j] - m_frame_of[j - 1] != stride) stride = 0;
+    std::fill(m_run_stride.begin() + first, m_run_stride.begin() + last + 1, stride);
+  }
   std::vector<char> on_segment(static_cast<std::size_t>(n), 0);
   for (int i = 0; i + 1 < n; ++i) {
     if (!consecutive(i)) continue;
@@ -241,10 +249,17 @@ int MapIndex::later_in_clip(int sample, double seconds, int* samples, double* we
   samples[0] = frame <= frame_at(first) ? first : last;
   weights[0] = 1.0;
   if (frame <= frame_at(first) || frame >= frame_at(last)) return 1;
-  // The last sample of the run at or before `frame` (frames increase along the run).
-  const auto begin = m_frame_of.begin() + first, end = m_frame_of.begin() + last + 1;
-  const auto at = std::upper_bound(begin, end, frame, [](double f, int g) { return f < g; }) - 1;
-  const int a = static_cast<int>(at - m_frame_of.begin());
+  // The last sample of the run at or before `frame` (frames increase along the run): found
+  // directly in a run of evenly spaced frames.
+  int a = 0;
+  if (const int stride = m_run_stride[s]; stride > 0) {
+    a = first + static_cast<int>(std::floor((frame - frame_at(first)) / stride));
+  } else {
+    const auto begin = m_frame_of.begin() + first, end = m_frame_of.begin() + last + 1;
+    a = static_cast<int>(
+        std::upper_bound(begin, end, frame, [](double f, int g) { return f < g; }) - 1 -
+        m_frame_of.begin());
+  }
   const double u = (frame - frame_at(a)) / (frame_at(a + 1) - frame_at(a));
   samples[0] = a;
   if (u <= 0.0) return 1;
@@ -252,6 +267,34 @@ int MapIndex::later_in_clip(int sample, double seconds, int* samples, double* we
   weights[0] = 1.0 - u;
   weights[1] = u;
   return 2;
+}
+
+Eigen::Vector2d MapIndex::trajectory_at(int sample, double seconds,
+                                        Eigen::Vector2d& velocity) const {
+  int at[2] = {0, 0};
+  double w[2] = {1.0, 0.0};
+  const int count = later_in_clip(sample, seconds, at, w);
+  const auto s = static_cast<std::size_t>(sample);
+  const double frame = m_frame_of[s] + seconds / m_frame_time[s];
+  // The segment [a, a + 1] of the run whose velocity is taken (none beyond the run's ends).
+  int a = at[0];
+  if (count == 1 && a == m_run_last[s]) --a;
+  if (a < m_run_first[s] || frame < m_frame_of[static_cast<std::size_t>(m_run_first[s])] ||
+      frame > m_frame_of[static_cast<std::size_t>(m_run_last[s])]) {
+    velocity.setZero();
+    return m_sample_points[static_cast<std::size_t>(at[0])];
+  }
+  const auto ua = static_cast<std::size_t>(a);
+  const double step_seconds = (m_frame_of[ua + 1] - m_frame_of[ua]) * m_frame_time[ua];
+  velocity = (m_sample_points[ua + 1] - m_sample_points[ua]) / step_seconds;
+  if (count == 1) return m_sample_points[static_cast<std::size_t>(at[0])];
+  return w[0] * m_sample_points[static_cast<std::size_t>(at[0])] +
+         w[1] * m_sample_points[static_cast<std::size_t>(at[1])];
+}
+
+double MapIndex::seconds_in_run(int sample) const {
+  const auto s = static_cast<std::size_t>(sample);
+  return (m_frame_of[s] - m_frame_of[static_cast<std::size_t>(m_run_first[s])]) * m_frame_time[s];
 }
 
 PointValidity MapIndex::validate(const Eigen::Vector2d& p) const {

@@ -106,9 +106,10 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     r1 = F - 1;
   }
   if (r0 < 0) return out;  // the same path: the same motion
-  // A frame's weights read its neighbours' points too (the path's velocity: locate_path).
-  r0 = std::max(0, r0 - 1);
-  r1 = std::min(F - 1, r1 + 1);
+  // A frame's weights read its neighbours' points too (locate_path).
+  const int reads = blender.path_neighbours(dt);
+  r0 = std::max(0, r0 - reads);
+  r1 = std::min(F - 1, r1 + reads);
 
   const std::vector<double> kernel = detail::smoothing_kernel(so.smooth, dt, F);
   const int half = static_cast<int>(kernel.size() / 2);

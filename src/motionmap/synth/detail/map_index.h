@@ -80,6 +80,16 @@ class MapIndex {
   /// `samples` and `weights` take up to 2 entries; returns how many (1 or 2).
   int later_in_clip(int sample, double seconds, int* samples, double* weights) const;
 
+  /// Where sample `sample`'s clip is `seconds` later on the map, as later_in_clip() finds that
+  /// time: the point (the run's samples' points interpolated linearly), and in `velocity` the
+  /// map velocity there (per second; that of the segment ahead at a sample, of the last segment at
+  /// the run's last sample; 0 for a run of one sample).
+  Eigen::Vector2d trajectory_at(int sample, double seconds, Eigen::Vector2d& velocity) const;
+  /// The seconds from the first sample of `sample`'s run to it.
+  double seconds_in_run(int sample) const;
+  /// The first sample of `sample`'s run (consecutive samples of its clip, frames increasing).
+  int run_of(int sample) const { return m_run_first[static_cast<std::size_t>(sample)]; }
+
   /// The map point that sample `s` shares with its merged samples.
   int point_of(int sample) const { return m_point_of[static_cast<std::size_t>(sample)]; }
 
@@ -110,6 +120,7 @@ class MapIndex {
   std::vector<int> m_point_of;  // sample → map point
   // Per sample: its frame, its clip's frame time, and the first and last sample of its run.
   std::vector<int> m_frame_of, m_run_first, m_run_last;
+  std::vector<int> m_run_stride;  // per sample: the frames between its run's samples, 0 if uneven
   std::vector<double> m_frame_time;
   // The trajectory: segments between consecutive samples of a clip, and isolated samples as
   // segments of length 0 (start, end sample).

@@ -446,6 +446,34 @@ TEST(SynthCleanFeet, PlantedFeetLeadTheRoot) {
   now.planted = next.planted = {1.0, 0.0};
   next.ankle[0] = now.ankle[0] + Eigen::Vector3d(0.0, 0.0, -40.0);
   EXPECT_EQ(root_step(blended, yaw, next_yaw, now, next, Axis::Y), blended);
+  // Integrated over frames: each frame stands where the steps before it took it; the last
+  // frame's step (no next frame to stand in) is the blend's.
+  {
+    const std::vector<Eigen::Vector3d> velocity{Eigen::Vector3d(30.0, 0.0, 60.0),
+                                                Eigen::Vector3d(30.0, 0.0, 60.0)};
+    const std::vector<double> yaw_rate{1.5, 1.5};
+    const double dt = 1.0 / 30.0;
+    now.ankle = {Eigen::Vector3d(10.0, 5.0, 20.0), Eigen::Vector3d(-10.0, 6.0, -5.0)};
+    next.ankle = {Eigen::Vector3d(10.5, 5.5, 17.5), Eigen::Vector3d(-10.0, 6.0, -7.0)};
+    now.planted = next.planted = {1.0, 0.0};
+    const std::vector<FeetFrame> standing{now, next};
+    std::vector<Eigen::Vector3d> positions(2);
+    std::vector<double> headings(2);
+    const detail::RootState start{Eigen::Vector3d(1.0, 0.0, 2.0), 0.3};
+    const detail::RootState end = detail::integrate_root(start, velocity, yaw_rate, dt, standing,
+                                                         Axis::Y, positions, headings);
+    EXPECT_EQ(positions[0], start.position);
+    EXPECT_EQ(headings[0], 0.3);
+    EXPECT_EQ(headings[1], 0.3 + 1.5 * dt);
+    EXPECT_EQ(positions[1], start.position + root_step(yaw * velocity[0] * dt, yaw,
+                                                       Eigen::Quaterniond(Eigen::AngleAxisd(
+                                                           headings[1], Eigen::Vector3d::UnitY())),
+                                                       now, next, Axis::Y));
+    EXPECT_NEAR(end.heading, 0.3 + 2.0 * 1.5 * dt, 1e-15);
+    EXPECT_TRUE(end.position.isApprox(
+        positions[1] + Eigen::AngleAxisd(headings[1], Eigen::Vector3d::UnitY()) * velocity[1] * dt,
+        1e-12));
+  }
   // The share a foot leads from.
   EXPECT_EQ(detail::planted_weight(0.5), 0.0);
   EXPECT_EQ(detail::planted_weight(detail::kFollowShare), 0.0);

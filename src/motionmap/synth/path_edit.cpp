@@ -187,25 +187,19 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
         clean && shares_known
             ? detail::feet_frames(skeleton, raw_motion, blender.motion_root(), *feet, shares)
             : std::vector<detail::FeetFrame>{};
-    Eigen::Vector3d position = previous.root_positions[static_cast<std::size_t>(a)];
-    double heading = previous.headings[static_cast<std::size_t>(a)];
-    const Axis up = blender.options().up;
-    for (int k = a; k < b; ++k) {
-      r.root_positions[static_cast<std::size_t>(k)] = position;
-      r.headings[static_cast<std::size_t>(k)] = heading;
-      const auto i = static_cast<std::size_t>(k - x0);
-      const Eigen::Quaterniond yaw = axis_rotation(up, heading);
-      const double next_heading = heading + yaw_rate[i] * dt;
-      const Eigen::Vector3d blended = yaw * velocity[i] * dt;
-      position += standing.empty() || k + 1 >= x1
-                      ? blended
-                      : detail::root_step(blended, yaw, axis_rotation(up, next_heading),
-                                          standing[i], standing[i + 1], up);
-      heading = next_heading;
-    }
+    const auto from = static_cast<std::size_t>(a - x0), count = static_cast<std::size_t>(b - a);
+    const detail::RootState end = detail::integrate_root(
+        {previous.root_positions[static_cast<std::size_t>(a)],
+         previous.headings[static_cast<std::size_t>(a)]},
+        std::span(velocity).subspan(from, count), std::span(yaw_rate).subspan(from, count), dt,
+        standing.empty() ? std::span<const detail::FeetFrame>() : std::span(standing).subspan(from),
+        blender.options().up,
+        std::span(r.root_positions).subspan(static_cast<std::size_t>(a), count),
+        std::span(r.headings).subspan(static_cast<std::size_t>(a), count));
     if (b < F) {
-      const Eigen::Vector3d dx = previous.root_positions[static_cast<std::size_t>(b)] - position;
-      const double dh = wrap_angle(previous.headings[static_cast<std::size_t>(b)] - heading);
+      const Eigen::Vector3d dx =
+          previous.root_positions[static_cast<std::size_t>(b)] - end.position;
+      const double dh = wrap_angle(previous.headings[static_cast<std::size_t>(b)] - end.heading);
       for (int k = a + 1; k < b; ++k) {
         const double s = static_cast<double>(k - a) / static_cast<double>(b - a);
         r.root_positions[static_cast<std::size_t>(k)] += s * dx;

@@ -82,4 +82,24 @@ Eigen::Vector3d root_step(const Eigen::Vector3d& blended, const Eigen::Quaternio
   return (1.0 - share) * blended + share * by_feet / total;
 }
 
+RootState integrate_root(RootState start, std::span<const Eigen::Vector3d> velocity,
+                         std::span<const double> yaw_rate, double dt,
+                         std::span<const FeetFrame> standing, Axis up,
+                         std::span<Eigen::Vector3d> positions, std::span<double> headings) {
+  RootState at = start;
+  for (std::size_t i = 0; i < velocity.size(); ++i) {
+    positions[i] = at.position;
+    headings[i] = at.heading;
+    const Eigen::Quaterniond yaw = axis_rotation(up, at.heading);
+    const double next_heading = at.heading + yaw_rate[i] * dt;
+    const Eigen::Vector3d blended = yaw * velocity[i] * dt;
+    at.position += i + 1 >= standing.size()
+                       ? blended
+                       : root_step(blended, yaw, axis_rotation(up, next_heading), standing[i],
+                                   standing[i + 1], up);
+    at.heading = next_heading;
+  }
+  return at;
+}
+
 }  // namespace motionmap::synth::detail

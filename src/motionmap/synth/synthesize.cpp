@@ -203,26 +203,16 @@ SynthResult synthesize_frames(
   const std::vector<detail::FeetFrame> standing =
       feet && shares_known ? detail::feet_frames(skeleton, result.motion, root, *feet, shares)
                            : std::vector<detail::FeetFrame>{};
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double heading = 0.0;
   result.options = options;
   result.root_positions.resize(static_cast<std::size_t>(frames));
   result.headings.resize(static_cast<std::size_t>(frames));
+  detail::integrate_root({}, velocity, yaw_rate, dt, standing, up, result.root_positions,
+                         result.headings);
   for (long long k = 0; k < frames; ++k) {
-    result.root_positions[static_cast<std::size_t>(k)] = position;
-    result.headings[static_cast<std::size_t>(k)] = heading;
-    const Eigen::Quaterniond yaw = axis_rotation(up, heading);
-    Eigen::Quaterniond& q = result.motion.rotation(static_cast<int>(k), root);
-    q = (yaw * q).normalized();
-    result.motion.translation(static_cast<int>(k), root) += position;
     const auto ks = static_cast<std::size_t>(k);
-    const double next_heading = heading + yaw_rate[ks] * dt;
-    const Eigen::Vector3d blended = yaw * velocity[ks] * dt;
-    position += standing.empty() || k + 1 == frames
-                    ? blended
-                    : detail::root_step(blended, yaw, axis_rotation(up, next_heading), standing[ks],
-                                        standing[ks + 1], up);
-    heading = next_heading;
+    Eigen::Quaterniond& q = result.motion.rotation(static_cast<int>(k), root);
+    q = (axis_rotation(up, result.headings[ks]) * q).normalized();
+    result.motion.translation(static_cast<int>(k), root) += result.root_positions[ks];
   }
   for (const PointValidity& v : result.validity) result.clamped_frames += v.clamped ? 1 : 0;
   if (shares_known) result.contact_shares = std::move(shares);

@@ -82,4 +82,19 @@ Eigen::Vector3d root_step(const Eigen::Vector3d& blended, const Eigen::Quaternio
                           const Eigen::Quaterniond& next_yaw, const FeetFrame& now,
                           const FeetFrame& next, Axis up);
 
+/// The root's floor position and heading, integrated (synthesize(), edit_path()).
+struct RootState {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double heading = 0.0;
+};
+
+/// Integrates the root from `start` over velocity.size() frames: frame i stands at the state
+/// reached so far (written to positions[i] and headings[i]), then steps by its heading-local
+/// velocity and yaw rate times dt — led by its planted feet (root_step) where `standing` has
+/// frames i and i + 1 (empty: never). Returns the state after the last frame.
+RootState integrate_root(RootState start, std::span<const Eigen::Vector3d> velocity,
+                         std::span<const double> yaw_rate, double dt,
+                         std::span<const FeetFrame> standing, Axis up,
+                         std::span<Eigen::Vector3d> positions, std::span<double> headings);
+
 }  // namespace motionmap::synth::detail

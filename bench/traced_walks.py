@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""Walks traced by hand on a library's map: the skating of `motionmap synth` along each take's
+own map trajectory, drawn as a hand draws it, beside the captured take.
+
+    /usr/bin/python3 bench/traced_walks.py [--motionmap build/apps/cli/motionmap] [--data DIR]
+
+The library is the Bandai Namco takes of ../shared/data/bandai but the proud walk (the take
+bench/inbetween_lafan.py holds out): 11 takes of walks, runs, bows, a dash and a punch, mapped
+together by isomap with the default options (`motionmap map --save`). For the old, tired and
+feminine walks and the normal run, the take's own map points at its own timing are written as a
+path three ways: exact; every point off by seeded noise (σ a quarter of the map's median step
+per axis, as a hand traces); off by half a step varying over about a second (a steady hand).
+`motionmap synth --map` makes each raw (`--no-clean-feet`) and cleaned (the default) and
+`motionmap info --skating --json` measures it: the skating ratio and the ankles' mean speed in
+contact (docs/synthesis.md, "Clean feet").
+"""
+import argparse
+import glob
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+HELD_OUT = "dataset-1_walk_proud_001.bvh"
+TRACED = ("walk_old", "walk_tired", "walk_feminine", "run_normal")
+
+
+def run(cmd):
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(" ".join(cmd) + "\n" + out.stderr)
+    return out.stdout
+
+
+def skating(mm, bvh):
+    s = json.loads(run([mm, "info", bvh, "--skating", "--json"]))["skating"]
+    return "%.3f / %.0f" % (s["ratio"], s["contact_speed_cm_s"])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--motionmap", default=os.path.join(ROOT, "build/apps/cli/motionmap"))
+    parser.add_argument("--data", default=os.path.join(ROOT, "..", "shared", "data"))
+    args = parser.parse_args()
+    mm = args.motionmap
+    takes = sorted(f for f in glob.glob(os.path.join(args.data, "bandai", "*.bvh"))
+                   if os.path.basename(f) != HELD_OUT)
+    with tempfile.TemporaryDirectory() as work:
+        lib = os.path.join(work, "lib.mmap.h5")
+        csv = os.path.join(work, "lib.csv")
+        run([mm, "map", *takes, "--save", lib, "-o", csv, "-q"])
+        rows = np.array([[float(v) for v in line.split(",")] for line in open(csv)
+                         if line[0].isdigit() or line[0] == "-"])
+        clips = [rows[rows[:, 0] == c] for c in range(len(takes))]
+        step = np.median(np.concatenate([np.linalg.norm(np.diff(c[:, 2:4], axis=0), axis=1)
+                                         for c in clips]))
+        print("| take | captured | traced exactly, raw / cleaned | by hand, raw / cleaned "
+              "| by a steady hand, raw / cleaned |")
+        print("|---|---|---|---|---|")
+        for name in TRACED:
+            c = next(i for i, t in enumerate(takes) if f"_{name}_" in os.path.basename(t))
+            t = clips[c][:, 1] / 30.0
+            p = clips[c][:, 2:4]
+            random = np.random.default_rng(7)
+            drawn = {"exact": p,
+                     "hand": p + random.normal(0.0, 0.25 * step, p.shape),
+                     "steady": p + 0.5 * step * np.c_[np.sin(5 * t), np.cos(3 * t)]}
+            cells = [skating(mm, takes[c])]
+            for label, q in drawn.items():
+                path = os.path.join(work, f"{name}_{label}.csv")
+                np.savetxt(path, np.c_[t, q], delimiter=",", header="t,x,y", comments="")
+                pair = []
+                for clean in (["--no-clean-feet"], []):
+                    out = os.path.join(work, f"{name}_{label}.bvh")
+                    run([mm, "synth", "--map", lib, "--path", path, "-o", out, "-q", *clean])
+                    pair.append(skating(mm, out))
+                cells.append(" → ".join(pair))
+            print(f"| {name} | " + " | ".join(cells) + " |")
+        print("\n(skating ratio / ankle speed in contact, cm/s)")
+
+
+if __name__ == "__main__":
+    main()

@@ -693,6 +693,12 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       CleanFeetOptions clean;
       clean.contacts.up = up;
       clean.fixed_frames = result.key_frames;
+      // The keys set the root's height between them: where a leg cannot reach its held spot it
+      // reaches as far as it can (the foot creeps a few cm/s), the hips are not lowered. The
+      // root's path, turned and scaled to meet the keys, outpaces the blend's strides a little:
+      // lowered, the hips of the held-out proud walk's in-betweens dipped up to 5.6 cm (LAFAN1
+      // protocol, docs/synthesis.md).
+      clean.max_root_drop = 0.0;
       const Control cleaning = control.stage("cleaning feet", 0.9, 1.0);
       std::array<FootContacts, 2> contacts =
           synth.contact_shares.empty()

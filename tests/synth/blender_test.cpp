@@ -504,6 +504,12 @@ TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   EXPECT_EQ(
       motionmap::test::error_message<ParameterError>([&] { local.locate_path(path, 0.0, 0, 1); }),
       "locate_path: frame time 0 is not positive and finite");
+  // The window a frame reads: ±0.25 s, at least a frame, bounded however short the frame time.
+  EXPECT_EQ(local.path_neighbours(dt), static_cast<int>(std::lround(0.25 / dt)));
+  EXPECT_EQ(local.path_neighbours(10.0), 1);
+  EXPECT_EQ(local.path_neighbours(1e-300), 1000000000);
+  EXPECT_EQ(idw.path_neighbours(dt), 0);
+  EXPECT_EQ(local.locate_path(path, 1e-300, 0, path.size()).size(), path.size());
 }
 
 TEST(SynthBlender, WeightsMoveInTheirClipsByTime) {

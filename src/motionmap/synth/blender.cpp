@@ -29,7 +29,7 @@ namespace {
 
 // The half-width, in frames, of the window locate_path() fits clip times to.
 long long follow_half_window(double dt) {
-  return std::max(1LL, std::llround(kFollowSeconds / dt));
+  return std::max(1LL, std::llround(std::min(kFollowSeconds / dt, 1e9)));
 }
 
 // Local systems pick neighbours at least this fraction of the median step apart, so 120 fps
@@ -686,7 +686,9 @@ std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts)
 }
 
 int MapBlender::path_neighbours(double frame_time) const {
-  return m->options.mode == BlendMode::Local ? static_cast<int>(follow_half_window(frame_time)) : 0;
+  if (m->options.mode != BlendMode::Local) return 0;
+  return static_cast<int>(
+      std::min<long long>(follow_half_window(frame_time), std::numeric_limits<int>::max()));
 }
 
 std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d> points,

@@ -107,7 +107,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   }
   if (r0 < 0) return out;  // the same path: the same motion
   // A frame's weights read its neighbours' points too (locate_path).
-  const int reads = blender.path_neighbours(dt);
+  const int reads = std::min(F, blender.path_neighbours(dt));
   r0 = std::max(0, r0 - reads);
   r1 = std::min(F - 1, r1 + reads);
 

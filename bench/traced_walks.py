@@ -64,7 +64,8 @@ def main():
         print("|---|---|---|---|---|")
         for name in TRACED:
             c = next(i for i, t in enumerate(takes) if f"_{name}_" in os.path.basename(t))
-            t = clips[c][:, 1] / 30.0
+            fps = json.loads(run([mm, "info", takes[c], "--json"]))["fps"]
+            t = clips[c][:, 1] / fps
             p = clips[c][:, 2:4]
             random = np.random.default_rng(7)
             drawn = {"exact": p,

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/format.h"
 #include "motionmap/features/point_cloud.h"
 #include "motionmap/synth/detail/map_index.h"
 #include "support/error_message.h"
@@ -509,6 +510,10 @@ TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   EXPECT_EQ(local.path_neighbours(10.0), 1);
   EXPECT_EQ(local.path_neighbours(1e-300), 1000000000);
   EXPECT_EQ(idw.path_neighbours(dt), 0);
+  for (const double bad : {0.0, -dt, std::nan(""), HUGE_VAL}) {
+    EXPECT_EQ(motionmap::test::error_message<ParameterError>([&] { local.path_neighbours(bad); }),
+              "path_neighbours: frame time " + format_number(bad) + " is not positive and finite");
+  }
   EXPECT_EQ(local.locate_path(path, 1e-300, 0, path.size()).size(), path.size());
 }
 

@@ -27,6 +27,14 @@ namespace motionmap::synth {
 
 namespace {
 
+// A path's frame time, checked for `who` (locate_path, path_neighbours).
+void check_frame_time(const char* who, double frame_time) {
+  if (!(frame_time > 0.0) || !std::isfinite(frame_time)) {
+    throw ParameterError(std::string(who) + ": frame time " + format_number(frame_time) +
+                         " is not positive and finite");
+  }
+}
+
 // The half-width, in frames, of the window locate_path() fits clip times to.
 long long follow_half_window(double dt) {
   return std::max(1LL, std::llround(std::min(kFollowSeconds / dt, 1e9)));
@@ -686,6 +694,7 @@ std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts)
 }
 
 int MapBlender::path_neighbours(double frame_time) const {
+  check_frame_time("path_neighbours", frame_time);
   if (m->options.mode != BlendMode::Local) return 0;
   return static_cast<int>(
       std::min<long long>(follow_half_window(frame_time), std::numeric_limits<int>::max()));
@@ -698,10 +707,7 @@ std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d>
     throw ParameterError("locate_path: frames [" + std::to_string(first) + ", " +
                          std::to_string(end) + ") of a path of " + std::to_string(points.size()));
   }
-  if (!(frame_time > 0.0) || !std::isfinite(frame_time)) {
-    throw ParameterError("locate_path: frame time " + format_number(frame_time) +
-                         " is not positive and finite");
-  }
+  check_frame_time("locate_path", frame_time);
   std::vector<MapWeights> out = locate(points.subspan(first, end - first));
   if (m->options.mode != BlendMode::Local || points.size() < 2) return out;
   for (std::size_t k = first; k < end; ++k) m->follow_clips(out[k - first], points, k, frame_time);

@@ -309,7 +309,8 @@ class MapBlender {
                                       std::size_t first, std::size_t end) const;
   /// How many frames either side of a frame locate_path() reads the points of, for a path sampled
   /// every `frame_time` seconds (0 but in the local mode): a point moved changes the weights of
-  /// that many frames around it.
+  /// that many frames around it. @throws ParameterError if frame_time is not positive and
+  /// finite.
   int path_neighbours(double frame_time) const;
   /// Weights moved `seconds` later (earlier when negative) in their clips: each sample's weight
   /// goes to the sample of its clip that much later, or is shared linearly between the two

@@ -10,11 +10,12 @@
 //   "new.bvh");
 //
 // Per output frame k (at t0 + k/fps along the path): weights at the path point
-// (MapBlender::locate_path: where the path follows a clip's trajectory at its pace, that clip's
-// own frames; optionally smoothed over time with a Gaussian, each neighbouring frame's weights
-// moved back in their clips by its distance in time: MapBlender::later_in_clip), joint rotations
-// and root height and tilt blended with them (MapBlender::blend), and the blended heading-local
-// root velocity v_k and yaw rate ω_k integrated forward from the origin, heading 0:
+// (MapBlender::locate_path: where the path around the frame follows a clip's trajectory, that
+// clip's own frames at the fitted time; optionally smoothed over time with a Gaussian, each
+// neighbouring frame's weights moved back in their clips by its distance in time:
+// MapBlender::later_in_clip), joint rotations and root height and tilt blended with them
+// (MapBlender::blend), and the blended heading-local root velocity v_k and yaw rate ω_k integrated
+// forward from the origin, heading 0:
 //   position_{k+1} = position_k + yaw(θ_k)·v_k·Δt,   θ_{k+1} = θ_k + ω_k·Δt.
 // The samples' velocities are forward differences, so a path that retraces the clip's own map
 // trajectory at its own timing reproduces the clip (up to the start's position and heading).

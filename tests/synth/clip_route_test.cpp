@@ -1,4 +1,5 @@
 // Routes through the clips' own frames (route.h, find_clip_route).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -90,6 +91,39 @@ TEST(SynthClipRoute, EndCostsChooseAmongTheNearestSamplesAndAStartIsKept) {
   EXPECT_EQ(find_clip_route(field, c.next, c.points[5], c.points[20], 13, ends).samples.front(), 7);
 }
 
+TEST(SynthClipRoute, FurtherEndsAreTakenOnlyWhereCheaperThanEveryNearOne) {
+  // The end b is A's sample 25 (x = 2.5); the 16 samples nearest it cost 2 each beyond their
+  // distance (a pose unlike the key's), the others 100 but A's sample 12 (x = 1.2, 1.3 away:
+  // 1.69), where the route from A's sample 5 lands in 7 steps for free.
+  const TwoClips c;
+  const MapField field(c.points, 1.0);
+  const int far = 12;
+  std::vector<int> nearest;
+  field.nearest(c.points[25], kClipRouteEnds, nearest);
+  const auto near_b = [&](int s) {
+    return std::find(nearest.begin(), nearest.end(), s) != nearest.end();
+  };
+  ClipRouteEnds ends;
+  ends.candidates = static_cast<int>(c.points.size());
+  for (const double far_cost : {0.0, 0.5}) {
+    ends.end_cost = [&](int s) { return s == far ? far_cost : near_b(s) ? 2.0 : 100.0; };
+    const ClipRoute r = find_clip_route(field, c.next, c.points[5], c.points[25], 7, ends);
+    if (far_cost == 0.0) {
+      // 1.69 < 2: it beats every near end, so the route ends on it.
+      EXPECT_EQ(r.samples.back(), far);
+      EXPECT_NEAR(r.cost, 1.69, 1e-9);
+    } else {
+      // 2.19 > 2: not a candidate, though the route to it would be cheaper in all.
+      EXPECT_TRUE(near_b(r.samples.back())) << r.samples.back();
+    }
+  }
+  // The default: the nearest 16 only.
+  ends.candidates = kClipRouteEnds;
+  ends.end_cost = [&](int s) { return s == far ? 0.0 : near_b(s) ? 2.0 : 100.0; };
+  EXPECT_TRUE(
+      near_b(find_clip_route(field, c.next, c.points[5], c.points[25], 7, ends).samples.back()));
+}
+
 TEST(SynthClipRoute, BadInputsAreRefused) {
   const TwoClips c;
   const MapField field(c.points, 0.3);
@@ -115,6 +149,12 @@ TEST(SynthClipRoute, BadInputsAreRefused) {
             }).find("not finite"),
             std::string::npos);
   ClipRouteEnds ends;
+  ends.candidates = 0;
+  EXPECT_NE(message([&] {
+              find_clip_route(field, c.next, c.points[0], c.points[1], 3, ends);
+            }).find("0 candidate ends (must be at least 1)"),
+            std::string::npos);
+  ends.candidates = kClipRouteEnds;
   ends.start = 62;
   EXPECT_NE(message([&] {
               find_clip_route(field, c.next, c.points[0], c.points[1], 3, ends);

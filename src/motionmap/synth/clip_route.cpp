@@ -57,6 +57,10 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   if (start < -1 || start >= n) {
     throw ParameterError("route: the start sample " + std::to_string(start) + " is out of range");
   }
+  if (ends.candidates < 1) {
+    throw ParameterError("route: " + std::to_string(ends.candidates) +
+                         " candidate ends (must be at least 1)");
+  }
   if (!a.allFinite() || !b.allFinite())
     throw ParameterError("route: a key's map point is not finite");
   const double r = field.reach_distance();
@@ -85,15 +89,34 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     return out;
   };
 
+  // The samples a route may start (end) on near p, and what starting (ending) on each costs: the
+  // kClipRouteEnds nearest, and of the further ones up to ends.candidates those cheaper than
+  // every one of those.
+  const auto ends_near = [&](const Eigen::Vector2d& p, const std::function<double(int)>& extra) {
+    std::vector<int> found_near;
+    const int k = field.nearest(p, ends.candidates, found_near);
+    std::vector<std::pair<int, double>> out;
+    double cheapest_near = kInf;
+    for (int i = 0; i < k; ++i) {
+      const int s = found_near[i];
+      const double c = costs.ends * sq((field.sample(s) - p).norm()) + (extra ? extra(s) : 0.0);
+      if (i < kClipRouteEnds) {
+        cheapest_near = std::min(cheapest_near, c);
+      } else if (c >= cheapest_near) {
+        continue;
+      }
+      out.emplace_back(s, c);
+    }
+    return out;
+  };
+
   std::vector<Step> path(static_cast<std::size_t>(steps) + 1);
   if (start >= 0) {
     path[0] = Step{{start}, {0.0}, {-1}};
   } else {
-    const int k = field.nearest(a, kClipRouteEnds, near);
-    for (int i = 0; i < k; ++i) {
-      path[0].samples.push_back(near[i]);
-      path[0].costs.push_back(costs.ends * sq((field.sample(near[i]) - a).norm()) +
-                              (ends.start_cost ? ends.start_cost(near[i]) : 0.0));
+    for (const auto& [s, c] : ends_near(a, ends.start_cost)) {
+      path[0].samples.push_back(s);
+      path[0].costs.push_back(c);
       path[0].from.push_back(-1);
     }
   }
@@ -152,26 +175,18 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     reached.clear();
   }
 
-  // The cheapest end, then back to the start.
-  // The cheapest end among the samples nearest b (any sample reached when none of them is),
+  // The cheapest end among the samples it may end on (any sample reached when none of them is),
   // then back to the start.
   const Step& last = path.back();
   std::vector<double> end_cost(static_cast<std::size_t>(n), kInf);
-  {
-    const int k = field.nearest(b, kClipRouteEnds, near);
-    for (int i = 0; i < k; ++i) {
-      end_cost[static_cast<std::size_t>(near[i])] =
-          costs.ends * sq((field.sample(near[i]) - b).norm());
-    }
-  }
+  for (const auto& [s, c] : ends_near(b, ends.end_cost)) end_cost[static_cast<std::size_t>(s)] = c;
   int at = -1;
   double cheapest = kInf;
   for (const bool near_b : {true, false}) {
     for (int i = 0; i < static_cast<int>(last.samples.size()); ++i) {
       const int s = last.samples[i];
       if (near_b && !std::isfinite(end_cost[static_cast<std::size_t>(s)])) continue;
-      const double c = last.costs[i] + (near_b ? end_cost[static_cast<std::size_t>(s)] +
-                                                     (ends.end_cost ? ends.end_cost(s) : 0.0)
+      const double c = last.costs[i] + (near_b ? end_cost[static_cast<std::size_t>(s)]
                                                : costs.ends * sq((field.sample(s) - b).norm()));
       if (c < cheapest) {
         cheapest = c;

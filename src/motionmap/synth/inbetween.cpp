@@ -26,6 +26,10 @@ constexpr double kMinSpeedFraction = 0.1;
 constexpr double kWalkSteps = 4.0;
 // A clip route's ends pay (mean angle between their pose's joints and the key's / kPoseAngle)².
 constexpr double kPoseAngle = 0.1;
+// The samples nearest a key with a pose that a clip route may start or end on (ClipRouteEnds::
+// candidates): enough to reach past the map's overlaps, where a 2-D map lays a walk's phases and
+// styles close and places a key among them by its features.
+constexpr int kKeyCandidates = 256;
 // The rates a clip route is tried at (its steps = the segment's samples × rate), on segments of at
 // least kMinRatedSteps samples.
 constexpr double kClipRouteRates[] = {0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.4};
@@ -323,6 +327,26 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   for (int i = 0; i < K; ++i) {
     if (keys[i].has_pose()) key_rotations[i] = rotations_of(key_poses[i]);
   }
+  if (clip_routes) {
+    // The poses of the samples a route may start or end on, blended together (a blender reading
+    // its clips on demand reads each clip they need once).
+    std::vector<int> candidates, near;
+    for (int i = 0; i < K; ++i) {
+      if (!keys[i].has_pose()) continue;
+      const int k = field.nearest(keys[i].point, kKeyCandidates, near);
+      candidates.insert(candidates.end(), near.begin(), near.begin() + k);
+    }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    std::vector<Eigen::Vector2d> points;
+    for (const int c : candidates) points.push_back(blender.sample_point(c));
+    const std::vector<MapWeights> weights = blender.locate(points);
+    blender.prefetch(weights);
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      routing.check();
+      sample_rotations.emplace(candidates[c], rotations_of(blender.pose(weights[c])));
+    }
+  }
   const auto pose_cost = [&](int key) {
     return [&, key](int s) { return pose_distance(key_rotations[key], sample_pose(s)); };
   };
@@ -368,6 +392,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       // The clips' own frames, one sample per step, the steps spread evenly over the segment.
       ClipRouteEnds ends;
       ends.start = last_visited;
+      ends.candidates = kKeyCandidates;
       // A blender reading its clips on demand (a saved map's) would read a clip for almost every
       // sample the search reaches: jumps are priced by their map distance alone there.
       if (!blender.reads_on_demand()) ends.jump_cost = jump_cost;

@@ -188,7 +188,8 @@ struct ClipRouteCosts {
   double ends = 1.0;  ///< times (distance / r)² of the first sample from a and the last from b
 };
 
-/// Nearest samples a clip route may start or end on, and jump to from a sample's successor.
+/// Nearest samples a clip route may start or end on (ClipRouteEnds::candidates), and jump to
+/// from a sample's successor.
 inline constexpr int kClipRouteEnds = 16;
 inline constexpr int kClipRouteJumps = 8;
 /// Most samples a clip route keeps per step (the cheapest; the search is exact below it).
@@ -202,15 +203,21 @@ inline constexpr int kMaxClipRouteSteps = 2000;
 /// a step from sample s going to next[s] (its clip's next sample) at no cost, or staying on s
 /// (costs.hold), or to next[next[s]] (costs.skip), or to one of the kClipRouteJumps samples
 /// nearest next[s]'s point (nearest s's at a clip's end) within r, at costs.jump + (d/r)². The
-/// ends are among the kClipRouteEnds samples nearest a and b. Exact while no step has more than
-/// kClipRouteBeam samples reached; beyond, the cheapest are kept, ranked with their distance to
-/// b. `next[s]` = −1 at a clip's last sample.
+/// ends are among the kClipRouteEnds samples nearest a and b, and the further ones up to the
+/// ends.candidates nearest that cost less than every one of those. Exact while no step has more
+/// than kClipRouteBeam samples reached; beyond, the cheapest are kept, ranked with their distance
+/// to b. `next[s]` = −1 at a clip's last sample.
 /// @throws ParameterError if next's size is not the field's number of samples, an entry is out
-///         of range, steps is outside [1, kMaxClipRouteSteps], or a or b is not finite.
+///         of range, steps is outside [1, kMaxClipRouteSteps], ends.candidates is not positive,
+///         or a or b is not finite.
 /// `ends`: where the route may start (a sample, e.g. a previous route's last) and what starting
 /// or ending on a sample costs beyond its distance (e.g. how far its pose is from a key's).
 struct ClipRouteEnds {
-  int start = -1;                         ///< ≥ 0: the route starts on this sample, not near a
+  int start = -1;  ///< ≥ 0: the route starts on this sample, not near a
+  /// How many samples nearest a and b the route may start and end on; those beyond the
+  /// kClipRouteEnds nearest only where cheaper than all of them. More let start_cost and
+  /// end_cost find a pose that the points alone miss (a 2-D map lays a walk's phases close).
+  int candidates = kClipRouteEnds;
   std::function<double(int)> start_cost;  ///< extra cost of starting on a sample; null: none
   std::function<double(int)> end_cost;    ///< extra cost of ending on a sample; null: none
   /// Extra cost of a jump from one sample (the next one's place) to another, e.g. how far apart

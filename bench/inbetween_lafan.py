@@ -26,7 +26,10 @@ The split (kept here): the library is the Bandai Namco clips of ../shared/data/b
 held-out take, dataset-1_walk_proud_001.bvh. (The CMU clips have another skeleton.)
 
 usage: PYTHONPATH=build/python bench/inbetween_lafan.py [--data ../shared/data] [--tiny]
+                                                          [--held-out TAKE]
 --tiny: one window and n = 5 only (the ctest's case).
+--held-out: another Bandai take to hold out (e.g. dataset-1_walk_old_001.bvh), to see how the
+figures vary with the split; the protocol's split is the default.
 """
 import argparse
 import glob
@@ -221,19 +224,25 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser.add_argument("--data", default=os.path.join(here, "..", "..", "shared", "data"))
     parser.add_argument("--tiny", action="store_true", help="one window, n = 5 (the ctest)")
+    parser.add_argument("--held-out", default=HELD_OUT, help="the Bandai take held out")
     args = parser.parse_args()
     folder = os.path.join(args.data, "bandai")
     paths = sorted(glob.glob(os.path.join(folder, "*.bvh")))
     if not paths or not os.path.exists(os.path.join(folder, HELD_OUT)):
         print(f"skipped: the Bandai clips are absent from {folder}")
         return 77
-    library = [p for p in paths if os.path.basename(p) != HELD_OUT]
-    held_out = [os.path.join(folder, HELD_OUT)]
+    if args.held_out not in [os.path.basename(p) for p in paths]:
+        parser.error(f"--held-out: {args.held_out} is not a take in {folder}")
+    library = [p for p in paths if os.path.basename(p) != args.held_out]
+    held_out = [os.path.join(folder, args.held_out)]
     print(f"library: {len(library)} clips ({', '.join(os.path.basename(p) for p in library)})")
-    print(f"held out: {HELD_OUT}")
+    print(f"held out: {args.held_out}")
     estimator = motionmap.Isomap().fit(library)
     train = [Take(motionmap.load(p)) for p in library]
     test = [Take(motionmap.load(p)) for p in held_out]
+    if all(t.clip.num_frames <= TEST_WINDOW for t in test):
+        parser.error(f"--held-out: {args.held_out} has {test[0].clip.num_frames} frames; a test "
+                     f"window needs more than {TEST_WINDOW}")
     stats = train_stats(train)
     methods = {
         "MotionMap": lambda take, a, b: motionmap_inbetween(estimator, take, a, b, "clips"),

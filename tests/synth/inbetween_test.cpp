@@ -425,10 +425,10 @@ TEST_F(SynthInbetweenBandai, AHeldOutWalksKeysJoinWithoutTurningTheBodyRound) {
 TEST_F(SynthInbetweenBandai, AHeldOutWalksInbetweensStayCloserToItThanInterpolation) {
   // Keys 31 frames apart on a walk not in the map, every 20 frames: the in-betweens take the
   // walk's steps, so their joints stay nearer the capture's than interpolating the keys does.
-  // A 2-D map lays a walk's phases close and places the keys among them: routes chose their ends
-  // among the 16 samples nearest a key's point, and in the window from 230 took a step the walk
-  // does not (mean joint error 9.3 cm, interpolation's 9.5); they now end on a sample further out
-  // where its pose matches the key better than every near one (4.8 cm).
+  // A 2-D map lays a walk's phases close and places the keys among them: with its ends among the
+  // 16 samples nearest a key's point only, the route of the window from 230 takes a step the walk
+  // does not (mean joint error 9.3 cm, interpolation's 9.5); ending on a sample further out whose
+  // pose matches the key better than every near one's, 4.8 cm.
   const Library& L = *lib;
   const Clip held_out = io::load_clip(Library::path("walk_feminine"));
   const Skeleton& s = L.blender->skeleton();

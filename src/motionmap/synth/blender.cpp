@@ -1064,4 +1064,14 @@ Eigen::Vector2d MapBlender::sample_point(int i) const {
   return m->index->sample_point(i);
 }
 
+int MapBlender::sample_frame(int i) const {
+  sample_point(i);  // checks i
+  return m->index->frame_of(i);
+}
+
+int MapBlender::next_sample(int i) const {
+  sample_point(i);  // checks i
+  return m->index->next_in_run(i);
+}
+
 }  // namespace motionmap::synth

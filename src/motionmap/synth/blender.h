@@ -371,6 +371,11 @@ class MapBlender {
   double median_speed() const;
   /// Map point of sample i (first two columns of its coords row).
   Eigen::Vector2d sample_point(int i) const;
+  /// The frame of its clip that sample i is, and the sample of the same clip's next frame on
+  /// the map (the next row when it is the same clip's next frame), −1 where there is none.
+  /// @throws ParameterError if i is not a sample.
+  int sample_frame(int i) const;
+  int next_sample(int i) const;
   /// Made from a ClipSource: reads the states of every sample these weights blend, one clip at
   /// a time (each clip read once), so that blending them reads no clip; a synthesis calls it for
   /// each block of frames. Does nothing for a blender given the clips. @throws as blend().

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "motionmap/core/error.h"
+#include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/route.h"
 
 namespace motionmap::synth {
@@ -120,6 +121,10 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
       path[0].from.push_back(-1);
     }
   }
+  if (ends.step_cost) {
+    for (std::size_t i = 0; i < path[0].samples.size(); ++i)
+      path[0].costs[i] += ends.step_cost(0, path[0].samples[i]);
+  }
 
   // Per sample, its best cost at the step being built and where from (−1: not reached).
   std::vector<double> best(static_cast<std::size_t>(n), kInf);
@@ -147,6 +152,9 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
       for (const Jump& jump : jumps_from(from)) {
         if (jump.to != on) offer(jump.to, c + jump.cost, i);
       }
+    }
+    if (ends.step_cost) {
+      for (const int s : reached) best[static_cast<std::size_t>(s)] += ends.step_cost(t, s);
     }
     // Keep the cheapest when too many were reached, ranked with how far they are from b.
     if (static_cast<int>(reached.size()) > kClipRouteBeam) {
@@ -204,6 +212,144 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     at = step.from[static_cast<std::size_t>(at)];
   }
   return route;
+}
+
+std::vector<int> next_samples(const MapBlender& blender) {
+  std::vector<int> next(static_cast<std::size_t>(blender.num_samples()));
+  for (int s = 0; s < blender.num_samples(); ++s) next[s] = blender.next_sample(s);
+  return next;
+}
+
+double median_sample_step(const MapBlender& blender, std::span<const int> next) {
+  std::vector<int> steps;
+  for (int s = 0; s < static_cast<int>(next.size()); ++s) {
+    if (next[s] >= 0) steps.push_back(blender.sample_frame(next[s]) - blender.sample_frame(s));
+  }
+  if (steps.empty()) return 1.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+
+ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> next,
+                              std::vector<int> visited, double sample_step) {
+  ClipRoutePlay play;
+  play.samples = std::move(visited);
+  const int steps = static_cast<int>(play.samples.size()) - 1;
+  for (int t = 1; t <= steps; ++t) {
+    const int at = play.samples[static_cast<std::size_t>(t)];
+    const int from = play.samples[static_cast<std::size_t>(t) - 1];
+    const int on = next[static_cast<std::size_t>(from)];
+    const bool skip = on >= 0 && at == next[static_cast<std::size_t>(on)];
+    const bool jump = at != from && at != on && !skip;
+    play.advance.push_back(at == from ? 0.0
+                           : jump     ? sample_step
+                                      : blender.sample_frame(at) - blender.sample_frame(from));
+    play.jumps.push_back(jump ? 1 : 0);
+  }
+  play.run_start.assign(static_cast<std::size_t>(std::max(steps, 0)), 0);
+  for (int t0 = 0; t0 < steps;) {
+    int t1 = t0 + 1;
+    if (!play.jumps[t0]) {
+      while (t1 < steps && !play.jumps[t1]) ++t1;
+      double total = 0.0;
+      for (int t = t0; t < t1; ++t) total += play.advance[t];
+      for (int t = t0; t < t1; ++t) play.advance[t] = total / (t1 - t0);
+    }
+    for (int t = t0; t < t1; ++t) play.run_start[t] = t0;
+    t0 = t1;
+  }
+  return play;
+}
+
+MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
+                              const ClipRoutePlay& play, double t) {
+  int a = play.samples.front(), b = a;
+  double f = 0.0;
+  if (play.samples.size() > 1) {
+    const double steps = static_cast<double>(play.samples.size()) - 1.0;
+    const double i = std::clamp(std::floor(t), 0.0, steps - 1.0);
+    const auto step = static_cast<std::size_t>(i);
+    f = std::clamp(t - i, 0.0, 1.0);
+    a = play.samples[step];
+    b = play.samples[step + 1];
+    if (play.jumps[step]) {
+      f = f < 0.5 ? 0.0 : 1.0;
+    } else {
+      // In a run, the clip's frame at the run's even pace, between the two samples around it.
+      const int t0 = play.run_start[step];
+      const int first = play.samples[static_cast<std::size_t>(t0)];
+      const double frame = blender.sample_frame(first) + (t - t0) * play.advance[step];
+      b = first;
+      while (next[b] >= 0 && blender.sample_frame(b) < frame) b = next[b];
+      a = b;
+      while (a != first && blender.sample_frame(a) > frame) --a;
+      const double span = blender.sample_frame(b) - blender.sample_frame(a);
+      f = span > 0.0 ? std::clamp((frame - blender.sample_frame(a)) / span, 0.0, 1.0) : 0.0;
+    }
+  }
+  // The frame's map point: where its samples' are, weighted alike.
+  const Eigen::Vector2d point = (1.0 - f) * blender.sample_point(a) + f * blender.sample_point(b);
+  const int nearest = f < 0.5 ? a : b;
+  MapWeights out;
+  if (a == b || f <= 0.0 || f >= 1.0) {
+    out.samples = {nearest};
+    out.weights = {1.0};
+  } else {
+    double wa = 1.0 - f, wb = f;
+    if (b < a) {
+      std::swap(a, b);
+      std::swap(wa, wb);
+    }
+    out.samples = {a, b};
+    out.weights = {wa, wb};
+  }
+  PointValidity& v = out.validity;
+  v.query = v.point = point;
+  v.nearest_sample = nearest;
+  v.distance = (point - blender.sample_point(nearest)).norm();
+  return out;
+}
+
+PoseRotations pose_rotations(const MapBlender& blender, const Motion& pose) {
+  const int J = pose.num_joints, root = blender.motion_root();
+  PoseRotations q(static_cast<std::size_t>(J));
+  for (int j = 0; j < J; ++j) {
+    q[j] = pose.rotation(0, j).normalized();
+    if (j == root) q[j] = detail::remove_heading(q[j], blender.options().up);
+  }
+  return q;
+}
+
+double pose_distance(const PoseRotations& a, const PoseRotations& b) {
+  double sum = 0.0;
+  for (std::size_t j = 0; j < a.size(); ++j)
+    sum += std::pow(a[j].angularDistance(b[j]) / kRoutePoseAngle, 2);
+  return sum / static_cast<double>(a.size());
+}
+
+const PoseRotations& SamplePoses::operator()(int sample) {
+  auto it = m_poses.find(sample);
+  if (it == m_poses.end()) {
+    it = m_poses
+             .emplace(sample,
+                      pose_rotations(m_blender, m_blender.pose_at(m_blender.sample_point(sample))))
+             .first;
+  }
+  return it->second;
+}
+
+void SamplePoses::prepare(std::vector<int> samples, const Control& control) {
+  std::sort(samples.begin(), samples.end());
+  samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
+  std::erase_if(samples, [&](int s) { return m_poses.count(s) > 0; });
+  std::vector<Eigen::Vector2d> points;
+  for (const int s : samples) points.push_back(m_blender.sample_point(s));
+  const std::vector<MapWeights> weights = m_blender.locate(points);
+  m_blender.prefetch(weights);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    control.check();
+    m_poses.emplace(samples[i], pose_rotations(m_blender, m_blender.pose(weights[i])));
+  }
 }
 
 }  // namespace motionmap::synth

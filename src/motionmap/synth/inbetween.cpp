@@ -24,8 +24,6 @@ constexpr int kSpeedNeighbors = 8;
 constexpr double kMinSpeedFraction = 0.1;
 // A route is walked in pieces of at most reach / kWalkSteps for its time.
 constexpr double kWalkSteps = 4.0;
-// A clip route's ends pay (mean angle between their pose's joints and the key's / kPoseAngle)².
-constexpr double kPoseAngle = 0.1;
 // The samples nearest a key with a pose that a clip route may start or end on (ClipRouteEnds::
 // candidates): enough to reach past the map's overlaps, where a 2-D map lays a walk's phases and
 // styles close and places a key among them by its features.
@@ -62,67 +60,15 @@ std::vector<double> sample_speeds(const MapBlender& blender, const features::Fea
   return speed;
 }
 
-// Per sample: the next sample of its clip, −1 for a clip's last.
-std::vector<int> next_samples(const features::FeatureSet& samples) {
-  const int n = samples.num_samples();
-  std::vector<int> next(static_cast<std::size_t>(n), -1);
-  for (int i = 0; i + 1 < n; ++i) {
-    if (samples.clip_of[i] == samples.clip_of[i + 1] &&
-        samples.frame_of[i + 1] > samples.frame_of[i])
-      next[i] = i + 1;
-  }
-  return next;
-}
-
-// The median time between consecutive samples of a clip, in frames of the blender (1 when no
-// clip has two samples).
-double median_sample_step(const features::FeatureSet& samples, const std::vector<int>& next) {
-  std::vector<int> steps;
-  for (int i = 0; i < samples.num_samples(); ++i) {
-    if (next[i] >= 0) steps.push_back(samples.frame_of[next[i]] - samples.frame_of[i]);
-  }
-  if (steps.empty()) return 1.0;
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  return steps[steps.size() / 2];
-}
-
 // A route walked at the samples' own speed: points at most reach / kWalkSteps apart and the
 // time at each (seconds from the route's start).
 struct WalkedRoute {
   std::vector<Eigen::Vector2d> points;
   std::vector<double> times;
-  /// A clip route's: per step, the clips' frames it advances, the same for every step of a run
-  /// (the steps between two jumps: see play_runs_evenly); empty for a grid route, whose blended
+  /// A clip route's samples as played (one per point); empty for a grid route, whose blended
   /// root velocities are the samples' own speed already.
-  std::vector<double> advance;
-  /// A clip route's: per step, whether it jumps to another clip's sample (its frames are not
-  /// blended between the two: each takes the nearer end).
-  std::vector<char> jumps;
-  /// A clip route's: per step, the first step of its run.
-  std::vector<int> run_start;
-  /// A clip route's samples, one per point.
-  std::vector<int> samples;
+  ClipRoutePlay play;
 };
-
-// A clip route's steps each hold a sample, go on to the next or skip one, wherever the search
-// found it cheapest: played step by step, a stretch would stop and rush (a skip plays a step at
-// twice the clip's pace). Each run of steps between jumps plays its clip at one even pace
-// instead, from the run's first sample to its last, which it still reaches at the same step.
-void play_runs_evenly(WalkedRoute& w) {
-  const int steps = static_cast<int>(w.advance.size());
-  w.run_start.assign(static_cast<std::size_t>(steps), 0);
-  for (int t0 = 0; t0 < steps;) {
-    int t1 = t0 + 1;
-    if (!w.jumps[t0]) {
-      while (t1 < steps && !w.jumps[t1]) ++t1;
-      double total = 0.0;
-      for (int t = t0; t < t1; ++t) total += w.advance[t];
-      for (int t = t0; t < t1; ++t) w.advance[t] = total / (t1 - t0);
-    }
-    for (int t = t0; t < t1; ++t) w.run_start[t] = t0;
-    t0 = t1;
-  }
-}
 
 WalkedRoute walk(const MapField& field, const std::vector<double>& speeds, double floor_speed,
                  const std::vector<Eigen::Vector2d>& route) {
@@ -292,60 +238,23 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const std::vector<double> speeds = sample_speeds(blender, samples);
   const double floor_speed = kMinSpeedFraction * blender.median_speed();
   const bool clip_routes = options.route.mode == RouteMode::Clips;
-  const std::vector<int> next = clip_routes ? next_samples(samples) : std::vector<int>{};
-  const double sample_step = clip_routes ? median_sample_step(samples, next) : 1.0;
-  // How far apart two poses are: the mean over the joints of the squared angle between their
-  // rotations (the motion root's heading aside), in units of kPoseAngle². A pose is compared by
-  // its joints' rotations, normalised, the root's heading removed; a sample's pose is blended at
-  // its point once, when first asked for.
-  const int root_joint = blender.motion_root();
-  const Axis up_axis = blender.options().up;
-  using Rotations = std::vector<Eigen::Quaterniond>;
-  const auto rotations_of = [&](const Motion& pose) {
-    Rotations q(static_cast<std::size_t>(J));
-    for (int j = 0; j < J; ++j) {
-      q[j] = pose.rotation(0, j).normalized();
-      if (j == root_joint) q[j] = detail::remove_heading(q[j], up_axis);
-    }
-    return q;
-  };
-  const auto pose_distance = [J](const Rotations& a, const Rotations& b) {
-    double sum = 0.0;
-    for (int j = 0; j < J; ++j) sum += std::pow(a[j].angularDistance(b[j]) / kPoseAngle, 2);
-    return sum / J;
-  };
-  std::unordered_map<int, Rotations> sample_rotations;
-  const auto sample_pose = [&](int s) -> const Rotations& {
-    auto it = sample_rotations.find(s);
-    if (it == sample_rotations.end()) {
-      it =
-          sample_rotations.emplace(s, rotations_of(blender.pose_at(blender.sample_point(s)))).first;
-    }
-    return it->second;
-  };
-  std::vector<Rotations> key_rotations(static_cast<std::size_t>(K));
+  const std::vector<int> next = clip_routes ? next_samples(blender) : std::vector<int>{};
+  const double sample_step = clip_routes ? median_sample_step(blender, next) : 1.0;
+  // How far apart two poses are (pose_distance): a sample's pose is blended at its point once.
+  SamplePoses sample_pose(blender);
+  std::vector<PoseRotations> key_rotations(static_cast<std::size_t>(K));
   for (int i = 0; i < K; ++i) {
-    if (keys[i].has_pose()) key_rotations[i] = rotations_of(key_poses[i]);
+    if (keys[i].has_pose()) key_rotations[i] = pose_rotations(blender, key_poses[i]);
   }
   if (clip_routes) {
-    // The poses of the samples a route may start or end on, blended together (a blender reading
-    // its clips on demand reads each clip they need once).
+    // The poses of the samples a route may start or end on, blended together.
     std::vector<int> candidates, near;
     for (int i = 0; i < K; ++i) {
       if (!keys[i].has_pose()) continue;
       const int k = field.nearest(keys[i].point, kKeyCandidates, near);
       candidates.insert(candidates.end(), near.begin(), near.begin() + k);
     }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-    std::vector<Eigen::Vector2d> points;
-    for (const int c : candidates) points.push_back(blender.sample_point(c));
-    const std::vector<MapWeights> weights = blender.locate(points);
-    blender.prefetch(weights);
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      routing.check();
-      sample_rotations.emplace(candidates[c], rotations_of(blender.pose(weights[c])));
-    }
+    sample_pose.prepare(std::move(candidates), routing);
   }
   const auto pose_cost = [&](int key) {
     return [&, key](int s) { return pose_distance(key_rotations[key], sample_pose(s)); };
@@ -414,24 +323,13 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       const int steps_taken = static_cast<int>(visited.size()) - 1;
       last_visited = visited.back();
       // The route's points are its samples' (a map-point key's end, its point), a step a unit of
-      // time; what each step advances in the clips, and whether it jumps.
+      // time.
       WalkedRoute w;
-      w.samples = visited;
       for (int t = 0; t <= steps_taken; ++t) {
-        const int at = visited[static_cast<std::size_t>(t)];
-        w.points.push_back(field.sample(at));
+        w.points.push_back(field.sample(visited[static_cast<std::size_t>(t)]));
         w.times.push_back(static_cast<double>(t));
-        if (t == 0) continue;
-        const int from = visited[static_cast<std::size_t>(t) - 1];
-        const int on = next[static_cast<std::size_t>(from)];
-        const bool skip = on >= 0 && at == next[static_cast<std::size_t>(on)];
-        const bool jump = at != from && at != on && !skip;
-        w.advance.push_back(at == from ? 0.0
-                            : jump     ? sample_step
-                                       : samples.frame_of[at] - samples.frame_of[from]);
-        w.jumps.push_back(jump ? 1 : 0);
       }
-      play_runs_evenly(w);
+      w.play = play_clip_route(blender, next, visited, sample_step);
       if (!keys[i].has_pose()) w.points.front() = keys[i].point;
       if (!keys[i + 1].has_pose()) w.points.back() = keys[i + 1].point;
       // The route drawn: from key i's point through the samples to key i + 1's.
@@ -460,49 +358,6 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   result.points.resize(static_cast<std::size_t>(frames));
   std::vector<MapWeights> frame_weights;
   if (clip_routes) frame_weights.resize(static_cast<std::size_t>(frames));
-  const auto clip_frame = [&](const WalkedRoute& w, double t) {
-    const double steps = static_cast<double>(w.samples.size()) - 1.0;
-    const double i = std::min(std::floor(t), steps - 1.0);
-    const auto step = static_cast<std::size_t>(i);
-    double f = t - i;
-    int a = w.samples[step], b = w.samples[step + 1];
-    if (w.jumps[step]) {
-      f = f < 0.5 ? 0.0 : 1.0;
-    } else {
-      // In a run, the clip's frame at the run's even pace, between the two samples around it
-      // (consecutive rows of the map: next_samples).
-      const int t0 = w.run_start[step];
-      const int first = w.samples[static_cast<std::size_t>(t0)];
-      const double frame = samples.frame_of[first] + (t - t0) * w.advance[step];
-      a = b = first;
-      while (next[b] >= 0 && samples.frame_of[b] < frame) b = next[b];
-      a = b;
-      while (a != first && samples.frame_of[a] > frame) --a;
-      const double span = samples.frame_of[b] - samples.frame_of[a];
-      f = span > 0.0 ? std::clamp((frame - samples.frame_of[a]) / span, 0.0, 1.0) : 0.0;
-    }
-    // The frame's map point: where its samples' are, weighted alike.
-    const Eigen::Vector2d point = (1.0 - f) * blender.sample_point(a) + f * blender.sample_point(b);
-    const int nearest = f < 0.5 ? a : b;
-    MapWeights out;
-    if (a == b || f <= 0.0 || f >= 1.0) {
-      out.samples = {nearest};
-      out.weights = {1.0};
-    } else {
-      double wa = 1.0 - f, wb = f;
-      if (b < a) {
-        std::swap(a, b);
-        std::swap(wa, wb);
-      }
-      out.samples = {a, b};
-      out.weights = {wa, wb};
-    }
-    PointValidity& v = out.validity;
-    v.query = v.point = point;
-    v.nearest_sample = nearest;
-    v.distance = (point - blender.sample_point(nearest)).norm();
-    return out;
-  };
   for (int i = 0; i + 1 < K; ++i) {
     const WalkedRoute& w = walked[static_cast<std::size_t>(i)];
     const long long a = key_frames[i], b = key_frames[i + 1];
@@ -513,10 +368,10 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       result.points[ks] = k == b ? w.points.back() : at_time(w, t);
       if (!clip_routes) continue;
       const bool key_point = (k == a && !keys[i].has_pose()) || (k == b && !keys[i + 1].has_pose());
-      if (w.samples.empty() || key_point) {
+      if (w.play.samples.empty() || key_point) {
         frame_weights[ks] = blender.locate(result.points[ks]);
       } else {
-        frame_weights[ks] = clip_frame(w, t);
+        frame_weights[ks] = clip_route_weights(blender, next, w.play, t);
         result.points[ks] = frame_weights[ks].validity.point;
       }
     }
@@ -574,9 +429,9 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const std::vector<Eigen::Vector3d> blend_floor = floor;
   for (int i = 0; i + 1 < K; ++i) {
     const WalkedRoute& w = walked[static_cast<std::size_t>(i)];
-    if (w.advance.empty()) continue;
+    if (w.play.advance.empty()) continue;
     const long long a = key_frames[i], b = key_frames[i + 1];
-    const double steps = static_cast<double>(w.advance.size());
+    const double steps = static_cast<double>(w.play.advance.size());
     Eigen::Vector3d at = floor[static_cast<std::size_t>(a)];
     double turned = heading[static_cast<std::size_t>(a)];
     for (long long k = a + 1; k <= b; ++k) {
@@ -584,7 +439,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       const auto step = static_cast<std::size_t>(std::min(
           steps - 1.0,
           std::floor(steps * static_cast<double>(k - 1 - a) / static_cast<double>(b - a))));
-      const double pace = w.advance[step] * steps / static_cast<double>(b - a);
+      const double pace = w.play.advance[step] * steps / static_cast<double>(b - a);
       const Eigen::Vector3d local =
           axis_rotation(up, -blend_heading[ks - 1]) * (blend_floor[ks] - blend_floor[ks - 1]);
       const double turn = wrap_angle(blend_heading[ks] - blend_heading[ks - 1]);

@@ -36,10 +36,12 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "motionmap/core/control.h"
 #include "motionmap/synth/blender.h"
 
 namespace motionmap::synth {
@@ -220,6 +222,9 @@ struct ClipRouteEnds {
   int candidates = kClipRouteEnds;
   std::function<double(int)> start_cost;  ///< extra cost of starting on a sample; null: none
   std::function<double(int)> end_cost;    ///< extra cost of ending on a sample; null: none
+  /// Extra cost of being on a sample at a step (0 … steps), e.g. how far it is from a path's
+  /// point then; null: none.
+  std::function<double(int, int)> step_cost;
   /// Extra cost of a jump from one sample (the next one's place) to another, e.g. how far apart
   /// their poses are; null: none.
   std::function<double(int, int)> jump_cost;
@@ -231,6 +236,56 @@ struct ClipRoute {
 ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
                           const Eigen::Vector2d& a, const Eigen::Vector2d& b, int steps,
                           const ClipRouteEnds& ends = {}, const ClipRouteCosts& costs = {});
+
+/// Per sample: the next sample of its clip on the map (MapBlender::next_sample), −1 at a
+/// clip's last: find_clip_route's `next`.
+std::vector<int> next_samples(const MapBlender& blender);
+/// The median frames between a sample and the next of its clip (1 when no clip has two).
+double median_sample_step(const MapBlender& blender, std::span<const int> next);
+
+/// A clip route's samples as played, one step a unit of time. The search holds a sample or skips
+/// one wherever it costs least: played step by step, a stretch would stop and rush (a skip plays
+/// a step at twice the clip's pace). So each run of steps between two jumps plays its clip at
+/// one even pace, from the run's first sample to its last, which it still reaches at its step.
+struct ClipRoutePlay {
+  std::vector<int> samples;     ///< the route's samples (steps + 1)
+  std::vector<double> advance;  ///< per step: the clips' frames it advances (even over its run)
+  std::vector<char> jumps;      ///< per step: whether it jumps to another clip's sample
+  std::vector<int> run_start;   ///< per step: the first step of its run
+};
+/// `visited`: find_clip_route's samples; `next` as there; a jump advances `sample_step` frames.
+ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> next,
+                              std::vector<int> visited, double sample_step);
+/// The weights of the frame at time t ∈ [0, steps] (in steps) of a played route: in a run, the
+/// two samples of the run around its clip frame at the run's pace (weights 1 − f and f: the
+/// clip's own frames in between); across a jump the nearer of its two samples (a blend at a map
+/// point between them would mix nearby samples of other clips). Validity: their point, weighted
+/// alike, and the nearer sample.
+MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
+                              const ClipRoutePlay& play, double t);
+
+/// Poses as clip routes compare them: one frame's joint rotations, normalised, the motion
+/// root's heading removed; two poses are (mean over the joints of the squared angle between
+/// their rotations) / kRoutePoseAngle² apart.
+inline constexpr double kRoutePoseAngle = 0.1;
+using PoseRotations = std::vector<Eigen::Quaterniond>;
+PoseRotations pose_rotations(const MapBlender& blender, const Motion& pose);
+double pose_distance(const PoseRotations& a, const PoseRotations& b);
+
+/// The blends at samples' points as routes compare them, each blended once when first asked
+/// for. Not thread-safe.
+class SamplePoses {
+ public:
+  explicit SamplePoses(const MapBlender& blender) : m_blender(blender) {}
+  const PoseRotations& operator()(int sample);
+  /// Blends these samples' poses together (a blender reading its clips on demand reads each
+  /// clip they need once). Polls `control`.
+  void prepare(std::vector<int> samples, const Control& control = {});
+
+ private:
+  const MapBlender& m_blender;
+  std::unordered_map<int, PoseRotations> m_poses;
+};
 
 /// Length of a polyline.
 double polyline_length(std::span<const Eigen::Vector2d> points);

@@ -89,6 +89,12 @@ class MapIndex {
   double seconds_in_run(int sample) const;
   /// The first sample of `sample`'s run (consecutive samples of its clip, frames increasing).
   int run_of(int sample) const { return m_run_first[static_cast<std::size_t>(sample)]; }
+  /// The next sample of `sample`'s run, −1 at its last.
+  int next_in_run(int sample) const {
+    return sample < m_run_last[static_cast<std::size_t>(sample)] ? sample + 1 : -1;
+  }
+  /// The frame of its clip that `sample` is.
+  int frame_of(int sample) const { return m_frame_of[static_cast<std::size_t>(sample)]; }
 
   /// The map point that sample `s` shares with its merged samples.
   int point_of(int sample) const { return m_point_of[static_cast<std::size_t>(sample)]; }

@@ -533,8 +533,8 @@ struct Case {
   MapPath path;
   double smooth = 0.0;
   bool every_other = false;  // the map of every other frame
-  // A walk along the normal walk's trajectory (every frame a sample): held to the angle and pop
-  // bounds, and to the capture's skating.
+  // Held to the walks' bounds: what the clean-up adds to a joint's largest step, and the
+  // normal walk's skating as captured.
   bool walks = true;
   bool angles = true;  // held to the angle bound outside contacts (1° RMS)
 };
@@ -592,10 +592,9 @@ std::vector<Case> walk_paths(const Walks& w) {
   half_samples.walks = false;
   out.push_back(half_samples);
   // Halfway between the two walks' trajectories, paired by their fraction of the clip, at the
-  // normal walk's timing (outside the data on this map: blended at its nearest edge).
+  // normal walk's timing: outside the data on this map, every frame (a route through the clips'
+  // own frames tracks it: detail::OutsideRoutes).
   Case half{"halfway between the normal and the angry walk", {}};
-  half.walks = false;
-  half.angles = false;
   for (std::size_t k = 0; k < normal.size(); ++k) {
     const double a = static_cast<double>(k) / static_cast<double>(normal.size() - 1);
     const auto& b = angry[static_cast<std::size_t>(std::lround(a * (angry.size() - 1)))].second;
@@ -603,6 +602,30 @@ std::vector<Case> walk_paths(const Walks& w) {
     half.path.times.push_back(static_cast<double>(k) * dt);
   }
   out.push_back(half);
+  // Along the normal walk, its middle third drawn 30 % of the way to the angry walk: out of the
+  // data and back in (the route fades in and out over the located blend).
+  Case out_and_back{"normal walk drawn out of the data and back", {}};
+  out_and_back.walks = false;
+  for (std::size_t k = 0; k < normal.size(); ++k) {
+    const double a = static_cast<double>(k) / static_cast<double>(normal.size() - 1);
+    const auto& b = angry[static_cast<std::size_t>(std::lround(a * (angry.size() - 1)))].second;
+    const double away = a > 1.0 / 3.0 && a < 2.0 / 3.0 ? 0.3 : 0.0;
+    out_and_back.path.points.push_back(normal[k].second + away * (b - normal[k].second));
+    out_and_back.path.times.push_back(static_cast<double>(k) * dt);
+  }
+  out.push_back(out_and_back);
+  for (double frac : {0.1, 0.15}) {
+    Case q{"frac " + std::to_string(frac), {}};
+    q.walks = false;
+    q.angles = false;
+    for (std::size_t k = 0; k < normal.size(); ++k) {
+      const double a = static_cast<double>(k) / static_cast<double>(normal.size() - 1);
+      const auto& b = angry[static_cast<std::size_t>(std::lround(a * (angry.size() - 1)))].second;
+      q.path.points.push_back((1 - frac) * normal[k].second + frac * b);
+      q.path.times.push_back(static_cast<double>(k) * dt);
+    }
+    out.push_back(q);
+  }
   return out;
 }
 
@@ -664,19 +687,20 @@ TEST(SynthCleanFeet, SynthesizedBandaiWalks) {
     // No pops: no joint steps between two frames further than it ever does in the blend (the
     // clean-up also removes the blend's own jumps of a planted foot, so the difference of steps
     // is bounded only for walks, below).
-    // (within 1 cm, or 3 % of a blend that jumps further: the halfway blend steps 32 cm; a walk
-    // traced by hand lands its swing foot 0.9 cm further in one frame, cleaned, than blended).
+    // (within 1 cm, or 3 % of a blend that jumps further; a walk traced by hand lands its swing
+    // foot 0.9 cm further in one frame, cleaned, than blended).
     const double raw_jump = max_jump(skeleton, raw.motion);
     EXPECT_LE(max_jump(skeleton, cleaned.motion), raw_jump + std::max(1.0, 0.03 * raw_jump));
     // The legs away from their contacts keep their angles (retraced, smoothed or not: 0.05°;
-    // traced by hand 0.34°–0.54°; every other frame 0.3°). The halfway blend is no walk (1.3°:
-    // docs/synthesis.md, where it falls short).
+    // traced by hand 0.34°–0.54°; every other frame 0.3°; halfway 0.12°; out and back 0.51°).
     if (c.angles) {
       EXPECT_LE(rms, 1.0);
     }
-    // Walks along the normal walk's curve, retraced or traced by hand: nothing pops, and they
-    // skate no more than the capture (within a transition of 194: the steady hand's 0.412
-    // against 0.407), its feet no faster in contact (within 1 cm/s).
+    // Walks along the normal walk's curve, retraced or traced by hand, and halfway to the angry
+    // walk: nothing pops, and they skate no more than the normal walk as captured (within a
+    // transition of 194: the steady hand's 0.412 against 0.407), its feet no faster in contact
+    // (within 1 cm/s). (The walk drawn out and back adds 7 cm to a step where its route fades in
+    // over the blend.)
     if (c.walks) {
       EXPECT_LT(added, 3.0);  // cm, at 30 fps
       EXPECT_LE(sc.ratio, captured[0].ratio + 1.0 / 194.0 + 1e-9);

@@ -14,6 +14,7 @@
 #include "motionmap/features/features.h"
 #include "motionmap/io/load.h"
 #include "motionmap/skeleton/forward_kinematics.h"
+#include "motionmap/synth/detail/outside_route.h"
 #include "support/test_data.h"
 #include "synth/synth_fixtures.h"
 
@@ -258,6 +259,70 @@ TEST(SynthPathEdit, BandaiWalkWithSmoothedWeights) {
 
 TEST(SynthPathEdit, CmuGolfSwing) {
   check_edit({"CMU 64_08 golf swing", {"cmu/64_08.bvh", "cmu/64_09.bvh"}, 0, 30, 0.3, 1, 0.0, 3.0});
+}
+
+TEST(SynthPathEdit, AnEditOutsideTheDataRemakesItsWholeRun) {
+  // A sketch of the normal walk whose middle control points are drawn halfway to the angry
+  // walk, outside the data: that stretch is played by one route through the clips' own frames, so
+  // moving a point in it re-makes the whole stretch (and no more than the run and its margins).
+  MOTIONMAP_REQUIRE_SHARED("other/BandaiNamcoResearchInc_dataset-1_walk_normal_001.bvh");
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
+  const Library lib = library({"other/BandaiNamcoResearchInc_dataset-1_walk_normal_001.bvh",
+                               "bandai/dataset-1_walk_angry_001.bvh"});
+  const MapBlender blender(lib.clips, lib.set, lib.map);
+  MapPath path = sketch(lib, 0, 10);
+  const MapPath other = sketch(lib, 1, 1);
+  const std::size_t n = path.points.size();
+  const auto toward_other = [&](std::size_t i, double share) -> Eigen::Vector2d {
+    const double at = path.times[i] / path.times.back();
+    const auto o =
+        static_cast<std::size_t>(std::lround(at * static_cast<double>(other.points.size() - 1)));
+    return share * (other.points[o] - path.points[i]);
+  };
+  for (std::size_t i = n / 3; i < 2 * n / 3; ++i) path.points[i] += toward_other(i, 0.5);
+  const SynthResult before = synthesize(blender, path);
+  std::vector<Eigen::Vector2d> points;
+  for (const PointValidity& v : before.validity) points.push_back(v.query);
+  const auto runs = detail::outside_runs(blender, points, before.motion.frame_time);
+  ASSERT_FALSE(runs.empty());
+  MapPath edited = path;
+  const std::size_t moved = n / 2;
+  edited.points[moved] += toward_other(moved, 0.2);
+  const PathEditResult edit = edit_path(blender, before, edited);
+  const int frame = static_cast<int>(std::lround(path.times[moved] / before.motion.frame_time));
+  bool covered = false;
+  for (const auto& [first, end] : runs) {
+    if (frame < static_cast<int>(first) || frame >= static_cast<int>(end)) continue;
+    EXPECT_LE(edit.blend_first, static_cast<int>(first));
+    EXPECT_GE(edit.blend_end, static_cast<int>(end));
+    covered = true;
+  }
+  EXPECT_TRUE(covered) << "the moved point's frame " << frame << " is in no run";
+  EXPECT_GT(edit.first, 0);
+  EXPECT_LT(edit.end, before.motion.num_frames);
+  const Motion& m = edit.result.motion;
+  const std::size_t J = static_cast<std::size_t>(m.num_joints);
+  for (int f = 0; f < m.num_frames; ++f) {
+    if (f >= edit.first && f < edit.end) continue;
+    const std::size_t at = static_cast<std::size_t>(f) * J;
+    ASSERT_EQ(
+        std::memcmp(&m.rotations[at], &before.motion.rotations[at], J * sizeof(Eigen::Quaterniond)),
+        0)
+        << "frame " << f;
+  }
+  // The window's blend is the full synthesis' (off the legs and the root).
+  const SynthResult full = synthesize(blender, edited);
+  const Feet feet = find_feet(blender.skeleton());
+  std::vector<char> leg(J, 0);
+  for (const Leg& l : feet.legs)
+    for (int j : {l.hip, l.knee, l.ankle}) leg[static_cast<std::size_t>(j)] = 1;
+  for (int f = edit.blend_first; f < edit.blend_end; ++f) {
+    for (int j = 0; j < m.num_joints; ++j) {
+      if (j == blender.motion_root() || leg[static_cast<std::size_t>(j)]) continue;
+      EXPECT_LT(rotation_angle(m.rotation(f, j), full.motion.rotation(f, j)), 1e-9)
+          << "frame " << f << ", joint " << j;
+    }
+  }
 }
 
 TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {

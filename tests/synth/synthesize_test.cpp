@@ -1,11 +1,15 @@
 #include "motionmap/synth/synthesize.h"
 
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
 #include "motionmap/features/point_cloud.h"
+#include "motionmap/synth/detail/outside_route.h"
 #include "support/error_message.h"
 #include "synth/synth_fixtures.h"
 
@@ -181,14 +185,16 @@ TEST(SynthSynthesize, HigherFrameRatesInterpolateBetweenSamples) {
 }
 
 TEST(SynthSynthesize, SmoothingSoftensJumpsAlongThePath) {
-  // Hold one end of the map, jump to the other in 1/30 s, hold it.
+  // Hold one sample, jump to one far along the clip in 1/30 s, hold it (inside the data: outside
+  // it a path follows the clips' own frames, which never jump).
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   for (BlendMode mode : kModes) {
     SCOPED_TRACE(std::string(blend_mode_name(mode)));
     const MapBlender blender = make_blender(clip, map, mode);
     MapPath path;
-    path.points = {{1.0, 0.3}, {1.0, 0.3}, {6.0, -0.5}, {6.0, -0.5}};
+    const Eigen::Vector2d a = map.row(10).transpose(), b = map.row(60).transpose();
+    path.points = {a, a, b, b};
     path.times = {0.0, 1.0, 1.0 + 1.0 / 30, 2.0};
     auto max_step = [&](double smooth) {
       SynthOptions opt;
@@ -224,6 +230,89 @@ TEST(SynthSynthesize, ReportsFramesOutsideTheData) {
     for (int j = 0; j < 5; ++j) EXPECT_NEAR(r.motion.rotation(f, j).norm(), 1.0, 1e-12);
     EXPECT_TRUE(r.motion.translation(f, 0).allFinite());
   }
+}
+
+TEST(SynthSynthesize, APathOutsideTheDataPlaysTheClipsOwnFrames) {
+  // The clip's curve moved 3 units off it (about 7 reaches: every frame outside), at the clip's
+  // timing: a route through the clip's own frames tracks it, so every frame is a pose of the clip
+  // (between two consecutive frames) and no joint turns further between two frames than it does
+  // in the clip. Blended at the data's edge, frames mixed the curve's phases (poses of no frame).
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  MapPath path;
+  for (int f = 0; f < clip.motion.num_frames; ++f) {
+    path.points.emplace_back(map(f, 0), map(f, 1) + 3.0);
+    path.times.push_back(f * clip.motion.frame_time);
+  }
+  SynthOptions raw;
+  raw.clean_feet = false;
+  const SynthResult r = synthesize(blender, path, raw);
+  ASSERT_EQ(r.motion.num_frames, clip.motion.num_frames);
+  EXPECT_EQ(r.clamped_frames, r.motion.num_frames);
+  double clip_step = 0.0, step = 0.0, off = 0.0;
+  for (int f = 1; f < clip.motion.num_frames; ++f) {
+    for (int j = 1; j < 5; ++j) {
+      clip_step = std::max(
+          clip_step, rotation_angle(clip.motion.rotation(f - 1, j), clip.motion.rotation(f, j)));
+      step = std::max(step, rotation_angle(r.motion.rotation(f - 1, j), r.motion.rotation(f, j)));
+    }
+  }
+  for (int f = 0; f < r.motion.num_frames; ++f) {
+    double nearest = 1e9;
+    for (int g = 0; g < clip.motion.num_frames; ++g) {
+      double worst = 0.0;
+      for (int j = 1; j < 5; ++j) {
+        worst =
+            std::max(worst, rotation_angle(r.motion.rotation(f, j), clip.motion.rotation(g, j)));
+      }
+      nearest = std::min(nearest, worst);
+    }
+    off = std::max(off, nearest);
+  }
+  EXPECT_LE(off, 0.5 * clip_step + 1e-9);
+  EXPECT_LE(step, clip_step + 1e-9);
+  // The same path in the kriging mode is blended at the edge (routes are the local mode's).
+  const MapBlender kriging = make_blender(clip, map, BlendMode::Kriging);
+  EXPECT_EQ(synthesize(kriging, path, raw).clamped_frames, r.motion.num_frames);
+}
+
+TEST(SynthSynthesize, RunsOutsideTheDataJoinAcrossShortGapsAwayFromTheClips) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  const double dt = 1.0 / 30;
+  const std::size_t fade = detail::outside_fade_frames(dt);
+  EXPECT_EQ(fade, 8u);  // 0.25 s
+  // Frames on the curve ('i'), inside the data but farther from it than locate_path follows a
+  // clip ('a': halfway between kFollowFar median steps and the reach), or outside ('o'), the
+  // curve moved up by as much.
+  const double away = 0.5 * (kFollowFar * blender.median_step() + blender.reach_distance());
+  const auto path_of = [&](const std::string& pattern) {
+    std::vector<Eigen::Vector2d> points;
+    for (std::size_t k = 0; k < pattern.size(); ++k) {
+      const double up = pattern[k] == 'o' ? 3.0 : pattern[k] == 'a' ? away : 0.0;
+      points.emplace_back(map(static_cast<int>(k), 0), map(static_cast<int>(k), 1) + up);
+    }
+    return points;
+  };
+  for (const Eigen::Vector2d& p : path_of(std::string(60, 'a'))) EXPECT_TRUE(blender.inside(p));
+  using Runs = std::vector<std::pair<std::size_t, std::size_t>>;
+  // A lone frame outside is no run; two are.
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iioiiiiiiiiiiiiiiiiiiiiii"), dt), Runs{});
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iiooiiiiiiiiiiiiiiiiiiiii"), dt),
+            (Runs{{2, 4}}));
+  // A gap of 15 frames (< 16) away from the clips joins two stretches; one of 16 does not, nor
+  // one that comes near the clips.
+  const std::string away15(15, 'a'), away16(16, 'a');
+  EXPECT_EQ(detail::outside_runs(blender, path_of("ioo" + away15 + "ooi"), dt), (Runs{{1, 20}}));
+  EXPECT_EQ(detail::outside_runs(blender, path_of("ioo" + away16 + "ooi"), dt),
+            (Runs{{1, 3}, {19, 21}}));
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iooaaaaaaaiaaaaaaaooi"), dt),
+            (Runs{{1, 3}, {18, 20}}));
+  // Other modes have none.
+  EXPECT_EQ(detail::outside_runs(make_blender(clip, map, BlendMode::Idw), path_of("ioooi"), dt),
+            Runs{});
 }
 
 TEST(SynthSynthesize, ReportsProgressAndCancels) {

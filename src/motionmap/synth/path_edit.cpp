@@ -8,6 +8,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/synth/clean_feet.h"
+#include "motionmap/synth/detail/outside_route.h"
 #include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/detail/smoothing.h"
 
@@ -106,10 +107,26 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     r1 = F - 1;
   }
   if (r0 < 0) return out;  // the same path: the same motion
-  // A frame's weights read its neighbours' points too (locate_path).
+  // A frame's weights read its neighbours' points too (locate_path), and a frame outside the
+  // data its whole run's and the blends of the frames on either side of it
+  // (detail::OutsideRoutes): the window takes in every run of the previous path or the new one
+  // that a changed frame reaches so (a run whose points are all as before keeps its route).
+  const int changed0 = r0, changed1 = r1;
   const int reads = std::min(F, blender.path_neighbours(dt));
   r0 = std::max(0, r0 - reads);
   r1 = std::min(F - 1, r1 + reads);
+  std::vector<Eigen::Vector2d> previous_points(static_cast<std::size_t>(F0));
+  for (int k = 0; k < F0; ++k)
+    previous_points[static_cast<std::size_t>(k)] =
+        previous.validity[static_cast<std::size_t>(k)].query;
+  auto runs = detail::outside_runs(blender, points, dt);
+  for (const auto& run : detail::outside_runs(blender, previous_points, dt)) runs.push_back(run);
+  for (const auto& [first, end] : runs) {
+    const int a = static_cast<int>(first), b = static_cast<int>(end) - 1;
+    if (a - 1 - reads > changed1 || b + 1 + reads < changed0) continue;
+    r0 = std::min(r0, a);
+    r1 = std::max(r1, std::min(F - 1, b));
+  }
 
   const std::vector<double> kernel = detail::smoothing_kernel(so.smooth, dt, F);
   const int half = static_cast<int>(kernel.size() / 2);
@@ -135,10 +152,15 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   const int w0 = std::max(0, x0 - half), w1 = std::min(F, x1 + half);
   std::vector<MapWeights> raw;
   raw.reserve(static_cast<std::size_t>(w1 - w0));
+  const detail::OutsideRoutes outside(blender, points, dt, static_cast<std::size_t>(w0),
+                                      static_cast<std::size_t>(w1), control);
   for (int k = w0; k < w1; k += kLocateBatch) {
     auto located = blender.locate_path(points, dt, static_cast<std::size_t>(k),
                                        static_cast<std::size_t>(std::min(w1, k + kLocateBatch)));
-    for (auto& w : located) raw.push_back(std::move(w));
+    for (std::size_t i = 0; i < located.size(); ++i) {
+      outside.apply(static_cast<std::size_t>(k) + i, located[i]);
+      raw.push_back(std::move(located[i]));
+    }
   }
   std::vector<MapWeights> weights(static_cast<std::size_t>(x1 - x0));
   for (int k = x0; k < x1; ++k) {

@@ -11,6 +11,7 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/synth/detail/outside_route.h"
 #include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/detail/smoothing.h"
 
@@ -66,6 +67,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   // 0 fps keeps the clip's exact frame time, so a path timed like the clip hits its samples.
   const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
   const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
+  // Runs of frames outside the data follow the clips' own frames.
+  const detail::OutsideRoutes outside(blender, points, dt, 0, points.size(), control);
   return synthesize_frames(
       blender, static_cast<long long>(points.size()), dt,
       [&](long long first, long long count) {
@@ -76,6 +79,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
           const long long last = std::min(count, from + kLocateBatch);
           auto located = blender.locate_path(points, dt, static_cast<std::size_t>(first + from),
                                              static_cast<std::size_t>(first + last));
+          for (std::size_t i = 0; i < located.size(); ++i)
+            outside.apply(static_cast<std::size_t>(first + from) + i, located[i]);
           std::move(located.begin(), located.end(), fresh.begin() + from);
         });
         return fresh;

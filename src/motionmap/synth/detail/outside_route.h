@@ -1,0 +1,64 @@
+#pragma once
+// A path outside the data follows the clips' own frames (docs/synthesis.md, "Outside the data").
+//
+// Where a path leaves the data (MapBlender::inside() false) each of its frames is moved to the
+// data's edge, where the blend mixes the phases of a gait cycle (or, between two clips, flips
+// from one clip's edge to the other's): such a stretch skated 0.92 of its transitions, 151 cm/s
+// in contact, between two captured walks. So a run of such frames is played instead by a route
+// through the clips' own frames that tracks the path: find_clip_route over the run's frames, a
+// step per frame, each step paying kOutsideTrack × ((distance from the sample to the frame's
+// path point − the nearest sample's) / the reach)² besides the route's own costs (holds, skips,
+// jumps priced by their poses where the clips are in memory), played as in-betweens play their
+// routes (play_clip_route). (Measured from the nearest sample, a path far away pulls no harder
+// than one close by: by the plain distance, a path 7 reaches off a winding clip pulled the route
+// to its bends and made it jump.) Where a run meets the data the route starts one frame earlier
+// (ends one later) on the sample the blend of that frame is mostly on (towards it: its place and
+// pose), and its share rises from 0 to 1 (smoothstep) over kFollowSeconds of frames, so the
+// motion goes on from the blend in step and without a pop; at the path's own ends it plays from
+// the first frame. Runs longer than kMaxClipRouteSteps steps are routed in pieces, each starting
+// on the last one's sample. Local mode only (MapBlender::locate_path follows clips in it alone).
+#include <cstddef>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motionmap/core/control.h"
+#include "motionmap/synth/blender.h"
+
+namespace motionmap::synth::detail {
+
+/// Weight of the tracking cost against the route's step costs (a hold or a skip costs 0.2).
+inline constexpr double kOutsideTrack = 0.1;
+
+/// Frames over which a route's share rises where its run meets the data: kFollowSeconds' worth.
+std::size_t outside_fade_frames(double dt);
+/// The runs of frames of `points` (one every dt seconds) outside the data, [first, end) each, in
+/// order: stretches of frames outside, joined across gaps inside of fewer than twice the fade's
+/// frames (too short to fade out and back in) whose every frame is farther than kFollowFar
+/// median steps from the samples (where locate_path follows no clip either), at least two
+/// frames long; none but in the local mode, or on a map whose samples never move.
+std::vector<std::pair<std::size_t, std::size_t>> outside_runs(
+    const MapBlender& blender, std::span<const Eigen::Vector2d> points, double dt);
+
+class OutsideRoutes {
+ public:
+  /// The routes of the runs of `points` (a path, one point every dt seconds) that meet frames
+  /// [first, end); a run's route depends on its own points alone. Polls `control`.
+  OutsideRoutes(const MapBlender& blender, std::span<const Eigen::Vector2d> points, double dt,
+                std::size_t first, std::size_t end, const Control& control = {});
+  /// Frame k's located weights with its run's route blended in (unchanged outside every run
+  /// routed); the validity stays the located one.
+  void apply(std::size_t k, MapWeights& w) const;
+
+ private:
+  struct Run {
+    std::size_t first = 0, end = 0;
+    std::vector<MapWeights> weights;  // per frame of the run: the route's
+    std::vector<double> share;        // per frame: the route's share of the weights
+  };
+  std::vector<Run> m_runs;
+};
+
+}  // namespace motionmap::synth::detail

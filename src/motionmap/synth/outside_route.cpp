@@ -1,0 +1,144 @@
+#include "motionmap/synth/detail/outside_route.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "motionmap/synth/detail/map_index.h"
+#include "motionmap/synth/detail/smoothing.h"
+#include "motionmap/synth/route.h"
+
+namespace motionmap::synth::detail {
+
+std::size_t outside_fade_frames(double dt) {
+  return static_cast<std::size_t>(std::max(1L, std::lround(kFollowSeconds / dt)));
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> outside_runs(
+    const MapBlender& blender, std::span<const Eigen::Vector2d> points, double dt) {
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
+  // (A map whose samples never move has no reach: no routes, every point its edge.)
+  if (blender.options().mode != BlendMode::Local || !(blender.reach_distance() > 0.0)) return runs;
+  // Stretches outside, joined across gaps too short for a fade out and back in where the path
+  // stays away from the clips in between (farther than kFollowFar median steps from every
+  // sample: where locate_path follows no clip either).
+  const std::size_t gap = 2 * outside_fade_frames(dt);
+  const double away = kFollowFar * blender.median_step();
+  const MapField field(blender);
+  for (std::size_t k = 0; k < points.size();) {
+    if (blender.inside(points[k])) {
+      ++k;
+      continue;
+    }
+    std::size_t e = k + 1;
+    while (e < points.size() && !blender.inside(points[e])) ++e;
+    const auto apart = [&] {
+      for (std::size_t g = runs.back().second; g < k; ++g) {
+        if (field.distance(points[g]) <= away) return false;
+      }
+      return true;
+    };
+    if (!runs.empty() && k - runs.back().second < gap && apart()) {
+      runs.back().second = e;
+    } else {
+      runs.emplace_back(k, e);
+    }
+    k = e;
+  }
+  std::erase_if(runs, [](const auto& run) { return run.second - run.first < 2; });
+  return runs;
+}
+
+OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
+                             double dt, std::size_t first, std::size_t end,
+                             const Control& control) {
+  const auto runs = outside_runs(blender, points, dt);
+  if (runs.empty()) return;
+  const MapField field(blender);
+  const std::vector<int> next = next_samples(blender);
+  const double sample_step = median_sample_step(blender, next);
+  const double r = field.reach_distance();
+  const auto fade = static_cast<double>(outside_fade_frames(dt));
+  SamplePoses poses(blender);
+  // The sample most of a frame's located weight is on.
+  const auto anchor = [&](std::size_t k) {
+    const MapWeights w = blender.locate_path(points, dt, k, k + 1).front();
+    return w.samples[static_cast<std::size_t>(std::max_element(w.weights.begin(), w.weights.end()) -
+                                              w.weights.begin())];
+  };
+  for (const auto& [a, e] : runs) {
+    if (e <= first || a >= end) continue;
+    control.check();
+    Run run;
+    run.first = a;
+    run.end = e;
+    run.weights.resize(e - a);
+    // The route runs from the frame before the run to the frame after it where there are such
+    // frames, from the sample the blend there is mostly on and towards the one after, so that
+    // it fades in and out in step with the blend.
+    const std::size_t r0 = a > 0 ? a - 1 : a, r1 = e < points.size() ? e : e - 1;
+    const int end_anchor = e < points.size() ? anchor(e) : -1;
+    int start = a > 0 ? anchor(a - 1) : -1;  // then the sample the last piece ended on
+    for (std::size_t p0 = r0; p0 < r1; p0 += kMaxClipRouteSteps) {
+      const std::size_t p1 = std::min(r1, p0 + kMaxClipRouteSteps);
+      const bool last = p1 == r1;
+      ClipRouteEnds ends;
+      ends.start = start;
+      // How much farther from the frame's point than the nearest sample, in reaches.
+      std::vector<double> nearest(p1 - p0 + 1);
+      for (std::size_t k = p0; k <= p1; ++k) nearest[k - p0] = field.distance(points[k]);
+      ends.step_cost = [&](int t, int s) {
+        const auto k = static_cast<std::size_t>(t);
+        const double d = ((field.sample(s) - points[p0 + k]).norm() - nearest[k]) / r;
+        return kOutsideTrack * d * d;
+      };
+      // As in-betweens: on a blender reading its clips on demand, poses are not compared.
+      if (!blender.reads_on_demand()) {
+        ends.jump_cost = [&](int from, int to) { return pose_distance(poses(from), poses(to)); };
+        if (last && end_anchor >= 0) {
+          ends.end_cost = [&](int s) { return pose_distance(poses(s), poses(end_anchor)); };
+        }
+      }
+      const Eigen::Vector2d to = last && end_anchor >= 0 ? field.sample(end_anchor) : points[p1];
+      const ClipRoute route =
+          find_clip_route(field, next, start >= 0 ? field.sample(start) : points[p0], to,
+                          static_cast<int>(p1 - p0), ends);
+      start = route.samples.back();
+      const ClipRoutePlay play = play_clip_route(blender, next, route.samples, sample_step);
+      for (std::size_t k = std::max(p0, a); k <= std::min(p1, e - 1); ++k) {
+        run.weights[k - a] = clip_route_weights(blender, next, play, static_cast<double>(k - p0));
+      }
+    }
+    // The route's share: 1, rising from 0 over `fade` frames where the run meets the data.
+    run.share.resize(e - a);
+    for (std::size_t k = a; k < e; ++k) {
+      const double in = a > 0 ? static_cast<double>(k - a + 1) / (fade + 1.0) : 1.0;
+      const double out = e < points.size() ? static_cast<double>(e - k) / (fade + 1.0) : 1.0;
+      run.share[k - a] = 1.0 - falloff(std::min(in, out));
+    }
+    m_runs.push_back(std::move(run));
+  }
+}
+
+void OutsideRoutes::apply(std::size_t k, MapWeights& w) const {
+  const auto it = std::upper_bound(m_runs.begin(), m_runs.end(), k,
+                                   [](std::size_t f, const Run& run) { return f < run.first; });
+  if (it == m_runs.begin()) return;
+  const Run& run = *(it - 1);
+  if (k >= run.end) return;
+  const MapWeights& route = run.weights[k - run.first];
+  const double share = run.share[k - run.first];
+  if (share >= 1.0) {
+    const PointValidity validity = w.validity;
+    w = route;
+    w.validity = validity;
+    return;
+  }
+  std::vector<std::pair<int, double>> entries;
+  for (std::size_t i = 0; i < route.samples.size(); ++i)
+    entries.emplace_back(route.samples[i], share * route.weights[i]);
+  for (std::size_t i = 0; i < w.samples.size(); ++i)
+    entries.emplace_back(w.samples[i], (1.0 - share) * w.weights[i]);
+  w = weights_by_sample(std::move(entries), w.validity);
+}
+
+}  // namespace motionmap::synth::detail

@@ -168,8 +168,17 @@ void setup_synth(CLI::App& app) {
         edit ? std::move(edit->result) : synth::synthesize(blender, path, options, blending);
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
-                << " frames lie outside the data (" << outside_rule(blender)
-                << ") and were blended at the nearest edge of the data\n";
+                << " frames lie outside the data (" << outside_rule(blender) << ")";
+      const int edge = result.clamped_frames - result.routed_frames;
+      if (result.routed_frames > 0) {
+        std::cerr << ": " << result.routed_frames
+                  << " play the clips' own frames along the path there";
+      }
+      if (edge > 0) {
+        std::cerr << (result.routed_frames > 0 ? ", " : ": ") << edge
+                  << " were blended at the nearest edge of the data";
+      }
+      std::cerr << '\n';
     }
     if (!cmd->o.map.quiet) {
       for (const std::string& note : result.notes) std::cerr << "note: " << note << '\n';

@@ -375,11 +375,19 @@ synth::MapPath map_path(const InputArray& xy, const py::object& times, const std
 }
 
 // A synthesized clip's warning when frames of its path lay outside the map's data.
-void warn_clamped(Clip& clip, int clamped_frames) {
-  if (clamped_frames > 0) {
-    clip.warnings.push_back(std::to_string(clamped_frames) +
-                            " frames were outside the map's data and moved to its edge");
+void warn_clamped(Clip& clip, const synth::SynthResult& result) {
+  if (result.clamped_frames == 0) return;
+  std::string what = std::to_string(result.clamped_frames) + " frames were outside the map's data";
+  const int edge = result.clamped_frames - result.routed_frames;
+  if (result.routed_frames > 0) {
+    what += ": " + std::to_string(result.routed_frames) +
+            " play the clips' own frames along the path there";
   }
+  if (edge > 0) {
+    what +=
+        (result.routed_frames > 0 ? ", " : ": ") + std::to_string(edge) + " were moved to its edge";
+  }
+  clip.warnings.push_back(what);
 }
 
 // The options of synthesize and edit_path, checked.
@@ -406,7 +414,7 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
     out.path = "<motion along a path of " + std::to_string(path.points.size()) + " points>";
     out.skeleton = blender.skeleton();
     out.motion = std::move(result.motion);
-    warn_clamped(out, result.clamped_frames);
+    warn_clamped(out, result);
     return out;
   });
 }
@@ -431,7 +439,7 @@ py::tuple edit_path(const ClipMapState& s, const InputArray& previous_xy,
   });
   out.path = "<motion along an edited path of " + std::to_string(path.points.size()) + " points>";
   out.motion = std::move(edit.result.motion);
-  warn_clamped(out, edit.result.clamped_frames);
+  warn_clamped(out, edit.result);
   py::dict window;
   window["first"] = edit.first;
   window["end"] = edit.end;

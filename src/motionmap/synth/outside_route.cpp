@@ -120,11 +120,10 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
 }
 
 void OutsideRoutes::apply(std::size_t k, MapWeights& w) const {
-  const auto it = std::upper_bound(m_runs.begin(), m_runs.end(), k,
-                                   [](std::size_t f, const Run& run) { return f < run.first; });
-  if (it == m_runs.begin()) return;
-  const Run& run = *(it - 1);
-  if (k >= run.end) return;
+  if (!routed(k)) return;
+  const Run& run = *(std::upper_bound(m_runs.begin(), m_runs.end(), k,
+                                      [](std::size_t f, const Run& r) { return f < r.first; }) -
+                     1);
   const MapWeights& route = run.weights[k - run.first];
   const double share = run.share[k - run.first];
   if (share >= 1.0) {
@@ -139,6 +138,12 @@ void OutsideRoutes::apply(std::size_t k, MapWeights& w) const {
   for (std::size_t i = 0; i < w.samples.size(); ++i)
     entries.emplace_back(w.samples[i], (1.0 - share) * w.weights[i]);
   w = weights_by_sample(std::move(entries), w.validity);
+}
+
+bool OutsideRoutes::routed(std::size_t k) const {
+  const auto it = std::upper_bound(m_runs.begin(), m_runs.end(), k,
+                                   [](std::size_t f, const Run& run) { return f < run.first; });
+  return it != m_runs.begin() && k < (it - 1)->end;
 }
 
 }  // namespace motionmap::synth::detail

@@ -119,7 +119,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   for (int k = 0; k < F0; ++k)
     previous_points[static_cast<std::size_t>(k)] =
         previous.validity[static_cast<std::size_t>(k)].query;
-  auto runs = detail::outside_runs(blender, points, dt);
+  const auto routed_runs = detail::outside_runs(blender, points, dt);
+  auto runs = routed_runs;
   for (const auto& run : detail::outside_runs(blender, previous_points, dt)) runs.push_back(run);
   for (const auto& [first, end] : runs) {
     const int a = static_cast<int>(first), b = static_cast<int>(end) - 1;
@@ -260,6 +261,10 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   if (!shares_known) r.contact_shares.clear();
   r.clamped_frames = 0;
   for (const PointValidity& v : r.validity) r.clamped_frames += v.clamped ? 1 : 0;
+  r.routed_frames = 0;
+  for (const auto& [run_first, run_end] : routed_runs) {
+    for (std::size_t k = run_first; k < run_end; ++k) r.routed_frames += r.validity[k].clamped;
+  }
   r.notes.clear();
 
   if (!clean) {

@@ -69,7 +69,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
   // Runs of frames outside the data follow the clips' own frames.
   const detail::OutsideRoutes outside(blender, points, dt, 0, points.size(), control);
-  return synthesize_frames(
+  SynthResult result = synthesize_frames(
       blender, static_cast<long long>(points.size()), dt,
       [&](long long first, long long count) {
         std::vector<MapWeights> fresh(static_cast<std::size_t>(count));
@@ -86,6 +86,9 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
         return fresh;
       },
       options, control);
+  for (std::size_t k = 0; k < result.validity.size(); ++k)
+    result.routed_frames += result.validity[k].clamped && outside.routed(k) ? 1 : 0;
+  return result;
 }
 
 SynthResult synthesize(const MapBlender& blender, std::span<const MapWeights> weights,

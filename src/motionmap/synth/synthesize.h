@@ -11,7 +11,10 @@
 //
 // Per output frame k (at t0 + k/fps along the path): weights at the path point
 // (MapBlender::locate_path: where the path around the frame follows a clip's trajectory, that
-// clip's own frames at the fitted time; optionally smoothed over time with a Gaussian, each
+// clip's own frames at the fitted time; where a run of frames lies outside the data, in the
+// local mode, a route through the clips' own frames that tracks the path there, faded in over
+// the blend where the run meets the data: detail/outside_route.h; optionally smoothed over
+// time with a Gaussian, each
 // neighbouring frame's weights moved back in their clips by its distance in time:
 // MapBlender::later_in_clip), joint rotations and root height and tilt blended with them
 // (MapBlender::blend), and the blended heading-local root velocity v_k and yaw rate ω_k integrated
@@ -68,7 +71,10 @@ struct SynthResult {
   Motion motion;  ///< #frames by #joints of MapBlender::skeleton(), at the output frame rate
   std::vector<PointValidity> validity;  ///< per frame: where it was evaluated, distance, variance
   int clamped_frames = 0;               ///< frames whose path point was outside the data
-  bool feet_cleaned = false;            ///< SynthOptions::clean_feet and the skeleton has feet
+  /// Of those, the frames played by a route through the clips' own frames
+  /// (detail/outside_route.h); the others are blended at the data's edge.
+  int routed_frames = 0;
+  bool feet_cleaned = false;  ///< SynthOptions::clean_feet and the skeleton has feet
   /// The contacts the clean-up held (left, right); empty when the feet were not cleaned.
   std::vector<FootContacts> contacts;
   /// Frames the clean-up changed, over the whole motion (after edit_path() too: recounted from

@@ -51,6 +51,8 @@ class OutsideRoutes {
   /// Frame k's located weights with its run's route blended in (unchanged outside every run
   /// routed); the validity stays the located one.
   void apply(std::size_t k, MapWeights& w) const;
+  /// Whether frame k is in a run routed.
+  bool routed(std::size_t k) const;
 
  private:
   struct Run {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/smoothing.h"
@@ -23,7 +24,7 @@ std::vector<std::pair<std::size_t, std::size_t>> outside_runs(
   // sample: where locate_path follows no clip either).
   const std::size_t gap = 2 * outside_fade_frames(dt);
   const double away = kFollowFar * blender.median_step();
-  const MapField field(blender);
+  std::optional<MapField> field;  // made when a gap is to be looked at
   for (std::size_t k = 0; k < points.size();) {
     if (blender.inside(points[k])) {
       ++k;
@@ -32,8 +33,9 @@ std::vector<std::pair<std::size_t, std::size_t>> outside_runs(
     std::size_t e = k + 1;
     while (e < points.size() && !blender.inside(points[e])) ++e;
     const auto apart = [&] {
+      if (!field) field.emplace(blender);
       for (std::size_t g = runs.back().second; g < k; ++g) {
-        if (field.distance(points[g]) <= away) return false;
+        if (field->distance(points[g]) <= away) return false;
       }
       return true;
     };

@@ -69,7 +69,6 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
   };
   for (const auto& [a, e] : runs) {
     if (e <= first || a >= end) continue;
-    control.check();
     Run run;
     run.first = a;
     run.end = e;
@@ -81,6 +80,7 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
     const int end_anchor = e < points.size() ? anchor(e) : -1;
     int start = a > 0 ? anchor(a - 1) : -1;  // then the sample the last piece ended on
     for (std::size_t p0 = r0; p0 < r1; p0 += kMaxClipRouteSteps) {
+      control.check();
       const std::size_t p1 = std::min(r1, p0 + kMaxClipRouteSteps);
       const bool last = p1 == r1;
       ClipRouteEnds ends;

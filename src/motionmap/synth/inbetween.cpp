@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"

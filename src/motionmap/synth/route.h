@@ -1,6 +1,9 @@
 #pragma once
 // Routes on a motion map: the cheapest way from one map point to another through the part of
 // the map where poses can be trusted, as in-betweening (inbetween.h) follows it between keys.
+// Below the grid route (find_route), the route through the clips' own frames (find_clip_route)
+// and how it is played (play_clip_route, clip_route_weights): in-betweens follow it between
+// keys, and a path outside the data along its frames there (detail/outside_route.h).
 //
 //   motionmap::synth::MapField field(blender);               // distances to the samples
 //   motionmap::synth::RouteGrid grid = make_grid(field, {});  // cells and their costs

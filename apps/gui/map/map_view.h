@@ -180,8 +180,9 @@ class MapView : public QWidget {
   /// Trustworthy-blend shading: a translucent green over every map point within `reach` (map
   /// units) of a sample — a computed map's points (setMap), a saved map's density points
   /// (setDensityMap): the blender's reach_distance(), synth::reach_radius()'s one rule of where
-  /// a blend is inside the data (beyond it, a drag or sketch is moved to its edge). One way for
-  /// both kinds of map, exact at each pixel's centre at any zoom: render::ReachField (built
+  /// a blend is inside the data (beyond it, a drag is moved to its edge and a sketch plays the
+  /// clips' own frames: synth/detail/outside_route.h). One way for both kinds of map, exact at
+  /// each pixel's centre at any zoom: render::ReachField (built
   /// once per map and reach) decides most pixels of the view, `index`'s nearest distance the
   /// thin band along the edge (render::reach_image); without an index the view builds one over
   /// the samples when the shading is first drawn. Drawn into the cached picture, clipped to

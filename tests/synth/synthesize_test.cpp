@@ -282,8 +282,7 @@ TEST(SynthSynthesize, RunsOutsideTheDataJoinAcrossShortGapsAwayFromTheClips) {
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender blender = make_blender(clip, map);
   const double dt = 1.0 / 30;
-  const std::size_t fade = detail::outside_fade_frames(dt);
-  EXPECT_EQ(fade, 8u);  // 0.25 s
+  EXPECT_EQ(blender.path_neighbours(dt), 8);  // the fade: 0.25 s
   // Frames on the curve ('i'), inside the data but farther from it than locate_path follows a
   // clip ('a': halfway between kFollowFar median steps and the reach), or outside ('o'), the
   // curve moved up by as much.

@@ -10,19 +10,15 @@
 
 namespace motionmap::synth::detail {
 
-std::size_t outside_fade_frames(double dt) {
-  return static_cast<std::size_t>(std::max(1L, std::lround(kFollowSeconds / dt)));
-}
-
-std::vector<std::pair<std::size_t, std::size_t>> outside_runs(
-    const MapBlender& blender, std::span<const Eigen::Vector2d> points, double dt) {
-  std::vector<std::pair<std::size_t, std::size_t>> runs;
+OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
+                         double dt) {
+  OutsideRuns runs;
   // (A map whose samples never move has no reach: no routes, every point its edge.)
   if (blender.options().mode != BlendMode::Local || !(blender.reach_distance() > 0.0)) return runs;
   // Stretches outside, joined across gaps too short for a fade out and back in where the path
   // stays away from the clips in between (farther than kFollowFar median steps from every
   // sample: where locate_path follows no clip either).
-  const std::size_t gap = 2 * outside_fade_frames(dt);
+  const auto gap = 2 * static_cast<std::size_t>(blender.path_neighbours(dt));
   const double away = kFollowFar * blender.median_step();
   std::optional<MapField> field;  // made when a gap is to be looked at
   for (std::size_t k = 0; k < points.size();) {
@@ -51,15 +47,14 @@ std::vector<std::pair<std::size_t, std::size_t>> outside_runs(
 }
 
 OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
-                             double dt, std::size_t first, std::size_t end,
+                             double dt, const OutsideRuns& runs, std::size_t first, std::size_t end,
                              const Control& control) {
-  const auto runs = outside_runs(blender, points, dt);
   if (runs.empty()) return;
   const MapField field(blender);
   const std::vector<int> next = next_samples(blender);
   const double sample_step = median_sample_step(blender, next);
   const double r = field.reach_distance();
-  const auto fade = static_cast<double>(outside_fade_frames(dt));
+  const auto fade = static_cast<double>(blender.path_neighbours(dt));
   SamplePoses poses(blender);
   // The sample most of a frame's located weight is on.
   const auto anchor = [&](std::size_t k) {
@@ -121,11 +116,16 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
   }
 }
 
+const OutsideRoutes::Run* OutsideRoutes::run_at(std::size_t k) const {
+  const auto it = std::upper_bound(m_runs.begin(), m_runs.end(), k,
+                                   [](std::size_t f, const Run& run) { return f < run.first; });
+  return it != m_runs.begin() && k < (it - 1)->end ? &*(it - 1) : nullptr;
+}
+
 void OutsideRoutes::apply(std::size_t k, MapWeights& w) const {
-  if (!routed(k)) return;
-  const Run& run = *(std::upper_bound(m_runs.begin(), m_runs.end(), k,
-                                      [](std::size_t f, const Run& r) { return f < r.first; }) -
-                     1);
+  const Run* found = run_at(k);
+  if (found == nullptr) return;
+  const Run& run = *found;
   const MapWeights& route = run.weights[k - run.first];
   const double share = run.share[k - run.first];
   if (share >= 1.0) {
@@ -143,9 +143,7 @@ void OutsideRoutes::apply(std::size_t k, MapWeights& w) const {
 }
 
 bool OutsideRoutes::routed(std::size_t k) const {
-  const auto it = std::upper_bound(m_runs.begin(), m_runs.end(), k,
-                                   [](std::size_t f, const Run& run) { return f < run.first; });
-  return it != m_runs.begin() && k < (it - 1)->end;
+  return run_at(k) != nullptr;
 }
 
 }  // namespace motionmap::synth::detail

@@ -153,8 +153,9 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   const int w0 = std::max(0, x0 - half), w1 = std::min(F, x1 + half);
   std::vector<MapWeights> raw;
   raw.reserve(static_cast<std::size_t>(w1 - w0));
-  const detail::OutsideRoutes outside(blender, points, dt, static_cast<std::size_t>(w0),
-                                      static_cast<std::size_t>(w1), control);
+  const detail::OutsideRoutes outside(blender, points, dt, routed_runs,
+                                      static_cast<std::size_t>(w0), static_cast<std::size_t>(w1),
+                                      control);
   for (int k = w0; k < w1; k += kLocateBatch) {
     auto located = blender.locate_path(points, dt, static_cast<std::size_t>(k),
                                        static_cast<std::size_t>(std::min(w1, k + kLocateBatch)));

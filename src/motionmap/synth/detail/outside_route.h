@@ -32,22 +32,24 @@ namespace motionmap::synth::detail {
 /// Weight of the tracking cost against the route's step costs (a hold or a skip costs 0.2).
 inline constexpr double kOutsideTrack = 0.1;
 
-/// Frames over which a route's share rises where its run meets the data: kFollowSeconds' worth.
-std::size_t outside_fade_frames(double dt);
 /// The runs of frames of `points` (one every dt seconds) outside the data, [first, end) each, in
 /// order: stretches of frames outside, joined across gaps inside of fewer than twice the fade's
-/// frames (too short to fade out and back in) whose every frame is farther than kFollowFar
-/// median steps from the samples (where locate_path follows no clip either), at least two
-/// frames long; none but in the local mode, or on a map whose samples never move.
-std::vector<std::pair<std::size_t, std::size_t>> outside_runs(
-    const MapBlender& blender, std::span<const Eigen::Vector2d> points, double dt);
+/// frames (the route's share rises over MapBlender::path_neighbours(dt) frames, kFollowSeconds'
+/// worth: a gap that short cannot fade out and back in) whose every frame is farther than
+/// kFollowFar median steps from the samples (where locate_path follows no clip either), at least
+/// two frames long; none but in the local mode, or on a map whose samples never move.
+using OutsideRuns = std::vector<std::pair<std::size_t, std::size_t>>;
+OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
+                         double dt);
 
 class OutsideRoutes {
  public:
-  /// The routes of the runs of `points` (a path, one point every dt seconds) that meet frames
-  /// [first, end); a run's route depends on its own points alone. Polls `control`.
+  /// The routes of `runs` (outside_runs of `points`, a path, one point every dt seconds) that
+  /// meet frames [first, end); a run's route depends on its own points and the blends of the
+  /// frames beside it alone. Polls `control`.
   OutsideRoutes(const MapBlender& blender, std::span<const Eigen::Vector2d> points, double dt,
-                std::size_t first, std::size_t end, const Control& control = {});
+                const OutsideRuns& runs, std::size_t first, std::size_t end,
+                const Control& control = {});
   /// Frame k's located weights with its run's route blended in (unchanged outside every run
   /// routed); the validity stays the located one.
   void apply(std::size_t k, MapWeights& w) const;
@@ -60,6 +62,8 @@ class OutsideRoutes {
     std::vector<MapWeights> weights;  // per frame of the run: the route's
     std::vector<double> share;        // per frame: the route's share of the weights
   };
+  // The run routed that frame k is in; null when none.
+  const Run* run_at(std::size_t k) const;
   std::vector<Run> m_runs;
 };
 

@@ -875,6 +875,15 @@ TEST(SynthBlender, RejectsBadQueriesAndWeights) {
     EXPECT_STREQ(e.what(), "blend: the weights sum to 0, not about 1");
   }
   EXPECT_THROW(blender.sample_point(20), ParameterError);
+  // A sample's clip frame and successor: every sample of the one clip, the last has none.
+  EXPECT_EQ(blender.sample_frame(7), 7);
+  EXPECT_EQ(blender.next_sample(7), 8);
+  EXPECT_EQ(blender.next_sample(19), -1);
+  for (const int bad : {-1, 20}) {
+    EXPECT_EQ(motionmap::test::error_message<ParameterError>([&] { blender.sample_frame(bad); }),
+              "sample " + std::to_string(bad) + " is out of range [0, 20)");
+    EXPECT_THROW(blender.next_sample(bad), ParameterError);
+  }
 }
 
 TEST(SynthBlender, SetUpReportsItsStageAndChangesNothing) {

@@ -710,5 +710,92 @@ TEST(SynthCleanFeet, SynthesizedBandaiWalks) {
   }
 }
 
+// Sketches between two takes of one performer, each pair alone on a PCA map: the first take's
+// curve moved 5–50 % of the way to the second's (paired by their share of the clip), at the first
+// take's timing. Near the first take the path plays it; farther than half the reach from the
+// samples, or outside the data, it plays a route through the clips' own frames; the kriging blend
+// is left to frames near the samples that follow no clip. Printed per sketch: the raw and cleaned
+// skating, the captures', and what cleaning changed away from the contacts.
+TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
+  const std::vector<std::pair<std::string, std::string>> pairs{
+      {"other/BandaiNamcoResearchInc_dataset-1_walk_normal_001.bvh",
+       "bandai/dataset-1_walk_angry_001.bvh"},
+      {"bandai/dataset-1_walk_proud_001.bvh", "bandai/dataset-1_walk_angry_001.bvh"},
+      {"bandai/dataset-1_walk_proud_001.bvh", "bandai/dataset-1_walk_old_001.bvh"},
+      {"bandai/dataset-1_walk_feminine_001.bvh", "bandai/dataset-1_walk_tired_001.bvh"},
+      {"bandai/dataset-1_walk_tired_001.bvh", "bandai/dataset-1_walk_old_001.bvh"},
+      {"bandai/dataset-1_run_angry_001.bvh", "bandai/dataset-1_run_old_001.bvh"},
+      {"bandai/dataset-1_run_old_001.bvh", "bandai/dataset-1_run_angry_001.bvh"},
+  };
+  for (const auto& [a, b] : pairs) {
+    MOTIONMAP_REQUIRE_SHARED(a);
+    MOTIONMAP_REQUIRE_SHARED(b);
+  }
+  const auto name = [](const std::string& file) {
+    return file.substr(file.rfind("1_") + 2, file.size() - file.rfind("1_") - 10);
+  };
+  double sum = 0.0;
+  int sketches = 0, over = 0;
+  for (const auto& [fa, fb] : pairs) {
+    const std::vector<Clip> clips{io::load_clip(motionmap::test::shared_file(fa)),
+                                  io::load_clip(motionmap::test::shared_file(fb))};
+    embed::EmbedOptions eo;
+    eo.method = embed::Method::Pca;
+    const features::FeatureSet set = features::build_features(clips, {});
+    const Eigen::MatrixXd map = embed::embed({&set.X, nullptr}, eo).coordinates;
+    const MapBlender blender(clips, set, map);
+    const Skeleton& skeleton = clips[0].skeleton;
+    const Feet feet = find_feet(skeleton);
+    const LengthUnits units = detect_length_units(skeleton, clips[0].motion);
+    const Skating capture = measure_skating(skeleton, clips[0].motion, feet, units);
+    const double dt = clips[0].motion.frame_time;
+    const auto from = trajectory(set, map, 0), to = trajectory(set, map, 1);
+    for (const double share : {0.05, 0.1, 0.15, 0.2, 0.3, 0.5}) {
+      SCOPED_TRACE(name(fa) + " towards " + name(fb) + ", " + std::to_string(share));
+      MapPath path;
+      for (std::size_t k = 0; k < from.size(); ++k) {
+        const double at = static_cast<double>(k) / static_cast<double>(from.size() - 1);
+        const auto& p = to[static_cast<std::size_t>(std::lround(at * (to.size() - 1)))].second;
+        path.points.push_back((1.0 - share) * from[k].second + share * p);
+        path.times.push_back(static_cast<double>(k) * dt);
+      }
+      SynthOptions off;
+      off.clean_feet = false;
+      SynthOptions on;
+      const SynthResult raw = synthesize(blender, path, off);
+      const SynthResult cleaned = synthesize(blender, path, on);
+      ASSERT_TRUE(cleaned.feet_cleaned);
+      const Skating sr = measure_skating(skeleton, raw.motion, feet, units);
+      const Skating sc = measure_skating(skeleton, cleaned.motion, feet, units);
+      const std::array<FootContacts, 2> contacts{cleaned.contacts[0], cleaned.contacts[1]};
+      const double rms = rms_outside_contacts(skeleton, raw.motion, cleaned.motion, contacts);
+      std::printf(
+          "[ figures  ] %s towards %s, %.0f %% of the way (%d frames, %d outside): raw skating "
+          "%.3f, %.1f cm/s; cleaned %.3f, %.1f cm/s (captured %.3f, %.1f cm/s); outside "
+          "contacts %.2f° RMS\n",
+          name(fa).c_str(), name(fb).c_str(), 100.0 * share, raw.motion.num_frames,
+          raw.clamped_frames, sr.ratio, sr.contact_speed_cm_s, sc.ratio, sc.contact_speed_cm_s,
+          capture.ratio, capture.contact_speed_cm_s, rms);
+      // Cleaning never adds skating (within a transition: the measure's 0.5 m/s line crossed at
+      // one heel strike more), nor speed in contact.
+      const double transition = 1.0 / (raw.motion.num_frames - 1);
+      EXPECT_LE(sc.ratio, sr.ratio + transition + 1e-12);
+      EXPECT_LE(sc.contact_speed_cm_s, sr.contact_speed_cm_s + 1.0);
+      // Wholly outside the data: the clips' own frames, cleaned within the angle bound.
+      if (raw.clamped_frames == raw.motion.num_frames) {
+        EXPECT_LE(rms, 1.0);
+      }
+      sum += rms;
+      ++sketches;
+      over += rms > 1.0 ? 1 : 0;
+    }
+  }
+  // Measured 0.42° RMS on average, 6 of the 42 sketches over 1° (at most 1.93°: sketches where
+  // the two takes' curves cross, between them, near samples of both).
+  std::printf("[ figures  ] %d sketches: outside contacts %.2f° RMS on average, %d over 1°\n",
+              sketches, sum / sketches, over);
+  EXPECT_LE(sum / sketches, 0.5);
+}
+
 }  // namespace
 }  // namespace motionmap::synth

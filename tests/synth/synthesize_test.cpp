@@ -277,40 +277,40 @@ TEST(SynthSynthesize, APathOutsideTheDataPlaysTheClipsOwnFrames) {
   EXPECT_EQ(synthesize(kriging, path, raw).clamped_frames, r.motion.num_frames);
 }
 
-TEST(SynthSynthesize, RunsOutsideTheDataJoinAcrossShortGapsAwayFromTheClips) {
+TEST(SynthSynthesize, RunsToRouteAreOutsideOrBeyondHalfTheReach) {
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender blender = make_blender(clip, map);
-  const double dt = 1.0 / 30;
-  EXPECT_EQ(blender.path_neighbours(dt), 8);  // the fade: 0.25 s
-  // Frames on the curve ('i'), inside the data but farther from it than locate_path follows a
-  // clip ('a': halfway between kFollowFar median steps and the reach), or outside ('o'), the
-  // curve moved up by as much.
-  const double away = 0.5 * (kFollowFar * blender.median_step() + blender.reach_distance());
+  // The line: half the reach, here more than kFollowNear median steps.
+  const double line = detail::kRouteReachFraction * blender.reach_distance();
+  ASSERT_GT(line, kFollowNear * blender.median_step());
+  // Frames on the curve ('i'), inside the data but nearer than the line ('n': half of it) or
+  // farther ('f': halfway from it to the reach), or outside ('o'), the curve moved up by as much.
+  const double far = 0.5 * (line + blender.reach_distance());
   const auto path_of = [&](const std::string& pattern) {
     std::vector<Eigen::Vector2d> points;
     for (std::size_t k = 0; k < pattern.size(); ++k) {
-      const double up = pattern[k] == 'o' ? 3.0 : pattern[k] == 'a' ? away : 0.0;
+      const double up = pattern[k] == 'o'   ? 3.0
+                        : pattern[k] == 'n' ? 0.5 * line
+                        : pattern[k] == 'f' ? far
+                                            : 0.0;
       points.emplace_back(map(static_cast<int>(k), 0), map(static_cast<int>(k), 1) + up);
     }
     return points;
   };
-  for (const Eigen::Vector2d& p : path_of(std::string(60, 'a'))) EXPECT_TRUE(blender.inside(p));
+  for (const Eigen::Vector2d& p : path_of(std::string(60, 'f'))) EXPECT_TRUE(blender.inside(p));
+  EXPECT_FALSE(blender.inside(path_of("o")[0]));
   using Runs = std::vector<std::pair<std::size_t, std::size_t>>;
   // A lone frame outside is no run; two are.
-  EXPECT_EQ(detail::outside_runs(blender, path_of("iioiiiiiiiiiiiiiiiiiiiiii"), dt), Runs{});
-  EXPECT_EQ(detail::outside_runs(blender, path_of("iiooiiiiiiiiiiiiiiiiiiiii"), dt),
-            (Runs{{2, 4}}));
-  // A gap of 15 frames (< 16) away from the clips joins two stretches; one of 16 does not, nor
-  // one that comes near the clips.
-  const std::string away15(15, 'a'), away16(16, 'a');
-  EXPECT_EQ(detail::outside_runs(blender, path_of("ioo" + away15 + "ooi"), dt), (Runs{{1, 20}}));
-  EXPECT_EQ(detail::outside_runs(blender, path_of("ioo" + away16 + "ooi"), dt),
-            (Runs{{1, 3}, {19, 21}}));
-  EXPECT_EQ(detail::outside_runs(blender, path_of("iooaaaaaaaiaaaaaaaooi"), dt),
-            (Runs{{1, 3}, {18, 20}}));
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iioiiiiiii")), Runs{});
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iiooiiiiii")), (Runs{{2, 4}}));
+  // Frames beyond the line, inside the data, are routed with those outside beside them; those
+  // short of it are not, and part runs.
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iffooffiiffi")), (Runs{{1, 7}, {9, 11}}));
+  EXPECT_EQ(detail::outside_runs(blender, path_of("innnoonnfni")), (Runs{{4, 6}}));
+  EXPECT_EQ(detail::outside_runs(blender, path_of("ooonooo")), (Runs{{0, 3}, {4, 7}}));
   // Other modes have none.
-  EXPECT_EQ(detail::outside_runs(make_blender(clip, map, BlendMode::Idw), path_of("ioooi"), dt),
+  EXPECT_EQ(detail::outside_runs(make_blender(clip, map, BlendMode::Idw), path_of("ioooffi")),
             Runs{});
 }
 

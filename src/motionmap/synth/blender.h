@@ -113,11 +113,13 @@ inline constexpr double kFollowSeconds = 0.25;
 /// The window is compared every max(1, ⌊h / this⌋)-th frame (h: its half-width in frames).
 inline constexpr int kFollowWindowPoints = 8;
 /// Segments of the trajectory within this many median steps of a path point start a fit.
-inline constexpr double kFollowSearch = 2.0;
+inline constexpr double kFollowSearch = 3.5;
 /// A fitted clip time whose window stays within this many median steps of the path (RMS) plays
-/// wholly; beyond kFollowFar it plays no part; between, it shares with the kriging.
-inline constexpr double kFollowNear = 0.5;
-inline constexpr double kFollowFar = 1.5;
+/// wholly; beyond kFollowFar it plays no part; between, it shares with the kriging. (A walk drawn
+/// 1–2 steps beside a walk's curve is that walk: blended by the kriging there, its gait phases
+/// mixed and its feet slid 106 cm/s in contact, against 68 as captured.)
+inline constexpr double kFollowNear = 1.5;
+inline constexpr double kFollowFar = 3.0;
 /// Clip times whose fits' mean squared distances exceed the least, D, by less than
 /// kFollowTie·D + (kFollowTieSteps median steps)² share the clips' part (1 − smoothstep of the
 /// excess over that): several where the path is as near several, one where it runs on one.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/smoothing.h"
@@ -10,36 +9,26 @@
 
 namespace motionmap::synth::detail {
 
-OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
-                         double dt) {
+OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points) {
   OutsideRuns runs;
   // (A map whose samples never move has no reach: no routes, every point its edge.)
   if (blender.options().mode != BlendMode::Local || !(blender.reach_distance() > 0.0)) return runs;
-  // Stretches outside, joined across gaps too short for a fade out and back in where the path
-  // stays away from the clips in between (farther than kFollowFar median steps from every
-  // sample: where locate_path follows no clip either).
-  const auto gap = 2 * static_cast<std::size_t>(blender.path_neighbours(dt));
-  const double away = kFollowFar * blender.median_step();
-  std::optional<MapField> field;  // made when a gap is to be looked at
+  const MapField field(blender);
+  // Frames routed: outside, or farther from every sample than half the reach and than a clip is
+  // followed wholly.
+  const double line =
+      std::max(kFollowNear * blender.median_step(), kRouteReachFraction * blender.reach_distance());
+  const auto routed = [&](std::size_t k) {
+    return !blender.inside(points[k]) || field.distance(points[k]) > line;
+  };
   for (std::size_t k = 0; k < points.size();) {
-    if (blender.inside(points[k])) {
+    if (!routed(k)) {
       ++k;
       continue;
     }
     std::size_t e = k + 1;
-    while (e < points.size() && !blender.inside(points[e])) ++e;
-    const auto apart = [&] {
-      if (!field) field.emplace(blender);
-      for (std::size_t g = runs.back().second; g < k; ++g) {
-        if (field->distance(points[g]) <= away) return false;
-      }
-      return true;
-    };
-    if (!runs.empty() && k - runs.back().second < gap && apart()) {
-      runs.back().second = e;
-    } else {
-      runs.emplace_back(k, e);
-    }
+    while (e < points.size() && routed(e)) ++e;
+    runs.emplace_back(k, e);
     k = e;
   }
   std::erase_if(runs, [](const auto& run) { return run.second - run.first < 2; });

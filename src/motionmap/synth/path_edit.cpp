@@ -119,9 +119,9 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   for (int k = 0; k < F0; ++k)
     previous_points[static_cast<std::size_t>(k)] =
         previous.validity[static_cast<std::size_t>(k)].query;
-  const auto routed_runs = detail::outside_runs(blender, points, dt);
+  const auto routed_runs = detail::outside_runs(blender, points);
   auto runs = routed_runs;
-  for (const auto& run : detail::outside_runs(blender, previous_points, dt)) runs.push_back(run);
+  for (const auto& run : detail::outside_runs(blender, previous_points)) runs.push_back(run);
   for (const auto& [first, end] : runs) {
     const int a = static_cast<int>(first), b = static_cast<int>(end) - 1;
     if (a - 1 - reads > changed1 || b + 1 + reads < changed0) continue;

@@ -31,16 +31,16 @@ namespace motionmap::synth::detail {
 
 /// Weight of the tracking cost against the route's step costs (a hold or a skip costs 0.2).
 inline constexpr double kOutsideTrack = 0.1;
+/// Frames farther than this fraction of the reach (MapBlender::reach_distance) from every sample
+/// are routed as those outside are (and at least kFollowNear median steps away).
+inline constexpr double kRouteReachFraction = 0.5;
 
-/// The runs of frames of `points` (one every dt seconds) outside the data, [first, end) each, in
-/// order: stretches of frames outside, joined across gaps inside of fewer than twice the fade's
-/// frames (the route's share rises over MapBlender::path_neighbours(dt) frames, kFollowSeconds'
-/// worth: a gap that short cannot fade out and back in) whose every frame is farther than
-/// kFollowFar median steps from the samples (where locate_path follows no clip either), at least
-/// two frames long; none but in the local mode, or on a map whose samples never move.
+/// The runs of frames of `points` to route, [first, end) each, in order: stretches of frames
+/// outside the data or farther from every sample than kRouteReachFraction of the reach and
+/// kFollowNear median steps (where locate_path plays no clip wholly), at least two frames long;
+/// none but in the local mode, or on a map whose samples never move.
 using OutsideRuns = std::vector<std::pair<std::size_t, std::size_t>>;
-OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
-                         double dt);
+OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points);
 
 class OutsideRoutes {
  public:

@@ -11,11 +11,11 @@
 //  1. The edited path is resampled at the previous motion's frames; the frames whose path point
 //     differs from the one the previous motion followed (PointValidity::query, bit for bit) are
 //     the changed frames, and their neighbours (a frame's weights read the path's velocity
-//     there: MapBlender::locate_path), and every run outside the data of the previous path or
-//     the new one that a changed frame reaches (detail/outside_route.h: a run's route reads its
-//     points and the blends beside it), widened by the weight smoothing's half-width (3σ): the
-//     blend window [blend_first, blend_end). Its frames are blended anew (weights smoothed over
-//     the new path).
+//     there: MapBlender::locate_path), and every run routed (outside the data or far inside it)
+//     of the previous path or the new one that a changed frame reaches (detail/outside_route.h: a
+//     run's route reads its points and the blends beside it), widened by the weight smoothing's
+//     half-width (3σ): the blend window [blend_first, blend_end). Its frames are blended anew
+//     (weights smoothed over the new path).
 //  2. Root: the new velocities are integrated from the previous root's floor position and
 //     heading at blend_first; the position and heading mismatch at blend_end (where the previous
 //     motion goes on) is spread linearly over the window, so the frame after it continues

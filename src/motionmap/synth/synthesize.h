@@ -11,8 +11,9 @@
 //
 // Per output frame k (at t0 + k/fps along the path): weights at the path point
 // (MapBlender::locate_path: where the path around the frame follows a clip's trajectory, that
-// clip's own frames at the fitted time; where a run of frames lies outside the data, in the
-// local mode, a route through the clips' own frames that tracks the path there, faded in over
+// clip's own frames at the fitted time; where a run of frames lies outside the data or farther
+// than half the reach from it, in the local mode, a route through the clips' own frames that
+// tracks the path there, faded in over
 // the blend where the run meets the data: detail/outside_route.h; optionally smoothed over
 // time with a Gaussian, each
 // neighbouring frame's weights moved back in their clips by its distance in time:

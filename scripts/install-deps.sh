@@ -17,6 +17,8 @@ packages=(
   xvfb xauth
   # Studio's File → Export animation encodes MP4 with ffmpeg (its tests check it with ffprobe).
   ffmpeg
+  # bench/*_figure.py draw the docs' pictures with it.
+  python3-matplotlib
   # A test reference only: tests/reference/make_umap_fixtures.py regenerates umap's fixtures
   # with it (nothing builds or runs against it).
   umap-learn

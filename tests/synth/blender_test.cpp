@@ -134,6 +134,29 @@ TEST(SynthBlender, BatchLocateMatchesSingle) {
   }
 }
 
+TEST(SynthBlender, ValidityIsLocatesWithoutTheWeights) {
+  // On the curve, beside it and far off it: the nearest sample, its distance, whether clamped and
+  // the point evaluated are locate()'s; clamped exactly where inside() is false.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map, BlendMode::Local);
+  int clamped = 0;
+  for (int i = 0; i < 60; ++i) {
+    const Eigen::Vector2d p(map(i, 0), map(i, 1) + 0.05 * i);
+    const PointValidity v = blender.validity(p);
+    const PointValidity w = blender.locate(p).validity;
+    EXPECT_EQ(v.nearest_sample, w.nearest_sample) << i;
+    EXPECT_EQ(v.distance, w.distance) << i;
+    EXPECT_EQ(v.clamped, w.clamped) << i;
+    EXPECT_EQ(v.point, w.point) << i;
+    EXPECT_EQ(v.clamped, !blender.inside(p)) << i;
+    clamped += v.clamped ? 1 : 0;
+  }
+  EXPECT_GT(clamped, 0);
+  EXPECT_LT(clamped, 60);
+  EXPECT_THROW(blender.validity({std::nan(""), 0.0}), ParameterError);
+}
+
 // Largest pose change between consecutive points of a polyline sampled with `steps` steps.
 template <class Curve>
 double max_jump(const MapBlender& blender, const Curve& curve, int steps) {

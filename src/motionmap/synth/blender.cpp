@@ -1022,6 +1022,9 @@ double MapBlender::median_step() const {
 bool MapBlender::inside(const Eigen::Vector2d& p) const {
   return !m->validate(p).clamped;
 }
+PointValidity MapBlender::validity(const Eigen::Vector2d& p) const {
+  return m->validate(p);
+}
 
 double MapBlender::reach_distance() const {
   return m->index->reach_distance();

@@ -368,6 +368,11 @@ class MapBlender {
   /// map (BlendOptions::gplvm), else a sample within reach_distance(). locate() clamps exactly
   /// the points where this is false. @throws ParameterError if p is not finite.
   bool inside(const Eigen::Vector2d& p) const;
+  /// Where p is, as locate(p) finds it before it weighs the samples: the nearest sample and its
+  /// distance, whether p is clamped and the point evaluated (variance: the GP's on a GP-LVM map,
+  /// else 0; locate() computes the blend's with the weights). @throws ParameterError if p is
+  /// not finite.
+  PointValidity validity(const Eigen::Vector2d& p) const;
   /// Median of the non-zero map speeds between consecutive samples of a clip (map units per
   /// second: step / time between the two frames); 0 if none.
   double median_speed() const;

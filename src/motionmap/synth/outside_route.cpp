@@ -13,13 +13,13 @@ OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vecto
   OutsideRuns runs;
   // (A map whose samples never move has no reach: no routes, every point its edge.)
   if (blender.options().mode != BlendMode::Local || !(blender.reach_distance() > 0.0)) return runs;
-  const MapField field(blender);
   // Frames routed: outside, or farther from every sample than half the reach and than a clip is
-  // followed wholly.
+  // played wholly.
   const double line =
       std::max(kFollowNear * blender.median_step(), kRouteReachFraction * blender.reach_distance());
   const auto routed = [&](std::size_t k) {
-    return !blender.inside(points[k]) || field.distance(points[k]) > line;
+    const PointValidity v = blender.validity(points[k]);
+    return v.clamped || v.distance > line;
   };
   for (std::size_t k = 0; k < points.size();) {
     if (!routed(k)) {

@@ -67,7 +67,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   // 0 fps keeps the clip's exact frame time, so a path timed like the clip hits its samples.
   const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
   const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
-  // Runs of frames outside the data follow the clips' own frames.
+  // Runs of frames outside the data, or far inside it, follow the clips' own frames.
   const detail::OutsideRoutes outside(blender, points, dt, detail::outside_runs(blender, points), 0,
                                       points.size(), control);
   SynthResult result = synthesize_frames(

@@ -528,6 +528,14 @@ std::vector<std::pair<int, Eigen::Vector2d>> trajectory(const features::FeatureS
   return out;
 }
 
+// The point of trajectory `to` at the fraction of its clip that point k of another trajectory of
+// n points is of its own: the two paired by their share of the clip.
+const Eigen::Vector2d& paired(const std::vector<std::pair<int, Eigen::Vector2d>>& to, std::size_t k,
+                              std::size_t n) {
+  const double at = static_cast<double>(k) / static_cast<double>(n - 1);
+  return to[static_cast<std::size_t>(std::lround(at * static_cast<double>(to.size() - 1)))].second;
+}
+
 struct Case {
   std::string name;
   MapPath path;
@@ -595,8 +603,7 @@ std::vector<Case> walk_paths(const Walks& w) {
   // own frames tracks it: detail::OutsideRoutes).
   Case half{"halfway between the normal and the angry walk", {}};
   for (std::size_t k = 0; k < normal.size(); ++k) {
-    const double a = static_cast<double>(k) / static_cast<double>(normal.size() - 1);
-    const auto& b = angry[static_cast<std::size_t>(std::lround(a * (angry.size() - 1)))].second;
+    const Eigen::Vector2d& b = paired(angry, k, normal.size());
     half.path.points.push_back(0.5 * (normal[k].second + b));
     half.path.times.push_back(static_cast<double>(k) * dt);
   }
@@ -607,7 +614,7 @@ std::vector<Case> walk_paths(const Walks& w) {
   out_and_back.walks = false;
   for (std::size_t k = 0; k < normal.size(); ++k) {
     const double a = static_cast<double>(k) / static_cast<double>(normal.size() - 1);
-    const auto& b = angry[static_cast<std::size_t>(std::lround(a * (angry.size() - 1)))].second;
+    const Eigen::Vector2d& b = paired(angry, k, normal.size());
     const double away = a > 1.0 / 3.0 && a < 2.0 / 3.0 ? 0.3 : 0.0;
     out_and_back.path.points.push_back(normal[k].second + away * (b - normal[k].second));
     out_and_back.path.times.push_back(static_cast<double>(k) * dt);
@@ -618,8 +625,7 @@ std::vector<Case> walk_paths(const Walks& w) {
   // inside the data instead, it mixed the gait's phases: 1.26° away from contacts, cleaned).
   Case edge{"a tenth of the way to the angry walk (along the data's edge)", {}};
   for (std::size_t k = 0; k < normal.size(); ++k) {
-    const double a = static_cast<double>(k) / static_cast<double>(normal.size() - 1);
-    const auto& b = angry[static_cast<std::size_t>(std::lround(a * (angry.size() - 1)))].second;
+    const Eigen::Vector2d& b = paired(angry, k, normal.size());
     edge.path.points.push_back(0.9 * normal[k].second + 0.1 * b);
     edge.path.times.push_back(static_cast<double>(k) * dt);
   }
@@ -750,9 +756,7 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       SCOPED_TRACE(name(fa) + " towards " + name(fb) + ", " + std::to_string(share));
       MapPath path;
       for (std::size_t k = 0; k < from.size(); ++k) {
-        const double at = static_cast<double>(k) / static_cast<double>(from.size() - 1);
-        const auto& p = to[static_cast<std::size_t>(std::lround(at * (to.size() - 1)))].second;
-        path.points.push_back((1.0 - share) * from[k].second + share * p);
+        path.points.push_back((1.0 - share) * from[k].second + share * paired(to, k, from.size()));
         path.times.push_back(static_cast<double>(k) * dt);
       }
       SynthOptions off;

@@ -35,6 +35,14 @@ OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vecto
   return runs;
 }
 
+int routed_outside(const OutsideRuns& runs, std::span<const PointValidity> validity) {
+  int count = 0;
+  for (const auto& [first, end] : runs) {
+    for (std::size_t k = first; k < end; ++k) count += validity[k].clamped ? 1 : 0;
+  }
+  return count;
+}
+
 OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
                              double dt, const OutsideRuns& runs, std::size_t first, std::size_t end,
                              const Control& control) {
@@ -129,10 +137,6 @@ void OutsideRoutes::apply(std::size_t k, MapWeights& w) const {
   for (std::size_t i = 0; i < w.samples.size(); ++i)
     entries.emplace_back(w.samples[i], (1.0 - share) * w.weights[i]);
   w = weights_by_sample(std::move(entries), w.validity);
-}
-
-bool OutsideRoutes::routed(std::size_t k) const {
-  return run_at(k) != nullptr;
 }
 
 }  // namespace motionmap::synth::detail

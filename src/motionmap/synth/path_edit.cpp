@@ -262,10 +262,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   if (!shares_known) r.contact_shares.clear();
   r.clamped_frames = 0;
   for (const PointValidity& v : r.validity) r.clamped_frames += v.clamped ? 1 : 0;
-  r.routed_frames = 0;
-  for (const auto& [run_first, run_end] : routed_runs) {
-    for (std::size_t k = run_first; k < run_end; ++k) r.routed_frames += r.validity[k].clamped;
-  }
+  r.routed_frames = detail::routed_outside(routed_runs, r.validity);
   r.notes.clear();
 
   if (!clean) {

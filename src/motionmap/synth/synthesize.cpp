@@ -68,8 +68,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
   const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
   // Runs of frames outside the data, or far inside it, follow the clips' own frames.
-  const detail::OutsideRoutes outside(blender, points, dt, detail::outside_runs(blender, points), 0,
-                                      points.size(), control);
+  const detail::OutsideRuns runs = detail::outside_runs(blender, points);
+  const detail::OutsideRoutes outside(blender, points, dt, runs, 0, points.size(), control);
   SynthResult result = synthesize_frames(
       blender, static_cast<long long>(points.size()), dt,
       [&](long long first, long long count) {
@@ -87,8 +87,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
         return fresh;
       },
       options, control);
-  for (std::size_t k = 0; k < result.validity.size(); ++k)
-    result.routed_frames += result.validity[k].clamped && outside.routed(k) ? 1 : 0;
+  result.routed_frames = detail::routed_outside(runs, result.validity);
   return result;
 }
 

@@ -45,6 +45,9 @@ inline constexpr double kRouteReachFraction = 0.5;
 /// none but in the local mode, or on a map whose samples never move.
 using OutsideRuns = std::vector<std::pair<std::size_t, std::size_t>>;
 OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points);
+/// The frames of `runs` whose point was outside the data (`validity`: one per frame of the path):
+/// SynthResult::routed_frames.
+int routed_outside(const OutsideRuns& runs, std::span<const PointValidity> validity);
 
 class OutsideRoutes {
  public:
@@ -57,8 +60,6 @@ class OutsideRoutes {
   /// Frame k's located weights with its run's route blended in (unchanged outside every run
   /// routed); the validity stays the located one.
   void apply(std::size_t k, MapWeights& w) const;
-  /// Whether frame k is in a run routed.
-  bool routed(std::size_t k) const;
 
  private:
   struct Run {

@@ -989,8 +989,15 @@ TEST(SynthBlender, KrigingSetUpIsCancelledPromptly) {
                  std::to_string(std::chrono::duration<double, std::milli>(end - start).count()));
 #ifdef NDEBUG
   // Optimised builds only (Release, and RelWithDebInfo under the sanitizers): unoptimised Eigen
-  // is tens of times slower, and so is one chunk of work.
-  EXPECT_LT(latency_ms, 200.0) << "after " << cancel_polls << " polls";
+  // is tens of times slower, and so is one chunk of work. Under AddressSanitizer a chunk of the
+  // factorisation takes about three times as long (measured 242 ms with the suite on both
+  // cores): there the check is that the factorisation polls at all, within 600 ms.
+#if defined(__SANITIZE_ADDRESS__)
+  constexpr double kPromptMs = 600.0;
+#else
+  constexpr double kPromptMs = 200.0;
+#endif
+  EXPECT_LT(latency_ms, kPromptMs) << "after " << cancel_polls << " polls";
 #endif
 }
 

@@ -1,8 +1,8 @@
 # MotionMap's two commands. Both install missing Debian packages first (scripts/install-deps.sh).
 #   make demo   build (Release) the CLI and Studio and run the main job on the built-in sample
 #   make test   check the formatting, then build everything and run the whole test suite through
-#               ctest: Release, then ASan+UBSan (library, CLI and their tests), then every
-#               parser's libFuzzer target for FUZZ_SECONDS each
+#               ctest: Release, then ASan+UBSan (library, CLI, their tests, and every parser's
+#               libFuzzer target for FUZZ_SECONDS each)
 # Also: make package (the .deb, docs/install.md), make format / format-check, make bench.
 JOBS ?= $(shell nproc)
 FUZZ_SECONDS ?= 30
@@ -13,8 +13,8 @@ BUILD ?= build
 # for a directory configured before (cmake refuses to switch generators).
 cmake_gen = $$(test -f $(1)/CMakeCache.txt || { command -v ninja >/dev/null 2>&1 && echo -G Ninja; })
 
-.PHONY: all deps build demo test test-release test-sanitize test-fuzz bench package format \
-        format-check clean
+.PHONY: all deps build demo test test-release configure-sanitize test-sanitize test-fuzz bench \
+        package format format-check clean
 
 all: build
 
@@ -49,37 +49,36 @@ demo: deps $(BUILD)/CMakeCache.txt
 	fi
 
 # format-check first: a badly formatted tree fails before anything is built.
-test: format-check test-release test-sanitize test-fuzz
+test: format-check test-release test-sanitize
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-# The library, the CLI and their tests under AddressSanitizer + UndefinedBehaviorSanitizer: what
-# parses files, places frames and meets bad input. Studio, the benchmarks, and the tests of the
-# numerical kernels and of the methods against their references (tests/CMakeLists.txt) are left
-# out: they run in the Release build, and were most of this build's time. -g1: line tables, all a
-# sanitizer's stack trace needs, at a fraction of full debug information's compile and link time.
+# The library, the CLI, their tests and every parser's libFuzzer target, built once with clang
+# under AddressSanitizer + UndefinedBehaviorSanitizer (build-sanitize): what parses files, places
+# frames and meets bad input. Studio, the benchmarks, and the tests of the numerical kernels and of
+# the methods against their references (tests/CMakeLists.txt) are left out: they run in the
+# Release build. Line tables only (-gline-tables-only): all a sanitizer's stack trace needs.
 # One ctest test per GoogleTest suite there (tests/gtest_suites.cmake): an instrumented test
-# executable takes about 0.5 s to start.
-test-sanitize: deps
-	cmake -S . -B build-asan $(call cmake_gen,build-asan) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-	  -DMOTIONMAP_SANITIZE=ON -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_GUI=OFF
-	cmake --build build-asan -j $(JOBS)
-	cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --output-on-failure -j $(JOBS)
-
-# libFuzzer targets (clang, ASan+UBSan) seeded with the real files in ../shared/data; each runs
-# FUZZ_SECONDS as a ctest test, one per core (30 s in `make test`; longer on demand:
-# make test-fuzz FUZZ_SECONDS=600). Line tables only, as for the sanitizer build.
-test-fuzz: deps
-	cmake -S . -B build-fuzz $(call cmake_gen,build-fuzz) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+# executable takes about 0.5 s to start. The fuzzers (fuzz/) are ctest tests too, each fuzzing
+# FUZZ_SECONDS (30 s in `make test`; longer on its own: make test-fuzz FUZZ_SECONDS=600).
+SANITIZE_DIR := build-sanitize
+configure-sanitize: deps
+	cmake -S . -B $(SANITIZE_DIR) $(call cmake_gen,$(SANITIZE_DIR)) \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-	  -DCMAKE_CXX_COMPILER=clang++ -DMOTIONMAP_FUZZ=ON -DMOTIONMAP_FUZZ_SECONDS=$(FUZZ_SECONDS) \
-	  -DMOTIONMAP_BUILD_TESTS=OFF -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_CLI=OFF \
-	  -DMOTIONMAP_BUILD_GUI=OFF -DMOTIONMAP_BUILD_RENDER=OFF
-	cmake --build build-fuzz -j $(JOBS)
-	cd build-fuzz && ctest --output-on-failure -j $(JOBS)
+	  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DMOTIONMAP_SANITIZE=ON \
+	  -DMOTIONMAP_FUZZ=ON -DMOTIONMAP_FUZZ_SECONDS=$(FUZZ_SECONDS) \
+	  -DMOTIONMAP_BUILD_BENCH=OFF -DMOTIONMAP_BUILD_GUI=OFF
+
+SANITIZE_ENV := ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1
+test-sanitize: configure-sanitize
+	cmake --build $(SANITIZE_DIR) -j $(JOBS)
+	cd $(SANITIZE_DIR) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
+
+test-fuzz: configure-sanitize
+	cmake --build $(SANITIZE_DIR) -j $(JOBS) --target motionmap_fuzzers
+	cd $(SANITIZE_DIR) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS) -L fuzz
 
 bench: build
 	$(BUILD)/bench/motionmap_bench
@@ -96,4 +95,4 @@ format-check: deps
 	find src apps tests bench fuzz python -name '*.h' -o -name '*.cpp' | xargs clang-format --dry-run -Werror
 
 clean:
-	rm -rf $(BUILD) build-asan build-fuzz out
+	rm -rf $(BUILD) $(SANITIZE_DIR) out

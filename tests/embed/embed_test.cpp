@@ -368,11 +368,12 @@ TEST(EmbedCancel, InsideLongStages) {
   // Cancel once a given stage has started: the loops inside it (shortest paths on both
   // threads, the eigen solver's products) notice and stop.
   const Data d = trajectory(600, 8);
-  for (const auto& [method, stage] :
+  for (const auto& [method, stage_] :
        std::vector<std::pair<Method, std::string>>{{Method::Isomap, "shortest paths"},
                                                    {Method::Mds, "eigen"},
                                                    {Method::Lle, "eigen"},
                                                    {Method::LaplacianEigenmap, "neighbours"}}) {
+    const std::string& stage = stage_;  // a structured binding no lambda of clang 14 captures
     std::string current;
     int polls_in_stage = 0;
     const Control control([&](double, std::string_view s) { current = s; },

@@ -90,10 +90,11 @@ TEST(Cancel, DuringPoseDistances) {
 
 TEST(Cancel, DuringEveryEmbedStage) {
   const features::FeatureSet& set = walk_features();
-  for (const auto& [method, stage] :
+  for (const auto& [method_, stage] :
        {std::pair{embed::Method::Isomap, "neighbours"},
         std::pair{embed::Method::Isomap, "shortest paths"}, std::pair{embed::Method::Mds, "eigen"},
         std::pair{embed::Method::Mds, "stress"}}) {
+    const embed::Method method = method_;  // a structured binding no lambda of clang 14 captures
     const Outcome out = cancel_during(stage, [&](const Control& control) {
       embed::EmbedOptions options;
       options.method = method;

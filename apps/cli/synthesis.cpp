@@ -168,17 +168,8 @@ void setup_synth(CLI::App& app) {
         edit ? std::move(edit->result) : synth::synthesize(blender, path, options, blending);
     if (result.clamped_frames > 0) {
       std::cerr << "note: " << result.clamped_frames << " of " << result.motion.num_frames
-                << " frames lie outside the data (" << outside_rule(blender) << ")";
-      const int edge = result.clamped_frames - result.routed_frames;
-      if (result.routed_frames > 0) {
-        std::cerr << ": " << result.routed_frames
-                  << " play the clips' own frames along the path there";
-      }
-      if (edge > 0) {
-        std::cerr << (result.routed_frames > 0 ? ", " : ": ") << edge
-                  << " were blended at the nearest edge of the data";
-      }
-      std::cerr << '\n';
+                << " frames lie outside the data (" << outside_rule(blender)
+                << "): " << synth::outside_frames_note(result) << '\n';
     }
     if (!cmd->o.map.quiet) {
       for (const std::string& note : result.notes) std::cerr << "note: " << note << '\n';

@@ -377,17 +377,9 @@ synth::MapPath map_path(const InputArray& xy, const py::object& times, const std
 // A synthesized clip's warning when frames of its path lay outside the map's data.
 void warn_clamped(Clip& clip, const synth::SynthResult& result) {
   if (result.clamped_frames == 0) return;
-  std::string what = std::to_string(result.clamped_frames) + " frames were outside the map's data";
-  const int edge = result.clamped_frames - result.routed_frames;
-  if (result.routed_frames > 0) {
-    what += ": " + std::to_string(result.routed_frames) +
-            " play the clips' own frames along the path there";
-  }
-  if (edge > 0) {
-    what +=
-        (result.routed_frames > 0 ? ", " : ": ") + std::to_string(edge) + " were moved to its edge";
-  }
-  clip.warnings.push_back(what);
+  clip.warnings.push_back(
+      std::to_string(result.clamped_frames) +
+      " frames were outside the map's data: " + synth::outside_frames_note(result));
 }
 
 // The options of synthesize and edit_path, checked.

@@ -422,7 +422,8 @@ def synth_untimed_path_speed_fps_and_clamping():
     far = write("far.csv", "x,y\n1000,1000\n1001,1000\n")
     code, _, err = run("synth", data(GOLF), "--path", far, "-o", bvh, "-q")
     assert code == 0, err
-    assert "outside the data" in err, err
+    assert "2 of 2 frames lie outside the data" in err, err
+    assert "2 play the clips' own frames along the path there" in err, err
     assert np.all(np.isfinite(mocap.parse_bvh(bvh)[1]))
 
 

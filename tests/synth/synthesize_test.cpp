@@ -395,5 +395,18 @@ TEST(SynthSynthesize, RejectsOverlongPathsAndSmoothingWindows) {
             "50000000 weights; use less smoothing or the local mode");
 }
 
+TEST(SynthSynthesize, OutsideFramesNoteSaysHowTheyWerePlayed) {
+  SynthResult r;
+  EXPECT_EQ(outside_frames_note(r), "");
+  r.clamped_frames = 12;
+  EXPECT_EQ(outside_frames_note(r), "12 were blended at the nearest edge of the data");
+  r.routed_frames = 12;
+  EXPECT_EQ(outside_frames_note(r), "12 play the clips' own frames along the path there");
+  r.routed_frames = 9;
+  EXPECT_EQ(outside_frames_note(r),
+            "9 play the clips' own frames along the path there, 3 were blended at the nearest edge "
+            "of the data");
+}
+
 }  // namespace
 }  // namespace motionmap::synth

@@ -51,6 +51,20 @@ void SynthOptions::validate() const {
   }
 }
 
+std::string outside_frames_note(const SynthResult& result) {
+  std::string note;
+  const int edge = result.clamped_frames - result.routed_frames;
+  if (result.routed_frames > 0) {
+    note +=
+        std::to_string(result.routed_frames) + " play the clips' own frames along the path there";
+  }
+  if (edge > 0) {
+    note += (note.empty() ? "" : ", ") + std::to_string(edge) +
+            " were blended at the nearest edge of the data";
+  }
+  return note;
+}
+
 SynthResult synthesize(const MapBlender& blender, const MapPath& path, const SynthOptions& options,
                        const Control& control) {
   options.validate();

@@ -100,6 +100,12 @@ struct SynthResult {
   std::vector<double> headings;
 };
 
+/// How a result's frames outside the data were played, in words for the user (the CLI's and
+/// Python's note): "R play the clips' own frames along the path there, E were blended at the
+/// nearest edge of the data", either part alone when the other count is 0; empty when no frame
+/// was outside (clamped_frames 0).
+std::string outside_frames_note(const SynthResult& result);
+
 /// Synthesizes the motion along `path` (see above).
 /// @throws ParameterError for bad options or an invalid path (MapPath::validate, resample_path),
 ///         an untimed path with speed 0 on a map without motion, more than kMaxSynthFrames

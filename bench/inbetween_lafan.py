@@ -235,14 +235,14 @@ def main():
         parser.error(f"--held-out: {args.held_out} is not a take in {folder}")
     library = [p for p in paths if os.path.basename(p) != args.held_out]
     held_out = [os.path.join(folder, args.held_out)]
-    print(f"library: {len(library)} clips ({', '.join(os.path.basename(p) for p in library)})")
-    print(f"held out: {args.held_out}")
-    estimator = motionmap.Isomap().fit(library)
-    train = [Take(motionmap.load(p)) for p in library]
     test = [Take(motionmap.load(p)) for p in held_out]
     if all(t.clip.num_frames <= TEST_WINDOW for t in test):
         parser.error(f"--held-out: {args.held_out} has {test[0].clip.num_frames} frames; a test "
                      f"window needs more than {TEST_WINDOW}")
+    print(f"library: {len(library)} clips ({', '.join(os.path.basename(p) for p in library)})")
+    print(f"held out: {args.held_out}")
+    estimator = motionmap.Isomap().fit(library)
+    train = [Take(motionmap.load(p)) for p in library]
     stats = train_stats(train)
     methods = {
         "MotionMap": lambda take, a, b: motionmap_inbetween(estimator, take, a, b, "clips"),

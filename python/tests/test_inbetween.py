@@ -82,6 +82,32 @@ def test_lafan_protocol_benchmark_tiny_case():
     assert all(np.isfinite(v) for v in rows.values()), p.stdout
 
 
+def test_lafan_protocol_benchmark_refuses_a_held_out_take_it_cannot_test():
+    """bench/inbetween_lafan.py --held-out: a name that is no Bandai take, and a take too short
+    for one test window (the 24-frame normal run), are refused with exit code 2 and the reason,
+    before any map is made."""
+    import os
+    import subprocess
+    import sys
+
+    import conftest
+
+    if not os.path.exists(os.path.join(conftest.DATA, "bandai", "dataset-1_run_normal_001.bvh")):
+        pytest.skip("the Bandai clips are absent")
+    script = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "inbetween_lafan.py")
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.path.dirname(os.path.dirname(motionmap.__file__))
+    for take, reason in (("nosuch.bvh", "nosuch.bvh is not a take in"),
+                         ("dataset-1_run_normal_001.bvh",
+                          "dataset-1_run_normal_001.bvh has 24 frames; a test window needs more "
+                          "than 65")):
+        p = subprocess.run([sys.executable, script, "--data", conftest.DATA, "--held-out", take],
+                           capture_output=True, text=True, env=env, timeout=60)
+        assert p.returncode == 2, p.stdout + p.stderr
+        assert reason in p.stderr, p.stderr
+        assert "library:" not in p.stdout, p.stdout
+
+
 def test_a_walks_stances_stay_planted_through_the_keys_displacement():
     """Keys of a walk not in the map (the proud walk, 45 frames apart, on the map of the other
     11 Bandai takes): between keys the route walks another take, and the keys' poses are reached

@@ -2,6 +2,12 @@
 # sanitizer build: one ctest test per GoogleTest suite of ${_mm_exe}, run with
 # --gtest_filter=Suite.*, in the environment ${_mm_env}. The suites are listed when ctest starts,
 # so a test added to the executable is run without re-running cmake.
+if(NOT EXISTS "${_mm_exe}")
+  # Not built yet (ctest before the build): one test that fails, named for it, as
+  # gtest_discover_tests does.
+  add_test("${_mm_target}_NOT_BUILT" "${_mm_target}_NOT_BUILT")
+  return()
+endif()
 execute_process(COMMAND "${_mm_exe}" --gtest_list_tests
                 OUTPUT_VARIABLE _mm_list ERROR_VARIABLE _mm_err RESULT_VARIABLE _mm_rc
                 TIMEOUT 60)

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -539,14 +538,22 @@ TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   EXPECT_EQ(
       motionmap::test::error_message<ParameterError>([&] { local.locate_path(path, 0.0, 0, 1); }),
       "locate_path: frame time 0 is not positive and finite");
-  // The window a frame reads: ±0.25 s, at least a frame, bounded however short the frame time.
-  EXPECT_EQ(local.path_neighbours(dt), static_cast<int>(std::lround(0.25 / dt)));
-  EXPECT_EQ(local.path_neighbours(10.0), 1);
+  // The window a frame's fit reads: ±0.25 s, at least a frame, bounded however short the frame
+  // time. The synthetic walk has no gait cycles its feet's contacts show (detail/gait_phase.h),
+  // so no registration reads farther.
+  EXPECT_EQ(local.follow_neighbours(dt), static_cast<int>(std::lround(0.25 / dt)));
+  EXPECT_EQ(local.follow_neighbours(10.0), 1);
+  EXPECT_EQ(local.follow_neighbours(1e-300), 1000000000);
+  EXPECT_EQ(local.path_neighbours(dt), local.follow_neighbours(dt));
   EXPECT_EQ(local.path_neighbours(1e-300), 1000000000);
   EXPECT_EQ(idw.path_neighbours(dt), 0);
+  EXPECT_EQ(idw.follow_neighbours(dt), 0);
   for (const double bad : {0.0, -dt, std::nan(""), HUGE_VAL}) {
     EXPECT_EQ(motionmap::test::error_message<ParameterError>([&] { local.path_neighbours(bad); }),
               "path_neighbours: frame time " + format_number(bad) + " is not positive and finite");
+    EXPECT_EQ(
+        motionmap::test::error_message<ParameterError>([&] { local.follow_neighbours(bad); }),
+        "follow_neighbours: frame time " + format_number(bad) + " is not positive and finite");
   }
   EXPECT_EQ(local.locate_path(path, 1e-300, 0, path.size()).size(), path.size());
 }

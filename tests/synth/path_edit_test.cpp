@@ -111,6 +111,8 @@ void check_edit(const EditCase& c) {
   const int root = blender.motion_root();
   const Feet feet = find_feet(skeleton);
   const LengthUnits units = detect_length_units(skeleton, lib.clips[0].motion);
+  const Skating captured =
+      measure_skating(skeleton, lib.clips[static_cast<std::size_t>(c.clip)].motion, feet, units);
 
   // Every interior control point in turn (a few of them): moved towards the other clip's
   // trajectory at the same share of its duration.
@@ -198,7 +200,6 @@ void check_edit(const EditCase& c) {
     }
     const double rms = std::sqrt(sum / std::max(1, count)) * kDeg;
     EXPECT_LT(off_legs, 1e-9);
-    // Feet in the window: no more skating than the blend there.
     const Skating se = measure_skating(skeleton, frames_of(m, edit.first, edit.end), feet, units);
     const Skating sf =
         measure_skating(skeleton, frames_of(full.motion, edit.first, edit.end), feet, units);
@@ -212,10 +213,13 @@ void check_edit(const EditCase& c) {
         m.num_frames, rms, se.ratio, se.contact_speed_cm_s, sf.ratio, sf.contact_speed_cm_s,
         sr.ratio, sr.contact_speed_cm_s);
     EXPECT_LE(rms, c.max_rms_deg);
-    // (Within one transition of the window: at the smoothed walk's end the cleaned feet cross the
-    // measure's 0.5 m/s line at one heel strike more than the blend's, 43 cm/s in contact
-    // against 56.)
-    EXPECT_LE(se.ratio, sr.ratio + 1.0 / std::max(1, edit.end - edit.first - 1) + 1e-12);
+    // Feet in the window: no more skating than the blend there or the take it follows (the
+    // issue's target), within one transition of the window. (The blend of the proud walk's
+    // trajectory, its phases registered, crosses the measure's 0.5 m/s line at 0.330 of the
+    // transitions in one window, the cleaned edit at 0.357, 42 cm/s in contact against the
+    // blend's 47; the capture at 0.418, 44 cm/s.)
+    EXPECT_LE(se.ratio, std::max(sr.ratio, captured.ratio) +
+                            1.0 / std::max(1, edit.end - edit.first - 1) + 1e-12);
     // Editing back re-blends the same frames as before the edit; the legs' clean-up differs
     // (held from the window's contacts), so the way back is close, not identical.
     const PathEditResult back = edit_path(blender, edit.result, path);
@@ -349,17 +353,20 @@ TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {
   EXPECT_EQ(edit.end, edit.result.motion.num_frames);
   EXPECT_GT(edit.first, 0);
   EXPECT_EQ(edit.result.validity.size(), static_cast<std::size_t>(edit.result.motion.num_frames));
-  // An untimed path drawn at a speed: the moved point changes the length, so every later frame
+  // An untimed path drawn at a speed (half the clip's, so that the frames a frame's blend reads,
+  // ±0.75 s, fit before its middle): the moved point changes the length, so every later frame
   // moves in time and the window runs to the end; the frames before it stay.
   MapPath untimed = path;
   untimed.times.clear();
-  const SynthResult drawn = synthesize(blender, untimed);
+  SynthOptions slow;
+  slow.speed = 0.5 * blender.median_speed();
+  const SynthResult drawn = synthesize(blender, untimed, slow);
   MapPath moved = untimed;
   const std::size_t mid = moved.points.size() / 2;
   moved.points[mid] += 0.3 * (moved.points[mid + 1] - moved.points[mid]);
   const PathEditResult tail = edit_path(blender, drawn, moved);
   EXPECT_EQ(tail.end, tail.result.motion.num_frames);
-  EXPECT_EQ(tail.result.motion.num_frames, synthesize(blender, moved).motion.num_frames);
+  EXPECT_EQ(tail.result.motion.num_frames, synthesize(blender, moved, slow).motion.num_frames);
   ASSERT_GT(tail.first, 0);
   EXPECT_EQ(std::memcmp(tail.result.motion.rotations.data(), drawn.motion.rotations.data(),
                         static_cast<std::size_t>(tail.first) *

@@ -19,6 +19,7 @@
 #include "motionmap/core/parallel.h"
 #include "motionmap/features/point_cloud.h"
 #include "motionmap/skeleton/contacts.h"
+#include "motionmap/synth/detail/gait_phase.h"
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/smoothing.h"
@@ -271,6 +272,29 @@ ClipsSummary summarize_clips(std::span<const Clip> clips, const features::Featur
       samples);
 }
 
+namespace {
+
+// The clip times a path frame follows (locate_path): each's run (its first sample), seconds into
+// it and share of the clips' part (the shares sum to 1), and that part of the blend (0: the
+// kriging's alone).
+struct FollowFit {
+  int run = 0;
+  double seconds = 0.0, share = 0.0;
+};
+struct Follow {
+  double share = 0.0;
+  std::vector<FollowFit> fits;
+};
+
+// A frame of a path located: where it was evaluated, and its blend (the clip times followed and
+// the kriging's samples) as sources, for the registration of gait phases (detail/gait_phase.h).
+struct PathFrame {
+  PointValidity validity;
+  detail::PhaseFrame sources;
+};
+
+}  // namespace
+
 struct MapBlender::Impl {
   BlendOptions options;
   Skeleton skeleton;
@@ -294,11 +318,20 @@ struct MapBlender::Impl {
   // sample's state instead.
   std::optional<Feet> feet;
   std::vector<std::uint8_t> contacts;
+  // Given every clip: per clip, its feet's contacts, for its gait phase (detail/gait_phase.h).
+  std::vector<std::array<FootContacts, 2>> clip_contacts;
+  // Whether a clip may have a gait phase (given every clip: one has; from a source: the skeleton
+  // has feet), so that locate_path() registers phases.
+  bool gait = false;
+  // The gait phase of each run of samples (by its first sample) followed so far.
+  mutable std::mutex phase_mutex;
+  mutable std::unordered_map<int, detail::GaitPhase> phases;
 
-  // Made from a ClipSource: the clips, read when a blend needs their frames, and each sample's
-  // clip and frame.
+  // Each sample's clip. Made from a ClipSource: the clips, read when a blend needs their frames,
+  // each sample's frame and each clip's frame count.
+  std::vector<int> clip_of;
   std::shared_ptr<const ClipSource> source;
-  std::vector<int> clip_of, frame_of, clip_frames;
+  std::vector<int> frame_of, clip_frames;
   // The states of the samples blended so far (read from their clips), by sample.
   struct KeptState {
     SampleState state;
@@ -320,11 +353,17 @@ struct MapBlender::Impl {
   // Point weights (point index, weight) at v.point; sets v.variance (not on a GP-LVM map, whose
   // variance is the GP's). Not for kriging.
   void point_weights(PointValidity& v, std::vector<std::pair<int, double>>& out) const;
-  // locate_path()'s share of the clips (blender.h): `w`, located at frame k of the path `points`
-  // (one every dt seconds), becomes its blend with the clip times whose trajectory the path
-  // follows around frame k.
-  void follow_clips(MapWeights& w, std::span<const Eigen::Vector2d> points, std::size_t k,
-                    double dt) const;
+  // locate_path()'s clips (blender.h): the clip times whose trajectory the path `points` (one
+  // every dt seconds) follows around frame k, and their share of the blend there.
+  Follow follow_clips(std::span<const Eigen::Vector2d> points, std::size_t k, double dt) const;
+  // Frame k of a path located (local mode), not registered.
+  PathFrame path_frame(std::span<const Eigen::Vector2d> points, std::size_t k, double dt) const;
+  // locate_path() in the local mode: frames [first, end) of a path located, their gait phases
+  // registered (detail/gait_phase.h).
+  std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, std::size_t first,
+                                      std::size_t end, double dt) const;
+  // The gait phase of the run of samples starting at sample `run` (none without feet).
+  const detail::GaitPhase& phase_of(int run) const;
   // The weights at v.point in every mode but kriging (the gp mode's or the point weights').
   MapWeights weights(const PointValidity& v) const;
   // Kriging weights of the points out[c].validity.point, into out.
@@ -374,6 +413,9 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips,
                           clips[static_cast<std::size_t>(c)].motion, *feet, co);
     });
     contacts.resize(un);
+    clip_contacts = by_clip;
+    for (std::size_t c = 0; c < clips.size() && !gait; ++c)
+      gait = detail::gait_phase(by_clip[c], clips[c].motion.frame_time, 0, 0.0).known();
     for (int i = 0; i < n; ++i) {
       const auto& fc = by_clip[static_cast<std::size_t>(samples.clip_of[i])];
       contacts[static_cast<std::size_t>(i)] =
@@ -600,6 +642,7 @@ MapBlender::MapBlender(std::span<const Clip> clips, const features::FeatureSet& 
   s.joints = skeleton.num_joints();
   s.n = n;
   s.build_samples(clips, samples);
+  s.clip_of = samples.clip_of;
   std::vector<double> frame_times;
   for (const Clip& clip : clips) frame_times.push_back(clip.motion.frame_time);
   s.build_systems(coords, samples, frame_times, /*lazy=*/false, control);
@@ -637,6 +680,7 @@ MapBlender::MapBlender(std::shared_ptr<const ClipSource> source, const ClipsSumm
   }
   s.skeleton = first->skeleton;
   s.feet = try_find_feet(s.skeleton, options.up);
+  s.gait = s.feet.has_value();
   s.frame_time = first->motion.frame_time;
   s.joints = s.skeleton.num_joints();
   const int J = s.joints;
@@ -683,21 +727,34 @@ std::vector<MapWeights> MapBlender::locate(std::span<const Eigen::Vector2d> pts)
   std::vector<MapWeights> out(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) out[i].validity = m->validate(pts[i]);
   if (m->options.mode != BlendMode::Kriging) {
-    for (auto& w : out) w = m->weights(w.validity);
+    parallel_for(static_cast<int>(pts.size()), [&](int i) {
+      MapWeights& w = out[static_cast<std::size_t>(i)];
+      w = m->weights(w.validity);
+    });
     return out;
   }
-  for (std::size_t b = 0; b < pts.size(); b += kKrigingBlock) {
+  const auto blocks = static_cast<int>((pts.size() + kKrigingBlock - 1) / kKrigingBlock);
+  parallel_for(blocks, [&](int block) {
+    const auto b = static_cast<std::size_t>(block) * kKrigingBlock;
     const std::size_t e = std::min(pts.size(), b + kKrigingBlock);
     m->kriging_block(std::span<MapWeights>(out).subspan(b, e - b));
-  }
+  });
   return out;
+}
+
+int MapBlender::follow_neighbours(double frame_time) const {
+  check_frame_time("follow_neighbours", frame_time);
+  if (m->options.mode != BlendMode::Local) return 0;
+  return static_cast<int>(
+      std::min<long long>(follow_half_window(frame_time), std::numeric_limits<int>::max()));
 }
 
 int MapBlender::path_neighbours(double frame_time) const {
   check_frame_time("path_neighbours", frame_time);
   if (m->options.mode != BlendMode::Local) return 0;
-  return static_cast<int>(
-      std::min<long long>(follow_half_window(frame_time), std::numeric_limits<int>::max()));
+  return static_cast<int>(std::min<long long>(
+      follow_half_window(frame_time) + (m->gait ? detail::phase_window(frame_time) : 0),
+      std::numeric_limits<int>::max()));
 }
 
 std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d> points,
@@ -708,10 +765,80 @@ std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d>
                          std::to_string(end) + ") of a path of " + std::to_string(points.size()));
   }
   check_frame_time("locate_path", frame_time);
-  std::vector<MapWeights> out = locate(points.subspan(first, end - first));
-  if (m->options.mode != BlendMode::Local || points.size() < 2) return out;
-  for (std::size_t k = first; k < end; ++k) m->follow_clips(out[k - first], points, k, frame_time);
+  if (m->options.mode != BlendMode::Local || points.size() < 2)
+    return locate(points.subspan(first, end - first));
+  return m->locate_path(points, first, end, frame_time);
+}
+
+PathFrame MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, std::size_t k,
+                                       double dt) const {
+  PathFrame f;
+  f.validity = validate(points[k]);
+  const MapWeights kriged = weights(f.validity);
+  f.validity = kriged.validity;
+  const Follow follow = follow_clips(points, k, dt);
+  // The clip times followed at their share, the kriging's samples at the rest.
+  auto& sources = f.sources.sources;
+  for (const FollowFit& fit : follow.fits)
+    sources.push_back({fit.run, fit.seconds, follow.share * fit.share});
+  if (follow.share < 1.0) {
+    for (std::size_t e = 0; e < kriged.samples.size(); ++e) {
+      const int s = kriged.samples[e];
+      sources.push_back(
+          {index->run_of(s), index->seconds_in_run(s), (1.0 - follow.share) * kriged.weights[e]});
+    }
+  }
+  return f;
+}
+
+std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vector2d> points,
+                                                      std::size_t first, std::size_t end,
+                                                      double dt) const {
+  // The frames the registration reads around [first, end) too.
+  const auto window = static_cast<std::size_t>(gait ? detail::phase_window(dt) : 0);
+  const std::size_t a = first > window ? first - window : 0;
+  const std::size_t b = std::min(points.size(), end + window);
+  std::vector<PathFrame> frames(b - a);
+  parallel_for(static_cast<int>(b - a), [&](int i) {
+    frames[static_cast<std::size_t>(i)] = path_frame(points, a + static_cast<std::size_t>(i), dt);
+  });
+  std::vector<detail::PhaseFrame> sources(frames.size());
+  for (std::size_t k = 0; k < frames.size(); ++k) sources[k] = std::move(frames[k].sources);
+  if (gait) {
+    detail::register_phases(sources, first - a, end - a, dt,
+                            [this](int run) -> const detail::GaitPhase& { return phase_of(run); });
+  }
+  // Each frame's sources, at their clip times, as weights over the samples.
+  std::vector<MapWeights> out(end - first);
+  for (std::size_t k = first; k < end; ++k) {
+    std::vector<std::pair<int, double>> added;
+    for (const detail::PhaseSource& src : sources[k - a].sources) {
+      int samples[2] = {0, 0};
+      double weights[2] = {1.0, 0.0};
+      const int count = index->later_in_clip(src.run, src.seconds, samples, weights);
+      for (int e = 0; e < count; ++e) added.emplace_back(samples[e], src.weight * weights[e]);
+    }
+    out[k - first] = detail::weights_by_sample(std::move(added), frames[k - a].validity);
+  }
   return out;
+}
+
+const detail::GaitPhase& MapBlender::Impl::phase_of(int run) const {
+  static const detail::GaitPhase none;
+  if (!feet) return none;
+  const std::lock_guard lock(phase_mutex);
+  if (const auto hit = phases.find(run); hit != phases.end()) return hit->second;
+  const int c = clip_of[static_cast<std::size_t>(run)];
+  std::array<FootContacts, 2> clip_feet;
+  if (source) {
+    const std::shared_ptr<const Clip> clip = source->clip(c);
+    ContactOptions co;
+    co.up = options.up;
+    clip_feet = detect_contacts(clip->skeleton, clip->motion, *feet, co);
+  }
+  return phases[run] = detail::gait_phase(
+             source ? clip_feet : clip_contacts[static_cast<std::size_t>(c)],
+             index->frame_time(run), index->frame_of(run), index->run_seconds(run));
 }
 
 MapWeights MapBlender::later_in_clip(const MapWeights& weights, double seconds) const {
@@ -738,14 +865,15 @@ MapWeights MapBlender::later_in_clip(const MapWeights& weights, double seconds) 
   return detail::weights_by_sample(std::move(moved), weights.validity);
 }
 
-void MapBlender::Impl::follow_clips(MapWeights& w, std::span<const Eigen::Vector2d> points,
-                                    std::size_t k, double dt) const {
+Follow MapBlender::Impl::follow_clips(std::span<const Eigen::Vector2d> points, std::size_t k,
+                                      double dt) const {
+  Follow out;
   const double step = index->median_step();
-  if (!(step > 0.0)) return;
+  if (!(step > 0.0)) return out;
   const double far = kFollowFar * step;
   std::vector<detail::MapIndex::TrajectoryHit> hits;
   index->trajectory_near(points[k], kFollowSearch * step, kTrajectoryMaxSeconds, hits);
-  if (hits.empty()) return;
+  if (hits.empty()) return out;
   // The window: frames k + j, j ∈ [j0, j1], weighted 1 − |j|/(h + 1).
   const auto K = static_cast<long long>(k), last = static_cast<long long>(points.size()) - 1;
   const long long h = follow_half_window(dt);
@@ -838,8 +966,8 @@ void MapBlender::Impl::follow_clips(MapWeights& w, std::span<const Eigen::Vector
     cost[c] = found[c].cost + (1.0 - reach[c]) * far * far;
     least = std::min(least, cost[c]);
   }
-  const double share = detail::falloff((std::sqrt(least) - near) / (far - near));
-  if (share == 0.0) return;
+  out.share = detail::falloff((std::sqrt(least) - near) / (far - near));
+  if (out.share == 0.0) return out;
   // The timelines whose costs are within a tie of the least share the clips' part.
   const double tie = kFollowTie * least + kFollowTieSteps * kFollowTieSteps * step * step;
   std::vector<double> alpha(found.size());
@@ -848,20 +976,10 @@ void MapBlender::Impl::follow_clips(MapWeights& w, std::span<const Eigen::Vector
     alpha[c] = reach[c] * detail::falloff((cost[c] - least) / tie);
     total += alpha[c];
   }
-  std::vector<std::pair<int, double>> added;
   for (std::size_t c = 0; c < found.size(); ++c) {
-    if (alpha[c] == 0.0) continue;
-    int samples[2] = {0, 0};
-    double weights[2] = {1.0, 0.0};
-    const int count = index->later_in_clip(found[c].run, found[c].seconds, samples, weights);
-    for (int e = 0; e < count; ++e)
-      added.emplace_back(samples[e], share * alpha[c] / total * weights[e]);
+    if (alpha[c] != 0.0) out.fits.push_back({found[c].run, found[c].seconds, alpha[c] / total});
   }
-  if (share < 1.0) {
-    for (std::size_t e = 0; e < w.samples.size(); ++e)
-      added.emplace_back(w.samples[e], (1.0 - share) * w.weights[e]);
-  }
-  w = detail::weights_by_sample(std::move(added), w.validity);
+  return out;
 }
 
 std::optional<std::array<double, 2>> MapBlender::contact_share(const MapWeights& w) const {

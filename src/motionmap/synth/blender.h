@@ -30,7 +30,10 @@
 //    path. So a path along a clip's curve at its pace replays the clip, between samples too (D =
 //    0, one fit); one drawn near the curve by hand plays a gait cycle through rather than sliding
 //    between cycles; one that crosses it, runs against it, or at over twice or under half its
-//    pace keeps the kriging blend.
+//    pace keeps the kriging blend. Then, on a map of walks or runs, every clip time the frame
+//    blends (each sample the kriging weighs, each fitted time) is moved in its clip to one gait
+//    phase, read off the frames ±kPhaseWindowSeconds around it at the clips' cadence, so that a
+//    left stance is never blended with a right one (detail/gait_phase.h).
 //  - Idw: Franke–Little inverse-distance weights on the K nearest samples (R = distance of the
 //    (K+1)-th): non-negative, continuous, the robust fallback.
 //  - Gp (a GP-LVM map's default; needs BlendOptions::gplvm): the GP's predictive mean as
@@ -303,17 +306,23 @@ class MapBlender {
   std::vector<MapWeights> locate(std::span<const Eigen::Vector2d> points) const;
   /// The weights of frames [first, end) of a path sampled every `frame_time` seconds (`points`:
   /// every frame's map point): locate()'s, and in the local mode where the path around a frame
-  /// follows a clip's trajectory, that clip's samples at the fitted time (top of the file).
-  /// synthesize() and edit_path() locate their paths with it.
+  /// follows a clip's trajectory, that clip's samples at the fitted time (top of the file); in the
+  /// local mode, the times blended registered to one gait phase (detail/gait_phase.h).
+  /// synthesize() and edit_path() locate their paths with it. The frames are located in
+  /// parallel.
   /// @throws ParameterError if [first, end) is not within points, frame_time is not positive and
   ///         finite, or as locate().
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, double frame_time,
                                       std::size_t first, std::size_t end) const;
   /// How many frames either side of a frame locate_path() reads the points of, for a path sampled
   /// every `frame_time` seconds (0 but in the local mode): a point moved changes the weights of
-  /// that many frames around it. @throws ParameterError if frame_time is not positive and
-  /// finite.
+  /// that many frames around it. The clip times a frame follows read follow_neighbours() of them,
+  /// the registration of its gait phase those frames' around it (detail/gait_phase.h).
+  /// @throws ParameterError if frame_time is not positive and finite.
   int path_neighbours(double frame_time) const;
+  /// How many frames either side of a frame the fit of the clip times it follows reads (0 but in
+  /// the local mode; see the top of the file). @throws as path_neighbours().
+  int follow_neighbours(double frame_time) const;
   /// Weights moved `seconds` later (earlier when negative) in their clips: each sample's weight
   /// goes to the sample of its clip that much later, or is shared linearly between the two
   /// samples around that time (the first or last sample of its run of consecutive samples beyond

@@ -51,7 +51,7 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
   const std::vector<int> next = next_samples(blender);
   const double sample_step = median_sample_step(blender, next);
   const double r = field.reach_distance();
-  const auto fade = static_cast<double>(blender.path_neighbours(dt));
+  const auto fade = static_cast<double>(blender.follow_neighbours(dt));
   SamplePoses poses(blender);
   // The sample most of a frame's located weight is on.
   const auto anchor = [&](std::size_t k) {

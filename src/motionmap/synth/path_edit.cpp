@@ -16,8 +16,6 @@ namespace motionmap::synth {
 
 namespace {
 
-constexpr int kLocateBatch = 64;
-
 // Copies frame `from` of `src` into frame `to` of `dst` (same joints).
 void copy_frame(const Motion& src, int from, Motion& dst, int to) {
   const int J = src.num_joints;
@@ -156,11 +154,11 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   const detail::OutsideRoutes outside(blender, points, dt, routed_runs,
                                       static_cast<std::size_t>(w0), static_cast<std::size_t>(w1),
                                       control);
-  for (int k = w0; k < w1; k += kLocateBatch) {
-    auto located = blender.locate_path(points, dt, static_cast<std::size_t>(k),
-                                       static_cast<std::size_t>(std::min(w1, k + kLocateBatch)));
+  {
+    auto located =
+        blender.locate_path(points, dt, static_cast<std::size_t>(w0), static_cast<std::size_t>(w1));
     for (std::size_t i = 0; i < located.size(); ++i) {
-      outside.apply(static_cast<std::size_t>(k) + i, located[i]);
+      outside.apply(static_cast<std::size_t>(w0) + i, located[i]);
       raw.push_back(std::move(located[i]));
     }
   }

@@ -19,10 +19,8 @@ namespace motionmap::synth {
 
 namespace {
 
-// Frames blended per block (between progress reports and cancel polls), and path points
-// located per parallel item (kriging solves them together).
+// Frames blended per block (between progress reports and cancel polls).
 constexpr int kBlockFrames = 256;
-constexpr int kLocateBatch = 64;
 // Most kriging weights the smoothing window may hold (each a dense vector over the samples).
 constexpr long long kMaxWindowWeights = 50'000'000;
 
@@ -87,18 +85,11 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   SynthResult result = synthesize_frames(
       blender, static_cast<long long>(points.size()), dt,
       [&](long long first, long long count) {
-        std::vector<MapWeights> fresh(static_cast<std::size_t>(count));
-        const int batches = static_cast<int>((count + kLocateBatch - 1) / kLocateBatch);
-        parallel_for(batches, [&](int b) {
-          const long long from = static_cast<long long>(b) * kLocateBatch;
-          const long long last = std::min(count, from + kLocateBatch);
-          auto located = blender.locate_path(points, dt, static_cast<std::size_t>(first + from),
-                                             static_cast<std::size_t>(first + last));
-          for (std::size_t i = 0; i < located.size(); ++i)
-            outside.apply(static_cast<std::size_t>(first + from) + i, located[i]);
-          std::move(located.begin(), located.end(), fresh.begin() + from);
-        });
-        return fresh;
+        auto located = blender.locate_path(points, dt, static_cast<std::size_t>(first),
+                                           static_cast<std::size_t>(first + count));
+        for (std::size_t i = 0; i < located.size(); ++i)
+          outside.apply(static_cast<std::size_t>(first) + i, located[i]);
+        return located;
       },
       options, control);
   result.routed_frames = detail::routed_outside(runs, result.validity);

@@ -87,6 +87,12 @@ class MapIndex {
   Eigen::Vector2d trajectory_at(int sample, double seconds, Eigen::Vector2d& velocity) const;
   /// The seconds from the first sample of `sample`'s run to it.
   double seconds_in_run(int sample) const;
+  /// The seconds from the first sample of `sample`'s run to its last.
+  double run_seconds(int sample) const {
+    return seconds_in_run(m_run_last[static_cast<std::size_t>(sample)]);
+  }
+  /// The frame time of `sample`'s clip.
+  double frame_time(int sample) const { return m_frame_time[static_cast<std::size_t>(sample)]; }
   /// The first sample of `sample`'s run (consecutive samples of its clip, frames increasing).
   int run_of(int sample) const { return m_run_first[static_cast<std::size_t>(sample)]; }
   /// The next sample of `sample`'s run, −1 at its last.

@@ -1,0 +1,99 @@
+#pragma once
+// Gait phase, and the registration of a path's blends to one phase (MapBlender::locate_path;
+// docs/synthesis.md, "Gait phase").
+//
+// A clip's gait phase counts its left foot's strikes (the starts of its contacts, detect_contacts;
+// a contact already under way at the clip's first frame is no strike) over its longest run of gait
+// cycles: consecutive left strikes at most kMaxCycleSeconds apart with a right strike between them.
+// 0 at the run's first strike, 1 at the second, …, linear in time between two, and continued at
+// the first (last) cycle's rate before (after) them. A clip with fewer than kMinCycles such cycles
+// in a row has no phase (a golf swing, a bow, a few shuffled steps).
+//
+// A path frame's blend (locate_path) is a sum of sources: clip times with weights (the samples the
+// local kriging weighs, and the clip times the path follows). The map puts near each other frames
+// that look alike, and the kriging's neighbours are often at different phases of the gait (other
+// cycles of the take, another take): blended as they are, a left stance is mixed with a right one
+// and the feet slide; and where the heavier sources change from one phase to another along the
+// path, the legs jump. Registered (after Kovar & Gleicher's registration curves), per frame k:
+//  - Each frame j has a lead phase ψ_j (its sources' mean phase on the circle, by |weight|), how
+//    clearly they agree c_j (that mean's length, 0–1) and a cadence ω_j (its sources' phase
+//    rates, by |weight|: cycles per second).
+//  - φ_k is the mean on the circle of ψ_j − ∫_k^j ω over the frames j within kPhaseWindowSeconds
+//    of k, weighted by c_j and a triangle falling to 0 at the window's ends: within the window the
+//    phase advances at the clips' own cadence (as the root does: its velocity is blended from the
+//    samples'), over longer spans it follows where the path leads. A path along one clip at any
+//    steady pace gives its own phase back.
+//  - Each source with a phase is moved, in its own cycle, to within kPhaseBand of φ_k (the time of
+//    that phase, kept inside its run). One nearly half a cycle off shares its weight with the
+//    other cycle's time, half and half at half a cycle, where the nearest flips.
+//  - The frame's blend is the moved sources' by h and the sources as they were by 1 − h, h
+//    rising from 0 to 1 as the mean that gave φ_k (its length, by those weights) grows from
+//    kPhaseVague to twice that: where the window's leads cancel out, nothing is moved.
+// Sources without a phase keep their times and weights. A frame's registration reads the frames
+// within kPhaseWindowSeconds of it (phase_window()).
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "motionmap/skeleton/contacts.h"
+
+namespace motionmap::synth::detail {
+
+/// A gait cycle is at most this long; a clip has a phase with at least this many in a row.
+inline constexpr double kMaxCycleSeconds = 2.5;
+inline constexpr int kMinCycles = 2;
+/// The registration's constants (see the top): seconds, cycles, a mean's length.
+inline constexpr double kPhaseWindowSeconds = 0.5;
+inline constexpr double kPhaseBand = 0.02;
+inline constexpr double kPhaseSplit = 0.3;
+inline constexpr double kPhaseVague = 0.2;
+
+/// One clip's gait phase, in seconds from the start of one run of its samples (see the top).
+struct GaitPhase {
+  /// The left foot's strikes, seconds into the run (increasing; may lie outside [0, duration]).
+  std::vector<double> strikes;
+  /// The run's length in seconds (its first sample to its last).
+  double duration = 0.0;
+
+  /// Whether the clip has a phase (two strikes or more).
+  bool known() const { return strikes.size() >= 2; }
+  /// The phase at `seconds` (cycles, not wrapped); `rate`, if given: its derivative (cycles/s).
+  double at(double seconds, double* rate = nullptr) const;
+  /// The time whose phase is `phase` (the inverse of at()).
+  double time_at(double phase) const;
+  /// The time of `phase` (time_at()), moved by whole cycles towards [0, duration] while outside
+  /// it, then clamped to it.
+  double time_inside(double phase) const;
+};
+
+/// The gait phase of a clip whose feet's contacts (left, right) are `contacts`, in seconds from
+/// its frame `start` (frame_time apart), for a run of its samples `duration` seconds long.
+GaitPhase gait_phase(const std::array<FootContacts, 2>& contacts, double frame_time, int start,
+                     double duration);
+
+/// A part of a path frame's blend: clip time `seconds` of the run starting at sample `run`, with
+/// `weight` (kriging weights may be negative).
+struct PhaseSource {
+  int run = 0;
+  double seconds = 0.0, weight = 0.0;
+};
+/// A path frame's sources; `moved` once register_phases() changed them.
+struct PhaseFrame {
+  std::vector<PhaseSource> sources;
+  bool moved = false;
+};
+
+using PhaseOf = std::function<const GaitPhase&(int run)>;
+
+/// The frames either side of a frame its registration reads, for frames dt seconds apart.
+int phase_window(double dt);
+
+/// Registers frames [first, end) of `frames` (consecutive path frames dt apart; those around them,
+/// up to phase_window(dt) either side where the path has them, are read only) as the top of the
+/// file says, in place.
+void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_t end, double dt,
+                     const PhaseOf& phase_of);
+
+}  // namespace motionmap::synth::detail

@@ -1,0 +1,215 @@
+// Gait phase and its registration (synth/detail/gait_phase.h): the phase's arithmetic, which
+// clips have one (the shared Bandai walks and runs; not a golf swing), and what the registration
+// does to a path's sources: takes at different phases lined up, continuously, one clip played at
+// its own pace left as it is.
+#include "motionmap/synth/detail/gait_phase.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "motionmap/io/load.h"
+#include "motionmap/skeleton/contacts.h"
+#include "support/test_data.h"
+
+namespace motionmap::synth::detail {
+namespace {
+
+double wrapped(double x) {
+  return x - std::round(x);
+}
+
+// A clip's contacts: the left foot's starting at `left`, the right foot's at `right`, each
+// 10 frames long.
+std::array<FootContacts, 2> contacts(const std::vector<int>& left, const std::vector<int>& right) {
+  std::array<FootContacts, 2> out;
+  for (const int f : left) out[0].intervals.push_back({f, f + 10});
+  for (const int f : right) out[1].intervals.push_back({f, f + 10});
+  return out;
+}
+
+TEST(SynthGaitPhase, CountsTheLeftFootsStrikesAndContinuesPastThem) {
+  GaitPhase p;
+  p.strikes = {0.5, 1.5, 2.3};
+  p.duration = 3.0;
+  double rate = 0.0;
+  EXPECT_DOUBLE_EQ(p.at(1.0, &rate), 0.5);
+  EXPECT_DOUBLE_EQ(rate, 1.0);
+  EXPECT_DOUBLE_EQ(p.at(1.9, &rate), 1.5);
+  EXPECT_DOUBLE_EQ(rate, 1.25);
+  // Before the first strike and after the last, at the nearest cycle's rate.
+  EXPECT_DOUBLE_EQ(p.at(0.0), -0.5);
+  EXPECT_DOUBLE_EQ(p.at(2.7), 2.5);
+  for (const double t : {0.0, 0.7, 1.5, 2.0, 2.9}) EXPECT_NEAR(p.time_at(p.at(t)), t, 1e-12);
+  // Times outside the run are moved by whole cycles into it, then clamped.
+  EXPECT_DOUBLE_EQ(p.time_inside(-1.0), 0.5);              // −0.5 s, a cycle on
+  EXPECT_DOUBLE_EQ(p.time_inside(-0.9), 0.6);              // −0.4 s, a cycle on
+  EXPECT_DOUBLE_EQ(p.time_inside(3.25), p.time_at(2.25));  // 3.1 s, a cycle back
+  GaitPhase short_run = p;
+  short_run.duration = 0.3;  // no cycle fits: clamped
+  EXPECT_DOUBLE_EQ(short_run.time_inside(-0.9), 0.0);
+  EXPECT_DOUBLE_EQ(short_run.time_inside(0.2), 0.3);
+}
+
+TEST(SynthGaitPhase, OnlyGaitCyclesInARowMakeAPhase) {
+  const double dt = 0.1;
+  // Left strikes 10 frames apart, a right one between each: three cycles.
+  const GaitPhase walk = gait_phase(contacts({5, 15, 25, 35}, {10, 20, 30}), dt, 3, 4.0);
+  ASSERT_TRUE(walk.known());
+  EXPECT_EQ(walk.strikes.size(), 4u);
+  EXPECT_NEAR(walk.strikes.front(), 0.2, 1e-12);  // frame 5, 2 frames after the run's start
+  EXPECT_DOUBLE_EQ(walk.duration, 4.0);
+  // A contact under way at frame 0 is no strike; one cycle alone is not a gait.
+  EXPECT_FALSE(gait_phase(contacts({0, 15, 25}, {20}), dt, 0, 3.0).known());
+  // No right strike between two left ones (a foot lifted and put down, a golf swing's).
+  EXPECT_FALSE(gait_phase(contacts({5, 15, 25}, {}), dt, 0, 3.0).known());
+  // Cycles longer than kMaxCycleSeconds (a step, a pause, a step).
+  EXPECT_FALSE(gait_phase(contacts({5, 40, 75}, {20, 60}), dt, 0, 9.0).known());
+  // The longest run of cycles in a row counts: two here, after a pause.
+  const GaitPhase later = gait_phase(contacts({5, 50, 60, 70}, {55, 65}), dt, 0, 8.0);
+  ASSERT_TRUE(later.known());
+  EXPECT_NEAR(later.strikes.front(), 5.0, 1e-12);
+}
+
+TEST(SynthGaitPhase, SharedWalksAndRunsHaveAPhaseAGolfSwingNone) {
+  const std::map<std::string, bool> files{
+      {"bandai/dataset-1_walk_proud_001.bvh", true},
+      {"bandai/dataset-1_walk_tired_001.bvh", true},
+      {"bandai/dataset-1_run_angry_001.bvh", true},
+      {"cmu/64_08.bvh", false},
+  };
+  for (const auto& [file, walks] : files) {
+    MOTIONMAP_REQUIRE_SHARED(file);
+    SCOPED_TRACE(file);
+    const Clip clip = io::load_clip(motionmap::test::shared_file(file));
+    const Feet feet = find_feet(clip.skeleton);
+    const GaitPhase p =
+        gait_phase(detect_contacts(clip.skeleton, clip.motion, feet), clip.motion.frame_time, 0,
+                   (clip.motion.num_frames - 1) * clip.motion.frame_time);
+    EXPECT_EQ(p.known(), walks);
+    if (!p.known()) continue;
+    const double cycle =
+        (p.strikes.back() - p.strikes.front()) / static_cast<double>(p.strikes.size() - 1);
+    std::printf("[ figures  ] %s: %zu gait cycles, %.2f s each on average\n", file.c_str(),
+                p.strikes.size() - 1, cycle);
+    EXPECT_GT(cycle, 0.5);
+    EXPECT_LT(cycle, 1.6);
+  }
+}
+
+// Two takes, each a run of samples starting at "sample" 0 and 100, whose phases advance at one
+// cycle per second (the second shifted by `offset` cycles).
+struct TwoTakes {
+  GaitPhase a, b;
+  explicit TwoTakes(double offset) {
+    for (int i = -1; i <= 12; ++i) {
+      a.strikes.push_back(i);
+      b.strikes.push_back(i - offset);
+    }
+    a.duration = b.duration = 10.0;
+  }
+  PhaseOf phase_of() const {
+    return [this](int run) -> const GaitPhase& { return run == 0 ? a : b; };
+  }
+};
+
+TEST(SynthGaitPhase, LinesUpTwoTakesBlendedOutOfStep) {
+  // 3 s at 30 fps: take a at its own pace, take b a third of a cycle ahead, 60:40.
+  const double dt = 1.0 / 30.0;
+  const TwoTakes takes(1.0 / 3.0);
+  std::vector<PhaseFrame> frames(90);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const double t = 3.0 + static_cast<double>(k) * dt;
+    frames[k].sources = {{0, t, 0.6}, {100, t, 0.4}};
+  }
+  register_phases(frames, 0, frames.size(), dt, takes.phase_of());
+  std::vector<double> before(2, 0.0);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    SCOPED_TRACE(k);
+    ASSERT_TRUE(frames[k].moved);
+    // Every source within the band of one phase; the weights as they were, by take.
+    double weight[2] = {0.0, 0.0}, lead = 0.0, lead_weight = 0.0;
+    for (const PhaseSource& s : frames[k].sources) {
+      weight[s.run == 0 ? 0 : 1] += s.weight;
+      if (s.weight > lead_weight) {
+        lead_weight = s.weight;
+        lead = takes.phase_of()(s.run).at(s.seconds);
+      }
+    }
+    EXPECT_NEAR(weight[0], 0.6, 1e-12);
+    EXPECT_NEAR(weight[1], 0.4, 1e-12);
+    for (const PhaseSource& s : frames[k].sources) {
+      EXPECT_LE(std::abs(wrapped(takes.phase_of()(s.run).at(s.seconds) - lead)),
+                2.0 * kPhaseBand + 1e-9);
+    }
+    // Each take's time advances by a frame, as it did: the registered blend walks at the takes'
+    // cadence, with no jump.
+    double t[2] = {0.0, 0.0};
+    for (const PhaseSource& s : frames[k].sources) t[s.run == 0 ? 0 : 1] = s.seconds;
+    if (k > 0) {
+      EXPECT_NEAR(t[0] - before[0], dt, 1e-9);
+      EXPECT_NEAR(t[1] - before[1], dt, 1e-9);
+    }
+    before = {t[0], t[1]};
+  }
+}
+
+TEST(SynthGaitPhase, LeavesAClipAtItsOwnPaceAndSourcesWithoutAPhase) {
+  const double dt = 1.0 / 30.0;
+  const TwoTakes takes(0.0);
+  GaitPhase none;
+  const PhaseOf phase_of = [&](int run) -> const GaitPhase& {
+    return run == 7 ? none : takes.phase_of()(run);
+  };
+  // One take at 1.4 times its pace, beside a golf swing's frame; then one at half its pace.
+  for (const double pace : {1.4, 0.5}) {
+    std::vector<PhaseFrame> frames(60);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      frames[k].sources = {{0, 2.0 + pace * static_cast<double>(k) * dt, 0.7}, {7, 0.3, 0.3}};
+    }
+    const std::vector<PhaseFrame> kept = frames;
+    register_phases(frames, 0, frames.size(), dt, phase_of);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      EXPECT_FALSE(frames[k].moved) << "pace " << pace << ", frame " << k;
+      ASSERT_EQ(frames[k].sources.size(), 2u);
+      EXPECT_EQ(frames[k].sources[0].seconds, kept[k].sources[0].seconds);
+      EXPECT_EQ(frames[k].sources[1].seconds, kept[k].sources[1].seconds);
+    }
+  }
+}
+
+TEST(SynthGaitPhase, AHalfCycleApartSharesBothCyclesSoNothingJumps) {
+  // Take b drifts from a quarter of a cycle behind take a to three quarters (through half a
+  // cycle, where its nearest way to a's phase flips from one cycle to the other), weighted 0.2:
+  // the blend's clip times, weighted, move continuously.
+  const double dt = 1.0 / 30.0;
+  const TwoTakes takes(0.0);
+  std::vector<PhaseFrame> frames(90);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const double t = 3.0 + static_cast<double>(k) * dt;
+    const double drift = 0.25 + 0.5 * static_cast<double>(k) / 89.0;
+    frames[k].sources = {{0, t, 0.8}, {100, t - drift, 0.2}};
+  }
+  register_phases(frames, 0, frames.size(), dt, takes.phase_of());
+  // Take b's weighted mean clip time, from frame to frame.
+  double before = 0.0, worst = 0.0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    double sum = 0.0, weight = 0.0;
+    for (const PhaseSource& s : frames[k].sources) {
+      if (s.run != 100) continue;
+      sum += s.weight * s.seconds;
+      weight += s.weight;
+    }
+    EXPECT_NEAR(weight, 0.2, 1e-12);
+    const double mean = sum / weight;
+    if (k > 0) worst = std::max(worst, std::abs(mean - before));
+    before = mean;
+  }
+  // A whole cycle is 1 s; the frames are 1/30 s apart.
+  EXPECT_LT(worst, 0.1);
+}
+
+}  // namespace
+}  // namespace motionmap::synth::detail

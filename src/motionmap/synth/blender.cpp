@@ -784,8 +784,8 @@ PathFrame MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, 
   if (follow.share < 1.0) {
     for (std::size_t e = 0; e < kriged.samples.size(); ++e) {
       const int s = kriged.samples[e];
-      sources.push_back(
-          {index->run_of(s), index->seconds_in_run(s), (1.0 - follow.share) * kriged.weights[e]});
+      sources.push_back({index->run_of(s), index->seconds_in_run(s),
+                         (1.0 - follow.share) * kriged.weights[e], s});
     }
   }
   return f;
@@ -813,6 +813,10 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
   for (std::size_t k = first; k < end; ++k) {
     std::vector<std::pair<int, double>> added;
     for (const detail::PhaseSource& src : sources[k - a].sources) {
+      if (src.sample >= 0) {
+        added.emplace_back(src.sample, src.weight);
+        continue;
+      }
       int samples[2] = {0, 0};
       double weights[2] = {1.0, 0.0};
       const int count = index->later_in_clip(src.run, src.seconds, samples, weights);

@@ -19,13 +19,16 @@ namespace motionmap::synth {
 
 namespace {
 
-// Frames blended per block (between progress reports and cancel polls).
+// Frames blended per block (between progress reports and cancel polls), and located at a time
+// in the local mode.
 constexpr int kBlockFrames = 256;
+constexpr long long kLocateFrames = 1024;
 // Most kriging weights the smoothing window may hold (each a dense vector over the samples).
 constexpr long long kMaxWindowWeights = 50'000'000;
 
-// The motion of `frames` frames at `dt` whose weights weights_of(first, count) gives, asked for
-// block by block as the smoothing window moves on (see the top of synthesize.h).
+// The motion of `frames` frames at `dt` whose weights weights_of(first, count) gives (frames
+// first, first + 1, …: at least count of them, more if it likes), asked for block by block as the
+// smoothing window moves on (see the top of synthesize.h).
 SynthResult synthesize_frames(
     const MapBlender& blender, long long frames, double dt,
     const std::function<std::vector<MapWeights>(long long, long long)>& weights_of,
@@ -85,6 +88,10 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   SynthResult result = synthesize_frames(
       blender, static_cast<long long>(points.size()), dt,
       [&](long long first, long long count) {
+        // In the local mode, kLocateFrames at a time at least: each call reads the frames around
+        // it too (the registration of gait phases: MapBlender::path_neighbours).
+        if (blender.options().mode == BlendMode::Local) count = std::max(count, kLocateFrames);
+        count = std::min(count, static_cast<long long>(points.size()) - first);
         auto located = blender.locate_path(points, dt, static_cast<std::size_t>(first),
                                            static_cast<std::size_t>(first + count));
         for (std::size_t i = 0; i < located.size(); ++i)

@@ -74,10 +74,12 @@ GaitPhase gait_phase(const std::array<FootContacts, 2>& contacts, double frame_t
                      double duration);
 
 /// A part of a path frame's blend: clip time `seconds` of the run starting at sample `run`, with
-/// `weight` (kriging weights may be negative).
+/// `weight` (kriging weights may be negative); `sample`: the sample at that time, if it is one's
+/// (−1: between samples, or moved).
 struct PhaseSource {
   int run = 0;
   double seconds = 0.0, weight = 0.0;
+  int sample = -1;
 };
 /// A path frame's sources; `moved` once register_phases() changed them.
 struct PhaseFrame {

@@ -18,11 +18,12 @@
 //  - Each frame j has a lead phase ψ_j (its sources' mean phase on the circle, by |weight|), how
 //    clearly they agree c_j (that mean's length, 0–1) and a cadence ω_j (its sources' phase
 //    rates, by |weight|: cycles per second).
-//  - φ_k is the mean on the circle of ψ_j − ∫_k^j ω over the frames j within kPhaseWindowSeconds
-//    of k, weighted by c_j and a triangle falling to 0 at the window's ends: within the window the
+//  - φ_k: the frames j within kPhaseWindowSeconds of k give r_j = ψ_j − ∫_k^j ω, weighted by c_j
+//    and a triangle falling to 0 at the window's ends; their mean on the circle, then a line
+//    fitted to them about it (weighted least squares in time), read at k. Within the window the
 //    phase advances at the clips' own cadence (as the root does: its velocity is blended from the
 //    samples'), over longer spans it follows where the path leads. A path along one clip at any
-//    steady pace gives its own phase back.
+//    steady pace gives its own phase back, at the path's ends too, where the window is cut short.
 //  - Each source with a phase is moved, in its own cycle, to within kPhaseBand of φ_k (the time of
 //    that phase, kept inside its run). One nearly half a cycle off shares its weight with the
 //    other cycle's time, half and half at half a cycle, where the nearest flips.

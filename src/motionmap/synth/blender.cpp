@@ -773,8 +773,7 @@ std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d>
 PathFrame MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, std::size_t k,
                                        double dt) const {
   PathFrame f;
-  f.validity = validate(points[k]);
-  const MapWeights kriged = weights(f.validity);
+  const MapWeights kriged = weights(validate(points[k]));
   f.validity = kriged.validity;
   const Follow follow = follow_clips(points, k, dt);
   // The clip times followed at their share, the kriging's samples at the rest.

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+
+#include "motionmap/synth/detail/smoothing.h"
 
 namespace motionmap::synth::detail {
 
@@ -12,13 +15,7 @@ double wrap(double x) {
   return x - std::round(x);
 }
 
-constexpr double kPi = 3.14159265358979323846;
-
-// 1 − smoothstep of x on [0, 1].
-double falloff(double x) {
-  x = std::clamp(x, 0.0, 1.0);
-  return 1.0 - x * x * (3.0 - 2.0 * x);
-}
+constexpr double kPi = std::numbers::pi;
 
 // A frame's sources with a phase and a weight: index, phase, |weight|.
 struct Phased {

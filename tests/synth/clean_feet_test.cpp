@@ -701,17 +701,18 @@ TEST(SynthCleanFeet, SynthesizedBandaiWalks) {
     const double raw_jump = max_jump(skeleton, raw.motion);
     EXPECT_LE(max_jump(skeleton, cleaned.motion), raw_jump + std::max(2.5, 0.03 * raw_jump));
     // The legs away from their contacts keep their angles (retraced, smoothed or not: 0.05°;
-    // traced by hand 0.34°–0.53°; every other frame 0.3°; halfway 0.12°; out and back 0.12°;
-    // along the edge 0.42°).
+    // traced by hand 0.36°–0.52°; every other frame 0.3°; halfway 0.12°; out and back 0.32°;
+    // along the edge 0.41°).
     EXPECT_LE(rms, 1.0);
     // Walks along the normal walk's curve, retraced or traced by hand, halfway to the angry walk
     // and a tenth of the way: nothing pops, and they skate no more than the normal walk as captured
-    // (within a transition of 194: the steady hand's 0.412 against 0.407), its feet no faster in
-    // contact (within 1 cm/s). (The walk drawn out and back adds 7 cm to a step where its route
-    // fades in over the blend.)
+    // (within two transitions of 194: the steady hand's 0.418 against 0.407 — its root moves on
+    // at the pace its legs are played at, which the hand's wobble speeds up and slows down; 0.412
+    // when the root kept the samples' speed), its feet no faster in contact (within 1 cm/s). (The
+    // walk drawn out and back adds 7 cm to a step where its route fades in over the blend.)
     if (c.walks) {
       EXPECT_LT(added, 3.0);  // cm, at 30 fps
-      EXPECT_LE(sc.ratio, captured[0].ratio + 1.0 / 194.0 + 1e-9);
+      EXPECT_LE(sc.ratio, captured[0].ratio + 2.0 / 194.0 + 1e-9);
       EXPECT_LE(sc.contact_speed_cm_s, captured[0].contact_speed_cm_s + 1.0);
     }
   }
@@ -792,11 +793,17 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       const bool runs = fa.find("run_") != std::string::npos;
       EXPECT_LE(sc.ratio, sr.ratio + transition + 1e-12);
       EXPECT_LE(sc.contact_speed_cm_s, sr.contact_speed_cm_s + (runs ? 5.0 : 1.0));
-      // Their gait phases registered, the runs' blends up to 30 % of the way slide their feet at
-      // most twice as fast in contact as the first run does (measured 1.6×; 2.6× before they were
-      // registered: 311 cm/s against 118 at 30 % from the angry run to the old one).
+      // Their gait phases registered and the root moving on at the pace the legs play the gait
+      // at, the runs' blends up to 30 % of the way slide their feet at most 1.25 times as fast in
+      // contact as the first run does (measured 1.16×; 1.6× with the root at the samples' speed,
+      // 2.6× before the phases were registered: 311 cm/s against 118 at 30 % from the angry run
+      // to the old one); cleaned, every sketch up to 30 % at most 1.15 times (measured 1.13×, the
+      // angry run 15 % of the way to the old one; 1.48× with the root at the samples' speed).
       if (runs && share <= 0.3) {
-        EXPECT_LE(sr.contact_speed_cm_s, 2.0 * capture.contact_speed_cm_s);
+        EXPECT_LE(sr.contact_speed_cm_s, 1.25 * capture.contact_speed_cm_s);
+      }
+      if (share <= 0.3) {
+        EXPECT_LE(sc.contact_speed_cm_s, 1.15 * capture.contact_speed_cm_s);
       }
       // Wholly outside the data: the clips' own frames, cleaned within the angle bound.
       if (raw.clamped_frames == raw.motion.num_frames) {
@@ -807,8 +814,10 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       over += rms > 1.0 ? 1 : 0;
     }
   }
-  // Measured 0.44° RMS on average, 5 of the 42 sketches over 1° (at most 1.70°: sketches where
-  // the two takes' curves cross, between them, near samples of both; docs/synthesis.md).
+  // Measured 0.48° RMS on average, 6 of the 42 sketches over 1° (at most 1.82°: sketches where
+  // the two takes' curves cross, between them, near samples of both, whose blends the clean-up
+  // holds through more contacts than it found before their roots moved at the legs' pace: 0.44°
+  // and 5 then; docs/synthesis.md).
   std::printf("[ figures  ] %d sketches: outside contacts %.2f° RMS on average, %d over 1°\n",
               sketches, sum / sketches, over);
   EXPECT_LE(sum / sketches, 0.5);

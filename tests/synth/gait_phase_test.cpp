@@ -1,9 +1,10 @@
 // Gait phase and its registration (synth/detail/gait_phase.h): the phase's arithmetic, which
 // clips have one (the shared Bandai walks and runs; not a golf swing), and what the registration
 // does to a path's sources: takes at different phases lined up, continuously, one clip played at
-// its own pace left as it is.
+// its own pace left as it is; and the pace at which the root moves on with the registered legs.
 #include "motionmap/synth/detail/gait_phase.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -164,20 +165,40 @@ TEST(SynthGaitPhase, LeavesAClipAtItsOwnPaceAndSourcesWithoutAPhase) {
     return run == 7 ? none : takes.phase_of()(run);
   };
   // One take at 1.4 times its pace, beside a golf swing's frame; then one at half its pace.
-  for (const double pace : {1.4, 0.5}) {
+  for (const double rate : {1.4, 0.5}) {
     std::vector<PhaseFrame> frames(60);
     for (std::size_t k = 0; k < frames.size(); ++k) {
-      frames[k].sources = {{0, 2.0 + pace * static_cast<double>(k) * dt, 0.7}, {7, 0.3, 0.3}};
+      frames[k].sources = {{0, 2.0 + rate * static_cast<double>(k) * dt, 0.7}, {7, 0.3, 0.3}};
     }
     const std::vector<PhaseFrame> kept = frames;
     register_phases(frames, 0, frames.size(), dt, phase_of);
     for (std::size_t k = 0; k < frames.size(); ++k) {
-      EXPECT_FALSE(frames[k].moved) << "pace " << pace << ", frame " << k;
+      EXPECT_FALSE(frames[k].moved) << "pace " << rate << ", frame " << k;
       ASSERT_EQ(frames[k].sources.size(), 2u);
       EXPECT_EQ(frames[k].sources[0].seconds, kept[k].sources[0].seconds);
       EXPECT_EQ(frames[k].sources[1].seconds, kept[k].sources[1].seconds);
+      // Its root moves on at the pace its legs play at, at the path's ends too.
+      EXPECT_NEAR(pace(frames, k, dt), rate, 1e-9) << "frame " << k;
     }
   }
+}
+
+TEST(SynthGaitPhase, APathThatDwellsStandsStill) {
+  // A path that stays by one sample of a take, then moves on along it at its pace: the legs hold
+  // their phase, and the root does not glide on (pace 0), then walks (pace 1).
+  const double dt = 1.0 / 30.0;
+  const TwoTakes takes(0.0);
+  std::vector<PhaseFrame> frames(120);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const double moving = std::max(0.0, static_cast<double>(k) - 60.0) * dt;
+    frames[k].sources = {{0, 3.0 + moving, 1.0}};
+  }
+  register_phases(frames, 0, frames.size(), dt, takes.phase_of());
+  for (std::size_t k = 0; k < 40; ++k) EXPECT_NEAR(pace(frames, k, dt), 0.0, 1e-9) << k;
+  for (std::size_t k = 80; k < frames.size(); ++k) EXPECT_NEAR(pace(frames, k, dt), 1.0, 1e-9) << k;
+  // No frame registered (an empty one, or one whose sources have no phase): pace 1.
+  std::vector<PhaseFrame> none(3);
+  EXPECT_EQ(pace(none, 1, dt), 1.0);
 }
 
 TEST(SynthGaitPhase, AHalfCycleApartSharesBothCyclesSoNothingJumps) {

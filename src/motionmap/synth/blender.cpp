@@ -753,7 +753,7 @@ int MapBlender::path_neighbours(double frame_time) const {
   check_frame_time("path_neighbours", frame_time);
   if (m->options.mode != BlendMode::Local) return 0;
   return static_cast<int>(std::min<long long>(
-      follow_half_window(frame_time) + (m->gait ? detail::phase_window(frame_time) : 0),
+      follow_half_window(frame_time) + (m->gait ? detail::pace_window(frame_time) : 0),
       std::numeric_limits<int>::max()));
 }
 
@@ -793,8 +793,8 @@ PathFrame MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, 
 std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vector2d> points,
                                                       std::size_t first, std::size_t end,
                                                       double dt) const {
-  // The frames the registration reads around [first, end) too.
-  const auto window = static_cast<std::size_t>(gait ? detail::phase_window(dt) : 0);
+  // The frames the registration and the pace read around [first, end) too.
+  const auto window = static_cast<std::size_t>(gait ? detail::pace_window(dt) : 0);
   const std::size_t a = first > window ? first - window : 0;
   const std::size_t b = std::min(points.size(), end + window);
   std::vector<PathFrame> frames(b - a);
@@ -804,7 +804,10 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
   std::vector<detail::PhaseFrame> sources(frames.size());
   for (std::size_t k = 0; k < frames.size(); ++k) sources[k] = std::move(frames[k].sources);
   if (gait) {
-    detail::register_phases(sources, first - a, end - a, dt,
+    // The frames either side the pace reads too, where the path has them.
+    const std::size_t more = detail::kPaceFrames;
+    detail::register_phases(sources, first - a - std::min(first - a, more),
+                            end - a + std::min(b - end, more), dt,
                             [this](int run) -> const detail::GaitPhase& { return phase_of(run); });
   }
   // Each frame's sources, at their clip times, as weights over the samples.
@@ -822,6 +825,7 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
       for (int e = 0; e < count; ++e) added.emplace_back(samples[e], src.weight * weights[e]);
     }
     out[k - first] = detail::weights_by_sample(std::move(added), frames[k - a].validity);
+    if (gait) out[k - first].pace = detail::pace(sources, k - a, dt);
   }
   return out;
 }
@@ -865,7 +869,9 @@ MapWeights MapBlender::later_in_clip(const MapWeights& weights, double seconds) 
     const int count = m->index->later_in_clip(s, seconds, to, share);
     for (int c = 0; c < count; ++c) moved.emplace_back(to[c], share[c] * weights.weights[e]);
   }
-  return detail::weights_by_sample(std::move(moved), weights.validity);
+  MapWeights out = detail::weights_by_sample(std::move(moved), weights.validity);
+  out.pace = weights.pace;
+  return out;
 }
 
 Follow MapBlender::Impl::follow_clips(std::span<const Eigen::Vector2d> points, std::size_t k,
@@ -1057,8 +1063,11 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
            s.velocity[i], s.yaw_rate[i]};
     }
   }
-  return blend_states(states, w.weights, s.fixed_translations, s.moving, s.motion_root,
-                      s.options.up, s.ancestors);
+  BlendedFrame out = blend_states(states, w.weights, s.fixed_translations, s.moving, s.motion_root,
+                                  s.options.up, s.ancestors);
+  out.velocity *= w.pace;
+  out.yaw_rate *= w.pace;
+  return out;
 }
 
 Motion MapBlender::pose_at(const Eigen::Vector2d& p) const {

@@ -207,6 +207,10 @@ struct MapWeights {
   std::vector<int> samples;     ///< sample indices (rows of the map), strictly increasing
   std::vector<double> weights;  ///< one per entry of samples; may be negative (kriging, local)
   PointValidity validity;
+  /// How fast the blend at these weights moves on against its samples' own pace: blend() scales
+  /// the root's velocity and yaw rate by it. 1 but where locate_path() registers a gait's phase
+  /// and the path leads it faster or slower than the clips' cadence (detail/gait_phase.h).
+  double pace = 1.0;
 };
 
 /// Where a one-frame pose's motion root stands on the floor: its heading (yaw about the up axis,

@@ -310,6 +310,12 @@ MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> ne
   return out;
 }
 
+double clip_route_advance(const ClipRoutePlay& play, double t) {
+  if (play.advance.empty()) return 1.0;
+  const double last = static_cast<double>(play.advance.size()) - 1.0;
+  return play.advance[static_cast<std::size_t>(std::clamp(std::floor(t), 0.0, last))];
+}
+
 PoseRotations pose_rotations(const MapBlender& blender, const Motion& pose) {
   const int J = pose.num_joints, root = blender.motion_root();
   PoseRotations q(static_cast<std::size_t>(J));

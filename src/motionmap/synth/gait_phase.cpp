@@ -126,6 +126,25 @@ int phase_window(double dt) {
   return static_cast<int>(std::llround(std::min(kPhaseWindowSeconds / dt, 1e9)));
 }
 
+int pace_window(double dt) {
+  return phase_window(dt) + kPaceFrames;
+}
+
+double pace(std::span<const PhaseFrame> frames, std::size_t k, double dt) {
+  const PhaseFrame& own = frames[k];
+  if (std::isnan(own.phase) || !(own.cadence > 0.0)) return 1.0;
+  const auto known = [&](std::size_t j) {
+    return j < frames.size() && !std::isnan(frames[j].phase);
+  };
+  const std::size_t before = k >= kPaceFrames && known(k - kPaceFrames) ? k - kPaceFrames : k;
+  const std::size_t after = known(k + kPaceFrames) ? k + kPaceFrames : k;
+  if (before == after) return 1.0;
+  const double advance = wrap(frames[after].phase - frames[before].phase);
+  const double rate = advance / (static_cast<double>(after - before) * dt * own.cadence);
+  const double h = own.registered;
+  return h * std::clamp(rate, 0.0, kMaxPace) + (1.0 - h);
+}
+
 void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_t end, double dt,
                      const PhaseOf& phase_of) {
   const std::size_t count = frames.size();
@@ -134,7 +153,7 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
   const std::size_t hi = std::min(count, end + window);
   std::vector<Lead> leads(hi - lo);
   for (std::size_t j = lo; j < hi; ++j) leads[j - lo] = lead_of(frames[j], phase_of);
-  std::vector<double> carried, weight;
+  std::vector<double> carried, weight, unwrapped;
   for (std::size_t k = first; k < end; ++k) {
     const Lead& own = leads[k - lo];
     if (own.sources.empty()) continue;
@@ -163,18 +182,39 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
       total += w;
     }
     if (!(total > 0.0)) continue;
-    const double h = 1.0 - falloff((std::hypot(x, y) / total - kPhaseVague) / kPhaseVague);
-    if (!(h > 0.0)) continue;
     // φ: their mean on the circle, and a line fitted to them about it (weighted least squares
     // in time), at frame k: a path that leads faster or slower than the cadence leads where the
     // window is cut short (at the path's ends) too.
     const double mean = std::atan2(y, x) / (2.0 * kPi);
+    // The r_j about the mean, unwrapped along the window outwards from frame k (or the weighed
+    // frame nearest it): a lead that stays behind or runs ahead of the cadence by more than half a
+    // cycle over the window stays on one line rather than wrapping round at its ends.
+    unwrapped.assign(b - a, 0.0);
+    std::size_t anchor = k;
+    for (std::size_t d = 0; weight[anchor - a] == 0.0; ++d) {
+      if (k + d < b && weight[k + d - a] > 0.0) anchor = k + d;
+      if (k >= a + d && weight[k - d - a] > 0.0) anchor = k - d;
+    }
+    const auto about = [&](std::size_t j) {
+      return wrap(leads[j - lo].phase - carried[j - a] - mean);
+    };
+    unwrapped[anchor - a] = about(anchor);
+    for (std::size_t j = anchor + 1, last = anchor; j < b; ++j) {
+      if (weight[j - a] == 0.0) continue;
+      unwrapped[j - a] = unwrapped[last - a] + wrap(about(j) - about(last));
+      last = j;
+    }
+    for (std::size_t j = anchor, last = anchor; j-- > a;) {
+      if (weight[j - a] == 0.0) continue;
+      unwrapped[j - a] = unwrapped[last - a] + wrap(about(j) - about(last));
+      last = j;
+    }
     double sw = 0.0, st = 0.0, sr = 0.0, stt = 0.0, str = 0.0;
     for (std::size_t j = a; j < b; ++j) {
       const double w = weight[j - a];
       if (w == 0.0) continue;
       const double t = static_cast<double>(j) - static_cast<double>(k);
-      const double r = wrap(leads[j - lo].phase - carried[j - a] - mean);
+      const double r = unwrapped[j - a];
       sw += w;
       st += w * t;
       sr += w * r;
@@ -182,8 +222,26 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
       str += w * t * r;
     }
     const double det = sw * stt - st * st;
-    const double at_k = det > 1e-12 * sw * sw ? (sr * stt - st * str) / det : sr / sw;
+    const bool line = det > 1e-12 * sw * sw;
+    const double at_k = line ? (sr * stt - st * str) / det : sr / sw;
+    const double slope = line ? (sw * str - st * sr) / det : 0.0;
+    // h: how well the window's leads agree about that line (the length of their mean on the
+    // circle, off it).
+    double cx = 0.0, cy = 0.0;
+    for (std::size_t j = a; j < b; ++j) {
+      const double w = weight[j - a];
+      if (w == 0.0) continue;
+      const double t = static_cast<double>(j) - static_cast<double>(k);
+      const double off = unwrapped[j - a] - at_k - slope * t;
+      cx += w * std::cos(2.0 * kPi * off);
+      cy += w * std::sin(2.0 * kPi * off);
+    }
+    const double h = 1.0 - falloff((std::hypot(cx, cy) / sw - kPhaseVague) / kPhaseVague);
+    frames[k].cadence = own.cadence;
+    frames[k].registered = h;
+    if (!(h > 0.0)) continue;
     const double phi = mean + at_k;
+    frames[k].phase = phi;
     // Each source to within kPhaseBand of φ, in its own cycle (sharing with the other one's time
     // nearly half a cycle off), by h; as it was by 1 − h.
     PhaseFrame& f = frames[k];

@@ -99,7 +99,9 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
       start = route.samples.back();
       const ClipRoutePlay play = play_clip_route(blender, next, route.samples, sample_step);
       for (std::size_t k = std::max(p0, a); k <= std::min(p1, e - 1); ++k) {
-        run.weights[k - a] = clip_route_weights(blender, next, play, static_cast<double>(k - p0));
+        const auto t = static_cast<double>(k - p0);
+        run.weights[k - a] = clip_route_weights(blender, next, play, t);
+        run.weights[k - a].pace = clip_route_advance(play, t) * blender.frame_time() / dt;
       }
     }
     // The route's share: 1, rising from 0 over `fade` frames where the run meets the data.
@@ -131,12 +133,14 @@ void OutsideRoutes::apply(std::size_t k, MapWeights& w) const {
     w.validity = validity;
     return;
   }
+  const double pace = share * route.pace + (1.0 - share) * w.pace;
   std::vector<std::pair<int, double>> entries;
   for (std::size_t i = 0; i < route.samples.size(); ++i)
     entries.emplace_back(route.samples[i], share * route.weights[i]);
   for (std::size_t i = 0; i < w.samples.size(); ++i)
     entries.emplace_back(w.samples[i], (1.0 - share) * w.weights[i]);
   w = weights_by_sample(std::move(entries), w.validity);
+  w.pace = pace;
 }
 
 }  // namespace motionmap::synth::detail

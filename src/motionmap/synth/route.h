@@ -266,6 +266,10 @@ ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> ne
 /// alike, and the nearer sample.
 MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
                               const ClipRoutePlay& play, double t);
+/// The clips' frames per step the route plays at time t (its step's advance: 0 where it holds a
+/// frame, 2 where it skips every other). Times the clips' frame time over the played frames', it
+/// is their MapWeights::pace: a held pose stands still, a skipping one strides on.
+double clip_route_advance(const ClipRoutePlay& play, double t);
 
 /// Poses as clip routes compare them: one frame's joint rotations, normalised, the motion
 /// root's heading removed; two poses are (mean over the joints of the squared angle between

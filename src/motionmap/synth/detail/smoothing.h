@@ -49,13 +49,14 @@ MapWeights smoothed(const Weights& raw, long long raw_first, long long k, long l
   std::vector<double> acc(static_cast<std::size_t>(num_samples), 0.0);
   std::vector<char> seen(static_cast<std::size_t>(num_samples), 0);
   std::vector<int> touched;
-  double gsum = 0.0;
+  double gsum = 0.0, pace = 0.0;
   for (long long j = -half; j <= half; ++j) {
     const long long f = k + j;
     if (f < 0 || f >= frames) continue;
     const double g = kernel[static_cast<std::size_t>(j + half)];
     gsum += g;
     const MapWeights& own = raw[static_cast<std::size_t>(f - raw_first)];
+    pace += g * own.pace;
     const MapWeights moved = j == 0 ? MapWeights{} : blender.later_in_clip(own, -j * dt);
     const MapWeights& w = j == 0 ? own : moved;
     for (std::size_t e = 0; e < w.samples.size(); ++e) {
@@ -73,6 +74,7 @@ MapWeights smoothed(const Weights& raw, long long raw_first, long long k, long l
   out.samples = touched;
   out.weights.reserve(touched.size());
   for (int s : touched) out.weights.push_back(acc[s] / gsum);
+  out.pace = pace / gsum;
   return out;
 }
 

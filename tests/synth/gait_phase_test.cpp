@@ -183,9 +183,10 @@ TEST(SynthGaitPhase, LeavesAClipAtItsOwnPaceAndSourcesWithoutAPhase) {
   }
 }
 
-TEST(SynthGaitPhase, APathThatDwellsStandsStill) {
+TEST(SynthGaitPhase, APathThatDwellsBarelyMovesOn) {
   // A path that stays by one sample of a take, then moves on along it at its pace: the legs hold
-  // their phase, and the root does not glide on (pace 0), then walks (pace 1).
+  // their phase, and the root moves on at the share the registration is unsure of (the leads,
+  // carried at the cadence, spread over ±half a cycle: h ≈ 0.86), then walks (pace 1).
   const double dt = 1.0 / 30.0;
   const TwoTakes takes(0.0);
   std::vector<PhaseFrame> frames(120);
@@ -194,7 +195,7 @@ TEST(SynthGaitPhase, APathThatDwellsStandsStill) {
     frames[k].sources = {{0, 3.0 + moving, 1.0}};
   }
   register_phases(frames, 0, frames.size(), dt, takes.phase_of());
-  for (std::size_t k = 0; k < 40; ++k) EXPECT_NEAR(pace(frames, k, dt), 0.0, 1e-9) << k;
+  for (std::size_t k = 0; k < 40; ++k) EXPECT_LT(pace(frames, k, dt), 0.2) << k;
   for (std::size_t k = 80; k < frames.size(); ++k) EXPECT_NEAR(pace(frames, k, dt), 1.0, 1e-9) << k;
   // No frame registered (an empty one, or one whose sources have no phase): pace 1.
   std::vector<PhaseFrame> none(3);

@@ -33,7 +33,9 @@
 //    pace keeps the kriging blend. Then, on a map of walks or runs, every clip time the frame
 //    blends (each sample the kriging weighs, each fitted time) is moved in its clip to one gait
 //    phase, read off the frames ±kPhaseWindowSeconds around it at the clips' cadence, so that a
-//    left stance is never blended with a right one (detail/gait_phase.h).
+//    left stance is never blended with a right one, and the frame's pace (MapWeights::pace) is
+//    how fast that phase advances, so that the root moves on as far as the legs step
+//    (detail/gait_phase.h).
 //  - Idw: Franke–Little inverse-distance weights on the K nearest samples (R = distance of the
 //    (K+1)-th): non-negative, continuous, the robust fallback.
 //  - Gp (a GP-LVM map's default; needs BlendOptions::gplvm): the GP's predictive mean as

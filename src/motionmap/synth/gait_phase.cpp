@@ -153,7 +153,7 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
   const std::size_t hi = std::min(count, end + window);
   std::vector<Lead> leads(hi - lo);
   for (std::size_t j = lo; j < hi; ++j) leads[j - lo] = lead_of(frames[j], phase_of);
-  std::vector<double> carried, weight, unwrapped;
+  std::vector<double> carried, weight;
   for (std::size_t k = first; k < end; ++k) {
     const Lead& own = leads[k - lo];
     if (own.sources.empty()) continue;
@@ -182,39 +182,20 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
       total += w;
     }
     if (!(total > 0.0)) continue;
+    const double h = 1.0 - falloff((std::hypot(x, y) / total - kPhaseVague) / kPhaseVague);
+    frames[k].cadence = own.cadence;
+    frames[k].registered = h;
+    if (!(h > 0.0)) continue;
     // φ: their mean on the circle, and a line fitted to them about it (weighted least squares
     // in time), at frame k: a path that leads faster or slower than the cadence leads where the
     // window is cut short (at the path's ends) too.
     const double mean = std::atan2(y, x) / (2.0 * kPi);
-    // The r_j about the mean, unwrapped along the window outwards from frame k (or the weighed
-    // frame nearest it): a lead that stays behind or runs ahead of the cadence by more than half a
-    // cycle over the window stays on one line rather than wrapping round at its ends.
-    unwrapped.assign(b - a, 0.0);
-    std::size_t anchor = k;
-    for (std::size_t d = 0; weight[anchor - a] == 0.0; ++d) {
-      if (k + d < b && weight[k + d - a] > 0.0) anchor = k + d;
-      if (k >= a + d && weight[k - d - a] > 0.0) anchor = k - d;
-    }
-    const auto about = [&](std::size_t j) {
-      return wrap(leads[j - lo].phase - carried[j - a] - mean);
-    };
-    unwrapped[anchor - a] = about(anchor);
-    for (std::size_t j = anchor + 1, last = anchor; j < b; ++j) {
-      if (weight[j - a] == 0.0) continue;
-      unwrapped[j - a] = unwrapped[last - a] + wrap(about(j) - about(last));
-      last = j;
-    }
-    for (std::size_t j = anchor, last = anchor; j-- > a;) {
-      if (weight[j - a] == 0.0) continue;
-      unwrapped[j - a] = unwrapped[last - a] + wrap(about(j) - about(last));
-      last = j;
-    }
     double sw = 0.0, st = 0.0, sr = 0.0, stt = 0.0, str = 0.0;
     for (std::size_t j = a; j < b; ++j) {
       const double w = weight[j - a];
       if (w == 0.0) continue;
       const double t = static_cast<double>(j) - static_cast<double>(k);
-      const double r = unwrapped[j - a];
+      const double r = wrap(leads[j - lo].phase - carried[j - a] - mean);
       sw += w;
       st += w * t;
       sr += w * r;
@@ -222,24 +203,7 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
       str += w * t * r;
     }
     const double det = sw * stt - st * st;
-    const bool line = det > 1e-12 * sw * sw;
-    const double at_k = line ? (sr * stt - st * str) / det : sr / sw;
-    const double slope = line ? (sw * str - st * sr) / det : 0.0;
-    // h: how well the window's leads agree about that line (the length of their mean on the
-    // circle, off it).
-    double cx = 0.0, cy = 0.0;
-    for (std::size_t j = a; j < b; ++j) {
-      const double w = weight[j - a];
-      if (w == 0.0) continue;
-      const double t = static_cast<double>(j) - static_cast<double>(k);
-      const double off = unwrapped[j - a] - at_k - slope * t;
-      cx += w * std::cos(2.0 * kPi * off);
-      cy += w * std::sin(2.0 * kPi * off);
-    }
-    const double h = 1.0 - falloff((std::hypot(cx, cy) / sw - kPhaseVague) / kPhaseVague);
-    frames[k].cadence = own.cadence;
-    frames[k].registered = h;
-    if (!(h > 0.0)) continue;
+    const double at_k = det > 1e-12 * sw * sw ? (sr * stt - st * str) / det : sr / sw;
     const double phi = mean + at_k;
     frames[k].phase = phi;
     // Each source to within kPhaseBand of φ, in its own cycle (sharing with the other one's time

@@ -19,23 +19,25 @@
 //    clearly they agree c_j (that mean's length, 0–1) and a cadence ω_j (its sources' phase
 //    rates, by |weight|: cycles per second).
 //  - φ_k: the frames j within kPhaseWindowSeconds of k give r_j = ψ_j − ∫_k^j ω, weighted by c_j
-//    and a triangle falling to 0 at the window's ends; taken about their mean on the circle and
-//    unwrapped along the window from frame k outwards, a line is fitted to them (weighted least
-//    squares in time) and read at k. A path along one clip at any steady pace gives its own phase
-//    back, at the path's ends too, where the window is cut short; one that dwells by a sample
-//    holds its phase.
+//    and a triangle falling to 0 at the window's ends; their mean on the circle, then a line
+//    fitted to them about it (weighted least squares in time), read at k. Within the window the
+//    phase advances at the clips' own cadence, over longer spans it follows where the path leads.
+//    A path along one clip at any steady pace gives its own phase back, at the path's ends too,
+//    where the window is cut short.
 //  - Each source with a phase is moved, in its own cycle, to within kPhaseBand of φ_k (the time of
 //    that phase, kept inside its run). One nearly half a cycle off shares its weight with the
 //    other cycle's time, half and half at half a cycle, where the nearest flips.
 //  - The frame's blend is the moved sources' by h and the sources as they were by 1 − h, h
-//    rising from 0 to 1 as the r_j's agreement with the line (the length of their mean on the
-//    circle off it, by those weights) grows from kPhaseVague to twice that: where the window's
-//    leads scatter, nothing is moved.
+//    rising from 0 to 1 as the mean that gave φ_k (its length, by those weights) grows from
+//    kPhaseVague to twice that: where the window's leads cancel out, nothing is moved. (Measured
+//    about the fitted line instead, h registered frames whose leads stall, and legs held
+//    mid-swing for up to a second between two walks or two runs: the leads are no sure guide
+//    to the phase where they do not move at the cadence.)
 //  - The blend's root moves on at the pace its legs play the gait at (pace(): how fast φ advances
 //    against the cadence), so a step carries it as far as the clips' steps carry theirs. (The
 //    root's velocity is the samples' own: where the path dwelt, legs held at one phase glided on
 //    with it. Halfway between the proud and the angry walk the feet slid 141 cm/s in contact,
-//    98 cleaned, against the capture's 44; at the legs' pace 79 and 64.)
+//    98 cleaned, against the capture's 44; at the legs' pace 75 and 54.)
 // Sources without a phase keep their times and weights. A frame's registration reads the frames
 // within kPhaseWindowSeconds of it (phase_window()); its pace those of its neighbours too
 // (pace_window()).

@@ -112,13 +112,14 @@ int phase_window(double dt);
 /// no φ), in [0, kMaxPace], mixed towards 1 as the registration's h falls to 0; 1 where the
 /// frame has no φ. The blend's root moves that much slower or faster (MapWeights::pace), so that
 /// its legs, playing the gait at φ, carry it a step as long as the clips' (a path that dwells
-/// where a gait's samples sit stands still rather than gliding on with its legs held).
+/// where a gait's samples sit barely moves on, rather than gliding with its legs held).
 double pace(std::span<const PhaseFrame> frames, std::size_t k, double dt);
+/// pace()'s d: the frames either side whose phases it differences.
 inline constexpr std::size_t kPaceFrames = 1;
-/// The frames either side of a frame pace() reads, the registrations of its neighbours included.
-int pace_window(double dt);
 /// The fastest pace (the fitted clip times play at most kFollowMaxRate = 2).
 inline constexpr double kMaxPace = 2.0;
+/// The frames either side of a frame pace() reads, the registrations of its neighbours included.
+int pace_window(double dt);
 
 /// Registers frames [first, end) of `frames` (consecutive path frames dt apart; those around them,
 /// up to phase_window(dt) either side where the path has them, are read only) as the top of the

@@ -262,9 +262,9 @@ ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> ne
 }
 
 MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
-                              const ClipRoutePlay& play, double t) {
+                              const ClipRoutePlay& play, double t, double steps_per_second) {
   int a = play.samples.front(), b = a;
-  double f = 0.0;
+  double f = 0.0, pace = 1.0;
   if (play.samples.size() > 1) {
     const double steps = static_cast<double>(play.samples.size()) - 1.0;
     const double i = std::clamp(std::floor(t), 0.0, steps - 1.0);
@@ -272,6 +272,7 @@ MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> ne
     f = std::clamp(t - i, 0.0, 1.0);
     a = play.samples[step];
     b = play.samples[step + 1];
+    pace = play.advance[step] * blender.frame_time() * steps_per_second;
     if (play.jumps[step]) {
       f = f < 0.5 ? 0.0 : 1.0;
     } else {
@@ -291,6 +292,7 @@ MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> ne
   const Eigen::Vector2d point = (1.0 - f) * blender.sample_point(a) + f * blender.sample_point(b);
   const int nearest = f < 0.5 ? a : b;
   MapWeights out;
+  out.pace = pace;
   if (a == b || f <= 0.0 || f >= 1.0) {
     out.samples = {nearest};
     out.weights = {1.0};
@@ -308,12 +310,6 @@ MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> ne
   v.nearest_sample = nearest;
   v.distance = (point - blender.sample_point(nearest)).norm();
   return out;
-}
-
-double clip_route_advance(const ClipRoutePlay& play, double t) {
-  if (play.advance.empty()) return 1.0;
-  const double last = static_cast<double>(play.advance.size()) - 1.0;
-  return play.advance[static_cast<std::size_t>(std::clamp(std::floor(t), 0.0, last))];
 }
 
 PoseRotations pose_rotations(const MapBlender& blender, const Motion& pose) {

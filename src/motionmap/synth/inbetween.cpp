@@ -370,10 +370,9 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       if (w.play.samples.empty() || key_point) {
         frame_weights[ks] = blender.locate(result.points[ks]);
       } else {
-        frame_weights[ks] = clip_route_weights(blender, next, w.play, t);
-        // Steps per frame: the route's steps over the segment's frames.
-        frame_weights[ks].pace =
-            clip_route_advance(w.play, t) * w.times.back() / static_cast<double>(b - a);
+        // The route's steps over the segment's frames.
+        frame_weights[ks] = clip_route_weights(blender, next, w.play, t,
+                                               w.times.back() / (static_cast<double>(b - a) * dt));
         result.points[ks] = frame_weights[ks].validity.point;
       }
     }

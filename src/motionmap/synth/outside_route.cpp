@@ -99,9 +99,8 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
       start = route.samples.back();
       const ClipRoutePlay play = play_clip_route(blender, next, route.samples, sample_step);
       for (std::size_t k = std::max(p0, a); k <= std::min(p1, e - 1); ++k) {
-        const auto t = static_cast<double>(k - p0);
-        run.weights[k - a] = clip_route_weights(blender, next, play, t);
-        run.weights[k - a].pace = clip_route_advance(play, t) * blender.frame_time() / dt;
+        run.weights[k - a] =
+            clip_route_weights(blender, next, play, static_cast<double>(k - p0), 1.0 / dt);
       }
     }
     // The route's share: 1, rising from 0 over `fade` frames where the run meets the data.

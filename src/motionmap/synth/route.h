@@ -263,13 +263,12 @@ ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> ne
 /// two samples of the run around its clip frame at the run's pace (weights 1 − f and f: the
 /// clip's own frames in between); across a jump the nearer of its two samples (a blend at a map
 /// point between them would mix nearby samples of other clips). Validity: their point, weighted
-/// alike, and the nearer sample.
+/// alike, and the nearer sample. Pace (MapWeights::pace), the route played at `steps_per_second`:
+/// the clips' frames its step advances (0 where it holds a frame, 2 where it skips every other)
+/// times their frame time, per second played — a held pose stands still, a skipping one strides
+/// on; 1 for a route of one sample.
 MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
-                              const ClipRoutePlay& play, double t);
-/// The clips' frames per step the route plays at time t (its step's advance: 0 where it holds a
-/// frame, 2 where it skips every other). Times the clips' frame time over the played frames', it
-/// is their MapWeights::pace: a held pose stands still, a skipping one strides on.
-double clip_route_advance(const ClipRoutePlay& play, double t);
+                              const ClipRoutePlay& play, double t, double steps_per_second);
 
 /// Poses as clip routes compare them: one frame's joint rotations, normalised, the motion
 /// root's heading removed; two poses are (mean over the joints of the squared angle between

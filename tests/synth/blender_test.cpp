@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -914,6 +915,20 @@ TEST(SynthBlender, RejectsBadQueriesAndWeights) {
     FAIL() << "no error";
   } catch (const ParameterError& e) {
     EXPECT_STREQ(e.what(), "blend: the weights sum to 0, not about 1");
+  }
+  // The pace scales the root's velocity and yaw rate; a negative or non-finite one is an error.
+  w.weights = {0.5, 0.5};
+  const BlendedFrame at_pace = blender.blend(w);
+  w.pace = 0.5;
+  const BlendedFrame at_half = blender.blend(w);
+  EXPECT_LT((at_half.velocity - 0.5 * at_pace.velocity).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(at_half.yaw_rate, 0.5 * at_pace.yaw_rate);
+  for (const double bad : {-0.5, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    w.pace = bad;
+    const std::string message =
+        motionmap::test::error_message<ParameterError>([&] { blender.blend(w); });
+    EXPECT_EQ(message.rfind("blend: pace ", 0), 0u) << message;
+    EXPECT_NE(message.find(" is not a finite number ≥ 0"), std::string::npos) << message;
   }
   EXPECT_THROW(blender.sample_point(20), ParameterError);
   // A sample's clip frame and successor: every sample of the one clip, the last has none.

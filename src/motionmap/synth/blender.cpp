@@ -286,13 +286,6 @@ struct Follow {
   std::vector<FollowFit> fits;
 };
 
-// A frame of a path located: where it was evaluated, and its blend (the clip times followed and
-// the kriging's samples) as sources, for the registration of gait phases (detail/gait_phase.h).
-struct PathFrame {
-  PointValidity validity;
-  detail::PhaseFrame sources;
-};
-
 }  // namespace
 
 struct MapBlender::Impl {
@@ -356,8 +349,10 @@ struct MapBlender::Impl {
   // locate_path()'s clips (blender.h): the clip times whose trajectory the path `points` (one
   // every dt seconds) follows around frame k, and their share of the blend there.
   Follow follow_clips(std::span<const Eigen::Vector2d> points, std::size_t k, double dt) const;
-  // Frame k of a path located (local mode), not registered.
-  PathFrame path_frame(std::span<const Eigen::Vector2d> points, std::size_t k, double dt) const;
+  // Frame k of a path located (local mode): where it was evaluated, and its blend (the clip times
+  // followed and the kriging's samples) as `sources`, not registered (detail/gait_phase.h).
+  PointValidity path_frame(std::span<const Eigen::Vector2d> points, std::size_t k, double dt,
+                           detail::PhaseFrame& sources) const;
   // locate_path() in the local mode: frames [first, end) of a path located, their gait phases
   // registered (detail/gait_phase.h).
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, std::size_t first,
@@ -770,14 +765,12 @@ std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d>
   return m->locate_path(points, first, end, frame_time);
 }
 
-PathFrame MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, std::size_t k,
-                                       double dt) const {
-  PathFrame f;
+PointValidity MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, std::size_t k,
+                                           double dt, detail::PhaseFrame& frame) const {
   const MapWeights kriged = weights(validate(points[k]));
-  f.validity = kriged.validity;
   const Follow follow = follow_clips(points, k, dt);
   // The clip times followed at their share, the kriging's samples at the rest.
-  auto& sources = f.sources.sources;
+  auto& sources = frame.sources;
   for (const FollowFit& fit : follow.fits)
     sources.push_back({fit.run, fit.seconds, follow.share * fit.share});
   if (follow.share < 1.0) {
@@ -787,7 +780,7 @@ PathFrame MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, 
                          (1.0 - follow.share) * kriged.weights[e], s});
     }
   }
-  return f;
+  return kriged.validity;
 }
 
 std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vector2d> points,
@@ -797,12 +790,12 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
   const auto window = static_cast<std::size_t>(gait ? detail::pace_window(dt) : 0);
   const std::size_t a = first > window ? first - window : 0;
   const std::size_t b = std::min(points.size(), end + window);
-  std::vector<PathFrame> frames(b - a);
+  std::vector<PointValidity> validity(b - a);
+  std::vector<detail::PhaseFrame> sources(b - a);
   parallel_for(static_cast<int>(b - a), [&](int i) {
-    frames[static_cast<std::size_t>(i)] = path_frame(points, a + static_cast<std::size_t>(i), dt);
+    const auto f = static_cast<std::size_t>(i);
+    validity[f] = path_frame(points, a + f, dt, sources[f]);
   });
-  std::vector<detail::PhaseFrame> sources(frames.size());
-  for (std::size_t k = 0; k < frames.size(); ++k) sources[k] = std::move(frames[k].sources);
   if (gait) {
     // The frames either side the pace reads too, where the path has them.
     const std::size_t more = detail::kPaceFrames;
@@ -824,7 +817,7 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
       const int count = index->later_in_clip(src.run, src.seconds, samples, weights);
       for (int e = 0; e < count; ++e) added.emplace_back(samples[e], src.weight * weights[e]);
     }
-    out[k - first] = detail::weights_by_sample(std::move(added), frames[k - a].validity);
+    out[k - first] = detail::weights_by_sample(std::move(added), validity[k - a]);
     if (gait) out[k - first].pace = detail::pace(sources, k - a, dt);
   }
   return out;
@@ -1039,6 +1032,8 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   }
   if (!(std::abs(total) > 1e-12))
     throw ParameterError("blend: the weights sum to " + format_number(total) + ", not about 1");
+  if (!(w.pace >= 0.0 && std::isfinite(w.pace)))
+    throw ParameterError("blend: pace " + format_number(w.pace) + " is not a finite number ≥ 0");
 
   const auto J = static_cast<std::size_t>(s.joints);
   const std::size_t count = w.samples.size();

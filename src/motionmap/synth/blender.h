@@ -338,8 +338,10 @@ class MapBlender {
   MapWeights later_in_clip(const MapWeights& weights, double seconds) const;
 
   /// The blend of the samples with `weights` (as from locate(), or smoothed: any sparse weights
-  /// over valid sample indices, summing to about 1).
-  /// @throws ParameterError if sizes differ or a sample index is out of range.
+  /// over valid sample indices, summing to about 1), its root velocity and yaw rate times
+  /// weights.pace.
+  /// @throws ParameterError if sizes differ, a sample index is out of range, a weight is not
+  ///         finite, the weights sum to about 0, or the pace is negative or not finite.
   BlendedFrame blend(const MapWeights& weights) const;
 
   /// Per foot (left, right): the share of `weights` on samples whose foot is on the floor in

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -41,13 +42,32 @@ double max_jump(const Skeleton& s, const Motion& m) {
   double worst = 0.0;
   for (std::size_t f = 1; f < w.size(); ++f) {
     for (int j = 0; j < s.num_joints(); ++j) {
-      const double step = (w[f].positions[j] - w[f - 1].positions[j]).norm();
-      if (step > worst && std::getenv("MM_DEBUG_JUMP"))
-        std::fprintf(stderr, "JUMP %zu joint %d %.1f\n", f, j, step);
-      worst = std::max(worst, step);
+      worst = std::max(worst, (w[f].positions[j] - w[f - 1].positions[j]).norm());
     }
   }
   return worst;
+}
+
+// The longest a foot stays off the floor, in seconds: the longest run of frames in which an ankle
+// is higher than the skating measure's contact line (kSkatingContactHeightM above the lowest
+// point that ankle reaches in the motion). The skating measure is blind to a foot held up — a leg
+// held mid-swing for a second scores better than one that slides — so sketches are held to this
+// too.
+double longest_raised(const Skeleton& s, const Motion& m, const Feet& feet,
+                      const LengthUnits& units) {
+  const double line = kSkatingContactHeightM / units.metres_per_unit;
+  int longest = 0;
+  for (const Leg& leg : feet.legs) {
+    const std::vector<Vector3d> ankle = joint_trajectory(s, m, leg.ankle);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Vector3d& p : ankle) lowest = std::min(lowest, p.y());
+    int run = 0;
+    for (const Vector3d& p : ankle) {
+      run = p.y() > lowest + line ? run + 1 : 0;
+      longest = std::max(longest, run);
+    }
+  }
+  return longest * m.frame_time;
 }
 
 // Largest change of any joint's position between two consecutive frames of `b` beyond the same
@@ -775,15 +795,28 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       const Skating sc = measure_skating(skeleton, cleaned.motion, feet, units);
       const std::array<FootContacts, 2> contacts{cleaned.contacts[0], cleaned.contacts[1]};
       const double rms = rms_outside_contacts(skeleton, raw.motion, cleaned.motion, contacts);
+      const double raised = longest_raised(skeleton, cleaned.motion, feet, units);
+      const double raised_captured =
+          std::max(longest_raised(skeleton, clips[0].motion, feet, units),
+                   longest_raised(skeleton, clips[1].motion, feet, units));
+      const int stalled = static_cast<int>(std::count(raw.stalled.begin(), raw.stalled.end(), 1));
       std::printf(
-          "[ figures  ] %s towards %s, %.0f %% of the way (%d frames, %d outside): raw skating "
-          "%.3f, %.1f cm/s; cleaned %.3f, %.1f cm/s (captured %.3f, %.1f cm/s); outside "
+          "[ figures  ] %s towards %s, %.0f %% of the way (%d frames, %d outside, %d stalled): raw "
+          "skating %.3f, %.1f cm/s; cleaned %.3f, %.1f cm/s (captured %.3f, %.1f cm/s); outside "
           "contacts %.2f° RMS; largest step of a joint %.3g cm raw, %.3g cleaned (captured "
-          "%.3g)\n",
+          "%.3g); a foot off the floor for %.2f s at most (the captures %.2f)\n",
           name(fa).c_str(), name(fb).c_str(), 100.0 * share, raw.motion.num_frames,
-          raw.clamped_frames, sr.ratio, sr.contact_speed_cm_s, sc.ratio, sc.contact_speed_cm_s,
-          capture.ratio, capture.contact_speed_cm_s, rms, max_jump(skeleton, raw.motion),
-          max_jump(skeleton, cleaned.motion), max_jump(skeleton, clips[0].motion));
+          raw.clamped_frames, stalled, sr.ratio, sr.contact_speed_cm_s, sc.ratio,
+          sc.contact_speed_cm_s, capture.ratio, capture.contact_speed_cm_s, rms,
+          max_jump(skeleton, raw.motion), max_jump(skeleton, cleaned.motion),
+          max_jump(skeleton, clips[0].motion), raised, raised_captured);
+      // No foot held off the floor much longer than the captures lift one (within half a second,
+      // a stride: measured +0.40 s at most, the proud walk halfway to the angry one). The
+      // skating measure alone rewarded it: the tired walk drawn 30 % of the way to the old one
+      // held its left foot up for 2.97 s, its legs stalled mid-stride while the path moved on,
+      // and slid in contact only 50.5 cm/s (the capture 57.9); routed where the gait stalls
+      // (detail/outside_route.h), 0.50 s and 59.9 cm/s.
+      EXPECT_LE(raised, raised_captured + 0.5);
       // Cleaning never adds skating (within a transition: the measure's 0.5 m/s line crossed at
       // one heel strike more), nor speed in contact (within 1 cm/s; 5 for a run, whose stance,
       // 6–7 frames at 30 fps, is shorter than the clean-up's fades in and out, 0.15 s each, so
@@ -796,8 +829,9 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       // Their gait phases registered and the root moving on at the pace the legs play the gait
       // at, the sketches up to 30 % of the way: the walks, cleaned, skate no more than the first
       // take as captured (within a transition: the normal walk at 30 %, 0.412 against 0.407) and
-      // slide their feet no faster in contact (within 1 cm/s: the tired walk at 15 %, 58.7 cm/s
-      // against 57.9); the runs slide at most 1.5 times as fast as the first run raw, 1.4 times
+      // slide their feet no faster in contact (within 5 %: the tired walk at 30 %, 59.9 cm/s
+      // against 57.9, now that its feet come down); the runs slide at most 1.5 times as fast as
+      // the first run raw, 1.4 times
       // cleaned (measured 1.42× and 1.35×, the angry run at 30 %: 167 and 159 cm/s against 118;
       // 1.6× raw before the root moved at the legs' pace, 2.6× before the phases were
       // registered: 311 cm/s at 30 % from the angry run to the old one).
@@ -807,7 +841,7 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
           EXPECT_LE(sc.contact_speed_cm_s, 1.4 * capture.contact_speed_cm_s);
         } else {
           EXPECT_LE(sc.ratio, capture.ratio + transition + 1e-12);
-          EXPECT_LE(sc.contact_speed_cm_s, capture.contact_speed_cm_s + 1.0);
+          EXPECT_LE(sc.contact_speed_cm_s, 1.05 * capture.contact_speed_cm_s);
         }
       }
       // Wholly outside the data: the clips' own frames, cleaned within the angle bound.
@@ -819,7 +853,7 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       over += rms > 1.0 ? 1 : 0;
     }
   }
-  // Measured 0.42° RMS on average, 4 of the 42 sketches over 1° (at most 1.50°: sketches where
+  // Measured 0.40° RMS on average, 4 of the 42 sketches over 1° (at most 1.56°: sketches where
   // the two takes' curves cross, between them, near samples of both; docs/synthesis.md).
   std::printf("[ figures  ] %d sketches: outside contacts %.2f° RMS on average, %d over 1°\n",
               sketches, sum / sketches, over);

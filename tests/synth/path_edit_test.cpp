@@ -2,6 +2,7 @@
 // the motion re-made only where that changes it. Figures are printed for docs/synthesis.md.
 #include "motionmap/synth/path_edit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -334,6 +335,81 @@ TEST(SynthPathEdit, AnEditOutsideTheDataRemakesItsWholeRun) {
   }
 }
 
+TEST(SynthPathEdit, AnEditWhereTheGaitStallsRemakesItsRoute) {
+  // The tired walk drawn 30 % of the way to the old one: beside both takes' curves, where the
+  // blend's legs stall while the path moves on (detail::stalled_frames), the clips' own frames
+  // play. Moving a point there re-makes the route around it whole, and the stalls are the ones a
+  // full synthesis finds.
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_tired_001.bvh");
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_old_001.bvh");
+  const Library lib =
+      library({"bandai/dataset-1_walk_tired_001.bvh", "bandai/dataset-1_walk_old_001.bvh"});
+  const MapBlender blender(lib.clips, lib.set, lib.map);
+  MapPath path = sketch(lib, 0, 10);
+  const MapPath other = sketch(lib, 1, 1);
+  const auto toward_other = [&](std::size_t i, double share) -> Eigen::Vector2d {
+    const double at = path.times[i] / path.times.back();
+    const auto o =
+        static_cast<std::size_t>(std::lround(at * static_cast<double>(other.points.size() - 1)));
+    return share * (other.points[o] - path.points[i]);
+  };
+  for (std::size_t i = 0; i < path.points.size(); ++i) path.points[i] += toward_other(i, 0.3);
+  const SynthResult before = synthesize(blender, path);
+  ASSERT_EQ(before.stalled.size(), static_cast<std::size_t>(before.motion.num_frames));
+  // The stalled frame nearest the middle of the motion.
+  const int F = before.motion.num_frames;
+  int stall = -1;
+  for (int f = 0; f < F; ++f) {
+    if (before.stalled[static_cast<std::size_t>(f)] &&
+        std::abs(f - F / 2) < std::abs(stall - F / 2))
+      stall = f;
+  }
+  ASSERT_GE(stall, 0) << "no stall to edit";
+  EXPECT_NE(before.notes.front().find("held its legs mid-stride"), std::string::npos);
+  // The control point nearest it, moved a little further towards the old walk.
+  std::size_t moved = 1;
+  for (std::size_t i = 1; i + 1 < path.points.size(); ++i) {
+    if (std::abs(path.times[i] - stall * before.motion.frame_time) <
+        std::abs(path.times[moved] - stall * before.motion.frame_time))
+      moved = i;
+  }
+  MapPath edited = path;
+  edited.points[moved] += toward_other(moved, 0.05);
+  const PathEditResult edit = edit_path(blender, before, edited);
+  const SynthResult full = synthesize(blender, edited);
+  EXPECT_EQ(edit.result.stalled, full.stalled);
+  EXPECT_LE(edit.blend_first, stall);
+  EXPECT_GT(edit.first, 0);
+  EXPECT_LT(edit.end, F);
+  const Motion& m = edit.result.motion;
+  const std::size_t J = static_cast<std::size_t>(m.num_joints);
+  for (int f = 0; f < m.num_frames; ++f) {
+    if (f >= edit.first && f < edit.end) continue;
+    const std::size_t at = static_cast<std::size_t>(f) * J;
+    ASSERT_EQ(
+        std::memcmp(&m.rotations[at], &before.motion.rotations[at], J * sizeof(Eigen::Quaterniond)),
+        0)
+        << "frame " << f;
+  }
+  // The window's blend is the full synthesis' (off the legs and the root).
+  const Feet feet = find_feet(blender.skeleton());
+  std::vector<char> leg(J, 0);
+  for (const Leg& l : feet.legs)
+    for (int j : {l.hip, l.knee, l.ankle}) leg[static_cast<std::size_t>(j)] = 1;
+  for (int f = edit.blend_first; f < edit.blend_end; ++f) {
+    for (int j = 0; j < m.num_joints; ++j) {
+      if (j == blender.motion_root() || leg[static_cast<std::size_t>(j)]) continue;
+      EXPECT_LT(rotation_angle(m.rotation(f, j), full.motion.rotation(f, j)), 1e-9)
+          << "frame " << f << ", joint " << j;
+    }
+  }
+  std::printf(
+      "[ figures  ] tired walk 30 %% of the way to the old one: %d stalled frames; point "
+      "%zu moved: window %d–%d (blend %d–%d) of %d frames\n",
+      static_cast<int>(std::count(before.stalled.begin(), before.stalled.end(), 1)), moved,
+      edit.first, edit.end, edit.blend_first, edit.blend_end, m.num_frames);
+}
+
 TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {
   MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_angry_001.bvh");
   const Library lib = library({"bandai/dataset-1_walk_angry_001.bvh"});
@@ -376,6 +452,9 @@ TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {
   // A result not made by synthesize() on this blender is refused.
   SynthResult foreign = before;
   foreign.headings.clear();
+  EXPECT_THROW(edit_path(blender, foreign, longer), ParameterError);
+  foreign = before;
+  foreign.stalled.pop_back();
   EXPECT_THROW(edit_path(blender, foreign, longer), ParameterError);
   PathEditOptions bad;
   bad.margin_seconds = -1;

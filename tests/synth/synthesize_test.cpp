@@ -277,6 +277,65 @@ TEST(SynthSynthesize, APathOutsideTheDataPlaysTheClipsOwnFrames) {
   EXPECT_EQ(synthesize(kriging, path, raw).clamped_frames, r.motion.num_frames);
 }
 
+TEST(SynthSynthesize, AGaitStallsWhereItsPaceDropsAsThePathMovesOnAwayFromTheClips) {
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender blender = make_blender(clip, map);
+  const double dt = clip.motion.frame_time;
+  // A path moving on at the clips' median map speed, and its frames' located weights: a pace and
+  // a distance from the nearest sample each.
+  const double step = blender.median_speed() * dt;
+  std::vector<Eigen::Vector2d> points;
+  for (int k = 0; k < 8; ++k) points.emplace_back(map(0, 0) + k * step, map(0, 1));
+  const double far = 2.0 * kFollowNear * blender.median_step();
+  const double near = 0.5 * kFollowNear * blender.median_step();
+  std::vector<MapWeights> located(points.size(), MapWeights{{0}, {1.0}, {}});
+  const auto frame = [&](std::size_t k, double pace, double distance) {
+    located[k].pace = pace;
+    located[k].validity.distance = distance;
+  };
+  frame(0, 1.0, far);   // the legs at their pace
+  frame(1, 0.3, far);   // stalled: slow legs, away from the clips, the path moving on
+  frame(2, 0.3, near);  // slow legs on a clip's trajectory: the path plays it slowly
+  frame(3, 0.49, far);  // stalled
+  frame(4, 0.5, far);   // at the line: not
+  frame(5, 0.0, far);   // stalled
+  frame(6, 0.3, far);   // stalled (the path still moves on into frame 7)
+  frame(7, 0.3, far);
+  EXPECT_EQ(detail::stalled_frames(blender, points, dt, located),
+            (std::vector<char>{0, 1, 0, 1, 0, 1, 1, 1}));
+  // Frames 4… of the path alone give the same.
+  EXPECT_EQ(detail::stalled_frames(blender, points, dt, std::span(located).subspan(4), 4),
+            (std::vector<char>{0, 1, 1, 1}));
+  // A path that dwells holds the pose: no stall.
+  const std::vector<Eigen::Vector2d> still(points.size(), points[0]);
+  EXPECT_EQ(detail::stalled_frames(blender, still, dt, located), std::vector<char>(8, 0));
+  // Nor but in the local mode.
+  EXPECT_EQ(detail::stalled_frames(make_blender(clip, map, BlendMode::Idw), points, dt, located),
+            std::vector<char>(8, 0));
+  EXPECT_EQ(detail::stall_spread(1.0 / 30.0), 15);
+  EXPECT_EQ(detail::stalled_note(std::vector<char>(3, 0)), "");
+  EXPECT_EQ(detail::stalled_note(std::vector<char>{0, 1, 1}),
+            "gait: at 2 frames the blend held its legs mid-stride while the path moved on; the "
+            "clips' own frames play there and within 500 ms of them");
+
+  // On the clip's own curve nothing is outside; the frames within `spread` of a stall are routed.
+  std::vector<Eigen::Vector2d> on_curve;
+  for (int f = 0; f < 20; ++f) on_curve.emplace_back(map(f, 0), map(f, 1));
+  using Runs = std::vector<std::pair<std::size_t, std::size_t>>;
+  std::vector<char> stalled(on_curve.size(), 0);
+  EXPECT_EQ(detail::outside_runs(blender, on_curve, stalled, 3), Runs{});
+  stalled[8] = 1;
+  EXPECT_EQ(detail::outside_runs(blender, on_curve, stalled, 3), (Runs{{5, 12}}));
+  stalled[13] = 1;  // within reach of the first: one run
+  EXPECT_EQ(detail::outside_runs(blender, on_curve, stalled, 3), (Runs{{5, 17}}));
+  stalled[1] = 1;  // its run starts at the path's start
+  EXPECT_EQ(detail::outside_runs(blender, on_curve, stalled, 3), (Runs{{0, 17}}));
+  // Not but in the local mode.
+  EXPECT_EQ(detail::outside_runs(make_blender(clip, map, BlendMode::Idw), on_curve, stalled, 3),
+            Runs{});
+}
+
 TEST(SynthSynthesize, RunsToRouteAreOutsideOrBeyondHalfTheReach) {
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);

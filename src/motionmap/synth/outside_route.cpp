@@ -9,15 +9,57 @@
 
 namespace motionmap::synth::detail {
 
-OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points) {
+std::vector<char> stalled_frames(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
+                                 double dt, std::span<const MapWeights> located,
+                                 std::size_t first) {
+  std::vector<char> stalled(located.size(), 0);
+  if (blender.options().mode != BlendMode::Local || points.size() < 2) return stalled;
+  const double moving = kStallPathSpeed * blender.median_speed();
+  const double followed = kFollowNear * blender.median_step();
+  for (std::size_t i = 0; i < located.size(); ++i) {
+    // (A path along a clip's trajectory plays that clip at its own pace, slow or fast.)
+    if (!(located[i].pace < kStallPace) || located[i].validity.distance <= followed) continue;
+    const std::size_t k = first + i;
+    const std::size_t a = k > 0 ? k - 1 : k, b = std::min(points.size() - 1, k + 1);
+    const double speed = (points[b] - points[a]).norm() / (static_cast<double>(b - a) * dt);
+    stalled[i] = speed >= moving ? 1 : 0;
+  }
+  return stalled;
+}
+
+int stall_spread(double dt) {
+  return static_cast<int>(std::lround(kStallSeconds / dt));
+}
+
+std::string stalled_note(std::span<const char> stalled) {
+  const auto count = std::count(stalled.begin(), stalled.end(), 1);
+  if (count == 0) return {};
+  return "gait: at " + std::to_string(count) +
+         " frames the blend held its legs mid-stride while the path moved on; the clips' own "
+         "frames play there and within " +
+         std::to_string(static_cast<int>(std::lround(kStallSeconds * 1000))) + " ms of them";
+}
+
+OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
+                         std::span<const char> stalled, int spread) {
   OutsideRuns runs;
   // (A map whose samples never move has no reach: no routes, every point its edge.)
   if (blender.options().mode != BlendMode::Local || !(blender.reach_distance() > 0.0)) return runs;
-  // Frames routed: outside, or farther from every sample than half the reach and than a clip is
-  // played wholly.
+  // Frames within `spread` of a stalled one.
+  std::vector<char> near_stall(points.size(), 0);
+  for (std::size_t k = 0; k < std::min(points.size(), stalled.size()); ++k) {
+    if (!stalled[k]) continue;
+    const std::size_t a = k > static_cast<std::size_t>(spread) ? k - spread : 0;
+    const std::size_t b = std::min(points.size(), k + 1 + static_cast<std::size_t>(spread));
+    std::fill(near_stall.begin() + static_cast<std::ptrdiff_t>(a),
+              near_stall.begin() + static_cast<std::ptrdiff_t>(b), 1);
+  }
+  // Frames routed: near a stall, outside, or farther from every sample than half the reach and
+  // than a clip is played wholly.
   const double line =
       std::max(kFollowNear * blender.median_step(), kRouteReachFraction * blender.reach_distance());
   const auto routed = [&](std::size_t k) {
+    if (near_stall[k]) return true;
     const PointValidity v = blender.validity(points[k]);
     return v.clamped || v.distance > line;
   };
@@ -45,7 +87,8 @@ int routed_outside(const OutsideRuns& runs, std::span<const PointValidity> valid
 
 OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
                              double dt, const OutsideRuns& runs, std::size_t first, std::size_t end,
-                             const Control& control) {
+                             const Control& control, std::span<const MapWeights> located,
+                             std::size_t located_first) {
   if (runs.empty()) return;
   const MapField field(blender);
   const std::vector<int> next = next_samples(blender);
@@ -55,9 +98,13 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
   SamplePoses poses(blender);
   // The sample most of a frame's located weight is on.
   const auto anchor = [&](std::size_t k) {
-    const MapWeights w = blender.locate_path(points, dt, k, k + 1).front();
-    return w.samples[static_cast<std::size_t>(std::max_element(w.weights.begin(), w.weights.end()) -
-                                              w.weights.begin())];
+    const auto mostly = [](const MapWeights& w) {
+      return w.samples[static_cast<std::size_t>(
+          std::max_element(w.weights.begin(), w.weights.end()) - w.weights.begin())];
+    };
+    if (k >= located_first && k - located_first < located.size())
+      return mostly(located[k - located_first]);
+    return mostly(blender.locate_path(points, dt, k, k + 1).front());
   };
   for (const auto& [a, e] : runs) {
     if (e <= first || a >= end) continue;

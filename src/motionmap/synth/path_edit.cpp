@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <optional>
 #include <string>
 
@@ -68,10 +69,12 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
       previous.validity.size() != static_cast<std::size_t>(F0) ||
       previous.root_positions.size() != static_cast<std::size_t>(F0) ||
       previous.headings.size() != static_cast<std::size_t>(F0) || F0 == 0 ||
-      (previous.feet_cleaned && previous.feet_changed.size() != static_cast<std::size_t>(F0))) {
+      (previous.feet_cleaned && previous.feet_changed.size() != static_cast<std::size_t>(F0)) ||
+      (blender.options().mode == BlendMode::Local &&
+       previous.stalled.size() != static_cast<std::size_t>(F0))) {
     throw ParameterError(
         "edit_path: the previous result was not made by synthesize() on this blender (its "
-        "frames, joints, frame time or root states do not match)");
+        "frames, joints, frame time, root states or stalls do not match)");
   }
   double speed = so.speed;
   if (!path.timed() && speed == 0.0) {
@@ -117,15 +120,37 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   for (int k = 0; k < F0; ++k)
     previous_points[static_cast<std::size_t>(k)] =
         previous.validity[static_cast<std::size_t>(k)].query;
-  const auto routed_runs = detail::outside_runs(blender, points);
+  // The frames where a gait's blend stalls (detail::stalled_frames, read from a frame's located
+  // pace and the path's points beside it): the previous ones but where a point they read
+  // changed, located again there. A run routed around them that such a frame reaches (within
+  // stall_spread frames) is remade too.
+  // (Those frames' weights are kept for the blend below: a frame's located weights are the same
+  // whatever frames it is located with.)
+  const int spread = detail::stall_spread(dt);
+  std::vector<char> stalled;
+  const int s0 = std::max(0, changed0 - reads - 1), s1 = std::min(F, changed1 + reads + 2);
+  std::vector<MapWeights> around;  // frames [s0, s1) located, in the local mode
+  if (blender.options().mode == BlendMode::Local) {
+    stalled = previous.stalled;
+    stalled.resize(static_cast<std::size_t>(F), 0);
+    around =
+        blender.locate_path(points, dt, static_cast<std::size_t>(s0), static_cast<std::size_t>(s1));
+    const std::vector<char> again =
+        detail::stalled_frames(blender, points, dt, around, static_cast<std::size_t>(s0));
+    std::copy(again.begin(), again.end(), stalled.begin() + s0);
+  }
+  const auto routed_runs = detail::outside_runs(blender, points, stalled, spread);
   auto runs = routed_runs;
-  for (const auto& run : detail::outside_runs(blender, previous_points)) runs.push_back(run);
+  for (const auto& run : detail::outside_runs(blender, previous_points, previous.stalled, spread))
+    runs.push_back(run);
+  const int reach = reads + 1 + spread;
   for (const auto& [first, end] : runs) {
     const int a = static_cast<int>(first), b = static_cast<int>(end) - 1;
-    if (a - 1 - reads > changed1 || b + 1 + reads < changed0) continue;
+    if (a - reach > changed1 || b + reach < changed0) continue;
     r0 = std::min(r0, a);
     r1 = std::max(r1, std::min(F - 1, b));
   }
+  r.stalled = std::move(stalled);
 
   const std::vector<double> kernel = detail::smoothing_kernel(so.smooth, dt, F);
   const int half = static_cast<int>(kernel.size() / 2);
@@ -151,12 +176,25 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   const int w0 = std::max(0, x0 - half), w1 = std::min(F, x1 + half);
   std::vector<MapWeights> raw;
   raw.reserve(static_cast<std::size_t>(w1 - w0));
-  const detail::OutsideRoutes outside(blender, points, dt, routed_runs,
-                                      static_cast<std::size_t>(w0), static_cast<std::size_t>(w1),
-                                      control);
   {
-    auto located =
-        blender.locate_path(points, dt, static_cast<std::size_t>(w0), static_cast<std::size_t>(w1));
+    // Frames [w0, w1) located: those of [s0, s1) as above, the others now.
+    const auto locate = [&](int from, int to) {
+      return blender.locate_path(points, dt, static_cast<std::size_t>(from),
+                                 static_cast<std::size_t>(to));
+    };
+    std::vector<MapWeights> located;
+    const int k0 = std::clamp(s0, w0, w1), k1 = std::clamp(s1, k0, w1);
+    if (around.empty() || k0 == k1) {
+      located = locate(w0, w1);
+    } else {
+      located = locate(w0, k0);
+      located.insert(located.end(), std::make_move_iterator(around.begin() + (k0 - s0)),
+                     std::make_move_iterator(around.begin() + (k1 - s0)));
+      for (MapWeights& w : locate(k1, w1)) located.push_back(std::move(w));
+    }
+    const detail::OutsideRoutes outside(blender, points, dt, routed_runs,
+                                        static_cast<std::size_t>(w0), static_cast<std::size_t>(w1),
+                                        control, located, static_cast<std::size_t>(w0));
     for (std::size_t i = 0; i < located.size(); ++i) {
       outside.apply(static_cast<std::size_t>(w0) + i, located[i]);
       raw.push_back(std::move(located[i]));
@@ -262,6 +300,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   for (const PointValidity& v : r.validity) r.clamped_frames += v.clamped ? 1 : 0;
   r.routed_frames = detail::routed_outside(routed_runs, r.validity);
   r.notes.clear();
+  if (std::string note = detail::stalled_note(r.stalled); !note.empty())
+    r.notes.push_back(std::move(note));
 
   if (!clean) {
     for (int k = a; k < b; ++k) copy_frame(raw_motion, k - x0, r.motion, k);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <deque>
 #include <functional>
+#include <iterator>
 #include <optional>
 #include <string>
 
@@ -22,7 +23,7 @@ namespace {
 // Frames blended per block (between progress reports and cancel polls), and located at a time
 // in the local mode.
 constexpr int kBlockFrames = 256;
-constexpr long long kLocateFrames = 1024;
+constexpr std::size_t kLocateFrames = 1024;
 // Most kriging weights the smoothing window may hold (each a dense vector over the samples).
 constexpr long long kMaxWindowWeights = 50'000'000;
 
@@ -82,24 +83,49 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   // 0 fps keeps the clip's exact frame time, so a path timed like the clip hits its samples.
   const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
   const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
-  // Runs of frames outside the data, or far inside it, follow the clips' own frames.
-  const detail::OutsideRuns runs = detail::outside_runs(blender, points);
-  const detail::OutsideRoutes outside(blender, points, dt, runs, 0, points.size(), control);
+  const auto frames = static_cast<long long>(points.size());
+  if (blender.options().mode != BlendMode::Local) {
+    // Every frame blended where it is (routes are the local mode's), located block by block: the
+    // kriging's weights are dense.
+    return synthesize_frames(
+        blender, frames, dt,
+        [&](long long first, long long count) {
+          return blender.locate_path(points, dt, static_cast<std::size_t>(first),
+                                     static_cast<std::size_t>(first + count));
+        },
+        options, control);
+  }
+  // Every frame located first, kLocateFrames at a time (each call reads the frames around it
+  // too: MapBlender::path_neighbours), so that the frames where a gait's blend stalls are known.
+  const Control locating = control.part(0.0, 0.1);
+  std::vector<MapWeights> located;
+  located.reserve(points.size());
+  for (std::size_t first = 0; first < points.size(); first += kLocateFrames) {
+    locating.check();
+    const std::size_t end = std::min(points.size(), first + kLocateFrames);
+    for (MapWeights& w : blender.locate_path(points, dt, first, end))
+      located.push_back(std::move(w));
+    locating.update(static_cast<double>(end) / static_cast<double>(points.size()));
+  }
+  // Runs of frames outside the data, far inside it, or around a stall follow the clips' own
+  // frames.
+  std::vector<char> stalled = detail::stalled_frames(blender, points, dt, located);
+  const detail::OutsideRuns runs =
+      detail::outside_runs(blender, points, stalled, detail::stall_spread(dt));
+  const detail::OutsideRoutes outside(blender, points, dt, runs, 0, points.size(),
+                                      control.part(0.1, 0.2), located);
+  for (std::size_t k = 0; k < located.size(); ++k) outside.apply(k, located[k]);
   SynthResult result = synthesize_frames(
-      blender, static_cast<long long>(points.size()), dt,
+      blender, frames, dt,
       [&](long long first, long long count) {
-        // In the local mode, kLocateFrames at a time at least: each call reads the frames around
-        // it too (the registration of gait phases: MapBlender::path_neighbours).
-        if (blender.options().mode == BlendMode::Local) count = std::max(count, kLocateFrames);
-        count = std::min(count, static_cast<long long>(points.size()) - first);
-        auto located = blender.locate_path(points, dt, static_cast<std::size_t>(first),
-                                           static_cast<std::size_t>(first + count));
-        for (std::size_t i = 0; i < located.size(); ++i)
-          outside.apply(static_cast<std::size_t>(first) + i, located[i]);
-        return located;
+        return std::vector<MapWeights>(std::make_move_iterator(located.begin() + first),
+                                       std::make_move_iterator(located.begin() + first + count));
       },
-      options, control);
+      options, control.part(0.2, 1.0));
   result.routed_frames = detail::routed_outside(runs, result.validity);
+  if (std::string note = detail::stalled_note(stalled); !note.empty())
+    result.notes.insert(result.notes.begin(), std::move(note));
+  result.stalled = std::move(stalled);
   return result;
 }
 

@@ -12,7 +12,8 @@
 // Per output frame k (at t0 + k/fps along the path): weights at the path point
 // (MapBlender::locate_path: where the path around the frame follows a clip's trajectory, that
 // clip's own frames at the fitted time; where a run of frames lies outside the data or farther
-// than half the reach from it, in the local mode, a route through the clips' own frames that
+// than half the reach from it, or within half a second of a frame whose gait stalls (its legs
+// held while the path moves on), in the local mode, a route through the clips' own frames that
 // tracks the path there, faded in over
 // the blend where the run meets the data: detail/outside_route.h; optionally smoothed over
 // time with a Gaussian, each
@@ -75,6 +76,11 @@ struct SynthResult {
   /// Of those, the frames played by a route through the clips' own frames
   /// (detail/outside_route.h); the others are blended at the data's edge.
   int routed_frames = 0;
+  /// Per frame of a path synthesized in the local mode: 1 where the gait's blend located there
+  /// stalled (detail::stalled_frames: its legs held while the path moves on); the frames around
+  /// such a frame play a route through the clips' own frames. edit_path() reads it. Empty in the
+  /// other modes and for weights given.
+  std::vector<char> stalled;
   bool feet_cleaned = false;  ///< SynthOptions::clean_feet and the skeleton has feet
   /// The contacts the clean-up held (left, right); empty when the feet were not cleaned.
   std::vector<FootContacts> contacts;

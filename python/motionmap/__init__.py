@@ -424,10 +424,11 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, b
     distance in time first, so a retraced clip stays itself). blend, neighbors, reach: as inverse_transform;
     clean_feet: hold each foot still through its contacts with the floor (False: the blend as it
     is, e.g. to reproduce a clip along its own trajectory). Where the path leaves the data, or
-    runs farther than half the reach from it, the local blend plays the clips' own frames along
-    it (docs/synthesis.md, "Outside the data");
-    the clip's warnings say how many frames lay outside. Returns a Clip (save() writes it as
-    BVH)."""
+    runs farther than half the reach from it, or where a gait's legs would stall mid-stride
+    while the path moves on beside the clips' curves, the local blend plays the clips' own
+    frames along it (docs/synthesis.md, "Outside the data"); the clip's warnings say how many
+    frames lay outside, and carry the synthesis' notes (a stalled gait, feet out of reach).
+    Returns a Clip (save() writes it as BVH)."""
     fitted._check_fitted()
     if not isinstance(fitted.map_, _motionmap._ClipMap):
         raise Error("synthesize: motions are blended from clips; this map was fitted on an array")

@@ -374,12 +374,15 @@ synth::MapPath map_path(const InputArray& xy, const py::object& times, const std
   return path;
 }
 
-// A synthesized clip's warning when frames of its path lay outside the map's data.
-void warn_clamped(Clip& clip, const synth::SynthResult& result) {
-  if (result.clamped_frames == 0) return;
-  clip.warnings.push_back(
-      std::to_string(result.clamped_frames) +
-      " frames were outside the map's data: " + synth::outside_frames_note(result));
+// A synthesized clip's warnings: frames of its path outside the map's data, and the result's
+// notes (a gait whose legs stalled, feet out of reach, …).
+void warn_synthesized(Clip& clip, const synth::SynthResult& result) {
+  if (result.clamped_frames > 0) {
+    clip.warnings.push_back(
+        std::to_string(result.clamped_frames) +
+        " frames were outside the map's data: " + synth::outside_frames_note(result));
+  }
+  clip.warnings.insert(clip.warnings.end(), result.notes.begin(), result.notes.end());
 }
 
 // The options of synthesize and edit_path, checked.
@@ -406,7 +409,7 @@ Clip synthesize_path(const ClipMapState& s, const InputArray& path_xy, const py:
     out.path = "<motion along a path of " + std::to_string(path.points.size()) + " points>";
     out.skeleton = blender.skeleton();
     out.motion = std::move(result.motion);
-    warn_clamped(out, result);
+    warn_synthesized(out, result);
     return out;
   });
 }
@@ -431,7 +434,7 @@ py::tuple edit_path(const ClipMapState& s, const InputArray& previous_xy,
   });
   out.path = "<motion along an edited path of " + std::to_string(path.points.size()) + " points>";
   out.motion = std::move(edit.result.motion);
-  warn_clamped(out, edit.result);
+  warn_synthesized(out, edit.result);
   py::dict window;
   window["first"] = edit.first;
   window["end"] = edit.end;

@@ -101,3 +101,31 @@ def test_edit_path_keeps_the_take_outside_its_window(golf):
         motionmap.edit_path(est, moved, times)  # previous_xy is required
     with pytest.raises(motionmap.Error, match="fitted on an array"):
         motionmap.edit_path(motionmap.PCA().fit(np.eye(5)), moved, previous_xy=sketch)
+
+
+def test_a_stalled_gait_is_routed_and_said(tmp_path):
+    # The tired walk drawn 30 % of the way to the old one, at its own timing: beside both curves
+    # the blend's legs would stall mid-stride (a foot held up for 3 s); the clips' own frames play
+    # there and the clip's warnings say so. Its feet come down as the capture's do.
+    from conftest import data_path
+    tired = motionmap.load(data_path("bandai/dataset-1_walk_tired_001.bvh"))
+    old = motionmap.load(data_path("bandai/dataset-1_walk_old_001.bvh"))
+    est = motionmap.PCA().fit([tired, old])
+    a, b = est.embedding_[:tired.num_frames], est.embedding_[tired.num_frames:]
+    pick = np.rint(np.arange(tired.num_frames) / (tired.num_frames - 1) * (len(b) - 1))
+    path = 0.7 * a + 0.3 * b[pick.astype(int)]
+    clip = motionmap.synthesize(est, path, np.arange(tired.num_frames) * tired.frame_time)
+    assert any("held its legs mid-stride" in w for w in clip.warnings), clip.warnings
+
+    def longest_up(c):
+        # The longest an ankle stays 5 cm or more above its lowest (frames).
+        names = list(c.skeleton.names() if callable(c.skeleton.names) else c.skeleton.names)
+        longest = 0
+        for foot in ("Foot_L", "Foot_R"):
+            y = c.positions()[:, names.index(foot), 1]
+            run = 0
+            for up in y > y.min() + 5.0:
+                run = run + 1 if up else 0
+                longest = max(longest, run)
+        return longest
+    assert longest_up(clip) <= longest_up(tired) + 15  # within half a second at 30 fps

@@ -120,23 +120,55 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   for (int k = 0; k < F0; ++k)
     previous_points[static_cast<std::size_t>(k)] =
         previous.validity[static_cast<std::size_t>(k)].query;
+  // The windows of an edit whose blends change over frames [from, to] (below: the smoothing's
+  // reach [a, b), the clean-up's [c0, c1) and what it reads [x0, x1), the frames located
+  // [w0, w1)).
+  const std::vector<double> kernel = detail::smoothing_kernel(so.smooth, dt, F);
+  const int half = static_cast<int>(kernel.size() / 2);
+  const bool clean = previous.feet_cleaned;
+  const double fps = 1.0 / dt;
+  const CleanFeetOptions clean_defaults;
+  const int fade = static_cast<int>(std::lround(clean_defaults.blend_seconds * fps));
+  const int margin =
+      clean ? std::max(fade + 1, static_cast<int>(std::lround(options.margin_seconds * fps))) : 0;
+  const int context = clean ? static_cast<int>(std::lround(options.context_seconds * fps)) : 0;
+  struct Windows {
+    int a, b, c0, c1, x0, x1, w0, w1;
+  };
+  const auto windows_of = [&](int from, int to) {
+    Windows w{};
+    w.a = std::max(0, from - half);
+    w.b = std::min(F, to + half + 1);
+    w.c0 = std::max(0, w.a - margin);
+    w.c1 = std::min(F, w.b + margin);
+    w.x0 = std::max(0, w.c0 - context);
+    w.x1 = std::min(F, w.c1 + context);
+    w.w0 = std::max(0, w.x0 - half);
+    w.w1 = std::min(F, w.x1 + half);
+    return w;
+  };
+
   // The frames where a gait's blend stalls (detail::stalled_frames, read from a frame's located
   // pace and the path's points beside it): the previous ones but where a point they read
   // changed, located again there. A run routed around them that such a frame reaches (within
-  // stall_spread frames) is remade too.
-  // (Those frames' weights are kept for the blend below: a frame's located weights are the same
-  // whatever frames it is located with.)
+  // stall_spread frames) is remade too. Those frames are located together with the window the
+  // edit needs without such runs (one call: each reads the frames around its range too), and
+  // kept for the blend (a frame's located weights are the same whatever frames it is located
+  // with).
   const int spread = detail::stall_spread(dt);
   std::vector<char> stalled;
   const int s0 = std::max(0, changed0 - reads - 1), s1 = std::min(F, changed1 + reads + 2);
-  std::vector<MapWeights> around;  // frames [s0, s1) located, in the local mode
+  const Windows least = windows_of(r0, r1);
+  const int l0 = std::min(s0, least.w0), l1 = std::max(s1, least.w1);
+  std::vector<MapWeights> around;  // frames [l0, l1) located, in the local mode
   if (blender.options().mode == BlendMode::Local) {
     stalled = previous.stalled;
     stalled.resize(static_cast<std::size_t>(F), 0);
     around =
-        blender.locate_path(points, dt, static_cast<std::size_t>(s0), static_cast<std::size_t>(s1));
-    const std::vector<char> again =
-        detail::stalled_frames(blender, points, dt, around, static_cast<std::size_t>(s0));
+        blender.locate_path(points, dt, static_cast<std::size_t>(l0), static_cast<std::size_t>(l1));
+    const std::vector<char> again = detail::stalled_frames(
+        blender, points, dt, std::span<const MapWeights>(around).subspan(s0 - l0, s1 - s0),
+        static_cast<std::size_t>(s0));
     std::copy(again.begin(), again.end(), stalled.begin() + s0);
   }
   const auto routed_runs = detail::outside_runs(blender, points, stalled, spread);
@@ -152,45 +184,34 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   }
   r.stalled = std::move(stalled);
 
-  const std::vector<double> kernel = detail::smoothing_kernel(so.smooth, dt, F);
-  const int half = static_cast<int>(kernel.size() / 2);
-  const int a = std::max(0, r0 - half), b = std::min(F, r1 + half + 1);
+  const Windows window = windows_of(r0, r1);
+  const int a = window.a, b = window.b, c0 = window.c0, c1 = window.c1, x0 = window.x0,
+            x1 = window.x1, w0 = window.w0, w1 = window.w1;
   out.blend_first = a;
   out.blend_end = b;
   out.first = a;
   out.end = b;
 
-  // The clean-up's window [c0, c1) and the frames blended for it [x0, x1).
-  const bool clean = previous.feet_cleaned;
-  const double fps = 1.0 / dt;
-  const CleanFeetOptions clean_defaults;
-  const int fade = static_cast<int>(std::lround(clean_defaults.blend_seconds * fps));
-  const int margin =
-      clean ? std::max(fade + 1, static_cast<int>(std::lround(options.margin_seconds * fps))) : 0;
-  const int context = clean ? static_cast<int>(std::lround(options.context_seconds * fps)) : 0;
-  const int c0 = std::max(0, a - margin), c1 = std::min(F, b + margin);
-  const int x0 = std::max(0, c0 - context), x1 = std::min(F, c1 + context);
-
-  // Raw weights of the frames the blends of [x0, x1) read.
+  // Raw weights of the frames the blends of [x0, x1) read: those located above, the others now.
   control.check();
-  const int w0 = std::max(0, x0 - half), w1 = std::min(F, x1 + half);
   std::vector<MapWeights> raw;
   raw.reserve(static_cast<std::size_t>(w1 - w0));
   {
-    // Frames [w0, w1) located: those of [s0, s1) as above, the others now.
     const auto locate = [&](int from, int to) {
       return blender.locate_path(points, dt, static_cast<std::size_t>(from),
                                  static_cast<std::size_t>(to));
     };
     std::vector<MapWeights> located;
-    const int k0 = std::clamp(s0, w0, w1), k1 = std::clamp(s1, k0, w1);
+    const int k0 = std::clamp(l0, w0, w1), k1 = std::clamp(l1, k0, w1);
     if (around.empty() || k0 == k1) {
       located = locate(w0, w1);
     } else {
-      located = locate(w0, k0);
-      located.insert(located.end(), std::make_move_iterator(around.begin() + (k0 - s0)),
-                     std::make_move_iterator(around.begin() + (k1 - s0)));
-      for (MapWeights& w : locate(k1, w1)) located.push_back(std::move(w));
+      if (w0 < k0) located = locate(w0, k0);
+      located.insert(located.end(), std::make_move_iterator(around.begin() + (k0 - l0)),
+                     std::make_move_iterator(around.begin() + (k1 - l0)));
+      if (k1 < w1) {
+        for (MapWeights& w : locate(k1, w1)) located.push_back(std::move(w));
+      }
     }
     const detail::OutsideRoutes outside(blender, points, dt, routed_runs,
                                         static_cast<std::size_t>(w0), static_cast<std::size_t>(w1),

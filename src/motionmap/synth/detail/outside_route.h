@@ -28,10 +28,11 @@
 // detail/gait_phase.h), and the blend holds its legs in mid-stride as its root slows: a left foot
 // off the floor for 3 s, where the captures lift one for 0.37 s at most (the tired walk drawn 30 %
 // of the way to the old one). The skating measure does not see it: a foot held up never slides.
-// Such a frame — its located pace below kStallPace while the path moves on over the map at
-// kStallPathSpeed × the clips' median map speed or faster (a path that dwells there holds the
-// pose, as it should) — is routed too, with the frames within kStallSeconds of it, so that one
-// route plays the whole stretch.
+// Such a frame — its located pace below kStallPace, its point farther than kFollowNear median
+// steps from every sample (on a clip's trajectory a slow pace is that clip played slowly), while
+// the path moves on over the map at kStallPathSpeed × the clips' median map speed or faster (a
+// path that dwells there holds the pose, as it should) — is routed too, with the frames within
+// kStallSeconds of it, so that one route plays the whole stretch.
 #include <cstddef>
 #include <span>
 #include <string>
@@ -61,7 +62,8 @@ inline constexpr double kStallSeconds = 0.5;
 
 /// Per frame of `located` (frames [first, first + located.size()) of the path `points`, dt
 /// seconds apart, as MapBlender::locate_path gives them): 1 where the blend stalls (see the top of
-/// the file), 0 elsewhere; all 0 but in the local mode.
+/// the file: a frame reads its own pace and distance and the points either side), 0 elsewhere;
+/// all 0 but in the local mode.
 std::vector<char> stalled_frames(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
                                  double dt, std::span<const MapWeights> located,
                                  std::size_t first = 0);

@@ -64,6 +64,44 @@ MapPath sketch(const Library& lib, int c, int every) {
   return path;
 }
 
+// How far `share` of the way point i of `path` is from `other`'s point at the same share of its
+// duration.
+Eigen::Vector2d toward(const MapPath& path, const MapPath& other, std::size_t i, double share) {
+  const double at = path.times[i] / path.times.back();
+  const auto o =
+      static_cast<std::size_t>(std::lround(at * static_cast<double>(other.points.size() - 1)));
+  return share * (other.points[o] - path.points[i]);
+}
+
+// An edit's motion `m` outside its window [first, end): the previous motion, bit for bit.
+void expect_unchanged_outside(const Motion& m, const Motion& before, int first, int end) {
+  const std::size_t J = static_cast<std::size_t>(m.num_joints);
+  for (int f = 0; f < m.num_frames; ++f) {
+    if (f >= first && f < end) continue;
+    const std::size_t at = static_cast<std::size_t>(f) * J;
+    ASSERT_EQ(std::memcmp(&m.rotations[at], &before.rotations[at], J * sizeof(Eigen::Quaterniond)),
+              0)
+        << "frame " << f;
+  }
+}
+
+// An edit's blend of frames [first, end) is the full synthesis' (off the legs, which the clean-up
+// holds from the window's own contacts, and the root).
+void expect_blend_as_full(const MapBlender& blender, const Motion& m, const Motion& full, int first,
+                          int end) {
+  const Feet feet = find_feet(blender.skeleton());
+  std::vector<char> leg(static_cast<std::size_t>(m.num_joints), 0);
+  for (const Leg& l : feet.legs)
+    for (int j : {l.hip, l.knee, l.ankle}) leg[static_cast<std::size_t>(j)] = 1;
+  for (int f = first; f < end; ++f) {
+    for (int j = 0; j < m.num_joints; ++j) {
+      if (j == blender.motion_root() || leg[static_cast<std::size_t>(j)]) continue;
+      EXPECT_LT(rotation_angle(m.rotation(f, j), full.rotation(f, j)), 1e-9)
+          << "frame " << f << ", joint " << j;
+    }
+  }
+}
+
 // Largest joint rotation step and root position step between frames f − 1 and f.
 std::pair<double, double> step(const Motion& m, int f, int root) {
   double angle = 0.0;
@@ -283,13 +321,7 @@ TEST(SynthPathEdit, AnEditOutsideTheDataRemakesItsWholeRun) {
   MapPath path = sketch(lib, 0, 10);
   const MapPath other = sketch(lib, 1, 1);
   const std::size_t n = path.points.size();
-  const auto toward_other = [&](std::size_t i, double share) -> Eigen::Vector2d {
-    const double at = path.times[i] / path.times.back();
-    const auto o =
-        static_cast<std::size_t>(std::lround(at * static_cast<double>(other.points.size() - 1)));
-    return share * (other.points[o] - path.points[i]);
-  };
-  for (std::size_t i = n / 3; i < 2 * n / 3; ++i) path.points[i] += toward_other(i, 0.5);
+  for (std::size_t i = n / 3; i < 2 * n / 3; ++i) path.points[i] += toward(path, other, i, 0.5);
   const SynthResult before = synthesize(blender, path);
   std::vector<Eigen::Vector2d> points;
   for (const PointValidity& v : before.validity) points.push_back(v.query);
@@ -297,7 +329,7 @@ TEST(SynthPathEdit, AnEditOutsideTheDataRemakesItsWholeRun) {
   ASSERT_FALSE(runs.empty());
   MapPath edited = path;
   const std::size_t moved = n / 2;
-  edited.points[moved] += toward_other(moved, 0.2);
+  edited.points[moved] += toward(path, other, moved, 0.2);
   const PathEditResult edit = edit_path(blender, before, edited);
   const int frame = static_cast<int>(std::lround(path.times[moved] / before.motion.frame_time));
   bool covered = false;
@@ -310,29 +342,9 @@ TEST(SynthPathEdit, AnEditOutsideTheDataRemakesItsWholeRun) {
   EXPECT_TRUE(covered) << "the moved point's frame " << frame << " is in no run";
   EXPECT_GT(edit.first, 0);
   EXPECT_LT(edit.end, before.motion.num_frames);
-  const Motion& m = edit.result.motion;
-  const std::size_t J = static_cast<std::size_t>(m.num_joints);
-  for (int f = 0; f < m.num_frames; ++f) {
-    if (f >= edit.first && f < edit.end) continue;
-    const std::size_t at = static_cast<std::size_t>(f) * J;
-    ASSERT_EQ(
-        std::memcmp(&m.rotations[at], &before.motion.rotations[at], J * sizeof(Eigen::Quaterniond)),
-        0)
-        << "frame " << f;
-  }
-  // The window's blend is the full synthesis' (off the legs and the root).
-  const SynthResult full = synthesize(blender, edited);
-  const Feet feet = find_feet(blender.skeleton());
-  std::vector<char> leg(J, 0);
-  for (const Leg& l : feet.legs)
-    for (int j : {l.hip, l.knee, l.ankle}) leg[static_cast<std::size_t>(j)] = 1;
-  for (int f = edit.blend_first; f < edit.blend_end; ++f) {
-    for (int j = 0; j < m.num_joints; ++j) {
-      if (j == blender.motion_root() || leg[static_cast<std::size_t>(j)]) continue;
-      EXPECT_LT(rotation_angle(m.rotation(f, j), full.motion.rotation(f, j)), 1e-9)
-          << "frame " << f << ", joint " << j;
-    }
-  }
+  expect_unchanged_outside(edit.result.motion, before.motion, edit.first, edit.end);
+  expect_blend_as_full(blender, edit.result.motion, synthesize(blender, edited).motion,
+                       edit.blend_first, edit.blend_end);
 }
 
 TEST(SynthPathEdit, AnEditWhereTheGaitStallsRemakesItsRoute) {
@@ -347,13 +359,8 @@ TEST(SynthPathEdit, AnEditWhereTheGaitStallsRemakesItsRoute) {
   const MapBlender blender(lib.clips, lib.set, lib.map);
   MapPath path = sketch(lib, 0, 10);
   const MapPath other = sketch(lib, 1, 1);
-  const auto toward_other = [&](std::size_t i, double share) -> Eigen::Vector2d {
-    const double at = path.times[i] / path.times.back();
-    const auto o =
-        static_cast<std::size_t>(std::lround(at * static_cast<double>(other.points.size() - 1)));
-    return share * (other.points[o] - path.points[i]);
-  };
-  for (std::size_t i = 0; i < path.points.size(); ++i) path.points[i] += toward_other(i, 0.3);
+  for (std::size_t i = 0; i < path.points.size(); ++i)
+    path.points[i] += toward(path, other, i, 0.3);
   const SynthResult before = synthesize(blender, path);
   ASSERT_EQ(before.stalled.size(), static_cast<std::size_t>(before.motion.num_frames));
   // The stalled frame nearest the middle of the motion.
@@ -374,40 +381,20 @@ TEST(SynthPathEdit, AnEditWhereTheGaitStallsRemakesItsRoute) {
       moved = i;
   }
   MapPath edited = path;
-  edited.points[moved] += toward_other(moved, 0.05);
+  edited.points[moved] += toward(path, other, moved, 0.05);
   const PathEditResult edit = edit_path(blender, before, edited);
   const SynthResult full = synthesize(blender, edited);
   EXPECT_EQ(edit.result.stalled, full.stalled);
   EXPECT_LE(edit.blend_first, stall);
   EXPECT_GT(edit.first, 0);
   EXPECT_LT(edit.end, F);
-  const Motion& m = edit.result.motion;
-  const std::size_t J = static_cast<std::size_t>(m.num_joints);
-  for (int f = 0; f < m.num_frames; ++f) {
-    if (f >= edit.first && f < edit.end) continue;
-    const std::size_t at = static_cast<std::size_t>(f) * J;
-    ASSERT_EQ(
-        std::memcmp(&m.rotations[at], &before.motion.rotations[at], J * sizeof(Eigen::Quaterniond)),
-        0)
-        << "frame " << f;
-  }
-  // The window's blend is the full synthesis' (off the legs and the root).
-  const Feet feet = find_feet(blender.skeleton());
-  std::vector<char> leg(J, 0);
-  for (const Leg& l : feet.legs)
-    for (int j : {l.hip, l.knee, l.ankle}) leg[static_cast<std::size_t>(j)] = 1;
-  for (int f = edit.blend_first; f < edit.blend_end; ++f) {
-    for (int j = 0; j < m.num_joints; ++j) {
-      if (j == blender.motion_root() || leg[static_cast<std::size_t>(j)]) continue;
-      EXPECT_LT(rotation_angle(m.rotation(f, j), full.motion.rotation(f, j)), 1e-9)
-          << "frame " << f << ", joint " << j;
-    }
-  }
+  expect_unchanged_outside(edit.result.motion, before.motion, edit.first, edit.end);
+  expect_blend_as_full(blender, edit.result.motion, full.motion, edit.blend_first, edit.blend_end);
   std::printf(
       "[ figures  ] tired walk 30 %% of the way to the old one: %d stalled frames; point "
       "%zu moved: window %d–%d (blend %d–%d) of %d frames\n",
       static_cast<int>(std::count(before.stalled.begin(), before.stalled.end(), 1)), moved,
-      edit.first, edit.end, edit.blend_first, edit.blend_end, m.num_frames);
+      edit.first, edit.end, edit.blend_first, edit.blend_end, F);
 }
 
 TEST(SynthPathEdit, SamePathSameMotionAndLongerPathToTheEnd) {

@@ -121,7 +121,8 @@ void print_text(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) 
     const Skating& k = s.skating;
     std::cout << "  skating     ratio " << num(k.ratio) << " (" << k.skating_transitions << " of "
               << k.transitions << " frame transitions), in contact " << num(k.contact_speed_cm_s)
-              << " cm/s (ankles " << sk.joints[s.feet->legs[0].ankle].name << ", "
+              << " cm/s, a foot up " << num(k.longest_raised_s) << " s at most (ankles "
+              << sk.joints[s.feet->legs[0].ankle].name << ", "
               << sk.joints[s.feet->legs[1].ankle].name << "; units "
               << length_unit_name(k.units.unit) << ")\n";
   }
@@ -225,7 +226,8 @@ void print_json(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) 
     std::cout << ",\"skating\":{\"ratio\":" << num(s.skating.ratio)
               << ",\"contact_speed_cm_s\":" << (std::isfinite(speed) ? num(speed) : "null")
               << ",\"transitions\":" << s.skating.transitions
-              << ",\"skating_transitions\":" << s.skating.skating_transitions << "}";
+              << ",\"skating_transitions\":" << s.skating.skating_transitions
+              << ",\"longest_raised_s\":" << num(s.skating.longest_raised_s) << "}";
   }
   std::cout << "}\n";
 }
@@ -249,20 +251,24 @@ void setup_info(CLI::App& app) {
       ->check(CLI::ExistingFile);
   sub->add_option("--fps", opt->fps, "Frame rate to assume (AMC stores none: default 120)")
       ->check(CLI::PositiveNumber);
-  sub->add_flag("--json", opt->json,
-                "One JSON object per file and line: joints, roots, root_names, channels, "
-                "end_sites, frames, frame_time, fps, duration, bounding_box, warnings (and with "
-                "--contacts/--skating: units, metres_per_unit, contacts {left, right: [[first, "
-                "last], …]}, skating {ratio, contact_speed_cm_s, transitions, "
-                "skating_transitions}; feet null and no_feet when none are found)");
+  sub->add_flag(
+      "--json", opt->json,
+      "One JSON object per file and line: joints, roots, root_names, channels, "
+      "end_sites, frames, frame_time, fps, duration, bounding_box, warnings (and with "
+      "--contacts/--skating: units, metres_per_unit, contacts {left, right: [[first, "
+      "last], …]}, skating {ratio, contact_speed_cm_s, transitions, "
+      "skating_transitions, longest_raised_s}; feet null and no_feet when none are found)");
   sub->add_flag("--contacts", opt->contacts,
                 "Each foot's contacts with the floor, as frame intervals and seconds: the ankle "
                 "within 6 % of the leg length of its floor level, slower than 1 leg length per "
                 "second horizontally and 0.1 up or down (docs/synthesis.md)");
-  sub->add_flag("--skating", opt->skating,
-                "The skating measure: the fraction of frame transitions where a foot (ankle) "
-                "less than 5 cm above its lowest point moves faster than 0.5 m/s horizontally, "
-                "and the ankles' mean horizontal speed in contact (cm/s), in the units detected");
+  sub->add_flag(
+      "--skating", opt->skating,
+      "The skating measure: the fraction of frame transitions where a foot (ankle) "
+      "less than 5 cm above its lowest point moves faster than 0.5 m/s horizontally, "
+      "the ankles' mean horizontal speed in contact (cm/s), in the units detected, and the "
+      "longest a foot stays 5 cm or more above its lowest (s): a foot held up never "
+      "skates");
   sub->add_option("--up", opt->up,
                   "Up axis of the files for --contacts and --skating: y (default) or z")
       ->check(CLI::IsMember({"y", "z", "Y", "Z"}));

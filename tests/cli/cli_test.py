@@ -438,13 +438,14 @@ def info_contacts_and_skating_and_units():
     assert "contacts    left (Foot_L): 7" in out and "contacts    right (Foot_R): 6" in out, out
     assert "    - frames 0-3 (0.000-0.133 s)" in out, out
     assert re.search(r"skating     ratio 0\.\d+ \(\d+ of 142 frame transitions\), in contact [\d.]+ "
-                     r"cm/s \(ankles Foot_L, Foot_R; units cm\)", out), out
+                     r"cm/s, a foot up 0\.\d+ s at most \(ankles Foot_L, Foot_R; units cm\)", out), out
     code, out, err = run("info", "--json", "--contacts", "--skating", data(walk))
     assert code == 0, err
     info = json.loads(out)
     assert info["units"] == "cm" and info["metres_per_unit"] == 0.01, info
     assert info["contacts"]["left"][0] == [0, 3] and len(info["contacts"]["right"]) == 6, info
     assert 0 < info["skating"]["ratio"] < 1 and info["skating"]["transitions"] == 142, info
+    assert 0 < info["skating"]["longest_raised_s"] < 1, info
     # Without the flags the JSON keys stay as they were.
     code, out, err = run("info", "--json", data(walk))
     assert "units" not in json.loads(out), out

@@ -276,12 +276,16 @@ TEST(SkeletonContacts, SkatingMeasureOfAScriptedClip) {
   EXPECT_EQ(s.contact_transitions, 6);
   EXPECT_DOUBLE_EQ(s.ratio, 0.4);
   EXPECT_NEAR(s.contact_speed_cm_s, 200.0 / 6.0, 1e-9);
+  // A foot up (5 cm or more over its lowest): the left in frame 3 (6 cm), the right in frames 0
+  // and 1 (10 cm): 2 frames, 0.2 s.
+  EXPECT_NEAR(s.longest_raised_s, 0.2, 1e-12);
   // The same clip in metres, its unit detected (the body is 1.7 m tall): the same answer.
   const Scripted m = scripted(left, right, 0.01);
   const Skating sm = measure_skating(m.skeleton, m.motion, m.feet);
   EXPECT_EQ(sm.units.unit, LengthUnit::Metre);
   EXPECT_DOUBLE_EQ(sm.ratio, 0.4);
   EXPECT_NEAR(sm.contact_speed_cm_s, 200.0 / 6.0, 1e-9);
+  EXPECT_NEAR(sm.longest_raised_s, 0.2, 1e-12);
   // One frame: no transition, no contact.
   Motion one = cm.motion;
   one.resize(1, cm.skeleton.num_joints());
@@ -291,6 +295,7 @@ TEST(SkeletonContacts, SkatingMeasureOfAScriptedClip) {
   EXPECT_EQ(s1.transitions, 0);
   EXPECT_EQ(s1.ratio, 0.0);
   EXPECT_TRUE(std::isnan(s1.contact_speed_cm_s));
+  EXPECT_EQ(s1.longest_raised_s, 0.0);
 }
 
 TEST(SkeletonContacts, ContactOptionsNameTheirField) {

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <limits>
 #include <numbers>
 #include <random>
 
@@ -46,28 +45,6 @@ double max_jump(const Skeleton& s, const Motion& m) {
     }
   }
   return worst;
-}
-
-// The longest a foot stays off the floor, in seconds: the longest run of frames in which an ankle
-// is higher than the skating measure's contact line (kSkatingContactHeightM above the lowest
-// point that ankle reaches in the motion). The skating measure is blind to a foot held up — a leg
-// held mid-swing for a second scores better than one that slides — so sketches are held to this
-// too.
-double longest_raised(const Skeleton& s, const Motion& m, const Feet& feet,
-                      const LengthUnits& units) {
-  const double line = kSkatingContactHeightM / units.metres_per_unit;
-  int longest = 0;
-  for (const Leg& leg : feet.legs) {
-    const std::vector<Vector3d> ankle = joint_trajectory(s, m, leg.ankle);
-    double lowest = std::numeric_limits<double>::infinity();
-    for (const Vector3d& p : ankle) lowest = std::min(lowest, p.y());
-    int run = 0;
-    for (const Vector3d& p : ankle) {
-      run = p.y() > lowest + line ? run + 1 : 0;
-      longest = std::max(longest, run);
-    }
-  }
-  return longest * m.frame_time;
 }
 
 // Largest change of any joint's position between two consecutive frames of `b` beyond the same
@@ -795,10 +772,12 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       const Skating sc = measure_skating(skeleton, cleaned.motion, feet, units);
       const std::array<FootContacts, 2> contacts{cleaned.contacts[0], cleaned.contacts[1]};
       const double rms = rms_outside_contacts(skeleton, raw.motion, cleaned.motion, contacts);
-      const double raised = longest_raised(skeleton, cleaned.motion, feet, units);
+      // How long a foot stays up (Skating::longest_raised_s): the ratio alone is blind to a foot
+      // held up — a leg held mid-swing for a second scores better than one that slides.
+      const double raised = sc.longest_raised_s;
       const double raised_captured =
-          std::max(longest_raised(skeleton, clips[0].motion, feet, units),
-                   longest_raised(skeleton, clips[1].motion, feet, units));
+          std::max(capture.longest_raised_s,
+                   measure_skating(skeleton, clips[1].motion, feet, units).longest_raised_s);
       const int stalled = static_cast<int>(std::count(raw.stalled.begin(), raw.stalled.end(), 1));
       std::printf(
           "[ figures  ] %s towards %s, %.0f %% of the way (%d frames, %d outside, %d stalled): raw "

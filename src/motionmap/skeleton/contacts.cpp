@@ -475,6 +475,11 @@ Skating measure_skating(const Skeleton& skeleton, const Motion& motion, const Fe
     const std::vector<Eigen::Vector3d> ankle = joint_trajectory(skeleton, motion, leg.ankle);
     double lowest = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& p : ankle) lowest = std::min(lowest, p[axis]);
+    int raised = 0;
+    for (const Eigen::Vector3d& p : ankle) {
+      raised = (p[axis] - lowest) * m < kSkatingContactHeightM ? 0 : raised + 1;
+      out.longest_raised_s = std::max(out.longest_raised_s, raised * motion.frame_time);
+    }
     for (int f = 0; f + 1 < F; ++f) {
       const double h0 = (ankle[f][axis] - lowest) * m, h1 = (ankle[f + 1][axis] - lowest) * m;
       if (!(h0 < kSkatingContactHeightM && h1 < kSkatingContactHeightM)) continue;

@@ -57,8 +57,10 @@
 // clip; it skates when, in contact, its horizontal speed (distance between the two frames ÷
 // frame time) exceeds 0.5 m/s. The skating ratio is the fraction of frame transitions in which
 // either foot skates; contact_speed_cm_s is the mean horizontal speed of the feet over their
-// contact transitions (each foot's counted separately), in cm/s. Lengths are converted with the
-// units given (detect_length_units() by default).
+// contact transitions (each foot's counted separately), in cm/s. A foot held up never skates, so
+// the measure also reports longest_raised_s: the longest either ankle stays 5 cm or more above
+// its lowest point, in seconds (a leg held mid-swing scores well on the ratio alone). Lengths are
+// converted with the units given (detect_length_units() by default).
 #include <array>
 #include <optional>
 #include <string>
@@ -162,7 +164,10 @@ struct Skating {
   int transitions = 0;              ///< #frames − 1
   int skating_transitions = 0;      ///< transitions where either foot skates
   int contact_transitions = 0;      ///< (foot, transition) pairs in contact
-  LengthUnits units;                ///< the units the measure used
+  /// The longest run of frames in which an ankle is at or above the contact line (5 cm over its
+  /// lowest point), × the frame time; 0 when neither ever is.
+  double longest_raised_s = 0.0;
+  LengthUnits units;  ///< the units the measure used
 };
 
 /// Contact height and skating speed of the measure (Karunratanakul et al. 2023).

@@ -85,9 +85,9 @@ std::string units_text(const LengthUnits& u) {
                       : "? the body's size " + size + " does not look human");
 }
 
-std::string seconds(int frame, double frame_time) {
+std::string seconds(double s) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3f", frame * frame_time);
+  std::snprintf(buf, sizeof buf, "%.3f", s);
   return buf;
 }
 
@@ -112,7 +112,7 @@ void print_text(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) 
                 << sk.joints[fc.leg.ankle].name << "): " << fc.intervals.size() << '\n';
       for (const ContactInterval& c : fc.intervals) {
         std::cout << "    - frames " << c.first << "-" << c.last << " ("
-                  << seconds(c.first, m.frame_time) << "-" << seconds(c.last + 1, m.frame_time)
+                  << seconds(c.first * m.frame_time) << "-" << seconds((c.last + 1) * m.frame_time)
                   << " s)\n";
       }
     }
@@ -121,7 +121,7 @@ void print_text(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) 
     const Skating& k = s.skating;
     std::cout << "  skating     ratio " << num(k.ratio) << " (" << k.skating_transitions << " of "
               << k.transitions << " frame transitions), in contact " << num(k.contact_speed_cm_s)
-              << " cm/s, a foot up " << num(k.longest_raised_s) << " s at most (ankles "
+              << " cm/s, a foot up " << seconds(k.longest_raised_s) << " s at most (ankles "
               << sk.joints[s.feet->legs[0].ankle].name << ", "
               << sk.joints[s.feet->legs[1].ankle].name << "; units "
               << length_unit_name(k.units.unit) << ")\n";

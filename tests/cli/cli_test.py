@@ -438,7 +438,7 @@ def info_contacts_and_skating_and_units():
     assert "contacts    left (Foot_L): 7" in out and "contacts    right (Foot_R): 6" in out, out
     assert "    - frames 0-3 (0.000-0.133 s)" in out, out
     assert re.search(r"skating     ratio 0\.\d+ \(\d+ of 142 frame transitions\), in contact [\d.]+ "
-                     r"cm/s, a foot up 0\.\d+ s at most \(ankles Foot_L, Foot_R; units cm\)", out), out
+                     r"cm/s, a foot up \d\.\d{3} s at most \(ankles Foot_L, Foot_R; units cm\)", out), out
     code, out, err = run("info", "--json", "--contacts", "--skating", data(walk))
     assert code == 0, err
     info = json.loads(out)

@@ -789,39 +789,41 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
           sc.contact_speed_cm_s, capture.ratio, capture.contact_speed_cm_s, rms,
           max_jump(skeleton, raw.motion), max_jump(skeleton, cleaned.motion),
           max_jump(skeleton, clips[0].motion), raised, raised_captured);
-      // No foot held off the floor much longer than the captures lift one (within half a second,
-      // a stride: measured +0.40 s at most, the proud walk halfway to the angry one). The
+      // No foot held off the floor much longer than the captures lift one (within 0.3 s:
+      // measured +0.23 s at most, the old run a fifth of the way to the angry one). The
       // skating measure alone rewarded it: the tired walk drawn 30 % of the way to the old one
       // held its left foot up for 2.97 s, its legs stalled mid-stride while the path moved on,
       // and slid in contact only 50.5 cm/s (the capture 57.9); routed where the gait stalls
-      // (detail/outside_route.h), 0.50 s and 59.9 cm/s.
-      EXPECT_LE(raised, raised_captured + 0.5);
-      // Cleaning never adds skating (within a transition: the measure's 0.5 m/s line crossed at
-      // one heel strike more), nor speed in contact (within 1 cm/s; 5 for a run, whose stance,
-      // 6–7 frames at 30 fps, is shorter than the clean-up's fades in and out, 0.15 s each, so
-      // that its feet are never held wholly: measured 3.4 cm/s added where the old run's blend
-      // a twentieth of the way to the angry one slides 128.5 cm/s).
+      // (detail/outside_route.h), 0.50 s and 58.8 cm/s.
+      EXPECT_LE(raised, raised_captured + 0.3);
+      // Cleaning never adds skating (within 1.5 % of the transitions: the measure's 0.5 m/s line
+      // crossed where a fade out of a hold drags a foot still rolling on the floor a little
+      // faster; measured 4 transitions of 330, the proud walk halfway to the angry one, whose
+      // speed in contact cleaning lowers from 38.3 to 36.3 cm/s), nor speed in contact (within
+      // 1 cm/s; 5 for a run, whose stance, 6–7 frames at 30 fps, is shorter than the clean-up's
+      // fades in and out, 0.15 s each, so that its feet are never held wholly: measured 3.4 cm/s
+      // added where the old run's blend a twentieth of the way to the angry one slides 128.5).
       const double transition = 1.0 / (raw.motion.num_frames - 1);
       const bool runs = fa.find("run_") != std::string::npos;
-      EXPECT_LE(sc.ratio, sr.ratio + transition + 1e-12);
+      EXPECT_LE(sc.ratio, sr.ratio + std::max(transition, 0.015) + 1e-12);
       EXPECT_LE(sc.contact_speed_cm_s, sr.contact_speed_cm_s + (runs ? 5.0 : 1.0));
       // Their gait phases registered and the root moving on at the pace the legs play the gait
-      // at, the sketches up to 30 % of the way: the walks, cleaned, skate no more than the first
-      // take as captured (within a transition: the normal walk at 30 %, 0.412 against 0.407) and
-      // slide their feet no faster in contact (within 5 %: the tired walk at 30 %, 59.9 cm/s
-      // against 57.9, now that its feet come down); the runs slide at most 1.5 times as fast as
-      // the first run raw, 1.4 times
-      // cleaned (measured 1.42× and 1.35×, the angry run at 30 %: 167 and 159 cm/s against 118;
-      // 1.6× raw before the root moved at the legs' pace, 2.6× before the phases were
-      // registered: 311 cm/s at 30 % from the angry run to the old one).
-      if (share <= 0.3) {
-        if (runs) {
-          EXPECT_LE(sr.contact_speed_cm_s, 1.5 * capture.contact_speed_cm_s);
-          EXPECT_LE(sc.contact_speed_cm_s, 1.4 * capture.contact_speed_cm_s);
-        } else {
-          EXPECT_LE(sc.ratio, capture.ratio + transition + 1e-12);
-          EXPECT_LE(sc.contact_speed_cm_s, 1.05 * capture.contact_speed_cm_s);
-        }
+      // at, the walks sketched up to 30 % of the way, cleaned, skate no more than the first take
+      // as captured (within a transition: the normal walk at 30 %, 0.412 against 0.407) and
+      // slide their feet no faster in contact (within 5 %: the tired walk at 30 %, 58.8 cm/s
+      // against 57.9). The runs, at every share, slide at most 1.35 times as fast as the first
+      // run raw, 1.3 times cleaned (measured 1.28× raw, the angry run at 30 %, 150.7 cm/s
+      // against 117.6; 1.25× cleaned, at 50 %). Halfway they slid 2.3–2.4 times as fast (272
+      // and 303 cm/s cleaned) before each run's share of a registered blend was smoothed over
+      // 0.15 s and the legs' stalls were found where the phase is not registered too
+      // (detail/gait_phase.h, detail/outside_route.h): the blend flipped from one run to the
+      // other within a frame, a joint stepping 69 cm.
+      if (runs) {
+        EXPECT_LE(sr.contact_speed_cm_s, 1.35 * capture.contact_speed_cm_s);
+        EXPECT_LE(sc.contact_speed_cm_s, 1.3 * capture.contact_speed_cm_s);
+      } else if (share <= 0.3) {
+        EXPECT_LE(sc.ratio, capture.ratio + transition + 1e-12);
+        EXPECT_LE(sc.contact_speed_cm_s, 1.05 * capture.contact_speed_cm_s);
       }
       // Wholly outside the data: the clips' own frames, cleaned within the angle bound.
       if (raw.clamped_frames == raw.motion.num_frames) {
@@ -832,7 +834,7 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       over += rms > 1.0 ? 1 : 0;
     }
   }
-  // Measured 0.40° RMS on average, 4 of the 42 sketches over 1° (at most 1.56°: sketches where
+  // Measured 0.40° RMS on average, 4 of the 42 sketches over 1° (at most 1.55°: sketches where
   // the two takes' curves cross, between them, near samples of both; docs/synthesis.md).
   std::printf("[ figures  ] %d sketches: outside contacts %.2f° RMS on average, %d over 1°\n",
               sketches, sum / sketches, over);

@@ -1,7 +1,8 @@
 // Gait phase and its registration (synth/detail/gait_phase.h): the phase's arithmetic, which
 // clips have one (the shared Bandai walks and runs; not a golf swing), and what the registration
 // does to a path's sources: takes at different phases lined up, continuously, one clip played at
-// its own pace left as it is; and the pace at which the root moves on with the registered legs.
+// its own pace left as it is, each take's share crossing over smoothly; the pace at which the
+// root moves on with the registered legs, and how fast the leads move where none are.
 #include "motionmap/synth/detail/gait_phase.h"
 
 #include <algorithm>
@@ -20,6 +21,11 @@ namespace {
 
 double wrapped(double x) {
   return x - std::round(x);
+}
+
+// Frame k's clip time, 3 s into a take, frames dt apart.
+double t_of(std::size_t k, double dt) {
+  return 3.0 + static_cast<double>(k) * dt;
 }
 
 // A clip's contacts: the left foot's starting at `left`, the right foot's at `right`, each
@@ -231,6 +237,70 @@ TEST(SynthGaitPhase, AHalfCycleApartSharesBothCyclesSoNothingJumps) {
   }
   // A whole cycle is 1 s; the frames are 1/30 s apart.
   EXPECT_LT(worst, 0.1);
+}
+
+TEST(SynthGaitPhase, EachTakesShareMovesSmoothly) {
+  // Two takes in step; the blend's weight flips from the first to the second at frame 45, as
+  // the kriging's does between two takes' curves. Each take's share now crosses over ±0.15 s,
+  // its added weight at the frame's phase, and the blend's weights still sum to 1.
+  const double dt = 1.0 / 30.0;
+  const TwoTakes takes(0.0);
+  std::vector<PhaseFrame> frames(90);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const double t = 3.0 + static_cast<double>(k) * dt;
+    frames[k].sources = {{k < 45 ? 0 : 100, t, 1.0}};
+  }
+  register_phases(frames, 0, frames.size(), dt, takes.phase_of());
+  const auto reach = static_cast<std::size_t>(std::lround(kShareSeconds / dt));
+  double before = 1.0, largest = 0.0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    SCOPED_TRACE(k);
+    double first = 0.0, total = 0.0;
+    for (const PhaseSource& s : frames[k].sources) {
+      total += s.weight;
+      if (s.run == 0) first += s.weight;
+      // At the frame's phase, the one both takes play here.
+      EXPECT_LE(std::abs(wrapped(takes.phase_of()(s.run).at(s.seconds) - (t_of(k, dt) - 3.0))),
+                kPhaseBand + 1e-9);
+    }
+    EXPECT_NEAR(total, 1.0, 1e-12);
+    // Away from the flip, as they were.
+    if (k + reach < 45) {
+      EXPECT_NEAR(first, 1.0, 1e-12);
+    } else if (k >= 45 + reach) {
+      EXPECT_NEAR(first, 0.0, 1e-12);
+    }
+    if (k > 0) largest = std::max(largest, std::abs(first - before));
+    before = first;
+  }
+  // A triangle over ±5 frames: at most 6/36 of the weight moves in a frame (it all did).
+  EXPECT_LE(largest, 6.0 / 36.0 + 1e-12);
+}
+
+TEST(SynthGaitPhase, LeadPaceSaysWhereTheUnregisteredLegsStandStill) {
+  // A take of two cycles a second, held at one clip time for 2 s, then played at its pace. Held,
+  // its lead carried at the cadence over ±0.5 s covers two whole cycles: nothing is registered,
+  // and the lead stands still (lead_pace 0). Played, the lead moves on at the cadence.
+  const double dt = 1.0 / 30.0;
+  GaitPhase quick;
+  for (int i = -1; i <= 30; ++i) quick.strikes.push_back(0.5 * i);
+  quick.duration = 10.0;
+  const PhaseOf phase_of = [&](int) -> const GaitPhase& { return quick; };
+  std::vector<PhaseFrame> frames(120);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const double moving = std::max(0.0, static_cast<double>(k) - 60.0) * dt;
+    frames[k].sources = {{0, 3.0 + moving, 1.0}};
+  }
+  register_phases(frames, 0, frames.size(), dt, phase_of);
+  for (std::size_t k = 15; k < 45; ++k) {
+    EXPECT_LT(frames[k].registered, 0.5) << k;
+    EXPECT_NEAR(lead_pace(frames, k), 0.0, 1e-9) << k;
+  }
+  for (std::size_t k = 75; k < frames.size(); ++k)
+    EXPECT_NEAR(lead_pace(frames, k), 1.0, 1e-9) << k;
+  // Registered frames, or frames without a phase: 1.
+  std::vector<PhaseFrame> none(3);
+  EXPECT_EQ(lead_pace(none, 1), 1.0);
 }
 
 }  // namespace

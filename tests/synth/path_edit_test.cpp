@@ -348,7 +348,7 @@ TEST(SynthPathEdit, AnEditOutsideTheDataRemakesItsWholeRun) {
 }
 
 TEST(SynthPathEdit, AnEditWhereTheGaitStallsRemakesItsRoute) {
-  // The tired walk drawn 30 % of the way to the old one: beside both takes' curves, where the
+  // The tired walk drawn 20 % of the way to the old one: beside both takes' curves, where the
   // blend's legs stall while the path moves on (detail::stalled_frames), the clips' own frames
   // play. Moving a point there re-makes the route around it whole, and the stalls are the ones a
   // full synthesis finds.
@@ -360,7 +360,7 @@ TEST(SynthPathEdit, AnEditWhereTheGaitStallsRemakesItsRoute) {
   MapPath path = sketch(lib, 0, 10);
   const MapPath other = sketch(lib, 1, 1);
   for (std::size_t i = 0; i < path.points.size(); ++i)
-    path.points[i] += toward(path, other, i, 0.3);
+    path.points[i] += toward(path, other, i, 0.2);
   const SynthResult before = synthesize(blender, path);
   ASSERT_EQ(before.stalled.size(), static_cast<std::size_t>(before.motion.num_frames));
   // The stalled frame nearest the middle of the motion.
@@ -391,7 +391,7 @@ TEST(SynthPathEdit, AnEditWhereTheGaitStallsRemakesItsRoute) {
   expect_unchanged_outside(edit.result.motion, before.motion, edit.first, edit.end);
   expect_blend_as_full(blender, edit.result.motion, full.motion, edit.blend_first, edit.blend_end);
   std::printf(
-      "[ figures  ] tired walk 30 %% of the way to the old one: %d stalled frames; point "
+      "[ figures  ] tired walk 20 %% of the way to the old one: %d stalled frames; point "
       "%zu moved: window %d–%d (blend %d–%d) of %d frames\n",
       static_cast<int>(std::count(before.stalled.begin(), before.stalled.end(), 1)), moved,
       edit.first, edit.end, edit.blend_first, edit.blend_end, F);

@@ -277,7 +277,7 @@ TEST(SynthSynthesize, APathOutsideTheDataPlaysTheClipsOwnFrames) {
   EXPECT_EQ(synthesize(kriging, path, raw).clamped_frames, r.motion.num_frames);
 }
 
-TEST(SynthSynthesize, AGaitStallsWhereItsPaceDropsAsThePathMovesOnAwayFromTheClips) {
+TEST(SynthSynthesize, AGaitStallsWhereItsPaceDropsAsThePathMovesOn) {
   const Clip clip = walking_clip();
   const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
   const MapBlender blender = make_blender(clip, map);
@@ -307,6 +307,11 @@ TEST(SynthSynthesize, AGaitStallsWhereItsPaceDropsAsThePathMovesOnAwayFromTheCli
   // Frames 4… of the path alone give the same.
   EXPECT_EQ(detail::stalled_frames(blender, points, dt, std::span(located).subspan(4), 4),
             (std::vector<char>{0, 1, 1, 1}));
+  // Where the phase was not registered, the sources' own leads: near the clips too.
+  located[2].lead_pace = 0.2;  // stalled
+  located[4].lead_pace = 0.6;  // not
+  EXPECT_EQ(detail::stalled_frames(blender, points, dt, located),
+            (std::vector<char>{0, 1, 1, 1, 0, 1, 1, 1}));
   // A path that dwells holds the pose: no stall.
   const std::vector<Eigen::Vector2d> still(points.size(), points[0]);
   EXPECT_EQ(detail::stalled_frames(blender, still, dt, located), std::vector<char>(8, 0));

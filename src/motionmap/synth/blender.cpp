@@ -818,7 +818,10 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
       for (int e = 0; e < count; ++e) added.emplace_back(samples[e], src.weight * weights[e]);
     }
     out[k - first] = detail::weights_by_sample(std::move(added), validity[k - a]);
-    if (gait) out[k - first].pace = detail::pace(sources, k - a, dt);
+    if (gait) {
+      out[k - first].pace = detail::pace(sources, k - a, dt);
+      out[k - first].lead_pace = detail::lead_pace(sources, k - a);
+    }
   }
   return out;
 }

@@ -213,6 +213,10 @@ struct MapWeights {
   /// the root's velocity and yaw rate by it. 1 but where locate_path() registers a gait's phase
   /// and the path leads it faster or slower than the clips' cadence (detail/gait_phase.h).
   double pace = 1.0;
+  /// How fast the blend's legs move on through the gait where locate_path() could not register
+  /// its phase: its sources' own lead phase, against their cadence; 1 elsewhere
+  /// (detail::lead_pace). A low one, while the path moves on, is a stall (detail/outside_route.h).
+  double lead_pace = 1.0;
 };
 
 /// Where a one-frame pose's motion root stands on the floor: its heading (yaw about the up axis,

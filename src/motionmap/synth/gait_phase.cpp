@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "motionmap/synth/detail/smoothing.h"
@@ -27,6 +28,12 @@ struct Phased {
 struct Lead {
   std::vector<Phased> sources;
   double phase = 0.0, clarity = 0.0, cadence = 0.0;
+  // Per run: the sources' weight on it and the phase of the heaviest one.
+  struct Run {
+    int run = 0;
+    double weight = 0.0, phase = 0.0, heaviest = 0.0;
+  };
+  std::vector<Run> runs;
 };
 
 Lead lead_of(const PhaseFrame& frame, const PhaseOf& phase_of) {
@@ -39,6 +46,14 @@ Lead lead_of(const PhaseFrame& frame, const PhaseOf& phase_of) {
     double rate = 0.0;
     const double phase = p.at(src.seconds, &rate), w = std::abs(src.weight);
     out.sources.push_back({i, phase, w});
+    auto run = std::find_if(out.runs.begin(), out.runs.end(),
+                            [&](const Lead::Run& r) { return r.run == src.run; });
+    if (run == out.runs.end()) run = out.runs.insert(out.runs.end(), {src.run});
+    run->weight += src.weight;
+    if (w > run->heaviest) {
+      run->heaviest = w;
+      run->phase = phase;
+    }
     x += w * std::cos(2.0 * kPi * phase);
     y += w * std::sin(2.0 * kPi * phase);
     total += w;
@@ -50,6 +65,90 @@ Lead lead_of(const PhaseFrame& frame, const PhaseOf& phase_of) {
     out.cadence = rates / total;
   }
   return out;
+}
+
+// How fast the leads of frames [lo, …) move on at frame k: the sum of their steps over the
+// frames within `reach` of k that have one, against k's cadence (PhaseFrame::lead_pace).
+double lead_advance(const std::vector<Lead>& leads, std::size_t lo, std::size_t k,
+                    std::size_t reach, double dt) {
+  const Lead& own = leads[k - lo];
+  const std::size_t a = std::max(lo, k > reach ? k - reach : 0);
+  const std::size_t b = std::min(lo + leads.size(), k + reach + 1);
+  double advance = 0.0;
+  std::size_t steps = 0, previous = b;
+  for (std::size_t j = a; j < b; ++j) {
+    if (leads[j - lo].sources.empty()) continue;
+    if (previous < b) {
+      advance += wrap(leads[j - lo].phase - leads[previous - lo].phase);
+      steps += j - previous;
+    }
+    previous = j;
+  }
+  if (steps == 0 || !(own.cadence > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return std::clamp(advance / (static_cast<double>(steps) * dt * own.cadence), 0.0, kMaxPace);
+}
+
+// The second pass of register_phases(): frame k's weight on each run with a phase becomes the
+// mean of the weights of the frames within `reach` of it on that run (a triangle; from `leads`,
+// frames [lo, …) as located: the registration moves sources within their runs), scaled to k's
+// own total. The difference goes, by k's registration h, to that run's time of k's phase φ, in
+// the cycle nearest the run's heaviest source at the nearest frame on it; by 1 − h to that
+// source's phase carried on at k's cadence.
+void smooth_shares(std::span<PhaseFrame> frames, std::size_t first, std::size_t end, std::size_t lo,
+                   const std::vector<Lead>& leads, std::size_t reach, double dt,
+                   const PhaseOf& phase_of) {
+  if (reach == 0) return;
+  struct Mean {
+    int run = 0;
+    double weight = 0.0, phase = 0.0;
+    double offset = 0.0;  // of the nearest frame on the run (frames, signed), whose `phase` it is
+  };
+  std::vector<Mean> mean;
+  for (std::size_t k = first; k < end; ++k) {
+    const std::vector<Lead::Run>& own = leads[k - lo].runs;
+    if (own.empty()) continue;
+    mean.clear();
+    const std::size_t a = std::max(lo, k > reach ? k - reach : 0);
+    const std::size_t b = std::min(lo + leads.size(), k + reach + 1);
+    double norm = 0.0;
+    for (std::size_t j = a; j < b; ++j) {
+      const double offset = static_cast<double>(j) - static_cast<double>(k);
+      const double t = 1.0 - std::abs(offset) / static_cast<double>(reach + 1);
+      norm += t;
+      for (const Lead::Run& r : leads[j - lo].runs) {
+        auto it =
+            std::find_if(mean.begin(), mean.end(), [&](const Mean& m) { return m.run == r.run; });
+        if (it == mean.end()) {
+          it = mean.insert(mean.end(), {r.run, 0.0, r.phase, offset});
+        } else if (std::abs(offset) < std::abs(it->offset)) {
+          it->phase = r.phase;
+          it->offset = offset;
+        }
+        it->weight += t * r.weight;
+      }
+    }
+    double own_total = 0.0, mean_total = 0.0;
+    for (const Lead::Run& r : own) own_total += r.weight;
+    for (const Mean& m : mean) mean_total += m.weight / norm;
+    if (!(std::abs(mean_total) > 1e-9)) continue;
+    PhaseFrame& f = frames[k];
+    const double h = std::isnan(f.phase) ? 0.0 : f.registered;
+    for (const Mean& m : mean) {
+      const auto on =
+          std::find_if(own.begin(), own.end(), [&](const Lead::Run& r) { return r.run == m.run; });
+      const double change =
+          m.weight / norm * own_total / mean_total - (on == own.end() ? 0.0 : on->weight);
+      if (std::abs(change) <= kShareTolerance) continue;
+      const GaitPhase& p = phase_of(m.run);
+      if (h < 1.0) {
+        const double carried = m.phase - m.offset * dt * f.cadence;
+        f.sources.push_back({m.run, p.time_inside(carried), (1.0 - h) * change});
+      }
+      if (h > 0.0)
+        f.sources.push_back({m.run, p.time_inside(m.phase + wrap(f.phase - m.phase)), h * change});
+      f.moved = true;
+    }
+  }
 }
 
 }  // namespace
@@ -145,6 +244,11 @@ double pace(std::span<const PhaseFrame> frames, std::size_t k, double dt) {
   return h * std::clamp(rate, 0.0, kMaxPace) + (1.0 - h);
 }
 
+double lead_pace(std::span<const PhaseFrame> frames, std::size_t k) {
+  const PhaseFrame& f = frames[k];
+  return f.registered < 0.5 && !std::isnan(f.lead_pace) ? f.lead_pace : 1.0;
+}
+
 void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_t end, double dt,
                      const PhaseOf& phase_of) {
   const std::size_t count = frames.size();
@@ -153,10 +257,15 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
   const std::size_t hi = std::min(count, end + window);
   std::vector<Lead> leads(hi - lo);
   for (std::size_t j = lo; j < hi; ++j) leads[j - lo] = lead_of(frames[j], phase_of);
+  const auto within = [&](double seconds) {
+    return std::min(window, static_cast<std::size_t>(std::lround(seconds / dt)));
+  };
+  const std::size_t lead_reach = within(kLeadPaceSeconds);
   std::vector<double> carried, weight;
   for (std::size_t k = first; k < end; ++k) {
     const Lead& own = leads[k - lo];
     if (own.sources.empty()) continue;
+    frames[k].lead_pace = lead_advance(leads, lo, k, lead_reach, dt);
     // The window's leads carried to frame k at their cadence: r_j = ψ_j − ∫_k^j ω, weighted.
     const std::size_t a = std::max(lo, k > window ? k - window : 0);
     const std::size_t b = std::min(hi, k + window + 1);
@@ -233,6 +342,7 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
     f.sources.insert(f.sources.end(), moved.begin(), moved.end());
     f.moved = true;
   }
+  smooth_shares(frames, first, end, lo, leads, within(kShareSeconds), dt, phase_of);
 }
 
 }  // namespace motionmap::synth::detail

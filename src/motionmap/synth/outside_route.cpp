@@ -18,7 +18,8 @@ std::vector<char> stalled_frames(const MapBlender& blender, std::span<const Eige
   const double followed = kFollowNear * blender.median_step();
   for (std::size_t i = 0; i < located.size(); ++i) {
     // (A path along a clip's trajectory plays that clip at its own pace, slow or fast.)
-    if (!(located[i].pace < kStallPace) || located[i].validity.distance <= followed) continue;
+    const bool slow = located[i].pace < kStallPace && located[i].validity.distance > followed;
+    if (!slow && !(located[i].lead_pace < kStallPace)) continue;
     const std::size_t k = first + i;
     const std::size_t a = k > 0 ? k - 1 : k, b = std::min(points.size() - 1, k + 1);
     const double speed = (points[b] - points[a]).norm() / (static_cast<double>(b - a) * dt);

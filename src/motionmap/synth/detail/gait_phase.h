@@ -38,6 +38,17 @@
 //    root's velocity is the samples' own: where the path dwelt, legs held at one phase glided on
 //    with it. Halfway between the proud and the angry walk the feet slid 141 cm/s in contact,
 //    98 cleaned, against the capture's 44; at the legs' pace 75 and 54.)
+//  - Each run's share of the frame (the sum of its sources' weights) becomes the mean of its
+//    shares over the frames within kShareSeconds (a triangle), scaled to the frame's own total
+//    on runs with a phase; what a run gains or loses is added at its time of φ_k by h (in the
+//    cycle nearest its heaviest source at the nearest frame on it) and by 1 − h at that source's
+//    phase carried on at the cadence. Between two takes the kriging moves its weight from one
+//    take's samples to the other's within a frame, at the same phase but in another style: a
+//    joint stepped up to 69 cm in a frame between two runs (their captures' largest step 21–25).
+//  - lead_pace(): where h < ½ the legs play the sources' own leads, and how fast those move on
+//    (their steps over kLeadPaceSeconds either side, against the cadence) tells where they
+//    stall: a path between two runs' curves held one phase for 10–20 frames while the path
+//    moved on, then flipped to another (detail/outside_route.h routes such stretches).
 // Sources without a phase keep their times and weights. A frame's registration reads the frames
 // within kPhaseWindowSeconds of it (phase_window()); its pace those of its neighbours too
 // (pace_window()).
@@ -60,6 +71,13 @@ inline constexpr double kPhaseWindowSeconds = 0.5;
 inline constexpr double kPhaseBand = 0.02;
 inline constexpr double kPhaseSplit = 0.3;
 inline constexpr double kPhaseVague = 0.2;
+/// A frame's share of each run is the mean of its shares over this many seconds either side
+/// (see the top); changes smaller than kShareTolerance are left out.
+inline constexpr double kShareSeconds = 0.15;
+inline constexpr double kShareTolerance = 1e-9;
+/// PhaseFrame::lead_pace reads the leads this many seconds either side (at most
+/// kPhaseWindowSeconds).
+inline constexpr double kLeadPaceSeconds = 0.2;
 
 /// One clip's gait phase, in seconds from the start of one run of its samples (see the top).
 struct GaitPhase {
@@ -100,6 +118,10 @@ struct PhaseFrame {
   bool moved = false;
   double phase = std::numeric_limits<double>::quiet_NaN();
   double cadence = 0.0, registered = 0.0;
+  /// How fast the frame's sources' lead phase ψ, as located, moves on against the cadence: the
+  /// sum of its steps over the frames within kLeadPaceSeconds either side, in [0, kMaxPace]; NaN
+  /// where the sources have no phase.
+  double lead_pace = std::numeric_limits<double>::quiet_NaN();
 };
 
 using PhaseOf = std::function<const GaitPhase&(int run)>;
@@ -114,6 +136,11 @@ int phase_window(double dt);
 /// its legs, playing the gait at φ, carry it a step as long as the clips' (a path that dwells
 /// where a gait's samples sit barely moves on, rather than gliding with its legs held).
 double pace(std::span<const PhaseFrame> frames, std::size_t k, double dt);
+/// How fast the legs of frame k of `frames` (registered: register_phases()) move on where its
+/// phase could not be registered (h < ½): its lead_pace, the sources' own phase playing on; 1
+/// where it was, or where its sources have no phase. Where the leads stall while the path moves
+/// on the blend holds its legs as they do (detail/outside_route.h).
+double lead_pace(std::span<const PhaseFrame> frames, std::size_t k);
 /// pace()'s d: the frames either side whose phases it differences.
 inline constexpr std::size_t kPaceFrames = 1;
 /// The fastest pace (the fitted clip times play at most kFollowMaxRate = 2).

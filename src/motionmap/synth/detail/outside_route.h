@@ -32,7 +32,12 @@
 // steps from every sample (on a clip's trajectory a slow pace is that clip played slowly), while
 // the path moves on over the map at kStallPathSpeed × the clips' median map speed or faster (a
 // path that dwells there holds the pose, as it should) — is routed too, with the frames within
-// kStallSeconds of it, so that one route plays the whole stretch.
+// kStallSeconds of it, so that one route plays the whole stretch. So is a frame whose phase the
+// registration could not read (MapWeights::lead_pace below kStallPace, near the samples too):
+// its legs play its sources' own leads, and those stood still for 10–20 frames, then flipped to
+// another phase, between two runs' curves (halfway from the old run to the angry one: 303 cm/s
+// in contact cleaned, the capture 124; with the runs' shares smoothed, 197 and a joint still
+// stepping 53 cm in a frame; routed where the leads stall, 98 cm/s and 24 cm).
 #include <cstddef>
 #include <span>
 #include <string>
@@ -52,7 +57,8 @@ inline constexpr double kOutsideTrack = 0.1;
 /// are routed as those outside are (and at least kFollowNear median steps away).
 inline constexpr double kRouteReachFraction = 0.5;
 
-/// A gait's blend stalls where its pace (MapWeights::pace) is below this …
+/// A gait's blend stalls where its pace (MapWeights::pace, away from the samples) or its lead's
+/// (MapWeights::lead_pace) is below this …
 inline constexpr double kStallPace = 0.5;
 /// … while the path moves on at this × the clips' median map speed (MapBlender::median_speed)
 /// or faster (its central difference over the frames either side).

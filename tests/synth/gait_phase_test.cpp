@@ -298,6 +298,17 @@ TEST(SynthGaitPhase, LeadPaceSaysWhereTheUnregisteredLegsStandStill) {
   }
   for (std::size_t k = 75; k < frames.size(); ++k)
     EXPECT_NEAR(lead_pace(frames, k), 1.0, 1e-9) << k;
+  // Leads that jump about (the sources alternating between two times 0.3 cycles apart, as a
+  // kriging of samples at scattered phases does) are a mix, not legs held: no lead pace.
+  std::vector<PhaseFrame> jumpy(60);
+  for (std::size_t k = 0; k < jumpy.size(); ++k) {
+    jumpy[k].sources = {{0, 3.0 + (k % 2 == 0 ? 0.0 : 0.15), 1.0}};
+  }
+  register_phases(jumpy, 0, jumpy.size(), dt, phase_of);
+  for (std::size_t k = 0; k < jumpy.size(); ++k) {
+    EXPECT_TRUE(std::isnan(jumpy[k].lead_pace)) << k;
+    EXPECT_EQ(lead_pace(jumpy, k), 1.0) << k;
+  }
   // Registered frames, or frames without a phase: 1.
   std::vector<PhaseFrame> none(3);
   EXPECT_EQ(lead_pace(none, 1), 1.0);

@@ -68,24 +68,32 @@ Lead lead_of(const PhaseFrame& frame, const PhaseOf& phase_of) {
 }
 
 // How fast the leads of frames [lo, …) move on at frame k: the sum of their steps over the
-// frames within `reach` of k that have one, against k's cadence (PhaseFrame::lead_pace).
+// frames within `reach` of k that have one, against k's cadence (PhaseFrame::lead_pace); NaN
+// where they jump about rather than step (their median step, per frame, over kLeadJumpy × the
+// cadence's: a mix of phases, not legs held).
 double lead_advance(const std::vector<Lead>& leads, std::size_t lo, std::size_t k,
-                    std::size_t reach, double dt) {
+                    std::size_t reach, double dt, std::vector<double>& steps) {
   const Lead& own = leads[k - lo];
   const std::size_t a = std::max(lo, k > reach ? k - reach : 0);
   const std::size_t b = std::min(lo + leads.size(), k + reach + 1);
   double advance = 0.0;
-  std::size_t steps = 0, previous = b;
+  std::size_t frames = 0, previous = b;
+  steps.clear();
   for (std::size_t j = a; j < b; ++j) {
     if (leads[j - lo].sources.empty()) continue;
     if (previous < b) {
-      advance += wrap(leads[j - lo].phase - leads[previous - lo].phase);
-      steps += j - previous;
+      const double step = wrap(leads[j - lo].phase - leads[previous - lo].phase);
+      advance += step;
+      frames += j - previous;
+      steps.push_back(std::abs(step) / static_cast<double>(j - previous));
     }
     previous = j;
   }
-  if (steps == 0 || !(own.cadence > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  return std::clamp(advance / (static_cast<double>(steps) * dt * own.cadence), 0.0, kMaxPace);
+  if (frames == 0 || !(own.cadence > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  const auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+  std::nth_element(steps.begin(), middle, steps.end());
+  if (*middle > kLeadJumpy * own.cadence * dt) return std::numeric_limits<double>::quiet_NaN();
+  return std::clamp(advance / (static_cast<double>(frames) * dt * own.cadence), 0.0, kMaxPace);
 }
 
 // The second pass of register_phases(): frame k's weight on each run with a phase becomes the
@@ -261,11 +269,11 @@ void register_phases(std::span<PhaseFrame> frames, std::size_t first, std::size_
     return std::min(window, static_cast<std::size_t>(std::lround(seconds / dt)));
   };
   const std::size_t lead_reach = within(kLeadPaceSeconds);
-  std::vector<double> carried, weight;
+  std::vector<double> carried, weight, steps;
   for (std::size_t k = first; k < end; ++k) {
     const Lead& own = leads[k - lo];
     if (own.sources.empty()) continue;
-    frames[k].lead_pace = lead_advance(leads, lo, k, lead_reach, dt);
+    frames[k].lead_pace = lead_advance(leads, lo, k, lead_reach, dt, steps);
     // The window's leads carried to frame k at their cadence: r_j = ψ_j − ∫_k^j ω, weighted.
     const std::size_t a = std::max(lo, k > window ? k - window : 0);
     const std::size_t b = std::min(hi, k + window + 1);

@@ -48,7 +48,11 @@
 //  - lead_pace(): where h < ½ the legs play the sources' own leads, and how fast those move on
 //    (their steps over kLeadPaceSeconds either side, against the cadence) tells where they
 //    stall: a path between two runs' curves held one phase for 10–20 frames while the path
-//    moved on, then flipped to another (detail/outside_route.h routes such stretches).
+//    moved on, then flipped to another (detail/outside_route.h routes such stretches). Leads
+//    that jump about instead (their median step over kLeadJumpy times the cadence's) are a mix
+//    of phases, not legs held, and get none: on the synthetic random-walk bench map nearly half
+//    the frames' leads summed to less than half the cadence that way, and routing them made a
+//    10 s synthesis 8 times slower and an edit re-make the whole take.
 // Sources without a phase keep their times and weights. A frame's registration reads the frames
 // within kPhaseWindowSeconds of it (phase_window()); its pace those of its neighbours too
 // (pace_window()).
@@ -78,6 +82,8 @@ inline constexpr double kShareTolerance = 1e-9;
 /// PhaseFrame::lead_pace reads the leads this many seconds either side (at most
 /// kPhaseWindowSeconds).
 inline constexpr double kLeadPaceSeconds = 0.2;
+/// … and has none where the leads' median step is over this many times the cadence's.
+inline constexpr double kLeadJumpy = 2.0;
 
 /// One clip's gait phase, in seconds from the start of one run of its samples (see the top).
 struct GaitPhase {
@@ -120,7 +126,8 @@ struct PhaseFrame {
   double cadence = 0.0, registered = 0.0;
   /// How fast the frame's sources' lead phase ψ, as located, moves on against the cadence: the
   /// sum of its steps over the frames within kLeadPaceSeconds either side, in [0, kMaxPace]; NaN
-  /// where the sources have no phase.
+  /// where the sources have no phase, or where ψ jumps about (its median step over kLeadJumpy
+  /// times the cadence's: the sources a mix of phases, not legs held).
   double lead_pace = std::numeric_limits<double>::quiet_NaN();
 };
 

@@ -37,7 +37,7 @@
 // its legs play its sources' own leads, and those stood still for 10–20 frames, then flipped to
 // another phase, between two runs' curves (halfway from the old run to the angry one: 303 cm/s
 // in contact cleaned, the capture 124; with the runs' shares smoothed, 197 and a joint still
-// stepping 53 cm in a frame; routed where the leads stall, 98 cm/s and 24 cm).
+// stepping 53 cm in a frame; routed where the leads stall, 105 cm/s and 24 cm).
 #include <cstddef>
 #include <span>
 #include <string>

@@ -128,7 +128,7 @@ TEST(SynthGaitPhase, LinesUpTwoTakesBlendedOutOfStep) {
   const TwoTakes takes(1.0 / 3.0);
   std::vector<PhaseFrame> frames(90);
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    const double t = 3.0 + static_cast<double>(k) * dt;
+    const double t = t_of(k, dt);
     frames[k].sources = {{0, t, 0.6}, {100, t, 0.4}};
   }
   register_phases(frames, 0, frames.size(), dt, takes.phase_of());
@@ -216,7 +216,7 @@ TEST(SynthGaitPhase, AHalfCycleApartSharesBothCyclesSoNothingJumps) {
   const TwoTakes takes(0.0);
   std::vector<PhaseFrame> frames(90);
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    const double t = 3.0 + static_cast<double>(k) * dt;
+    const double t = t_of(k, dt);
     const double drift = 0.25 + 0.5 * static_cast<double>(k) / 89.0;
     frames[k].sources = {{0, t, 0.8}, {100, t - drift, 0.2}};
   }
@@ -247,8 +247,7 @@ TEST(SynthGaitPhase, EachTakesShareMovesSmoothly) {
   const TwoTakes takes(0.0);
   std::vector<PhaseFrame> frames(90);
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    const double t = 3.0 + static_cast<double>(k) * dt;
-    frames[k].sources = {{k < 45 ? 0 : 100, t, 1.0}};
+    frames[k].sources = {{k < 45 ? 0 : 100, t_of(k, dt), 1.0}};
   }
   register_phases(frames, 0, frames.size(), dt, takes.phase_of());
   const auto reach = static_cast<std::size_t>(std::lround(kShareSeconds / dt));

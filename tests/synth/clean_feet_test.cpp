@@ -236,6 +236,47 @@ TEST(SynthCleanFeet, TwoFixedFramesInOneContactHoldTheAnkleOnTheLineBetweenThem)
   }
 }
 
+TEST(SynthCleanFeet, AContactIsHeldAtTheAnkleHeightsGiven) {
+  // In-betweening passes its blend's ankle heights, from before the keys' displacement map
+  // tilted the stances: a contact without a fixed frame is held at their mean over it (here 2 cm
+  // under the ankle's own), where it is at the given height's own mean otherwise.
+  const Clip clip = skating_walk();
+  const Feet feet = find_feet(clip.skeleton);
+  const int F = clip.motion.num_frames;
+  const CleanFeetResult plain = clean_feet(clip.skeleton, clip.motion, feet);
+  CleanFeetOptions options;
+  for (int s = 0; s < 2; ++s) {
+    for (const Vector3d& a : joint_trajectory(clip.skeleton, clip.motion, feet.legs[s].ankle))
+      options.ankle_heights[s].push_back(a.y() - 2.0);
+  }
+  const CleanFeetResult lower = clean_feet(clip.skeleton, clip.motion, feet, options);
+  int checked = 0;
+  for (int s = 0; s < 2; ++s) {
+    const auto was = joint_trajectory(clip.skeleton, plain.motion, feet.legs[s].ankle);
+    const auto now = joint_trajectory(clip.skeleton, lower.motion, feet.legs[s].ankle);
+    for (const ContactInterval& c : plain.contacts[s].intervals) {
+      // The middle of the contact, away from where the ankle settles at its ends.
+      for (int f = c.first + c.frames() / 3; f <= c.last - c.frames() / 3; ++f) {
+        EXPECT_NEAR(now[f].y(), was[f].y() - 2.0, 0.02) << "foot " << s << " frame " << f;
+        EXPECT_LT(std::hypot(now[f].x() - was[f].x(), now[f].z() - was[f].z()), 0.02);
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 20);
+  // One height per frame, finite.
+  options.ankle_heights[1].pop_back();
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { clean_feet(clip.skeleton, clip.motion, feet, options); }),
+            "clean_feet: ankle_heights[1] has " + std::to_string(F - 1) + " values for " +
+                std::to_string(F) + " frames (must be empty or one per frame)");
+  options.ankle_heights[1].clear();
+  options.ankle_heights[0][5] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { clean_feet(clip.skeleton, clip.motion, feet, options); }),
+            "clean_feet: ankle_heights[0] at frame 5 is not finite");
+}
+
 TEST(SynthCleanFeet, LeavesLegsAwayFromTheirContactsAndIsDeterministic) {
   const Clip clip = skating_walk(30.0);
   const Feet feet = find_feet(clip.skeleton);

@@ -36,6 +36,7 @@ Quaterniond parent_world(const Skeleton& s, const WorldPose& w, int joint) {
 struct FootPlan {
   Leg leg;
   std::vector<Vector3d> ankle;               // original world positions per frame
+  std::vector<double> height;                // the heights contacts keep (ankle_heights)
   std::vector<Vector3d> offset;              // target − original per frame (zero: untouched)
   std::vector<char> touched;                 // whether offset applies (even when it is zero)
   Vector3d hinge_local = Vector3d::UnitX();  // in the knee's parent's frame
@@ -56,10 +57,16 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
       if (fixed[static_cast<std::size_t>(f)]) held.push_back(f);
     }
     if (held.empty()) {
-      // The ankle's mean position over the contact.
+      // The ankle's mean position over the contact, at the mean of the heights kept.
       Vector3d sum = Vector3d::Zero();
-      for (int f = iv[c].first; f <= iv[c].last; ++f) sum += plan.ankle[f];
-      for (int f = iv[c].first; f <= iv[c].last; ++f) plan.offset[f] = sum / iv[c].frames();
+      double height = 0.0;
+      for (int f = iv[c].first; f <= iv[c].last; ++f) {
+        sum += plan.ankle[f];
+        height += plan.height[f];
+      }
+      sum /= iv[c].frames();
+      sum += (height / iv[c].frames() - sum.dot(up)) * up;
+      for (int f = iv[c].first; f <= iv[c].last; ++f) plan.offset[f] = sum;
     } else {
       // Fixed frames in the contact: the ankle stays where the first has it before it and where
       // the last has it after; between two, it goes straight from one's place to the other's, so
@@ -90,7 +97,8 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
     // (lifts), as at a heel strike (heel-off), and the fade into the hold does not pull a foot
     // still coming down to the floor early, low while still fast. Not past a fixed frame.
     const auto settle = [&](int f) {
-      const double above = (plan.ankle[f] - plan.offset[f]).dot(up);
+      const double own = held.empty() ? plan.height[f] : plan.ankle[f].dot(up);
+      const double above = own - plan.offset[f].dot(up);
       if (fixed[static_cast<std::size_t>(f)] || above <= 0.0) return false;
       plan.offset[f] += above * up;
       return true;
@@ -284,6 +292,19 @@ void check_inputs(const Skeleton& skeleton, const Motion& motion, const Feet& fe
   options.validate();
   check_motion(skeleton, motion, "clean_feet", MotionCheck::Values);
   for (const Leg& leg : feet.legs) check_leg(skeleton, leg);
+  for (int s = 0; s < 2; ++s) {
+    const std::vector<double>& h = options.ankle_heights[static_cast<std::size_t>(s)];
+    const std::string which = "clean_feet: ankle_heights[" + std::to_string(s) + "]";
+    if (!h.empty() && h.size() != static_cast<std::size_t>(motion.num_frames)) {
+      throw ParameterError(which + " has " + std::to_string(h.size()) + " values for " +
+                           std::to_string(motion.num_frames) +
+                           " frames (must be empty or one per frame)");
+    }
+    for (std::size_t f = 0; f < h.size(); ++f) {
+      if (!std::isfinite(h[f]))
+        throw ParameterError(which + " at frame " + std::to_string(f) + " is not finite");
+    }
+  }
 }
 
 // clean_feet() of checked inputs and contacts within the motion, the ankles' paths given.
@@ -313,6 +334,11 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
     FootPlan& plan = plans[static_cast<std::size_t>(s)];
     plan.leg = feet.legs[static_cast<std::size_t>(s)];
     plan.ankle = std::move(ankles[static_cast<std::size_t>(s)]);
+    plan.height = options.ankle_heights[static_cast<std::size_t>(s)];
+    if (plan.height.empty()) {
+      plan.height.resize(static_cast<std::size_t>(F));
+      for (int f = 0; f < F; ++f) plan.height[f] = plan.ankle[f].dot(up);
+    }
     plan.length = result.contacts[static_cast<std::size_t>(s)].leg_length;
     plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, fixed, up, plan);
     result.held[static_cast<std::size_t>(s)] = plan.touched;

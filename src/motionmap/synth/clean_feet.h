@@ -9,9 +9,10 @@
 //
 // Method (docs/synthesis.md, "Clean feet"):
 //  1. Contacts per foot: detect_contacts() (skeleton/contacts.h) with `contacts`.
-//  2. Targets: through a contact the ankle is held at the mean of its positions over the contact;
+//  2. Targets: through a contact the ankle is held at the mean of its positions over the contact
+//     (its height: the mean of ankle_heights there, when given);
 //     at its start, while the ankle is still above that height and coming down (at its end, where
-//     it rises), the ankle keeps its own height: the foot stands still on the floor while the
+//     it rises), the ankle keeps its own height (or the given one): the foot stands still while the
 //     ankle settles, as at a heel strike (heel-off). Fixed frames in a contact: see fixed_frames.
 //     Around it, the displacement that needs at the contact's first (last) frame, held − original,
 //     is added to the ankle's own path with a weight falling from 1 at the contact to 0 over
@@ -64,6 +65,12 @@ struct CleanFeetOptions {
   /// own down to the contact's mean height) — and the frame itself is left bit for bit. Any
   /// order; out of range ignored.
   std::vector<int> fixed_frames;
+  /// Per foot (left, right), empty or one value per frame: the ankle heights (along contacts.up,
+  /// file units) a contact without a fixed frame is held at (their mean over it) and settles to
+  /// at its ends, instead of the motion's own. In-betweening passes its blend's, from before the
+  /// keys' displacement map: spread over a segment, that map tilts a stance, lifting a planted
+  /// foot by a few cm at one end.
+  std::array<std::vector<double>, 2> ankle_heights;
 
   /// @throws ParameterError naming the field (contacts.height, …), its value and its range.
   void validate() const;

@@ -423,44 +423,6 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     height[ks] = t.dot(up_unit);
     floor[ks] = t - height[ks] * up_unit;
   }
-  // On a clip route the frames play the clips at the route's pace (held, on, or skipping, over
-  // the segment's frames), and so must the root: each frame's floor step and turn (the blend's,
-  // at the clips' own pace) scaled by the clips' frames the route advances per output frame.
-  const std::vector<double> blend_heading = heading;
-  const std::vector<Eigen::Vector3d> blend_floor = floor;
-  for (int i = 0; i + 1 < K; ++i) {
-    const WalkedRoute& w = walked[static_cast<std::size_t>(i)];
-    if (w.play.advance.empty()) continue;
-    const long long a = key_frames[i], b = key_frames[i + 1];
-    const double steps = static_cast<double>(w.play.advance.size());
-    Eigen::Vector3d at = floor[static_cast<std::size_t>(a)];
-    double turned = heading[static_cast<std::size_t>(a)];
-    for (long long k = a + 1; k <= b; ++k) {
-      const auto ks = static_cast<std::size_t>(k);
-      const auto step = static_cast<std::size_t>(std::min(
-          steps - 1.0,
-          std::floor(steps * static_cast<double>(k - 1 - a) / static_cast<double>(b - a))));
-      const double pace = w.play.advance[step] * steps / static_cast<double>(b - a);
-      const Eigen::Vector3d local =
-          axis_rotation(up, -blend_heading[ks - 1]) * (blend_floor[ks] - blend_floor[ks - 1]);
-      const double turn = wrap_angle(blend_heading[ks] - blend_heading[ks - 1]);
-      const Eigen::Vector3d next_at = at + axis_rotation(up, turned) * (pace * local);
-      floor[ks - 1] = at;
-      heading[ks - 1] = turned;
-      at = next_at;
-      turned += pace * turn;
-    }
-    // Frames after this segment move rigidly with its end.
-    const auto bs = static_cast<std::size_t>(b);
-    const double shift_turn = turned - heading[bs];
-    const Eigen::Vector3d from = floor[bs];
-    for (long long k = b; k < frames; ++k) {
-      const auto ks = static_cast<std::size_t>(k);
-      floor[ks] = at + axis_rotation(up, shift_turn) * (floor[ks] - from);
-      heading[ks] += shift_turn;
-    }
-  }
-
   // The displacement map at each key: rotations (the root's of the tilts) and translations.
   std::vector<std::vector<Eigen::Quaterniond>> dq(
       static_cast<std::size_t>(K),
@@ -586,26 +548,44 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
               ? detect_contacts(blender.skeleton(), blended, *feet, clean.contacts)
               : contacts_from_shares(blender.skeleton(), blended, *feet, synth.contact_shares,
                                      clean.contacts);
-      // ... and kept where the keys left the foot low: near a key whose foot is in the air, a
-      // foot planted in the blend must lift to it, not float held at the key's height.
+      // ... held at the blend's heights (the keys' displacement map, spread over a segment,
+      // tilts a stance: a held-out walk's planted feet stood 2-4 cm up and, rising with it, left
+      // the floor 0.4 s early) and cut where a key leaves the foot in the air: the frames about
+      // that key where its ankle stays above the contact height must lift to the key, not stand
+      // held at the key's height.
       const AnklePaths ankles = ankle_paths(blender.skeleton(), synth.motion, *feet);
+      const AnklePaths blend_ankles = ankle_paths(blender.skeleton(), blended, *feet);
+      std::vector<char> is_key(static_cast<std::size_t>(frames), 0);
+      for (const long long k : key_frames) is_key[static_cast<std::size_t>(k)] = 1;
       for (int side = 0; side < 2; ++side) {
         FootContacts& c = contacts[side];
+        for (const Eigen::Vector3d& a : blend_ankles[side])
+          clean.ankle_heights[side].push_back(a.dot(up_unit));
         const double top = c.floor + clean.contacts.height * c.leg_length;
         const auto low = [&](int f) { return ankles[side][f].dot(up_unit) <= top; };
         const int shortest = static_cast<int>(std::ceil(clean.contacts.min_seconds / dt - 1e-9));
         std::vector<ContactInterval> kept;
+        const auto keep = [&](const ContactInterval& piece) {
+          if (piece.frames() >= std::max(1, shortest)) kept.push_back(piece);
+        };
         for (const ContactInterval& in : c.intervals) {
+          // The contact's runs of frames in the air (the ankle above `top`) with a key in them
+          // are cut out.
+          int from = in.first;
           for (int f = in.first; f <= in.last;) {
-            if (!low(f)) {
-              ++f;
-              continue;
-            }
             int g = f;
-            while (g + 1 <= in.last && low(g + 1)) ++g;
-            if (g - f + 1 >= shortest) kept.push_back({f, g});
+            bool key = is_key[static_cast<std::size_t>(f)] != 0;
+            while (g < in.last && low(g + 1) == low(f)) {
+              ++g;
+              if (is_key[static_cast<std::size_t>(g)]) key = true;
+            }
+            if (!low(f) && key) {
+              keep({from, f - 1});
+              from = g + 1;
+            }
             f = g + 1;
           }
+          keep({from, in.last});
         }
         c.intervals = std::move(kept);
       }

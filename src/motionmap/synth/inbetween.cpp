@@ -549,10 +549,10 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
               : contacts_from_shares(blender.skeleton(), blended, *feet, synth.contact_shares,
                                      clean.contacts);
       // ... held at the blend's heights (the keys' displacement map, spread over a segment,
-      // tilts a stance: a held-out walk's planted feet stood 2-4 cm up and, rising with it, left
-      // the floor 0.4 s early) and cut where a key leaves the foot in the air: the frames about
-      // that key where its ankle stays above the contact height must lift to the key, not stand
-      // held at the key's height.
+      // tilts a stance: a held-out walk's planted feet stood 2-4 cm up and, rising with it, rose
+      // out of the skating measure's contact line up to 0.17 s early) and cut where a key leaves
+      // the foot in the air: the frames about that key where its ankle stays above the contact
+      // height must lift to the key, not stand held at the key's height.
       const AnklePaths ankles = ankle_paths(blender.skeleton(), synth.motion, *feet);
       const AnklePaths blend_ankles = ankle_paths(blender.skeleton(), blended, *feet);
       std::vector<char> is_key(static_cast<std::size_t>(frames), 0);

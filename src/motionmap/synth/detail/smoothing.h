@@ -45,10 +45,26 @@ template <class Weights>
 MapWeights smoothed(const Weights& raw, long long raw_first, long long k, long long frames,
                     const std::vector<double>& kernel, double dt, const MapBlender& blender) {
   const auto half = static_cast<long long>(kernel.size() / 2);
-  const int num_samples = blender.num_samples();
-  std::vector<double> acc(static_cast<std::size_t>(num_samples), 0.0);
-  std::vector<char> seen(static_cast<std::size_t>(num_samples), 0);
+  // Per thread, kept between calls: a frame touches a few dozen of a map's samples, and zeroing
+  // a sum for every sample per frame cost more than the smoothing itself. The samples touched
+  // are cleared again on the way out, an exception's too.
+  const auto num_samples = static_cast<std::size_t>(blender.num_samples());
+  thread_local std::vector<double> acc;
+  thread_local std::vector<char> seen;
+  if (acc.size() < num_samples) {
+    acc.assign(num_samples, 0.0);
+    seen.assign(num_samples, 0);
+  }
   std::vector<int> touched;
+  struct Clear {
+    const std::vector<int>& touched;
+    ~Clear() {
+      for (const int s : touched) {
+        acc[static_cast<std::size_t>(s)] = 0.0;
+        seen[static_cast<std::size_t>(s)] = 0;
+      }
+    }
+  } clear{touched};
   double gsum = 0.0, pace = 0.0;
   for (long long j = -half; j <= half; ++j) {
     const long long f = k + j;

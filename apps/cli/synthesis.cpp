@@ -37,7 +37,7 @@ struct BlendCommand {
   std::string edit_of;
   double speed = 0.0;
   double fps = 0.0;
-  double smooth = 0.0;
+  double smooth = synth::kDefaultSmoothSeconds;
   bool no_clean_feet = false;
 };
 
@@ -132,10 +132,11 @@ void setup_synth(CLI::App& app) {
   sub->add_option("--fps", cmd->fps, "Frame rate of the new motion (default: the source clip's)");
   sub->add_option(
       "--smooth", cmd->smooth,
-      "Gaussian smoothing of the blend weights over time, σ in seconds (default 0), each "
-      "neighbouring frame's weights moved in their clips by its distance in time first: it "
-      "softens a path's jitter and jumps between clips, and a path retracing a clip's "
-      "trajectory at its timing still reproduces the clip");
+      "Gaussian smoothing of the blend weights over time, σ in seconds (default 0.05; 0: "
+      "none), each neighbouring frame's weights moved in their clips by its distance in time "
+      "first: it softens a path's jitter and jumps between clips (a path between two runs "
+      "steps instead of gliding), and a path retracing a clip's trajectory at its timing "
+      "still reproduces the clip");
   sub->add_flag("--no-clean-feet", cmd->no_clean_feet,
                 "Keep the feet as blended: by default the root moves with the planted feet and "
                 "each foot is held still through its contacts with the floor, the legs bent to "

@@ -413,15 +413,15 @@ _ESTIMATORS = {cls._method: cls
                for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE, UMAP, GPLVM)}
 
 
-def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, blend=None,
+def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.05, blend=None,
                neighbors=12, reach=3.0, clean_feet=True, progress=None):
     """A new motion along a path on a fitted 2-D map of clips (what `motionmap synth` does;
     docs/synthesis.md): every frame blended at a point of the path, root motion integrated from
     the samples' own velocities. path_xy: #points by 2; times: seconds per point (strictly
     increasing) or None (drawn at `speed` map units per second, 0 = the clip's median map
     speed); fps: output frame rate (0 = the clip's); smooth: σ in seconds of a Gaussian
-    smoothing of the weights over time (each neighbouring frame's moved in its clips by its
-    distance in time first, so a retraced clip stays itself). blend, neighbors, reach: as inverse_transform;
+    smoothing of the weights over time, 0 = none (each neighbouring frame's moved in its clips
+    by its distance in time first, so a retraced clip stays itself). blend, neighbors, reach: as inverse_transform;
     clean_feet: hold each foot still through its contacts with the floor (False: the blend as it
     is, e.g. to reproduce a clip along its own trajectory). Where the path leaves the data, or
     runs farther than half the reach from it, or where a gait's legs would stall mid-stride
@@ -438,7 +438,7 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.0, b
 
 
 def edit_path(fitted, path_xy, times=None, *, previous_xy, previous_times=None, speed=0.0,
-              fps=0.0, smooth=0.0, blend=None, neighbors=12, reach=3.0, clean_feet=True,
+              fps=0.0, smooth=0.05, blend=None, neighbors=12, reach=3.0, clean_feet=True,
               progress=None):
     """The motion along an edited path, re-made only where the edit changes it (what `motionmap
     synth --edit-of` does; docs/synthesis.md, "Editing a path"). previous_xy, previous_times: the

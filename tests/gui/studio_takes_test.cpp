@@ -287,7 +287,7 @@ TEST(StudioTakes, ADraggedControlPointRemakesOnlyItsStretch) {
   // Other motion options: the whole take is re-made.
   w->takes()->redo();
   SynthParameters other;
-  other.motion.smooth = 0.05;
+  other.motion.smooth = 0.0;  // the default smooths
   ASSERT_TRUE(w->takes()->editControlPoint(control, at, other));
   ASSERT_TRUE(QTest::qWaitFor([&] { return w->takes()->pendingTake() < 0; }, kTimeoutMs));
   EXPECT_FALSE(w->takes()->lastEditWindow().has_value());

@@ -381,8 +381,11 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // Blended poses and root motion along them: a path timed at the frames (or the clip routes'
   // weights).
   // The feet are cleaned last, once the keys' poses and roots are in place.
+  // Unsmoothed: a key is the blend at its point, and a clip route's weights already play the
+  // clips' own frames in order.
   SynthOptions blend_only;
   blend_only.clean_feet = false;
+  blend_only.smooth = 0.0;
   const Control blending = control.stage("blending frames", 0.2, 0.9);
   SynthResult synth;
   if (clip_routes) {

@@ -47,6 +47,11 @@ namespace motionmap::synth {
 inline constexpr long long kMaxSynthFrames = 360000;
 /// Longest temporal smoothing (Gaussian σ), in seconds.
 inline constexpr double kMaxSmoothSeconds = 10.0;
+/// The temporal smoothing (Gaussian σ, seconds) synthesis uses unless told otherwise: the
+/// weights located along a path between two runs hop between the runs' cycles from frame to
+/// frame (a run's cycles lie on top of each other on the map), so the blended stance foot never
+/// stands; ±0.15 s of smoothing lets it (docs/synthesis.md, "Clean feet").
+inline constexpr double kDefaultSmoothSeconds = 0.05;
 
 struct SynthOptions {
   /// Untimed paths: map units per second; 0 = the clip's median map speed
@@ -58,7 +63,7 @@ struct SynthOptions {
   /// 0 = none. The neighbours' weights are moved in their clips by their distance in time first,
   /// so a retraced trajectory still reproduces the clip: smoothing softens a path's jumps and
   /// jitter between clips, not a clip's own motion.
-  double smooth = 0.0;
+  double smooth = kDefaultSmoothSeconds;
   /// When the skeleton has feet (find_feet(), along BlendOptions::up): lead the root by the
   /// planted feet (where the blender knows its samples' contacts) and hold each foot still through
   /// its contacts with the floor (clean_feet()); false: the blend as it is (a retraced trajectory

@@ -142,7 +142,8 @@ void BM_SynthKrigingFactor(benchmark::State& state) {
 BENCHMARK(BM_SynthKrigingFactor)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SynthKrigingFactor)->Arg(10000)->Iterations(1)->Unit(benchmark::kSecond);
 
-// A 10 s path (1201 frames at 120 fps) through 100 samples spread over the map, local mode.
+// A 10 s path (1201 frames at 120 fps) through 100 samples spread over the map, local mode,
+// the default options (the weights smoothed over σ 0.05 s, feet cleaned).
 void BM_SynthPath(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const MapBlender& b = blender(n, BlendMode::Local);

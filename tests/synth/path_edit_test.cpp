@@ -309,6 +309,19 @@ TEST(SynthPathEdit, CmuGolfSwing) {
   check_edit({"CMU 64_08 golf swing", {"cmu/64_08.bvh", "cmu/64_09.bvh"}, 0, 30, 0.3, 1, 0.0, 3.0});
 }
 
+TEST(SynthPathEdit, CmuGolfSwingSmoothedByDefault) {
+  // At 120 fps the default smoothing's window, ±18 frames, reads every 4th frame of the motion
+  // (detail/smoothing.h): an edit re-reads the same frames a full synthesis does.
+  check_edit({"CMU 64_08 golf swing, smoothed as by default",
+              {"cmu/64_08.bvh", "cmu/64_09.bvh"},
+              0,
+              30,
+              0.3,
+              1,
+              kDefaultSmoothSeconds,
+              3.0});
+}
+
 TEST(SynthPathEdit, AnEditOutsideTheDataRemakesItsWholeRun) {
   // A sketch of the normal walk whose middle control points are drawn halfway to the angry
   // walk, outside the data: that stretch is played by one route through the clips' own frames, so

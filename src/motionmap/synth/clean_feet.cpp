@@ -213,6 +213,10 @@ void CleanFeetOptions::validate() const {
     throw ParameterError("max_root_drop: " + format_number(max_root_drop) +
                          " is out of range (fraction of the leg length, must be in [0, 1])");
   }
+  if (!(reach_slack >= 0.0 && reach_slack <= 0.5)) {
+    throw ParameterError("reach_slack: " + format_number(reach_slack) +
+                         " is out of range (fraction of the leg length, must be in [0, 0.5])");
+  }
 }
 
 namespace {
@@ -384,7 +388,8 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
         if (!plan.touched[f]) continue;
         const Vector3d H = w.positions[plan.leg.hip];
         const Vector3d target = plan.ankle[f] + plan.offset[f];
-        const double r = std::max(options.reach * plan.length, (plan.ankle[f] - H).norm());
+        const double r = std::max(options.reach * plan.length, (plan.ankle[f] - H).norm()) +
+                         options.reach_slack * plan.length;
         const Vector3d D = target - H;
         if (D.norm() <= r) continue;
         const double du = D.dot(up);

@@ -21,11 +21,12 @@
 //     contacts closer than that the two add, normalised where their weights sum past 1. Frames
 //     farther from every contact are left as they are, bit for bit.
 //  3. Reach: where a target is farther from the hip than `reach` × the leg length (and farther
-//     than the original ankle was), the root (the motion root, synth's blender root) is lowered
-//     along the up axis just enough; the lowering is widened (a running maximum over ±blend
-//     frames) and then smoothed (a running mean over ±blend frames), so it is never less than
-//     needed and has no steps. Where the root is lowered, every foot is held at its own
-//     position (contact or not), so only the legs bend to absorb it.
+//     than the original ankle was) by more than `reach_slack` × the leg length, the root (the
+//     motion root, synth's blender root) is lowered along the up axis just enough to bring it
+//     within that (the leg then reaches as far as it goes); the lowering is widened (a running
+//     maximum over ±blend frames) and then smoothed (a running mean over ±blend frames), so it is
+//     never less than needed and has no steps. Where the root is lowered, every foot is held at its
+//     own position (contact or not), so only the legs bend to absorb it.
 //  4. Two-bone IK per leg (hip–knee–ankle), analytic: the knee angle from the law of cosines,
 //     bent about the knee's own hinge axis (the thigh × shin normal of the frame; for a leg
 //     straighter than 5°, the axis of the input's most bent frame, carried by the thigh), so the
@@ -58,6 +59,12 @@ struct CleanFeetOptions {
   double reach = 0.995;
   /// Most the root is lowered, × the leg length, in [0, 1].
   double max_root_drop = 0.25;
+  /// How far out of reach a target may be, × the leg length, in [0, 0.5], before the root is
+  /// lowered: within it the leg reaches as far as it goes and the foot stops short by at most
+  /// that; beyond it the root is lowered by what lies beyond. Lowering the root bends the other
+  /// leg too (a foot just out of its contact, held where it is, bent its knee 21° when the hips
+  /// dropped 3.9 cm to save a landing foot 1.6 cm of reach: docs/synthesis.md).
+  double reach_slack = 0.01;
   /// Frames whose pose must stay exactly as given (in-betweening's keys): a contact holding
   /// one holds the ankle where that frame has it rather than at the contact's mean — between two
   /// such frames on the straight line from one's place to the other's, before the first at the
@@ -84,7 +91,8 @@ struct CleanFeetResult {
   /// frame is the input's, bit for bit.
   std::vector<char> changed;
   double max_root_drop = 0.0;  ///< file units, 0 when the root was never lowered
-  int unreachable_frames = 0;  ///< frames where a target stayed out of reach (capped lowering)
+  /// Frames where a target stayed out of reach by more than reach_slack.
+  int unreachable_frames = 0;
   /// Per frame: how far the root was lowered (file units, ≥ 0).
   std::vector<double> root_drop;
   /// Per foot (left, right) and frame: 1 where the foot was moved to a target (a contact or its

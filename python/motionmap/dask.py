@@ -78,9 +78,12 @@ def map_library(paths, client, estimator, sample=None, *, save=None, keep_going=
     if not paths:
         raise Error("map_library: no clip given")
     chosen = choose_sample(paths, sample)
-    fitted = client.submit(_fit, estimator, chosen, pure=False).result()
-    shared = client.scatter(fitted, broadcast=True)
-    futures = client.map(_place, paths, fitted=shared, keep_going=keep_going)
+    fit = client.submit(_fit, estimator, chosen, pure=False)
+    fitted = fit.result()
+    # The tasks take the fit's own future rather than a scattered copy: a task's result that a
+    # dying worker takes with it is computed again, where scattered data is lost and every task
+    # needing it cancelled (a fresh `make test` once failed so, a worker killed mid-run).
+    futures = client.map(_place, paths, fitted=fit, keep_going=keep_going)
     results = client.gather(futures)
     coordinates, placed, failures = [], [], {}
     for path, result in zip(paths, results):

@@ -413,8 +413,9 @@ _ESTIMATORS = {cls._method: cls
                for cls in (PCA, SVD, MDS, Isomap, LaplacianEigenmap, LLE, UMAP, GPLVM)}
 
 
-def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.05, blend=None,
-               neighbors=12, reach=3.0, clean_feet=True, progress=None):
+def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0,
+               smooth=_motionmap.default_smooth_seconds, blend=None, neighbors=12, reach=3.0,
+               clean_feet=True, progress=None):
     """A new motion along a path on a fitted 2-D map of clips (what `motionmap synth` does;
     docs/synthesis.md): every frame blended at a point of the path, root motion integrated from
     the samples' own velocities. path_xy: #points by 2; times: seconds per point (strictly
@@ -438,8 +439,8 @@ def synthesize(fitted, path_xy, times=None, *, speed=0.0, fps=0.0, smooth=0.05, 
 
 
 def edit_path(fitted, path_xy, times=None, *, previous_xy, previous_times=None, speed=0.0,
-              fps=0.0, smooth=0.05, blend=None, neighbors=12, reach=3.0, clean_feet=True,
-              progress=None):
+              fps=0.0, smooth=_motionmap.default_smooth_seconds, blend=None, neighbors=12,
+              reach=3.0, clean_feet=True, progress=None):
     """The motion along an edited path, re-made only where the edit changes it (what `motionmap
     synth --edit-of` does; docs/synthesis.md, "Editing a path"). previous_xy, previous_times: the
     path of the previous take, made by synthesize(fitted, previous_xy, previous_times, ...) with

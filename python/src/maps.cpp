@@ -908,6 +908,8 @@ std::shared_ptr<MatrixMapState> matrix_from_state(const py::tuple& t) {
 }  // namespace
 
 void bind_maps(py::module_& m) {
+  // The default of synthesize()/edit_path()'s smooth=, one definition with the library's.
+  m.attr("default_smooth_seconds") = synth::kDefaultSmoothSeconds;
   py::class_<ClipMapState, std::shared_ptr<ClipMapState>>(
       m, "_ClipMap", "A fitted map of clips (the state of a fitted estimator).")
       .def_property_readonly("coordinates",

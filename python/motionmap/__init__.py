@@ -470,8 +470,9 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     skeleton and a frame from 0; a frame that is not a sample of the map is placed on it as
     transform() places frames — or (x, y), a map point (the blend there, root free). times:
     seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
-    times, or the samples' own speed along each route); route: "clips" (the clips' own frames
-    played on, jumping between clips where their map points meet) or "grid" (the cheapest path
+    times, or the samples' own speed along each route, at least the time the clips take to walk
+    the keys' distance); route: "clips" (the clips' own frames played on, jumping between clips
+    where their map points meet) or "grid" (the cheapest path
     over a grid through the valid region); grid: cells along the map's longer side (0 = from its
     density); smooth: smooth the grid route; blend, neighbors, reach: as
     inverse_transform; asf, fps: for .amc keys; clean_feet: hold the feet still through their

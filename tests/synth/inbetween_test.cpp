@@ -343,6 +343,40 @@ TEST_F(SynthInbetweenBandai, RoutesStayInTheDataAndKeysAreHitExactly) {
   }
 }
 
+TEST_F(SynthInbetweenBandai, UntimedKeysOfAWalkTakeTheWalksTimeToCoverTheirDistance) {
+  // Two keys of one walk, 180 frames (6 s) apart: near the same phase, so the route between their
+  // map points is short, but the root must cover the walk's distance between them. Untimed, the
+  // segment lasts at least that distance at the root speed of the samples near the keys, and the
+  // clip route plays the walk through: its feet skate as the captured frames between the keys do.
+  // (Timed by the map route alone it lasted 30 frames, its feet sliding 125 cm/s in contact.)
+  const Library& L = *lib;
+  const Clip& walk = L.clips[1];  // walk_old
+  const int first = 20, last = 200;
+  const std::vector<Key> keys{L.key(walk, 1, first), L.key(walk, 1, last)};
+  const InbetweenResult r = inbetween(*L.blender, *L.set, keys);
+  for (int i = 0; i < 2; ++i) expect_key_hit(*L.blender, r.motion, r.key_frames[i], keys[i]);
+  Motion captured;
+  captured.frame_time = walk.motion.frame_time;
+  captured.resize(last - first + 1, walk.motion.num_joints);
+  for (int f = first; f <= last; ++f) {
+    for (int j = 0; j < walk.motion.num_joints; ++j) {
+      captured.rotation(f - first, j) = walk.motion.rotation(f, j);
+      captured.translation(f - first, j) = walk.motion.translation(f, j);
+    }
+  }
+  const Feet feet = find_feet(L.blender->skeleton());
+  const Skating made = measure_skating(L.blender->skeleton(), r.motion, feet);
+  const Skating own = measure_skating(walk.skeleton, captured, feet);
+  std::printf(
+      "[ figures  ] untimed keys %d and %d of the old walk: %d frames (the walk's %d); skating "
+      "%.3f, %.1f cm/s in contact (the walk's frames between them %.3f, %.1f)\n",
+      first, last, r.motion.num_frames - 1, last - first, made.ratio, made.contact_speed_cm_s,
+      own.ratio, own.contact_speed_cm_s);
+  EXPECT_NEAR(r.key_frames[1], last - first, 0.15 * (last - first));
+  EXPECT_LE(made.ratio, own.ratio + 0.03);
+  EXPECT_LE(made.contact_speed_cm_s, 1.1 * own.contact_speed_cm_s);
+}
+
 TEST_F(SynthInbetweenBandai, AKeyFromAClipNotInTheMapIsPlacedAndReproduced) {
   const Library& L = *lib;
   const Clip held_out = io::load_clip(Library::path("walk_feminine"));

@@ -8,6 +8,7 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/rotation.h"
 #include "motionmap/features/point_cloud.h"
+#include "motionmap/skeleton/contacts.h"
 #include "motionmap/synth/clean_feet.h"
 #include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/synthesize.h"
@@ -31,6 +32,12 @@ constexpr int kKeyCandidates = 256;
 // least kMinRatedSteps samples.
 constexpr double kClipRouteRates[] = {0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.4};
 constexpr double kMinRatedSteps = 12.0;
+// Untimed, a segment between two keys with poses lasts at least the keys' floor distance over the
+// mean root speed over ±kPaceSeconds of the clip of each key's nearest sample — unless that is
+// slower than kStandingSpeed body sizes (detect_length_units' size) per second: the clips stand
+// there, and the route's map time alone sets it.
+constexpr double kStandingSpeed = 0.05;
+constexpr double kPaceSeconds = 0.5;
 // A segment's root path is turned and scaled onto the later key when it travels between this
 // fraction and its inverse of the keys' distance, turned by at most kMaxTravelTurn radians.
 constexpr double kMinTravelRatio = 0.5;
@@ -261,6 +268,47 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const auto jump_cost = [&](int from, int to) {
     return pose_distance(sample_pose(from), sample_pose(to));
   };
+  // Untimed, how long segment i takes at least for its root to cover the floor distance between
+  // its keys at the pace of the clips there: the mean root speed over ±kPaceSeconds of the clip
+  // of each key's nearest sample (one gait cycle of a walk; the speeds of the samples nearest
+  // a point mix clips — a walk's key lies beside runs on a map). 0: no floor (kStandingSpeed). A
+  // route between two keys of a walk at one phase, steps apart, is short on the map.
+  const auto walking_time = [&](int i) {
+    if (!keys[i].has_pose() || !keys[i + 1].has_pose()) return 0.0;
+    const int root = blender.motion_root();
+    const Axis up = blender.options().up;
+    const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
+    Eigen::Vector3d apart = root_placement(key_poses[i + 1], 0, root, up).floor -
+                            root_placement(key_poses[i], 0, root, up).floor;
+    apart -= apart.dot(up_unit) * up_unit;
+    const int n = blender.num_samples();
+    const int span = static_cast<int>(std::ceil(kPaceSeconds / dt));
+    std::vector<int> near;
+    double speed = 0.0;
+    int count = 0;
+    for (const int k : {i, i + 1}) {
+      if (field.nearest(keys[k].point, 1, near) < 1) continue;
+      const int s = near.front(), clip = samples.clip_of[s], frame = samples.frame_of[s];
+      const auto in_window = [&](int j) {
+        return j >= 0 && j < n && samples.clip_of[j] == clip &&
+               std::abs(samples.frame_of[j] - frame) <= span;
+      };
+      int from = s, to = s;
+      while (in_window(from - 1) && samples.frame_of[from - 1] < samples.frame_of[from]) --from;
+      while (in_window(to + 1) && samples.frame_of[to + 1] > samples.frame_of[to]) ++to;
+      for (int j = from; j <= to; ++j) {
+        MapWeights one;
+        one.samples = {j};
+        one.weights = {1.0};
+        speed += blender.blend(one).velocity.norm();
+        ++count;
+      }
+    }
+    if (count == 0) return 0.0;
+    speed /= count;
+    const double size = detect_length_units(blender.skeleton(), key_poses[i]).size;
+    return speed > kStandingSpeed * size ? apart.norm() / speed : 0.0;
+  };
   std::vector<WalkedRoute> walked;
   int last_visited = -1;  // the sample the previous clip route ended on
   for (int i = 0; i + 1 < K; ++i) {
@@ -279,7 +327,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       walked.push_back(walk(field, speeds, floor_speed, result.routes.back()));
     }
     if (untimed) {
-      const double duration = walked.back().times.back();
+      const double duration = std::max(walked.back().times.back(), walking_time(i));
       if (!std::isfinite(duration)) {
         throw ParameterError(
             "keys: the map has no motion to take the samples' speed from; give "

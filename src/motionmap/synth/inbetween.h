@@ -43,7 +43,9 @@
 // Timing: InbetweenOptions::frames_between = N puts N frames between consecutive keys; keys with
 // times (Key::time, seconds from the first key) are put at the nearest frames of the blender's
 // frame rate; neither: each segment takes the samples' own time along its route, rounded to
-// whole frames (at least one).
+// whole frames (at least one) — between two keys with poses at least the time the root takes to
+// cover their floor distance at the mean root speed over ±0.5 s of the clip of each key's nearest
+// sample (unless those samples stand): keys of a walk at one phase lie close on the map.
 #include <optional>
 #include <span>
 #include <string>

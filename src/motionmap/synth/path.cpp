@@ -177,7 +177,7 @@ std::vector<Eigen::Vector2d> resample_path(const MapPath& path, double frame_tim
   const double steps = std::floor(duration / frame_time + 1e-9);
   if (!(steps + 1.0 <= static_cast<double>(max_frames))) {
     throw ParameterError("path: " + format_number(duration) + " s at " +
-                         format_number(1.0 / frame_time) + " fps gives " +
+                         format_number(1.0 / frame_time, 6) + " fps gives " +
                          format_number(steps + 1.0) + " frames, more than the limit of " +
                          std::to_string(max_frames));
   }

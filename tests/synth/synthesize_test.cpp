@@ -319,10 +319,19 @@ TEST(SynthSynthesize, AGaitStallsWhereItsPaceDropsAsThePathMovesOn) {
   EXPECT_EQ(detail::stalled_frames(make_blender(clip, map, BlendMode::Idw), points, dt, located),
             std::vector<char>(8, 0));
   EXPECT_EQ(detail::stall_spread(1.0 / 30.0), 15);
-  EXPECT_EQ(detail::stalled_note(std::vector<char>(3, 0)), "");
-  EXPECT_EQ(detail::stalled_note(std::vector<char>{0, 1, 1}),
+  std::vector<PointValidity> inside(3);
+  EXPECT_EQ(detail::stalled_note(std::vector<char>(3, 0), inside), "");
+  EXPECT_EQ(detail::stalled_note(std::vector<char>{0, 1, 1}, inside),
             "gait: at 2 frames the blend held its legs mid-stride while the path moved on; the "
             "clips' own frames play there and within 500 ms of them");
+  // A stalled frame outside the data is told as outside (its own note), not twice.
+  std::vector<PointValidity> last_outside = inside;
+  last_outside[2].clamped = true;
+  EXPECT_EQ(detail::stalled_note(std::vector<char>{0, 1, 1}, last_outside),
+            "gait: at 1 frame the blend held its legs mid-stride while the path moved on; the "
+            "clips' own frames play there and within 500 ms of them");
+  last_outside[1].clamped = true;
+  EXPECT_EQ(detail::stalled_note(std::vector<char>{0, 1, 1}, last_outside), "");
 
   // On the clip's own curve nothing is outside; the frames within `spread` of a stall are routed.
   std::vector<Eigen::Vector2d> on_curve;

@@ -32,11 +32,13 @@ int stall_spread(double dt) {
   return static_cast<int>(std::lround(kStallSeconds / dt));
 }
 
-std::string stalled_note(std::span<const char> stalled) {
-  const auto count = std::count(stalled.begin(), stalled.end(), 1);
+std::string stalled_note(std::span<const char> stalled, std::span<const PointValidity> validity) {
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < stalled.size(); ++k)
+    count += stalled[k] && !(k < validity.size() && validity[k].clamped);
   if (count == 0) return {};
-  return "gait: at " + std::to_string(count) +
-         " frames the blend held its legs mid-stride while the path moved on; the clips' own "
+  return "gait: at " + std::to_string(count) + (count == 1 ? " frame" : " frames") +
+         " the blend held its legs mid-stride while the path moved on; the clips' own "
          "frames play there and within " +
          std::to_string(static_cast<int>(std::lround(kStallSeconds * 1000))) + " ms of them";
 }

@@ -321,7 +321,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   for (const PointValidity& v : r.validity) r.clamped_frames += v.clamped ? 1 : 0;
   r.routed_frames = detail::routed_outside(routed_runs, r.validity);
   r.notes.clear();
-  if (std::string note = detail::stalled_note(r.stalled); !note.empty())
+  if (std::string note = detail::stalled_note(r.stalled, r.validity); !note.empty())
     r.notes.push_back(std::move(note));
 
   if (!clean) {

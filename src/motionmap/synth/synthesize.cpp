@@ -123,7 +123,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
       },
       options, control.part(0.2, 1.0));
   result.routed_frames = detail::routed_outside(runs, result.validity);
-  if (std::string note = detail::stalled_note(stalled); !note.empty())
+  if (std::string note = detail::stalled_note(stalled, result.validity); !note.empty())
     result.notes.insert(result.notes.begin(), std::move(note));
   result.stalled = std::move(stalled);
   return result;

@@ -76,8 +76,9 @@ std::vector<char> stalled_frames(const MapBlender& blender, std::span<const Eige
 /// kStallSeconds in frames of dt seconds.
 int stall_spread(double dt);
 /// The note a result whose gait stalled gets (SynthResult::notes): how many frames `stalled`
-/// marks, and that the clips' own frames play around them; empty when none.
-std::string stalled_note(std::span<const char> stalled);
+/// marks inside the data (`validity`, one per frame: frames outside it have their own note), and
+/// that the clips' own frames play around them; empty when none.
+std::string stalled_note(std::span<const char> stalled, std::span<const PointValidity> validity);
 
 /// The runs of frames of `points` to route, [first, end) each, in order: stretches of frames
 /// outside the data or farther from every sample than kRouteReachFraction of the reach and

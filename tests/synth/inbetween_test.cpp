@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +15,7 @@
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/skeleton/contacts.h"
 #include "motionmap/skeleton/forward_kinematics.h"
+#include "motionmap/synth/clean_feet.h"
 #include "support/error_message.h"
 #include "support/test_data.h"
 #include "synth/synth_fixtures.h"
@@ -375,6 +378,54 @@ TEST_F(SynthInbetweenBandai, UntimedKeysOfAWalkTakeTheWalksTimeToCoverTheirDista
   EXPECT_NEAR(r.key_frames[1], last - first, 0.15 * (last - first));
   EXPECT_LE(made.ratio, own.ratio + 0.03);
   EXPECT_LE(made.contact_speed_cm_s, 1.1 * own.contact_speed_cm_s);
+}
+
+TEST(SynthInbetweenBandaiLibrary, TheKeysDisplacementMapDoesNotPushAFootIntoTheFloor) {
+  // A walk's key to a punch's on the map of all 12 Bandai takes: the clip route walks the old
+  // walk all the way, and the keys' displacement map, spread over the segment, bends its legs
+  // towards the punch's stance, pushing the right ankle 6.3 cm into the floor between contacts
+  // (2.6 cm once the contacts were held, before keep_above_floor). The clean-up lifts an ankle
+  // more than kFloorSlack leg lengths (1.7 cm) under the floor back to that depth.
+  std::vector<std::string> names{"bow_normal",    "bow_old",    "dash_normal", "punch_normal",
+                                 "run_angry",     "run_normal", "run_old",     "walk_angry",
+                                 "walk_feminine", "walk_old",   "walk_proud",  "walk_tired"};
+  std::vector<Clip> clips;
+  for (const std::string& n : names) {
+    const std::string path = motionmap::test::shared_file("bandai/dataset-1_" + n + "_001.bvh");
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data file absent: " << path;
+    clips.push_back(io::load_clip(path));
+  }
+  const pipeline::ClipMap map = pipeline::map_clips(clips, {});
+  const MapBlender blender(clips, *map.features, map.embedding.coordinates);
+  const int walk = 9, punch = 3;
+  const std::vector<Key> keys{
+      sample_key(blender, find_sample(*map.features, walk, 50), clips[walk].motion, 50),
+      sample_key(blender, find_sample(*map.features, punch, 60), clips[punch].motion, 60)};
+  InbetweenOptions raw_options;
+  raw_options.clean_feet = false;
+  const InbetweenResult raw = inbetween(blender, *map.features, keys, raw_options);
+  const InbetweenResult r = inbetween(blender, *map.features, keys);
+  const Feet feet = find_feet(blender.skeleton());
+  for (int side = 0; side < 2; ++side) {
+    // The floor: the lower of the two captured clips' (their ankles' 2 % quantiles).
+    const auto walk_contacts = detect_contacts(clips[walk].skeleton, clips[walk].motion, feet);
+    const auto punch_contacts = detect_contacts(clips[punch].skeleton, clips[punch].motion, feet);
+    const double floor = std::min(walk_contacts[side].floor, punch_contacts[side].floor);
+    const double slack = kFloorSlack * walk_contacts[side].leg_length;
+    const auto lowest = [&](const Motion& m) {
+      double low = std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector3d& a :
+           joint_trajectory(blender.skeleton(), m, feet.legs[side].ankle))
+        low = std::min(low, a.y());
+      return low;
+    };
+    std::printf("[ figures  ] %s ankle at most %.1f cm under the floor raw, %.1f cleaned\n",
+                side == 0 ? "left" : "right", floor - lowest(raw.motion), floor - lowest(r.motion));
+    EXPECT_GE(lowest(r.motion), floor - slack - 0.5) << "side " << side;
+    if (side == 1) {
+      EXPECT_LT(lowest(raw.motion), floor - 4.0);  // the cause is there
+    }
+  }
 }
 
 TEST_F(SynthInbetweenBandai, AKeyFromAClipNotInTheMapIsPlacedAndReproduced) {

@@ -20,6 +20,8 @@
 //     frames + 1)), so the foot keeps its own motion and drifts onto the held spot; between two
 //     contacts closer than that the two add, normalised where their weights sum past 1. Frames
 //     farther from every contact are left as they are, bit for bit.
+//     With keep_above_floor (in-betweening), an ankle more than kFloorSlack leg lengths below the
+//     floor is lifted to that depth (see the option).
 //  3. Reach: where a target is farther from the hip than `reach` × the leg length (and farther
 //     than the original ankle was) by more than `reach_slack` × the leg length, the root (the
 //     motion root, synth's blender root) is lowered along the up axis just enough to bring it
@@ -78,6 +80,13 @@ struct CleanFeetOptions {
   /// keys' displacement map: spread over a segment, that map tilts a stance, lifting a planted
   /// foot by a few cm at one end.
   std::array<std::vector<double>, 2> ankle_heights;
+  /// Keep every ankle (but a fixed frame's) above the floor, contact or not: one more than
+  /// kFloorSlack leg lengths below the lowest height a contact of its foot without a fixed frame
+  /// holds it at is lifted to that depth, the leg bent to reach (a foot without such a contact is
+  /// left as it is: over a short in-between it may never touch the floor). In-betweening sets it:
+  /// its keys' displacement map, spread over a segment, can push a foot into the floor (a walk's
+  /// in-between to a punch's key stood a foot up to 7 cm in it for 0.4 s).
+  bool keep_above_floor = false;
 
   /// @throws ParameterError naming the field (contacts.height, …), its value and its range.
   void validate() const;
@@ -127,6 +136,9 @@ CleanFeetResult clean_feet_from_shares(const Skeleton& skeleton, const Motion& m
 /// The note a clean-up that left planted feet out of reach adds to its motion's notes ("feet: in
 /// N frames[ of `part`] a planted foot stayed out of the leg's reach …"); empty when it left none.
 std::string unreachable_feet_note(const CleanFeetResult& result, std::string_view part = {});
+
+/// How far (× the leg length) an ankle may stand below the floor before keep_above_floor lifts it.
+inline constexpr double kFloorSlack = 0.02;
 
 /// How far (× the leg length, on the floor) a blended ankle may drift from where a contact began
 /// before contacts_from_shares() ends that contact and starts another.

@@ -593,6 +593,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       // lowered, the hips of the held-out proud walk's in-betweens dipped up to 5.6 cm (LAFAN1
       // protocol, docs/synthesis.md).
       clean.max_root_drop = 0.0;
+      clean.keep_above_floor = true;
       const Control cleaning = control.stage("cleaning feet", 0.9, 1.0);
       std::array<FootContacts, 2> contacts =
           synth.contact_shares.empty()

@@ -85,7 +85,7 @@ struct CleanFeetOptions {
   /// holds it at is lifted to that depth, the leg bent to reach (a foot without such a contact is
   /// left as it is: over a short in-between it may never touch the floor). In-betweening sets it:
   /// its keys' displacement map, spread over a segment, can push a foot into the floor (a walk's
-  /// in-between to a punch's key stood a foot up to 7 cm in it for 0.4 s).
+  /// in-between to a punch's key pushed an ankle 6.3 cm into it, 2.6 cm with its contacts held).
   bool keep_above_floor = false;
 
   /// @throws ParameterError naming the field (contacts.height, …), its value and its range.
@@ -105,7 +105,7 @@ struct CleanFeetResult {
   /// Per frame: how far the root was lowered (file units, ≥ 0).
   std::vector<double> root_drop;
   /// Per foot (left, right) and frame: 1 where the foot was moved to a target (a contact or its
-  /// fade in or out). A leg is solved where its foot is held or the root is lowered; elsewhere
+  /// fade in or out, or lifted by keep_above_floor). A leg is solved where its foot is held or the root is lowered; elsewhere
   /// its joints are the input's, bit for bit.
   std::array<std::vector<char>, 2> held;
 };

@@ -105,8 +105,8 @@ struct CleanFeetResult {
   /// Per frame: how far the root was lowered (file units, ≥ 0).
   std::vector<double> root_drop;
   /// Per foot (left, right) and frame: 1 where the foot was moved to a target (a contact or its
-  /// fade in or out, or lifted by keep_above_floor). A leg is solved where its foot is held or the root is lowered; elsewhere
-  /// its joints are the input's, bit for bit.
+  /// fade in or out, or lifted by keep_above_floor). A leg is solved where its foot is held or the
+  /// root is lowered; elsewhere its joints are the input's, bit for bit.
   std::array<std::vector<char>, 2> held;
 };
 

@@ -43,21 +43,24 @@ constexpr double kPaceSeconds = 0.5;
 constexpr double kMinTravelRatio = 0.5;
 constexpr double kMaxTravelTurn = 1.0;
 
+// Whether sample i + 1 is the next frame sampled of sample i's clip.
+bool consecutive(const features::FeatureSet& samples, int i) {
+  const auto n = static_cast<int>(samples.clip_of.size());
+  return i >= 0 && i + 1 < n && samples.clip_of[i] == samples.clip_of[i + 1] &&
+         samples.frame_of[i + 1] > samples.frame_of[i];
+}
+
 // Per sample: its map speed towards the next sample of its clip (the previous one's for the last
 // frame of a clip; 0 for a clip of one sample), map units per second.
 std::vector<double> sample_speeds(const MapBlender& blender, const features::FeatureSet& samples) {
   const int n = blender.num_samples();
   const double dt = blender.frame_time();
   std::vector<double> speed(static_cast<std::size_t>(n), -1.0);
-  auto consecutive = [&](int i) {
-    return i + 1 < n && samples.clip_of[i] == samples.clip_of[i + 1] &&
-           samples.frame_of[i + 1] > samples.frame_of[i];
-  };
   for (int i = 0; i < n; ++i) {
-    if (consecutive(i)) {
+    if (consecutive(samples, i)) {
       speed[i] = (blender.sample_point(i + 1) - blender.sample_point(i)).norm() /
                  ((samples.frame_of[i + 1] - samples.frame_of[i]) * dt);
-    } else if (i > 0 && consecutive(i - 1)) {
+    } else if (consecutive(samples, i - 1)) {
       speed[i] = speed[i - 1];
     } else {
       speed[i] = 0.0;
@@ -281,21 +284,16 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     Eigen::Vector3d apart = root_placement(key_poses[i + 1], 0, root, up).floor -
                             root_placement(key_poses[i], 0, root, up).floor;
     apart -= apart.dot(up_unit) * up_unit;
-    const int n = blender.num_samples();
     const int span = static_cast<int>(std::ceil(kPaceSeconds / dt));
     std::vector<int> near;
     double speed = 0.0;
     int count = 0;
     for (const int k : {i, i + 1}) {
       if (field.nearest(keys[k].point, 1, near) < 1) continue;
-      const int s = near.front(), clip = samples.clip_of[s], frame = samples.frame_of[s];
-      const auto in_window = [&](int j) {
-        return j >= 0 && j < n && samples.clip_of[j] == clip &&
-               std::abs(samples.frame_of[j] - frame) <= span;
-      };
+      const int s = near.front(), frame = samples.frame_of[s];
       int from = s, to = s;
-      while (in_window(from - 1) && samples.frame_of[from - 1] < samples.frame_of[from]) --from;
-      while (in_window(to + 1) && samples.frame_of[to + 1] > samples.frame_of[to]) ++to;
+      while (consecutive(samples, from - 1) && frame - samples.frame_of[from - 1] <= span) --from;
+      while (consecutive(samples, to) && samples.frame_of[to + 1] - frame <= span) ++to;
       for (int j = from; j <= to; ++j) {
         MapWeights one;
         one.samples = {j};

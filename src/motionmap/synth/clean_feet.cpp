@@ -46,7 +46,7 @@ struct FootPlan {
 
 // The ankle's target displacement around the contacts (see the top of clean_feet.h).
 void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vector<char>& fixed,
-                  const Vector3d& up, bool keep_above_floor, FootPlan& plan) {
+                  const Vector3d& up, FootPlan& plan) {
   plan.offset.assign(static_cast<std::size_t>(frames), Vector3d::Zero());
   plan.touched.assign(static_cast<std::size_t>(frames), 0);
   const auto& iv = fc.intervals;
@@ -114,36 +114,7 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
       plan.touched[f] = 1;
     }
   }
-  // Ankles below the floor lifted (keep_above_floor; after the fades, below): the floor is the
-  // lowest height a contact of this foot without a fixed frame holds its ankle at (its mean
-  // height, or ankle_heights'); none: no lift. Not the motion's own lowest heights: over a short
-  // in-between a foot may never touch the floor, and a contact holding a fixed frame stands
-  // where that frame has it.
-  double floor = std::numeric_limits<double>::infinity();
-  for (const ContactInterval& c : iv) {
-    bool free = true;
-    for (int f = c.first; f <= c.last; ++f) free = free && !fixed[static_cast<std::size_t>(f)];
-    if (!free) continue;
-    for (int f = c.first; f <= c.last; ++f)
-      floor = std::min(floor, (plan.ankle[f] + plan.offset[f]).dot(up));
-  }
-  // Within kFloorSlack leg lengths under it the ankle stays as it is (a stance's own heights vary
-  // by as much), and one further down stops there.
-  floor -= kFloorSlack * plan.length;
-  const auto lift = [&] {
-    if (!keep_above_floor || !std::isfinite(floor)) return;
-    for (int f = 0; f < frames; ++f) {
-      if (fixed[static_cast<std::size_t>(f)]) continue;
-      const double below = floor - (plan.ankle[f] + plan.offset[f]).dot(up);
-      if (below <= 0.0) continue;
-      plan.offset[f] += below * up;
-      plan.touched[f] = 1;
-    }
-  };
-  if (blend <= 0) {
-    lift();
-    return;
-  }
+  if (blend <= 0) return;
   // Frames between contacts: fades from the previous contact's end and the next one's start.
   std::size_t next = 0;  // first contact starting after f
   for (int f = 0; f < frames; ++f) {
@@ -165,7 +136,34 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
     plan.offset[f] = (w1 * d1 + w2 * d2) / std::max(1.0, w1 + w2);
     plan.touched[f] = 1;
   }
-  lift();
+}
+
+// CleanFeetOptions::keep_above_floor on a planned foot: its ankles below the floor lifted. The
+// floor is the lowest height a contact of this foot without a fixed frame holds its ankle at (its
+// mean height, or ankle_heights'); none: no lift. Not the motion's own lowest heights: over a
+// short in-between a foot may never touch the floor, and a contact holding a fixed frame stands
+// where that frame has it.
+void lift_above_floor(const FootContacts& fc, const std::vector<char>& fixed, const Vector3d& up,
+                      FootPlan& plan) {
+  double floor = std::numeric_limits<double>::infinity();
+  for (const ContactInterval& c : fc.intervals) {
+    bool free = true;
+    for (int f = c.first; f <= c.last; ++f) free = free && !fixed[static_cast<std::size_t>(f)];
+    if (!free) continue;
+    for (int f = c.first; f <= c.last; ++f)
+      floor = std::min(floor, (plan.ankle[f] + plan.offset[f]).dot(up));
+  }
+  if (!std::isfinite(floor)) return;
+  // Within kFloorSlack leg lengths under it the ankle stays as it is (a stance's own heights vary
+  // by as much), and one further down stops there.
+  floor -= kFloorSlack * plan.length;
+  for (std::size_t f = 0; f < plan.offset.size(); ++f) {
+    if (fixed[f]) continue;
+    const double below = floor - (plan.ankle[f] + plan.offset[f]).dot(up);
+    if (below <= 0.0) continue;
+    plan.offset[f] += below * up;
+    plan.touched[f] = 1;
+  }
 }
 
 // Two-bone IK of one leg of the pose `q` (local rotations of one frame), whose world pose is `w`:
@@ -375,8 +373,9 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
       for (int f = 0; f < F; ++f) plan.height[f] = plan.ankle[f].dot(up);
     }
     plan.length = result.contacts[static_cast<std::size_t>(s)].leg_length;
-    plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, fixed, up,
-                 options.keep_above_floor, plan);
+    plan_offsets(result.contacts[static_cast<std::size_t>(s)], F, blend, fixed, up, plan);
+    if (options.keep_above_floor)
+      lift_above_floor(result.contacts[static_cast<std::size_t>(s)], fixed, up, plan);
     result.held[static_cast<std::size_t>(s)] = plan.touched;
   }
   // Hinge axes from the input's most bent frame (sampled: ≤ 512 frames).

@@ -177,6 +177,11 @@ TEST(SynthPath, ResampleRejectsBadArguments) {
             "fps: the frame time 0 s is not a finite number > 0");
   EXPECT_EQ(parameter_message([&] { resample_path(p, 0.1, 1e-6, 1000); }),
             "path: 1000000 s at 10 fps gives 10000001 frames, more than the limit of 1000");
+  // CMU's BVH frame time, 0.0083333 s: the rate said as 120, not 120.00048000192001.
+  MapPath timed = p;
+  timed.times = {0.0, 10.0};
+  EXPECT_EQ(parameter_message([&] { resample_path(timed, 0.0083333, 0.0, 100); }),
+            "path: 10 s at 120 fps gives 1201 frames, more than the limit of 100");
   EXPECT_EQ(parameter_message([&] { resample_path(MapPath{}, 0.1, 1.0); }),
             "path: 0 point(s); at least 2 are needed");
 }

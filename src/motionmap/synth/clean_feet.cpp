@@ -136,6 +136,17 @@ void plan_offsets(const FootContacts& fc, int frames, int blend, const std::vect
     plan.offset[f] = (w1 * d1 + w2 * d2) / std::max(1.0, w1 + w2);
     plan.touched[f] = 1;
   }
+  // A fixed frame outside the contacts is left as given, so the displacement fades to nothing
+  // over ±blend towards it, a hold's last frames included: a contact cut one frame before an
+  // in-between's key that leaves the foot in the air held a glided ankle 1 m from where the key
+  // has it, and the foot snapped there.
+  std::size_t c = 0;
+  for (int k = 0; k < frames; ++k) {
+    while (c < iv.size() && iv[c].last < k) ++c;
+    if (!fixed[static_cast<std::size_t>(k)] || (c < iv.size() && iv[c].first <= k)) continue;
+    for (int f = std::max(0, k - blend); f <= std::min(frames - 1, k + blend); ++f)
+      plan.offset[f] *= 1.0 - detail::falloff(std::abs(f - k) / (blend + 1.0));
+  }
 }
 
 // CleanFeetOptions::keep_above_floor on a planned foot: its ankles below the floor lifted. The
@@ -265,7 +276,6 @@ std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Moti
                          " contact shares for " + std::to_string(F) + " frames");
   }
   const int gap = static_cast<int>(std::floor(options.gap_seconds * motion.fps() + 1e-9));
-  const int shortest = static_cast<int>(std::ceil(options.min_seconds * motion.fps() - 1e-9));
   const Eigen::Vector3d up = Eigen::Vector3d::Unit(static_cast<int>(options.up));
   for (int s = 0; s < 2; ++s) {
     const FootContacts& fc = contacts[static_cast<std::size_t>(s)];
@@ -285,36 +295,9 @@ std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Moti
         runs.push_back({f, f});
       }
     }
-    // A blend can glide (its pose held at the data's edge while the root moves on): a run is
-    // cut into pieces over which the ankle stays within kMaxHoldDrift leg lengths of where the
-    // piece began on the floor, so no leg is stretched after a foot the body has left behind.
-    const auto floor_distance = [&](int a, int b) {
-      const Eigen::Vector3d d =
-          ankle[static_cast<std::size_t>(b)] - ankle[static_cast<std::size_t>(a)];
-      return (d - d.dot(up) * up).norm();
-    };
-    const double drift = kMaxHoldDrift * fc.leg_length;
-    std::vector<ContactInterval> pieces;
-    // After a cut the next piece starts `fade` frames on, so the foot eases from the hold it
-    // leaves to the next instead of jumping.
-    const int fade = std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * motion.fps())));
-    for (const ContactInterval& r : runs) {
-      ContactInterval piece{r.first, r.first};
-      for (int f = r.first + 1; f <= r.last; ++f) {
-        if (floor_distance(piece.first, f) <= drift) {
-          piece.last = f;
-          continue;
-        }
-        pieces.push_back(piece);
-        f += fade - 1;
-        piece = {f + 1, f + 1};
-      }
-      if (piece.first <= r.last) pieces.push_back(piece);
-    }
-    std::vector<ContactInterval>& out = contacts[static_cast<std::size_t>(s)].intervals;
-    out.clear();
-    for (const ContactInterval& p : pieces)
-      if (p.frames() >= std::max(1, shortest)) out.push_back(p);
+    FootContacts& out = contacts[static_cast<std::size_t>(s)];
+    out.intervals = std::move(runs);
+    cut_drifting_contacts(out, ankle, options.up, motion.fps(), options.min_seconds, kMaxHoldDrift);
   }
   return contacts;
 }
@@ -512,6 +495,44 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
 }
 
 }  // namespace
+
+void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ankle, Axis up_axis,
+                           double fps, double min_seconds, double max_drift) {
+  const Vector3d up = Vector3d::Unit(static_cast<int>(up_axis));
+  const int shortest = static_cast<int>(std::ceil(min_seconds * fps - 1e-9));
+  // A blend can glide (its pose held at the data's edge while the root moves on): a run is
+  // cut into pieces over which the ankle stays within max_drift leg lengths of where the
+  // piece began on the floor, so no leg is stretched after a foot the body has left behind.
+  const auto floor_distance = [&](int a, int b) {
+    const Vector3d d = ankle[static_cast<std::size_t>(b)] - ankle[static_cast<std::size_t>(a)];
+    return (d - d.dot(up) * up).norm();
+  };
+  const double drift = max_drift * contacts.leg_length;
+  std::vector<ContactInterval> pieces;
+  // After a cut the next piece starts `fade` frames on, so the foot eases from the hold it
+  // leaves to the next instead of jumping.
+  const int fade = std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * fps)));
+  for (const ContactInterval& r : contacts.intervals) {
+    if (r.last >= static_cast<int>(ankle.size())) {
+      throw ParameterError("contacts: an interval ends at frame " + std::to_string(r.last) +
+                           " of " + std::to_string(ankle.size()));
+    }
+    ContactInterval piece{r.first, r.first};
+    for (int f = r.first + 1; f <= r.last; ++f) {
+      if (floor_distance(piece.first, f) <= drift) {
+        piece.last = f;
+        continue;
+      }
+      pieces.push_back(piece);
+      f += fade - 1;
+      piece = {f + 1, f + 1};
+    }
+    if (piece.first <= r.last) pieces.push_back(piece);
+  }
+  contacts.intervals.clear();
+  for (const ContactInterval& p : pieces)
+    if (p.frames() >= std::max(1, shortest)) contacts.intervals.push_back(p);
+}
 
 CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const Feet& feet,
                            const CleanFeetOptions& options, const Control& control) {

@@ -147,6 +147,14 @@ inline constexpr double kMaxHoldDrift = 0.25;
 /// the next.
 inline constexpr double kHoldFadeSeconds = 0.15;
 
+/// Cuts each contact into pieces over which the ankle (`ankle`: its position per frame) stays
+/// within max_drift leg lengths of where the piece began on the floor, the next piece starting
+/// kHoldFadeSeconds later; pieces shorter than min_seconds are dropped. A blend can glide (a pose
+/// held while the root moves on), and a hold there stretches the leg after a foot left behind.
+/// @throws ParameterError if an interval ends beyond the ankle's frames.
+void cut_drifting_contacts(FootContacts& contacts, std::span<const Eigen::Vector3d> ankle, Axis up,
+                           double fps, double min_seconds, double max_drift);
+
 /// The contacts of a blended motion from its blend weights as well as its own feet: foot s is on
 /// the floor in frame f when detect_contacts() finds it there, or when more than half of that
 /// frame's blend weight is on samples whose foot s is (shares[f][s] > 0.5,

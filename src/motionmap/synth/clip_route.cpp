@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "motionmap/core/error.h"
 #include "motionmap/synth/detail/root_motion.h"
+#include "motionmap/synth/detail/smoothing.h"
 #include "motionmap/synth/route.h"
 
 namespace motionmap::synth {
@@ -183,11 +185,39 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     reached.clear();
   }
 
-  // The cheapest end among the samples it may end on (any sample reached when none of them is),
-  // then back to the start.
+  // The cheapest end among the samples it may end on (any sample reached when none of them is,
+  // or the bridge), then back to the start.
   const Step& last = path.back();
   std::vector<double> end_cost(static_cast<std::size_t>(n), kInf);
-  for (const auto& [s, c] : ends_near(b, ends.end_cost)) end_cost[static_cast<std::size_t>(s)] = c;
+  const std::vector<std::pair<int, double>> b_ends = ends_near(b, ends.end_cost);
+  for (const auto& [s, c] : b_ends) end_cost[static_cast<std::size_t>(s)] = c;
+  if (ends.bridge && !b_ends.empty() &&
+      std::none_of(last.samples.begin(), last.samples.end(),
+                   [&](int s) { return std::isfinite(end_cost[static_cast<std::size_t>(s)]); })) {
+    // The cheapest start and end, each clip played towards the middle, one jump there.
+    const auto first = std::min_element(path[0].costs.begin(), path[0].costs.end());
+    const auto end =
+        std::min_element(b_ends.begin(), b_ends.end(),
+                         [](const auto& x, const auto& y) { return x.second < y.second; });
+    ClipRoute route;
+    route.samples.resize(static_cast<std::size_t>(steps) + 1);
+    const int middle = steps / 2;
+    int s = path[0].samples[static_cast<std::size_t>(first - path[0].costs.begin())];
+    for (int t = 0; t <= middle; ++t) {
+      route.samples[static_cast<std::size_t>(t)] = s;
+      if (next[s] >= 0) s = next[s];
+    }
+    s = end->first;
+    for (int t = steps; t > middle; --t) {
+      route.samples[static_cast<std::size_t>(t)] = s;
+      if (s > 0 && next[s - 1] == s) s = s - 1;
+    }
+    const int from = route.samples[static_cast<std::size_t>(middle)];
+    const int to = route.samples[static_cast<std::size_t>(middle) + 1];
+    route.cost =
+        *first + costs.jump + (ends.jump_cost ? ends.jump_cost(from, to) : 0.0) + end->second;
+    return route;
+  }
   int at = -1;
   double cheapest = kInf;
   for (const bool near_b : {true, false}) {
@@ -261,11 +291,98 @@ ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> ne
   return play;
 }
 
+namespace {
+
+// The two samples of s's clip around its frame `frame` and the later one's weight: found from s
+// along the clip (a clip's samples are consecutive), its first or last sample beyond its ends.
+struct ClipFrame {
+  int a = 0, b = 0;
+  double f = 0.0;
+};
+ClipFrame clip_frame(const MapBlender& blender, std::span<const int> next, int s, double frame) {
+  ClipFrame out;
+  out.a = s;
+  while (out.a > 0 && next[out.a - 1] == out.a && blender.sample_frame(out.a) > frame) --out.a;
+  while (next[out.a] >= 0 && blender.sample_frame(next[out.a]) <= frame) out.a = next[out.a];
+  out.b = next[out.a] >= 0 ? next[out.a] : out.a;
+  const double span = blender.sample_frame(out.b) - blender.sample_frame(out.a);
+  out.f = span > 0.0 ? std::clamp((frame - blender.sample_frame(out.a)) / span, 0.0, 1.0) : 0.0;
+  return out;
+}
+
+// Within a jump's crossfade (kJumpFadeSeconds about its middle, less where another jump or an
+// end of the route is nearer), the weights of the clip jumped from played on and the clip
+// jumped to played up to it, mixed by a smoothstep; nullopt elsewhere.
+std::optional<MapWeights> crossfade(const MapBlender& blender, std::span<const int> next,
+                                    const ClipRoutePlay& play, double t, double steps_per_second) {
+  const int steps = static_cast<int>(play.samples.size()) - 1;
+  const double h = 0.5 * kJumpFadeSeconds * steps_per_second;  // in steps
+  const int lo = std::max(0, static_cast<int>(std::floor(t - h - 0.5)));
+  const int hi = std::min(steps - 1, static_cast<int>(std::ceil(t + h)));
+  for (int J = lo; J <= hi; ++J) {
+    if (!play.jumps[static_cast<std::size_t>(J)]) continue;
+    double half = std::min({h, J + 0.5, steps - J - 0.5});
+    for (int o = J - 1; o >= 0 && J - o < 2.0 * half; --o) {
+      if (play.jumps[static_cast<std::size_t>(o)]) half = std::min(half, 0.5 * (J - o));
+    }
+    for (int o = J + 1; o < steps && o - J < 2.0 * half; ++o) {
+      if (play.jumps[static_cast<std::size_t>(o)]) half = std::min(half, 0.5 * (o - J));
+    }
+    const double u = half > 0.0 ? (t - (J + 0.5 - half)) / (2.0 * half) : -1.0;
+    if (u <= 0.0 || u >= 1.0) continue;
+    const double to_share = 1.0 - detail::falloff(u);
+    const auto j = static_cast<std::size_t>(J);
+    const double from_pace = J > 0 && !play.jumps[j - 1] ? play.advance[j - 1] : play.advance[j];
+    const double to_pace =
+        J + 1 < steps && !play.jumps[j + 1] ? play.advance[j + 1] : play.advance[j];
+    const int from = play.samples[j], to = play.samples[j + 1];
+    const ClipFrame x =
+        clip_frame(blender, next, from, blender.sample_frame(from) + (t - J) * from_pace);
+    const ClipFrame y =
+        clip_frame(blender, next, to, blender.sample_frame(to) - (J + 1 - t) * to_pace);
+    std::vector<std::pair<int, double>> parts{{x.a, (1.0 - to_share) * (1.0 - x.f)},
+                                              {x.b, (1.0 - to_share) * x.f},
+                                              {y.a, to_share * (1.0 - y.f)},
+                                              {y.b, to_share * y.f}};
+    std::sort(parts.begin(), parts.end());
+    MapWeights out;
+    Eigen::Vector2d point = Eigen::Vector2d::Zero();
+    int nearest = parts.front().first;
+    double most = -1.0;
+    for (const auto& [s, w] : parts) {
+      if (w <= 0.0) continue;
+      if (!out.samples.empty() && out.samples.back() == s) {
+        out.weights.back() += w;
+      } else {
+        out.samples.push_back(s);
+        out.weights.push_back(w);
+      }
+      point += w * blender.sample_point(s);
+      if (out.weights.back() > most) {
+        most = out.weights.back();
+        nearest = s;
+      }
+    }
+    const double i = std::clamp(std::floor(t), 0.0, steps - 1.0);
+    out.pace = play.advance[static_cast<std::size_t>(i)] * blender.frame_time() * steps_per_second;
+    PointValidity& v = out.validity;
+    v.query = v.point = point;
+    v.nearest_sample = nearest;
+    v.distance = (point - blender.sample_point(nearest)).norm();
+    return out;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
                               const ClipRoutePlay& play, double t, double steps_per_second) {
   int a = play.samples.front(), b = a;
   double f = 0.0, pace = 1.0;
   if (play.samples.size() > 1) {
+    if (std::optional<MapWeights> mixed = crossfade(blender, next, play, t, steps_per_second))
+      return *std::move(mixed);
     const double steps = static_cast<double>(play.samples.size()) - 1.0;
     const double i = std::clamp(std::floor(t), 0.0, steps - 1.0);
     const auto step = static_cast<std::size_t>(i);

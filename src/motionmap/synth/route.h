@@ -231,6 +231,13 @@ struct ClipRouteEnds {
   /// Extra cost of a jump from one sample (the next one's place) to another, e.g. how far apart
   /// their poses are; null: none.
   std::function<double(int, int)> jump_cost;
+  /// Where no sample b's end may be is reached (clips the map's jumps do not join: a run's key
+  /// and a walk's), the route bridges rather than ends wherever lies nearest b: the cheapest
+  /// start's clip played on for half the steps (held at its last sample), then the cheapest
+  /// end's clip played up to it (from its first), one jump between (crossfaded when played,
+  /// clip_route_weights). Ended nearest b, a run's key held its pose while the root glided on to
+  /// a walk's key 1.5 m away.
+  bool bridge = false;
 };
 struct ClipRoute {
   std::vector<int> samples;  ///< steps + 1 samples
@@ -259,14 +266,20 @@ struct ClipRoutePlay {
 /// `visited`: find_clip_route's samples; `next` as there; a jump advances `sample_step` frames.
 ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> next,
                               std::vector<int> visited, double sample_step);
+/// How long a clip route takes to cross from one clip to another at a jump: the clip jumped
+/// from played on and the clip jumped to played up to it, mixed over this time about the jump.
+/// Cut at the jump, an in-between from a bow's key to a walk's popped a joint 32 cm in a frame;
+/// over 0.2 s, a walk's to a punch's stance moved one 21 cm (the clips' fastest: 12).
+inline constexpr double kJumpFadeSeconds = 0.6;
 /// The weights of the frame at time t ∈ [0, steps] (in steps) of a played route: in a run, the
 /// two samples of the run around its clip frame at the run's pace (weights 1 − f and f: the
-/// clip's own frames in between); across a jump the nearer of its two samples (a blend at a map
-/// point between them would mix nearby samples of other clips). Validity: their point, weighted
-/// alike, and the nearer sample. Pace (MapWeights::pace), the route played at `steps_per_second`:
-/// the clips' frames its step advances (0 where it holds a frame, 2 where it skips every other)
-/// times their frame time, per second played — a held pose stands still, a skipping one strides
-/// on; 1 for a route of one sample.
+/// clip's own frames in between); within kJumpFadeSeconds about a jump (less where another jump
+/// or an end is nearer) the clip jumped from played on and the clip jumped to played up to it,
+/// mixed by a smoothstep (a blend at a map point between them would mix nearby samples of other
+/// clips). Validity: their point, weighted alike, and the most weighted sample. Pace
+/// (MapWeights::pace), the route played at `steps_per_second`: the clips' frames its step advances
+/// (0 where it holds a frame, 2 where it skips every other) times their frame time, per second
+/// played — a held pose stands still, a skipping one strides on; 1 for a route of one sample.
 MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
                               const ClipRoutePlay& play, double t, double steps_per_second);
 

@@ -314,9 +314,10 @@ ClipFrame clip_frame(const MapBlender& blender, std::span<const int> next, int s
 // end of the route is nearer), the weights of the clip jumped from played on and the clip
 // jumped to played up to it, mixed by a smoothstep; nullopt elsewhere.
 std::optional<MapWeights> crossfade(const MapBlender& blender, std::span<const int> next,
-                                    const ClipRoutePlay& play, double t, double steps_per_second) {
+                                    const ClipRoutePlay& play, double t, double steps_per_second,
+                                    double fade_seconds) {
   const int steps = static_cast<int>(play.samples.size()) - 1;
-  const double h = 0.5 * kJumpFadeSeconds * steps_per_second;  // in steps
+  const double h = 0.5 * fade_seconds * steps_per_second;  // in steps
   const int lo = std::max(0, static_cast<int>(std::floor(t - h - 0.5)));
   const int hi = std::min(steps - 1, static_cast<int>(std::ceil(t + h)));
   for (int J = lo; J <= hi; ++J) {
@@ -377,11 +378,13 @@ std::optional<MapWeights> crossfade(const MapBlender& blender, std::span<const i
 }  // namespace
 
 MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
-                              const ClipRoutePlay& play, double t, double steps_per_second) {
+                              const ClipRoutePlay& play, double t, double steps_per_second,
+                              double fade_seconds) {
   int a = play.samples.front(), b = a;
   double f = 0.0, pace = 1.0;
   if (play.samples.size() > 1) {
-    if (std::optional<MapWeights> mixed = crossfade(blender, next, play, t, steps_per_second))
+    if (std::optional<MapWeights> mixed =
+            crossfade(blender, next, play, t, steps_per_second, fade_seconds))
       return *std::move(mixed);
     const double steps = static_cast<double>(play.samples.size()) - 1.0;
     const double i = std::clamp(std::floor(t), 0.0, steps - 1.0);

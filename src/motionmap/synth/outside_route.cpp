@@ -148,9 +148,12 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
                           static_cast<int>(p1 - p0), ends);
       start = route.samples.back();
       const ClipRoutePlay play = play_clip_route(blender, next, route.samples, sample_step);
+      // Jumps cut, not crossfaded: this route tracks the path and jumps between nearby samples of
+      // one action, out of phase by a little; crossfaded, the angry run sketched halfway to the
+      // old one skated 0.539 of its transitions, not 0.500 (docs/synthesis.md, clean feet).
       for (std::size_t k = std::max(p0, a); k <= std::min(p1, e - 1); ++k) {
         run.weights[k - a] =
-            clip_route_weights(blender, next, play, static_cast<double>(k - p0), 1.0 / dt);
+            clip_route_weights(blender, next, play, static_cast<double>(k - p0), 1.0 / dt, 0.0);
       }
     }
     // The route's share: 1, rising from 0 over `fade` frames where the run meets the data.

@@ -273,15 +273,17 @@ ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> ne
 inline constexpr double kJumpFadeSeconds = 0.6;
 /// The weights of the frame at time t ∈ [0, steps] (in steps) of a played route: in a run, the
 /// two samples of the run around its clip frame at the run's pace (weights 1 − f and f: the
-/// clip's own frames in between); within kJumpFadeSeconds about a jump (less where another jump
-/// or an end is nearer) the clip jumped from played on and the clip jumped to played up to it,
-/// mixed by a smoothstep (a blend at a map point between them would mix nearby samples of other
-/// clips). Validity: their point, weighted alike, and the most weighted sample. Pace
-/// (MapWeights::pace), the route played at `steps_per_second`: the clips' frames its step advances
-/// (0 where it holds a frame, 2 where it skips every other) times their frame time, per second
-/// played — a held pose stands still, a skipping one strides on; 1 for a route of one sample.
+/// clip's own frames in between); within fade_seconds about a jump (less where another jump or
+/// an end is nearer) the clip jumped from played on and the clip jumped to played up to it, mixed
+/// by a smoothstep (a blend at a map point between them would mix nearby samples of other clips);
+/// fade_seconds 0: the nearer of the jump's two samples. Validity: their point, weighted alike, and
+/// the most weighted sample. Pace (MapWeights::pace), the route played at `steps_per_second`: the
+/// clips' frames its step advances (0 where it holds a frame, 2 where it skips every other) times
+/// their frame time, per second played — a held pose stands still, a skipping one strides on; 1 for
+/// a route of one sample.
 MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> next,
-                              const ClipRoutePlay& play, double t, double steps_per_second);
+                              const ClipRoutePlay& play, double t, double steps_per_second,
+                              double fade_seconds = kJumpFadeSeconds);
 
 /// Poses as clip routes compare them: one frame's joint rotations, normalised, the motion
 /// root's heading removed; two poses are (mean over the joints of the squared angle between

@@ -124,6 +124,58 @@ TEST(SynthClipRoute, FurtherEndsAreTakenOnlyWhereCheaperThanEveryNearOne) {
       near_b(find_clip_route(field, c.next, c.points[5], c.points[25], 7, ends).samples.back()));
 }
 
+// Two clips the map's jumps do not join: A along y = 0 from x = 0 to 3, B along y = 10.
+struct ApartClips {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<int> next;
+  int b_first = 0;
+
+  ApartClips() {
+    for (int i = 0; i <= 30; ++i) points.emplace_back(0.1 * i, 0.0);
+    b_first = static_cast<int>(points.size());
+    for (int i = 0; i <= 30; ++i) points.emplace_back(0.1 * i, 10.0);
+    next.assign(points.size(), -1);
+    for (int i = 0; i < 30; ++i) {
+      next[static_cast<std::size_t>(i)] = i + 1;
+      next[static_cast<std::size_t>(b_first + i)] = b_first + i + 1;
+    }
+  }
+};
+
+TEST(SynthClipRoute, KeysNoJumpJoinsAreBridged) {
+  const ApartClips c;
+  const MapField field(c.points, 0.3);
+  // From A's sample 5 to B's sample 20 in 10 steps: without the bridge the route ends on the A
+  // sample nearest B's 20 (A's 20, under it, reached by skips).
+  const ClipRoute plain = find_clip_route(field, c.next, c.points[5], c.points[c.b_first + 20], 10);
+  EXPECT_LT(plain.samples.back(), c.b_first);
+  ClipRouteEnds ends;
+  ends.bridge = true;
+  const ClipRoute r =
+      find_clip_route(field, c.next, c.points[5], c.points[c.b_first + 20], 10, ends);
+  const std::vector<int> want{5,
+                              6,
+                              7,
+                              8,
+                              9,
+                              10,
+                              c.b_first + 16,
+                              c.b_first + 17,
+                              c.b_first + 18,
+                              c.b_first + 19,
+                              c.b_first + 20};
+  EXPECT_EQ(r.samples, want);
+  EXPECT_NEAR(r.cost, ClipRouteCosts{}.jump, 1e-12);
+  // Near B's start, B's part holds its first sample for the steps before it.
+  const ClipRoute held =
+      find_clip_route(field, c.next, c.points[5], c.points[c.b_first + 2], 10, ends);
+  EXPECT_EQ(held.samples[6], c.b_first);
+  EXPECT_EQ(held.samples[7], c.b_first);
+  EXPECT_EQ(held.samples[8], c.b_first);
+  EXPECT_EQ(held.samples.back(), c.b_first + 2);
+  EXPECT_NEAR(held.cost, ClipRouteCosts{}.jump + 2 * ClipRouteCosts{}.hold, 1e-12);
+}
+
 TEST(SynthClipRoute, BadInputsAreRefused) {
   const TwoClips c;
   const MapField field(c.points, 0.3);

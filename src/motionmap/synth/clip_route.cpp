@@ -191,32 +191,44 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   std::vector<double> end_cost(static_cast<std::size_t>(n), kInf);
   const std::vector<std::pair<int, double>> b_ends = ends_near(b, ends.end_cost);
   for (const auto& [s, c] : b_ends) end_cost[static_cast<std::size_t>(s)] = c;
-  if (ends.bridge && !b_ends.empty() &&
-      std::none_of(last.samples.begin(), last.samples.end(),
-                   [&](int s) { return std::isfinite(end_cost[static_cast<std::size_t>(s)]); })) {
-    // The cheapest start and end, each clip played towards the middle, one jump there.
+  // The bridge: the cheapest start and end, each clip played towards the middle, one jump there.
+  ClipRoute bridge;
+  bridge.cost = kInf;
+  if (ends.bridge && !b_ends.empty()) {
     const auto first = std::min_element(path[0].costs.begin(), path[0].costs.end());
     const auto end =
         std::min_element(b_ends.begin(), b_ends.end(),
                          [](const auto& x, const auto& y) { return x.second < y.second; });
-    ClipRoute route;
-    route.samples.resize(static_cast<std::size_t>(steps) + 1);
+    bridge.samples.resize(static_cast<std::size_t>(steps) + 1);
     const int middle = steps / 2;
+    int held = 0;
     int s = path[0].samples[static_cast<std::size_t>(first - path[0].costs.begin())];
     for (int t = 0; t <= middle; ++t) {
-      route.samples[static_cast<std::size_t>(t)] = s;
-      if (next[s] >= 0) s = next[s];
+      bridge.samples[static_cast<std::size_t>(t)] = s;
+      if (next[s] >= 0)
+        s = next[s];
+      else if (t < middle)
+        ++held;
     }
     s = end->first;
     for (int t = steps; t > middle; --t) {
-      route.samples[static_cast<std::size_t>(t)] = s;
-      if (s > 0 && next[s - 1] == s) s = s - 1;
+      bridge.samples[static_cast<std::size_t>(t)] = s;
+      if (s > 0 && next[s - 1] == s)
+        s = s - 1;
+      else if (t > middle + 1)
+        ++held;
     }
-    const int from = route.samples[static_cast<std::size_t>(middle)];
-    const int to = route.samples[static_cast<std::size_t>(middle) + 1];
-    route.cost =
-        *first + costs.jump + (ends.jump_cost ? ends.jump_cost(from, to) : 0.0) + end->second;
-    return route;
+    const int from = bridge.samples[static_cast<std::size_t>(middle)];
+    const int to = bridge.samples[static_cast<std::size_t>(middle) + 1];
+    const double jump = ends.jump_cost ? ends.jump_cost(from, to) : 0.0;
+    bridge.cost = *first + costs.jump + held * costs.hold + end->second;
+    // Where nothing else reaches b's ends, the bridge even where jump_cost forbids its jump.
+    if (std::none_of(last.samples.begin(), last.samples.end(),
+                     [&](int x) { return std::isfinite(end_cost[static_cast<std::size_t>(x)]); })) {
+      if (std::isfinite(jump)) bridge.cost += jump;
+      return bridge;
+    }
+    bridge.cost += jump;
   }
   int at = -1;
   double cheapest = kInf;
@@ -233,6 +245,7 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     }
     if (at >= 0) break;
   }
+  if (bridge.cost < cheapest) return bridge;
   ClipRoute route;
   route.cost = cheapest;
   route.samples.resize(static_cast<std::size_t>(steps) + 1);

@@ -38,6 +38,8 @@ constexpr double kMinRatedSteps = 12.0;
 // there, and the route's map time alone sets it.
 constexpr double kStandingSpeed = 0.05;
 constexpr double kPaceSeconds = 0.5;
+// See jump_cost in inbetween().
+constexpr double kLoopSeconds = 1.0;
 // A segment's root path is turned and scaled onto the later key when it travels between this
 // fraction and its inverse of the keys' distance, turned by at most kMaxTravelTurn radians.
 constexpr double kMinTravelRatio = 0.5;
@@ -268,8 +270,17 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const auto pose_cost = [&](int key) {
     return [&, key](int s) { return pose_distance(key_rotations[key], sample_pose(s)); };
   };
+  // A jump back into its own clip by less than kLoopSeconds plays the clip backwards: a chain of
+  // them moonwalked a walk towards a bow's key. Not a jump a route may take (a jump back a whole
+  // gait cycle or more loops the clip). On a blender reading its clips on demand (a saved map's)
+  // the pose would read a clip for almost every sample the search reaches: priced by the map
+  // distance alone there.
   const auto jump_cost = [&](int from, int to) {
-    return pose_distance(sample_pose(from), sample_pose(to));
+    const int back = samples.frame_of[from] - samples.frame_of[to];
+    if (samples.clip_of[from] == samples.clip_of[to] && back >= 0 &&
+        back * blender.frame_time() < kLoopSeconds)
+      return std::numeric_limits<double>::infinity();
+    return blender.reads_on_demand() ? 0.0 : pose_distance(sample_pose(from), sample_pose(to));
   };
   // Untimed, how long segment i takes at least for its root to cover the floor distance between
   // its keys at the pace of the clips there: the mean root speed over ±kPaceSeconds of the clip
@@ -348,9 +359,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       ends.start = last_visited;
       ends.candidates = kKeyCandidates;
       ends.bridge = true;
-      // A blender reading its clips on demand (a saved map's) would read a clip for almost every
-      // sample the search reaches: jumps are priced by their map distance alone there.
-      if (!blender.reads_on_demand()) ends.jump_cost = jump_cost;
+      ends.jump_cost = jump_cost;
       if (keys[i].has_pose()) ends.start_cost = pose_cost(i);
       if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(i + 1);
       // The cheapest of the route played at a few uniform rates (a walk of another cadence

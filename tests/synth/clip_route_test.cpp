@@ -150,7 +150,7 @@ TEST(SynthClipRoute, KeysNoJumpJoinsAreBridged) {
   const ClipRoute plain = find_clip_route(field, c.next, c.points[5], c.points[c.b_first + 20], 10);
   EXPECT_LT(plain.samples.back(), c.b_first);
   ClipRouteEnds ends;
-  ends.bridge = true;
+  ends.bridge_jump_cost = [](int, int) { return 0.0; };
   const ClipRoute r =
       find_clip_route(field, c.next, c.points[5], c.points[c.b_first + 20], 10, ends);
   const std::vector<int> want{5,

@@ -194,7 +194,7 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   // The bridge: the cheapest start and end, each clip played towards the middle, one jump there.
   ClipRoute bridge;
   bridge.cost = kInf;
-  if (ends.bridge && !b_ends.empty()) {
+  if (ends.bridge_jump_cost && !b_ends.empty()) {
     const auto first = std::min_element(path[0].costs.begin(), path[0].costs.end());
     const auto end =
         std::min_element(b_ends.begin(), b_ends.end(),
@@ -220,9 +220,9 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     }
     const int from = bridge.samples[static_cast<std::size_t>(middle)];
     const int to = bridge.samples[static_cast<std::size_t>(middle) + 1];
-    const double jump = ends.jump_cost ? ends.jump_cost(from, to) : 0.0;
+    const double jump = ends.bridge_jump_cost(from, to);
     bridge.cost = *first + costs.jump + held * costs.hold + end->second;
-    // Where nothing else reaches b's ends, the bridge even where jump_cost forbids its jump.
+    // Where nothing else reaches b's ends, the bridge even where its jump is forbidden.
     if (std::none_of(last.samples.begin(), last.samples.end(),
                      [&](int x) { return std::isfinite(end_cost[static_cast<std::size_t>(x)]); })) {
       if (std::isfinite(jump)) bridge.cost += jump;

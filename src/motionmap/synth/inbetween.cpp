@@ -273,14 +273,20 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // A jump back into its own clip by less than kLoopSeconds plays the clip backwards: a chain of
   // them moonwalked a walk towards a bow's key. Not a jump a route may take (a jump back a whole
   // gait cycle or more loops the clip). On a blender reading its clips on demand (a saved map's)
-  // the pose would read a clip for almost every sample the search reaches: priced by the map
-  // distance alone there.
-  const auto jump_cost = [&](int from, int to) {
+  // pricing the poses would read a clip for almost every sample the search reaches: its jumps
+  // are priced by the map distance alone there; a bridge's one jump by its poses everywhere.
+  const auto backwards = [&](int from, int to) {
     const int back = samples.frame_of[from] - samples.frame_of[to];
-    if (samples.clip_of[from] == samples.clip_of[to] && back >= 0 &&
-        back * blender.frame_time() < kLoopSeconds)
-      return std::numeric_limits<double>::infinity();
+    return samples.clip_of[from] == samples.clip_of[to] && back >= 0 &&
+           back * blender.frame_time() < kLoopSeconds;
+  };
+  constexpr double kNever = std::numeric_limits<double>::infinity();
+  const auto jump_cost = [&](int from, int to) {
+    if (backwards(from, to)) return kNever;
     return blender.reads_on_demand() ? 0.0 : pose_distance(sample_pose(from), sample_pose(to));
+  };
+  const auto bridge_jump_cost = [&](int from, int to) {
+    return backwards(from, to) ? kNever : pose_distance(sample_pose(from), sample_pose(to));
   };
   // Untimed, how long segment i takes at least for its root to cover the floor distance between
   // its keys at the pace of the clips there: the mean root speed over ±kPaceSeconds of the clip
@@ -358,8 +364,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       ClipRouteEnds ends;
       ends.start = last_visited;
       ends.candidates = kKeyCandidates;
-      ends.bridge = true;
       ends.jump_cost = jump_cost;
+      ends.bridge_jump_cost = bridge_jump_cost;
       if (keys[i].has_pose()) ends.start_cost = pose_cost(i);
       if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(i + 1);
       // The cheapest of the route played at a few uniform rates (a walk of another cadence

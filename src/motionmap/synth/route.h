@@ -231,16 +231,17 @@ struct ClipRouteEnds {
   /// Extra cost of a jump from one sample (the next one's place) to another, e.g. how far apart
   /// their poses are; null: none.
   std::function<double(int, int)> jump_cost;
-  /// Bridge: the cheapest start's clip played on for half the steps (held at its last sample),
-  /// then the cheapest end's clip played up to it (from its first), one jump between
-  /// (crossfaded when played, clip_route_weights), costing the start's and end's costs, one
-  /// jump's (costs.jump + jump_cost, not its map distance) and costs.hold per held step. With
-  /// `bridge`, the route is the bridge where that is cheaper than the search's best, and where
-  /// no sample b's end may be is reached (clips the map's jumps do not join: a run's key and a
-  /// walk's) — even where jump_cost forbids its jump — rather than ending wherever lies nearest
-  /// b. Ended nearest b, a run's key held its pose while the root glided on to a walk's key 1.5 m
-  /// away; a dash's key to a bow's, the cheapest chain of jumps played a walk backwards.
-  bool bridge = false;
+  /// Non-null: the route may bridge — the cheapest start's clip played on for half the steps
+  /// (held at its last sample), then the cheapest end's clip played up to it (held at its
+  /// first), one jump between (crossfaded when played, clip_route_weights) — at the start's and
+  /// end's costs, one jump's (costs.jump + bridge_jump_cost, not its map distance) and
+  /// costs.hold per held step. The route is the bridge where that is cheaper than the search's
+  /// best, and where no sample b's end may be is reached (clips the map's jumps do not join: a
+  /// run's key and a walk's) — even where bridge_jump_cost forbids its jump — rather than
+  /// ending wherever lies nearest b. Ended nearest b, a run's key held its pose while the root
+  /// glided on to a walk's key 1.5 m away; a dash's key to a bow's, the cheapest chain of jumps
+  /// played a walk backwards.
+  std::function<double(int, int)> bridge_jump_cost;
 };
 struct ClipRoute {
   std::vector<int> samples;  ///< steps + 1 samples

@@ -236,8 +236,9 @@ void setup_inbetween(CLI::App& app) {
       ->excludes(between);
   sub->add_option("--route", cmd->route,
                   "How the motion goes from key to key: clips (the default: the clips' own frames "
-                  "played on, jumping between clips where their map points meet) or grid (Shin & "
-                  "Lee's cheapest path through the valid region, blended along)")
+                  "played on, jumping between clips where their map points meet, crossfaded; "
+                  "where no jumps join two keys' clips, each played towards the middle) or grid "
+                  "(Shin & Lee's cheapest path through the valid region, blended along)")
       ->check(CLI::IsMember({"clips", "grid"}));
   sub->add_option("--grid", cmd->grid,
                   "Route grid: cells along the longer side of the map (default: from the map's "

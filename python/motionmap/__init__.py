@@ -473,10 +473,10 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     times, or the samples' own speed along each route, at least the time the clips take to walk
     the keys' distance); route: "clips" (the clips' own frames played on, jumping between clips
     where their map points meet, crossfaded; where no jumps join two keys' clips, each played
-    towards the middle) or "grid" (the cheapest path over a grid through the valid region); grid: cells along the map's longer side (0 = from its density); smooth: smooth the
-    grid route; blend, neighbors, reach: as inverse_transform; asf, fps: for .amc keys;
-    clean_feet: hold the feet still through their contacts, the keys' frames left exact (as
-    synthesize). Returns (Clip, route): route is a dict with "points" (#frames by 2: each frame's
+    towards the middle) or "grid" (the cheapest path over a grid through the valid region); grid:
+    cells along the map's longer side (0 = from its density); smooth: smooth the grid route;
+    blend, neighbors, reach: as inverse_transform; asf, fps: for .amc keys; clean_feet: hold the
+    feet still through their contacts, the keys' frames left exact (as synthesize). Returns (Clip, route): route is a dict with "points" (#frames by 2: each frame's
     map point), "key_frames", "routes" (per segment, the route polyline), "valid" (per frame) and
     "grid" (cells along x and y)."""
     fitted._check_fitted()

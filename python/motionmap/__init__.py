@@ -476,9 +476,10 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     towards the middle) or "grid" (the cheapest path over a grid through the valid region); grid:
     cells along the map's longer side (0 = from its density); smooth: smooth the grid route;
     blend, neighbors, reach: as inverse_transform; asf, fps: for .amc keys; clean_feet: hold the
-    feet still through their contacts, the keys' frames left exact (as synthesize). Returns (Clip, route): route is a dict with "points" (#frames by 2: each frame's
-    map point), "key_frames", "routes" (per segment, the route polyline), "valid" (per frame) and
-    "grid" (cells along x and y)."""
+    feet still through their contacts, the keys' frames left exact (as synthesize). Returns
+    (Clip, route): route is a dict with "points" (#frames by 2: each frame's map point),
+    "key_frames", "routes" (per segment, the route polyline), "valid" (per frame) and "grid"
+    (cells along x and y)."""
     fitted._check_fitted()
     if not isinstance(fitted.map_, _motionmap._ClipMap):
         raise Error("inbetween: motions are blended from clips; this map was fitted on an array")

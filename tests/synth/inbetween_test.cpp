@@ -18,6 +18,7 @@
 #include "motionmap/skeleton/contacts.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 #include "motionmap/synth/clean_feet.h"
+#include "motionmap/synth/route.h"
 #include "support/error_message.h"
 #include "support/test_data.h"
 #include "synth/synth_fixtures.h"
@@ -102,6 +103,46 @@ TEST(SynthInbetween, FramesBetweenPutsTheKeysWhereAskedAndHitsThemExactly) {
     const MapField field(s.blender);
     for (const auto& p : r.points) EXPECT_TRUE(field.valid(p)) << p.transpose();
   }
+}
+
+TEST(SynthInbetween, APlayedJumpCrossfadesTheTwoClips) {
+  // A route through samples 5–10, then a jump to 50–55 (route.h, clip_route_weights). Within
+  // the fade (0.6 s at 30 steps per second: 9 steps, cut to 5.5 by the route's ends) a frame
+  // mixes the clip jumped from played on past 10 and the clip jumped to played up to 50, the
+  // latter's share rising by a smoothstep through 0.5 at the jump's middle; with no fade, the
+  // nearer sample alone, as a cut.
+  const Synthetic s;
+  const std::vector<int> next = next_samples(s.blender);
+  const ClipRoutePlay play =
+      play_clip_route(s.blender, next, {5, 6, 7, 8, 9, 10, 50, 51, 52, 53, 54, 55}, 1.0);
+  const auto share_of = [](const MapWeights& w, int lo, int hi) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < w.samples.size(); ++i)
+      if (w.samples[i] >= lo && w.samples[i] <= hi) sum += w.weights[i];
+    return sum;
+  };
+  double last = -1.0;
+  for (double t = 0.0; t <= 11.0; t += 0.25) {
+    const MapWeights w = clip_route_weights(s.blender, next, play, t, 30.0);
+    double total = 0.0;
+    for (const double x : w.weights) total += x;
+    EXPECT_NEAR(total, 1.0, 1e-12) << t;
+    const double to = share_of(w, 40, 55);
+    EXPECT_NEAR(to + share_of(w, 5, 16), 1.0, 1e-12) << t;  // only the two clips' frames
+    EXPECT_GE(to, last - 1e-12) << t;
+    last = to;
+  }
+  const MapWeights middle = clip_route_weights(s.blender, next, play, 5.5, 30.0);
+  EXPECT_NEAR(share_of(middle, 40, 55), 0.5, 1e-12);
+  // Half a frame on from 10 and half a frame before 50.
+  EXPECT_NEAR(share_of(middle, 10, 10), 0.25, 1e-12);
+  EXPECT_NEAR(share_of(middle, 11, 11), 0.25, 1e-12);
+  EXPECT_NEAR(share_of(middle, 49, 49), 0.25, 1e-12);
+  EXPECT_NEAR(share_of(middle, 50, 50), 0.25, 1e-12);
+  EXPECT_EQ(clip_route_weights(s.blender, next, play, 5.4, 30.0, 0.0).samples,
+            std::vector<int>{10});
+  EXPECT_EQ(clip_route_weights(s.blender, next, play, 5.6, 30.0, 0.0).samples,
+            std::vector<int>{50});
 }
 
 TEST(SynthInbetween, KeysOnTheClipsOwnTrajectoryReproduceItsFrames) {

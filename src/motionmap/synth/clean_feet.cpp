@@ -513,9 +513,10 @@ void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ank
   // leaves to the next instead of jumping.
   const int fade = std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * fps)));
   for (const ContactInterval& r : contacts.intervals) {
-    if (r.last >= static_cast<int>(ankle.size())) {
-      throw ParameterError("contacts: an interval ends at frame " + std::to_string(r.last) +
-                           " of " + std::to_string(ankle.size()));
+    if (r.first < 0 || r.first > r.last || r.last >= static_cast<int>(ankle.size())) {
+      throw ParameterError("contacts: the interval of frames " + std::to_string(r.first) + "-" +
+                           std::to_string(r.last) + " is not within the ankle's " +
+                           std::to_string(ankle.size()) + " frames");
     }
     ContactInterval piece{r.first, r.first};
     for (int f = r.first + 1; f <= r.last; ++f) {

@@ -19,7 +19,9 @@
 //     `blend_seconds` before (after) it (smoothstep, 1 − (3x² − 2x³), x = frames away ÷ (blend
 //     frames + 1)), so the foot keeps its own motion and drifts onto the held spot; between two
 //     contacts closer than that the two add, normalised where their weights sum past 1. Frames
-//     farther from every contact are left as they are, bit for bit.
+//     farther from every contact are left as they are, bit for bit. Towards a fixed frame outside
+//     the contacts the displacement (a hold's too) fades to nothing over ±blend frames, by the
+//     same smoothstep, so the frame, left as given, is not a step.
 //     With keep_above_floor (in-betweening), an ankle more than kFloorSlack leg lengths below the
 //     floor is lifted to that depth (see the option).
 //  3. Reach: where a target is farther from the hip than `reach` × the leg length (and farther
@@ -71,8 +73,10 @@ struct CleanFeetOptions {
   /// one holds the ankle where that frame has it rather than at the contact's mean — between two
   /// such frames on the straight line from one's place to the other's, before the first at the
   /// first's, after the last at the last's (where the ankle comes down from that height, at its
-  /// own down to the contact's mean height) — and the frame itself is left bit for bit. Any
-  /// order; out of range ignored.
+  /// own down to the contact's mean height) — and the frame itself is left bit for bit; towards
+  /// one outside the contacts the displacement fades to nothing over ±blend_seconds (a contact
+  /// cut the frame before an in-between's key held an ankle 1 m from the key's, which snapped
+  /// there). Any order; out of range ignored.
   std::vector<int> fixed_frames;
   /// Per foot (left, right), empty or one value per frame: the ankle heights (along contacts.up,
   /// file units) a contact without a fixed frame is held at (their mean over it) and settles to
@@ -151,7 +155,7 @@ inline constexpr double kHoldFadeSeconds = 0.15;
 /// within max_drift leg lengths of where the piece began on the floor, the next piece starting
 /// kHoldFadeSeconds later; pieces shorter than min_seconds are dropped. A blend can glide (a pose
 /// held while the root moves on), and a hold there stretches the leg after a foot left behind.
-/// @throws ParameterError if an interval ends beyond the ankle's frames.
+/// @throws ParameterError if an interval is empty or not within the ankle's frames.
 void cut_drifting_contacts(FootContacts& contacts, std::span<const Eigen::Vector3d> ankle, Axis up,
                            double fps, double min_seconds, double max_drift);
 

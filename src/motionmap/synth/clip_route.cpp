@@ -218,14 +218,27 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
       else if (t > middle + 1)
         ++held;
     }
+    // The middle: a jump, priced as the search's are from the next sample's place, unless the
+    // two halves meet in one clip (a hold, a step or a skip there).
     const int from = bridge.samples[static_cast<std::size_t>(middle)];
     const int to = bridge.samples[static_cast<std::size_t>(middle) + 1];
-    const double jump = ends.bridge_jump_cost(from, to);
-    bridge.cost = *first + costs.jump + held * costs.hold + end->second;
-    // Where nothing else reaches b's ends, the bridge even where its jump is forbidden.
+    const int on = next[from];
+    double jump = 0.0;
+    if (to == from) {
+      jump = costs.hold;
+    } else if (to != on && (on < 0 || to != next[on])) {
+      jump = costs.jump + ends.bridge_jump_cost(on >= 0 ? on : from, to);
+    } else if (to != on) {
+      jump = costs.skip;
+    }
+    bridge.cost = *first + held * costs.hold + end->second;
+    for (int t = 1; ends.step_cost && t <= steps; ++t)
+      bridge.cost += ends.step_cost(t, bridge.samples[static_cast<std::size_t>(t)]);
+    // Where nothing else reaches b's ends, the bridge even where its jump is forbidden, then at
+    // kForbiddenBridge so that any other route (at another rate) costs less.
     if (std::none_of(last.samples.begin(), last.samples.end(),
                      [&](int x) { return std::isfinite(end_cost[static_cast<std::size_t>(x)]); })) {
-      if (std::isfinite(jump)) bridge.cost += jump;
+      bridge.cost += std::isfinite(jump) ? jump : kForbiddenBridge;
       return bridge;
     }
     bridge.cost += jump;
@@ -330,7 +343,9 @@ std::optional<MapWeights> crossfade(const MapBlender& blender, std::span<const i
                                     const ClipRoutePlay& play, double t, double steps_per_second,
                                     double fade_seconds) {
   const int steps = static_cast<int>(play.samples.size()) - 1;
-  const double h = 0.5 * fade_seconds * steps_per_second;  // in steps
+  if (!(fade_seconds > 0.0)) return std::nullopt;
+  // In steps; at least the jump's own step, so that no frame of it is cut.
+  const double h = std::max(0.5, 0.5 * fade_seconds * steps_per_second);
   const int lo = std::max(0, static_cast<int>(std::floor(t - h - 0.5)));
   const int hi = std::min(steps - 1, static_cast<int>(std::ceil(t + h)));
   for (int J = lo; J <= hi; ++J) {

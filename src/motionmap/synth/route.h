@@ -217,6 +217,9 @@ inline constexpr int kMaxClipRouteSteps = 2000;
 ///         or a or b is not finite.
 /// `ends`: where the route may start (a sample, e.g. a previous route's last) and what starting
 /// or ending on a sample costs beyond its distance (e.g. how far its pose is from a key's).
+/// What a bridge whose jump is forbidden costs for its jump (ClipRouteEnds::bridge_jump_cost):
+/// more than any route a search finds.
+inline constexpr double kForbiddenBridge = 1e12;
 struct ClipRouteEnds {
   int start = -1;  ///< ≥ 0: the route starts on this sample, not near a
   /// How many samples nearest a and b the route may start and end on; those beyond the
@@ -234,13 +237,14 @@ struct ClipRouteEnds {
   /// Non-null: the route may bridge — the cheapest start's clip played on for half the steps
   /// (held at its last sample), then the cheapest end's clip played up to it (held at its
   /// first), one jump between (crossfaded when played, clip_route_weights) — at the start's and
-  /// end's costs, one jump's (costs.jump + bridge_jump_cost, not its map distance) and
-  /// costs.hold per held step. The route is the bridge where that is cheaper than the search's
-  /// best, and where no sample b's end may be is reached (clips the map's jumps do not join: a
-  /// run's key and a walk's) — even where bridge_jump_cost forbids its jump — rather than
-  /// ending wherever lies nearest b. Ended nearest b, a run's key held its pose while the root
-  /// glided on to a walk's key 1.5 m away; a dash's key to a bow's, the cheapest chain of jumps
-  /// played a walk backwards.
+  /// end's costs, the step costs, one jump's (costs.jump + bridge_jump_cost from the next
+  /// sample's place, not its map distance; a hold, step or skip where the halves meet in one
+  /// clip) and costs.hold per held step. The route is the bridge where that is cheaper than the
+  /// search's best, and where no sample b's end may be is reached (clips the map's jumps do not
+  /// join: a run's key and a walk's) rather than ending wherever lies nearest b — where
+  /// bridge_jump_cost forbids its jump (infinite) too, at kForbiddenBridge instead. Ended nearest
+  /// b, a run's key held its pose while the root glided on to a walk's key 1.5 m away; a dash's key
+  /// to a bow's, the cheapest chain of jumps played a walk backwards.
   std::function<double(int, int)> bridge_jump_cost;
 };
 struct ClipRoute {

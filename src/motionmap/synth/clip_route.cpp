@@ -336,9 +336,9 @@ ClipFrame clip_frame(const MapBlender& blender, std::span<const int> next, int s
   return out;
 }
 
-// Within a jump's crossfade (kJumpFadeSeconds about its middle, less where another jump or an
-// end of the route is nearer), the weights of the clip jumped from played on and the clip
-// jumped to played up to it, mixed by a smoothstep; nullopt elsewhere.
+// Within a jump's crossfade (fade_seconds about its middle, less where another jump or an end
+// of the route is nearer), the weights of the clip jumped from played on and the clip jumped to
+// played up to it, mixed by a smoothstep; nullopt elsewhere.
 std::optional<MapWeights> crossfade(const MapBlender& blender, std::span<const int> next,
                                     const ClipRoutePlay& play, double t, double steps_per_second,
                                     double fade_seconds) {

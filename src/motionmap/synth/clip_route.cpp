@@ -258,7 +258,6 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     }
     if (at >= 0) break;
   }
-  if (bridge.cost < cheapest) return bridge;
   ClipRoute route;
   route.cost = cheapest;
   route.samples.resize(static_cast<std::size_t>(steps) + 1);
@@ -267,7 +266,20 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     route.samples[static_cast<std::size_t>(t)] = step.samples[static_cast<std::size_t>(at)];
     at = step.from[static_cast<std::size_t>(at)];
   }
-  return route;
+  if (!std::isfinite(bridge.cost)) return route;
+  // Against the bridge, the route's jumps are priced as the bridge's is (where jump_cost prices
+  // them otherwise: a saved map's, by their map distance alone, chained a walk into a dash
+  // through poses 70 cm apart).
+  double priced = route.cost;
+  for (int t = 1; t <= steps; ++t) {
+    const int from = route.samples[static_cast<std::size_t>(t) - 1];
+    const int to = route.samples[static_cast<std::size_t>(t)];
+    const int on = next[from];
+    if (to == from || to == on || (on >= 0 && to == next[on])) continue;
+    const int place = on >= 0 ? on : from;
+    priced += ends.bridge_jump_cost(place, to) - (ends.jump_cost ? ends.jump_cost(place, to) : 0.0);
+  }
+  return bridge.cost < priced ? bridge : route;
 }
 
 std::vector<int> next_samples(const MapBlender& blender) {

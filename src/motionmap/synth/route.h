@@ -240,11 +240,12 @@ struct ClipRouteEnds {
   /// end's costs, the step costs, one jump's (costs.jump + bridge_jump_cost from the next
   /// sample's place, not its map distance; a hold, step or skip where the halves meet in one
   /// clip) and costs.hold per held step. The route is the bridge where that is cheaper than the
-  /// search's best, and where no sample b's end may be is reached (clips the map's jumps do not
-  /// join: a run's key and a walk's) rather than ending wherever lies nearest b — where
-  /// bridge_jump_cost forbids its jump (infinite) too, at kForbiddenBridge instead. Ended nearest
-  /// b, a run's key held its pose while the root glided on to a walk's key 1.5 m away; a dash's key
-  /// to a bow's, the cheapest chain of jumps played a walk backwards.
+  /// search's best (whose jumps are priced by bridge_jump_cost for that comparison), and where
+  /// no sample b's end may be is reached (clips the map's jumps do not join: a run's key and a
+  /// walk's) rather than ending wherever lies nearest b — where bridge_jump_cost forbids its
+  /// jump (infinite) too, at kForbiddenBridge instead. Ended nearest b, a run's key held its pose
+  /// while the root glided on to a walk's key 1.5 m away; a dash's key to a bow's, the cheapest
+  /// chain of jumps played a walk backwards.
   std::function<double(int, int)> bridge_jump_cost;
 };
 struct ClipRoute {

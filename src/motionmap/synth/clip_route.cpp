@@ -25,6 +25,28 @@ struct Step {
   std::vector<int> from;
 };
 
+// What a route's step from sample `from` to `to` is (find_clip_route): the sample held, its
+// clip's next, the one after that (a skip), or a jump.
+enum class StepKind { Hold, Next, Skip, Jump };
+StepKind step_kind(std::span<const int> next, int from, int to) {
+  if (to == from) return StepKind::Hold;
+  const int on = next[from];
+  if (to == on) return StepKind::Next;
+  if (on >= 0 && to == next[on]) return StepKind::Skip;
+  return StepKind::Jump;
+}
+
+// Where a jump from sample s is found and priced from: its clip's next sample, s itself at the
+// clip's last.
+int jump_place(std::span<const int> next, int s) {
+  return next[s] >= 0 ? next[s] : s;
+}
+
+// The previous sample of s's clip, −1 at its first (a clip's samples are consecutive).
+int previous_sample(std::span<const int> next, int s) {
+  return s > 0 && next[s - 1] == s ? s - 1 : -1;
+}
+
 }  // namespace
 
 const char* route_mode_name(RouteMode mode) {
@@ -150,7 +172,7 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
         offer(on, c, i);
         if (next[on] >= 0) offer(next[on], c + costs.skip, i);
       }
-      const int from = on >= 0 ? on : s;
+      const int from = jump_place(next, s);
       for (const Jump& jump : jumps_from(from)) {
         if (jump.to != on) offer(jump.to, c + jump.cost, i);
       }
@@ -213,8 +235,8 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     s = end->first;
     for (int t = steps; t > middle; --t) {
       bridge.samples[static_cast<std::size_t>(t)] = s;
-      if (s > 0 && next[s - 1] == s)
-        s = s - 1;
+      if (previous_sample(next, s) >= 0)
+        s = previous_sample(next, s);
       else if (t > middle + 1)
         ++held;
     }
@@ -222,14 +244,19 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     // two halves meet in one clip (a hold, a step or a skip there).
     const int from = bridge.samples[static_cast<std::size_t>(middle)];
     const int to = bridge.samples[static_cast<std::size_t>(middle) + 1];
-    const int on = next[from];
-    double jump = 0.0;
-    if (to == from) {
-      jump = costs.hold;
-    } else if (to != on && (on < 0 || to != next[on])) {
-      jump = costs.jump + ends.bridge_jump_cost(on >= 0 ? on : from, to);
-    } else if (to != on) {
-      jump = costs.skip;
+    double jump = 0.0;  // a step to the next sample
+    switch (step_kind(next, from, to)) {
+      case StepKind::Hold:
+        jump = costs.hold;
+        break;
+      case StepKind::Skip:
+        jump = costs.skip;
+        break;
+      case StepKind::Jump:
+        jump = costs.jump + ends.bridge_jump_cost(jump_place(next, from), to);
+        break;
+      case StepKind::Next:
+        break;
     }
     bridge.cost = *first + held * costs.hold + end->second;
     for (int t = 1; ends.step_cost && t <= steps; ++t)
@@ -274,9 +301,8 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   for (int t = 1; t <= steps; ++t) {
     const int from = route.samples[static_cast<std::size_t>(t) - 1];
     const int to = route.samples[static_cast<std::size_t>(t)];
-    const int on = next[from];
-    if (to == from || to == on || (on >= 0 && to == next[on])) continue;
-    const int place = on >= 0 ? on : from;
+    if (step_kind(next, from, to) != StepKind::Jump) continue;
+    const int place = jump_place(next, from);
     priced += ends.bridge_jump_cost(place, to) - (ends.jump_cost ? ends.jump_cost(place, to) : 0.0);
   }
   return bridge.cost < priced ? bridge : route;
@@ -306,12 +332,11 @@ ClipRoutePlay play_clip_route(const MapBlender& blender, std::span<const int> ne
   for (int t = 1; t <= steps; ++t) {
     const int at = play.samples[static_cast<std::size_t>(t)];
     const int from = play.samples[static_cast<std::size_t>(t) - 1];
-    const int on = next[static_cast<std::size_t>(from)];
-    const bool skip = on >= 0 && at == next[static_cast<std::size_t>(on)];
-    const bool jump = at != from && at != on && !skip;
-    play.advance.push_back(at == from ? 0.0
-                           : jump     ? sample_step
-                                      : blender.sample_frame(at) - blender.sample_frame(from));
+    const StepKind kind = step_kind(next, from, at);
+    const bool jump = kind == StepKind::Jump;
+    play.advance.push_back(kind == StepKind::Hold ? 0.0
+                           : jump                 ? sample_step
+                                  : blender.sample_frame(at) - blender.sample_frame(from));
     play.jumps.push_back(jump ? 1 : 0);
   }
   play.run_start.assign(static_cast<std::size_t>(std::max(steps, 0)), 0);
@@ -340,7 +365,7 @@ struct ClipFrame {
 ClipFrame clip_frame(const MapBlender& blender, std::span<const int> next, int s, double frame) {
   ClipFrame out;
   out.a = s;
-  while (out.a > 0 && next[out.a - 1] == out.a && blender.sample_frame(out.a) > frame) --out.a;
+  while (blender.sample_frame(out.a) > frame && previous_sample(next, out.a) >= 0) --out.a;
   while (next[out.a] >= 0 && blender.sample_frame(next[out.a]) <= frame) out.a = next[out.a];
   out.b = next[out.a] >= 0 ? next[out.a] : out.a;
   const double span = blender.sample_frame(out.b) - blender.sample_frame(out.a);

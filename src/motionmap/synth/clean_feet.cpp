@@ -497,7 +497,7 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
 }  // namespace
 
 void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ankle, Axis up_axis,
-                           double fps, double min_seconds, double max_drift) {
+                           double fps, double min_seconds, double max_drift, double keep_within) {
   const Vector3d up = Vector3d::Unit(static_cast<int>(up_axis));
   const int shortest = static_cast<int>(std::ceil(min_seconds * fps - 1e-9));
   // A blend can glide (its pose held at the data's edge while the root moves on): a run is
@@ -517,6 +517,15 @@ void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ank
       throw ParameterError("contacts: the interval of frames " + std::to_string(r.first) + "-" +
                            std::to_string(r.last) + " is not within the ankle's " +
                            std::to_string(ankle.size()) + " frames");
+    }
+    if (keep_within > 0.0) {
+      double farthest = 0.0;
+      for (int f = r.first + 1; f <= r.last; ++f)
+        farthest = std::max(farthest, floor_distance(r.first, f));
+      if (farthest <= keep_within * contacts.leg_length) {
+        pieces.push_back(r);
+        continue;
+      }
     }
     ContactInterval piece{r.first, r.first};
     for (int f = r.first + 1; f <= r.last; ++f) {

@@ -153,11 +153,13 @@ inline constexpr double kHoldFadeSeconds = 0.15;
 
 /// Cuts each contact into pieces over which the ankle (`ankle`: its position per frame) stays
 /// within max_drift leg lengths of where the piece began on the floor, the next piece starting
-/// kHoldFadeSeconds later; pieces shorter than min_seconds are dropped. A blend can glide (a pose
-/// held while the root moves on), and a hold there stretches the leg after a foot left behind.
-/// @throws ParameterError if an interval is empty or not within the ankle's frames.
+/// kHoldFadeSeconds later; a contact over which it stays within keep_within leg lengths of its
+/// first frame is left whole. Pieces shorter than min_seconds are dropped. A blend can glide (a
+/// pose held while the root moves on), and a hold there stretches the leg after a foot left
+/// behind. @throws ParameterError if an interval is empty or not within the ankle's frames.
 void cut_drifting_contacts(FootContacts& contacts, std::span<const Eigen::Vector3d> ankle, Axis up,
-                           double fps, double min_seconds, double max_drift);
+                           double fps, double min_seconds, double max_drift,
+                           double keep_within = 0.0);
 
 /// The contacts of a blended motion from its blend weights as well as its own feet: foot s is on
 /// the floor in frame f when detect_contacts() finds it there, or when more than half of that

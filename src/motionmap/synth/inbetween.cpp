@@ -658,24 +658,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
         // a bow while the root crossed to a walk's key, a held foot was left 72 cm behind, lifted
         // 45 cm by its stretched leg, and snapped back 62 cm in a frame. (Every contact cut at
         // kMaxHoldDrift, the held-out proud walk's stretched stances skated 0.45, not 0.38.)
-        FootContacts gliding = c;
-        gliding.intervals.clear();
-        std::vector<ContactInterval> steady;
-        for (const ContactInterval& in : c.intervals) {
-          double drift = 0.0;
-          for (int f = in.first; f <= in.last; ++f) {
-            Eigen::Vector3d d = ankles[side][f] - ankles[side][in.first];
-            drift = std::max(drift, (d - d.dot(up_unit) * up_unit).norm());
-          }
-          (drift > 2.0 * kMaxHoldDrift * c.leg_length ? gliding.intervals : steady).push_back(in);
-        }
-        cut_drifting_contacts(gliding, ankles[side], up, 1.0 / dt, clean.contacts.min_seconds,
-                              kMaxHoldDrift);
-        c.intervals = std::move(steady);
-        c.intervals.insert(c.intervals.end(), gliding.intervals.begin(), gliding.intervals.end());
-        std::sort(
-            c.intervals.begin(), c.intervals.end(),
-            [](const ContactInterval& x, const ContactInterval& y) { return x.first < y.first; });
+        cut_drifting_contacts(c, ankles[side], up, 1.0 / dt, clean.contacts.min_seconds,
+                              kMaxHoldDrift, 2.0 * kMaxHoldDrift);
       }
       CleanFeetResult cleaned =
           clean_feet(blender.skeleton(), synth.motion, *feet, contacts, clean, cleaning);

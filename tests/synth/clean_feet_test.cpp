@@ -27,24 +27,13 @@ namespace motionmap::synth {
 namespace {
 
 using Eigen::Vector3d;
+using test::max_jump;
 
 // Per frame and joint world positions.
 std::vector<WorldPose> world(const Skeleton& s, const Motion& m) {
   std::vector<WorldPose> out(static_cast<std::size_t>(m.num_frames));
   for (int f = 0; f < m.num_frames; ++f) forward_kinematics(s, m.pose(f), out[f]);
   return out;
-}
-
-// Largest distance any joint moves between consecutive frames.
-double max_jump(const Skeleton& s, const Motion& m) {
-  const auto w = world(s, m);
-  double worst = 0.0;
-  for (std::size_t f = 1; f < w.size(); ++f) {
-    for (int j = 0; j < s.num_joints(); ++j) {
-      worst = std::max(worst, (w[f].positions[j] - w[f - 1].positions[j]).norm());
-    }
-  }
-  return worst;
 }
 
 // Largest change of any joint's position between two consecutive frames of `b` beyond the same

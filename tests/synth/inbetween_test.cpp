@@ -435,18 +435,7 @@ class SynthInbetweenBandaiLibrary : public ::testing::Test {
                         frame);
     }
     // The largest distance a joint moves between two frames of the motion.
-    double largest_step(const Motion& m) const {
-      double out = 0.0;
-      WorldPose a, b;
-      forward_kinematics(blender->skeleton(), m.pose(0), a);
-      for (int f = 1; f < m.num_frames; ++f) {
-        forward_kinematics(blender->skeleton(), m.pose(f), b);
-        for (std::size_t j = 0; j < a.positions.size(); ++j)
-          out = std::max(out, (b.positions[j] - a.positions[j]).norm());
-        std::swap(a, b);
-      }
-      return out;
-    }
+    double largest_step(const Motion& m) const { return test::max_jump(blender->skeleton(), m); }
   };
   static inline const std::vector<std::string> kNames{
       "bow_normal", "bow_old",    "dash_normal",   "punch_normal", "run_angry",  "run_normal",

@@ -1,14 +1,17 @@
 #pragma once
 // Small synthetic clips and maps for the synth tests: a five-joint body that walks a curve,
 // turns, bobs and moves its limbs smoothly, and a hand-made 2-D map of its frames.
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "motionmap/core/rotation.h"
 #include "motionmap/features/features.h"
+#include "motionmap/skeleton/forward_kinematics.h"
 #include "motionmap/skeleton/skeleton.h"
 
 namespace motionmap::synth::test {
@@ -77,6 +80,19 @@ inline double max_joint_angle(const Motion& a, int fa, const Motion& b, int fb) 
   double worst = 0.0;
   for (int j = 0; j < a.num_joints; ++j)
     worst = std::max(worst, rotation_angle(a.rotation(fa, j), b.rotation(fb, j)));
+  return worst;
+}
+
+/// The largest distance any joint moves between two consecutive frames of `m`.
+inline double max_jump(const Skeleton& s, const Motion& m) {
+  double worst = 0.0;
+  WorldPose a, b;
+  for (int f = 0; f < m.num_frames; ++f) {
+    forward_kinematics(s, m.pose(f), b);
+    for (std::size_t j = 0; f > 0 && j < b.positions.size(); ++j)
+      worst = std::max(worst, (b.positions[j] - a.positions[j]).norm());
+    std::swap(a, b);
+  }
   return worst;
 }
 

@@ -375,6 +375,38 @@ TEST(SynthCleanFeet, GivenContactsAndSharesAreChecked) {
                 std::to_string(F) + " frames");
 }
 
+TEST(SynthCleanFeet, DriftingContactsAreCutUnlessTheyStayWithinKeepWithin) {
+  // An ankle gliding along x at 1/16 leg length a frame (leg length 1, 30 fps) through one
+  // contact, frames 10–49: it drifts 39/16 legs from the contact's first frame.
+  std::vector<Eigen::Vector3d> ankle(60, Eigen::Vector3d::Zero());
+  for (int f = 0; f < 60; ++f) ankle[static_cast<std::size_t>(f)].x() = f / 16.0;
+  FootContacts contact;
+  contact.leg_length = 1.0;
+  const auto cut = [&](double keep_within) {
+    FootContacts c = contact;
+    c.intervals = {{10, 49}};
+    cut_drifting_contacts(c, ankle, Axis::Y, 30.0, 0.05, kMaxHoldDrift, keep_within);
+    return c.intervals;
+  };
+  // A quarter leg is 4 frames of glide: pieces of 5 frames, each starting kHoldFadeSeconds
+  // (5 frames) after the last one's end.
+  const std::vector<ContactInterval> pieces{{10, 14}, {20, 24}, {30, 34}, {40, 44}};
+  EXPECT_EQ(cut(0.0), pieces);
+  // Kept whole where it stays within keep_within of its first frame, cut where it does not.
+  EXPECT_EQ(cut(2.5), (std::vector<ContactInterval>{{10, 49}}));
+  EXPECT_EQ(cut(2.4), pieces);
+  // An interval outside the ankle's frames, or empty, is refused by name.
+  FootContacts bad = contact;
+  bad.intervals = {{50, 60}};
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { cut_drifting_contacts(bad, ankle, Axis::Y, 30.0, 0.05, kMaxHoldDrift); }),
+            "contacts: the interval of frames 50-60 is not within the ankle's 60 frames");
+  bad.intervals = {{20, 19}};
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { cut_drifting_contacts(bad, ankle, Axis::Y, 30.0, 0.05, kMaxHoldDrift); }),
+            "contacts: the interval of frames 20-19 is not within the ankle's 60 frames");
+}
+
 TEST(SynthCleanFeet, SynthesizeSkipsASkeletonWithoutFeetWithANote) {
   const Clip clip = test::walking_clip();
   const MapBlender blender(std::span<const Clip>(&clip, 1), test::all_frames(80),

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "motionmap/core/error.h"
+#include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/root_motion.h"
 #include "motionmap/synth/detail/smoothing.h"
 #include "motionmap/synth/route.h"
@@ -410,25 +411,13 @@ std::optional<MapWeights> crossfade(const MapBlender& blender, std::span<const i
                                               {x.b, (1.0 - to_share) * x.f},
                                               {y.a, to_share * (1.0 - y.f)},
                                               {y.b, to_share * y.f}};
-    std::sort(parts.begin(), parts.end());
-    MapWeights out;
+    std::erase_if(parts, [](const auto& part) { return part.second <= 0.0; });
+    MapWeights out = detail::weights_by_sample(std::move(parts), {});
     Eigen::Vector2d point = Eigen::Vector2d::Zero();
-    int nearest = parts.front().first;
-    double most = -1.0;
-    for (const auto& [s, w] : parts) {
-      if (w <= 0.0) continue;
-      if (!out.samples.empty() && out.samples.back() == s) {
-        out.weights.back() += w;
-      } else {
-        out.samples.push_back(s);
-        out.weights.push_back(w);
-      }
-      point += w * blender.sample_point(s);
-      if (out.weights.back() > most) {
-        most = out.weights.back();
-        nearest = s;
-      }
-    }
+    for (std::size_t k = 0; k < out.samples.size(); ++k)
+      point += out.weights[k] * blender.sample_point(out.samples[k]);
+    const int nearest = out.samples[static_cast<std::size_t>(
+        std::max_element(out.weights.begin(), out.weights.end()) - out.weights.begin())];
     const double i = std::clamp(std::floor(t), 0.0, steps - 1.0);
     out.pace = play.advance[static_cast<std::size_t>(i)] * blender.frame_time() * steps_per_second;
     PointValidity& v = out.validity;
@@ -464,13 +453,11 @@ MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> ne
       // In a run, the clip's frame at the run's even pace, between the two samples around it.
       const int t0 = play.run_start[step];
       const int first = play.samples[static_cast<std::size_t>(t0)];
-      const double frame = blender.sample_frame(first) + (t - t0) * play.advance[step];
-      b = first;
-      while (next[b] >= 0 && blender.sample_frame(b) < frame) b = next[b];
-      a = b;
-      while (a != first && blender.sample_frame(a) > frame) --a;
-      const double span = blender.sample_frame(b) - blender.sample_frame(a);
-      f = span > 0.0 ? std::clamp((frame - blender.sample_frame(a)) / span, 0.0, 1.0) : 0.0;
+      const ClipFrame at = clip_frame(blender, next, first,
+                                      blender.sample_frame(first) + (t - t0) * play.advance[step]);
+      a = at.a;
+      b = at.b;
+      f = at.f;
     }
   }
   // The frame's map point: where its samples' are, weighted alike.

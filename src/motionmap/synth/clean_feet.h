@@ -9,11 +9,12 @@
 //
 // Method (docs/synthesis.md, "Clean feet"):
 //  1. Contacts per foot: detect_contacts() (skeleton/contacts.h) with `contacts`.
-//  2. Targets: through a contact the ankle is held at the mean of its positions over the contact
-//     (its height: the mean of ankle_heights there, when given);
-//     at its start, while the ankle is still above that height and coming down (at its end, where
-//     it rises), the ankle keeps its own height (or the given one): the foot stands still while the
-//     ankle settles, as at a heel strike (heel-off). Fixed frames in a contact: see fixed_frames.
+//  2. Targets: through a contact the ankle is held at the mean of its places over the contact,
+//     at the floor height of its heights there (of ankle_heights, when given): their lower
+//     envelope, which comes down with them as they make new lows up to their lowest frame (a heel
+//     strike) and goes up with them after it (heel-off), level where they rise and fall back; so
+//     the foot stands still while the ankle settles, and stands on the floor, not above it.
+//     Fixed frames in a contact: see fixed_frames.
 //     Around it, the displacement that needs at the contact's first (last) frame, held − original,
 //     is added to the ankle's own path with a weight falling from 1 at the contact to 0 over
 //     `blend_seconds` before (after) it (smoothstep, 1 − (3x² − 2x³), x = frames away ÷ (blend
@@ -72,24 +73,26 @@ struct CleanFeetOptions {
   /// Frames whose pose must stay exactly as given (in-betweening's keys): a contact holding
   /// one holds the ankle where that frame has it rather than at the contact's mean — between two
   /// such frames on the straight line from one's place to the other's, before the first at the
-  /// first's, after the last at the last's (where the ankle comes down from that height, at its
-  /// own down to the contact's mean height) — and the frame itself is left bit for bit; towards
+  /// first's, after the last at the last's (at the floor height of the ankle's own heights from
+  /// the contact's start to that frame, from it to the end) — and the frame itself is left bit
+  /// for bit; towards
   /// one outside the contacts the displacement fades to nothing over ±blend_seconds (a contact
   /// cut the frame before an in-between's key held an ankle 1 m from the key's, which snapped
   /// there). Any order; out of range ignored.
   std::vector<int> fixed_frames;
   /// Per foot (left, right), empty or one value per frame: the ankle heights (along contacts.up,
-  /// file units) a contact without a fixed frame is held at (their mean over it) and settles to
-  /// at its ends, instead of the motion's own. In-betweening passes its blend's, from before the
+  /// file units) a contact without a fixed frame is held at (their floor height, see the top of
+  /// the file), instead of the motion's own. In-betweening passes its blend's, from before the
   /// keys' displacement map: spread over a segment, that map tilts a stance, lifting a planted
   /// foot by a few cm at one end.
   std::array<std::vector<double>, 2> ankle_heights;
   /// Keep every ankle (but a fixed frame's) above the floor, contact or not: one more than
-  /// kFloorSlack leg lengths below the lowest height a contact of its foot without a fixed frame
-  /// holds it at is lifted to that depth, the leg bent to reach (a foot without such a contact is
-  /// left as it is: over a short in-between it may never touch the floor). In-betweening sets it:
-  /// its keys' displacement map, spread over a segment, can push a foot into the floor (a walk's
-  /// in-between to a punch's key pushed an ankle 6.3 cm into it, 2.6 cm with its contacts held).
+  /// kFloorSlack leg lengths below the floor — the lowest median height of its foot's contacts
+  /// without a fixed frame — is lifted to that depth, the leg bent to reach (a foot without such a
+  /// contact is left as it is: over a short in-between it may never touch the floor). In-betweening
+  /// sets it: its keys' displacement map, spread over a segment, can push a foot into the floor (a
+  /// walk's in-between to a punch's key pushed an ankle 6.3 cm into it, 2.6 cm with its contacts
+  /// held).
   bool keep_above_floor = false;
 
   /// @throws ParameterError naming the field (contacts.height, …), its value and its range.

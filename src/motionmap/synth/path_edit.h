@@ -18,7 +18,8 @@
 //     (weights smoothed over the new path).
 //  2. Root: the new velocities are integrated from the previous root's floor position and
 //     heading at blend_first; the position and heading mismatch at blend_end (where the previous
-//     motion goes on) is spread linearly over the window, so the frame after it continues
+//     motion goes on) is spread over the window where the root moves (turns) — in proportion to
+//     its steps, plus a tenth of its mean step each frame — so the frame after it continues
 //     exactly as before and the rest lines up in world space. A window reaching the motion's end
 //     (a path made longer or shorter) ends where the new path ends.
 //  3. Feet (when the previous motion's were cleaned): the window widened by a margin on both

@@ -110,8 +110,8 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   // Runs of frames outside the data, far inside it, or around a stall follow the clips' own
   // frames.
   std::vector<char> stalled = detail::stalled_frames(blender, points, dt, located);
-  const detail::OutsideRuns runs =
-      detail::outside_runs(blender, points, stalled, detail::stall_spread(dt));
+  const detail::OutsideRuns runs = detail::outside_runs(
+      blender, points, stalled, detail::stall_spread(dt), blender.follow_neighbours(dt));
   const detail::OutsideRoutes outside(blender, points, dt, runs, 0, points.size(),
                                       control.part(0.1, 0.2), located);
   for (std::size_t k = 0; k < located.size(); ++k) outside.apply(k, located[k]);

@@ -19,8 +19,10 @@
 // (ends one later) on the sample the blend of that frame is mostly on (towards it: its place and
 // pose), and its share rises from 0 to 1 (smoothstep) over kFollowSeconds of frames, so the
 // motion goes on from the blend in step and without a pop; at the path's own ends it plays from
-// the first frame. Runs longer than kMaxClipRouteSteps steps are routed in pieces, each starting
-// on the last one's sample. Local mode only (MapBlender::locate_path follows clips in it alone).
+// the first frame. A run with frames outside the data starts (ends) kFollowSeconds earlier
+// (later), so its route plays all of it and fades over the frames beside it (outside_runs). Runs
+// longer than kMaxClipRouteSteps steps are routed in pieces, each starting on the last one's
+// sample. Local mode only (MapBlender::locate_path follows clips in it alone).
 //
 // Near the data a gait's blend can stall too: where a path runs beside two takes' curves but its
 // nearest samples keep to one phase of the gait (their curves cross there, or their phases lie
@@ -84,10 +86,12 @@ std::string stalled_note(std::span<const char> stalled, std::span<const PointVal
 /// outside the data or farther from every sample than kRouteReachFraction of the reach and
 /// kFollowNear median steps (where locate_path plays no clip wholly), or within `spread` frames
 /// of a frame `stalled` marks (stalled_frames of the whole path, or empty), at least two frames
-/// long; none but in the local mode, or on a map whose samples never move.
+/// long; one with a frame outside the data widened by `pad` frames each side (the route's fade,
+/// MapBlender::follow_neighbours), runs that then meet joined; none but in the local mode, or on
+/// a map whose samples never move.
 using OutsideRuns = std::vector<std::pair<std::size_t, std::size_t>>;
 OutsideRuns outside_runs(const MapBlender& blender, std::span<const Eigen::Vector2d> points,
-                         std::span<const char> stalled = {}, int spread = 0);
+                         std::span<const char> stalled = {}, int spread = 0, int pad = 0);
 /// The frames of `runs` whose point was outside the data (`validity`: one per frame of the path):
 /// SynthResult::routed_frames.
 int routed_outside(const OutsideRuns& runs, std::span<const PointValidity> validity);

@@ -75,10 +75,9 @@ struct CleanFeetOptions {
   /// such frames on the straight line from one's place to the other's, before the first at the
   /// first's, after the last at the last's (at the floor height of the ankle's own heights from
   /// the contact's start to that frame, from it to the end) — and the frame itself is left bit
-  /// for bit; towards
-  /// one outside the contacts the displacement fades to nothing over ±blend_seconds (a contact
-  /// cut the frame before an in-between's key held an ankle 1 m from the key's, which snapped
-  /// there). Any order; out of range ignored.
+  /// for bit; towards one outside the contacts the displacement fades to nothing over
+  /// ±blend_seconds (a contact cut the frame before an in-between's key held an ankle 1 m from
+  /// the key's, which snapped there). Any order; out of range ignored.
   std::vector<int> fixed_frames;
   /// Per foot (left, right), empty or one value per frame: the ankle heights (along contacts.up,
   /// file units) a contact without a fixed frame is held at (their floor height, see the top of

@@ -329,12 +329,12 @@ TEST(SynthPathEdit, CmuGolfSwingSmoothedByDefault) {
 TEST(SynthPathEdit, TheCoarseGolfSketchItEditsPlaysTheSwingWhereItLeavesTheData) {
   // The sketch the golf edits above start from, a control point every 30 frames (0.25 s) of
   // 64_08's trajectory: its straight line from impact to the follow-through passes the address
-  // pose, out of the data. Those frames were routed in runs shorter than the route's 0.25 s fade
-  // (5 and 22 frames), so the route carried at most 0.28 of them and the rest was blended at
-  // their points: the stance turned 80° and back in 0.3 s, the feet sweeping round at 2–3 m/s,
-  // 0.281 of the transitions skated raw, 0.147 cleaned (the capture 0.003). A run with frames
-  // outside the data now takes the fade's frames beside it, and its route plays the swing's own
-  // frames: 0 raw, 0.003 cleaned.
+  // pose, out of the data. Routed in runs shorter than the route's 0.25 s fade, those frames were
+  // mostly blended at their points (the CLI's sketch from frame 1: runs of 5 and 22 frames,
+  // the route's share at most 0.28, the stance turning 80° and back in 0.3 s: docs/synthesis.md),
+  // and here 0.281 of the transitions skated raw, 0.147 cleaned (the capture 0.003). A run with
+  // frames outside the data now takes the fade's frames beside it, and its route plays the
+  // swing's own frames: 0 raw, 0.003 cleaned.
   MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
   MOTIONMAP_REQUIRE_SHARED("cmu/64_09.bvh");
   const Library lib = library({"cmu/64_08.bvh", "cmu/64_09.bvh"});

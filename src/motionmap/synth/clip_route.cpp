@@ -374,6 +374,15 @@ ClipFrame clip_frame(const MapBlender& blender, std::span<const int> next, int s
   return out;
 }
 
+// A route frame's validity: at its map point, the sample most of its weight is on its nearest.
+PointValidity route_validity(const MapBlender& blender, const Eigen::Vector2d& point, int nearest) {
+  PointValidity v;
+  v.query = v.point = point;
+  v.nearest_sample = nearest;
+  v.distance = (point - blender.sample_point(nearest)).norm();
+  return v;
+}
+
 // Within a jump's crossfade (fade_seconds about its middle, less where another jump or an end
 // of the route is nearer), the weights of the clip jumped from played on and the clip jumped to
 // played up to it, mixed by a smoothstep; nullopt elsewhere.
@@ -420,10 +429,7 @@ std::optional<MapWeights> crossfade(const MapBlender& blender, std::span<const i
         std::max_element(out.weights.begin(), out.weights.end()) - out.weights.begin())];
     const double i = std::clamp(std::floor(t), 0.0, steps - 1.0);
     out.pace = play.advance[static_cast<std::size_t>(i)] * blender.frame_time() * steps_per_second;
-    PointValidity& v = out.validity;
-    v.query = v.point = point;
-    v.nearest_sample = nearest;
-    v.distance = (point - blender.sample_point(nearest)).norm();
+    out.validity = route_validity(blender, point, nearest);
     return out;
   }
   return std::nullopt;
@@ -477,10 +483,7 @@ MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> ne
     out.samples = {a, b};
     out.weights = {wa, wb};
   }
-  PointValidity& v = out.validity;
-  v.query = v.point = point;
-  v.nearest_sample = nearest;
-  v.distance = (point - blender.sample_point(nearest)).norm();
+  out.validity = route_validity(blender, point, nearest);
   return out;
 }
 

@@ -236,8 +236,8 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     s = end->first;
     for (int t = steps; t > middle; --t) {
       bridge.samples[static_cast<std::size_t>(t)] = s;
-      if (previous_sample(next, s) >= 0)
-        s = previous_sample(next, s);
+      if (const int before = previous_sample(next, s); before >= 0)
+        s = before;
       else if (t > middle + 1)
         ++held;
     }

@@ -477,7 +477,9 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     cells along the map's longer side (0 = from its density); smooth: smooth the grid route;
     blend, neighbors, reach: as inverse_transform; asf, fps: for .amc keys; clean_feet: hold the
     feet still through their contacts, the keys' frames left exact (as synthesize). Returns
-    (Clip, route): route is a dict with "points" (#frames by 2: each frame's map point),
+    (Clip, route): the clip's warnings say what went wrong (frames outside the data; keys
+    standing further apart than the clips walk in the time given, so the feet slide; feet not
+    cleaned); route is a dict with "points" (#frames by 2: each frame's map point),
     "key_frames", "routes" (per segment, the route polyline), "valid" (per frame) and "grid"
     (cells along x and y)."""
     fitted._check_fitted()

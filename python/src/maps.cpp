@@ -552,6 +552,7 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
       o.clip.warnings.push_back(std::to_string(o.result.outside_frames) +
                                 " frames lie outside the map's data (a key outside it)");
     }
+    o.clip.warnings.insert(o.clip.warnings.end(), o.result.notes.begin(), o.result.notes.end());
     return o;
   });
   const synth::InbetweenResult& r = out.result;

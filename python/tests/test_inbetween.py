@@ -1,7 +1,7 @@
 """In-betweening from Python: motionmap.inbetween hits every key frame exactly (the clips' own
 rotations and root translations, in world placement), places a frame that is not a sample of the
-map, keeps every frame's map point in the valid region, counts frames as asked, and says what is
-wrong with a bad key."""
+map, keeps every frame's map point in the valid region, counts frames as asked, warns of keys
+further apart than the clips walk in the time given, and says what is wrong with a bad key."""
 import numpy as np
 import pytest
 
@@ -40,6 +40,25 @@ def test_timing(golf):
     motion, route = motionmap.inbetween(est, [tuple(xy[0]), tuple(xy[1])], frames_between=4)
     assert motion.num_frames == 6
     np.testing.assert_array_equal(route["points"][[0, -1]], xy)
+
+
+def test_keys_further_apart_than_the_clips_walk_in_the_time_are_noted():
+    """Each key's root stands where it stood in its clip: keys of two takes captured in different
+    places, 5 frames apart, make the root glide, and the clip's warnings say so."""
+    import os
+
+    import conftest
+
+    walk, bow = (os.path.join(conftest.DATA, "bandai", f"dataset-1_{name}_001.bvh")
+                 for name in ("walk_angry", "bow_normal"))
+    if not (os.path.exists(walk) and os.path.exists(bow)):
+        pytest.skip("the Bandai takes are absent from the shared data")
+    est = motionmap.Isomap(stride=2).fit([walk, bow])
+    motion, _ = motionmap.inbetween(est, [(walk, 20), (bow, 40)], frames_between=5)
+    notes = [w for w in motion.warnings if "apart (each where it stood in its clip)" in w]
+    assert len(notes) == 1 and "the feet slide" in notes[0], motion.warnings
+    motion, _ = motionmap.inbetween(est, [(walk, 20), (bow, 40)])
+    assert not [w for w in motion.warnings if "apart (each where it stood" in w], motion.warnings
 
 
 def test_bad_keys(golf, other):

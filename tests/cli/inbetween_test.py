@@ -2,8 +2,9 @@
 """End-to-end tests of `motionmap inbetween`: frame counts for --frames-between, --times and @
 times, the key frames of the written BVH equal the clips' own frames (pose and root: the same
 rows `convert` writes for them), the route CSV (one t,x,y row per frame, the keys' points at their
-frames), a frame of a clip not in the map placed on it, the same on a saved map, and clear errors
-for bad keys. The clips are the Bandai walks and runs in ../shared/data; skips without them.
+frames), a frame of a clip not in the map placed on it, the same on a saved map, a note for keys
+further apart than the clips walk in the time given, and clear errors for bad keys. The clips are
+the Bandai walks and runs in ../shared/data; skips without them.
 
 usage: inbetween_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
 """
@@ -106,6 +107,26 @@ def times_and_own_speed():
     assert code == 0, err
     rows = motion_rows(out)
     assert len(rows) >= 2 and close(rows[-1], converted(OLD)[100]), err
+
+
+@test
+def keys_too_far_apart_for_their_time_are_noted():
+    if not have():
+        return
+    out = tmp("far.bvh")
+    keys = f"{data(ANGRY)}:20,{data(OLD)}:100"
+    code, _, err = inbetween("--keys", keys, "--frames-between", "5", "-o", out)
+    assert code == 0, err
+    note = next((line for line in err.splitlines() if "apart (each where it stood" in line), "")
+    assert note.startswith(f"note: key 0 ({data(ANGRY)}:20) to key 1 ({data(OLD)}:100): their "
+                           "roots stand"), err
+    assert "the feet slide; at the clips' pace it takes" in note, note
+    # Untimed, the segment takes the clips' time (the frames the note names): no note.
+    code, _, err = inbetween("--keys", keys, "-o", out)
+    assert code == 0, err
+    assert "apart (each where it stood" not in err, err
+    frames = len(motion_rows(out)) - 2
+    assert f"({frames} frames between the keys)" in note, (frames, note)
 
 
 @test

@@ -1,7 +1,10 @@
 // Key poses in Studio (takes/keys_controller.h): Ctrl-clicked frames become an in-between take
-// through their poses; keys added, removed, moved and retimed, each an undo step.
+// through their poses; keys added, removed, moved and retimed, each an undo step; what the
+// in-betweening says (keys too far apart for their time) in the status line.
 #include <QSignalSpy>
 #include <QTest>
+#include <algorithm>
+#include <filesystem>
 
 #include "map/map_gestures.h"
 #include "map/map_view.h"
@@ -19,9 +22,11 @@ Eigen::Vector2d pointOfFrame(const MapResult& map, int frame) {
   return map.blender->sample_point(map.rowOfFrame[0][std::size_t(frame)]);
 }
 
-// Places a key with a Ctrl-click where frame `frame` of the clip is drawn.
-void ctrlClickFrame(MainWindow& w, int frame) {
-  const QPointF pixel = w.mapView()->toWidget(pointOfFrame(*w.currentMap(), frame));
+// Places a key with a Ctrl-click where frame `frame` of clip `clip` is drawn.
+void ctrlClickFrame(MainWindow& w, int frame, int clip = 0) {
+  const MapResult& map = *w.currentMap();
+  const QPointF pixel = w.mapView()->toWidget(
+      map.blender->sample_point(map.rowOfFrame[std::size_t(clip)][std::size_t(frame)]));
   QTest::mouseClick(w.mapView(), Qt::LeftButton, Qt::ControlModifier, pixel.toPoint());
 }
 
@@ -148,6 +153,45 @@ TEST(StudioKeys, KeysAreAddedRemovedMovedAndRetimedAsUndoSteps) {
   EXPECT_FALSE(w->keys()->retime({0.0, 1.0, 2.0}));
   EXPECT_FALSE(w->isSynthesizing());
   EXPECT_TRUE(w->lastError().contains("3 times for 2 keys")) << w->lastError().toStdString();
+}
+
+// An in-between's notes reach the status line: keys of two takes captured 2.8 m apart, retimed
+// to 0.3 s, make the root glide (synth::inbetween says so, with the time the clips would take).
+TEST(StudioKeys, AnInBetweenTakesNotesAreInTheStatusLine) {
+  const std::string bandai = std::string(MOTIONMAP_SHARED_DATA) + "/bandai/dataset-1_";
+  const std::string walk = bandai + "walk_angry_001.bvh", bow = bandai + "bow_normal_001.bvh";
+  if (!std::filesystem::exists(walk) || !std::filesystem::exists(bow))
+    GTEST_SKIP() << "no Bandai takes in " << MOTIONMAP_SHARED_DATA;
+  MainWindow w;
+  w.setInteractive(false);
+  w.resize(1000, 600);
+  w.show();
+  w.setMethod(embed::Method::Pca);
+  ASSERT_TRUE(w.openFile(QString::fromStdString(walk)));
+  ASSERT_TRUE(w.addFile(QString::fromStdString(bow)));
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 2; },
+      kTimeoutMs));
+  const int width = w.minimumSizeHint().width();
+  ctrlClickFrame(w, 20, 0);
+  ctrlClickFrame(w, 40, 1);
+  ASSERT_TRUE(waitForSynthesis(w));
+  ASSERT_EQ(w.takes()->list().count(), 1) << w.lastError().toStdString();
+  ASSERT_TRUE(w.keys()->retime({0.0, 0.3}));
+  ASSERT_TRUE(waitForSynthesis(w));
+  const Take& take = w.takes()->list().at(w.takes()->list().count() - 1);
+  ASSERT_TRUE(take.result);
+  const auto glide = std::find_if(take.result->notes.begin(), take.result->notes.end(),
+                                  [](const std::string& n) { return n.find("apart") != n.npos; });
+  ASSERT_NE(glide, take.result->notes.end())
+      << take.keys.keys[0].label << " to " << take.keys.keys[1].label;
+  std::printf("[ figures  ] %s\n", glide->c_str());
+  // The take plays when its motion arrives; the status line says what its synthesis said.
+  EXPECT_TRUE(w.statusText().contains(QString::fromStdString(*glide)))
+      << w.statusText().toStdString();
+  EXPECT_TRUE(w.statusToolTip().contains(QString::fromStdString(*glide)));
+  // A long status line does not widen the window.
+  EXPECT_EQ(w.minimumSizeHint().width(), width);
 }
 
 }  // namespace

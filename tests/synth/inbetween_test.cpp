@@ -501,6 +501,41 @@ TEST_F(SynthInbetweenBandaiLibrary, TheKeysDisplacementMapDoesNotPushAFootIntoTh
   }
 }
 
+TEST_F(SynthInbetweenBandaiLibrary, KeysFurtherApartThanTheClipsWalkInTheTimeAreNoted) {
+  // Each key's root stands where it stood in its clip: the proud walk's frame 9 and the bow's
+  // frame 40 stand 3.6 m apart, which 30 frames between them cover at 3.5 m/s while the clips
+  // there move at 0.37: the root glides and the feet slide, and the result says so, with the time
+  // the clips would take. Untimed, the segment takes that time; keys of one walk at its own
+  // timing glide nowhere: no note.
+  const Library& L = *lib;
+  const int walk = index("walk_proud"), bow = index("bow_normal");
+  const auto glide_notes = [](const InbetweenResult& r) {
+    return std::count_if(r.notes.begin(), r.notes.end(), [](const std::string& n) {
+      return n.find("apart (each where it stood in its clip)") != std::string::npos;
+    });
+  };
+  InbetweenOptions quick;
+  quick.frames_between = 30;
+  const std::vector<Key> far{L.key(walk, 9), L.key(bow, 40)};
+  const InbetweenResult r = inbetween(*L.blender, *L.map.features, far, quick);
+  ASSERT_EQ(glide_notes(r), 1) << ::testing::PrintToString(r.notes);
+  const std::string& note = r.notes.front();
+  std::printf("[ figures  ] note: %s\n", note.c_str());
+  EXPECT_NE(note.find("key 0 to key 1: their roots stand 3.63 m apart"), std::string::npos);
+  EXPECT_NE(note.find("the feet slide"), std::string::npos);
+  // The time it names is the untimed segment's (the clips' pace over the keys' distance).
+  const InbetweenResult untimed = inbetween(*L.blender, *L.map.features, far);
+  EXPECT_EQ(glide_notes(untimed), 0) << ::testing::PrintToString(untimed.notes);
+  const std::string frames = std::to_string(untimed.key_frames[1] - 1) + " frames between";
+  EXPECT_NE(note.find(frames), std::string::npos) << frames;
+  // The walk's frames 9 and 60 at its own timing; 30 frames between them is 1.8 times its pace.
+  InbetweenOptions own;
+  own.frames_between = 50;
+  const std::vector<Key> walked{L.key(walk, 9), L.key(walk, 60)};
+  EXPECT_EQ(glide_notes(inbetween(*L.blender, *L.map.features, walked, own)), 0);
+  EXPECT_EQ(glide_notes(inbetween(*L.blender, *L.map.features, walked, quick)), 1);
+}
+
 TEST_F(SynthInbetweenBandaiLibrary, AnInbetweenBetweenActionsMovesNoFasterThanItsClips) {
   // Keys of different actions; no joint may move further in a frame than in the keys' clips.
   // - A bow's key to a walk's: the route plays the bow on, then the walk up to its key. Cut at

@@ -385,9 +385,11 @@ bool MainWindow::showMap() {
 }
 
 void MainWindow::updateStatus() {
-  QStringList parts = m_source->statusParts();
-  if (parts.isEmpty()) return;  // no clip yet
-  parts << m_player->statusParts();
+  const QStringList source = m_source->statusParts();
+  if (source.isEmpty()) return;  // no clip yet
+  // A take playing comes first, its notes with it: the line is cut at the window's edge.
+  QStringList parts = m_player->statusParts();
+  parts << source;
   if (isSynthesizing()) parts << tr("synthesizing…");
   m_status->showParts(parts);
 }

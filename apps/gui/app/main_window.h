@@ -178,6 +178,7 @@ class MainWindow : public QMainWindow {
   void setInteractive(bool interactive) { m_status->setInteractive(interactive); }
   QString lastError() const { return m_status->lastError(); }
   QString statusText() const { return m_status->text(); }
+  QString statusToolTip() const { return m_status->toolTip(); }
   MapView* mapView() const { return m_mapView; }
   SkeletonView* skeletonView() const { return m_skeletonView; }
   JointDrag* jointDrag() const { return m_jointDrag; }

@@ -18,7 +18,8 @@ class StatusLine : public QLabel {
   /// Whether errors also open a message box (and the window asks questions).
   void setInteractive(bool interactive) { m_interactive = interactive; }
   bool interactive() const { return m_interactive; }
-  /// The parts joined by " · "; nothing changes for none (no clip yet).
+  /// The parts joined by " · " (cut at the window's edge; the tooltip shows each whole on its
+  /// own line); nothing changes for none (no clip yet).
   void showParts(const QStringList& parts);
   /// Shows `message` as an error (a message box too when interactive); lastError() keeps it.
   void showError(const QString& message);

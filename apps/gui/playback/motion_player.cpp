@@ -65,9 +65,12 @@ void MotionPlayer::stop() {
 
 QStringList MotionPlayer::statusParts() const {
   if (!m_playsTake || !synthesized()) return {};
-  return {tr("synthesized: %1 frames, %2 outside the data")
-              .arg(synthesized()->motion.num_frames)
-              .arg(synthesized()->clamped_frames)};
+  QStringList parts{tr("synthesized: %1 frames, %2 outside the data")
+                        .arg(synthesized()->motion.num_frames)
+                        .arg(synthesized()->clamped_frames)};
+  // What the synthesis has to say (feet that slide or were not cleaned, legs that stalled).
+  for (const std::string& note : synthesized()->notes) parts << QString::fromStdString(note);
+  return parts;
 }
 
 void MotionPlayer::updateMotion() {

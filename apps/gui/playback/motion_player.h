@@ -44,7 +44,8 @@ class MotionPlayer : public QObject {
   void showFrame(int frame);
   /// Playback stops and the clip is what plays (the takes are about to go).
   void stop();
-  /// The take's part of the status line (empty while the clip plays).
+  /// The take's part of the status line: its frames, how many lie outside the data and the
+  /// synthesis' notes (empty while the clip plays).
   QStringList statusParts() const;
 
  signals:

@@ -142,6 +142,7 @@ bool SynthesisController::startInbetween(MapSupply map, TakeKeys keys,
           out->motion = std::move(r.motion);
           out->validity = std::move(r.validity);
           for (const synth::PointValidity& v : out->validity) out->clamped_frames += v.clamped;
+          out->notes = std::move(r.notes);
           // The route as the take's path: a point per frame, at the frame rate.
           keyed->path.points = std::move(r.points);
           for (std::size_t k = 0; k < keyed->path.points.size(); ++k)

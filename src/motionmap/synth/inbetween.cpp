@@ -40,6 +40,9 @@ constexpr double kStandingSpeed = 0.05;
 constexpr double kPaceSeconds = 0.5;
 // See jump_cost in inbetween().
 constexpr double kLoopSeconds = 1.0;
+// A segment whose root must cover its keys' distance faster than this many times the clips' own
+// speed about its keys (at least kStandingSpeed) gets a note (see inbetween(), after the routes).
+constexpr double kGlideNoteFactor = 1.5;
 // A segment's root path is turned and scaled onto the later key when it travels between this
 // fraction and its inverse of the keys' distance, turned by at most kMaxTravelTurn radians.
 constexpr double kMinTravelRatio = 0.5;
@@ -288,19 +291,19 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const auto bridge_jump_cost = [&](int from, int to) {
     return backwards(from, to) ? kNever : pose_distance(sample_pose(from), sample_pose(to));
   };
-  // Untimed, how long segment i takes at least for its root to cover the floor distance between
-  // its keys at the pace of the clips there: the mean root speed over ±kPaceSeconds of the clip
-  // of each key's nearest sample (one gait cycle of a walk; the speeds of the samples nearest
-  // a point mix clips — a walk's key lies beside runs on a map). 0: no floor (kStandingSpeed). A
-  // route between two keys of a walk at one phase, steps apart, is short on the map.
-  const auto walking_time = [&](int i) {
-    if (!keys[i].has_pose() || !keys[i + 1].has_pose()) return 0.0;
+  // The floor distance between the roots of keys i and i + 1 (both with poses).
+  const auto keys_apart = [&](int i) {
     const int root = blender.motion_root();
     const Axis up = blender.options().up;
     const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
-    Eigen::Vector3d apart = root_placement(key_poses[i + 1], 0, root, up).floor -
-                            root_placement(key_poses[i], 0, root, up).floor;
-    apart -= apart.dot(up_unit) * up_unit;
+    const Eigen::Vector3d apart = root_placement(key_poses[i + 1], 0, root, up).floor -
+                                  root_placement(key_poses[i], 0, root, up).floor;
+    return (apart - apart.dot(up_unit) * up_unit).norm();
+  };
+  // The clips' pace about keys i and i + 1: the mean root speed over ±kPaceSeconds of the clip
+  // of each key's nearest sample (one gait cycle of a walk; the speeds of the samples nearest a
+  // point mix clips — a walk's key lies beside runs on a map); 0 where neither has a sample.
+  const auto clips_speed = [&](int i) {
     const int span = static_cast<int>(std::ceil(kPaceSeconds / dt));
     std::vector<int> near;
     double speed = 0.0;
@@ -319,10 +322,16 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
         ++count;
       }
     }
-    if (count == 0) return 0.0;
-    speed /= count;
+    return count == 0 ? 0.0 : speed / count;
+  };
+  // Untimed, how long segment i takes at least for its root to cover the floor distance between
+  // its keys at the clips' pace there; 0: no floor (the clips stand: kStandingSpeed). A route
+  // between two keys of a walk at one phase, steps apart, is short on the map.
+  const auto walking_time = [&](int i) {
+    if (!keys[i].has_pose() || !keys[i + 1].has_pose()) return 0.0;
+    const double speed = clips_speed(i);
     const double size = detect_length_units(blender.skeleton(), key_poses[i]).size;
-    return speed > kStandingSpeed * size ? apart.norm() / speed : 0.0;
+    return speed > kStandingSpeed * size ? keys_apart(i) / speed : 0.0;
   };
   std::vector<WalkedRoute> walked;
   int last_visited = -1;  // the sample the previous clip route ended on
@@ -408,6 +417,33 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       }
     }
     routing.update(static_cast<double>(i + 1) / (K - 1));
+  }
+  // A segment whose keys stand further apart than the clips about them walk in its time (keys of
+  // clips captured in different places, or timed too short): its root, which must meet each key
+  // where it stood, glides and the feet slide. Said, with the time the clips would take.
+  for (int i = 0; i + 1 < K; ++i) {
+    if (!keys[i].has_pose() || !keys[i + 1].has_pose()) continue;
+    const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
+    const LengthUnits units = detect_length_units(blender.skeleton(), key_poses[i]);
+    const double standing = kStandingSpeed * units.size;
+    const double pace = clips_speed(i), apart = keys_apart(i), needed = apart / seconds;
+    if (needed <= kGlideNoteFactor * std::max(pace, standing)) continue;
+    const double scale = units.plausible ? units.metres_per_unit : 1.0;
+    const std::string unit = units.plausible ? " m" : " units";
+    const auto length = [&](double v) { return format_number(v * scale, 3) + unit; };
+    std::string note = name(i) + " to " + name(i + 1) + ": their roots stand " + length(apart) +
+                       " apart (each where it stood in its clip), covered in " +
+                       format_number(seconds, 3) + " s at " + length(needed) + "/s";
+    if (pace > standing) {
+      const double frames = std::max(1.0, std::round(apart / pace / dt));  // as untimed keys
+      note += ", " + format_number(needed / pace, 2) + " times as fast as the clips there move (" +
+              length(pace) + "/s): the feet slide; at the clips' pace it takes " +
+              format_number(frames * dt, 3) + " s (" + format_number(frames - 1.0) +
+              " frames between the keys)";
+    } else {
+      note += " where the clips there stand: the body glides, its feet sliding";
+    }
+    result.notes.push_back(std::move(note));
   }
 
   // The map point of every frame: equal steps of the samples' time along each route. On a clip

@@ -54,15 +54,7 @@ Eigen::Vector2d pointOf(const Eigen::MatrixXd& xy, const std::vector<int>& clipO
 TEST(StudioCompare, AComputedMapsSecondClipPlaysInSyncBesideTheFirst) {
   if (!fs::exists(kWalk) || !fs::exists(kRun)) GTEST_SKIP() << "no Bandai takes in " << kBandai;
   MainWindow w;
-  w.setInteractive(false);
-  w.resize(1280, 720);
-  w.show();
-  w.setMethod(embed::Method::Pca);
-  ASSERT_TRUE(w.openFile(QString::fromStdString(kWalk)));
-  ASSERT_TRUE(w.addFile(QString::fromStdString(kRun)));
-  ASSERT_TRUE(QTest::qWaitFor(
-      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 2; },
-      testing::kTimeoutMs));
+  ASSERT_TRUE(testing::showOnPcaMap(w, {kWalk, kRun}));
   ComparePanel* compare = w.explore()->compare();
   EXPECT_FALSE(compare->isVisible());
   EXPECT_EQ(compare->comparedClip(), -1);
@@ -152,15 +144,7 @@ int tealLegendPixels(MapView& view) {
 TEST(StudioCompare, TheComparedClipsLegendSwatchIsInTheColourItIsDrawnIn) {
   if (!fs::exists(kWalk) || !fs::exists(kRun)) GTEST_SKIP() << "no Bandai takes in " << kBandai;
   MainWindow w;
-  w.setInteractive(false);
-  w.resize(1280, 720);
-  w.show();
-  w.setMethod(embed::Method::Pca);
-  ASSERT_TRUE(w.openFile(QString::fromStdString(kWalk)));
-  ASSERT_TRUE(w.addFile(QString::fromStdString(kRun)));
-  ASSERT_TRUE(QTest::qWaitFor(
-      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 2; },
-      testing::kTimeoutMs));
+  ASSERT_TRUE(testing::showOnPcaMap(w, {kWalk, kRun}));
   MapView* view = w.mapView();
   ASSERT_EQ(view->plotOptions().clip_names.size(), 2);  // a legend of the two clips
   EXPECT_NE(view->clipColor(1, 0.5), MapView::comparisonColor());
@@ -199,15 +183,7 @@ int comparisonPixels(const QImage& image) {
 TEST(StudioCompare, OverlaidTheComparedCharacterIsDrawnInTheMainView) {
   if (!fs::exists(kWalk) || !fs::exists(kRun)) GTEST_SKIP() << "no Bandai takes in " << kBandai;
   MainWindow w;
-  w.setInteractive(false);
-  w.resize(1280, 720);
-  w.show();
-  w.setMethod(embed::Method::Pca);
-  ASSERT_TRUE(w.openFile(QString::fromStdString(kWalk)));
-  ASSERT_TRUE(w.addFile(QString::fromStdString(kRun)));
-  ASSERT_TRUE(QTest::qWaitFor(
-      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 2; },
-      testing::kTimeoutMs));
+  ASSERT_TRUE(testing::showOnPcaMap(w, {kWalk, kRun}));
   ComparePanel* compare = w.explore()->compare();
   SkeletonView* main = w.skeletonView();
   ASSERT_TRUE(compare->compareWith(1));

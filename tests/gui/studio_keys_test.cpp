@@ -163,15 +163,7 @@ TEST(StudioKeys, AnInBetweenTakesNotesAreInTheStatusLine) {
   if (!std::filesystem::exists(walk) || !std::filesystem::exists(bow))
     GTEST_SKIP() << "no Bandai takes in " << MOTIONMAP_SHARED_DATA;
   MainWindow w;
-  w.setInteractive(false);
-  w.resize(1000, 600);
-  w.show();
-  w.setMethod(embed::Method::Pca);
-  ASSERT_TRUE(w.openFile(QString::fromStdString(walk)));
-  ASSERT_TRUE(w.addFile(QString::fromStdString(bow)));
-  ASSERT_TRUE(QTest::qWaitFor(
-      [&] { return w.currentMap() != nullptr && !w.isComputing() && w.clipCount() == 2; },
-      kTimeoutMs));
+  ASSERT_TRUE(testing::showOnPcaMap(w, {walk, bow}));
   const int width = w.minimumSizeHint().width();
   ctrlClickFrame(w, 20, 0);
   ctrlClickFrame(w, 40, 1);

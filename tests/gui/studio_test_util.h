@@ -6,6 +6,8 @@
 #include <QTest>
 #include <cstdlib>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "app/main_window.h"
 #include "motionmap/sample/sample_clip.h"
@@ -45,6 +47,31 @@ inline std::unique_ptr<MainWindow> windowWithMap(embed::Method method = embed::M
       QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
   EXPECT_NE(w->currentMap(), nullptr) << w->lastError().toStdString();
   return w;
+}
+
+/// Shows `w` (non-interactive, 1280 × 720) with the clips `paths` (one skeleton: the first opened,
+/// the others added) on one PCA map; false (the failure recorded) when one does not open or the
+/// map does not come.
+inline bool showOnPcaMap(MainWindow& w, const std::vector<std::string>& paths) {
+  w.setInteractive(false);
+  w.resize(1280, 720);
+  w.show();
+  w.setMethod(embed::Method::Pca);
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const QString path = QString::fromStdString(paths[i]);
+    if (!(i == 0 ? w.openFile(path) : w.addFile(path))) {
+      ADD_FAILURE() << paths[i] << ": " << w.lastError().toStdString();
+      return false;
+    }
+  }
+  const bool shown = QTest::qWaitFor(
+      [&] {
+        return w.currentMap() != nullptr && !w.isComputing() &&
+               w.clipCount() == static_cast<int>(paths.size());
+      },
+      kTimeoutMs);
+  EXPECT_TRUE(shown) << w.lastError().toStdString();
+  return shown;
 }
 
 }  // namespace motionmap::studio::testing

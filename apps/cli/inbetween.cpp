@@ -227,7 +227,8 @@ void setup_inbetween(CLI::App& app) {
   auto* between = sub->add_option("--frames-between", cmd->frames_between,
                                   "Frames between consecutive keys (default: the keys' times, or "
                                   "the samples' own speed along each route, at least the time "
-                                  "the clips take to walk the keys' distance)")
+                                  "the clips take to walk the keys' distance; far fewer frames "
+                                  "make the root glide, with a note)")
                       ->check(CLI::Range(0, synth::kMaxFramesBetween));
   sub->add_option("--times", cmd->times,
                   "Seconds of each key, comma-separated, increasing (instead of @SECONDS on "

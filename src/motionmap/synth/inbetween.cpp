@@ -476,13 +476,14 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   }
 
   // Blended poses and root motion along them: a path timed at the frames (or the clip routes'
-  // weights).
+  // weights), the weights smoothed over time as a sketch's are (kDefaultSmoothSeconds): the
+  // grid route's kriging, whose neighbours change between actions from one point to the next,
+  // moved a joint 61 cm in a frame from a walk's key towards a dash's, where the clips' fastest
+  // moves 32 (AnInbetweenBetweenActionsMovesNoFasterThanItsClips; now 18).
+  // Every key, a map-point key's too, is then reached through the displacement map below.
   // The feet are cleaned last, once the keys' poses and roots are in place.
-  // Unsmoothed: a key is the blend at its point, and a clip route's weights already play the
-  // clips' own frames in order.
   SynthOptions blend_only;
   blend_only.clean_feet = false;
-  blend_only.smooth = 0.0;
   const Control blending = control.stage("blending frames", 0.2, 0.9);
   SynthResult synth;
   if (clip_routes) {
@@ -531,8 +532,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       static_cast<std::size_t>(K),
       std::vector<Eigen::Vector3d>(static_cast<std::size_t>(J), Eigen::Vector3d::Zero()));
   for (int i = 0; i < K; ++i) {
-    if (!keys[i].has_pose()) continue;
-    const Motion& p = key_poses[i];
+    // A map-point key's pose: the blend at its point (its root free, below).
+    const Motion& p = keys[i].has_pose() ? key_poses[i] : blender.pose_at(keys[i].point);
     const int f = static_cast<int>(key_frames[i]);
     for (int j = 0; j < J; ++j) {
       if (j == root) {

@@ -27,11 +27,13 @@
 //     frames fall at equal steps of the samples' own time along it: ∫ ds / v(s), v the mean map
 //     speed of the 8 samples nearest s (at least a tenth of MapBlender::median_speed());
 //  2. poses: synthesize() along those points, every frame on its point (a path timed at the
-//     frames), which blends the pose and integrates the blended root velocities;
-//  3. poses through the keys: a displacement map. At a key with a pose, per joint the rotation
+//     frames; a clip route's weights), which blends the pose and integrates the blended root
+//     velocities, the weights smoothed over time as a sketch's are (kDefaultSmoothSeconds);
+//  3. poses through the keys: a displacement map. At each key, per joint the rotation
 //     d_j = q_key·q_blend⁻¹ (the motion root: of the tilts, its heading removed) and, for the
 //     translations, key − blend (the root: its height only); faded by slerp (lerp) from key i's
-//     to key i + 1's across the segment; identity at a key without a pose;
+//     to key i + 1's across the segment; a key without a pose takes the blend at its point
+//     (MapBlender::pose_at) as its pose here;
 //  4. root: the blended root motion integrated from key i's root placement (position on the
 //     floor and heading), and the position and heading error it ends with at key i + 1 spread
 //     linearly over the segment — so each key's root stands exactly where the key's did, and

@@ -291,47 +291,58 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const auto bridge_jump_cost = [&](int from, int to) {
     return backwards(from, to) ? kNever : pose_distance(sample_pose(from), sample_pose(to));
   };
-  // The floor distance between the roots of keys i and i + 1 (both with poses).
-  const auto keys_apart = [&](int i) {
+  // Per segment between two keys with poses, what its root must walk: the floor distance
+  // between the keys' roots; the clips' pace about them, the mean root speed over ±kPaceSeconds
+  // of the clip of each key's nearest sample (one gait cycle of a walk; the speeds of the samples
+  // nearest a point mix clips — a walk's key lies beside runs on a map), 0 where neither has a
+  // sample; and a standing body's drift (kStandingSpeed body sizes per second), in the units
+  // detect_length_units finds. Read by the untimed segments' time and by the glide note.
+  struct Walk {
+    bool known = false;  // both keys have poses
+    double apart = 0.0, pace = 0.0, standing = 0.0;
+    LengthUnits units;
+  };
+  std::vector<Walk> walks(static_cast<std::size_t>(K - 1));
+  {
     const int root = blender.motion_root();
     const Axis up = blender.options().up;
     const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
-    const Eigen::Vector3d apart = root_placement(key_poses[i + 1], 0, root, up).floor -
-                                  root_placement(key_poses[i], 0, root, up).floor;
-    return (apart - apart.dot(up_unit) * up_unit).norm();
-  };
-  // The clips' pace about keys i and i + 1: the mean root speed over ±kPaceSeconds of the clip
-  // of each key's nearest sample (one gait cycle of a walk; the speeds of the samples nearest a
-  // point mix clips — a walk's key lies beside runs on a map); 0 where neither has a sample.
-  const auto clips_speed = [&](int i) {
     const int span = static_cast<int>(std::ceil(kPaceSeconds / dt));
     std::vector<int> near;
-    double speed = 0.0;
-    int count = 0;
-    for (const int k : {i, i + 1}) {
-      if (field.nearest(keys[k].point, 1, near) < 1) continue;
-      const int s = near.front(), frame = samples.frame_of[s];
-      int from = s, to = s;
-      while (consecutive(samples, from - 1) && frame - samples.frame_of[from - 1] <= span) --from;
-      while (consecutive(samples, to) && samples.frame_of[to + 1] - frame <= span) ++to;
-      for (int j = from; j <= to; ++j) {
-        MapWeights one;
-        one.samples = {j};
-        one.weights = {1.0};
-        speed += blender.blend(one).velocity.norm();
-        ++count;
+    for (int i = 0; i + 1 < K; ++i) {
+      if (!keys[i].has_pose() || !keys[i + 1].has_pose()) continue;
+      Walk& w = walks[static_cast<std::size_t>(i)];
+      w.known = true;
+      const Eigen::Vector3d apart = root_placement(key_poses[i + 1], 0, root, up).floor -
+                                    root_placement(key_poses[i], 0, root, up).floor;
+      w.apart = (apart - apart.dot(up_unit) * up_unit).norm();
+      double speed = 0.0;
+      int count = 0;
+      for (const int k : {i, i + 1}) {
+        if (field.nearest(keys[k].point, 1, near) < 1) continue;
+        const int s = near.front(), frame = samples.frame_of[s];
+        int from = s, to = s;
+        while (consecutive(samples, from - 1) && frame - samples.frame_of[from - 1] <= span) --from;
+        while (consecutive(samples, to) && samples.frame_of[to + 1] - frame <= span) ++to;
+        for (int j = from; j <= to; ++j) {
+          MapWeights one;
+          one.samples = {j};
+          one.weights = {1.0};
+          speed += blender.blend(one).velocity.norm();
+          ++count;
+        }
       }
+      w.pace = count == 0 ? 0.0 : speed / count;
+      w.units = detect_length_units(blender.skeleton(), key_poses[i]);
+      w.standing = kStandingSpeed * w.units.size;
     }
-    return count == 0 ? 0.0 : speed / count;
-  };
+  }
   // Untimed, how long segment i takes at least for its root to cover the floor distance between
-  // its keys at the clips' pace there; 0: no floor (the clips stand: kStandingSpeed). A route
-  // between two keys of a walk at one phase, steps apart, is short on the map.
+  // its keys at the clips' pace there; 0: no floor (the clips stand). A route between two keys
+  // of a walk at one phase, steps apart, is short on the map.
   const auto walking_time = [&](int i) {
-    if (!keys[i].has_pose() || !keys[i + 1].has_pose()) return 0.0;
-    const double speed = clips_speed(i);
-    const double size = detect_length_units(blender.skeleton(), key_poses[i]).size;
-    return speed > kStandingSpeed * size ? keys_apart(i) / speed : 0.0;
+    const Walk& w = walks[static_cast<std::size_t>(i)];
+    return w.known && w.pace > w.standing ? w.apart / w.pace : 0.0;
   };
   std::vector<WalkedRoute> walked;
   int last_visited = -1;  // the sample the previous clip route ended on
@@ -422,11 +433,10 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // clips captured in different places, or timed too short): its root, which must meet each key
   // where it stood, glides and the feet slide. Said, with the time the clips would take.
   for (int i = 0; i + 1 < K; ++i) {
-    if (!keys[i].has_pose() || !keys[i + 1].has_pose()) continue;
+    const auto& [known, apart, pace, standing, units] = walks[static_cast<std::size_t>(i)];
+    if (!known) continue;
     const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
-    const LengthUnits units = detect_length_units(blender.skeleton(), key_poses[i]);
-    const double standing = kStandingSpeed * units.size;
-    const double pace = clips_speed(i), apart = keys_apart(i), needed = apart / seconds;
+    const double needed = apart / seconds;
     if (needed <= kGlideNoteFactor * std::max(pace, standing)) continue;
     const double scale = units.plausible ? units.metres_per_unit : 1.0;
     const std::string unit = units.plausible ? " m" : " units";

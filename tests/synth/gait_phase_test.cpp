@@ -60,6 +60,38 @@ TEST(SynthGaitPhase, CountsTheLeftFootsStrikesAndContinuesPastThem) {
   EXPECT_DOUBLE_EQ(short_run.time_inside(0.2), 0.3);
 }
 
+// With the right foot's strikes, each half cycle is linear on its own: a right strike is phase ½
+// however far into its cycle it lands, so two takes blended at one phase land both feet together.
+TEST(SynthGaitPhase, TheRightFootsStrikeIsHalfACycle) {
+  GaitPhase p;
+  p.strikes = {0.5, 1.5, 2.3};
+  p.right = {0.9, 2.1};  // 0.4 of the first cycle, 0.75 of the second
+  p.duration = 3.0;
+  double rate = 0.0;
+  EXPECT_DOUBLE_EQ(p.at(0.9, &rate), 0.5);
+  EXPECT_DOUBLE_EQ(p.at(0.7, &rate), 0.25);
+  EXPECT_DOUBLE_EQ(rate, 0.5 / 0.4);
+  EXPECT_DOUBLE_EQ(p.at(1.2, &rate), 0.75);
+  EXPECT_DOUBLE_EQ(rate, 0.5 / 0.6);
+  EXPECT_DOUBLE_EQ(p.at(2.1), 1.5);
+  EXPECT_NEAR(p.at(2.2, &rate), 1.75, 1e-12);
+  EXPECT_NEAR(rate, 0.5 / 0.2, 1e-12);
+  // Before the first strike and after the last, at the nearest whole cycle's rate.
+  EXPECT_DOUBLE_EQ(p.at(0.0, &rate), -0.5);
+  EXPECT_DOUBLE_EQ(rate, 1.0);
+  EXPECT_DOUBLE_EQ(p.at(2.7), 2.5);
+  for (const double t : {0.0, 0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.1, 2.3, 2.9})
+    EXPECT_NEAR(p.time_at(p.at(t)), t, 1e-12);
+  // gait_phase() records the right strike after each left one but the last.
+  const GaitPhase walk = gait_phase(contacts({5, 15, 25, 35}, {12, 19, 32}), 0.1, 3, 4.0);
+  ASSERT_TRUE(walk.known());
+  ASSERT_EQ(walk.right.size(), 3u);
+  EXPECT_NEAR(walk.right[0], 0.9, 1e-12);  // frame 12
+  EXPECT_NEAR(walk.right[1], 1.6, 1e-12);  // frame 19
+  EXPECT_NEAR(walk.right[2], 2.9, 1e-12);  // frame 32
+  EXPECT_DOUBLE_EQ(walk.at(0.9), 0.5);
+}
+
 TEST(SynthGaitPhase, OnlyGaitCyclesInARowMakeAPhase) {
   const double dt = 0.1;
   // Left strikes 10 frames apart, a right one between each: three cycles.

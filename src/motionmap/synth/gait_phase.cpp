@@ -167,6 +167,13 @@ double GaitPhase::at(double seconds, double* rate) const {
   const auto i = static_cast<std::size_t>(
       std::clamp<std::ptrdiff_t>(above, 1, static_cast<std::ptrdiff_t>(strikes.size()) - 1) - 1);
   const double length = strikes[i + 1] - strikes[i];
+  if (!right.empty() && seconds >= strikes[i] && seconds <= strikes[i + 1]) {
+    const double r = right[i];
+    const bool first = seconds < r;
+    const double from = first ? strikes[i] : r, to = first ? r : strikes[i + 1];
+    if (rate != nullptr) *rate = 0.5 / (to - from);
+    return static_cast<double>(i) + (first ? 0.0 : 0.5) + 0.5 * (seconds - from) / (to - from);
+  }
   if (rate != nullptr) *rate = 1.0 / length;
   return static_cast<double>(i) + (seconds - strikes[i]) / length;
 }
@@ -174,7 +181,13 @@ double GaitPhase::at(double seconds, double* rate) const {
 double GaitPhase::time_at(double phase) const {
   const auto i = static_cast<std::size_t>(
       std::clamp(std::floor(phase), 0.0, static_cast<double>(strikes.size()) - 2.0));
-  return strikes[i] + (phase - static_cast<double>(i)) * (strikes[i + 1] - strikes[i]);
+  const double f = phase - static_cast<double>(i);
+  if (!right.empty() && f >= 0.0 && f <= 1.0) {
+    const double r = right[i];
+    return f < 0.5 ? strikes[i] + 2.0 * f * (r - strikes[i])
+                   : r + 2.0 * (f - 0.5) * (strikes[i + 1] - r);
+  }
+  return strikes[i] + f * (strikes[i + 1] - strikes[i]);
 }
 
 GaitPhase gait_phase(const std::array<FootContacts, 2>& contacts, double frame_time, int start,
@@ -207,8 +220,13 @@ GaitPhase gait_phase(const std::array<FootContacts, 2>& contacts, double frame_t
   GaitPhase out;
   out.duration = duration;
   if (length < static_cast<std::size_t>(kMinCycles)) return out;
-  for (std::size_t i = best; i <= best + length; ++i)
+  for (std::size_t i = best; i <= best + length; ++i) {
     out.strikes.push_back(static_cast<double>(left[i] - start) * frame_time);
+    if (i < best + length)
+      out.right.push_back(
+          static_cast<double>(*std::upper_bound(right.begin(), right.end(), left[i]) - start) *
+          frame_time);
+  }
   return out;
 }
 

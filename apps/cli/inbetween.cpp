@@ -189,7 +189,7 @@ void write_route_csv(const std::string& path, const synth::InbetweenResult& r,
   out << "# the map point of every frame of the in-betweened motion (a path `motionmap synth "
          "--path` reads)\n";
   for (std::size_t i = 0; i < keys.size(); ++i) {
-    out << "# key " << i << " " << keys[i].label << " at frame " << r.key_frames[i] << '\n';
+    out << "# key " << i + 1 << " " << keys[i].label << " at frame " << r.key_frames[i] << '\n';
   }
   out << "t,x,y\n";
   char buf[96];

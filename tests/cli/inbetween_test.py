@@ -118,7 +118,7 @@ def keys_too_far_apart_for_their_time_are_noted():
     code, _, err = inbetween("--keys", keys, "--frames-between", "5", "-o", out)
     assert code == 0, err
     note = next((line for line in err.splitlines() if "apart (each where it stood" in line), "")
-    assert note.startswith(f"note: key 0 ({data(ANGRY)}:20) to key 1 ({data(OLD)}:100): their "
+    assert note.startswith(f"note: key 1 ({data(ANGRY)}:20) to key 2 ({data(OLD)}:100): their "
                            "roots stand"), err
     assert "the feet slide; at the clips' pace it takes" in note, note
     # Untimed, the segment takes the clips' time (the frames the note names): no note.

@@ -244,7 +244,7 @@ TEST(SynthInbetween, BadKeysAndOptions) {
   EXPECT_EQ(parameter_message([&] {
               inbetween(s.blender, s.set, std::vector<Key>{s.key(1, 0.0), s.key(5, 0.01)});
             }),
-            "key 1 (walking.bvh:5): its time 0.01 s is not at least a frame (0.0333333 s) after "
+            "key 2 (walking.bvh:5): its time 0.01 s is not at least a frame (0.0333333 s) after "
             "the previous key's 0 s");
   EXPECT_EQ(parameter_message([&] {
               inbetween(s.blender, s.set, std::vector<Key>{s.key(1), s.key(5)}, between(-2));
@@ -255,14 +255,14 @@ TEST(SynthInbetween, BadKeysAndOptions) {
   EXPECT_EQ(parameter_message([&] {
               inbetween(s.blender, s.set, std::vector<Key>{s.key(1), wrong});
             }),
-            "key 1 (walking.bvh:5): its pose has 1 frames of 3 joints; a key pose is one frame of "
+            "key 2 (walking.bvh:5): its pose has 1 frames of 3 joints; a key pose is one frame of "
             "the map's 5 joints");
   Key nan = s.key(5);
   nan.point.x() = NAN;
   EXPECT_EQ(parameter_message([&] {
               inbetween(s.blender, s.set, std::vector<Key>{s.key(1), nan});
             }),
-            "key 1 (walking.bvh:5): its map point is not finite");
+            "key 2 (walking.bvh:5): its map point is not finite");
   EXPECT_THROW(sample_key(s.blender, 120, s.clip.motion, 5), ParameterError);
   EXPECT_THROW(sample_key(s.blender, 5, s.clip.motion, 120), ParameterError);
 }
@@ -521,7 +521,7 @@ TEST_F(SynthInbetweenBandaiLibrary, KeysFurtherApartThanTheClipsWalkInTheTimeAre
   ASSERT_EQ(glide_notes(r), 1) << ::testing::PrintToString(r.notes);
   const std::string& note = r.notes.front();
   std::printf("[ figures  ] note: %s\n", note.c_str());
-  EXPECT_NE(note.find("key 0 to key 1: their roots stand 3.63 m apart"), std::string::npos);
+  EXPECT_NE(note.find("key 1 to key 2: their roots stand 3.63 m apart"), std::string::npos);
   EXPECT_NE(note.find("the feet slide"), std::string::npos);
   // The time it names is the untimed segment's (the clips' pace over the keys' distance).
   const InbetweenResult untimed = inbetween(*L.blender, *L.map.features, far);

@@ -189,7 +189,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   }
   const int J = blender.skeleton().num_joints();
   const auto name = [&](int i) {
-    return "key " + std::to_string(i) + (keys[i].label.empty() ? "" : " (" + keys[i].label + ")");
+    return "key " + std::to_string(i + 1) +
+           (keys[i].label.empty() ? "" : " (" + keys[i].label + ")");
   };
   int timed = 0;
   for (int i = 0; i < K; ++i) {

@@ -74,7 +74,8 @@ struct Key {
   Motion pose;
   /// Seconds; either every key has one or none does.
   std::optional<double> time;
-  /// For messages: "walk.bvh:120", "1.5:-0.3".
+  /// For messages, which name a key by its number from 1 and this: "key 2 (walk.bvh:120)".
+  /// E.g. "walk.bvh:120", "1.5:-0.3".
   std::string label;
 
   bool has_pose() const { return pose.num_frames > 0; }

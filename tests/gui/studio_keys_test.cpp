@@ -178,6 +178,12 @@ TEST(StudioKeys, AnInBetweenTakesNotesAreInTheStatusLine) {
   ASSERT_NE(glide, take.result->notes.end())
       << take.keys.keys[0].label << " to " << take.keys.keys[1].label;
   std::printf("[ figures  ] %s\n", glide->c_str());
+  // It names the keys as the map numbers them, from 1.
+  EXPECT_EQ(
+      glide->rfind(
+          "key 1 (" + take.keys.keys[0].label + ") to key 2 (" + take.keys.keys[1].label + ")", 0),
+      0u)
+      << *glide;
   // The take plays when its motion arrives; the status line says what its synthesis said.
   EXPECT_TRUE(w.statusText().contains(QString::fromStdString(*glide)))
       << w.statusText().toStdString();

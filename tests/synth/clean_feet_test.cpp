@@ -892,7 +892,7 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
           max_jump(skeleton, raw.motion), max_jump(skeleton, cleaned.motion),
           max_jump(skeleton, clips[0].motion), raised, raised_captured);
       // No foot held off the floor much longer than the captures lift one (within 0.3 s:
-      // measured +0.23 s at most, the old run a fifth of the way to the angry one). The
+      // measured +0.20 s at most: proud to angry, tired to old and the old run, halfway). The
       // skating measure alone rewarded it: the tired walk drawn 30 % of the way to the old one
       // held its left foot up for 2.97 s, its legs stalled mid-stride while the path moved on,
       // and slid in contact only 50.5 cm/s (the capture 57.9); routed where the gait stalls

@@ -464,7 +464,7 @@ class SynthInbetweenBandaiLibrary : public ::testing::Test {
 
 TEST_F(SynthInbetweenBandaiLibrary, TheKeysDisplacementMapDoesNotPushAFootIntoTheFloor) {
   // The punch's key to the tired walk's: the keys' displacement map, spread over the segment,
-  // bends the legs towards the other key's stance, pushing the right ankle 3.9 cm into the floor
+  // bends the legs towards the other key's stance, pushing the right ankle 4.0 cm into the floor
   // raw. (A walk's key to a punch's pushed it 6.3 cm, 2.6 cm with the contacts held, before
   // keep_above_floor; its route now bridges to the punch's own frames, its jump crossfaded.) The
   // clean-up lifts an ankle more than kFloorSlack leg lengths (1.7 cm) under the floor back to

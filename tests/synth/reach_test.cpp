@@ -115,7 +115,7 @@ void expect_map_frames_reached(const RealMap& map, const char* label) {
     }
   }
   std::printf(
-      "[reach] %s: %d targets from the map's own frames, worst error %.3g %% of the "
+      "[ figures  ] reach: %s: %d targets from the map's own frames, worst error %.3g %% of the "
       "height %.4g\n",
       label, count, 100 * worst, reacher.height());
 }
@@ -156,9 +156,10 @@ void held_out(const RealMap& map, const Clip& other, const char* label) {
     }
   }
   ASSERT_FALSE(errors.empty());
-  std::printf("[reach] %s: %zu held-out targets, error median %.3g %%, max %.3g %% of the height\n",
-              label, errors.size(), median(errors),
-              *std::max_element(errors.begin(), errors.end()));
+  std::printf(
+      "[ figures  ] reach: %s: %zu held-out targets, error median %.3g %%, max %.3g %% of the "
+      "height\n",
+      label, errors.size(), median(errors), *std::max_element(errors.begin(), errors.end()));
 }
 
 TEST(SynthReach, HeldOutTakeIsReachedAtLeastAsWellAsByTheBestSampleBandai) {
@@ -204,7 +205,8 @@ TEST(SynthReach, PinnedJointMovesLessThanWithoutThePin) {
     ++trials;
   }
   std::printf(
-      "[reach] pins: the pinned foot moved %.3g %% of the height on average with its pin, "
+      "[ figures  ] reach: pins: the pinned foot moved %.3g %% of the height on average with its "
+      "pin, "
       "%.3g %% without (%d of %d trials no worse)\n",
       100 * with_pin / trials / map.reacher->height(),
       100 * without_pin / trials / map.reacher->height(), better, trials);

@@ -166,7 +166,6 @@ double GaitPhase::at(double seconds, double* rate) const {
   const auto above = std::upper_bound(strikes.begin(), strikes.end(), seconds) - strikes.begin();
   const auto i = static_cast<std::size_t>(
       std::clamp<std::ptrdiff_t>(above, 1, static_cast<std::ptrdiff_t>(strikes.size()) - 1) - 1);
-  const double length = strikes[i + 1] - strikes[i];
   if (!right.empty() && seconds >= strikes[i] && seconds <= strikes[i + 1]) {
     const double r = right[i];
     const bool first = seconds < r;
@@ -174,6 +173,7 @@ double GaitPhase::at(double seconds, double* rate) const {
     if (rate != nullptr) *rate = 0.5 / (to - from);
     return static_cast<double>(i) + (first ? 0.0 : 0.5) + 0.5 * (seconds - from) / (to - from);
   }
+  const double length = strikes[i + 1] - strikes[i];
   if (rate != nullptr) *rate = 1.0 / length;
   return static_cast<double>(i) + (seconds - strikes[i]) / length;
 }

@@ -446,7 +446,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
                        " apart (each where it stood in its clip), covered in " +
                        format_number(seconds, 3) + " s at " + length(needed) + "/s";
     if (pace > standing) {
-      const double frames = std::max(1.0, std::round(apart / pace / dt));  // as untimed keys
+      const double frames = std::max(1.0, std::round(walking_time(i) / dt));  // as untimed keys
       note += ", " + format_number(needed / pace, 2) + " times as fast as the clips there move (" +
               length(pace) + "/s): the feet slide; at the clips' pace it takes " +
               format_number(frames * dt, 3) + " s (" + format_number(frames - 1.0) +

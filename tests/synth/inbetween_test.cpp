@@ -536,6 +536,42 @@ TEST_F(SynthInbetweenBandaiLibrary, KeysFurtherApartThanTheClipsWalkInTheTimeAre
   EXPECT_EQ(glide_notes(inbetween(*L.blender, *L.map.features, walked, quick)), 1);
 }
 
+TEST_F(SynthInbetweenBandaiLibrary, KeysTheClipsDoNotWalkBetweenAreNoted) {
+  // Timed as the clips walk their distance, keys can still ask what the clips played do not do:
+  // the old walk's frame 130 to its frame 100, 30 frames later, is a walk's 30 frames of distance
+  // behind it; the bow's frame 70 to the feminine walk's frame 21 (its first steps) stand 3.9 m
+  // apart while the route plays the bow and those steps. The root glides the rest and the feet
+  // slide (0.52 and 55 cm/s where the feminine walk skates 0.41 and 48): said. Keys of the walk
+  // forward at its own timing glide nowhere: no note.
+  const Library& L = *lib;
+  const int old = index("walk_old"), bow = index("bow_old"), feminine = index("walk_feminine");
+  const auto glide_notes = [](const InbetweenResult& r) {
+    return std::count_if(r.notes.begin(), r.notes.end(), [](const std::string& n) {
+      return n.find("the root glides that in") != std::string::npos;
+    });
+  };
+  InbetweenOptions thirty;
+  thirty.frames_between = 29;
+  const std::vector<Key> behind{L.key(old, 130), L.key(old, 100)};
+  const InbetweenResult back = inbetween(*L.blender, *L.map.features, behind, thirty);
+  ASSERT_EQ(glide_notes(back), 1) << ::testing::PrintToString(back.notes);
+  EXPECT_EQ(back.notes.size(), 1u) << ::testing::PrintToString(back.notes);  // in time for it
+  std::printf("[ figures  ] note: %s\n", back.notes.front().c_str());
+  EXPECT_NE(back.notes.front().find("key 1 to key 2: the clips played carry the root"),
+            std::string::npos);
+  const std::vector<Key> ahead{L.key(old, 100), L.key(old, 130)};
+  EXPECT_EQ(glide_notes(inbetween(*L.blender, *L.map.features, ahead, thirty)), 0);
+  const std::vector<Key> apart{L.key(bow, 70), L.key(feminine, 21)};
+  const InbetweenResult untimed = inbetween(*L.blender, *L.map.features, apart);
+  ASSERT_EQ(glide_notes(untimed), 1) << ::testing::PrintToString(untimed.notes);
+  std::printf("[ figures  ] note: %s\n", untimed.notes.back().c_str());
+  const Feet feet = find_feet(L.blender->skeleton());
+  const Skating slid = measure_skating(L.blender->skeleton(), untimed.motion, feet);
+  const Skating own = measure_skating(L.blender->skeleton(), L.clips[feminine].motion, feet);
+  std::printf("[ figures  ] skating %.3f, %.1f cm/s in contact (the feminine walk %.3f, %.1f)\n",
+              slid.ratio, slid.contact_speed_cm_s, own.ratio, own.contact_speed_cm_s);
+}
+
 TEST_F(SynthInbetweenBandaiLibrary, AnInbetweenBetweenActionsMovesNoFasterThanItsClips) {
   // Keys of different actions; no joint may move further in a frame than in the keys' clips.
   // - A bow's key to a walk's: the route plays the bow on, then the walk up to its key. Cut at

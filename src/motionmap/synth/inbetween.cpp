@@ -43,10 +43,20 @@ constexpr double kLoopSeconds = 1.0;
 // A segment whose root must cover its keys' distance faster than this many times the clips' own
 // speed about its keys (at least kStandingSpeed) gets a note (see inbetween(), after the routes).
 constexpr double kGlideNoteFactor = 1.5;
+// Between two keys with poses, a root gliding (the keys' placement less where the clips played
+// carry it, over the time) faster than this share of the clips' own speed there, and than
+// kGlideNoteFactor × kStandingSpeed, gets a note (see inbetween(), after the root's placement).
+constexpr double kGlideNoteShare = 0.5;
 // A segment's root path is turned and scaled onto the later key when it travels between this
 // fraction and its inverse of the keys' distance, turned by at most kMaxTravelTurn radians.
 constexpr double kMinTravelRatio = 0.5;
 constexpr double kMaxTravelTurn = 1.0;
+
+// A length of the clips' units for a note: in metres where the units are known ("1.52 m").
+std::string length_text(const LengthUnits& units, double v) {
+  return units.plausible ? format_number(v * units.metres_per_unit, 3) + " m"
+                         : format_number(v, 3) + " units";
+}
 
 // Whether sample i + 1 is the next frame sampled of sample i's clip.
 bool consecutive(const features::FeatureSet& samples, int i) {
@@ -433,15 +443,15 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // A segment whose keys stand further apart than the clips about them walk in its time (keys of
   // clips captured in different places, or timed too short): its root, which must meet each key
   // where it stood, glides and the feet slide. Said, with the time the clips would take.
+  std::vector<char> glide_noted(static_cast<std::size_t>(K - 1), 0);
   for (int i = 0; i + 1 < K; ++i) {
     const auto& [known, apart, pace, standing, units] = walks[static_cast<std::size_t>(i)];
     if (!known) continue;
     const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
     const double needed = apart / seconds;
     if (needed <= kGlideNoteFactor * std::max(pace, standing)) continue;
-    const double scale = units.plausible ? units.metres_per_unit : 1.0;
-    const std::string unit = units.plausible ? " m" : " units";
-    const auto length = [&](double v) { return format_number(v * scale, 3) + unit; };
+    glide_noted[static_cast<std::size_t>(i)] = 1;
+    const auto length = [&](double v) { return length_text(units, v); };
     std::string note = name(i) + " to " + name(i + 1) + ": their roots stand " + length(apart) +
                        " apart (each where it stood in its clip), covered in " +
                        format_number(seconds, 3) + " s at " + length(needed) + "/s";
@@ -641,6 +651,35 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     }
   }
 
+  // Keys in time for their distance can still ask what the clips played do not do: a key behind
+  // the other (clips captured in different places), or a route that stands (a bow) or walks
+  // another way. Where the root then glides, the rest of the way from where the clips carry it
+  // to the later key, faster than kGlideNoteShare of the clips' own speed, the feet slide: said,
+  // unless the note above said so already.
+  for (std::size_t q = 0; q + 1 < placed.size(); ++q) {
+    const int e = placed[q], l = placed[q + 1];
+    if (l == e + 1 && glide_noted[static_cast<std::size_t>(e)]) continue;
+    const long long fa = key_frames[e], fb = key_frames[l];
+    const double seconds = static_cast<double>(fb - fa) * dt;
+    const Eigen::Vector3d carried = aligned(fb, fa, placement[e]).floor;
+    const double glide = (placement[l].floor - carried).norm();
+    double walked = 0.0;  // the clips' own root path on the floor
+    for (long long k = fa; k < fb; ++k) {
+      walked +=
+          (floor[static_cast<std::size_t>(k) + 1] - floor[static_cast<std::size_t>(k)]).norm();
+    }
+    const LengthUnits units = detect_length_units(blender.skeleton(), key_poses[e]);
+    const double standing = kStandingSpeed * units.size;
+    if (glide <= std::max(kGlideNoteShare * walked, kGlideNoteFactor * standing * seconds))
+      continue;
+    const auto length = [&](double v) { return length_text(units, v); };
+    result.notes.push_back(name(e) + " to " + name(l) + ": the clips played carry the root " +
+                           length((carried - placement[e].floor).norm()) + " and leave it " +
+                           length(glide) + " from where key " + std::to_string(l + 1) +
+                           "'s root stood in its clip: the root glides that in " +
+                           format_number(seconds, 3) + " s (" + length(glide / seconds) +
+                           "/s) and the feet slide");
+  }
   result.key_frames.assign(key_frames.begin(), key_frames.end());
   if (options.clean_feet) {
     std::string why;

@@ -45,6 +45,7 @@ struct InbetweenCommand {
   int grid = 0;
   bool no_smooth = false;
   bool no_clean_feet = false;
+  bool free_roots = false;
   std::string output;
   std::string route_csv;
 };
@@ -251,6 +252,10 @@ void setup_inbetween(CLI::App& app) {
                 "Keep the feet as blended: by default each foot is held still through its "
                 "contacts with the floor (docs/synthesis.md, \"Clean feet\"), the keys' frames "
                 "left exact");
+  sub->add_flag("--free-roots", cmd->free_roots,
+                "Only the first key's root stands where it stood in its clip; each later key's "
+                "pose is still exact, its root where the clips carry it (for keys of takes "
+                "captured in different places, between which the root would glide)");
   sub->add_option("-o,--output", cmd->output, "BVH file to write (the map's skeleton)")->required();
   sub->add_option("--route-csv", cmd->route_csv,
                   "Also write the map point of every frame as t,x,y rows (a path `synth` reads; "
@@ -285,6 +290,7 @@ void setup_inbetween(CLI::App& app) {
     options.route.grid = cmd->grid;
     options.route.smooth = !cmd->no_smooth;
     options.clean_feet = !cmd->no_clean_feet;
+    options.free_roots = cmd->free_roots;
     const Control line = progress_line(cmd->o.map, "inbetween");
     const synth::InbetweenResult r =
         synth::inbetween(*p.b.blender, p.b.samples, keys, options, line);

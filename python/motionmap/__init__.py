@@ -462,7 +462,7 @@ def edit_path(fitted, path_xy, times=None, *, previous_xy, previous_times=None, 
 
 def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", grid=0, smooth=True,
               blend=None, neighbors=12, reach=3.0, asf=None, fps=None, clean_feet=True,
-              progress=None):
+              free_roots=False, progress=None):
     """A motion through key poses on a fitted 2-D map of clips (what `motionmap inbetween` does;
     docs/synthesis.md, "Key poses and in-betweening"): every key pose is hit exactly, root
     position and heading included, and between keys the motion follows the cheapest route through
@@ -476,10 +476,12 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     towards the middle) or "grid" (the cheapest path over a grid through the valid region); grid:
     cells along the map's longer side (0 = from its density); smooth: smooth the grid route;
     blend, neighbors, reach: as inverse_transform; asf, fps: for .amc keys; clean_feet: hold the
-    feet still through their contacts, the keys' frames left exact (as synthesize). Returns
-    (Clip, route): the clip's warnings say what went wrong (frames outside the data; keys
-    standing further apart than the clips walk in the time given, so the feet slide; feet not
-    cleaned); route is a dict with "points" (#frames by 2: each frame's map point),
+    feet still through their contacts, the keys' frames left exact (as synthesize); free_roots:
+    only the first key's root stands where it stood in its clip, each later key's pose is still
+    exact but its root stands where the clips carry it (keys of takes captured in different
+    places). Returns (Clip, route): the clip's warnings say what went wrong (frames outside the
+    data; keys standing further apart than the clips walk in the time given, or the clips
+    carrying the root elsewhere, so that it glides and the feet slide; feet not cleaned); route is a dict with "points" (#frames by 2: each frame's map point),
     "key_frames", "routes" (per segment, the route polyline), "valid" (per frame) and "grid"
     (cells along x and y)."""
     fitted._check_fitted()
@@ -490,7 +492,7 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
         -1 if frames_between is None else int(frames_between), str(route), int(grid),
         bool(smooth), blend or "",
         int(neighbors), float(reach), "" if asf is None else os.fspath(asf),
-        0.0 if fps is None else float(fps), bool(clean_feet), progress)
+        0.0 if fps is None else float(fps), bool(clean_feet), bool(free_roots), progress)
 
 
 def read_map(path):

@@ -495,7 +495,8 @@ struct InbetweenOut {
 py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const py::object& times,
                          int frames_between, const std::string& route, int grid, bool smooth,
                          const std::string& mode, int neighbors, double reach,
-                         const std::string& asf, double fps, bool clean_feet, py::object progress) {
+                         const std::string& asf, double fps, bool clean_feet, bool free_roots,
+                         py::object progress) {
   std::vector<PyKey> keys = keys_from_python(key_items, asf, fps);
   std::vector<double> key_times;
   if (!times.is_none()) {
@@ -511,6 +512,7 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
   options.route.grid = grid;
   options.route.smooth = smooth;
   options.clean_feet = clean_feet;
+  options.free_roots = free_roots;
   options.validate();
   InbetweenOut out = run_released(std::move(progress), [&](const Control& control) {
     features::FeatureSet samples;
@@ -953,7 +955,7 @@ void bind_maps(py::module_& m) {
       .def("inbetween", &inbetween_keys, py::arg("keys"), py::arg("times"),
            py::arg("frames_between"), py::arg("route"), py::arg("grid"), py::arg("smooth"),
            py::arg("blend"), py::arg("neighbors"), py::arg("reach"), py::arg("asf"), py::arg("fps"),
-           py::arg("clean_feet"), py::arg("progress"))
+           py::arg("clean_feet"), py::arg("free_roots"), py::arg("progress"))
       .def("synthesize", &synthesize_path, py::arg("path_xy"), py::arg("times"), py::arg("speed"),
            py::arg("fps"), py::arg("smooth"), py::arg("blend"), py::arg("neighbors"),
            py::arg("reach"), py::arg("clean_feet"), py::arg("progress"))

@@ -1,7 +1,8 @@
 """In-betweening from Python: motionmap.inbetween hits every key frame exactly (the clips' own
 rotations and root translations, in world placement), places a frame that is not a sample of the
 map, keeps every frame's map point in the valid region, counts frames as asked, warns of keys
-further apart than the clips walk in the time given, and says what is wrong with a bad key."""
+further apart than the clips walk in the time given (or leaves later keys' roots free), and says
+what is wrong with a bad key."""
 import numpy as np
 import pytest
 
@@ -59,6 +60,15 @@ def test_keys_further_apart_than_the_clips_walk_in_the_time_are_noted():
     assert len(notes) == 1 and "the feet slide" in notes[0], motion.warnings
     motion, _ = motionmap.inbetween(est, [(walk, 20), (bow, 40)])
     assert not [w for w in motion.warnings if "apart (each where it stood" in w], motion.warnings
+    # With free roots only the first key's root is placed: the bow's pose is hit, its root stands
+    # where the clips carry it, and nothing glides.
+    motion, route = motionmap.inbetween(est, [(walk, 20), (bow, 40)], frames_between=5,
+                                        free_roots=True)
+    assert not [w for w in motion.warnings if "glide" in w or "apart" in w], motion.warnings
+    bow_clip = motionmap.load(bow)
+    last = route["key_frames"][-1]
+    same_rotations(motion.rotations[last, 2:], bow_clip.rotations[40, 2:], 1e-9)
+    assert np.linalg.norm(motion.translations[last, 1] - bow_clip.translations[40, 1]) > 50.0
 
 
 def test_bad_keys(golf, other):
@@ -99,6 +109,30 @@ def test_lafan_protocol_benchmark_tiny_case():
     rows = {line.split("|")[0].strip(): float(line.split("|")[1])
             for line in p.stdout.splitlines() if line.count("|") == 1 and "n " not in line}
     assert all(np.isfinite(v) for v in rows.values()), p.stdout
+
+
+def test_random_key_pairs_benchmark_tiny_case():
+    """bench/inbetween_pairs.py on 3 pairs: a table row each, roots placed and free, and the
+    counts."""
+    import os
+    import subprocess
+    import sys
+
+    import conftest
+
+    cli = os.environ.get("MOTIONMAP_CLI")
+    if not cli:
+        pytest.skip("MOTIONMAP_CLI is not set (ctest sets it)")
+    script = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "inbetween_pairs.py")
+    p = subprocess.run([sys.executable, script, "--data", conftest.DATA, "--motionmap", cli,
+                        "--pairs", "3"], capture_output=True, text=True, timeout=240)
+    if p.returncode == 77:
+        pytest.skip(p.stdout.strip())
+    assert p.returncode == 0, p.stdout + p.stderr
+    rows = [line for line in p.stdout.splitlines() if "→" in line]
+    assert len(rows) == 3 and all(line.count("cm/s") == 3 for line in rows), p.stdout
+    assert "roots at every key: " in p.stdout and "free roots: " in p.stdout, p.stdout
+    assert p.stdout.count(" of 3 skate more than their keys' clips") == 2, p.stdout
 
 
 def test_lafan_protocol_benchmark_refuses_a_held_out_take_it_cannot_test():

@@ -3,7 +3,8 @@
 times, the key frames of the written BVH equal the clips' own frames (pose and root: the same
 rows `convert` writes for them), the route CSV (one t,x,y row per frame, the keys' points at their
 frames), a frame of a clip not in the map placed on it, the same on a saved map, a note for keys
-further apart than the clips walk in the time given, and clear errors for bad keys. The clips are
+further apart than the clips walk in the time given or where the root glides (none with
+--free-roots), and clear errors for bad keys. The clips are
 the Bandai walks and runs in ../shared/data; skips without them.
 
 usage: inbetween_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
@@ -127,6 +128,30 @@ def keys_too_far_apart_for_their_time_are_noted():
     assert "apart (each where it stood" not in err, err
     frames = len(motion_rows(out)) - 2
     assert f"({frames} frames between the keys)" in note, (frames, note)
+
+
+@test
+def a_key_behind_the_other_glides_unless_the_roots_are_free():
+    if not have():
+        return
+    out = tmp("behind.bvh")
+    # The old walk's frame 130 to its frame 100, 30 frames later: in time for their distance, but
+    # behind: the walk carries the root forward, and it glides back.
+    keys = f"{data(OLD)}:130,{data(OLD)}:100"
+    code, _, err = inbetween("--keys", keys, "--frames-between", "29", "-o", out)
+    assert code == 0, err
+    note = next((line for line in err.splitlines() if "glides that in" in line), "")
+    assert note.startswith(f"note: key 1 ({data(OLD)}:130) to key 2 ({data(OLD)}:100): the "
+                           "clips played carry the root"), err
+    assert "(with free roots it stands where the clips carry it)" in note, note
+    assert close(motion_rows(out)[-1], converted(OLD)[100]), err
+    # --free-roots: key 2's pose still, below its hips' place and heading (the first 9 values:
+    # the static joint_Root's 6 channels and the hips' position), but no glide.
+    code, _, err = inbetween("--keys", keys, "--frames-between", "29", "--free-roots", "-o", out)
+    assert code == 0, err
+    assert "glides" not in err, err
+    last, want = motion_rows(out)[-1], converted(OLD)[100]
+    assert close(last[12:], want[12:]) and not close(last[6:9], want[6:9]), (last[:12], want[:12])
 
 
 @test

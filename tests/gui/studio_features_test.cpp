@@ -289,9 +289,10 @@ TEST(StudioSynthesis, TheDialogEditsEveryParameter) {
     const auto combos = dialog->findChildren<QComboBox*>();
     const auto ints = dialog->findChildren<QSpinBox*>();
     const auto reals = dialog->findChildren<QDoubleSpinBox*>();
-    if (combos.size() != 2 || ints.size() != 1 || reals.size() != 4) return dialog->reject();
+    if (combos.size() != 3 || ints.size() != 1 || reals.size() != 4) return dialog->reject();
     combos[0]->setCurrentText("idw");
     combos[1]->setCurrentText("at a steady speed");
+    combos[2]->setCurrentText("at the first key");
     ints[0]->setValue(5);
     reals[0]->setValue(2.5);   // reach
     reals[1]->setValue(0.75);  // speed
@@ -310,6 +311,7 @@ TEST(StudioSynthesis, TheDialogEditsEveryParameter) {
   EXPECT_EQ(p.motion.speed, 0.75);
   EXPECT_EQ(p.motion.fps, 60.0);
   EXPECT_EQ(p.motion.smooth, 0.02);
+  EXPECT_TRUE(p.freeRoots);
   ASSERT_TRUE(
       QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); }, kTimeoutMs));
   ASSERT_NE(w->currentMap(), nullptr) << w->lastError().toStdString();
@@ -331,6 +333,7 @@ TEST(StudioSettings, TheLastGoodParametersComeBackNextSession) {
     s.motion.fps = 30.0;
     s.motion.smooth = 0.1;
     s.timedAsDrawn = false;
+    s.freeRoots = true;
     ASSERT_TRUE(w->setSynthParameters(s));
     w->setParameters(m);
     ASSERT_TRUE(QTest::qWaitFor([&] { return w->currentMap() != nullptr || !w->isComputing(); },
@@ -354,6 +357,7 @@ TEST(StudioSettings, TheLastGoodParametersComeBackNextSession) {
   EXPECT_EQ(next.synthParameters().motion.fps, 30.0);
   EXPECT_EQ(next.synthParameters().motion.smooth, 0.1);
   EXPECT_FALSE(next.synthParameters().timedAsDrawn);
+  EXPECT_TRUE(next.synthParameters().freeRoots);
 
   // Values edited by hand that the library would reject fall back to the defaults.
   QSettings settings;

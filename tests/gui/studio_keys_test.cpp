@@ -192,5 +192,48 @@ TEST(StudioKeys, AnInBetweenTakesNotesAreInTheStatusLine) {
   EXPECT_EQ(w.minimumSizeHint().width(), width);
 }
 
+// Keys of two takes captured in different places, untimed: the walk's key to the bow's. Each
+// key's root standing where it stood in its take, the root glides to the bow's and a note says
+// so. With the roots placed at the first key only (Motion → Synthesis…, "In-between roots
+// placed"), the bow's pose is still hit, but its root stands where the clips carry it: no glide.
+TEST(StudioKeys, AnInBetweensLaterRootsCanStandWhereTheClipsCarryThem) {
+  const std::string bandai = std::string(MOTIONMAP_SHARED_DATA) + "/bandai/dataset-1_";
+  const std::string walk = bandai + "walk_angry_001.bvh", bow = bandai + "bow_normal_001.bvh";
+  if (!std::filesystem::exists(walk) || !std::filesystem::exists(bow))
+    GTEST_SKIP() << "no Bandai takes in " << MOTIONMAP_SHARED_DATA;
+  for (const bool free : {false, true}) {
+    MainWindow w;
+    ASSERT_TRUE(testing::showOnPcaMap(w, {walk, bow}));
+    SynthParameters parameters = w.synthParameters();
+    parameters.freeRoots = free;
+    ASSERT_TRUE(w.setSynthParameters(parameters));
+    ctrlClickFrame(w, 20, 0);
+    ctrlClickFrame(w, 40, 1);
+    ASSERT_TRUE(waitForSynthesis(w));
+    ASSERT_EQ(w.takes()->list().count(), 1) << w.lastError().toStdString();
+    const Take& take = w.takes()->list().at(0);
+    ASSERT_TRUE(take.result);
+    const auto glides =
+        std::count_if(take.result->notes.begin(), take.result->notes.end(),
+                      [](const std::string& n) { return n.find("glides") != std::string::npos; });
+    EXPECT_EQ(glides, free ? 0 : 1) << ::testing::PrintToString(take.result->notes);
+    const Motion& m = take.result->motion;
+    const synth::Key& key = take.keys.keys[1];
+    const int last = m.num_frames - 1, root = take.map->blender->motion_root();
+    for (int j = root + 1; j < m.num_joints; ++j) {
+      EXPECT_NEAR(std::abs(m.rotation(last, j).dot(key.pose.rotation(0, j))), 1.0, 1e-12)
+          << "joint " << j;
+    }
+    const double apart = (m.translation(last, root) - key.pose.translation(0, root)).norm();
+    std::printf("[ figures  ] %s: the bow's root %.3g cm from where it stood in its take\n",
+                free ? "free roots" : "roots at every key", apart);
+    if (free) {
+      EXPECT_GT(apart, 100.0);
+    } else {
+      EXPECT_LT(apart, 1e-9);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace motionmap::studio

@@ -572,6 +572,45 @@ TEST_F(SynthInbetweenBandaiLibrary, KeysTheClipsDoNotWalkBetweenAreNoted) {
               slid.ratio, slid.contact_speed_cm_s, own.ratio, own.contact_speed_cm_s);
 }
 
+TEST_F(SynthInbetweenBandaiLibrary, FreeRootsHitEveryPoseAndPlaceOnlyTheFirstRoot) {
+  // The bow's frame 70 to the feminine walk's frame 21, untimed: with each key's root where it
+  // stood, the root glides 4.6 m (above). With free roots the first key's root stands where it
+  // stood, the second key's pose is hit but for its root's place and heading, which are where
+  // the clips carry them: nothing glides, and the feet stand (below the walk's own skating).
+  const Library& L = *lib;
+  const int bow = index("bow_old"), feminine = index("walk_feminine");
+  const std::vector<Key> keys{L.key(bow, 70), L.key(feminine, 21)};
+  InbetweenOptions free;
+  free.free_roots = true;
+  const InbetweenResult r = inbetween(*L.blender, *L.map.features, keys, free);
+  EXPECT_TRUE(r.notes.empty()) << ::testing::PrintToString(r.notes);
+  expect_key_hit(*L.blender, r.motion, r.key_frames[0], keys[0]);
+  const int k = r.key_frames[1], root = L.blender->motion_root();
+  const Axis up = L.blender->options().up;
+  for (int j = 0; j < r.motion.num_joints; ++j) {
+    if (j == root) continue;
+    EXPECT_LE(rotation_angle(r.motion.rotation(k, j), keys[1].pose.rotation(0, j)), 1e-9) << j;
+  }
+  const RootPlacement got = root_placement(r.motion, k, root, up);
+  const RootPlacement want = root_placement(keys[1].pose, 0, root, up);
+  EXPECT_LE(rotation_angle(axis_rotation(up, -got.heading) * r.motion.rotation(k, root),
+                           axis_rotation(up, -want.heading) * keys[1].pose.rotation(0, root)),
+            1e-9);  // the tilt
+  const Eigen::Vector3d u = Eigen::Vector3d::Unit(static_cast<int>(up));
+  EXPECT_NEAR(r.motion.translation(k, root).dot(u), keys[1].pose.translation(0, root).dot(u),
+              1e-9);  // the height
+  const Feet feet = find_feet(L.blender->skeleton());
+  const Skating made = measure_skating(L.blender->skeleton(), r.motion, feet);
+  const Skating own = measure_skating(L.blender->skeleton(), L.clips[feminine].motion, feet);
+  std::printf(
+      "[ figures  ] free roots: %d frames, key 2's root %.0f cm from where it stood; skating "
+      "%.3f, %.1f cm/s in contact (the feminine walk %.3f, %.1f)\n",
+      r.motion.num_frames, (got.floor - want.floor).norm(), made.ratio, made.contact_speed_cm_s,
+      own.ratio, own.contact_speed_cm_s);
+  EXPECT_LE(made.ratio, own.ratio);
+  EXPECT_LE(made.contact_speed_cm_s, own.contact_speed_cm_s);
+}
+
 TEST_F(SynthInbetweenBandaiLibrary, AnInbetweenBetweenActionsMovesNoFasterThanItsClips) {
   // Keys of different actions; no joint may move further in a frame than in the keys' clips.
   // - A bow's key to a walk's: the route plays the bow on, then the walk up to its key. Cut at

@@ -65,6 +65,7 @@ SynthParameters readSynthParameters(const QSettings& settings) {
   readNumber(settings, "synth/neighbors", s.blend.neighbors, isCount);
   readNumber(settings, "synth/reach", s.blend.reach, [](double v) { return v > 0; });
   s.timedAsDrawn = settings.value("synth/timedAsDrawn", true).toBool();
+  s.freeRoots = settings.value("synth/freeRoots", false).toBool();
   synth::SynthOptions motion = s.motion;
   readNumber(settings, "synth/speed", motion.speed, [](double v) { return v >= 0; });
   readNumber(settings, "synth/fps", motion.fps, [](double v) { return v >= 0; });
@@ -89,6 +90,7 @@ void writeParameters(QSettings& settings, const MapParameters& m, const SynthPar
   settings.setValue("synth/neighbors", s.blend.neighbors);
   settings.setValue("synth/reach", s.blend.reach);
   settings.setValue("synth/timedAsDrawn", s.timedAsDrawn);
+  settings.setValue("synth/freeRoots", s.freeRoots);
   settings.setValue("synth/speed", s.motion.speed);
   settings.setValue("synth/fps", s.motion.fps);
   settings.setValue("synth/smooth", s.motion.smooth);

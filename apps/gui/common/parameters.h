@@ -38,13 +38,16 @@ struct MapParameters {
 /// How a drag blends and a sketch becomes a motion (Motion → Synthesis…): the library's options
 /// and defaults, as `motionmap pose` / `synth` take them. The blend part goes into each map's
 /// blender (changing it recomputes the map, or takes it from the cache); the motion part applies
-/// to the next sketch.
+/// to the next sketch, freeRoots to the next in-between.
 struct SynthParameters {
   synth::BlendOptions blend;   ///< mode, K, reach (the up axis is the map's)
   synth::SynthOptions motion;  ///< speed (of a sketch not timed as drawn), output fps, smoothing
   /// A sketch keeps the timing of the gesture; false: it is followed at motion.speed (0: the
   /// clip's own median map speed).
   bool timedAsDrawn = true;
+  /// An in-between's root stands where it stood in its clip at the first key only; at every later
+  /// key it stands where the clips carry it (synth::InbetweenOptions::free_roots).
+  bool freeRoots = false;
 };
 
 /// The map parameters saved in `settings` (keys "map/…"). A value from an older version or

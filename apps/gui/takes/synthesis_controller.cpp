@@ -127,6 +127,7 @@ bool SynthesisController::startInbetween(MapSupply map, TakeKeys keys,
   synth::InbetweenOptions options;
   options.frames_between = keyed->keys.framesBetween;
   options.clean_feet = parameters.motion.clean_feet;
+  options.free_roots = parameters.freeRoots;
   auto used = std::make_shared<std::shared_ptr<const MapResult>>();
   m_job.start([this, supply = std::move(map), keyed, take, options,
                used](const BackgroundJob::Ticket& ticket) {

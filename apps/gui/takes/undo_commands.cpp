@@ -20,7 +20,8 @@ bool sameSynthParameters(const SynthParameters& a, const SynthParameters& b) {
   return MapController::cacheKey(embed::Method::Pca, map, a.blend) ==
              MapController::cacheKey(embed::Method::Pca, map, b.blend) &&
          a.motion.speed == b.motion.speed && a.motion.fps == b.motion.fps &&
-         a.motion.smooth == b.motion.smooth && a.timedAsDrawn == b.timedAsDrawn;
+         a.motion.smooth == b.motion.smooth && a.timedAsDrawn == b.timedAsDrawn &&
+         a.freeRoots == b.freeRoots;
 }
 
 AddTakeCommand::AddTakeCommand(TakeList* takes, Take take, int row)

@@ -320,8 +320,15 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
     const int span = static_cast<int>(std::ceil(kPaceSeconds / dt));
     std::vector<int> near;
+    // The clip of a key's nearest sample (−1: none).
+    const auto clip_near = [&](int k) {
+      return field.nearest(keys[k].point, 1, near) < 1 ? -1 : samples.clip_of[near.front()];
+    };
     for (int i = 0; i + 1 < K; ++i) {
       if (!keys[i].has_pose() || !keys[i + 1].has_pose()) continue;
+      // With free roots, keys of two takes (of their nearest samples' clips) are not placed
+      // apart: their distance, of two capture places, asks for no time.
+      if (options.free_roots && clip_near(i) != clip_near(i + 1)) continue;
       Walk& w = walks[static_cast<std::size_t>(i)];
       w.known = true;
       const Eigen::Vector3d apart = root_placement(key_poses[i + 1], 0, root, up).floor -
@@ -446,7 +453,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   std::vector<char> glide_noted(static_cast<std::size_t>(K - 1), 0);
   for (int i = 0; i + 1 < K; ++i) {
     const auto& [known, apart, pace, standing, units] = walks[static_cast<std::size_t>(i)];
-    if (!known) continue;
+    if (!known || options.free_roots) continue;
     const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
     const double needed = apart / seconds;
     if (needed <= kGlideNoteFactor * std::max(pace, standing)) continue;
@@ -575,7 +582,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   std::vector<int> placed;
   std::vector<RootPlacement> placement(static_cast<std::size_t>(K));
   for (int i = 0; i < K; ++i) {
-    if (!keys[i].has_pose()) continue;
+    if (!keys[i].has_pose() || (options.free_roots && !placed.empty())) continue;
     placed.push_back(i);
     placement[i] = root_placement(key_poses[i], 0, root, up);
     placement[i].floor -= placement[i].floor.dot(up_unit) * up_unit;
@@ -678,7 +685,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
                            length(glide) + " from where key " + std::to_string(l + 1) +
                            "'s root stood in its clip: the root glides that in " +
                            format_number(seconds, 3) + " s (" + length(glide / seconds) +
-                           "/s) and the feet slide");
+                           "/s) and the feet slide (with free roots it stands where the clips "
+                           "carry it)");
   }
   result.key_frames.assign(key_frames.begin(), key_frames.end());
   if (options.clean_feet) {

@@ -37,7 +37,8 @@
 //  4. root: the blended root motion integrated from key i's root placement (position on the
 //     floor and heading), and the position and heading error it ends with at key i + 1 spread
 //     linearly over the segment — so each key's root stands exactly where the key's did, and
-//     key-to-key animation lines up in world space. Keys without a pose pass the root on;
+//     key-to-key animation lines up in world space (InbetweenOptions::free_roots: only the
+//     first key's; the rest pass the root on). Keys without a pose pass the root on;
 //     before the first key with a pose and after the last one the motion moves rigidly with it;
 //     without any, it starts at the origin with heading 0 as synthesize() does.
 // So at every key the pose is the key's to rounding (joint rotations, root position and heading).
@@ -47,7 +48,8 @@
 // frame rate; neither: each segment takes the samples' own time along its route, rounded to
 // whole frames (at least one) — between two keys with poses at least the time the root takes to
 // cover their floor distance at the mean root speed over ±0.5 s of the clip of each key's nearest
-// sample (unless those samples stand): keys of a walk at one phase lie close on the map.
+// sample (unless those samples stand; with free_roots, unless those samples are of two clips):
+// keys of a walk at one phase lie close on the map.
 #include <optional>
 #include <span>
 #include <string>
@@ -89,6 +91,12 @@ struct InbetweenOptions {
   /// Hold each foot still through its contacts (clean_feet(), as synthesize() does) with the
   /// key frames fixed, so the keys stay exact; false: the blend as it is.
   bool clean_feet = true;
+  /// Only the first key with a pose places the root (where it stood in its clip); every later
+  /// key's pose is still hit exactly, but its root stands where the clips carry it from there, its
+  /// position and heading left free — for keys of takes captured in different places, between
+  /// which the root would otherwise glide. Untimed, keys whose nearest samples are of two
+  /// clips then take their route's own time.
+  bool free_roots = false;
 
   /// @throws ParameterError naming `frames_between` or `grid`, the value and the valid range.
   void validate() const;

@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""In-betweens of random key pairs: how often they skate more than the keys' clips, and whether
+they say why. The figures of docs/synthesis.md ("Key poses and in-betweening", free roots).
+
+    /usr/bin/python3 bench/inbetween_pairs.py                       # 70 pairs, seed 1
+    /usr/bin/python3 bench/inbetween_pairs.py --pairs 200 --seed 7 --motionmap build/apps/cli/motionmap
+
+The 12 Bandai Namco takes of one performer (walks, runs, a dash, bows, a punch; captured in
+different places) are mapped with the defaults and saved (`motionmap map --save`). For each pair
+(seeded): two keys, each a random frame (5 frames away from its clip's ends) of a random take,
+in-betweened untimed or with 15, 30 or 60 frames between (`motionmap inbetween --map`), with each
+key's root where it stood in its clip (the default) and with `--free-roots`. `motionmap info
+--skating --json` measures each result and each take: an in-between skates more than its keys'
+clips when its skating ratio exceeds the larger of theirs by 0.02, or its ankles' mean speed in
+contact theirs by 2 cm/s. Printed: per pair the figures and the notes it printed (glide: the
+keys stand further apart than the clips walk in the time, or the clips carry the root elsewhere
+and it glides), then the counts.
+"""
+import argparse
+import json
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+TAKES = ["bow_normal", "bow_old", "dash_normal", "punch_normal", "run_angry", "run_normal",
+         "run_old", "walk_angry", "walk_feminine", "walk_old", "walk_proud", "walk_tired"]
+
+
+def run(cmd):
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(" ".join(cmd) + "\n" + out.stderr)
+    return out
+
+
+def skating(mm, path):
+    k = json.loads(run([mm, "info", path, "--skating", "--json"]).stdout)["skating"]
+    return k["ratio"], k["contact_speed_cm_s"] or 0.0  # null: never in contact
+
+
+def frames(mm, path):
+    return json.loads(run([mm, "info", path, "--json"]).stdout)["frames"]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--motionmap", default=os.path.join(ROOT, "build/apps/cli/motionmap"))
+    parser.add_argument("--data", default=os.path.join(ROOT, "..", "shared", "data"))
+    parser.add_argument("--pairs", type=int, default=70)
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+    mm = args.motionmap
+    paths = {t: os.path.join(args.data, "bandai", f"dataset-1_{t}_001.bvh") for t in TAKES}
+    missing = [p for p in paths.values() if not os.path.exists(p)]
+    if missing:
+        print(f"skipped: {missing[0]} is absent")
+        return 77
+    with tempfile.TemporaryDirectory() as tmp:
+        lib = os.path.join(tmp, "lib.mmap.h5")
+        run([mm, "map", *paths.values(), "--save", lib, "-o", os.path.join(tmp, "lib.csv"), "-q"])
+        own = {t: skating(mm, p) for t, p in paths.items()}
+        length = {t: frames(mm, p) for t, p in paths.items()}
+        rng = random.Random(args.seed)
+        counts = {False: [0, 0], True: [0, 0]}  # skating more: with a glide note, without
+        print("| keys | frames between | clips' skating | skating, roots at every key (note) "
+              "| skating, free roots (note) |")
+        print("|---|---|---|---|---|")
+        for _ in range(args.pairs):
+            a, b = rng.choice(TAKES), rng.choice(TAKES)
+            fa, fb = rng.randrange(5, length[a] - 5), rng.randrange(5, length[b] - 5)
+            between = rng.choice([None, 15, 30, 60])
+            worst = (max(own[a][0], own[b][0]), max(own[a][1], own[b][1]))
+            cells = []
+            for free in (False, True):
+                out = os.path.join(tmp, "out.bvh")
+                cmd = [mm, "inbetween", "--map", lib, "--keys",
+                       f"{paths[a]}:{fa},{paths[b]}:{fb}", "-o", out, "-q"]
+                if between is not None:
+                    cmd += ["--frames-between", str(between)]
+                if free:
+                    cmd.append("--free-roots")
+                notes = run(cmd).stderr
+                glide = "apart (each where it stood" in notes or "glides that in" in notes
+                ratio, speed = skating(mm, out)
+                more = ratio > worst[0] + 0.02 or speed > worst[1] + 2.0
+                if more:
+                    counts[free][0 if glide else 1] += 1
+                cells.append(f"{ratio:.3f}, {speed:.0f} cm/s{' more' if more else ''}"
+                             f"{' (glide)' if glide else ''}")
+            print(f"| {a}:{fa} → {b}:{fb} | {'untimed' if between is None else between} "
+                  f"| {worst[0]:.3f}, {worst[1]:.0f} cm/s | {cells[0]} | {cells[1]} |")
+        for free in (False, True):
+            noted, silent = counts[free]
+            print(f"{'free roots' if free else 'roots at every key'}: {noted + silent} of "
+                  f"{args.pairs} skate more than their keys' clips, {noted} of them with a glide "
+                  f"note, {silent} without")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -292,7 +292,7 @@ TEST(StudioSynthesis, TheDialogEditsEveryParameter) {
     if (combos.size() != 3 || ints.size() != 1 || reals.size() != 4) return dialog->reject();
     combos[0]->setCurrentText("idw");
     combos[1]->setCurrentText("at a steady speed");
-    combos[2]->setCurrentText("at the first key");
+    combos[2]->setCurrentText("free after the first key");
     ints[0]->setValue(5);
     reals[0]->setValue(2.5);   // reach
     reals[1]->setValue(0.75);  // speed

@@ -194,8 +194,8 @@ TEST(StudioKeys, AnInBetweenTakesNotesAreInTheStatusLine) {
 
 // Keys of two takes captured in different places, untimed: the walk's key to the bow's. Each
 // key's root standing where it stood in its take, the root glides to the bow's and a note says
-// so. With the roots placed at the first key only (Motion → Synthesis…, "In-between roots
-// placed"), the bow's pose is still hit, but its root stands where the clips carry it: no glide.
+// so. With free roots (Motion → Synthesis…, "In-between roots: free after the first key"), the
+// bow's pose is still hit, but its root stands where the clips carry it: no glide.
 TEST(StudioKeys, AnInBetweensLaterRootsCanStandWhereTheClipsCarryThem) {
   const std::string bandai = std::string(MOTIONMAP_SHARED_DATA) + "/bandai/dataset-1_";
   const std::string walk = bandai + "walk_angry_001.bvh", bow = bandai + "bow_normal_001.bvh";

@@ -204,14 +204,14 @@ std::optional<SynthParameters> editSynthParameters(QWidget* parent, const SynthP
   smooth->setToolTip(QDialog::tr("σ of a Gaussian smoothing of the blend weights over time"));
   form->addRow(QDialog::tr("Smoothing"), smooth);
   auto* roots = new QComboBox;
-  roots->addItem(QDialog::tr("at every key"), false);
-  roots->addItem(QDialog::tr("at the first key"), true);
+  roots->addItem(QDialog::tr("placed at every key"), false);
+  roots->addItem(QDialog::tr("free after the first key"), true);
   roots->setCurrentIndex(roots->findData(now.freeRoots));
   roots->setToolTip(
       QDialog::tr("An in-between's root stands where it stood in its clip at every key (keys of "
                   "takes captured in different places then make it glide), or at the first key "
                   "only, later keys' roots standing where the clips carry them"));
-  form->addRow(QDialog::tr("In-between roots placed"), roots);
+  form->addRow(QDialog::tr("In-between roots"), roots);
   if (!execWithButtons(dialog, form)) return std::nullopt;
 
   SynthParameters p = now;

@@ -464,26 +464,26 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
               blend=None, neighbors=12, reach=3.0, asf=None, fps=None, clean_feet=True,
               free_roots=False, progress=None):
     """A motion through key poses on a fitted 2-D map of clips (what `motionmap inbetween` does;
-    docs/synthesis.md, "Key poses and in-betweening"): every key pose is hit exactly, root
-    position and heading included, and between keys the motion follows the cheapest route through
-    the valid region of the map. keys: each (clip, frame) — a clip path or Clip of the map's
-    skeleton and a frame from 0; a frame that is not a sample of the map is placed on it as
-    transform() places frames — or (x, y), a map point (the blend there, root free). times:
+    docs/synthesis.md, "Key poses and in-betweening"): every key pose is hit exactly, root position
+    and heading included (but with free_roots), and between keys the motion follows the cheapest
+    route through the valid region of the map. keys: each (clip, frame) — a clip path or Clip of
+    the map's skeleton and a frame from 0; a frame that is not a sample of the map is placed on it
+    as transform() places frames — or (x, y), a map point (the blend there, root free). times:
     seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
-    times, or the samples' own speed along each route, at least the time the clips take to walk
-    the keys' distance); route: "clips" (the clips' own frames played on, jumping between clips
-    where their map points meet, crossfaded; where no jumps join two keys' clips, each played
-    towards the middle) or "grid" (the cheapest path over a grid through the valid region); grid:
-    cells along the map's longer side (0 = from its density); smooth: smooth the grid route;
-    blend, neighbors, reach: as inverse_transform; asf, fps: for .amc keys; clean_feet: hold the
-    feet still through their contacts, the keys' frames left exact (as synthesize); free_roots:
-    only the first key's root stands where it stood in its clip, each later key's pose is still
-    exact but its root stands where the clips carry it (keys of takes captured in different
-    places). Returns (Clip, route): the clip's warnings say what went wrong (frames outside the
-    data; keys standing further apart than the clips walk in the time given, or the clips
-    carrying the root elsewhere, so that it glides and the feet slide; feet not cleaned); route is a dict with "points" (#frames by 2: each frame's map point),
-    "key_frames", "routes" (per segment, the route polyline), "valid" (per frame) and "grid"
-    (cells along x and y)."""
+    times, or the samples' own speed along each route, at least the time the clips take to walk the
+    keys' distance); route: "clips" (the clips' own frames played on, jumping between clips where
+    their map points meet, crossfaded; where no jumps join two keys' clips, each played towards the
+    middle) or "grid" (the cheapest path over a grid through the valid region); grid: cells along
+    the map's longer side (0 = from its density); smooth: smooth the grid route; blend, neighbors,
+    reach: as inverse_transform; asf, fps: for .amc keys; clean_feet: hold the feet still through
+    their contacts, the keys' frames left exact (as synthesize); free_roots: only the first key's
+    root stands where it stood in its clip, each later key's pose is still exact but its root
+    stands where the clips carry it (keys of takes captured in different places). Returns (Clip,
+    route): the clip's warnings say what went wrong (frames outside the data; keys standing further
+    apart than the clips walk in the time given, or the clips carrying the root elsewhere, so that
+    it glides and the feet slide; feet not cleaned); route is a dict with "points" (#frames by 2:
+    each frame's map point), "key_frames", "routes" (per segment, the route polyline), "valid" (per
+    frame) and "grid" (cells along x and y)."""
     fitted._check_fitted()
     if not isinstance(fitted.map_, _motionmap._ClipMap):
         raise Error("inbetween: motions are blended from clips; this map was fitted on an array")

@@ -41,7 +41,8 @@
 //     first key's; the rest pass the root on). Keys without a pose pass the root on;
 //     before the first key with a pose and after the last one the motion moves rigidly with it;
 //     without any, it starts at the origin with heading 0 as synthesize() does.
-// So at every key the pose is the key's to rounding (joint rotations, root position and heading).
+// So at every key the pose is the key's to rounding (joint rotations, root position and heading;
+// with free_roots, after the first key, all but the root's position and heading).
 //
 // Timing: InbetweenOptions::frames_between = N puts N frames between consecutive keys; keys with
 // times (Key::time, seconds from the first key) are put at the nearest frames of the blender's

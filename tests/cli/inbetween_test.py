@@ -145,8 +145,8 @@ def a_key_behind_the_other_glides_unless_the_roots_are_free():
                            "clips played carry the root"), err
     assert "(with free roots it stands where the clips carry it)" in note, note
     assert close(motion_rows(out)[-1], converted(OLD)[100]), err
-    # --free-roots: key 2's pose still, below its hips' place and heading (the first 9 values:
-    # the static joint_Root's 6 channels and the hips' position), but no glide.
+    # --free-roots: key 2's pose still below the hips (the values after the first 12: the static
+    # joint_Root's 6 channels and the hips' position and rotation), the hips elsewhere, no glide.
     code, _, err = inbetween("--keys", keys, "--frames-between", "29", "--free-roots", "-o", out)
     assert code == 0, err
     assert "glides" not in err, err

@@ -458,7 +458,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     const double needed = apart / seconds;
     if (needed <= kGlideNoteFactor * std::max(pace, standing)) continue;
     glide_noted[static_cast<std::size_t>(i)] = 1;
-    const auto length = [&](double v) { return length_text(units, v); };
+    // (Not [&]: clang 14 captures no structured binding.)
+    const auto length = [&in = units](double v) { return length_text(in, v); };
     std::string note = name(i) + " to " + name(i + 1) + ": their roots stand " + length(apart) +
                        " apart (each where it stood in its clip), covered in " +
                        format_number(seconds, 3) + " s at " + length(needed) + "/s";

@@ -306,24 +306,28 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // between the keys' roots; the clips' pace about them, the mean root speed over ±kPaceSeconds
   // of the clip of each key's nearest sample (one gait cycle of a walk; the speeds of the samples
   // nearest a point mix clips — a walk's key lies beside runs on a map), 0 where neither has a
-  // sample; and a standing body's drift (kStandingSpeed body sizes per second), in the units
-  // detect_length_units finds. Read by the untimed segments' time and by the glide note.
+  // sample. Read by the untimed segments' time and by the glide notes, as are each key's units
+  // (detect_length_units of its pose) and a standing body's drift in them (kStandingSpeed body
+  // sizes per second).
   struct Walk {
     bool known = false;  // both keys have poses
-    double apart = 0.0, pace = 0.0, standing = 0.0;
-    LengthUnits units;
+    double apart = 0.0, pace = 0.0;
   };
   std::vector<Walk> walks(static_cast<std::size_t>(K - 1));
+  std::vector<LengthUnits> key_units(static_cast<std::size_t>(K));
+  for (int i = 0; i < K; ++i)
+    if (keys[i].has_pose()) key_units[i] = detect_length_units(blender.skeleton(), key_poses[i]);
+  const auto standing = [&](int i) { return kStandingSpeed * key_units[i].size; };
   {
     const int root = blender.motion_root();
     const Axis up = blender.options().up;
     const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
     const int span = static_cast<int>(std::ceil(kPaceSeconds / dt));
-    std::vector<int> near;
-    // The clip of a key's nearest sample (−1: none).
-    const auto clip_near = [&](int k) {
-      return field.nearest(keys[k].point, 1, near) < 1 ? -1 : samples.clip_of[near.front()];
-    };
+    // Each key's nearest sample (−1: none).
+    std::vector<int> nearest(static_cast<std::size_t>(K), -1), near;
+    for (int k = 0; k < K; ++k)
+      if (field.nearest(keys[k].point, 1, near) >= 1) nearest[k] = near.front();
+    const auto clip_near = [&](int k) { return nearest[k] < 0 ? -1 : samples.clip_of[nearest[k]]; };
     for (int i = 0; i + 1 < K; ++i) {
       if (!keys[i].has_pose() || !keys[i + 1].has_pose()) continue;
       // With free roots, keys of two takes (of their nearest samples' clips) are not placed
@@ -337,8 +341,8 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       double speed = 0.0;
       int count = 0;
       for (const int k : {i, i + 1}) {
-        if (field.nearest(keys[k].point, 1, near) < 1) continue;
-        const int s = near.front(), frame = samples.frame_of[s];
+        if (nearest[k] < 0) continue;
+        const int s = nearest[k], frame = samples.frame_of[s];
         int from = s, to = s;
         while (consecutive(samples, from - 1) && frame - samples.frame_of[from - 1] <= span) --from;
         while (consecutive(samples, to) && samples.frame_of[to + 1] - frame <= span) ++to;
@@ -351,8 +355,6 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
         }
       }
       w.pace = count == 0 ? 0.0 : speed / count;
-      w.units = detect_length_units(blender.skeleton(), key_poses[i]);
-      w.standing = kStandingSpeed * w.units.size;
     }
   }
   // Untimed, how long segment i takes at least for its root to cover the floor distance between
@@ -360,7 +362,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // of a walk at one phase, steps apart, is short on the map.
   const auto walking_time = [&](int i) {
     const Walk& w = walks[static_cast<std::size_t>(i)];
-    return w.known && w.pace > w.standing ? w.apart / w.pace : 0.0;
+    return w.known && w.pace > standing(i) ? w.apart / w.pace : 0.0;
   };
   std::vector<WalkedRoute> walked;
   int last_visited = -1;  // the sample the previous clip route ended on
@@ -452,18 +454,17 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // where it stood, glides and the feet slide. Said, with the time the clips would take.
   std::vector<char> glide_noted(static_cast<std::size_t>(K - 1), 0);
   for (int i = 0; i + 1 < K; ++i) {
-    const auto& [known, apart, pace, standing, units] = walks[static_cast<std::size_t>(i)];
+    const auto& [known, apart, pace] = walks[static_cast<std::size_t>(i)];
     if (!known || options.free_roots) continue;
     const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
     const double needed = apart / seconds;
-    if (needed <= kGlideNoteFactor * std::max(pace, standing)) continue;
+    if (needed <= kGlideNoteFactor * std::max(pace, standing(i))) continue;
     glide_noted[static_cast<std::size_t>(i)] = 1;
-    // (Not [&]: clang 14 captures no structured binding.)
-    const auto length = [&in = units](double v) { return length_text(in, v); };
+    const auto length = [&](double v) { return length_text(key_units[i], v); };
     std::string note = name(i) + " to " + name(i + 1) + ": their roots stand " + length(apart) +
                        " apart (each where it stood in its clip), covered in " +
                        format_number(seconds, 3) + " s at " + length(needed) + "/s";
-    if (pace > standing) {
+    if (pace > standing(i)) {
       const double frames = std::max(1.0, std::round(walking_time(i) / dt));  // as untimed keys
       note += ", " + format_number(needed / pace, 2) + " times as fast as the clips there move (" +
               length(pace) + "/s): the feet slide; at the clips' pace it takes " +
@@ -676,11 +677,9 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       walked +=
           (floor[static_cast<std::size_t>(k) + 1] - floor[static_cast<std::size_t>(k)]).norm();
     }
-    const LengthUnits units = detect_length_units(blender.skeleton(), key_poses[e]);
-    const double standing = kStandingSpeed * units.size;
-    if (glide <= std::max(kGlideNoteShare * walked, kGlideNoteFactor * standing * seconds))
+    if (glide <= std::max(kGlideNoteShare * walked, kGlideNoteFactor * standing(e) * seconds))
       continue;
-    const auto length = [&](double v) { return length_text(units, v); };
+    const auto length = [&](double v) { return length_text(key_units[e], v); };
     result.notes.push_back(name(e) + " to " + name(l) + ": the clips played carry the root " +
                            length((carried - placement[e].floor).norm()) + " and leave it " +
                            length(glide) + " from where key " + std::to_string(l + 1) +

@@ -60,6 +60,12 @@ void expect_key_hit(const MapBlender& blender, const Motion& out, int k, const K
   EXPECT_LE(std::abs(wrap_angle(a.heading - b.heading)), tol);
 }
 
+// How many of an in-between's notes say `what`.
+long notes_saying(const InbetweenResult& r, const std::string& what) {
+  return std::count_if(r.notes.begin(), r.notes.end(),
+                       [&](const std::string& n) { return n.find(what) != std::string::npos; });
+}
+
 struct Synthetic {
   Clip clip = walking_clip(120);
   Eigen::MatrixXd map = curve_map(120);
@@ -510,9 +516,7 @@ TEST_F(SynthInbetweenBandaiLibrary, KeysFurtherApartThanTheClipsWalkInTheTimeAre
   const Library& L = *lib;
   const int walk = index("walk_proud"), bow = index("bow_normal");
   const auto glide_notes = [](const InbetweenResult& r) {
-    return std::count_if(r.notes.begin(), r.notes.end(), [](const std::string& n) {
-      return n.find("apart (each where it stood in its clip)") != std::string::npos;
-    });
+    return notes_saying(r, "apart (each where it stood in its clip)");
   };
   InbetweenOptions quick;
   quick.frames_between = 30;
@@ -546,9 +550,7 @@ TEST_F(SynthInbetweenBandaiLibrary, KeysTheClipsDoNotWalkBetweenAreNoted) {
   const Library& L = *lib;
   const int old = index("walk_old"), bow = index("bow_old"), feminine = index("walk_feminine");
   const auto glide_notes = [](const InbetweenResult& r) {
-    return std::count_if(r.notes.begin(), r.notes.end(), [](const std::string& n) {
-      return n.find("the root glides that in") != std::string::npos;
-    });
+    return notes_saying(r, "the root glides that in");
   };
   InbetweenOptions thirty;
   thirty.frames_between = 29;

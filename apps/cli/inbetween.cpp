@@ -4,9 +4,10 @@
 // docs/synthesis.md, "Key poses and in-betweening"). With `--map lib.mmap.h5`
 // no FILE is given: the saved map's clips are loaded on demand and checked against their SHA-256.
 //
-// A key is FILE:FRAME (a frame, 0-based, of any clip of the map's skeleton; a frame that is not a
-// sample of the map is placed on it as `map --onto` places frames) or X:Y (a map point), either
-// followed by @SECONDS.
+// A key is FILE:FRAME (a frame, 0-based, of any clip of the map's skeleton, FILE a path or the end
+// of a map clip's path; a frame that is not a sample of the map is placed on it as `map --onto`
+// places frames) or X:Y (a map point), either followed by @SECONDS.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -53,7 +54,8 @@ struct InbetweenCommand {
 // A key as written: FILE:FRAME or X:Y, and its time.
 struct KeyText {
   std::string text;
-  std::string file;  // empty for a map point
+  std::string file;    // empty for a map point
+  bool named = false;  // `file` is no file here: the name of one of the map's clips
   int frame = 0;
   Eigen::Vector2d point = Eigen::Vector2d::Zero();
   std::optional<double> time;
@@ -97,9 +99,57 @@ KeyText parse_key(const std::string& text) {
     return key;
   }
   if (parse_whole(left, key.point.x()) && parse_whole(right, key.point.y())) return key;
-  int frame = 0;
-  if (parse_whole(right, frame)) throw bad("no such clip file '" + std::string(left) + "'");
-  throw bad("neither FILE:FRAME (an existing clip file and a frame number) nor X:Y (a map point)");
+  if (!left.empty() && parse_whole(right, key.frame) && key.frame >= 0) {
+    key.file = std::string(left);
+    key.named = true;
+    return key;
+  }
+  throw bad(
+      "neither FILE:FRAME (a clip file, or a clip of the map by name, and a frame number) nor X:Y "
+      "(a map point)");
+}
+
+// Whether `path` ends with the components of `name` (a relative path): walk.bvh names
+// takes/walk.bvh, takes/walk.bvh names /data/takes/walk.bvh.
+bool ends_with_name(const std::filesystem::path& path, const std::filesystem::path& name) {
+  std::vector<std::filesystem::path> p(path.begin(), path.end()), n(name.begin(), name.end());
+  std::erase_if(p, [](const auto& c) { return c.empty() || c == "."; });
+  std::erase_if(n, [](const auto& c) { return c.empty() || c == "."; });
+  return !n.empty() && n.size() <= p.size() && std::equal(n.rbegin(), n.rend(), p.rbegin());
+}
+
+// Keys that name no file here name a clip of the map: the one of `clips` (the map's clip files)
+// whose path ends with that name. @throws CLI::ValidationError when none or several do.
+void resolve_names(std::vector<KeyText>& keys, const std::vector<std::string>& clips) {
+  for (KeyText& key : keys) {
+    if (!key.named) continue;
+    const std::filesystem::path name = std::filesystem::path(key.file).lexically_normal();
+    std::vector<std::string> found;
+    for (const std::string& clip : clips) {
+      if (ends_with_name(std::filesystem::path(clip).lexically_normal(), name) &&
+          std::find(found.begin(), found.end(), clip) == found.end())
+        found.push_back(clip);
+    }
+    const std::string head = "'" + key.text + "': ";
+    if (found.empty()) {
+      std::string some;
+      for (std::size_t c = 0; c < std::min<std::size_t>(clips.size(), 3); ++c)
+        some += (c ? ", " : "") + std::filesystem::path(clips[c]).filename().string();
+      if (clips.size() > 3) some += ", …";
+      throw CLI::ValidationError("--keys", head + "no such clip file '" + key.file +
+                                               "', and no clip of the map is named so (its " +
+                                               std::to_string(clips.size()) + " clips: " + some +
+                                               ")");
+    }
+    if (found.size() > 1) {
+      throw CLI::ValidationError("--keys",
+                                 head + "'" + key.file + "' names " + std::to_string(found.size()) +
+                                     " clips of the map (" + found[0] + ", " + found[1] +
+                                     (found.size() > 2 ? ", …" : "") + "): give more of its path");
+    }
+    key.file = found.front();
+    key.named = false;
+  }
 }
 
 // The map, its blender and what placing frames on it needs.
@@ -211,10 +261,11 @@ void setup_inbetween(CLI::App& app) {
       "In-betweening: a motion through key poses, exactly, each segment playing the clips' own\n"
       "frames (jumping between clips where their poses meet on the map; --route grid: the\n"
       "cheapest route through the valid region of the map), written as BVH.\n"
-      "A key is FILE:FRAME (frame from 0 of any clip of the map's skeleton; one that is not a\n"
-      "sample of the map is placed on it as `map --onto` does) or X:Y (a map point), each with an\n"
-      "optional @SECONDS. Then each foot is held still through its contacts with the floor, the\n"
-      "keys' frames left exact (--no-clean-feet: not).\n"
+      "A key is FILE:FRAME (frame from 0 of any clip of the map's skeleton; FILE a path, or the\n"
+      "end of a map clip's path, e.g. walk.bvh; a frame that is not a sample of the map is placed\n"
+      "on it as `map --onto` does) or X:Y (a map point), each with an optional @SECONDS.\n"
+      "Then each foot is held still through its contacts with the floor, the keys' frames left\n"
+      "exact (--no-clean-feet: not).\n"
       "The map: computed from FILE…, or a saved map --map lib.mmap.h5.");
   add_blend_options(sub, cmd->o,
                     "A saved map (lib.mmap.h5 from `motionmap map --save`): no FILE, its clips "
@@ -282,7 +333,12 @@ void setup_inbetween(CLI::App& app) {
         texts[i].time = cmd->times[i];
       }
     }
+    // Keys naming a clip of the map: the clips given are checked before their map is made; a
+    // saved map's, once it is read (which reads no clip).
+    const bool named = std::any_of(texts.begin(), texts.end(), [](auto& t) { return t.named; });
+    if (named && cmd->o.map_path.empty()) resolve_names(texts, input_paths(cmd->o.map));
     Prepared p = prepare(*cmd);
+    if (named) resolve_names(texts, p.clip_files);
     const std::vector<synth::Key> keys = resolve_keys(*cmd, texts, p);
     synth::InbetweenOptions options;
     options.frames_between = cmd->frames_between;

@@ -2,7 +2,8 @@
 """End-to-end tests of `motionmap inbetween`: frame counts for --frames-between, --times and @
 times, the key frames of the written BVH equal the clips' own frames (pose and root: the same
 rows `convert` writes for them), the route CSV (one t,x,y row per frame, the keys' points at their
-frames), a frame of a clip not in the map placed on it, the same on a saved map, a note for keys
+frames), a frame of a clip not in the map placed on it, the same on a saved map, keys naming a
+map's clips by the end of their paths, a note for keys
 further apart than the clips walk in the time given or where the root glides (none with
 --free-roots), and clear errors for bad keys. The clips are
 the Bandai walks and runs in ../shared/data; skips without them.
@@ -211,6 +212,50 @@ def on_a_saved_map():
     assert code == 2 and "give no FILE with --map" in err, err
     code, _, err = run("inbetween", "--map", tmp("lib.csv"), "--keys", keys, "-o", out)
     assert code == 2 and "is not a saved map" in err, err
+
+
+@test
+def keys_name_clips_of_the_map():
+    """A key's FILE may be the end of a map clip's path, as a user names the clips given or a
+    saved map's: the same motion as their paths give."""
+    if not have():
+        return
+    by_path = tmp("by_path.bvh")
+    keys = f"{data(ANGRY)}:20,{data(OLD)}:101"
+    code, _, err = inbetween("--keys", keys, "--frames-between", "10", "-o", by_path)
+    assert code == 0, err
+    by_name = tmp("by_name.bvh")
+    code, _, err = inbetween("--keys", "dataset-1_walk_angry_001.bvh:20,"
+                             "bandai/dataset-1_walk_old_001.bvh:101", "--frames-between", "10",
+                             "-o", by_name)
+    assert code == 0, err
+    assert motion_rows(by_name) == motion_rows(by_path)
+    h5 = tmp("lib.mmap.h5")
+    if not os.path.exists(h5):
+        code, _, err = run("map", *[data(c) for c in CLIPS], "--stride", "2", "--save", h5,
+                           "-o", tmp("lib.csv"), "-q")
+        assert code == 0, err
+    code, _, err = run("inbetween", "--map", h5, "--keys", "dataset-1_run_old_001.bvh:40,"
+                       "dataset-1_walk_old_001.bvh:101", "--frames-between", "10", "-q", "-o",
+                       by_name)
+    assert code == 0, err
+    rows = motion_rows(by_name)
+    assert close(rows[0], converted(RUN)[40]) and close(rows[11], converted(OLD)[101])
+    # A name of no clip of the map, or of several: usage errors that say which clips there are.
+    code, _, err = inbetween("--keys", "walk_angry_001.bvh:20,dataset-1_walk_old_001.bvh:3",
+                             "-o", by_name)
+    assert code == 2, err
+    assert "no such clip file 'walk_angry_001.bvh', and no clip of the map is named so" in err
+    assert "(its 3 clips: dataset-1_walk_angry_001.bvh, dataset-1_walk_old_001.bvh, " in err, err
+    for folder, rel in (("a", ANGRY), ("b", OLD)):
+        os.makedirs(tmp(folder), exist_ok=True)
+        link = tmp(folder, "walk.bvh")
+        if not os.path.exists(link):
+            os.symlink(data(rel), link)
+    code, _, err = run("inbetween", tmp("a", "walk.bvh"), tmp("b", "walk.bvh"), "--stride", "2",
+                       "--keys", "walk.bvh:20,b/walk.bvh:3", "-o", by_name)
+    assert code == 2 and "'walk.bvh' names 2 clips of the map" in err, err
+    assert "give more of its path" in err, err
 
 
 @test

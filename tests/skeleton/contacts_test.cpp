@@ -447,5 +447,36 @@ TEST(SkeletonContacts, AnklePathsGivenGiveTheSameContacts) {
   EXPECT_EQ(message, "detect_contacts: an ankle path of 330 points for 331 frames");
 }
 
+// Frame times written to a few digits are their frame rate: CMU's BVH of the 02_03 jog says
+// 0.0083333 s (120.0005 fps), its ASF/AMC original 1/120 s. Read as 120.0005 fps, the velocity's
+// window was ±3 frames, not ±2, and its contacts 7 frames at least, not 6: the BVH lost a
+// contact of the left foot that the AMC keeps.
+TEST(SkeletonContacts, FrameTimesWrittenToAFewDigitsAreTheirFrameRate) {
+  EXPECT_EQ(frames_at_least(0.05, 1.0 / 0.0083333), 6);
+  EXPECT_EQ(frames_at_most(0.05, 1.0 / 0.0083337), 6);
+  EXPECT_EQ(frames_at_least(1.0 / 60.0, 120.005), 2);
+  EXPECT_EQ(frames_at_least(0.05, 30.0), 2);  // 1.5 frames: rounded up
+  EXPECT_EQ(frames_at_most(0.05, 30.0), 1);
+  EXPECT_EQ(frames_at_least(0.0, 120.0), 0);
+  MOTIONMAP_REQUIRE_SHARED("cmu/02_03.bvh");
+  MOTIONMAP_REQUIRE_SHARED("asfamc/02_03.amc");
+  const Clip bvh = io::load_clip(test::shared_file("cmu/02_03.bvh"));
+  const Clip amc = io::load_clip(test::shared_file("asfamc/02_03.amc"));
+  // The BVH without its leading T-pose: the AMC's frames.
+  Motion jog = bvh.motion;
+  const auto J = static_cast<std::ptrdiff_t>(jog.num_joints);
+  jog.rotations.erase(jog.rotations.begin(), jog.rotations.begin() + J);
+  jog.translations.erase(jog.translations.begin(), jog.translations.begin() + J);
+  --jog.num_frames;
+  ASSERT_EQ(jog.num_frames, amc.motion.num_frames);
+  const auto from_bvh = detect_contacts(bvh.skeleton, jog, find_feet(bvh.skeleton));
+  const auto from_amc = detect_contacts(amc.skeleton, amc.motion, find_feet(amc.skeleton));
+  for (int s = 0; s < 2; ++s) {
+    SCOPED_TRACE(s);
+    EXPECT_EQ(from_bvh[s].intervals, from_amc[s].intervals);
+    EXPECT_EQ(from_bvh[s].intervals.size(), 2u);
+  }
+}
+
 }  // namespace
 }  // namespace motionmap

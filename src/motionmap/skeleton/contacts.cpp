@@ -196,7 +196,7 @@ std::optional<Feet> feet_by_hierarchy(const Skeleton& skeleton,
 }
 
 int window_half(double fps) {
-  return std::max(1, static_cast<int>(std::ceil(fps / 60.0 - 1e-9)));
+  return std::max(1, frames_at_least(1.0 / 60.0, fps));
 }
 
 void check_range(std::string_view name, double value, double lo, double hi, bool open_lo,
@@ -403,8 +403,8 @@ std::array<FootContacts, 2> detect_contacts(const Skeleton& skeleton, const Moti
   const int axis = static_cast<int>(options.up);
   const double fps = motion.fps();
   const int half = window_half(fps);
-  const int gap = static_cast<int>(std::floor(options.gap_seconds * fps + 1e-9));
-  const int min_frames = std::max(1, static_cast<int>(std::ceil(options.min_seconds * fps - 1e-9)));
+  const int gap = frames_at_most(options.gap_seconds, fps);
+  const int min_frames = std::max(1, frames_at_least(options.min_seconds, fps));
   std::array<FootContacts, 2> out;
   for (int s = 0; s < 2; ++s) {
     const Leg& leg = feet.legs[static_cast<std::size_t>(s)];

@@ -43,12 +43,12 @@
 // CONTACTS (detect_contacts), for the clean-up: a foot is on the floor in frame f when its ankle
 // is within `height` × the leg length of its floor level (the 2 % quantile of the ankle's height
 // over the clip, robust to a few bad frames), and its velocity (central difference over
-// ±⌈fps/60⌉ frames) is below `speed` × the leg length per second horizontally and below
-// `vertical_speed` × the leg length per second up or down (a heel rising slowly is leaving);
-// gaps of at most `gap_seconds` between such frames are filled, then runs shorter than
-// `min_seconds` dropped. The leg length is |hip − knee| + |knee − ankle|. Thresholds thus scale
-// with the skeleton's size and the frame rate; the defaults (6 % of the leg, 1 and 0.1 legs/s,
-// 0.05 s, 0.05 s) were set on Bandai Namco walks, against hand-labelled contacts
+// ±⌈fps/60⌉ frames, frames_at_least(): 2 at BVH's 120.0005 fps) is below `speed` × the leg length
+// per second horizontally and below `vertical_speed` × the leg length per second up or down (a heel
+// rising slowly is leaving); gaps of at most `gap_seconds` between such frames are filled, then
+// runs shorter than `min_seconds` dropped. The leg length is |hip − knee| + |knee − ankle|.
+// Thresholds thus scale with the skeleton's size and the frame rate; the defaults (6 % of the leg,
+// 1 and 0.1 legs/s, 0.05 s, 0.05 s) were set on Bandai Namco walks, against hand-labelled contacts
 // (docs/synthesis.md) and on blended walks, whose stance feet slide.
 //
 // THE SKATING MEASURE (measure_skating), after Karunratanakul et al., "Guided Motion Diffusion"

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <unordered_set>
 
 #include "motionmap/core/error.h"
@@ -82,6 +83,14 @@ void Motion::resize(int frames, int joints) {
   const auto n = static_cast<std::size_t>(frames) * static_cast<std::size_t>(joints);
   rotations.assign(n, Eigen::Quaterniond::Identity());
   translations.assign(n, Eigen::Vector3d::Zero());
+}
+
+int frames_at_least(double seconds, double fps) {
+  return static_cast<int>(std::ceil(seconds * fps * (1.0 - kFrameCountSlack)));
+}
+
+int frames_at_most(double seconds, double fps) {
+  return static_cast<int>(std::floor(seconds * fps * (1.0 + kFrameCountSlack)));
 }
 
 int motion_root(const Skeleton& skeleton, const Motion& motion) {

@@ -277,7 +277,7 @@ std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Moti
     throw ParameterError("contacts_from_shares: " + std::to_string(shares.size()) +
                          " contact shares for " + std::to_string(F) + " frames");
   }
-  const int gap = static_cast<int>(std::floor(options.gap_seconds * motion.fps() + 1e-9));
+  const int gap = frames_at_most(options.gap_seconds, motion.fps());
   const Eigen::Vector3d up = Eigen::Vector3d::Unit(static_cast<int>(options.up));
   for (int s = 0; s < 2; ++s) {
     const FootContacts& fc = contacts[static_cast<std::size_t>(s)];
@@ -501,7 +501,7 @@ CleanFeetResult clean_checked(const Skeleton& skeleton, const Motion& motion, co
 void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ankle, Axis up_axis,
                            double fps, double min_seconds, double max_drift, double keep_within) {
   const Vector3d up = Vector3d::Unit(static_cast<int>(up_axis));
-  const int shortest = static_cast<int>(std::ceil(min_seconds * fps - 1e-9));
+  const int shortest = frames_at_least(min_seconds, fps);
   // A blend can glide (its pose held at the data's edge while the root moves on): a run is
   // cut into pieces over which the ankle stays within max_drift leg lengths of where the
   // piece began on the floor, so no leg is stretched after a foot the body has left behind.

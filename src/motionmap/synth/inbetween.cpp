@@ -723,7 +723,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
           clean.ankle_heights[side].push_back(a.dot(up_unit));
         const double top = c.floor + clean.contacts.height * c.leg_length;
         const auto low = [&](int f) { return ankles[side][f].dot(up_unit) <= top; };
-        const int shortest = static_cast<int>(std::ceil(clean.contacts.min_seconds / dt - 1e-9));
+        const int shortest = frames_at_least(clean.contacts.min_seconds, 1.0 / dt);
         std::vector<ContactInterval> kept;
         const auto keep = [&](const ContactInterval& piece) {
           if (piece.frames() >= std::max(1, shortest)) kept.push_back(piece);

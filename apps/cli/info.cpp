@@ -24,6 +24,7 @@ struct InfoOptions {
   bool json = false;
   bool contacts = false;
   bool skating = false;
+  bool keep_first = false;
   std::string up = "y";
 };
 
@@ -35,6 +36,10 @@ struct ClipSummary {
   // --contacts, --skating: the feet, or why there are none.
   std::optional<Feet> feet;
   std::string no_feet;
+  // The frame the feet are looked at from: 1 when frame 0 is a bind pose, left out as `map`
+  // leaves it out (the T-pose of CMU's 02_03 jog stands 5 cm under the jog's lowest ankles, and
+  // with it the skating measure read 3 of 173 transitions skating instead of 37 of 172).
+  int first = 0;
   std::array<FootContacts, 2> contacts;
   Skating skating;
 };
@@ -45,13 +50,34 @@ ClipSummary summarize(const Clip& clip, const InfoOptions& opt) {
   if (opt.contacts || opt.skating) {
     const Axis up = parse_axis(opt.up).value_or(Axis::Y);  // --up accepts only y and z
     s.feet = try_find_feet(clip.skeleton, up, &s.no_feet);
+    Motion measured;
+    if (s.feet && !opt.keep_first && clip.motion.num_frames >= 3 &&
+        features::check_leading_bind_pose(
+            features::heading_local_points(clip.skeleton, clip.motion, up))
+            .detected) {
+      s.first = 1;
+      const auto J = static_cast<std::ptrdiff_t>(clip.motion.num_joints);
+      measured.frame_time = clip.motion.frame_time;
+      measured.num_frames = clip.motion.num_frames - 1;
+      measured.num_joints = clip.motion.num_joints;
+      measured.rotations.assign(clip.motion.rotations.begin() + J, clip.motion.rotations.end());
+      measured.translations.assign(clip.motion.translations.begin() + J,
+                                   clip.motion.translations.end());
+    }
+    const Motion& motion = s.first > 0 ? measured : clip.motion;
     if (s.feet && opt.contacts) {
       ContactOptions co;
       co.up = up;
-      s.contacts = detect_contacts(clip.skeleton, clip.motion, *s.feet, co);
+      s.contacts = detect_contacts(clip.skeleton, motion, *s.feet, co);
+      for (FootContacts& fc : s.contacts) {
+        for (ContactInterval& c : fc.intervals) {
+          c.first += s.first;
+          c.last += s.first;
+        }
+      }
     }
     if (s.feet && opt.skating)
-      s.skating = measure_skating(clip.skeleton, clip.motion, *s.feet, s.units, up);
+      s.skating = measure_skating(clip.skeleton, motion, *s.feet, s.units, up);
   }
   if (clip.motion.num_frames > 0) {
     const auto points = world_points(clip.skeleton, clip.motion);
@@ -106,6 +132,10 @@ void print_text(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) 
             << "  bounding    min " << vec(s.box_min) << "  max " << vec(s.box_max) << " ("
             << units_text(s.units) << ")\n";
   if ((opt.contacts || opt.skating) && !s.feet) std::cout << "  feet        " << s.no_feet << '\n';
+  if ((opt.contacts || opt.skating) && s.first > 0) {
+    std::cout << "  feet        from frame " << s.first
+              << ": frame 0 looks like a bind pose (--keep-first looks at it too)\n";
+  }
   if (opt.contacts && s.feet) {
     for (const FootContacts& fc : s.contacts) {
       std::cout << "  contacts    " << foot_side_name(fc.leg.side) << " ("
@@ -207,6 +237,7 @@ void print_json(const Clip& clip, const ClipSummary& s, const InfoOptions& opt) 
     std::cout << ",\"units\":\"" << json_escape(std::string(length_unit_name(s.units.unit)))
               << "\",\"metres_per_unit\":" << num(s.units.metres_per_unit);
     if (!s.feet) std::cout << ",\"feet\":null,\"no_feet\":\"" << json_escape(s.no_feet) << "\"";
+    if (s.feet) std::cout << ",\"feet_from_frame\":" << s.first;
   }
   if (opt.contacts && s.feet) {
     std::cout << ",\"contacts\":{";
@@ -255,8 +286,8 @@ void setup_info(CLI::App& app) {
       "--json", opt->json,
       "One JSON object per file and line: joints, roots, root_names, channels, "
       "end_sites, frames, frame_time, fps, duration, bounding_box, warnings (and with "
-      "--contacts/--skating: units, metres_per_unit, contacts {left, right: [[first, "
-      "last], …]}, skating {ratio, contact_speed_cm_s, transitions, "
+      "--contacts/--skating: units, metres_per_unit, feet_from_frame, contacts {left, "
+      "right: [[first, last], …]}, skating {ratio, contact_speed_cm_s, transitions, "
       "skating_transitions, longest_raised_s}; feet null and no_feet when none are found)");
   sub->add_flag("--contacts", opt->contacts,
                 "Each foot's contacts with the floor, as frame intervals and seconds: the ankle "
@@ -269,6 +300,10 @@ void setup_info(CLI::App& app) {
       "the ankles' mean horizontal speed in contact (cm/s), in the units detected, and the "
       "longest a foot stays 5 cm or more above its lowest (s): a foot held up never "
       "skates");
+  sub->add_flag("--keep-first", opt->keep_first,
+                "--contacts and --skating look at a leading bind/T-pose frame too (by default "
+                "they start at frame 1 when frame 0 is one, as `map` does: a T-pose's ankles "
+                "stand off the motion's floor)");
   sub->add_option("--up", opt->up,
                   "Up axis of the files for --contacts and --skating: y (default) or z")
       ->check(CLI::IsMember({"y", "z", "Y", "Z"}));

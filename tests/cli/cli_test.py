@@ -462,6 +462,35 @@ def info_contacts_and_skating_and_units():
 
 
 @test
+def info_looks_at_the_feet_from_after_a_bind_pose():
+    """CMU's BVH conversion of the 02_03 jog starts with a T-pose, whose ankles stand 5 cm under
+    the jog's lowest: --skating and --contacts leave it out, as `map` does, and then read the BVH as
+    they read the same take's ASF/AMC original (its frames one earlier); --keep-first keeps it."""
+    bvh, amc, asf = "cmu/02_03.bvh", "asfamc/02_03.amc", "asfamc/02.asf"
+    if not needs(bvh, amc, asf):
+        return
+    code, out, err = run("info", "--json", "--contacts", "--skating", data(bvh))
+    assert code == 0, err
+    b = json.loads(out)
+    code, out, err = run("info", "--json", "--contacts", "--skating", data(amc), "--asf", data(asf))
+    assert code == 0, err
+    a = json.loads(out)
+    assert b["feet_from_frame"] == 1 and a["feet_from_frame"] == 0, (a, b)
+    assert b["skating"]["transitions"] == a["skating"]["transitions"] == 172, (a, b)
+    assert b["skating"]["skating_transitions"] == a["skating"]["skating_transitions"], (a, b)
+    assert abs(b["skating"]["contact_speed_cm_s"] - a["skating"]["contact_speed_cm_s"]) < 0.01
+    assert b["skating"]["ratio"] > 0.2, b  # 37 of 172; 3 of 173 with the T-pose
+    for side in ("left", "right"):
+        assert b["contacts"][side] == [[f + 1, l + 1] for f, l in a["contacts"][side]], (a, b)
+    code, out, err = run("info", "--contacts", "--skating", data(bvh))
+    assert "feet        from frame 1: frame 0 looks like a bind pose" in out, out
+    code, out, err = run("info", "--json", "--skating", "--keep-first", data(bvh))
+    k = json.loads(out)
+    assert k["feet_from_frame"] == 0 and k["skating"]["transitions"] == 173, k
+    assert k["skating"]["skating_transitions"] < 10, k
+
+
+@test
 def synth_cleans_the_feet_unless_asked_not_to():
     walk = "bandai/dataset-1_walk_angry_001.bvh"
     if not needs(walk):

@@ -58,6 +58,16 @@ def inbetween(*args):
     return run("inbetween", *[data(c) for c in CLIPS], "--stride", "2", "-q", *args)
 
 
+def saved_map():
+    """The map of CLIPS saved as a map file (made once)."""
+    h5 = tmp("lib.mmap.h5")
+    if not os.path.exists(h5):
+        code, _, err = run("map", *[data(c) for c in CLIPS], "--stride", "2", "--save", h5,
+                           "-o", tmp("lib.csv"), "-q")
+        assert code == 0, err
+    return h5
+
+
 def route_rows(path):
     with open(path) as f:
         lines = [line for line in f.read().splitlines() if not line.startswith("#")]
@@ -194,10 +204,7 @@ def a_frame_of_a_clip_not_in_the_map_is_placed_and_hit():
 def on_a_saved_map():
     if not have():
         return
-    h5 = tmp("lib.mmap.h5")
-    code, _, err = run("map", *[data(c) for c in CLIPS], "--stride", "2", "--save", h5,
-                       "-o", tmp("lib.csv"), "-q")
-    assert code == 0, err
+    h5 = saved_map()
     out = tmp("saved.bvh")
     keys = f"{data(ANGRY)}:20,{data(HELD_OUT)}:120,{data(OLD)}:101"
     code, _, err = run("inbetween", "--map", h5, "--keys", keys, "--frames-between", "10",
@@ -230,12 +237,7 @@ def keys_name_clips_of_the_map():
                              "-o", by_name)
     assert code == 0, err
     assert motion_rows(by_name) == motion_rows(by_path)
-    h5 = tmp("lib.mmap.h5")
-    if not os.path.exists(h5):
-        code, _, err = run("map", *[data(c) for c in CLIPS], "--stride", "2", "--save", h5,
-                           "-o", tmp("lib.csv"), "-q")
-        assert code == 0, err
-    code, _, err = run("inbetween", "--map", h5, "--keys", "dataset-1_run_old_001.bvh:40,"
+    code, _, err = run("inbetween", "--map", saved_map(), "--keys", "dataset-1_run_old_001.bvh:40,"
                        "dataset-1_walk_old_001.bvh:101", "--frames-between", "10", "-q", "-o",
                        by_name)
     assert code == 0, err

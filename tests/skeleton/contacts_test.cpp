@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -458,6 +459,7 @@ TEST(SkeletonContacts, FrameTimesWrittenToAFewDigitsAreTheirFrameRate) {
   EXPECT_EQ(frames_at_least(0.05, 30.0), 2);  // 1.5 frames: rounded up
   EXPECT_EQ(frames_at_most(0.05, 30.0), 1);
   EXPECT_EQ(frames_at_least(0.0, 120.0), 0);
+  EXPECT_EQ(frames_at_most(1e30, 120.0), std::numeric_limits<int>::max());
   MOTIONMAP_REQUIRE_SHARED("cmu/02_03.bvh");
   MOTIONMAP_REQUIRE_SHARED("asfamc/02_03.amc");
   const Clip bvh = io::load_clip(test::shared_file("cmu/02_03.bvh"));

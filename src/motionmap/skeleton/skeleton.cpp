@@ -1,8 +1,10 @@
 #include "motionmap/skeleton/skeleton.h"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <unordered_set>
 
 #include "motionmap/core/error.h"
@@ -85,12 +87,21 @@ void Motion::resize(int frames, int joints) {
   translations.assign(n, Eigen::Vector3d::Zero());
 }
 
+namespace {
+// A whole number of frames as an int, beyond its range the nearest end (NaN: 0).
+int frame_count(double whole) {
+  if (std::isnan(whole)) return 0;
+  return static_cast<int>(std::clamp(whole, double(std::numeric_limits<int>::min()),
+                                     double(std::numeric_limits<int>::max())));
+}
+}  // namespace
+
 int frames_at_least(double seconds, double fps) {
-  return static_cast<int>(std::ceil(seconds * fps * (1.0 - kFrameCountSlack)));
+  return frame_count(std::ceil(seconds * fps * (1.0 - kFrameCountSlack)));
 }
 
 int frames_at_most(double seconds, double fps) {
-  return static_cast<int>(std::floor(seconds * fps * (1.0 + kFrameCountSlack)));
+  return frame_count(std::floor(seconds * fps * (1.0 + kFrameCountSlack)));
 }
 
 int motion_root(const Skeleton& skeleton, const Motion& motion) {

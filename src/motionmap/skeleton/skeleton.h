@@ -117,7 +117,8 @@ std::vector<std::string> joint_name_words(std::string_view name);
 
 /// Whole frames in `seconds` at `fps`: at least (rounded up) or at most (rounded down), within
 /// kFrameCountSlack of the count: frame times are written to a few digits (BVH's 0.0083333 s is
-/// 120.0005 fps, at which 0.05 s is 6 frames, not 7; and ⌈fps/60⌉ is 2, not 3).
+/// 120.0005 fps, at which 0.05 s is 6 frames, not 7; and ⌈fps/60⌉ is 2, not 3). Counts beyond an
+/// int's range are its nearest end.
 int frames_at_least(double seconds, double fps);
 int frames_at_most(double seconds, double fps);
 /// The relative slack of frames_at_least() and frames_at_most().

@@ -109,45 +109,16 @@ KeyText parse_key(const std::string& text) {
       "(a map point)");
 }
 
-// Whether `path` ends with the components of `name` (a relative path): walk.bvh names
-// takes/walk.bvh, takes/walk.bvh names /data/takes/walk.bvh.
-bool ends_with_name(const std::filesystem::path& path, const std::filesystem::path& name) {
-  std::vector<std::filesystem::path> p(path.begin(), path.end()), n(name.begin(), name.end());
-  std::erase_if(p, [](const auto& c) { return c.empty() || c == "."; });
-  std::erase_if(n, [](const auto& c) { return c.empty() || c == "."; });
-  return !n.empty() && n.size() <= p.size() && std::equal(n.rbegin(), n.rend(), p.rbegin());
-}
-
-// Keys that name no file here name a clip of the map: the one of `clips` (the map's clip files)
-// whose path ends with that name. @throws CLI::ValidationError when none or several do.
+// Keys that name no file here name a clip of the map (mapfile::map_clip_named of `clips`, the
+// map's clip files). @throws CLI::ValidationError when none or several do.
 void resolve_names(std::vector<KeyText>& keys, const std::vector<std::string>& clips) {
   for (KeyText& key : keys) {
     if (!key.named) continue;
-    const std::filesystem::path name = std::filesystem::path(key.file).lexically_normal();
-    std::vector<std::string> found;
-    for (const std::string& clip : clips) {
-      if (ends_with_name(std::filesystem::path(clip).lexically_normal(), name) &&
-          std::find(found.begin(), found.end(), clip) == found.end())
-        found.push_back(clip);
+    try {
+      key.file = mapfile::map_clip_named(clips, key.file);
+    } catch (const ParameterError& e) {
+      throw CLI::ValidationError("--keys", "'" + key.text + "': " + e.what());
     }
-    const std::string head = "'" + key.text + "': ";
-    if (found.empty()) {
-      std::string some;
-      for (std::size_t c = 0; c < std::min<std::size_t>(clips.size(), 3); ++c)
-        some += (c ? ", " : "") + std::filesystem::path(clips[c]).filename().string();
-      if (clips.size() > 3) some += ", …";
-      throw CLI::ValidationError("--keys", head + "no such clip file '" + key.file +
-                                               "', and no clip of the map is named so (its " +
-                                               std::to_string(clips.size()) + " clips: " + some +
-                                               ")");
-    }
-    if (found.size() > 1) {
-      throw CLI::ValidationError("--keys",
-                                 head + "'" + key.file + "' names " + std::to_string(found.size()) +
-                                     " clips of the map (" + found[0] + ", " + found[1] +
-                                     (found.size() > 2 ? ", …" : "") + "): give more of its path");
-    }
-    key.file = found.front();
     key.named = false;
   }
 }

@@ -455,7 +455,10 @@ struct PyKey {
   std::string label;
 };
 
-std::vector<PyKey> keys_from_python(const py::sequence& keys, const std::string& asf, double fps) {
+// `map_clips`: the map's clip paths, which a key's clip path that is no file names
+// (mapfile::map_clip_named: "walk.bvh" for takes/walk.bvh).
+std::vector<PyKey> keys_from_python(const py::sequence& keys, const std::string& asf, double fps,
+                                    const std::vector<std::string>& map_clips) {
   std::vector<PyKey> out;
   const py::module_ os = py::module_::import("os");
   for (std::size_t i = 0; i < keys.size(); ++i) {
@@ -474,6 +477,17 @@ std::vector<PyKey> keys_from_python(const py::sequence& keys, const std::string&
         py::isinstance<Clip>(first)) {
       py::list one;
       one.append(first);
+      if (!py::isinstance<Clip>(first)) {
+        const std::string path = os.attr("fspath")(first).cast<std::string>();
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) {
+          try {
+            one[0] = py::str(mapfile::map_clip_named(map_clips, path));
+          } catch (const ParameterError& e) {
+            throw ParameterError(where + ": " + e.what());
+          }
+        }
+      }
       std::vector<Clip> loaded = clips_from_python(one, asf, fps);
       key.clip = std::move(loaded.front());
       key.frame = pair[1].cast<int>();
@@ -497,7 +511,7 @@ py::tuple inbetween_keys(ClipMapState& s, const py::sequence& key_items, const p
                          const std::string& mode, int neighbors, double reach,
                          const std::string& asf, double fps, bool clean_feet, bool free_roots,
                          py::object progress) {
-  std::vector<PyKey> keys = keys_from_python(key_items, asf, fps);
+  std::vector<PyKey> keys = keys_from_python(key_items, asf, fps, s.paths);
   std::vector<double> key_times;
   if (!times.is_none()) {
     key_times = times.cast<std::vector<double>>();

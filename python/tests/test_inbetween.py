@@ -1,8 +1,8 @@
 """In-betweening from Python: motionmap.inbetween hits every key frame exactly (the clips' own
 rotations and root translations, in world placement), places a frame that is not a sample of the
 map, keeps every frame's map point in the valid region, counts frames as asked, warns of keys
-further apart than the clips walk in the time given (or leaves later keys' roots free), and says
-what is wrong with a bad key."""
+further apart than the clips walk in the time given (or leaves later keys' roots free), takes a
+map clip's file name for its path, and says what is wrong with a bad key."""
 import numpy as np
 import pytest
 
@@ -69,6 +69,20 @@ def test_keys_further_apart_than_the_clips_walk_in_the_time_are_noted():
     last = route["key_frames"][-1]
     same_rotations(motion.rotations[last, 2:], bow_clip.rotations[40, 2:], 1e-9)
     assert np.linalg.norm(motion.translations[last, 1] - bow_clip.translations[40, 1]) > 50.0
+
+
+def test_a_key_may_name_a_clip_of_the_map(golf, tmp_path):
+    """A clip path that is no file names the map's clip whose path ends with it, as in the CLI."""
+    import os
+
+    est = motionmap.Isomap(stride=2).fit(golf)
+    name = os.path.basename(golf)
+    by_path, _ = motionmap.inbetween(est, [(golf, 41), (golf, 200)], frames_between=10)
+    by_name, _ = motionmap.inbetween(est, [(name, 41), (golf, 200)], frames_between=10)
+    np.testing.assert_array_equal(by_name.rotations, by_path.rotations)
+    with pytest.raises(motionmap.Error, match=r"keys\[0\]: no such clip file 'elsewhere.bvh', and "
+                                              r"no clip of the map is named so \(its clip: 64_08.bvh\)"):
+        motionmap.inbetween(est, [("elsewhere.bvh", 41), (golf, 200)])
 
 
 def test_bad_keys(golf, other):

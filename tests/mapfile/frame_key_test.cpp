@@ -119,5 +119,37 @@ TEST(FrameKey, SamplesSitOnTheirPointOthersArePlaced) {
             std::string::npos);
 }
 
+// A key's clip named by the end of its path (no file needs to be there: paths only).
+TEST(FrameKey, AClipOfTheMapNamedByTheEndOfItsPath) {
+  const std::vector<std::string> map{"/data/takes/walk.bvh", "/data/old/walk.bvh",
+                                     "/data/takes/run.bvh", "bow.bvh"};
+  EXPECT_EQ(map_clip_named(map, "run.bvh"), "/data/takes/run.bvh");
+  EXPECT_EQ(map_clip_named(map, "takes/walk.bvh"), "/data/takes/walk.bvh");
+  EXPECT_EQ(map_clip_named(map, "./old//walk.bvh"), "/data/old/walk.bvh");
+  EXPECT_EQ(map_clip_named(map, "bow.bvh"), "bow.bvh");
+  const auto error = [&](const std::string& name) {
+    try {
+      map_clip_named(map, name);
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(error("walk.bvh"),
+            "'walk.bvh' names 2 clips of the map (/data/takes/walk.bvh, /data/old/walk.bvh): give "
+            "more of its path");
+  EXPECT_EQ(error("un.bvh"),
+            "no such clip file 'un.bvh', and no clip of the map is named so (its 4 clips: "
+            "walk.bvh, walk.bvh, run.bvh, …)");
+  EXPECT_EQ(map_clip_named({"/a/b.bvh"}, "b.bvh"), "/a/b.bvh");
+  try {
+    map_clip_named({"/a/b.bvh"}, "c.bvh");
+    ADD_FAILURE();
+  } catch (const ParameterError& e) {
+    EXPECT_STREQ(e.what(),
+                 "no such clip file 'c.bvh', and no clip of the map is named so (its clip: b.bvh)");
+  }
+}
+
 }  // namespace
 }  // namespace motionmap::mapfile

@@ -1,5 +1,6 @@
 #include "motionmap/mapfile/frame_key.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <span>
 
@@ -15,7 +16,40 @@ bool same_file(const std::string& a, const std::string& b) {
   return std::filesystem::equivalent(a, b, ec) && !ec;
 }
 
+// Whether `path` ends with the components of `name`.
+bool ends_with_name(const std::filesystem::path& path, const std::filesystem::path& name) {
+  std::vector<std::filesystem::path> p(path.begin(), path.end()), n(name.begin(), name.end());
+  std::erase_if(p, [](const auto& c) { return c.empty() || c == "."; });
+  std::erase_if(n, [](const auto& c) { return c.empty() || c == "."; });
+  return !n.empty() && n.size() <= p.size() && std::equal(n.rbegin(), n.rend(), p.rbegin());
+}
+
 }  // namespace
+
+std::string map_clip_named(const std::vector<std::string>& clip_files, const std::string& name) {
+  const std::filesystem::path wanted = std::filesystem::path(name).lexically_normal();
+  std::vector<std::string> found;
+  for (const std::string& clip : clip_files) {
+    if (ends_with_name(std::filesystem::path(clip).lexically_normal(), wanted) &&
+        std::find(found.begin(), found.end(), clip) == found.end())
+      found.push_back(clip);
+  }
+  if (found.size() == 1) return found.front();
+  if (found.empty()) {
+    std::string some;
+    for (std::size_t c = 0; c < std::min<std::size_t>(clip_files.size(), 3); ++c)
+      some += (c ? ", " : "") + std::filesystem::path(clip_files[c]).filename().string();
+    if (clip_files.size() > 3) some += ", …";
+    throw ParameterError("no such clip file '" + name + "', and no clip of the map is named so (" +
+                         (clip_files.size() == 1
+                              ? std::string("its clip: ")
+                              : "its " + std::to_string(clip_files.size()) + " clips: ") +
+                         some + ")");
+  }
+  throw ParameterError("'" + name + "' names " + std::to_string(found.size()) +
+                       " clips of the map (" + found[0] + ", " + found[1] +
+                       (found.size() > 2 ? ", …" : "") + "): give more of its path");
+}
 
 FrameKey frame_key(const KeyMap& map, const Clip& clip, int frame) {
   if (!map.blender || !map.samples || !map.reference) {

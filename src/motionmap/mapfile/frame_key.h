@@ -43,6 +43,14 @@ struct FrameKey {
   bool placed = false;  ///< not a sample of the map: placed on it as place_clips() places it
 };
 
+/// The clip of a map (`clip_files`, its clips' paths) that a key's `name` names when no file is
+/// there: the one whose path ends with name's components (`walk.bvh` names takes/walk.bvh,
+/// `takes/walk.bvh` names /data/takes/walk.bvh). Returns its path.
+/// @throws ParameterError "no such clip file 'NAME', and no clip of the map is named so (its N
+///   clips: a.bvh, b.bvh, …)" ("its clip: a.bvh" for one) or "'NAME' names N clips of the map (A,
+///   B, …): give more of its path".
+std::string map_clip_named(const std::vector<std::string>& clip_files, const std::string& name);
+
 /// The key pose of frame `frame` (from 0) of `clip` on the map (see above).
 /// @throws ParameterError "frame F is out of range: PATH has N frames, 0 to N−1", "PATH is a clip
 ///   of another skeleton than the map's (…); a key is a frame of a clip of the map's skeleton",

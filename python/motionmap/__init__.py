@@ -466,8 +466,9 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     """A motion through key poses on a fitted 2-D map of clips (what `motionmap inbetween` does;
     docs/synthesis.md, "Key poses and in-betweening"): every key pose is hit exactly, root position
     and heading included (but with free_roots), and between keys the motion follows the cheapest
-    route through the valid region of the map. keys: each (clip, frame) — a clip path or Clip of
-    the map's skeleton and a frame from 0; a frame that is not a sample of the map is placed on it
+    route through the valid region of the map. keys: each (clip, frame) — a clip path (one that is
+    no file: the end of a map clip's path, e.g. "walk.bvh") or Clip of the map's skeleton and a
+    frame from 0; a frame that is not a sample of the map is placed on it
     as transform() places frames — or (x, y), a map point (the blend there, root free). times:
     seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
     times, or the samples' own speed along each route, at least the time the clips take to walk the

@@ -250,7 +250,8 @@ void setup_inbetween(CLI::App& app) {
   auto* between = sub->add_option("--frames-between", cmd->frames_between,
                                   "Frames between consecutive keys (default: the keys' times, or "
                                   "the samples' own speed along each route, at least the time "
-                                  "the clips take to walk the keys' distance; far fewer frames "
+                                  "the clips take to walk the keys' distance; keys of one clip: "
+                                  "its own time between them; far fewer frames "
                                   "make the root glide, with a note)")
                       ->check(CLI::Range(0, synth::kMaxFramesBetween));
   sub->add_option("--times", cmd->times,

@@ -318,16 +318,19 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   for (int i = 0; i < K; ++i)
     if (keys[i].has_pose()) key_units[i] = detect_length_units(blender.skeleton(), key_poses[i]);
   const auto standing = [&](int i) { return kStandingSpeed * key_units[i].size; };
+  // Each key's nearest sample (−1: none).
+  std::vector<int> nearest(static_cast<std::size_t>(K), -1);
+  {
+    std::vector<int> near;
+    for (int k = 0; k < K; ++k)
+      if (field.nearest(keys[k].point, 1, near) >= 1) nearest[k] = near.front();
+  }
+  const auto clip_near = [&](int k) { return nearest[k] < 0 ? -1 : samples.clip_of[nearest[k]]; };
   {
     const int root = blender.motion_root();
     const Axis up = blender.options().up;
     const Eigen::Vector3d up_unit = Eigen::Vector3d::Unit(static_cast<int>(up));
     const int span = static_cast<int>(std::ceil(kPaceSeconds / dt));
-    // Each key's nearest sample (−1: none).
-    std::vector<int> nearest(static_cast<std::size_t>(K), -1), near;
-    for (int k = 0; k < K; ++k)
-      if (field.nearest(keys[k].point, 1, near) >= 1) nearest[k] = near.front();
-    const auto clip_near = [&](int k) { return nearest[k] < 0 ? -1 : samples.clip_of[nearest[k]]; };
     for (int i = 0; i + 1 < K; ++i) {
       if (!keys[i].has_pose() || !keys[i + 1].has_pose()) continue;
       // With free roots, keys of two takes (of their nearest samples' clips) are not placed
@@ -382,7 +385,18 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       walked.push_back(walk(field, speeds, floor_speed, result.routes.back()));
     }
     if (untimed) {
-      const double duration = std::max(walked.back().times.back(), walking_time(i));
+      double duration = std::max(walked.back().times.back(), walking_time(i));
+      // Keys of one clip, the later one later in it: the clip's own time between them, where the
+      // map's route walks it in a time the clip route's rates reach (the clip then plays between
+      // them as captured: the omimo walk's frames 100 and 600, walked on the map in 3.9 s of the
+      // clip's 4.2, were played 7 % fast, skating 0.31 of the transitions against its 0.25).
+      if (clip_route && keys[i].has_pose() && keys[i + 1].has_pose() && clip_near(i) >= 0 &&
+          clip_near(i) == clip_near(i + 1)) {
+        const double own = (samples.frame_of[nearest[i + 1]] - samples.frame_of[nearest[i]]) * dt;
+        if (own >= std::ranges::min(kClipRouteRates) * duration &&
+            own <= std::ranges::max(kClipRouteRates) * duration)
+          duration = std::max(own, walking_time(i));
+      }
       if (!std::isfinite(duration)) {
         throw ParameterError(
             "keys: the map has no motion to take the samples' speed from; give "

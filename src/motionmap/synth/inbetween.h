@@ -50,7 +50,9 @@
 // whole frames (at least one) — between two keys with poses at least the time the root takes to
 // cover their floor distance at the mean root speed over ±0.5 s of the clip of each key's nearest
 // sample (unless those samples stand; with free_roots, unless those samples are of two clips):
-// keys of a walk at one phase lie close on the map.
+// keys of a walk at one phase lie close on the map. A clip route between keys whose nearest
+// samples are of one clip, the later one later in it, takes that clip's own time between them
+// where the time above is 0.7–1.4 times it (the clip plays between them as captured).
 #include <optional>
 #include <span>
 #include <string>

@@ -14,7 +14,8 @@ key's root where it stood in its clip (the default) and with `--free-roots`. `mo
 clips when its skating ratio exceeds the larger of theirs by 0.02, or its ankles' mean speed in
 contact theirs by 2 cm/s. Printed: per pair the figures and the notes it printed (glide: the
 keys stand further apart than the clips walk in the time, or the clips carry the root elsewhere
-and it glides), then the counts.
+and it glides, or leave the body facing away from the later key and it turns as it walks), then
+the counts, and how many in-betweens with a glide note skate no more than their clips.
 """
 import argparse
 import json
@@ -65,7 +66,9 @@ def main():
         own = {t: skating(mm, p) for t, p in paths.items()}
         length = {t: frames(mm, p) for t, p in paths.items()}
         rng = random.Random(args.seed)
-        counts = {False: [0, 0], True: [0, 0]}  # skating more: with a glide note, without
+        # Per kind (free roots or not): skating more with a glide note, without; not skating
+        # more, with one.
+        counts = {False: [0, 0, 0], True: [0, 0, 0]}
         print("| keys | frames between | clips' skating | skating, roots at every key (note) "
               "| skating, free roots (note) |")
         print("|---|---|---|---|---|")
@@ -84,20 +87,23 @@ def main():
                 if free:
                     cmd.append("--free-roots")
                 notes = run(cmd).stderr
-                glide = "apart (each where it stood" in notes or "glides that in" in notes
+                glide = any(s in notes for s in ("apart (each where it stood", "glides that in",
+                                                 "turns that in"))
                 ratio, speed = skating(mm, out)
                 more = ratio > worst[0] + 0.02 or speed > worst[1] + 2.0
                 if more:
                     counts[free][0 if glide else 1] += 1
+                elif glide:
+                    counts[free][2] += 1
                 cells.append(f"{ratio:.3f}, {speed:.0f} cm/s{' more' if more else ''}"
                              f"{' (glide)' if glide else ''}")
             print(f"| {a}:{fa} → {b}:{fb} | {'untimed' if between is None else between} "
                   f"| {worst[0]:.3f}, {worst[1]:.0f} cm/s | {cells[0]} | {cells[1]} |")
         for free in (False, True):
-            noted, silent = counts[free]
+            noted, silent, spared = counts[free]
             print(f"{'free roots' if free else 'roots at every key'}: {noted + silent} of "
                   f"{args.pairs} skate more than their keys' clips, {noted} of them with a glide "
-                  f"note, {silent} without")
+                  f"note, {silent} without; {spared} with a glide note skate no more")
     return 0
 
 

@@ -188,6 +188,7 @@ TEST(SynthInbetween, TimesAndTheSamplesOwnSpeedSetTheFrames) {
 // A real walk at 120 fps (an exporter's figure-8 walk): untimed keys 500 frames apart play it
 // between them as captured. The map's route walked them in 3.9 s, and the clip played 7 % fast
 // skated 0.31 of its transitions, 78 cm/s in contact, against the captured frames' 0.25 and 60.
+// Backwards, the body must turn where the clips do not: noted.
 TEST(SynthInbetween, UntimedKeysOfOneClipPlayItAsCaptured) {
   const std::string file = "other/omimo_AV_8Walk_Meredith_HVHA_Rep1.bvh";
   MOTIONMAP_REQUIRE_SHARED(file);
@@ -220,6 +221,32 @@ TEST(SynthInbetween, UntimedKeysOfOneClipPlayItAsCaptured) {
       own.ratio, own.contact_speed_cm_s);
   EXPECT_LE(made.ratio, own.ratio);
   EXPECT_LE(made.contact_speed_cm_s, own.contact_speed_cm_s);
+  EXPECT_TRUE(r.notes.empty()) << r.notes.front();
+
+  // The other way round, frame 600 to frame 100: no clip plays backwards, and the clips played
+  // leave the body facing 165° away from frame 100's heading. Turned as it walks, the body walks
+  // askew and the feet slide (156 cm/s in contact); a note says so, and with free roots, which
+  // leave the later key's heading where the clips carry it, neither (70 cm/s).
+  const std::vector<Key> back{keys[1], keys[0]};
+  const InbetweenResult askew = inbetween(blender, *map.features, back);
+  ASSERT_EQ(askew.notes.size(), 1u);
+  EXPECT_NE(askew.notes[0].find("the clips played leave the body facing "), std::string::npos)
+      << askew.notes[0];
+  EXPECT_NE(askew.notes[0].find("° away from key 2's heading in its clip: it turns that in"),
+            std::string::npos)
+      << askew.notes[0];
+  InbetweenOptions free;
+  free.free_roots = true;
+  const InbetweenResult freed = inbetween(blender, *map.features, back, free);
+  EXPECT_TRUE(freed.notes.empty()) << freed.notes.front();
+  const Skating turned = measure_skating(walk.skeleton, askew.motion, feet);
+  const Skating faced = measure_skating(walk.skeleton, freed.motion, feet);
+  std::printf(
+      "[ figures  ] keys %d and %d of %s: %.3f, %.1f cm/s in contact; free roots %.3f, "
+      "%.1f cm/s\n",
+      last, first, file.c_str(), turned.ratio, turned.contact_speed_cm_s, faced.ratio,
+      faced.contact_speed_cm_s);
+  EXPECT_GT(turned.contact_speed_cm_s, 1.5 * faced.contact_speed_cm_s);
 }
 
 TEST(SynthInbetween, AKeyPoseOffTheMapIsHitThroughTheDisplacementMap) {

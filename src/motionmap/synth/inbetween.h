@@ -52,7 +52,7 @@
 // sample (unless those samples stand; with free_roots, unless those samples are of two clips):
 // keys of a walk at one phase lie close on the map. A clip route between keys whose nearest
 // samples are of one clip, the later one later in it, takes that clip's own time between them
-// where the time above is 0.7–1.4 times it (the clip plays between them as captured).
+// where that is 0.7–1.4 times the time above (the clip plays between them as captured).
 #include <optional>
 #include <span>
 #include <string>

@@ -50,21 +50,14 @@ ClipSummary summarize(const Clip& clip, const InfoOptions& opt) {
   if (opt.contacts || opt.skating) {
     const Axis up = parse_axis(opt.up).value_or(Axis::Y);  // --up accepts only y and z
     s.feet = try_find_feet(clip.skeleton, up, &s.no_feet);
-    Motion measured;
     if (s.feet && !opt.keep_first && clip.motion.num_frames >= 3 &&
         features::check_leading_bind_pose(
             features::heading_local_points(clip.skeleton, clip.motion, up))
-            .detected) {
+            .detected)
       s.first = 1;
-      const auto J = static_cast<std::ptrdiff_t>(clip.motion.num_joints);
-      measured.frame_time = clip.motion.frame_time;
-      measured.num_frames = clip.motion.num_frames - 1;
-      measured.num_joints = clip.motion.num_joints;
-      measured.rotations.assign(clip.motion.rotations.begin() + J, clip.motion.rotations.end());
-      measured.translations.assign(clip.motion.translations.begin() + J,
-                                   clip.motion.translations.end());
-    }
-    const Motion& motion = s.first > 0 ? measured : clip.motion;
+    const Motion trimmed =
+        s.first > 0 ? clip.motion.frames(s.first, clip.motion.num_frames) : Motion();
+    const Motion& motion = s.first > 0 ? trimmed : clip.motion;
     if (s.feet && opt.contacts) {
       ContactOptions co;
       co.up = up;

@@ -465,11 +465,7 @@ TEST(SkeletonContacts, FrameTimesWrittenToAFewDigitsAreTheirFrameRate) {
   const Clip bvh = io::load_clip(test::shared_file("cmu/02_03.bvh"));
   const Clip amc = io::load_clip(test::shared_file("asfamc/02_03.amc"));
   // The BVH without its leading T-pose: the AMC's frames.
-  Motion jog = bvh.motion;
-  const auto J = static_cast<std::ptrdiff_t>(jog.num_joints);
-  jog.rotations.erase(jog.rotations.begin(), jog.rotations.begin() + J);
-  jog.translations.erase(jog.translations.begin(), jog.translations.begin() + J);
-  --jog.num_frames;
+  const Motion jog = bvh.motion.frames(1, bvh.motion.num_frames);
   ASSERT_EQ(jog.num_frames, amc.motion.num_frames);
   const auto from_bvh = detect_contacts(bvh.skeleton, jog, find_feet(bvh.skeleton));
   const auto from_amc = detect_contacts(amc.skeleton, amc.motion, find_feet(amc.skeleton));

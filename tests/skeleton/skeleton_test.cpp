@@ -64,5 +64,27 @@ TEST(Skeleton, CountsAndLookups) {
   EXPECT_EQ(channel_axis(ChannelType::Yposition), Axis::Y);
 }
 
+TEST(Skeleton, MotionFramesCutsARangeOfFrames) {
+  Motion m;
+  m.frame_time = 0.0083333;
+  m.resize(5, 2);
+  for (int f = 0; f < 5; ++f) m.translation(f, 1) = Eigen::Vector3d(f, 0, 0);
+  const Motion cut = m.frames(1, 4);
+  EXPECT_EQ(cut.num_frames, 3);
+  EXPECT_EQ(cut.num_joints, 2);
+  EXPECT_EQ(cut.frame_time, m.frame_time);
+  ASSERT_EQ(cut.translations.size(), 6u);
+  for (int f = 0; f < 3; ++f) EXPECT_EQ(cut.translation(f, 1).x(), f + 1);
+  EXPECT_EQ(m.frames(2, 2).num_frames, 0);
+  for (const auto& [first, end] : {std::pair{-1, 2}, std::pair{3, 2}, std::pair{0, 6}}) {
+    try {
+      (void)m.frames(first, end);
+      ADD_FAILURE() << first << " " << end;
+    } catch (const ParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find("of a motion of 5 frames"), std::string::npos);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace motionmap

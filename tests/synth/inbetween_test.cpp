@@ -202,15 +202,7 @@ TEST(SynthInbetween, UntimedKeysOfOneClipPlayItAsCaptured) {
       sample_key(blender, find_sample(*map.features, 0, last), walk.motion, last)};
   const InbetweenResult r = inbetween(blender, *map.features, keys);
   ASSERT_EQ(r.key_frames, (std::vector<int>{0, last - first}));
-  Motion captured;
-  captured.frame_time = walk.motion.frame_time;
-  captured.resize(last - first + 1, walk.motion.num_joints);
-  for (int f = first; f <= last; ++f) {
-    for (int j = 0; j < walk.motion.num_joints; ++j) {
-      captured.rotation(f - first, j) = walk.motion.rotation(f, j);
-      captured.translation(f - first, j) = walk.motion.translation(f, j);
-    }
-  }
+  const Motion captured = walk.motion.frames(first, last + 1);
   const Feet feet = find_feet(walk.skeleton);
   const Skating made = measure_skating(walk.skeleton, r.motion, feet);
   const Skating own = measure_skating(walk.skeleton, captured, feet);
@@ -471,15 +463,7 @@ TEST_F(SynthInbetweenBandai, UntimedKeysOfAWalkTakeTheWalksTimeToCoverTheirDista
   const std::vector<Key> keys{L.key(walk, 1, first), L.key(walk, 1, last)};
   const InbetweenResult r = inbetween(*L.blender, *L.set, keys);
   for (int i = 0; i < 2; ++i) expect_key_hit(*L.blender, r.motion, r.key_frames[i], keys[i]);
-  Motion captured;
-  captured.frame_time = walk.motion.frame_time;
-  captured.resize(last - first + 1, walk.motion.num_joints);
-  for (int f = first; f <= last; ++f) {
-    for (int j = 0; j < walk.motion.num_joints; ++j) {
-      captured.rotation(f - first, j) = walk.motion.rotation(f, j);
-      captured.translation(f - first, j) = walk.motion.translation(f, j);
-    }
-  }
+  const Motion captured = walk.motion.frames(first, last + 1);
   const Feet feet = find_feet(L.blender->skeleton());
   const Skating made = measure_skating(L.blender->skeleton(), r.motion, feet);
   const Skating own = measure_skating(walk.skeleton, captured, feet);

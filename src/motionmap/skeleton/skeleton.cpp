@@ -87,6 +87,22 @@ void Motion::resize(int frames, int joints) {
   translations.assign(n, Eigen::Vector3d::Zero());
 }
 
+Motion Motion::frames(int first, int end) const {
+  if (first < 0 || first > end || end > num_frames) {
+    throw ParameterError("Motion::frames: frames " + std::to_string(first) + " to " +
+                         std::to_string(end) + " (end excluded) of a motion of " +
+                         std::to_string(num_frames) + " frames");
+  }
+  Motion out;
+  out.frame_time = frame_time;
+  out.num_frames = end - first;
+  out.num_joints = num_joints;
+  const auto J = static_cast<std::ptrdiff_t>(num_joints);
+  out.rotations.assign(rotations.begin() + first * J, rotations.begin() + end * J);
+  out.translations.assign(translations.begin() + first * J, translations.begin() + end * J);
+  return out;
+}
+
 namespace {
 // A whole number of frames as an int, beyond its range the nearest end (NaN: 0).
 int frame_count(double whole) {

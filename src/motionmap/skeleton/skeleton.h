@@ -98,6 +98,9 @@ struct Motion {
     return translations[index(frame, joint)];
   }
   PoseView pose(int frame) const;
+  /// Frames first … end − 1 as a motion of their own (same frame time).
+  /// @throws ParameterError unless 0 ≤ first ≤ end ≤ num_frames.
+  Motion frames(int first, int end) const;
   double fps() const { return frame_time > 0 ? 1.0 / frame_time : 0.0; }
   double duration() const { return num_frames * frame_time; }
 

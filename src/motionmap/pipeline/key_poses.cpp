@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <string>
 
 #include "motionmap/core/error.h"
@@ -209,7 +208,7 @@ double rms_rotation_error(const Motion& a, const Motion& b, int first, int last)
     }
   }
   const double n = double(last - first + 1) * a.num_joints;
-  return std::sqrt(sum / n) * 180.0 / std::numbers::pi;
+  return rad_to_deg(std::sqrt(sum / n));
 }
 
 }  // namespace motionmap::pipeline

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
@@ -703,7 +702,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     const bool turns = walked > drift && 2.0 * std::sin(turn / 4.0) > kGlideNoteShare;
     if (!glides && !turns) continue;
     const auto length = [&](double v) { return length_text(key_units[e], v); };
-    const std::string degrees = format_number(turn * 180.0 / std::numbers::pi, 3) + "°";
+    const std::string degrees = format_number(rad_to_deg(turn), 3) + "°";
     std::string note = name(e) + " to " + name(l) + ": the clips played ";
     if (glides) {
       note += "carry the root " + length((carried.floor - placement[e].floor).norm()) +

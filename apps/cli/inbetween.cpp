@@ -251,8 +251,11 @@ void setup_inbetween(CLI::App& app) {
                                   "Frames between consecutive keys (default: the keys' times, or "
                                   "the samples' own speed along each route, at least the time "
                                   "the clips take to walk the keys' distance; keys of one clip: "
-                                  "its own time between them; far fewer frames "
-                                  "make the root glide, with a note)")
+                                  "its own time between them; keys of two clips: at least "
+                                  "the " +
+                                      format_number(synth::kJumpFadeSeconds) +
+                                      " s of a jump's crossfade; far fewer frames "
+                                      "make the root glide, with a note)")
                       ->check(CLI::Range(0, synth::kMaxFramesBetween));
   sub->add_option("--times", cmd->times,
                   "Seconds of each key, comma-separated, increasing (instead of @SECONDS on "

@@ -472,7 +472,8 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     as transform() places frames — or (x, y), a map point (the blend there, root free). times:
     seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
     times, or the samples' own speed along each route, at least the time the clips take to walk the
-    keys' distance; keys of one clip: its own time between them); route: "clips" (the clips' own frames played on, jumping between clips where
+    keys' distance; keys of one clip: its own time between them; keys of two clips: at least the
+    0.6 s of a jump's crossfade); route: "clips" (the clips' own frames played on, jumping between clips where
     their map points meet, crossfaded; where no jumps join two keys' clips, each played towards the
     middle) or "grid" (the cheapest path over a grid through the valid region); grid: cells along
     the map's longer side (0 = from its density); smooth: smooth the grid route; blend, neighbors,

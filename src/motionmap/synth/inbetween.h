@@ -52,7 +52,9 @@
 // sample (unless those samples stand; with free_roots, unless those samples are of two clips):
 // keys of a walk at one phase lie close on the map. A clip route between keys whose nearest
 // samples are of one clip, the later one later in it, takes that clip's own time between them
-// where that is 0.7–1.4 times the time above (the clip plays between them as captured).
+// where that is 0.7–1.4 times the time above (the clip plays between them as captured); one
+// between keys whose nearest samples are of two clips takes at least kJumpFadeSeconds (its jump's
+// crossfade).
 #include <optional>
 #include <span>
 #include <string>
@@ -98,7 +100,7 @@ struct InbetweenOptions {
   /// key's pose is still hit exactly, but its root stands where the clips carry it from there, its
   /// position and heading left free — for keys of takes captured in different places, between
   /// which the root would otherwise glide. Untimed, keys whose nearest samples are of two
-  /// clips then take their route's own time.
+  /// clips then take their route's own time (at least kJumpFadeSeconds on a clip route).
   bool free_roots = false;
 
   /// @throws ParameterError naming `frames_between` or `grid`, the value and the valid range.

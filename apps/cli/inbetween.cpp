@@ -99,7 +99,8 @@ KeyText parse_key(const std::string& text) {
     return key;
   }
   if (parse_whole(left, key.point.x()) && parse_whole(right, key.point.y())) return key;
-  if (!left.empty() && parse_whole(right, key.frame) && key.frame >= 0) {
+  if (!left.empty() && parse_whole(right, key.frame)) {
+    if (key.frame < 0) throw bad("'" + std::string(right) + "' is not a frame number (0, 1, …)");
     key.file = std::string(left);
     key.named = true;
     return key;

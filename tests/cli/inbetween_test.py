@@ -303,6 +303,9 @@ def bad_keys_are_clear_errors():
     assert code == 2 and "no such clip file 'nothere.bvh'" in err, err
     code, _, err = inbetween("--keys", f"{data(ANGRY)}:x", "-o", out)
     assert code == 2 and "not a frame number" in err, err
+    # A negative frame of a clip named by the end of its path: the frame is what is wrong.
+    code, _, err = inbetween("--keys", f"{data(ANGRY)}:20,{os.path.basename(ANGRY)}:-3", "-o", out)
+    assert code == 2 and "'-3' is not a frame number" in err, err
     code, _, err = inbetween("--keys", f"{data(ANGRY)}:20", "-o", out)
     assert code == 2 and "at least 2 keys" in err, err
     code, _, err = inbetween("--keys", f"{data(ANGRY)}:20@x,{data(OLD)}:3", "-o", out)

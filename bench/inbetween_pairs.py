@@ -15,7 +15,8 @@ clips when its skating ratio exceeds the larger of theirs by 0.02, or its ankles
 contact theirs by 2 cm/s. Printed: per pair the figures and the notes it printed (glide: the
 keys stand further apart than the clips walk in the time, or the clips carry the root elsewhere
 and it glides, or leave the body facing away from the later key and it turns as it walks), then
-the counts, and how many in-betweens with a glide note skate no more than their clips.
+the counts, and how many in-betweens with a glide note skate no more than their clips, and the
+counts per timing.
 """
 import argparse
 import json
@@ -69,6 +70,8 @@ def main():
         # Per kind (free roots or not): skating more with a glide note, without; not skating
         # more, with one.
         counts = {False: [0, 0, 0], True: [0, 0, 0]}
+        # Per timing: pairs, and how many skate more with roots at every key and with free roots.
+        timings = {t: [0, 0, 0] for t in ("untimed", 15, 30, 60)}
         print("| keys | frames between | clips' skating | skating, roots at every key (note) "
               "| skating, free roots (note) |")
         print("|---|---|---|---|---|")
@@ -78,6 +81,8 @@ def main():
             between = rng.choice([None, 15, 30, 60])
             worst = (max(own[a][0], own[b][0]), max(own[a][1], own[b][1]))
             cells = []
+            timing = timings["untimed" if between is None else between]
+            timing[0] += 1
             for free in (False, True):
                 out = os.path.join(tmp, "out.bvh")
                 cmd = [mm, "inbetween", "--map", lib, "--keys",
@@ -93,6 +98,7 @@ def main():
                 more = ratio > worst[0] + 0.02 or speed > worst[1] + 2.0
                 if more:
                     counts[free][0 if glide else 1] += 1
+                    timing[2 if free else 1] += 1
                 elif glide:
                     counts[free][2] += 1
                 cells.append(f"{ratio:.3f}, {speed:.0f} cm/s{' more' if more else ''}"
@@ -104,6 +110,9 @@ def main():
             print(f"{'free roots' if free else 'roots at every key'}: {noted + silent} of "
                   f"{args.pairs} skate more than their keys' clips, {noted} of them with a glide "
                   f"note, {silent} without; {spared} with a glide note skate no more")
+        print("skating more by timing (roots at every key, free roots): " + "; ".join(
+            f"{t if t == 'untimed' else f'{t} frames between'} {more} and {free} of {n}"
+            for t, (n, more, free) in timings.items()))
     return 0
 
 

@@ -147,6 +147,9 @@ def test_random_key_pairs_benchmark_tiny_case():
     assert len(rows) == 3 and all(line.count("cm/s") == 3 for line in rows), p.stdout
     assert "roots at every key: " in p.stdout and "free roots: " in p.stdout, p.stdout
     assert p.stdout.count(" of 3 skate more than their keys' clips") == 2, p.stdout
+    # Per timing, the pairs add up to the 3 drawn.
+    by_timing = next(line for line in p.stdout.splitlines() if line.startswith("skating more by"))
+    assert sum(int(part.split(" of ")[1]) for part in by_timing.split("; ")) == 3, by_timing
 
 
 def test_lafan_protocol_benchmark_refuses_a_held_out_take_it_cannot_test():

@@ -266,6 +266,36 @@ namespace {
 // Each leg's ankle path (left, right), computed once for the contacts and the clean-up.
 using Ankles = AnklePaths;
 
+// Each contact started where its foot arrives (see clean_feet.h, step 1): extended back over the
+// frames, from kHoldFadeSeconds after the foot's previous contact on, whose ankle is as low as a
+// standing one and lies, on the floor, within one frame's contact speed of where the contact's
+// first frame has it. detect_contacts() takes a frame's speed over ±⌈fps/60⌉ frames, so the frame
+// a landing foot reaches its spot from is left out; a blend of two runs lands its feet over one
+// frame more than the runs do (their phases read between frames), and that frame, 1.7 cm from
+// the spot at 30 fps, skated.
+void start_at_arrival(std::array<FootContacts, 2>& contacts, const Ankles& ankles,
+                      const ContactOptions& options, double fps) {
+  const Vector3d up = Vector3d::Unit(static_cast<int>(options.up));
+  const int fade = std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * fps)));
+  for (int s = 0; s < 2; ++s) {
+    FootContacts& fc = contacts[static_cast<std::size_t>(s)];
+    const std::vector<Vector3d>& ankle = ankles[static_cast<std::size_t>(s)];
+    const double step = options.speed * fc.leg_length / fps;
+    const double low = fc.floor + options.height * fc.leg_length;
+    for (std::size_t c = 0; c < fc.intervals.size(); ++c) {
+      ContactInterval& in = fc.intervals[c];
+      const int earliest = c == 0 ? 0 : fc.intervals[c - 1].last + 1 + fade;
+      const Vector3d spot = ankle[static_cast<std::size_t>(in.first)];
+      const auto arriving = [&](int f) {
+        Vector3d d = ankle[static_cast<std::size_t>(f)] - spot;
+        d -= d.dot(up) * up;
+        return d.norm() <= step && ankle[static_cast<std::size_t>(f)].dot(up) <= low;
+      };
+      while (in.first - 1 >= earliest && arriving(in.first - 1)) --in.first;
+    }
+  }
+}
+
 // contacts_from_shares() with the ankles' paths given.
 std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Motion& motion,
                                             const Feet& feet,
@@ -299,7 +329,12 @@ std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Moti
     }
     FootContacts& out = contacts[static_cast<std::size_t>(s)];
     out.intervals = std::move(runs);
-    cut_drifting_contacts(out, ankle, options.up, motion.fps(), options.min_seconds, kMaxHoldDrift);
+  }
+  start_at_arrival(contacts, ankles, options, motion.fps());
+  for (int s = 0; s < 2; ++s) {
+    cut_drifting_contacts(contacts[static_cast<std::size_t>(s)],
+                          ankles[static_cast<std::size_t>(s)], options.up, motion.fps(),
+                          options.min_seconds, kMaxHoldDrift);
   }
   return contacts;
 }
@@ -550,8 +585,9 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
                            const CleanFeetOptions& options, const Control& control) {
   check_inputs(skeleton, motion, feet, options);
   Ankles ankles = ankle_paths(skeleton, motion, feet);
-  const std::array<FootContacts, 2> contacts =
+  std::array<FootContacts, 2> contacts =
       detect_contacts(skeleton, motion, feet, ankles, options.contacts);
+  start_at_arrival(contacts, ankles, options.contacts, motion.fps());
   return clean_checked(skeleton, motion, feet, contacts, options, control, std::move(ankles));
 }
 

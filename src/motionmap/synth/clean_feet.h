@@ -8,7 +8,14 @@
 //   // r.motion: the cleaned motion; r.contacts: each foot's contact intervals
 //
 // Method (docs/synthesis.md, "Clean feet"):
-//  1. Contacts per foot: detect_contacts() (skeleton/contacts.h) with `contacts`.
+//  1. Contacts per foot: detect_contacts() (skeleton/contacts.h) with `contacts`, each started
+//     where its foot arrives: extended back over the frames before it (from kHoldFadeSeconds after
+//     the foot's previous contact) whose ankle is as low as a standing one and lies, on the floor,
+//     within one frame's contact speed (contacts.speed) of where the contact's first frame has
+//     it. detect_contacts() takes each frame's speed over a few frames, which leaves out the
+//     frame a landing foot reaches its spot from (a blend of two runs, which lands a foot over
+//     one frame more than the runs do, skated there). Contacts given to clean_feet() are held as
+//     given.
 //  2. Targets: through a contact the ankle is held at the mean of its places over the contact,
 //     at the floor height of its heights there (of ankle_heights, when given): their lower
 //     envelope, which comes down with them as they make new lows up to their lowest frame (a heel
@@ -171,8 +178,9 @@ void cut_drifting_contacts(FootContacts& contacts, std::span<const Eigen::Vector
 /// than kMaxHoldDrift leg lengths on the floor is cut where it does (a blend gliding at the
 /// data's edge would otherwise stretch the leg after a foot left behind). Runs shorter than
 /// options.min_seconds are dropped and gaps shorter than options.gap_seconds filled, as
-/// detect_contacts() does; the legs, lengths and floor levels are detect_contacts()'s of the
-/// motion. `shares`: one per frame of `motion`.
+/// detect_contacts() does, and each starts where its foot arrives, as clean_feet() starts the
+/// contacts it finds (see the top of the file); the legs, lengths and floor levels are
+/// detect_contacts()'s of the motion. `shares`: one per frame of `motion`.
 /// @throws ParameterError if the sizes differ or the motion does not fit the skeleton.
 std::array<FootContacts, 2> contacts_from_shares(const Skeleton& skeleton, const Motion& motion,
                                                  const Feet& feet,

@@ -791,19 +791,19 @@ TEST(SynthCleanFeet, SynthesizedBandaiWalks) {
     // would be several times that.)
     const double raw_jump = max_jump(skeleton, raw.motion);
     EXPECT_LE(max_jump(skeleton, cleaned.motion), raw_jump + std::max(2.5, 0.03 * raw_jump));
-    // The legs away from their contacts keep their angles (retraced, smoothed or not: 0.05°;
-    // traced by hand 0.13°–0.19°; every other frame 0.16°; halfway 0.08°; out and back 0.04°;
-    // along the edge 0.10°).
+    // The legs away from their contacts keep their angles (all joints: retraced, smoothed or not,
+    // 0.12°; traced by hand 0.16°–0.20°; every other frame 0.11°; halfway 0.12°; out and back
+    // 0.12°; along the edge 0.17°).
     EXPECT_LE(rms, 1.0);
     // Walks along the normal walk's curve, retraced or traced by hand, halfway to the angry walk
     // and a tenth of the way: nothing pops, and they skate no more than the normal walk as captured
-    // (within two transitions of 194: the steady hand's 0.418 against 0.407 — its root moves on
-    // at the pace its legs are played at, which the hand's wobble speeds up and slows down; 0.412
-    // when the root kept the samples' speed), its feet no faster in contact (within 1 cm/s). (The
-    // walk drawn out and back adds 7 cm to a step where its route fades in over the blend.)
+    // (measured 0.381–0.402 against 0.407; the steady hand's 0.418 before each contact started
+    // where its foot arrives — its root moves on at the pace its legs are played at, which the
+    // hand's wobble speeds up and slows down), its feet no faster in contact (within 1 cm/s).
+    // (The walk drawn out and back adds 7 cm to a step where its route fades in over the blend.)
     if (c.walks) {
       EXPECT_LT(added, 3.0);  // cm, at 30 fps
-      EXPECT_LE(sc.ratio, captured[0].ratio + 2.0 / 194.0 + 1e-9);
+      EXPECT_LE(sc.ratio, captured[0].ratio + 1e-9);
       EXPECT_LE(sc.contact_speed_cm_s, captured[0].contact_speed_cm_s + 1.0);
     }
   }
@@ -914,8 +914,8 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       EXPECT_LE(raised, raised_captured + 0.3);
       // Cleaning never adds skating (within 1.5 % of the transitions, or one transition:
       // the measure's 0.5 m/s line crossed where a fade out of a hold drags a foot still rolling
-      // on the floor a little faster; measured 1 transition of 101, the old run a tenth of the
-      // way to the angry one, 0.495 raw, 0.505 cleaned, and 1 of 77 the other way round; 3 of 101
+      // on the floor a little faster; measured none, 1 transition of 101 before each contact
+      // started where its foot arrives, the old run a tenth of the way to the angry one; 3 of 101
       // when a stance was held at its mean height, which raised the lowest point the ankle
       // reaches, from which the measure's 5 cm line is drawn, by 0.2 cm), nor speed in contact
       // (within 1 cm/s: measured none added; held at its mean height, the old run a twentieth of
@@ -925,12 +925,14 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       EXPECT_LE(sc.ratio, sr.ratio + std::max(transition, 0.015) + 1e-12);
       EXPECT_LE(sc.contact_speed_cm_s, sr.contact_speed_cm_s + 1.0);
       // Their gait phases registered and the root moving on at the pace the legs play the gait
-      // at, the walks sketched up to 30 % of the way, cleaned, skate no more than the first take
-      // as captured (within a transition: the normal walk at 30 %, 0.412 against 0.407) and
-      // slide their feet no faster in contact (within 1 cm/s; the tired walk at 30 %, 57.7 cm/s
+      // at, the walks and the runs sketched up to 30 % of the way, cleaned, skate no more often
+      // than the first take as captured, within a transition (measured: every walk less often;
+      // the runs at 15 %, 0.474 against 0.461 and 0.495 against 0.485; 4 transitions of 101 more,
+      // the old run at 15 %, before each contact started where its foot arrives), and the walks
+      // slide their feet no faster in contact (within 1 cm/s; the tired walk at 30 %, 57.5 cm/s
       // against 57.9). The runs, at every share, slide at most 1.25 times as fast as the first
-      // run raw, 1.2 times cleaned (measured 1.15× raw and 1.12× cleaned, the angry run halfway,
-      // 134.9 and 132.0 cm/s against 117.6; 1.24× and 1.21× before the right foot's strikes were
+      // run raw, 1.2 times cleaned (measured 1.15× raw and 1.11× cleaned, the angry run halfway,
+      // 134.9 and 130.9 cm/s against 117.6; 1.24× and 1.21× before the right foot's strikes were
       // registered too, 1.28× and 1.25× before the weights were smoothed by
       // default). Halfway they slid 2.3–2.4 times as fast (272
       // and 303 cm/s cleaned) before each run's share of a registered blend was smoothed over
@@ -939,18 +941,20 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       // other within a frame, a joint stepping 69 cm.
       // A twentieth of the way, every sketch skates no more than its first take as captured or
       // replayed (the more of the two; within a transition and 1 cm/s): the runs' replays, at
-      // 0.467–0.493 and 0.490 of their transitions and up to 125 and 128 cm/s, are what the
-      // measure itself spreads over when a run is read between its frames (measured: the angry
-      // run 0.487 at 117 cm/s, the old one 0.485 at 123).
+      // 0.427–0.480 and 0.440–0.500 of their transitions and up to 123 and 127 cm/s, are what
+      // the measure itself spreads over when a run is read between its frames (measured: the
+      // angry run 0.461 at 114 cm/s, the old one 0.446 at 121).
       if (share == 0.05) {
         EXPECT_LE(sc.ratio, std::max(capture.ratio, replayed_high) + transition + 1e-12);
         EXPECT_LE(sc.contact_speed_cm_s, std::max(capture.contact_speed_cm_s, replayed_fast) + 1.0);
+      }
+      if (share <= 0.3) {
+        EXPECT_LE(sc.ratio, capture.ratio + transition + 1e-12);
       }
       if (runs) {
         EXPECT_LE(sr.contact_speed_cm_s, 1.25 * capture.contact_speed_cm_s);
         EXPECT_LE(sc.contact_speed_cm_s, 1.2 * capture.contact_speed_cm_s);
       } else if (share <= 0.3) {
-        EXPECT_LE(sc.ratio, capture.ratio + transition + 1e-12);
         EXPECT_LE(sc.contact_speed_cm_s, capture.contact_speed_cm_s + 1.0);
       }
       // Every sketch cleaned within the bound on the angles away from the contacts.
@@ -960,12 +964,13 @@ TEST(SynthCleanFeet, SketchesBetweenTwoTakes) {
       over += rms > 1.0 ? 1 : 0;
     }
   }
-  // Measured 0.13° RMS on average, none of the 42 sketches over 1° (at most 0.59°, feminine to
-  // tired at 10 %; 3 over 1°, up to 1.13°, when the root was lowered for targets less than 1 % of
-  // the leg out of reach: docs/synthesis.md).
+  // Measured 0.27° RMS on average, none of the 42 sketches over 1° (at most 0.84°, feminine to
+  // tired at 5 %; 0.13° and 0.59° before each contact started where its foot arrives, the frame
+  // it lands from now held; 3 over 1°, up to 1.13°, when the root was lowered for targets less
+  // than 1 % of the leg out of reach: docs/synthesis.md).
   std::printf("[ figures  ] %d sketches: outside contacts %.2f° RMS on average, %d over 1°\n",
               sketches, sum / sketches, over);
-  EXPECT_LE(sum / sketches, 0.3);
+  EXPECT_LE(sum / sketches, 0.35);
 }
 
 }  // namespace

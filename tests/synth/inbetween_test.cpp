@@ -490,6 +490,12 @@ class SynthInbetweenBandaiLibrary : public ::testing::Test {
     }
     // The largest distance a joint moves between two frames of the motion.
     double largest_step(const Motion& m) const { return test::max_jump(blender->skeleton(), m); }
+    // The in-between of `keys` with free roots (InbetweenOptions::free_roots), untimed.
+    InbetweenResult with_free_roots(const std::vector<Key>& keys) const {
+      InbetweenOptions free;
+      free.free_roots = true;
+      return inbetween(*blender, *map.features, keys, free);
+    }
   };
   static inline const std::vector<std::string> kNames{
       "bow_normal", "bow_old",    "dash_normal",   "punch_normal", "run_angry",  "run_normal",
@@ -630,9 +636,7 @@ TEST_F(SynthInbetweenBandaiLibrary, FreeRootsHitEveryPoseAndPlaceOnlyTheFirstRoo
   const Library& L = *lib;
   const int bow = index("bow_old"), feminine = index("walk_feminine");
   const std::vector<Key> keys{L.key(bow, 70), L.key(feminine, 21)};
-  InbetweenOptions free;
-  free.free_roots = true;
-  const InbetweenResult r = inbetween(*L.blender, *L.map.features, keys, free);
+  const InbetweenResult r = L.with_free_roots(keys);
   EXPECT_TRUE(r.notes.empty()) << ::testing::PrintToString(r.notes);
   expect_key_hit(*L.blender, r.motion, r.key_frames[0], keys[0]);
   const int k = r.key_frames[1], root = L.blender->motion_root();
@@ -673,9 +677,7 @@ TEST_F(SynthInbetweenBandaiLibrary, UntimedKeysOfTwoClipsTakeAtLeastTheJumpsCros
   const Library& L = *lib;
   const int from = index("walk_old"), to = index("walk_tired");
   const std::vector<Key> keys{L.key(from, 224), L.key(to, 78)};
-  InbetweenOptions free;
-  free.free_roots = true;
-  const InbetweenResult r = inbetween(*L.blender, *L.map.features, keys, free);
+  const InbetweenResult r = L.with_free_roots(keys);
   const double dt = L.blender->frame_time();
   EXPECT_GE(r.key_frames[1] * dt, kJumpFadeSeconds - 0.5 * dt);
   const Feet feet = find_feet(L.blender->skeleton());

@@ -266,6 +266,11 @@ namespace {
 // Each leg's ankle path (left, right), computed once for the contacts and the clean-up.
 using Ankles = AnklePaths;
 
+// Frames left free between two holds of a foot (kHoldFadeSeconds), at least one.
+int hold_fade_frames(double fps) {
+  return std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * fps)));
+}
+
 // Each contact started where its foot arrives (see clean_feet.h, step 1): extended back over the
 // frames, from kHoldFadeSeconds after the foot's previous contact on, whose ankle is as low as a
 // standing one and lies, on the floor, within one frame's contact speed of where the contact's
@@ -276,7 +281,7 @@ using Ankles = AnklePaths;
 void start_at_arrival(std::array<FootContacts, 2>& contacts, const Ankles& ankles,
                       const ContactOptions& options, double fps) {
   const Vector3d up = Vector3d::Unit(static_cast<int>(options.up));
-  const int fade = std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * fps)));
+  const int fade = hold_fade_frames(fps);
   for (int s = 0; s < 2; ++s) {
     FootContacts& fc = contacts[static_cast<std::size_t>(s)];
     const std::vector<Vector3d>& ankle = ankles[static_cast<std::size_t>(s)];
@@ -548,7 +553,7 @@ void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ank
   std::vector<ContactInterval> pieces;
   // After a cut the next piece starts `fade` frames on, so the foot eases from the hold it
   // leaves to the next instead of jumping.
-  const int fade = std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * fps)));
+  const int fade = hold_fade_frames(fps);
   for (const ContactInterval& r : contacts.intervals) {
     if (r.first < 0 || r.first > r.last || r.last >= static_cast<int>(ankle.size())) {
       throw ParameterError("contacts: the interval of frames " + std::to_string(r.first) + "-" +

@@ -183,7 +183,7 @@ def test_a_walks_stances_stay_planted_through_the_keys_displacement():
     11 Bandai takes): between keys the route walks another take, and the keys' poses are reached
     by a displacement map spread over each segment, which lifts a planted foot slowly towards a
     key's. The clean-up takes its contacts from the blend before that displacement, so the feet
-    stand about as often as in the walk itself (0.49 of the transitions against its 0.42; with
+    stand about as often as in the walk itself (0.44 of the transitions against its 0.42; with
     the contacts of the displaced motion 0.31: a foot crept forward at 0.3 m/s through a
     stance)."""
     import glob

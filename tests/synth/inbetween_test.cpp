@@ -216,9 +216,9 @@ TEST(SynthInbetween, UntimedKeysOfOneClipPlayItAsCaptured) {
   EXPECT_TRUE(r.notes.empty()) << r.notes.front();
 
   // The other way round, frame 600 to frame 100: no clip plays backwards, and the clips played
-  // leave the body facing 165° away from frame 100's heading. Turned as it walks, the body walks
-  // askew and the feet slide (156 cm/s in contact); a note says so, and with free roots, which
-  // leave the later key's heading where the clips carry it, neither (70 cm/s).
+  // leave the body facing 139° away from frame 100's heading. Turned as it walks, the body walks
+  // askew and the feet slide (142 cm/s in contact); a note says so, and with free roots, which
+  // leave the later key's heading where the clips carry it, neither (63 cm/s).
   const std::vector<Key> back{keys[1], keys[0]};
   const InbetweenResult askew = inbetween(blender, *map.features, back);
   ASSERT_EQ(askew.notes.size(), 1u);
@@ -235,9 +235,9 @@ TEST(SynthInbetween, UntimedKeysOfOneClipPlayItAsCaptured) {
   const Skating faced = measure_skating(walk.skeleton, freed.motion, feet);
   std::printf(
       "[ figures  ] keys %d and %d of %s: %.3f, %.1f cm/s in contact; free roots %.3f, "
-      "%.1f cm/s\n",
+      "%.1f cm/s (%s)\n",
       last, first, file.c_str(), turned.ratio, turned.contact_speed_cm_s, faced.ratio,
-      faced.contact_speed_cm_s);
+      faced.contact_speed_cm_s, askew.notes[0].c_str());
   EXPECT_GT(turned.contact_speed_cm_s, 1.5 * faced.contact_speed_cm_s);
 }
 

@@ -164,11 +164,13 @@ TEST(StudioKeys, AnInBetweenTakesNotesAreInTheStatusLine) {
     GTEST_SKIP() << "no Bandai takes in " << MOTIONMAP_SHARED_DATA;
   MainWindow w;
   ASSERT_TRUE(testing::showOnPcaMap(w, {walk, bow}));
-  const int width = w.minimumSizeHint().width();
   ctrlClickFrame(w, 20, 0);
   ctrlClickFrame(w, 40, 1);
   ASSERT_TRUE(waitForSynthesis(w));
   ASSERT_EQ(w.takes()->list().count(), 1) << w.lastError().toStdString();
+  // The window's width with nothing running (measured before the first synthesis, it could
+  // include what shows the work in progress: 728 px against 705 after, on a fresh build).
+  const int width = w.minimumSizeHint().width();
   ASSERT_TRUE(w.keys()->retime({0.0, 0.3}));
   ASSERT_TRUE(waitForSynthesis(w));
   const Take& take = w.takes()->list().at(w.takes()->list().count() - 1);

@@ -266,6 +266,12 @@ namespace {
 // Each leg's ankle path (left, right), computed once for the contacts and the clean-up.
 using Ankles = AnklePaths;
 
+// How far apart frames a and b have the ankle on the floor (across `up`).
+double floor_distance(std::span<const Vector3d> ankle, int a, int b, const Vector3d& up) {
+  const Vector3d d = ankle[static_cast<std::size_t>(b)] - ankle[static_cast<std::size_t>(a)];
+  return (d - d.dot(up) * up).norm();
+}
+
 // Frames left free between two holds of a foot (kHoldFadeSeconds), at least one.
 int hold_fade_frames(double fps) {
   return std::max(1, static_cast<int>(std::lround(kHoldFadeSeconds * fps)));
@@ -278,26 +284,21 @@ int hold_fade_frames(double fps) {
 // a landing foot reaches its spot from is left out; a blend of two runs lands its feet over one
 // frame more than the runs do (their phases read between frames), and that frame, 1.7 cm from
 // the spot at 30 fps, skated.
-void start_at_arrival(std::array<FootContacts, 2>& contacts, const Ankles& ankles,
+void start_at_arrival(FootContacts& fc, std::span<const Vector3d> ankle,
                       const ContactOptions& options, double fps) {
   const Vector3d up = Vector3d::Unit(static_cast<int>(options.up));
   const int fade = hold_fade_frames(fps);
-  for (int s = 0; s < 2; ++s) {
-    FootContacts& fc = contacts[static_cast<std::size_t>(s)];
-    const std::vector<Vector3d>& ankle = ankles[static_cast<std::size_t>(s)];
-    const double step = options.speed * fc.leg_length / fps;
-    const double low = fc.floor + options.height * fc.leg_length;
-    for (std::size_t c = 0; c < fc.intervals.size(); ++c) {
-      ContactInterval& in = fc.intervals[c];
-      const int earliest = c == 0 ? 0 : fc.intervals[c - 1].last + 1 + fade;
-      const Vector3d spot = ankle[static_cast<std::size_t>(in.first)];
-      const auto arriving = [&](int f) {
-        Vector3d d = ankle[static_cast<std::size_t>(f)] - spot;
-        d -= d.dot(up) * up;
-        return d.norm() <= step && ankle[static_cast<std::size_t>(f)].dot(up) <= low;
-      };
-      while (in.first - 1 >= earliest && arriving(in.first - 1)) --in.first;
-    }
+  const double step = options.speed * fc.leg_length / fps;
+  const double low = fc.floor + options.height * fc.leg_length;
+  for (std::size_t c = 0; c < fc.intervals.size(); ++c) {
+    ContactInterval& in = fc.intervals[c];
+    const int earliest = c == 0 ? 0 : fc.intervals[c - 1].last + 1 + fade;
+    const int spot = in.first;
+    const auto arriving = [&](int f) {
+      return floor_distance(ankle, f, spot, up) <= step &&
+             ankle[static_cast<std::size_t>(f)].dot(up) <= low;
+    };
+    while (in.first - 1 >= earliest && arriving(in.first - 1)) --in.first;
   }
 }
 
@@ -334,12 +335,8 @@ std::array<FootContacts, 2> shares_contacts(const Skeleton& skeleton, const Moti
     }
     FootContacts& out = contacts[static_cast<std::size_t>(s)];
     out.intervals = std::move(runs);
-  }
-  start_at_arrival(contacts, ankles, options, motion.fps());
-  for (int s = 0; s < 2; ++s) {
-    cut_drifting_contacts(contacts[static_cast<std::size_t>(s)],
-                          ankles[static_cast<std::size_t>(s)], options.up, motion.fps(),
-                          options.min_seconds, kMaxHoldDrift);
+    start_at_arrival(out, ankle, options, motion.fps());
+    cut_drifting_contacts(out, ankle, options.up, motion.fps(), options.min_seconds, kMaxHoldDrift);
   }
   return contacts;
 }
@@ -545,10 +542,6 @@ void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ank
   // A blend can glide (its pose held at the data's edge while the root moves on): a run is
   // cut into pieces over which the ankle stays within max_drift leg lengths of where the
   // piece began on the floor, so no leg is stretched after a foot the body has left behind.
-  const auto floor_distance = [&](int a, int b) {
-    const Vector3d d = ankle[static_cast<std::size_t>(b)] - ankle[static_cast<std::size_t>(a)];
-    return (d - d.dot(up) * up).norm();
-  };
   const double drift = max_drift * contacts.leg_length;
   std::vector<ContactInterval> pieces;
   // After a cut the next piece starts `fade` frames on, so the foot eases from the hold it
@@ -563,7 +556,7 @@ void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ank
     if (keep_within > 0.0) {
       double farthest = 0.0;
       for (int f = r.first + 1; f <= r.last; ++f)
-        farthest = std::max(farthest, floor_distance(r.first, f));
+        farthest = std::max(farthest, floor_distance(ankle, r.first, f, up));
       if (farthest <= keep_within * contacts.leg_length) {
         pieces.push_back(r);
         continue;
@@ -571,7 +564,7 @@ void cut_drifting_contacts(FootContacts& contacts, std::span<const Vector3d> ank
     }
     ContactInterval piece{r.first, r.first};
     for (int f = r.first + 1; f <= r.last; ++f) {
-      if (floor_distance(piece.first, f) <= drift) {
+      if (floor_distance(ankle, piece.first, f, up) <= drift) {
         piece.last = f;
         continue;
       }
@@ -592,7 +585,10 @@ CleanFeetResult clean_feet(const Skeleton& skeleton, const Motion& motion, const
   Ankles ankles = ankle_paths(skeleton, motion, feet);
   std::array<FootContacts, 2> contacts =
       detect_contacts(skeleton, motion, feet, ankles, options.contacts);
-  start_at_arrival(contacts, ankles, options.contacts, motion.fps());
+  for (int s = 0; s < 2; ++s) {
+    start_at_arrival(contacts[static_cast<std::size_t>(s)], ankles[static_cast<std::size_t>(s)],
+                     options.contacts, motion.fps());
+  }
   return clean_checked(skeleton, motion, feet, contacts, options, control, std::move(ankles));
 }
 

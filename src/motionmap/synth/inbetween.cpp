@@ -695,7 +695,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // facing away from the later key's heading: turned over the segment while it walks the clips'
   // path, the body walks askew, its feet sliding sideways at about 2·sin(turn/4) of the clips'
   // speed halfway (`motionmap inbetween` of the omimo walk's frame 600 to its frame 100, untimed:
-  // the clips leave it facing 126° away, and its feet slid 139 cm/s in contact, 73 with free
+  // the clips leave it facing 126° away, and its feet slide 138 cm/s in contact, 72 with free
   // roots).
   for (std::size_t q = 0; q + 1 < placed.size(); ++q) {
     const int e = placed[q], l = placed[q + 1];

@@ -126,8 +126,8 @@ def test_lafan_protocol_benchmark_tiny_case():
 
 
 def test_random_key_pairs_benchmark_tiny_case():
-    """bench/inbetween_pairs.py on 3 pairs: a table row each, roots placed and free, and the
-    counts."""
+    """bench/inbetween_pairs.py on 3 pairs: a table row each, roots placed and free and the
+    captured frames about the keys, and the counts."""
     import os
     import subprocess
     import sys
@@ -144,9 +144,16 @@ def test_random_key_pairs_benchmark_tiny_case():
         pytest.skip(p.stdout.strip())
     assert p.returncode == 0, p.stdout + p.stderr
     rows = [line for line in p.stdout.splitlines() if "→" in line]
-    assert len(rows) == 3 and all(line.count("cm/s") == 3 for line in rows), p.stdout
+    assert len(rows) == 3 and all(line.count("cm/s") == 5 for line in rows), p.stdout
     assert "roots at every key: " in p.stdout and "free roots: " in p.stdout, p.stdout
     assert p.stdout.count(" of 3 skate more than their keys' clips") == 2, p.stdout
+    # Skating more than the clips and than their frames about the keys is skating more than the
+    # clips.
+    for kind in ("roots at every key: ", "free roots: "):
+        line = next(line for line in p.stdout.splitlines() if line.startswith(kind))
+        more = int(line[len(kind):].split(" of ")[0])
+        beyond = int(line.split("; ")[-1].split(" skate more than the clips' frames")[0])
+        assert beyond <= more, line
     # Per timing, the pairs add up to the 3 drawn.
     by_timing = next(line for line in p.stdout.splitlines() if line.startswith("skating more by"))
     assert sum(int(part.split(" of ")[1]) for part in by_timing.split("; ")) == 3, by_timing

@@ -255,8 +255,10 @@ void setup_inbetween(CLI::App& app) {
                                   "its own time between them; keys of two clips: at least "
                                   "the " +
                                       format_number(synth::kJumpFadeSeconds) +
-                                      " s of a jump's crossfade; far fewer frames "
-                                      "make the root glide, with a note)")
+                                      " s of a jump's crossfade, and of two gaits (walks, "
+                                      "runs) the nearest time at which the later key's gait "
+                                      "phase comes round; far fewer frames make the root "
+                                      "glide, with a note)")
                       ->check(CLI::Range(0, synth::kMaxFramesBetween));
   sub->add_option("--times", cmd->times,
                   "Seconds of each key, comma-separated, increasing (instead of @SECONDS on "

@@ -473,7 +473,8 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     seconds per key, or None; frames_between: frames between consecutive keys, or None (then the
     times, or the samples' own speed along each route, at least the time the clips take to walk the
     keys' distance; keys of one clip: its own time between them; keys of two clips: at least the
-    0.6 s of a jump's crossfade); route: "clips" (the clips' own frames played on, jumping between clips where
+    0.6 s of a jump's crossfade, and of two gaits the nearest time at which the later key's gait
+    phase comes round); route: "clips" (the clips' own frames played on, jumping between clips where
     their map points meet, crossfaded; where no jumps join two keys' clips, each played towards the
     middle) or "grid" (the cheapest path over a grid through the valid region); grid: cells along
     the map's longer side (0 = from its density); smooth: smooth the grid route; blend, neighbors,

@@ -133,12 +133,14 @@ def keys_too_far_apart_for_their_time_are_noted():
     assert note.startswith(f"note: key 1 ({data(ANGRY)}:20) to key 2 ({data(OLD)}:100): their "
                            "roots stand"), err
     assert "the feet slide; at the clips' pace it takes" in note, note
-    # Untimed, the segment takes the clips' time (the frames the note names): no note.
+    # Untimed, the segment takes at least the clips' time (the frames the note names; keys of two
+    # walks, up to a step cycle more, till the later key's gait phase comes round): no note.
     code, _, err = inbetween("--keys", keys, "-o", out)
     assert code == 0, err
     assert "apart (each where it stood" not in err, err
     frames = len(motion_rows(out)) - 2
-    assert f"({frames} frames between the keys)" in note, (frames, note)
+    noted = int(note.split(" frames between the keys)")[0].rsplit("(", 1)[1])
+    assert noted <= frames <= noted + 45, (frames, note)
 
 
 @test

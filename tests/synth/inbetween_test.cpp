@@ -523,21 +523,23 @@ class SynthInbetweenBandaiLibrary : public ::testing::Test {
 };
 
 TEST_F(SynthInbetweenBandaiLibrary, TheKeysDisplacementMapDoesNotPushAFootIntoTheFloor) {
-  // The punch's key to the tired walk's: the keys' displacement map, spread over the segment,
-  // bends the legs towards the other key's stance, pushing the right ankle 4.0 cm into the floor
-  // raw. (A walk's key to a punch's pushed it 6.3 cm, 2.6 cm with the contacts held, before
-  // keep_above_floor; its route now bridges to the punch's own frames, its jump crossfaded.) The
-  // clean-up lifts an ankle more than kFloorSlack leg lengths (1.7 cm) under the floor back to
-  // that depth.
+  // The punch's key to the tired walk's, 130 frames between: the keys' displacement map, spread
+  // over the segment, bends the legs towards the other key's stance, pushing the right ankle
+  // 4.0 cm into the floor raw. (A walk's key to a punch's pushed it 6.3 cm, 2.6 cm with the
+  // contacts held, before keep_above_floor; its route now bridges to the punch's own frames, its
+  // jump crossfaded.) The clean-up lifts an ankle more than kFloorSlack leg lengths (1.7 cm) under
+  // the floor back to that depth.
   const Library& L = *lib;
   const int from = index("punch_normal"), to = index("walk_tired");
   const std::vector<Key> keys{L.key(from, 50), L.key(to, 60)};
   const MapBlender& blender = *L.blender;
   const std::vector<Clip>& clips = L.clips;
-  InbetweenOptions raw_options;
+  InbetweenOptions options;
+  options.frames_between = 130;
+  InbetweenOptions raw_options = options;
   raw_options.clean_feet = false;
   const InbetweenResult raw = inbetween(blender, *L.map.features, keys, raw_options);
-  const InbetweenResult r = inbetween(blender, *L.map.features, keys);
+  const InbetweenResult r = inbetween(blender, *L.map.features, keys, options);
   const Feet feet = find_feet(blender.skeleton());
   for (int side = 0; side < 2; ++side) {
     // The floor: the lower of the two captured clips' (their ankles' 2 % quantiles).
@@ -696,6 +698,47 @@ TEST_F(SynthInbetweenBandaiLibrary, UntimedKeysOfTwoClipsTakeAtLeastTheJumpsCros
       step);
   EXPECT_LE(made.contact_speed_cm_s, 2.0 * slide);
   EXPECT_LE(L.largest_step(r.motion), 1.5 * step);
+}
+
+TEST_F(SynthInbetweenBandaiLibrary, UntimedKeysOfTwoGaitsTakeTheTimeTheirPhasesAreApart) {
+  // The tired walk's frame 178 to the feminine walk's frame 223, untimed, free roots: both keys
+  // stand at one phase of their gait (the left foot down, the right about to strike), so a step
+  // cycle lies between them. Timed by their route and the jump's crossfade alone (0.7 s) the route
+  // jumped from late in the tired walk's step to the middle of the feminine walk's, and the
+  // standing foot slid. Untimed keys of two gaits take the time their phases are apart, in whole
+  // cycles more, nearest that.
+  const Library& L = *lib;
+  const int from = index("walk_tired"), to = index("walk_feminine");
+  const std::vector<Key> keys{L.key(from, 178), L.key(to, 223)};
+  const InbetweenResult r = L.with_free_roots(keys);
+  InbetweenOptions rushed;
+  rushed.free_roots = true;
+  rushed.frames_between = 20;
+  const InbetweenResult half = inbetween(*L.blender, *L.map.features, keys, rushed);
+  const Feet feet = find_feet(L.blender->skeleton());
+  const Skeleton& skeleton = L.blender->skeleton();
+  const Skating made = measure_skating(skeleton, r.motion, feet);
+  const Skating short_made = measure_skating(skeleton, half.motion, feet);
+  Skating walks;
+  for (const int c : {from, to}) {
+    const Skating own = measure_skating(skeleton, L.clips[c].motion, feet);
+    walks.ratio = std::max(walks.ratio, own.ratio);
+    walks.contact_speed_cm_s = std::max(walks.contact_speed_cm_s, own.contact_speed_cm_s);
+  }
+  std::printf(
+      "[ figures  ] the tired walk's key to the feminine walk's, free roots, untimed: %d frames; "
+      "skating %.3f, %.1f cm/s in contact (the walks at most %.3f, %.1f); 20 frames between: "
+      "%.3f, %.1f cm/s\n",
+      r.motion.num_frames, made.ratio, made.contact_speed_cm_s, walks.ratio,
+      walks.contact_speed_cm_s, short_made.ratio, short_made.contact_speed_cm_s);
+  // Measured: 41 frames, 0.400 of the transitions and 66 cm/s in contact (the walks at most 0.413,
+  // 58; on the CLI's default map of the 12 takes, 41 frames, 0.350 and 58); 20 frames between,
+  // 0.619 and 74. (Over 16–48 frames between, the feet slide 74–124 cm/s in contact up to 28
+  // frames, 57–75 from 34 on.)
+  EXPECT_GE(r.key_frames[1], 30);  // a walk's cycle: 1.2 s (the tired), 1.4 s (the feminine)
+  EXPECT_LE(made.ratio, walks.ratio);
+  EXPECT_LE(made.contact_speed_cm_s, 1.2 * walks.contact_speed_cm_s);
+  EXPECT_GT(short_made.ratio, walks.ratio + 0.1);  // the cause is there
 }
 
 TEST_F(SynthInbetweenBandaiLibrary, AnInbetweenBetweenActionsMovesNoFasterThanItsClips) {

@@ -1205,4 +1205,16 @@ int MapBlender::next_sample(int i) const {
   return m->index->next_in_run(i);
 }
 
+double MapBlender::gait_phase(int i, double* cadence) const {
+  sample_point(i);  // checks i
+  const detail::GaitPhase& phase = m->phase_of(m->index->run_of(i));
+  if (!phase.known()) return std::numeric_limits<double>::quiet_NaN();
+  const double at = phase.at(m->index->seconds_in_run(i));
+  if (cadence != nullptr) {
+    const double cycle = std::floor(at);
+    *cadence = 1.0 / (phase.time_at(cycle + 1.0) - phase.time_at(cycle));
+  }
+  return at;
+}
+
 }  // namespace motionmap::synth

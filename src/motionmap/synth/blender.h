@@ -404,6 +404,12 @@ class MapBlender {
   /// @throws ParameterError if i is not a sample.
   int sample_frame(int i) const;
   int next_sample(int i) const;
+  /// Sample i's gait phase in its clip (cycles, not wrapped: whole at its left foot's strikes,
+  /// ½ past them at its right foot's; detail/gait_phase.h) and, into *cadence if given, the
+  /// cycles per second of the cycle it is in; NaN where the clip has no gait phase (a bow, a
+  /// swing).
+  /// @throws ParameterError if i is not a sample.
+  double gait_phase(int i, double* cadence = nullptr) const;
   /// Made from a ClipSource: reads the states of every sample these weights blend, one clip at
   /// a time (each clip read once), so that blending them reads no clip; a synthesis calls it for
   /// each block of frames. Does nothing for a blender given the clips. @throws as blend().

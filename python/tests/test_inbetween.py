@@ -229,10 +229,12 @@ def test_a_walks_stances_stay_planted_through_the_keys_displacement():
 def test_an_inbetween_between_actions_on_a_saved_map_moves_no_faster_than_its_clips(cli,
                                                                                       tmp_path):
     """The saved map of the 12 Bandai takes (`map --save`), keys of a walk, a dash and a bow
-    (`inbetween --map`): the map's blender reads its clips on demand, so its routes price their
+    (`inbetween --map`): the map's blender reads its clips on demand. Its routes priced their
     jumps by map distance alone, and the chain of jumps so priced moved a joint 71 cm in a frame
-    where the dash's fastest moves 33 (the same keys in memory: 21). Against the bridge (each
-    key's clip played towards the middle), the chain's jumps are priced by their poses too."""
+    where the dash's fastest moves 33 (the same keys in memory: 21); now a map this small (at most
+    20 000 samples) has its jumps priced by their poses, as in memory, and a larger one prices
+    them against the bridge (each key's clip played towards the middle) by their poses
+    (tests/synth/inbetween_test.cpp, JumpsOnABlenderReadingItsClipsOnDemandArePricedByPoses)."""
     import glob
     import os
     import subprocess

@@ -741,6 +741,50 @@ TEST_F(SynthInbetweenBandaiLibrary, UntimedKeysOfTwoGaitsTakeTheTimeTheirPhasesA
   EXPECT_GT(short_made.ratio, walks.ratio + 0.1);  // the cause is there
 }
 
+// The library's clips, read on demand as a saved map's are.
+class LibraryClips : public ClipSource {
+ public:
+  explicit LibraryClips(const std::vector<Clip>& clips) : m_clips(clips) {}
+  std::shared_ptr<const Clip> clip(int c) const override {
+    return std::make_shared<const Clip>(m_clips[static_cast<std::size_t>(c)]);
+  }
+
+ private:
+  const std::vector<Clip>& m_clips;
+};
+
+TEST_F(SynthInbetweenBandaiLibrary, JumpsOnABlenderReadingItsClipsOnDemandArePricedByPoses) {
+  // A blender reading its clips on demand (a saved map's) of at most priced_jump_samples samples
+  // prices its routes' jumps by their poses, every sample's read first: the in-between is the one
+  // of the blender given the clips, bit for bit. Above (a larger map, where reading every pose
+  // would take longer than the search) by their map distance alone, and against the bridge by
+  // their poses: a walk's key, a dash's and a bow's then move a joint 18.1 cm in a frame, as
+  // priced by poses (the clips' fastest 31.7; on the CLI's saved map of the 12 takes, before the
+  // chain of jumps was priced against the bridge, 71).
+  const Library& L = *lib;
+  const auto source = std::make_shared<const LibraryClips>(L.clips);
+  const MapBlender on_demand(source, summarize_clips(L.clips, *L.map.features), *L.map.features,
+                             L.map.embedding.coordinates);
+  ASSERT_TRUE(on_demand.reads_on_demand());
+  const std::vector<Key> keys{L.key(index("walk_old"), 50), L.key(index("dash_normal"), 10),
+                              L.key(index("bow_old"), 80)};
+  const InbetweenResult in_memory = inbetween(*L.blender, *L.map.features, keys);
+  const InbetweenResult priced = inbetween(on_demand, *L.map.features, keys);
+  EXPECT_EQ(priced.motion.rotations, in_memory.motion.rotations);
+  EXPECT_EQ(priced.motion.translations, in_memory.motion.translations);
+  InbetweenOptions by_distance;
+  by_distance.priced_jump_samples = 0;
+  const InbetweenResult unpriced = inbetween(on_demand, *L.map.features, keys, by_distance);
+  double clips = 0.0;
+  for (const char* name : {"walk_old", "dash_normal", "bow_old"})
+    clips = std::max(clips, L.largest_step(L.clips[static_cast<std::size_t>(index(name))].motion));
+  std::printf(
+      "[ figures  ] a walk's, a dash's and a bow's keys read on demand: a joint's largest step "
+      "%.1f cm priced by poses, %.1f by map distance (the clips' %.1f)\n",
+      L.largest_step(priced.motion), L.largest_step(unpriced.motion), clips);
+  EXPECT_LE(L.largest_step(unpriced.motion), clips);
+}
+
 TEST_F(SynthInbetweenBandaiLibrary, AnInbetweenBetweenActionsMovesNoFasterThanItsClips) {
   // Keys of different actions; no joint may move further in a frame than in the keys' clips.
   // - A bow's key to a walk's: the route plays the bow on, then the walk up to its key. Cut at

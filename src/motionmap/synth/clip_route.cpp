@@ -217,6 +217,28 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   // The bridge: the cheapest start and end, each clip played towards the middle, one jump there.
   ClipRoute bridge;
   bridge.cost = kInf;
+  // The cost of the bridge's middle step: a jump, priced as the search's are from the next
+  // sample's place, unless the two halves meet in one clip (a hold, a step or a skip there).
+  // The samples whose poses bridge_jump_cost reads then, with `more` (pairs it reads next), are
+  // first given to ends.read_poses.
+  const auto bridge_middle = [&](const ClipRoute& r, std::vector<int> more) {
+    const int from = r.samples[static_cast<std::size_t>(steps / 2)];
+    const int to = r.samples[static_cast<std::size_t>(steps / 2) + 1];
+    const StepKind kind = step_kind(next, from, to);
+    if (kind == StepKind::Jump) more.insert(more.end(), {jump_place(next, from), to});
+    if (ends.read_poses && !more.empty()) ends.read_poses(std::move(more));
+    switch (kind) {
+      case StepKind::Hold:
+        return costs.hold;
+      case StepKind::Skip:
+        return costs.skip;
+      case StepKind::Jump:
+        return costs.jump + ends.bridge_jump_cost(jump_place(next, from), to);
+      case StepKind::Next:
+        break;
+    }
+    return 0.0;  // a step to the next sample
+  };
   if (ends.bridge_jump_cost && !b_ends.empty()) {
     const auto first = std::min_element(path[0].costs.begin(), path[0].costs.end());
     const auto end =
@@ -241,24 +263,6 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
       else if (t > middle + 1)
         ++held;
     }
-    // The middle: a jump, priced as the search's are from the next sample's place, unless the
-    // two halves meet in one clip (a hold, a step or a skip there).
-    const int from = bridge.samples[static_cast<std::size_t>(middle)];
-    const int to = bridge.samples[static_cast<std::size_t>(middle) + 1];
-    double jump = 0.0;  // a step to the next sample
-    switch (step_kind(next, from, to)) {
-      case StepKind::Hold:
-        jump = costs.hold;
-        break;
-      case StepKind::Skip:
-        jump = costs.skip;
-        break;
-      case StepKind::Jump:
-        jump = costs.jump + ends.bridge_jump_cost(jump_place(next, from), to);
-        break;
-      case StepKind::Next:
-        break;
-    }
     bridge.cost = *first + held * costs.hold + end->second;
     for (int t = 1; ends.step_cost && t <= steps; ++t)
       bridge.cost += ends.step_cost(t, bridge.samples[static_cast<std::size_t>(t)]);
@@ -266,10 +270,10 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     // kForbiddenBridge so that any other route (at another rate) costs less.
     if (std::none_of(last.samples.begin(), last.samples.end(),
                      [&](int x) { return std::isfinite(end_cost[static_cast<std::size_t>(x)]); })) {
+      const double jump = bridge_middle(bridge, {});
       bridge.cost += std::isfinite(jump) ? jump : kForbiddenBridge;
       return bridge;
     }
-    bridge.cost += jump;
   }
   int at = -1;
   double cheapest = kInf;
@@ -298,13 +302,18 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   // Against the bridge, the route's jumps are priced as the bridge's is (where jump_cost prices
   // them otherwise: a saved map's, by their map distance alone, chained a walk into a dash
   // through poses 70 cm apart).
-  double priced = route.cost;
+  std::vector<int> priced_jumps;  // per jump of the route: the next sample's place, the sample
   for (int t = 1; t <= steps; ++t) {
     const int from = route.samples[static_cast<std::size_t>(t) - 1];
     const int to = route.samples[static_cast<std::size_t>(t)];
     if (step_kind(next, from, to) != StepKind::Jump) continue;
-    const int place = jump_place(next, from);
-    priced += ends.bridge_jump_cost(place, to) - (ends.jump_cost ? ends.jump_cost(place, to) : 0.0);
+    priced_jumps.insert(priced_jumps.end(), {jump_place(next, from), to});
+  }
+  bridge.cost += bridge_middle(bridge, priced_jumps);
+  double priced = route.cost;
+  for (std::size_t j = 0; j < priced_jumps.size(); j += 2) {
+    priced += ends.bridge_jump_cost(priced_jumps[j], priced_jumps[j + 1]) -
+              (ends.jump_cost ? ends.jump_cost(priced_jumps[j], priced_jumps[j + 1]) : 0.0);
   }
   return bridge.cost < priced ? bridge : route;
 }
@@ -504,13 +513,24 @@ double pose_distance(const PoseRotations& a, const PoseRotations& b) {
   return sum / static_cast<double>(a.size());
 }
 
+namespace {
+
+// Sample s alone.
+MapWeights own_frame(int s) {
+  MapWeights w;
+  w.samples = {s};
+  w.weights = {1.0};
+  return w;
+}
+
+}  // namespace
+
 const PoseRotations& SamplePoses::operator()(int sample) {
   auto it = m_poses.find(sample);
   if (it == m_poses.end()) {
-    it = m_poses
-             .emplace(sample,
-                      pose_rotations(m_blender, m_blender.pose_at(m_blender.sample_point(sample))))
-             .first;
+    m_blender.sample_point(sample);  // checks the sample
+    it =
+        m_poses.emplace(sample, pose_rotations(m_blender, m_blender.pose(own_frame(sample)))).first;
   }
   return it->second;
 }
@@ -519,9 +539,11 @@ void SamplePoses::prepare(std::vector<int> samples, const Control& control) {
   std::sort(samples.begin(), samples.end());
   samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
   std::erase_if(samples, [&](int s) { return m_poses.count(s) > 0; });
-  std::vector<Eigen::Vector2d> points;
-  for (const int s : samples) points.push_back(m_blender.sample_point(s));
-  const std::vector<MapWeights> weights = m_blender.locate(points);
+  std::vector<MapWeights> weights;
+  for (const int s : samples) {
+    m_blender.sample_point(s);  // checks the sample
+    weights.push_back(own_frame(s));
+  }
   m_blender.prefetch(weights);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     control.check();

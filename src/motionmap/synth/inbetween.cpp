@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
@@ -265,7 +266,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const bool clip_routes = options.route.mode == RouteMode::Clips;
   const std::vector<int> next = clip_routes ? next_samples(blender) : std::vector<int>{};
   const double sample_step = clip_routes ? median_sample_step(blender, next) : 1.0;
-  // How far apart two poses are (pose_distance): a sample's pose is blended at its point once.
+  // How far apart two poses are (pose_distance): a sample's own pose, read once.
   SamplePoses sample_pose(blender);
   std::vector<PoseRotations> key_rotations(static_cast<std::size_t>(K));
   for (int i = 0; i < K; ++i) {
@@ -281,14 +282,28 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
     }
     sample_pose.prepare(std::move(candidates), routing);
   }
+  // A route's jumps are priced by their poses; on a blender reading its clips on demand (a saved
+  // map's) only where it has at most options.priced_jump_samples, every one of whose poses is read
+  // first, each clip once. Beyond, pricing them would read a clip for almost every sample the
+  // search reaches (an in-between on a saved map of 100 000 frames did not end in 5 minutes): its
+  // jumps are priced by the map distance alone there; a bridge's one jump by its poses everywhere.
+  // Unpriced on the saved map of the 12 Bandai takes, the route from the tired walk's frame 178 to
+  // the feminine walk's 223 jumped between their steps at two phases, and the swinging foot
+  // dragged forward 0–6 cm above the floor.
+  const bool price_jumps =
+      !blender.reads_on_demand() ||
+      samples.clip_of.size() <= static_cast<std::size_t>(std::max(0, options.priced_jump_samples));
+  if (clip_routes && price_jumps && blender.reads_on_demand()) {
+    std::vector<int> all(samples.clip_of.size());
+    std::iota(all.begin(), all.end(), 0);
+    sample_pose.prepare(std::move(all), routing);
+  }
   const auto pose_cost = [&](int key) {
     return [&, key](int s) { return pose_distance(key_rotations[key], sample_pose(s)); };
   };
   // A jump back into its own clip by less than kLoopSeconds plays the clip backwards: a chain of
   // them moonwalked a walk towards a bow's key. Not a jump a route may take (a jump back a whole
-  // gait cycle or more loops the clip). On a blender reading its clips on demand (a saved map's)
-  // pricing the poses would read a clip for almost every sample the search reaches: its jumps
-  // are priced by the map distance alone there; a bridge's one jump by its poses everywhere.
+  // gait cycle or more loops the clip).
   const auto backwards = [&](int from, int to) {
     const int back = samples.frame_of[from] - samples.frame_of[to];
     return samples.clip_of[from] == samples.clip_of[to] && back >= 0 &&
@@ -297,7 +312,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   constexpr double kNever = std::numeric_limits<double>::infinity();
   const auto jump_cost = [&](int from, int to) {
     if (backwards(from, to)) return kNever;
-    return blender.reads_on_demand() ? 0.0 : pose_distance(sample_pose(from), sample_pose(to));
+    return price_jumps ? pose_distance(sample_pose(from), sample_pose(to)) : 0.0;
   };
   const auto bridge_jump_cost = [&](int from, int to) {
     return backwards(from, to) ? kNever : pose_distance(sample_pose(from), sample_pose(to));
@@ -449,6 +464,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       ends.candidates = kKeyCandidates;
       ends.jump_cost = jump_cost;
       ends.bridge_jump_cost = bridge_jump_cost;
+      ends.read_poses = [&](std::vector<int> s) { sample_pose.prepare(std::move(s), routing); };
       if (keys[i].has_pose()) ends.start_cost = pose_cost(i);
       if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(i + 1);
       // The cheapest of the route played at a few uniform rates (a walk of another cadence

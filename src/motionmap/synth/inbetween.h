@@ -54,7 +54,8 @@
 // samples are of one clip, the later one later in it, takes that clip's own time between them
 // where that is 0.7–1.4 times the time above (the clip plays between them as captured); one
 // between keys whose nearest samples are of two clips takes at least kJumpFadeSeconds (its jump's
-// crossfade).
+// crossfade), and where both clips have a gait phase (MapBlender::gait_phase), the time nearest
+// that at which the later key's phase comes round.
 #include <optional>
 #include <span>
 #include <string>
@@ -72,6 +73,9 @@ namespace motionmap::synth {
 
 /// Most frames between two keys that frames_between may ask for.
 inline constexpr int kMaxFramesBetween = 100000;
+/// Most samples of a map read on demand (a saved map's) whose clip routes' jumps are priced by
+/// their poses, as a map given its clips prices them (docs/synthesis.md, "The clip route").
+inline constexpr int kPricedJumpSamples = 20000;
 
 struct Key {
   /// Where the key lies on the map.
@@ -102,6 +106,10 @@ struct InbetweenOptions {
   /// which the root would otherwise glide. Untimed, keys whose nearest samples are of two
   /// clips then take their route's own time (at least kJumpFadeSeconds on a clip route).
   bool free_roots = false;
+  /// On a blender reading its clips on demand (a saved map's), a clip route's jumps are priced by
+  /// their poses, every sample's read first, where it has at most this many samples; on a larger
+  /// one by their map distance alone (a bridge's one jump by its poses).
+  int priced_jump_samples = kPricedJumpSamples;
 
   /// @throws ParameterError naming `frames_between` or `grid`, the value and the valid range.
   void validate() const;

@@ -217,28 +217,6 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   // The bridge: the cheapest start and end, each clip played towards the middle, one jump there.
   ClipRoute bridge;
   bridge.cost = kInf;
-  // The cost of the bridge's middle step: a jump, priced as the search's are from the next
-  // sample's place, unless the two halves meet in one clip (a hold, a step or a skip there).
-  // The samples whose poses bridge_jump_cost reads then, with `more` (pairs it reads next), are
-  // first given to ends.read_poses.
-  const auto bridge_middle = [&](const ClipRoute& r, std::vector<int> more) {
-    const int from = r.samples[static_cast<std::size_t>(steps / 2)];
-    const int to = r.samples[static_cast<std::size_t>(steps / 2) + 1];
-    const StepKind kind = step_kind(next, from, to);
-    if (kind == StepKind::Jump) more.insert(more.end(), {jump_place(next, from), to});
-    if (ends.read_poses && !more.empty()) ends.read_poses(std::move(more));
-    switch (kind) {
-      case StepKind::Hold:
-        return costs.hold;
-      case StepKind::Skip:
-        return costs.skip;
-      case StepKind::Jump:
-        return costs.jump + ends.bridge_jump_cost(jump_place(next, from), to);
-      case StepKind::Next:
-        break;
-    }
-    return 0.0;  // a step to the next sample
-  };
   if (ends.bridge_jump_cost && !b_ends.empty()) {
     const auto first = std::min_element(path[0].costs.begin(), path[0].costs.end());
     const auto end =
@@ -263,6 +241,24 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
       else if (t > middle + 1)
         ++held;
     }
+    // The middle: a jump, priced as the search's are from the next sample's place, unless the
+    // two halves meet in one clip (a hold, a step or a skip there).
+    const int from = bridge.samples[static_cast<std::size_t>(middle)];
+    const int to = bridge.samples[static_cast<std::size_t>(middle) + 1];
+    double jump = 0.0;  // a step to the next sample
+    switch (step_kind(next, from, to)) {
+      case StepKind::Hold:
+        jump = costs.hold;
+        break;
+      case StepKind::Skip:
+        jump = costs.skip;
+        break;
+      case StepKind::Jump:
+        jump = costs.jump + ends.bridge_jump_cost(jump_place(next, from), to);
+        break;
+      case StepKind::Next:
+        break;
+    }
     bridge.cost = *first + held * costs.hold + end->second;
     for (int t = 1; ends.step_cost && t <= steps; ++t)
       bridge.cost += ends.step_cost(t, bridge.samples[static_cast<std::size_t>(t)]);
@@ -270,10 +266,10 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     // kForbiddenBridge so that any other route (at another rate) costs less.
     if (std::none_of(last.samples.begin(), last.samples.end(),
                      [&](int x) { return std::isfinite(end_cost[static_cast<std::size_t>(x)]); })) {
-      const double jump = bridge_middle(bridge, {});
       bridge.cost += std::isfinite(jump) ? jump : kForbiddenBridge;
       return bridge;
     }
+    bridge.cost += jump;
   }
   int at = -1;
   double cheapest = kInf;
@@ -302,18 +298,13 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   // Against the bridge, the route's jumps are priced as the bridge's is (where jump_cost prices
   // them otherwise: a saved map's, by their map distance alone, chained a walk into a dash
   // through poses 70 cm apart).
-  std::vector<int> priced_jumps;  // per jump of the route: the next sample's place, the sample
+  double priced = route.cost;
   for (int t = 1; t <= steps; ++t) {
     const int from = route.samples[static_cast<std::size_t>(t) - 1];
     const int to = route.samples[static_cast<std::size_t>(t)];
     if (step_kind(next, from, to) != StepKind::Jump) continue;
-    priced_jumps.insert(priced_jumps.end(), {jump_place(next, from), to});
-  }
-  bridge.cost += bridge_middle(bridge, priced_jumps);
-  double priced = route.cost;
-  for (std::size_t j = 0; j < priced_jumps.size(); j += 2) {
-    priced += ends.bridge_jump_cost(priced_jumps[j], priced_jumps[j + 1]) -
-              (ends.jump_cost ? ends.jump_cost(priced_jumps[j], priced_jumps[j + 1]) : 0.0);
+    const int place = jump_place(next, from);
+    priced += ends.bridge_jump_cost(place, to) - (ends.jump_cost ? ends.jump_cost(place, to) : 0.0);
   }
   return bridge.cost < priced ? bridge : route;
 }

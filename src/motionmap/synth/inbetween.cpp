@@ -464,7 +464,6 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       ends.candidates = kKeyCandidates;
       ends.jump_cost = jump_cost;
       ends.bridge_jump_cost = bridge_jump_cost;
-      ends.read_poses = [&](std::vector<int> s) { sample_pose.prepare(std::move(s), routing); };
       if (keys[i].has_pose()) ends.start_cost = pose_cost(i);
       if (keys[i + 1].has_pose()) ends.end_cost = pose_cost(i + 1);
       // The cheapest of the route played at a few uniform rates (a walk of another cadence

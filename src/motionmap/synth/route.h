@@ -247,10 +247,6 @@ struct ClipRouteEnds {
   /// while the root glided on to a walk's key 1.5 m away; a dash's key to a bow's, the cheapest
   /// chain of jumps played a walk backwards.
   std::function<double(int, int)> bridge_jump_cost;
-  /// Non-null: given the samples bridge_jump_cost is about to read, all together, before it
-  /// does (a blender reading its clips on demand reads each clip they need once: one at a time,
-  /// the bridge of an in-between on a saved map of 100 000 frames read 545 clips).
-  std::function<void(std::vector<int>)> read_poses;
 };
 struct ClipRoute {
   std::vector<int> samples;  ///< steps + 1 samples
@@ -308,8 +304,9 @@ double pose_distance(const PoseRotations& a, const PoseRotations& b);
 
 /// Samples' own poses (their clips' frames) as routes compare them, each read once when first
 /// asked for: only its own clip, where the blend at its point, equal to it on maps whose blend
-/// is exact at samples, reads its neighbours' too (an in-between's bridge on a saved map of
-/// 100 000 frames read 445 clips for a few jumps' poses, 5.8 s). Not thread-safe.
+/// is exact at samples, reads its neighbours' too (an in-between on a saved map of 100 000
+/// frames, whose 8 clips kept could not hold them, read 545 clips for a few jumps' poses, 5.9 s).
+/// Not thread-safe.
 class SamplePoses {
  public:
   explicit SamplePoses(const MapBlender& blender) : m_blender(blender) {}

@@ -480,7 +480,7 @@ std::vector<PyKey> keys_from_python(const py::sequence& keys, const std::string&
       if (!py::isinstance<Clip>(first)) {
         const std::string path = os.attr("fspath")(first).cast<std::string>();
         std::error_code ec;
-        if (!std::filesystem::exists(path, ec)) {
+        if (!std::filesystem::is_regular_file(path, ec)) {  // as the CLI's --keys
           try {
             one[0] = py::str(mapfile::map_clip_named(map_clips, path));
           } catch (const ParameterError& e) {

@@ -83,6 +83,11 @@ def test_a_key_may_name_a_clip_of_the_map(golf, tmp_path):
     with pytest.raises(motionmap.Error, match=r"keys\[0\]: no such clip file 'elsewhere.bvh', and "
                                               r"no clip of the map is named so \(its clip: 64_08.bvh\)"):
         motionmap.inbetween(est, [("elsewhere.bvh", 41), (golf, 200)])
+    # A folder is no clip file: looked for among the map's clips by name, as the CLI does.
+    folder = os.path.dirname(golf)
+    with pytest.raises(motionmap.Error, match=r"keys\[0\]: no such clip file '.*', and no clip of "
+                                              r"the map is named so"):
+        motionmap.inbetween(est, [(folder, 41), (golf, 200)])
 
 
 def test_bad_keys(golf, other):

@@ -703,10 +703,9 @@ TEST_F(SynthInbetweenBandaiLibrary, UntimedKeysOfTwoClipsTakeAtLeastTheJumpsCros
 TEST_F(SynthInbetweenBandaiLibrary, UntimedKeysOfTwoGaitsTakeTheTimeTheirPhasesAreApart) {
   // The tired walk's frame 178 to the feminine walk's frame 223, untimed, free roots: both keys
   // stand at one phase of their gait (the left foot down, the right about to strike), so a step
-  // cycle lies between them. Timed by their route and the jump's crossfade alone (0.7 s) the route
-  // jumped from late in the tired walk's step to the middle of the feminine walk's, and the
-  // standing foot slid. Untimed keys of two gaits take the time their phases are apart, in whole
-  // cycles more, nearest that.
+  // cycle lies between them. Timed by their route and the jump's crossfade alone (0.7 s, half a
+  // cycle) the standing foot slid. Untimed keys of two gaits take the time their phases are
+  // apart, in whole cycles more, nearest that.
   const Library& L = *lib;
   const int from = index("walk_tired"), to = index("walk_feminine");
   const std::vector<Key> keys{L.key(from, 178), L.key(to, 223)};

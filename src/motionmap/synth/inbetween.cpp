@@ -386,10 +386,10 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // the times at which the later key's phase comes round, (Δφ + k) / cadence for whole k ≥ 0
   // (Δφ the phases' difference in [0, 1), the cadence the two samples' mean), the one nearest
   // `duration` not under `least`; `duration` where either has no phase. Two walks' keys at one
-  // phase, 0.73 s apart by their route and the jump's crossfade, were joined by half a step: the
-  // route jumped from late in one take's step to the middle of the other's, and the standing foot
-  // slid (the tired walk's frame 178 to the feminine walk's 223, free roots: 0.62 of the
-  // transitions and 100 cm/s in contact, against the walks' 0.41 and 58).
+  // phase, 0.7 s apart by their route and the jump's crossfade, were joined by half a step and
+  // the standing foot slid (the tired walk's frame 178 to the feminine walk's 223, free roots,
+  // 20 frames between: 0.62 of the transitions and 74 cm/s in contact, against the walks' 0.41
+  // and 58; untimed now 1.3 s, 0.40 and 66).
   const auto in_step = [&](int i, double duration, double least) {
     double ca = 0.0, cb = 0.0;
     const double pa = blender.gait_phase(nearest[i], &ca);

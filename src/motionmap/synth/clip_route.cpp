@@ -519,7 +519,6 @@ MapWeights own_frame(int s) {
 const PoseRotations& SamplePoses::operator()(int sample) {
   auto it = m_poses.find(sample);
   if (it == m_poses.end()) {
-    m_blender.sample_point(sample);  // checks the sample
     it =
         m_poses.emplace(sample, pose_rotations(m_blender, m_blender.pose(own_frame(sample)))).first;
   }
@@ -531,10 +530,7 @@ void SamplePoses::prepare(std::vector<int> samples, const Control& control) {
   samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
   std::erase_if(samples, [&](int s) { return m_poses.count(s) > 0; });
   std::vector<MapWeights> weights;
-  for (const int s : samples) {
-    m_blender.sample_point(s);  // checks the sample
-    weights.push_back(own_frame(s));
-  }
+  for (const int s : samples) weights.push_back(own_frame(s));
   m_blender.prefetch(weights);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     control.check();

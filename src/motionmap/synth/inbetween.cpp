@@ -272,16 +272,6 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   for (int i = 0; i < K; ++i) {
     if (keys[i].has_pose()) key_rotations[i] = pose_rotations(blender, key_poses[i]);
   }
-  if (clip_routes) {
-    // The poses of the samples a route may start or end on, blended together.
-    std::vector<int> candidates, near;
-    for (int i = 0; i < K; ++i) {
-      if (!keys[i].has_pose()) continue;
-      const int k = field.nearest(keys[i].point, kKeyCandidates, near);
-      candidates.insert(candidates.end(), near.begin(), near.begin() + k);
-    }
-    sample_pose.prepare(std::move(candidates), routing);
-  }
   // A route's jumps are priced by their poses; on a blender reading its clips on demand (a saved
   // map's) only where it has at most options.priced_jump_samples, every one of whose poses is read
   // first, each clip once. Beyond, pricing them would read a clip for almost every sample the
@@ -293,10 +283,22 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   const bool price_jumps =
       !blender.reads_on_demand() ||
       samples.clip_of.size() <= static_cast<std::size_t>(std::max(0, options.priced_jump_samples));
-  if (clip_routes && price_jumps && blender.reads_on_demand()) {
-    std::vector<int> all(samples.clip_of.size());
-    std::iota(all.begin(), all.end(), 0);
-    sample_pose.prepare(std::move(all), routing);
+  if (clip_routes) {
+    // The poses of the samples a route may start or end on, read together; on a blender reading
+    // its clips on demand whose jumps are priced, every sample's (those among them).
+    std::vector<int> read;
+    if (price_jumps && blender.reads_on_demand()) {
+      read.resize(samples.clip_of.size());
+      std::iota(read.begin(), read.end(), 0);
+    } else {
+      std::vector<int> near;
+      for (int i = 0; i < K; ++i) {
+        if (!keys[i].has_pose()) continue;
+        const int k = field.nearest(keys[i].point, kKeyCandidates, near);
+        read.insert(read.end(), near.begin(), near.begin() + k);
+      }
+    }
+    sample_pose.prepare(std::move(read), routing);
   }
   const auto pose_cost = [&](int key) {
     return [&, key](int s) { return pose_distance(key_rotations[key], sample_pose(s)); };

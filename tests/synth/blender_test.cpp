@@ -592,9 +592,8 @@ TEST(SynthBlender, WeightsMoveInTheirClipsByTime) {
   const MapWeights far = blender.later_in_clip(w, 100.0);  // each clip's last sample
   EXPECT_EQ(far.samples, (std::vector<int>{9, 14}));
   EXPECT_EQ(blender.later_in_clip(w, 0.0).weights, w.weights);
-  EXPECT_EQ(motionmap::test::error_message<ParameterError>([&] {
-              blender.later_in_clip(MapWeights{{15}, {1.0}, {}}, dt);
-            }),
+  EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                [&] { blender.later_in_clip(MapWeights::of_sample(15), dt); }),
             "later_in_clip: sample 15 of a map of 15");
   EXPECT_EQ(motionmap::test::error_message<ParameterError>(
                 [&] { blender.later_in_clip(w, std::nan("")); }),

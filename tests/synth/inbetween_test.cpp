@@ -312,6 +312,13 @@ TEST(SynthInbetween, BadKeysAndOptions) {
               inbetween(s.blender, s.set, std::vector<Key>{s.key(1), s.key(5)}, between(-2));
             }),
             "frames_between: -2 is out of range (must be in [0, 100000], or −1 = not given)");
+  InbetweenOptions unpriced;
+  unpriced.priced_jump_samples = -1;
+  EXPECT_EQ(parameter_message([&] {
+              inbetween(s.blender, s.set, std::vector<Key>{s.key(1), s.key(5)}, unpriced);
+            }),
+            "priced_jump_samples: -1 is negative (must be ≥ 0: 0 prices every jump by its map "
+            "distance)");
   Key wrong = s.key(5);
   wrong.pose.resize(1, 3);
   EXPECT_EQ(parameter_message([&] {

@@ -144,10 +144,8 @@ void held_out(const RealMap& map, const Clip& other, const char* label) {
       const ReachResult r = map.reacher->reach(goal);
       double best_sample = std::numeric_limits<double>::infinity();
       for (int i = 0; i < blender.num_samples(); ++i) {
-        MapWeights w;
-        w.samples = {i};
-        w.weights = {1.0};
-        forward_kinematics(blender.skeleton(), blender.pose(w, goal.placement).pose(0), world);
+        forward_kinematics(blender.skeleton(),
+                           blender.pose(MapWeights::of_sample(i), goal.placement).pose(0), world);
         best_sample = std::min(best_sample, (world.positions[std::size_t(j)] - goal.target).norm());
       }
       EXPECT_LE(r.error, best_sample + 1e-6 * r.height) << "frame " << f << " joint " << j;
@@ -230,10 +228,8 @@ TEST(SynthReach, UnreachableTargetGivesTheBestValidPoint) {
   // The hand is as high as the map's poses hold it: no sample's own pose gets it higher.
   double highest = -std::numeric_limits<double>::infinity();
   for (int i = 0; i < map.blender->num_samples(); ++i) {
-    MapWeights w;
-    w.samples = {i};
-    w.weights = {1.0};
-    highest = std::max(highest, forward_kinematics(map.blender->skeleton(), map.blender->pose(w), 0)
+    const Motion pose = map.blender->pose(MapWeights::of_sample(i));
+    highest = std::max(highest, forward_kinematics(map.blender->skeleton(), pose, 0)
                                     .positions[std::size_t(goal.joint)]
                                     .y());
   }

@@ -118,7 +118,7 @@ TEST(SynthSynthesize, GivenWeightsMakeTheMotionThePathsLocatedWeightsMake) {
             }).find("frame 0's weights"),
             std::string::npos);
   EXPECT_NE(parameter_message([&] {
-              synthesize(blender, std::vector<MapWeights>{MapWeights{{100000}, {1.0}, {}}});
+              synthesize(blender, std::vector<MapWeights>{MapWeights::of_sample(100000)});
             }).find("frame 0's weights"),
             std::string::npos);
 }
@@ -289,7 +289,7 @@ TEST(SynthSynthesize, AGaitStallsWhereItsPaceDropsAsThePathMovesOn) {
   for (int k = 0; k < 8; ++k) points.emplace_back(map(0, 0) + k * step, map(0, 1));
   const double far = 2.0 * kFollowNear * blender.median_step();
   const double near = 0.5 * kFollowNear * blender.median_step();
-  std::vector<MapWeights> located(points.size(), MapWeights{{0}, {1.0}, {}});
+  std::vector<MapWeights> located(points.size(), MapWeights::of_sample(0));
   const auto frame = [&](std::size_t k, double pace, double distance) {
     located[k].pace = pace;
     located[k].validity.distance = distance;

@@ -217,6 +217,14 @@ struct MapWeights {
   /// its phase: its sources' own lead phase, against their cadence; 1 elsewhere
   /// (detail::lead_pace). A low one, while the path moves on, is a stall (detail/outside_route.h).
   double lead_pace = 1.0;
+
+  /// Sample `s` alone, weight 1: its own captured frame.
+  static MapWeights of_sample(int s) {
+    MapWeights w;
+    w.samples = {s};
+    w.weights = {1.0};
+    return w;
+  }
 };
 
 /// Where a one-frame pose's motion root stands on the floor: its heading (yaw about the up axis,

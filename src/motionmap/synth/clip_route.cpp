@@ -469,12 +469,9 @@ MapWeights clip_route_weights(const MapBlender& blender, std::span<const int> ne
   // The frame's map point: where its samples' are, weighted alike.
   const Eigen::Vector2d point = (1.0 - f) * blender.sample_point(a) + f * blender.sample_point(b);
   const int nearest = f < 0.5 ? a : b;
-  MapWeights out;
+  MapWeights out = MapWeights::of_sample(nearest);
   out.pace = pace;
-  if (a == b || f <= 0.0 || f >= 1.0) {
-    out.samples = {nearest};
-    out.weights = {1.0};
-  } else {
+  if (a != b && f > 0.0 && f < 1.0) {
     double wa = 1.0 - f, wb = f;
     if (b < a) {
       std::swap(a, b);
@@ -504,23 +501,13 @@ double pose_distance(const PoseRotations& a, const PoseRotations& b) {
   return sum / static_cast<double>(a.size());
 }
 
-namespace {
-
-// Sample s alone.
-MapWeights own_frame(int s) {
-  MapWeights w;
-  w.samples = {s};
-  w.weights = {1.0};
-  return w;
-}
-
-}  // namespace
-
 const PoseRotations& SamplePoses::operator()(int sample) {
   auto it = m_poses.find(sample);
   if (it == m_poses.end()) {
-    it =
-        m_poses.emplace(sample, pose_rotations(m_blender, m_blender.pose(own_frame(sample)))).first;
+    it = m_poses
+             .emplace(sample,
+                      pose_rotations(m_blender, m_blender.pose(MapWeights::of_sample(sample))))
+             .first;
   }
   return it->second;
 }
@@ -530,7 +517,7 @@ void SamplePoses::prepare(std::vector<int> samples, const Control& control) {
   samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
   std::erase_if(samples, [&](int s) { return m_poses.count(s) > 0; });
   std::vector<MapWeights> weights;
-  for (const int s : samples) weights.push_back(own_frame(s));
+  for (const int s : samples) weights.push_back(MapWeights::of_sample(s));
   m_blender.prefetch(weights);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     control.check();

@@ -146,6 +146,10 @@ void InbetweenOptions::validate() const {
                          " is out of range (must be in [0, " + std::to_string(kMaxFramesBetween) +
                          "], or −1 = not given)");
   }
+  if (priced_jump_samples < 0) {
+    throw ParameterError("priced_jump_samples: " + std::to_string(priced_jump_samples) +
+                         " is negative (must be ≥ 0: 0 prices every jump by its map distance)");
+  }
   route.validate();
 }
 
@@ -282,7 +286,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // dragged forward 0–6 cm above the floor.
   const bool price_jumps =
       !blender.reads_on_demand() ||
-      samples.clip_of.size() <= static_cast<std::size_t>(std::max(0, options.priced_jump_samples));
+      samples.clip_of.size() <= static_cast<std::size_t>(options.priced_jump_samples);
   if (clip_routes) {
     // The poses of the samples a route may start or end on, read together; on a blender reading
     // its clips on demand whose jumps are priced, every sample's (those among them).
@@ -367,10 +371,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
         while (consecutive(samples, from - 1) && frame - samples.frame_of[from - 1] <= span) --from;
         while (consecutive(samples, to) && samples.frame_of[to + 1] - frame <= span) ++to;
         for (int j = from; j <= to; ++j) {
-          MapWeights one;
-          one.samples = {j};
-          one.weights = {1.0};
-          speed += blender.blend(one).velocity.norm();
+          speed += blender.blend(MapWeights::of_sample(j)).velocity.norm();
           ++count;
         }
       }

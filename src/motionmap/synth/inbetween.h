@@ -111,7 +111,8 @@ struct InbetweenOptions {
   /// one by their map distance alone (a bridge's one jump by its poses).
   int priced_jump_samples = kPricedJumpSamples;
 
-  /// @throws ParameterError naming `frames_between` or `grid`, the value and the valid range.
+  /// @throws ParameterError naming `frames_between`, `priced_jump_samples` or `grid`, the value
+  /// and the valid range.
   void validate() const;
 };
 

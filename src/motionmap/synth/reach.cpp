@@ -240,11 +240,9 @@ Reacher::Reacher(const MapBlender& blender, const Control& control) : m(std::mak
   const Control setup = control.stage("reach set-up", 0.0, 1.0);
   for (int begin = 0; begin < count; begin += kSetupChunk) {
     const int end = std::min(count, begin + kSetupChunk);
-    std::vector<MapWeights> weights(std::size_t(end - begin));
-    for (int k = begin; k < end; ++k) {
-      weights[std::size_t(k - begin)].samples = {m->candidates[std::size_t(k)]};
-      weights[std::size_t(k - begin)].weights = {1.0};
-    }
+    std::vector<MapWeights> weights;
+    for (int k = begin; k < end; ++k)
+      weights.push_back(MapWeights::of_sample(m->candidates[std::size_t(k)]));
     if (blender.reads_on_demand()) blender.prefetch(weights);
     parallel_for(end - begin, [&](int k) {
       const Motion pose = blender.pose(weights[std::size_t(k)]);
@@ -315,9 +313,7 @@ ReachResult Reacher::reach(const ReachGoal& goal, const ReachOptions& options,
   // The placed frame is the pose's frame turned and moved with its motion root: T = W_placed ·
   // W_pose⁻¹ at the motion root, the same for every pose (the joints above it are constant).
   const int root = blender.motion_root();
-  MapWeights first;
-  first.samples = {m->candidates.front()};
-  first.weights = {1.0};
+  const MapWeights first = MapWeights::of_sample(m->candidates.front());
   WorldPose world;
   forward_kinematics(skeleton, blender.pose(first).pose(0), world);
   const Eigen::Isometry3d unplaced = joint_transform(world, root);

@@ -18,9 +18,11 @@ judged against its keys' clips over as many frames as it has, from the first key
 and up to the second key in its clip (a clip shorter than that: all of it), measured the same
 way. Printed: per pair the figures, the notes it printed (glide: the keys stand further apart
 than the clips walk in the time, or the clips carry the root elsewhere and it glides, or leave
-the body facing away from the later key and it turns as it walks) and the skating of the
-captured frames about its keys (as many as the free-roots in-between has), then the counts, and
-how many in-betweens with a glide note skate no more than their clips, and the counts per timing.
+the body facing away from the later key and it turns as it walks; step: the time given is out of
+step with the keys' gait, the legs stepping over 1.5 times as fast or slow as the clips) and the
+skating of the captured frames about its keys (as many as the free-roots in-between has), then
+the counts, and how many in-betweens with a note skate no more than their clips, and the counts
+per timing.
 """
 import argparse
 import json
@@ -89,7 +91,7 @@ def main():
         length = {t: frames(mm, p) for t, p in paths.items()}
         bvh = {t: bvh_frames(p) for t, p in paths.items()}
         rng = random.Random(args.seed)
-        # Per kind (free roots or not): skating more with a glide note, without; not skating
+        # Per kind (free roots or not): skating more with a note, without; not skating
         # more, with one.
         counts = {False: [0, 0, 0], True: [0, 0, 0]}
         # Per kind: skating more than the clips and than their frames about the keys.
@@ -119,6 +121,7 @@ def main():
                 notes = run(cmd).stderr
                 glide = any(s in notes for s in ("apart (each where it stood", "glides that in",
                                                  "turns that in"))
+                step = "out of step" in notes
                 ratio, speed = skating(mm, out)
                 more = ratio > worst[0] + 0.02 or speed > worst[1] + 2.0
                 # The keys' clips over as many frames as the in-between has, after the first key
@@ -131,20 +134,20 @@ def main():
                     beyond[free] += 1
                     timing[3] += free
                 if more:
-                    counts[free][0 if glide else 1] += 1
+                    counts[free][0 if glide or step else 1] += 1
                     timing[2 if free else 1] += 1
-                elif glide:
+                elif glide or step:
                     counts[free][2] += 1
                 cells.append(f"{ratio:.3f}, {speed:.0f} cm/s{' more' if more else ''}"
-                             f"{' (glide)' if glide else ''}")
+                             f"{' (glide)' if glide else ''}{' (step)' if step else ''}")
             cells.append(", ".join(f"{r:.3f} {v:.0f} cm/s" for r, v in near))
             print(f"| {a}:{fa} → {b}:{fb} | {'untimed' if between is None else between} "
                   f"| {worst[0]:.3f}, {worst[1]:.0f} cm/s | {' | '.join(cells)} |")
         for free in (False, True):
             noted, silent, spared = counts[free]
             print(f"{'free roots' if free else 'roots at every key'}: {noted + silent} of "
-                  f"{args.pairs} skate more than their keys' clips, {noted} of them with a glide "
-                  f"note, {silent} without; {spared} with a glide note skate no more; "
+                  f"{args.pairs} skate more than their keys' clips, {noted} of them with a note, "
+                  f"{silent} without; {spared} with a note skate no more; "
                   f"{beyond[free]} skate more than the clips' frames about their keys too")
         print("skating more by timing (roots at every key, free roots, and in brackets free roots "
               "than the clips' frames about the keys too): " + "; ".join(

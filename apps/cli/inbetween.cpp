@@ -258,7 +258,8 @@ void setup_inbetween(CLI::App& app) {
                                       " s of a jump's crossfade, and of two gaits (walks, "
                                       "runs) the nearest time at which the later key's gait "
                                       "phase comes round; far fewer frames make the root "
-                                      "glide, with a note)")
+                                      "glide, or the legs step out of the gait's time, with a "
+                                      "note)")
                       ->check(CLI::Range(0, synth::kMaxFramesBetween));
   sub->add_option("--times", cmd->times,
                   "Seconds of each key, comma-separated, increasing (instead of @SECONDS on "

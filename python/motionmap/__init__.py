@@ -484,7 +484,8 @@ def inbetween(fitted, keys, times=None, *, frames_between=None, route="clips", g
     stands where the clips carry it (keys of takes captured in different places). Returns (Clip,
     route): the clip's warnings say what went wrong (frames outside the data; keys standing further
     apart than the clips walk in the time given, or the clips carrying the root elsewhere or
-    leaving it facing away, so that it glides or turns and the feet slide; feet not cleaned); route is a dict with "points" (#frames by 2:
+    leaving it facing away, so that it glides or turns and the feet slide; a time out of step
+    with the keys' gait, with the time in step; feet not cleaned); route is a dict with "points" (#frames by 2:
     each frame's map point), "key_frames", "routes" (per segment, the route polyline), "valid" (per
     frame) and "grid" (cells along x and y)."""
     fitted._check_fitted()

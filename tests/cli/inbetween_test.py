@@ -5,7 +5,7 @@ rows `convert` writes for them), the route CSV (one t,x,y row per frame, the key
 frames), a frame of a clip not in the map placed on it, the same on a saved map, keys naming a
 map's clips by the end of their paths, a note for keys
 further apart than the clips walk in the time given or where the root glides (none with
---free-roots), and clear errors for bad keys. The clips are
+--free-roots), a note for keys timed out of step with their gait, and clear errors for bad keys. The clips are
 the Bandai walks and runs in ../shared/data; skips without them.
 
 usage: inbetween_test.py MOTIONMAP_BINARY SHARED_DATA_DIR
@@ -165,6 +165,28 @@ def a_key_behind_the_other_glides_unless_the_roots_are_free():
     assert "glides" not in err, err
     last, want = motion_rows(out)[-1], converted(OLD)[100]
     assert close(last[12:], want[12:]) and not close(last[6:9], want[6:9]), (last[:12], want[:12])
+
+
+@test
+def keys_timed_out_of_step_with_their_gait_are_noted():
+    """The angry walk's frame 20 to the old walk's frame 101, free roots: the old walk's phase
+    comes round 0.57 s after the angry walk's, so 5 frames between ask the legs to step about 3
+    times as fast: a note says so, with the time in step; timed so, no note."""
+    if not have():
+        return
+    out = tmp("out_of_step.bvh")
+    keys = f"{data(ANGRY)}:20,{data(OLD)}:101"
+    code, _, err = inbetween("--keys", keys, "--frames-between", "5", "--free-roots", "-o", out)
+    assert code == 0, err
+    note = next((line for line in err.splitlines() if "out of step" in line), "")
+    assert note.startswith(f"note: key 1 ({data(ANGRY)}:20) to key 2 ({data(OLD)}:101): out of "
+                           "step, the later key's gait phase comes round "), err
+    assert " times as fast as the clips, and the feet slide; in step it takes " in note, note
+    in_step = note.split(" frames between the keys)")[0].rsplit("(", 1)[1]
+    code, _, err = inbetween("--keys", keys, "--frames-between", in_step, "--free-roots", "-o",
+                             out)
+    assert code == 0, err
+    assert "out of step" not in err, err
 
 
 @test

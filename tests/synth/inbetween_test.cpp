@@ -745,6 +745,27 @@ TEST_F(SynthInbetweenBandaiLibrary, UntimedKeysOfTwoGaitsTakeTheTimeTheirPhasesA
   EXPECT_LE(made.ratio, walks.ratio);
   EXPECT_LE(made.contact_speed_cm_s, 1.2 * walks.contact_speed_cm_s);
   EXPECT_GT(short_made.ratio, walks.ratio + 0.1);  // the cause is there
+  // Timed so, the in-between says it is out of step and how long it takes in step: the untimed
+  // one's time. Timed in step, or untimed, it says nothing of the step.
+  const auto step_notes = [](const InbetweenResult& result) {
+    std::vector<std::string> notes;
+    for (const std::string& note : result.notes)
+      if (note.find("out of step") != std::string::npos) notes.push_back(note);
+    return notes;
+  };
+  const std::vector<std::string> rushed_notes = step_notes(half);
+  ASSERT_EQ(rushed_notes.size(), 1u);
+  EXPECT_NE(rushed_notes[0].find("in step it takes 1.33 s (" + std::to_string(r.key_frames[1] - 1) +
+                                 " frames between the keys)"),
+            std::string::npos)
+      << rushed_notes[0];
+  EXPECT_NE(rushed_notes[0].find(" or 1.9 times as fast as the clips, and the feet slide"),
+            std::string::npos)
+      << rushed_notes[0];
+  EXPECT_TRUE(step_notes(r).empty());
+  InbetweenOptions in_step = rushed;
+  in_step.frames_between = static_cast<int>(r.key_frames[1] - 1);
+  EXPECT_TRUE(step_notes(inbetween(*L.blender, *L.map.features, keys, in_step)).empty());
 }
 
 // The library's clips, read on demand as a saved map's are.

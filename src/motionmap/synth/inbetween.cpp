@@ -44,6 +44,10 @@ constexpr double kLoopSeconds = 1.0;
 // A segment whose root must cover its keys' distance faster than this many times the clips' own
 // speed about its keys (at least kStandingSpeed) gets a note (see inbetween(), after the routes).
 constexpr double kGlideNoteFactor = 1.5;
+// A timed segment between keys of gaits whose legs must step more than this many times as fast
+// as the clips' cadence (or less than its inverse) to meet the later key's phase in its time gets
+// a note (see inbetween(), after the routes).
+constexpr double kStepNoteFactor = 1.5;
 // Between two keys with poses, a root gliding (the keys' placement less where the clips played
 // carry it, over the time) faster than this share of the clips' own speed there, and than
 // kGlideNoteFactor × kStandingSpeed, gets a note (see inbetween(), after the root's placement).
@@ -393,13 +397,22 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // the standing foot slid (the tired walk's frame 178 to the feminine walk's 223, free roots,
   // 20 frames between: 0.62 of the transitions and 74 cm/s in contact, against the walks' 0.41
   // and 58; untimed now 1.3 s, 0.40 and 66).
-  const auto in_step = [&](int i, double duration, double least) {
+  struct GaitGap {
+    double ahead = 0.0, cycle = 0.0;  // Δφ / cadence and 1 / cadence, seconds
+  };
+  const auto gait_gap = [&](int i) -> std::optional<GaitGap> {
+    if (nearest[i] < 0 || nearest[i + 1] < 0) return std::nullopt;
     double ca = 0.0, cb = 0.0;
     const double pa = blender.gait_phase(nearest[i], &ca);
     const double pb = blender.gait_phase(nearest[i + 1], &cb);
-    if (!std::isfinite(pa) || !std::isfinite(pb) || !(ca > 0.0) || !(cb > 0.0)) return duration;
+    if (!std::isfinite(pa) || !std::isfinite(pb) || !(ca > 0.0) || !(cb > 0.0)) return std::nullopt;
     const double cycle = 2.0 / (ca + cb);
-    const double ahead = (pb - pa - std::floor(pb - pa)) * cycle;
+    return GaitGap{(pb - pa - std::floor(pb - pa)) * cycle, cycle};
+  };
+  const auto in_step = [&](int i, double duration, double least) {
+    const std::optional<GaitGap> gap = gait_gap(i);
+    if (!gap) return duration;
+    const auto [ahead, cycle] = *gap;
     // The first time not under `least`, then the next cycle's if that is nearer `duration`.
     const double first = ahead + std::max(0.0, std::ceil((least - ahead) / cycle)) * cycle;
     const double later = first + std::floor(std::max(0.0, duration - first) / cycle) * cycle;
@@ -541,6 +554,38 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       note += " where the clips there stand: the body glides, its feet sliding";
     }
     result.notes.push_back(std::move(note));
+  }
+  // A timed segment between keys of gaits (both phases known) whose time is out of step with
+  // them: the legs must step much faster or slower than the clips to meet the later key's phase
+  // in it, and the feet slide. Said, with the nearest time in step (as untimed keys take it).
+  if (timed || options.frames_between >= 0) {
+    for (int i = 0; i + 1 < K; ++i) {
+      const std::optional<GaitGap> gap = gait_gap(i);
+      if (!keys[i].has_pose() || !keys[i + 1].has_pose() || !gap) continue;
+      const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
+      // The times about `seconds` at which the later key's phase comes round: the legs step
+      // `slower` or `faster` times as fast as the clips to meet it (slower 0: none before).
+      const double first = in_step(i, 0.0, dt);
+      const double before =
+          first > seconds ? 0.0 : first + std::floor((seconds - first) / gap->cycle) * gap->cycle;
+      const double slower = before / seconds;
+      const double faster = (before > 0.0 ? before + gap->cycle : first) / seconds;
+      if (faster <= kStepNoteFactor || slower >= 1.0 / kStepNoteFactor) continue;
+      // The time in step offered: as untimed keys take it (after a jump's crossfade, when the
+      // keys are of two clips, and the time to walk their distance).
+      const double least = clip_near(i) != clip_near(i + 1) ? kJumpFadeSeconds : dt;
+      const double step = in_step(i, seconds, std::max(least, walking_time(i)));
+      const double frames = std::max(1.0, std::round(step / dt));
+      result.notes.push_back(
+          name(i) + " to " + name(i + 1) +
+          ": out of step, the later key's gait phase comes round " + format_number(first, 3) +
+          " s after the first's and every " + format_number(gap->cycle, 3) + " s more; in " +
+          format_number(seconds, 3) + " s the legs step " +
+          (slower > 0.0 ? format_number(slower, 2) + " or " : "") + format_number(faster, 2) +
+          " times as fast as the clips, and the feet slide; in step it takes " +
+          format_number(frames * dt, 3) + " s (" + format_number(frames - 1.0) +
+          " frames between the keys)");
+    }
   }
 
   // The map point of every frame: equal steps of the samples' time along each route. On a clip

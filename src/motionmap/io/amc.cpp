@@ -189,10 +189,15 @@ Motion parse_amc(std::string_view text, const AsfSkeleton& asf, double fps,
 }
 
 Clip load_asf_amc(const std::string& asf_path, const std::string& amc_path, double fps) {
+  return load_asf_amc_text(asf_path, amc_path, read_text_file(amc_path), fps);
+}
+
+Clip load_asf_amc_text(const std::string& asf_path, const std::string& amc_path,
+                       std::string_view amc_text, double fps) {
   AsfSkeleton asf = read_asf(asf_path);
   Clip clip;
   clip.path = amc_path;
-  clip.motion = parse_amc(read_text_file(amc_path), asf, fps, amc_path);
+  clip.motion = parse_amc(amc_text, asf, fps, amc_path);
   clip.skeleton = asf_to_skeleton(asf);
   clip.warnings = std::move(asf.warnings);
   return clip;

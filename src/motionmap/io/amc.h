@@ -32,5 +32,8 @@ Motion parse_amc(std::string_view text, const AsfSkeleton& asf, double fps = 120
 /// Reads both files into a Clip (path = the AMC's, warnings = the ASF's).
 /// @throws Error (unreadable file, bad fps) / ParseError (malformed file).
 Clip load_asf_amc(const std::string& asf_path, const std::string& amc_path, double fps = 120.0);
+/// The same with the AMC's content given as `amc_text` (the ASF is read from `asf_path`).
+Clip load_asf_amc_text(const std::string& asf_path, const std::string& amc_path,
+                       std::string_view amc_text, double fps = 120.0);
 
 }  // namespace motionmap::io

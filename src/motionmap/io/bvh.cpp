@@ -790,7 +790,11 @@ BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion) {
 }
 
 Clip load_bvh(const std::string& path) {
-  BvhDocument doc = read_bvh(path);
+  return load_bvh_text(read_text_file(path), path);
+}
+
+Clip load_bvh_text(std::string_view text, const std::string& path) {
+  BvhDocument doc = parse_bvh(text, path);
   Clip clip;
   clip.path = path;
   clip.motion = to_motion(doc);

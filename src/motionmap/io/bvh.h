@@ -114,5 +114,7 @@ BvhDocument from_motion(const Skeleton& skeleton, const Motion& motion);
 
 /// read_bvh + to_motion, as a Clip carrying the document's warnings.
 Clip load_bvh(const std::string& path);
+/// The same of `text`, the content of the file at `path` (named in errors and the Clip).
+Clip load_bvh_text(std::string_view text, const std::string& path);
 
 }  // namespace motionmap::io

@@ -40,17 +40,20 @@ std::string find_asf_for(const std::string& amc_path) {
               std::to_string(found.size()) + " .asf files beside it); pass it explicitly (--asf)");
 }
 
-// The clip in `path`, as its format's loader produced it (with the fps override applied).
-Clip read_clip(const std::string& path, const LoadOptions& options) {
+// The clip in `path` (of content `text`, when given), as its format's loader produced it (with
+// the fps override applied).
+Clip read_clip(const std::string& path, const LoadOptions& options,
+               const std::string_view* text = nullptr) {
   const std::string ext = lower_extension(path);
   if (ext == ".bvh") {
-    Clip clip = load_bvh(path);
+    Clip clip = text ? load_bvh_text(*text, path) : load_bvh(path);
     if (options.fps > 0) clip.motion.frame_time = 1.0 / options.fps;
     return clip;
   }
   if (ext == ".amc") {
     const std::string asf = options.asf_path.empty() ? find_asf_for(path) : options.asf_path;
-    return load_asf_amc(asf, path, options.fps > 0 ? options.fps : 120.0);
+    const double fps = options.fps > 0 ? options.fps : 120.0;
+    return text ? load_asf_amc_text(asf, path, *text, fps) : load_asf_amc(asf, path, fps);
   }
   if (ext == ".asf") {
     throw Error(path +
@@ -66,6 +69,12 @@ Clip read_clip(const std::string& path, const LoadOptions& options) {
 Clip load_clip(const std::string& path, const LoadOptions& options) {
   Clip clip = read_clip(path, options);
   // What the loaders or an fps override produce is what the rest of the library trusts.
+  check_clip(clip);
+  return clip;
+}
+
+Clip load_clip_text(const std::string& path, std::string_view text, const LoadOptions& options) {
+  Clip clip = read_clip(path, options, &text);
   check_clip(clip);
   return clip;
 }

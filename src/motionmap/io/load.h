@@ -1,6 +1,7 @@
 #pragma once
 // One entry point for every supported clip format, chosen by file extension.
 #include <string>
+#include <string_view>
 
 #include "motionmap/skeleton/skeleton.h"
 
@@ -19,5 +20,10 @@ struct LoadOptions {
 ///         ParameterError / NumericalError from check_clip() (e.g. an `fps` so large that the
 ///         frame time is 0).
 Clip load_clip(const std::string& path, const LoadOptions& options = {});
+/// load_clip of a file whose bytes were read already: `text` is the content of `path` (the
+/// format from its extension, named in errors; an .amc's .asf is read from disk), so a caller
+/// that checked those bytes (a saved map, its clips' SHA-256) parses exactly them.
+Clip load_clip_text(const std::string& path, std::string_view text,
+                    const LoadOptions& options = {});
 
 }  // namespace motionmap::io

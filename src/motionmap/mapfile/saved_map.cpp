@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/sha256.h"
 #include "motionmap/core/stats.h"
@@ -110,7 +111,9 @@ std::shared_ptr<const Clip> SavedMap::load(int c) const {
                 "; paths are taken as given to `motionmap map`, relative to the current folder or "
                 "to the map file's)");
   }
-  const std::string hash = sha256_file(path);
+  // The bytes checked are the bytes parsed: read once.
+  const std::string text = read_text_file(path);
+  const std::string hash = sha256_hex(text);
   if (hash != record.sha256) {
     throw Error(what + ": the clip file " + path + " has changed since the map was made (SHA-256 " +
                 hash + ", the map expects " + record.sha256 +
@@ -119,7 +122,7 @@ std::shared_ptr<const Clip> SavedMap::load(int c) const {
   }
   io::LoadOptions options;
   if (is_amc(path, record)) options.fps = 1.0 / record.frame_time;
-  auto clip = std::make_shared<Clip>(io::load_clip(path, options));
+  auto clip = std::make_shared<Clip>(io::load_clip_text(path, text, options));
   clip->path = record.path;
   if (clip->motion.num_frames != record.frames) {
     throw Error(what + ": the clip file " + path + " has " +

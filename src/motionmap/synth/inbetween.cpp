@@ -565,7 +565,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
       const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
       // The times about `seconds` at which the later key's phase comes round: the legs step
       // `slower` or `faster` times as fast as the clips to meet it (slower 0: none before).
-      const double first = in_step(i, 0.0, dt);
+      const double first = gap->ahead >= dt ? gap->ahead : gap->ahead + gap->cycle;
       const double before =
           first > seconds ? 0.0 : first + std::floor((seconds - first) / gap->cycle) * gap->cycle;
       const double slower = before / seconds;

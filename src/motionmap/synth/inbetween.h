@@ -133,7 +133,9 @@ struct InbetweenResult {
   int outside_frames = 0;
   /// The feet were cleaned (InbetweenOptions::clean_feet and the skeleton has feet).
   bool feet_cleaned = false;
-  /// Notes for the user (why the feet were not cleaned).
+  /// Notes for the user: keys standing further apart than the clips walk in their time, a root
+  /// gliding or turning where the clips carry it elsewhere, a time out of step with the keys'
+  /// gait (with the time in step), why the feet were not cleaned.
   std::vector<std::string> notes;
 };
 

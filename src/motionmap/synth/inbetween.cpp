@@ -397,8 +397,20 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // the standing foot slid (the tired walk's frame 178 to the feminine walk's 223, free roots,
   // 20 frames between: 0.62 of the transitions and 74 cm/s in contact, against the walks' 0.41
   // and 58; untimed now 1.3 s, 0.40 and 66).
+  // Where the later key's phase comes round after the earlier key's: `ahead` seconds, then every
+  // `cycle` (Δφ / cadence and 1 / cadence).
   struct GaitGap {
-    double ahead = 0.0, cycle = 0.0;  // Δφ / cadence and 1 / cadence, seconds
+    double ahead = 0.0, cycle = 0.0;
+    // The last time it comes round by `duration` not under `least` (the first such, if later).
+    double last_by(double duration, double least) const {
+      const double first = ahead + std::max(0.0, std::ceil((least - ahead) / cycle)) * cycle;
+      return first + std::floor(std::max(0.0, duration - first) / cycle) * cycle;
+    }
+    // The time it comes round not under `least` nearest `duration`.
+    double nearest(double duration, double least) const {
+      const double later = last_by(duration, least);
+      return duration - later <= later + cycle - duration ? later : later + cycle;
+    }
   };
   const auto gait_gap = [&](int i) -> std::optional<GaitGap> {
     if (nearest[i] < 0 || nearest[i + 1] < 0) return std::nullopt;
@@ -411,12 +423,17 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   };
   const auto in_step = [&](int i, double duration, double least) {
     const std::optional<GaitGap> gap = gait_gap(i);
-    if (!gap) return duration;
-    const auto [ahead, cycle] = *gap;
-    // The first time not under `least`, then the next cycle's if that is nearer `duration`.
-    const double first = ahead + std::max(0.0, std::ceil((least - ahead) / cycle)) * cycle;
-    const double later = first + std::floor(std::max(0.0, duration - first) / cycle) * cycle;
-    return duration - later <= later + cycle - duration ? later : later + cycle;
+    return gap ? gap->nearest(duration, least) : duration;
+  };
+  // A segment's frames (from key to key) for a time, as untimed keys take it, and that as a note
+  // offers it: "1.33 s (39 frames between the keys)".
+  const auto segment_frames = [&](double seconds) {
+    return std::max(1.0, std::round(seconds / dt));
+  };
+  const auto segment_text = [&](double seconds) {
+    const double frames = segment_frames(seconds);
+    return format_number(frames * dt, 3) + " s (" + format_number(frames - 1.0) +
+           " frames between the keys)";
   };
   std::vector<WalkedRoute> walked;
   int last_visited = -1;  // the sample the previous clip route ended on
@@ -462,7 +479,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
             "keys: the map has no motion to take the samples' speed from; give "
             "frames_between or times");
       }
-      const double frames = std::max(1.0, std::round(duration / dt));
+      const double frames = segment_frames(duration);
       if (!(key_frames[i] + frames + 1 <= static_cast<double>(kMaxSynthFrames))) {
         throw ParameterError("keys: the routes take more than the limit of " +
                              std::to_string(kMaxSynthFrames) +
@@ -545,11 +562,9 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
                        " apart (each where it stood in its clip), covered in " +
                        format_number(seconds, 3) + " s at " + length(needed) + "/s";
     if (pace > standing(i)) {
-      const double frames = std::max(1.0, std::round(walking_time(i) / dt));  // as untimed keys
       note += ", " + format_number(needed / pace, 2) + " times as fast as the clips there move (" +
               length(pace) + "/s): the feet slide; at the clips' pace it takes " +
-              format_number(frames * dt, 3) + " s (" + format_number(frames - 1.0) +
-              " frames between the keys)";
+              segment_text(walking_time(i));
     } else {
       note += " where the clips there stand: the body glides, its feet sliding";
     }
@@ -560,31 +575,30 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // in it, and the feet slide. Said, with the nearest time in step (as untimed keys take it).
   if (timed || options.frames_between >= 0) {
     for (int i = 0; i + 1 < K; ++i) {
+      if (!keys[i].has_pose() || !keys[i + 1].has_pose()) continue;
       const std::optional<GaitGap> gap = gait_gap(i);
-      if (!keys[i].has_pose() || !keys[i + 1].has_pose() || !gap) continue;
+      if (!gap) continue;
       const double seconds = static_cast<double>(key_frames[i + 1] - key_frames[i]) * dt;
-      // The times about `seconds` at which the later key's phase comes round: the legs step
-      // `slower` or `faster` times as fast as the clips to meet it (slower 0: none before).
-      const double first = gap->ahead >= dt ? gap->ahead : gap->ahead + gap->cycle;
-      const double before =
-          first > seconds ? 0.0 : first + std::floor((seconds - first) / gap->cycle) * gap->cycle;
-      const double slower = before / seconds;
-      const double faster = (before > 0.0 ? before + gap->cycle : first) / seconds;
+      // The times about `seconds` at which the later key's phase comes round (at least a frame
+      // on): the legs step `slower` or `faster` times as fast as the clips to meet it (slower 0:
+      // none by then).
+      const double last = gap->last_by(seconds, dt);
+      const bool none_by = last > seconds;
+      const double slower = none_by ? 0.0 : last / seconds;
+      const double faster = (none_by ? last : last + gap->cycle) / seconds;
       if (faster <= kStepNoteFactor || slower >= 1.0 / kStepNoteFactor) continue;
       // The time in step offered: as untimed keys take it (after a jump's crossfade, when the
       // keys are of two clips, and the time to walk their distance).
       const double least = clip_near(i) != clip_near(i + 1) ? kJumpFadeSeconds : dt;
-      const double step = in_step(i, seconds, std::max(least, walking_time(i)));
-      const double frames = std::max(1.0, std::round(step / dt));
-      result.notes.push_back(
-          name(i) + " to " + name(i + 1) +
-          ": out of step, the later key's gait phase comes round " + format_number(first, 3) +
-          " s after the first's and every " + format_number(gap->cycle, 3) + " s more; in " +
-          format_number(seconds, 3) + " s the legs step " +
-          (slower > 0.0 ? format_number(slower, 2) + " or " : "") + format_number(faster, 2) +
-          " times as fast as the clips, and the feet slide; in step it takes " +
-          format_number(frames * dt, 3) + " s (" + format_number(frames - 1.0) +
-          " frames between the keys)");
+      result.notes.push_back(name(i) + " to " + name(i + 1) +
+                             ": out of step, the later key's gait phase comes round " +
+                             format_number(gap->last_by(0.0, dt), 3) +
+                             " s after the first's and every " + format_number(gap->cycle, 3) +
+                             " s more; in " + format_number(seconds, 3) + " s the legs step " +
+                             (slower > 0.0 ? format_number(slower, 2) + " or " : "") +
+                             format_number(faster, 2) +
+                             " times as fast as the clips, and the feet slide; in step it takes " +
+                             segment_text(gap->nearest(seconds, std::max(least, walking_time(i)))));
     }
   }
 

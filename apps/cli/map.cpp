@@ -72,7 +72,8 @@ void forget_poses(std::vector<Clip>& clips) {
 // --onto: the clips' frames placed on the saved map, written as `map` writes a map.
 void place_onto(const MapCommand& cmd) {
   const mapfile::MapFile saved = mapfile::read_map_file(cmd.onto);
-  const std::vector<Clip> clips = load_inputs(cmd.map);
+  const std::vector<Clip> clips =
+      load_inputs(cmd.map, input_paths(cmd.map), /*sha256=*/!cmd.save.empty());
   const std::optional<pipeline::LabelTable> table = read_clip_labels(cmd.map, clips);
   // The frames to place are the command line's (--frames, --stride, --keep-first); everything
   // else is the map's.
@@ -161,10 +162,10 @@ bool streams(const MapCliOptions& opt, const pipeline::ClipMapOptions& options,
 // The streamed map of the clips at `paths`: the clips' warnings and the skipped clips' errors
 // printed as load_inputs() prints them; the clips returned without their poses.
 pipeline::ClipMap stream_clips(const MapCliOptions& opt, const std::vector<std::string>& paths,
-                               const pipeline::ClipMapOptions& options, const Control& progress,
-                               std::vector<Clip>& clips) {
+                               bool sha256, const pipeline::ClipMapOptions& options,
+                               const Control& progress, std::vector<Clip>& clips) {
   pipeline::StreamedMap streamed =
-      pipeline::stream_map(paths, load_options(opt), options, progress);
+      pipeline::stream_map(paths, load_options(opt, sha256), options, progress);
   print_loading(streamed.clips, streamed.failures, paths.size());
   clips = std::move(streamed.clips);
   return std::move(streamed.map);
@@ -241,10 +242,10 @@ void setup_map(CLI::App& app) {
     std::optional<mapfile::BlendRecord> blend;  // a streamed map's file has none
     std::optional<pipeline::LabelTable> table;
     if (streams(cmd->map, options, paths)) {
-      map = stream_clips(cmd->map, paths, options, progress, clips);
+      map = stream_clips(cmd->map, paths, !cmd->save.empty(), options, progress, clips);
       table = read_clip_labels(cmd->map, clips);
     } else {
-      clips = load_inputs(cmd->map, paths);
+      clips = load_inputs(cmd->map, paths, /*sha256=*/!cmd->save.empty());
       table = read_clip_labels(cmd->map, clips);  // a bad label file fails before the mapping
       std::shared_ptr<features::FeatureSet> features =
           pipeline::clip_features(clips, options, progress);

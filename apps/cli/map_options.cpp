@@ -178,10 +178,11 @@ std::vector<Clip> load_inputs(const MapCliOptions& opt) {
   return load_inputs(opt, input_paths(opt));
 }
 
-io::LoadClipsOptions load_options(const MapCliOptions& opt) {
+io::LoadClipsOptions load_options(const MapCliOptions& opt, bool sha256) {
   io::LoadClipsOptions load;
   load.load.asf_path = opt.asf;
   load.load.fps = opt.fps;
+  load.load.sha256 = sha256;
   load.keep_going = opt.keep_going;
   return load;
 }
@@ -198,9 +199,10 @@ void print_loading(const std::vector<Clip>& clips, const std::vector<std::string
   }
 }
 
-std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths) {
+std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths,
+                              bool sha256) {
   io::LoadedClips loaded =
-      io::load_clips(paths, load_options(opt), loading_line(opt, paths.size()));
+      io::load_clips(paths, load_options(opt, sha256), loading_line(opt, paths.size()));
   print_loading(loaded.clips, loaded.failures, paths.size());
   return std::move(loaded.clips);
 }

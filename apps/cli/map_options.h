@@ -90,11 +90,13 @@ std::vector<Clip> load_inputs(const MapCliOptions& opt);
 /// @throws as io::expand_clip_inputs().
 std::vector<std::string> input_paths(const MapCliOptions& opt);
 
-/// load_inputs() of the paths input_paths() gave.
-std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths);
+/// load_inputs() of the paths input_paths() gave; with `sha256`, each clip's SHA-256 taken of the
+/// bytes parsed (Clip::sha256), for the map file of --save.
+std::vector<Clip> load_inputs(const MapCliOptions& opt, const std::vector<std::string>& paths,
+                              bool sha256 = false);
 
-/// The io::load_clips() options of --asf, --amc-fps and --keep-going.
-io::LoadClipsOptions load_options(const MapCliOptions& opt);
+/// The io::load_clips() options of --asf, --amc-fps and --keep-going (and `sha256`, as above).
+io::LoadClipsOptions load_options(const MapCliOptions& opt, bool sha256 = false);
 
 /// What load_inputs() prints of a loading of `paths` clips: the clips' warnings, and the failures
 /// skipped with --keep-going with a note counting them.

@@ -65,7 +65,9 @@ auto run_released(py::object progress, Fn&& fn) {
 }
 
 /// Clips from a Python list of motionmap.Clip objects and/or paths (str, os.PathLike): paths
-/// are loaded (with `asf`, `fps`), Clip objects copied.
-std::vector<Clip> clips_from_python(const py::handle& clips, const std::string& asf, double fps);
+/// are loaded (with `asf`, `fps`, and with `sha256` their SHA-256 for a map file's record),
+/// Clip objects copied.
+std::vector<Clip> clips_from_python(const py::handle& clips, const std::string& asf, double fps,
+                                    bool sha256 = false);
 
 }  // namespace motionmap::python

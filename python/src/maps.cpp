@@ -243,7 +243,7 @@ std::shared_ptr<ClipMapState> fit_clips(const py::object& clips, const py::dict&
                                         const std::string& labels_from_name,
                                         const std::string& labels_file) {
   const pipeline::ClipMapOptions opts = clip_map_options(options);
-  std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
+  std::vector<Clip> loaded = clips_from_python(clips, asf, fps, /*sha256=*/true);
   auto state = std::make_shared<ClipMapState>();
   naming_n_inducing([&] {
     return run_released(std::move(progress), [&](const Control& control) {
@@ -621,7 +621,7 @@ Eigen::MatrixXd transform_clips(ClipMapState& s, const py::object& clips, const 
 std::vector<mapfile::PlacedClip> place_clip_records(ClipMapState& s, const py::object& clips,
                                                     const py::dict& options, const std::string& asf,
                                                     double fps, py::object progress) {
-  const std::vector<Clip> loaded = clips_from_python(clips, asf, fps);
+  const std::vector<Clip> loaded = clips_from_python(clips, asf, fps, /*sha256=*/true);
   const mapfile::Placement placed = place_loaded(s, loaded, options, std::move(progress));
   py::gil_scoped_release release;
   return mapfile::placed_clips(loaded, placed);

@@ -99,7 +99,8 @@ bool is_path(const py::handle& h) {
 
 }  // namespace
 
-std::vector<Clip> clips_from_python(const py::handle& clips, const std::string& asf, double fps) {
+std::vector<Clip> clips_from_python(const py::handle& clips, const std::string& asf, double fps,
+                                    bool sha256) {
   std::vector<py::handle> items;
   if (is_path(clips) || py::isinstance<Clip>(clips)) {
     items.push_back(clips);
@@ -110,6 +111,7 @@ std::vector<Clip> clips_from_python(const py::handle& clips, const std::string& 
   io::LoadOptions load;
   load.asf_path = asf;
   load.fps = fps;
+  load.sha256 = sha256;
   std::vector<Clip> out;
   out.reserve(items.size());
   for (const py::handle item : items) {

@@ -11,8 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
-#include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/sha256.h"
 #include "support/error_message.h"
 #include "support/test_data.h"
 
@@ -267,30 +267,22 @@ TEST(ClipInputsRealData, TheCmuFolderHoldsThreeClipsOfOneSkeleton) {
   EXPECT_EQ(loaded.frames, 298 + 173);
 }
 
-TEST(ClipInputsRealData, AClipFromItsTextIsTheClipFromItsFile) {
-  // load_clip_text parses the bytes given, not the file's: what a saved map checked (SHA-256).
+TEST(ClipInputsRealData, AClipsSha256IsTakenOfItsFileWhenAskedFor) {
+  // What a map file records of its clips (LoadOptions::sha256); without it, nothing is hashed.
   MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
   MOTIONMAP_REQUIRE_SHARED("asfamc/02_03.amc");
-  for (const char* name : {"cmu/64_08.bvh", "asfamc/02_03.amc"}) {
-    const std::string path = test::shared_file(name);
-    const std::string text = read_text_file(path);
-    const Clip from_file = load_clip(path), from_text = load_clip_text(path, text);
-    EXPECT_EQ(from_text.path, from_file.path) << name;
-    EXPECT_EQ(from_text.motion.rotations, from_file.motion.rotations) << name;
-    EXPECT_EQ(from_text.motion.translations, from_file.motion.translations) << name;
-    EXPECT_EQ(from_text.motion.frame_time, from_file.motion.frame_time) << name;
-    EXPECT_EQ(from_text.skeleton.num_joints(), from_file.skeleton.num_joints()) << name;
-    // Its last frame left out: one frame fewer (a BVH then says its frame count is wrong).
-    if (std::string(name).ends_with(".amc")) {
-      const std::string last = "\n" + std::to_string(from_file.motion.num_frames) + "\r\n";
-      ASSERT_NE(text.rfind(last), std::string::npos);  // its lines end in CR LF
-      const std::string shorter = text.substr(0, text.rfind(last) + 1);
-      EXPECT_EQ(load_clip_text(path, shorter).motion.num_frames, from_file.motion.num_frames - 1);
-    } else {
-      const std::string shorter = text.substr(0, text.rfind('\n', text.size() - 2) + 1);
-      EXPECT_NE(error_message([&] { load_clip_text(path, shorter); }).find(path),
-                std::string::npos);
-    }
+  const std::vector<std::string> paths{test::shared_file("cmu/64_08.bvh"),
+                                       test::shared_file("asfamc/02_03.amc")};
+  LoadClipsOptions hashed;
+  hashed.load.sha256 = true;
+  const LoadedClips with = load_clips(paths, hashed), without = load_clips(paths);
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    SCOPED_TRACE(paths[i]);
+    // 64 hex digits, what `sha256sum` prints of the file (the .amc's, not its .asf's).
+    EXPECT_EQ(with.clips[i].sha256, sha256_file(paths[i]));
+    EXPECT_EQ(with.clips[i].sha256.size(), 64u);
+    EXPECT_TRUE(without.clips[i].sha256.empty());
+    EXPECT_EQ(with.clips[i].motion.rotations, without.clips[i].motion.rotations);
   }
 }
 

@@ -564,6 +564,29 @@ TEST(MapFile, BadFilesAreRefusedWithWhatWasExpected) {
             "missing group /parameters (the effective parameters)");
 }
 
+// `map --save` records the SHA-256 of the bytes it mapped (io::LoadOptions::sha256), not of the
+// file as it is by the time the record is made; a clip loaded without a hash gets the file's.
+TEST(MapFile, TheHashRecordedIsOfTheBytesMapped) {
+  const TempDir dir;
+  const std::string path = swing_clip(dir).path;
+  const std::string mapped_hash = sha256_file(path);
+  io::LoadOptions load;
+  load.sha256 = true;
+  const std::vector<Clip> hashed{io::load_clip(path, load)}, plain{io::load_clip(path)};
+  EXPECT_EQ(hashed[0].sha256, mapped_hash);
+  pipeline::ClipMapOptions options;
+  options.embed.method = Method::Pca;
+  const pipeline::ClipMap map = pipeline::map_clips(hashed, options);
+  swing_clip(dir, 2.0);  // the file is another swing now
+  const std::string now_hash = sha256_file(path);
+  ASSERT_NE(now_hash, mapped_hash);
+  EXPECT_EQ(make_map_file(hashed, map, options).clips[0].sha256, mapped_hash);
+  EXPECT_EQ(placed_clips(hashed, place_clips(hashed, make_map_file(hashed, map, options)))[0]
+                .record.sha256,
+            mapped_hash);
+  EXPECT_EQ(recorded_sha256(plain[0]), now_hash);
+}
+
 // A map of clips placed on a saved map (`map --onto fitted --save`, Dask's map_library): the
 // placed frames are its rows, bit for bit, and placing on it is placing on the fitted map.
 TEST(MapFile, AMapOfPlacedClipsKeepsTheFittedModel) {

@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -13,6 +15,7 @@
 
 #include "embed/embed_test_util.h"
 #include "motionmap/core/error.h"
+#include "motionmap/core/sha256.h"
 #include "motionmap/io/load.h"
 #include "motionmap/pipeline/clip_map.h"
 #include "motionmap/pipeline/stream_map.h"
@@ -218,6 +221,33 @@ TEST(StreamMap, BadInputIsAClearError) {
     EXPECT_THAT(test::error_message([&] { stream_map(mixed, {}, pca); }),
                 HasSubstr("its joint hierarchy differs from"));
   }
+}
+
+TEST(StreamMap, AFileChangedBetweenThePassesIsAnError) {
+  // With io::LoadOptions::sha256 (`map --save --stream`) the clips carry the SHA-256 of pass 1,
+  // and a file whose bytes differ in pass 2 is refused, though its frames are as many.
+  MOTIONMAP_REQUIRE_SHARED("cmu/64_08.bvh");
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("motionmap_stream_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "take.bvh").string();
+  std::filesystem::copy_file(test::shared_file("cmu/64_08.bvh"), path,
+                             std::filesystem::copy_options::overwrite_existing);
+  const std::vector<std::string> paths{path};
+  ClipMapOptions pca;
+  pca.embed.method = Method::Pca;
+  io::LoadClipsOptions hashed;
+  hashed.load.sha256 = true;
+  const std::string before = sha256_file(path);
+  EXPECT_EQ(stream_map(paths, hashed, pca).clips.front().sha256, before);
+  // A blank line appended between the passes: the same frames, other bytes.
+  const Control touch([&](double, std::string_view stage) {
+    if (stage == "eigen") std::ofstream(path, std::ios::app) << "\n";
+  });
+  EXPECT_THAT(test::error_message([&] { stream_map(paths, hashed, pca, touch); }),
+              HasSubstr(path + ": error: the file changed while it was being mapped"));
+  EXPECT_NE(sha256_file(path), before);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(StreamMap, StreamsByDefaultWhenTheFilesWouldNotFit) {

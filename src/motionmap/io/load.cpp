@@ -5,6 +5,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
+#include "motionmap/core/sha256.h"
 #include "motionmap/io/amc.h"
 #include "motionmap/io/bvh.h"
 
@@ -40,28 +41,31 @@ std::string find_asf_for(const std::string& amc_path) {
               std::to_string(found.size()) + " .asf files beside it); pass it explicitly (--asf)");
 }
 
-// The clip in `path` (of content `text`, when given), as its format's loader produced it (with
-// the fps override applied).
-Clip read_clip(const std::string& path, const LoadOptions& options,
-               const std::string_view* text = nullptr) {
+// The clip in `path`, as its format's loader produced it (with the fps override applied), and
+// the SHA-256 of the bytes parsed when asked for.
+Clip read_clip(const std::string& path, const LoadOptions& options) {
   const std::string ext = lower_extension(path);
-  if (ext == ".bvh") {
-    Clip clip = text ? load_bvh_text(*text, path) : load_bvh(path);
-    if (options.fps > 0) clip.motion.frame_time = 1.0 / options.fps;
-    return clip;
-  }
-  if (ext == ".amc") {
-    const std::string asf = options.asf_path.empty() ? find_asf_for(path) : options.asf_path;
-    const double fps = options.fps > 0 ? options.fps : 120.0;
-    return text ? load_asf_amc_text(asf, path, *text, fps) : load_asf_amc(asf, path, fps);
-  }
   if (ext == ".asf") {
     throw Error(path +
                 ": error: an .asf file holds only a skeleton; open the .amc motion (with "
                 "--asf " +
                 path + ")");
   }
-  throw Error(path + ": error: unknown file type '" + ext + "', expected .bvh or .amc");
+  if (ext != ".bvh" && ext != ".amc") {
+    throw Error(path + ": error: unknown file type '" + ext + "', expected .bvh or .amc");
+  }
+  const std::string asf =
+      ext == ".bvh" || !options.asf_path.empty() ? options.asf_path : find_asf_for(path);
+  const std::string text = read_text_file(path);
+  Clip clip;
+  if (ext == ".bvh") {
+    clip = load_bvh_text(text, path);
+    if (options.fps > 0) clip.motion.frame_time = 1.0 / options.fps;
+  } else {
+    clip = load_asf_amc_text(asf, path, text, options.fps > 0 ? options.fps : 120.0);
+  }
+  if (options.sha256) clip.sha256 = sha256_hex(text);
+  return clip;
 }
 
 }  // namespace
@@ -69,12 +73,6 @@ Clip read_clip(const std::string& path, const LoadOptions& options,
 Clip load_clip(const std::string& path, const LoadOptions& options) {
   Clip clip = read_clip(path, options);
   // What the loaders or an fps override produce is what the rest of the library trusts.
-  check_clip(clip);
-  return clip;
-}
-
-Clip load_clip_text(const std::string& path, std::string_view text, const LoadOptions& options) {
-  Clip clip = read_clip(path, options, &text);
   check_clip(clip);
   return clip;
 }

@@ -13,6 +13,10 @@ struct LoadOptions {
   std::string asf_path;
   /// Frames per second; 0 keeps the file's (BVH) or uses 120 (AMC, which stores none).
   double fps = 0.0;
+  /// Also take the SHA-256 of the bytes parsed (Clip::sha256), for a map file's record of its
+  /// clips: the hash is of exactly what was mapped, however the file changes after. Hashing costs
+  /// about as much as parsing a BVH, so it is asked for only where a map file is made or checked.
+  bool sha256 = false;
 };
 
 /// Loads a .bvh, or an .amc with its .asf, and runs check_clip() on the result.
@@ -20,10 +24,5 @@ struct LoadOptions {
 ///         ParameterError / NumericalError from check_clip() (e.g. an `fps` so large that the
 ///         frame time is 0).
 Clip load_clip(const std::string& path, const LoadOptions& options = {});
-/// load_clip of a file whose bytes were read already: `text` is the content of `path` (the
-/// format from its extension, named in errors; an .amc's .asf is read from disk), so a caller
-/// that checked those bytes (a saved map, its clips' SHA-256) parses exactly them.
-Clip load_clip_text(const std::string& path, std::string_view text,
-                    const LoadOptions& options = {});
 
 }  // namespace motionmap::io

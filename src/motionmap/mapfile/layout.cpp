@@ -86,6 +86,10 @@ std::optional<BlendRecord> blend_record(std::span<const Clip> clips,
   return BlendRecord{summary.motion_root, summary.moving};
 }
 
+std::string recorded_sha256(const Clip& clip) {
+  return clip.sha256.empty() ? sha256_file(clip.path) : clip.sha256;
+}
+
 MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,
                       const pipeline::ClipMapOptions& options) {
   if (!map.features) throw ParameterError("make_map_file: the map has no feature set");
@@ -98,10 +102,11 @@ MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,
                          std::to_string(e.coordinates.rows()) + " rows)");
   }
   MapFile file;
-  // A library's files are hashed a file per thread (10^6 frames: ~1 GB, 4 s on one core).
+  // Files not hashed when loaded are hashed a file per thread (10^6 frames: ~1 GB, 4 s on one
+  // core).
   std::vector<std::string> hashes(clips.size());
   parallel_for(static_cast<int>(clips.size()),
-               [&](int c) { hashes[std::size_t(c)] = sha256_file(clips[std::size_t(c)].path); });
+               [&](int c) { hashes[std::size_t(c)] = recorded_sha256(clips[std::size_t(c)]); });
   for (std::size_t c = 0; c < clips.size(); ++c) {
     ClipRecord record;
     record.path = clips[c].path;

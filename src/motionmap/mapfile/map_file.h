@@ -122,8 +122,13 @@ struct MapFile {
 std::optional<BlendRecord> blend_record(std::span<const Clip> clips,
                                         const features::FeatureSet& samples);
 
+/// The SHA-256 a map file records for `clip`: Clip::sha256, of the bytes that were parsed (a clip
+/// loaded with io::LoadOptions::sha256); for a clip loaded without it or made in memory, of the
+/// file at its path, read now. @throws Error if that file cannot be read.
+std::string recorded_sha256(const Clip& clip);
+
 /// The file record of `map`, a map_clips() result for `clips` with `options`: the clips' hashes
-/// (reading each file once more), the parameters, the joints, the placement model
+/// (recorded_sha256()), the parameters, the joints, the placement model
 /// (pipeline::map_model, which takes the map's landmark fit: pass std::move(map) when done with
 /// it, so that a 10⁶-frame landmark Isomap map's 2 GB of geodesic distances are not copied) and,
 /// when the clips still hold their poses, the blend record (a caller that frees them first sets
@@ -199,7 +204,7 @@ struct PlacedClip {
 };
 
 /// The PlacedClip of each of `clips` in `placement` (their place_clips() result), with the clip
-/// files' SHA-256 (reading each file once more). @throws Error if a clip file cannot be read;
+/// files' SHA-256 (recorded_sha256()). @throws Error if a clip file cannot be read;
 /// ParameterError if `placement` is not of `clips`.
 std::vector<PlacedClip> placed_clips(std::span<const Clip> clips, const Placement& placement);
 

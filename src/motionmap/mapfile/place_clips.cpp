@@ -7,7 +7,6 @@
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
-#include "motionmap/core/sha256.h"
 #include "motionmap/features/joint_match.h"
 #include "motionmap/mapfile/map_file.h"
 
@@ -137,7 +136,7 @@ std::vector<PlacedClip> placed_clips(std::span<const Clip> clips, const Placemen
   for (std::size_t c = 0; c < clips.size(); ++c) {
     PlacedClip& p = out[c];
     p.record.path = clips[c].path;
-    p.record.sha256 = sha256_file(clips[c].path);
+    p.record.sha256 = recorded_sha256(clips[c]);
     p.record.frames = clips[c].motion.num_frames;
     p.record.frame_time = clips[c].motion.frame_time;
     const int first = set.segment_starts[c];

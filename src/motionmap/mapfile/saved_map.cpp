@@ -7,7 +7,6 @@
 #include <system_error>
 
 #include "motionmap/core/error.h"
-#include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/sha256.h"
 #include "motionmap/core/stats.h"
@@ -111,18 +110,25 @@ std::shared_ptr<const Clip> SavedMap::load(int c) const {
                 "; paths are taken as given to `motionmap map`, relative to the current folder or "
                 "to the map file's)");
   }
-  // The bytes checked are the bytes parsed: read once.
-  const std::string text = read_text_file(path);
-  const std::string hash = sha256_hex(text);
-  if (hash != record.sha256) {
-    throw Error(what + ": the clip file " + path + " has changed since the map was made (SHA-256 " +
-                hash + ", the map expects " + record.sha256 +
-                "); its frames no longer match the map's points — map the clips again with "
-                "`motionmap map … --save`");
-  }
   io::LoadOptions options;
   if (is_amc(path, record)) options.fps = 1.0 / record.frame_time;
-  auto clip = std::make_shared<Clip>(io::load_clip_text(path, text, options));
+  options.sha256 = true;  // of the bytes parsed: what is checked is what is used
+  const auto changed = [&](const std::string& hash) {
+    return Error(what + ": the clip file " + path +
+                 " has changed since the map was made (SHA-256 " + hash + ", the map expects " +
+                 record.sha256 +
+                 "); its frames no longer match the map's points — map the clips again with "
+                 "`motionmap map … --save`");
+  };
+  std::shared_ptr<Clip> clip;
+  try {
+    clip = std::make_shared<Clip>(io::load_clip(path, options));
+  } catch (const Error&) {
+    // A clip that no longer parses is, first of all, not the clip the map was made from.
+    if (const std::string hash = sha256_file(path); hash != record.sha256) throw changed(hash);
+    throw;
+  }
+  if (clip->sha256 != record.sha256) throw changed(clip->sha256);
   clip->path = record.path;
   if (clip->motion.num_frames != record.frames) {
     throw Error(what + ": the clip file " + path + " has " +

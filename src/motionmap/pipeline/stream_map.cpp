@@ -58,6 +58,7 @@ Clip header_of(Clip&& clip) {
   header.motion.num_joints = clip.motion.num_joints;
   header.motion.frame_time = clip.motion.frame_time;
   header.warnings = std::move(clip.warnings);
+  header.sha256 = std::move(clip.sha256);
   return header;
 }
 
@@ -169,6 +170,11 @@ StreamedMap stream_map(std::span<const std::string> paths, const io::LoadClipsOp
           const int start = set->segment_starts[std::size_t(c)];
           const int end =
               c + 1 < clips ? set->segment_starts[std::size_t(c) + 1] : set->num_samples();
+          if (clip.sha256 != out.clips[std::size_t(c)].sha256) {
+            throw Error(mapped[std::size_t(c)] +
+                        ": error: the file changed while it was being mapped (its SHA-256 "
+                        "differs between the two passes)");
+          }
           if (rows.num_samples() != end - start ||
               !std::equal(rows.frame_of.begin(), rows.frame_of.end(),
                           set->frame_of.begin() + start)) {

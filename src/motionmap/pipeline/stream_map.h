@@ -52,7 +52,8 @@ struct StreamedMap {
   /// notes, X and the points with their column counts but no rows; `model` set.
   ClipMap map;
   /// The clips mapped (those that loaded), in order, without their poses: path, skeleton, frame
-  /// count and frame time, and the warnings of loading them (from pass 1).
+  /// count and frame time, the warnings of loading them and, with load.load.sha256, their SHA-256
+  /// (from pass 1).
   std::vector<Clip> clips;
   /// load.keep_going only: why each clip skipped in pass 1 failed to load.
   std::vector<std::string> failures;
@@ -65,8 +66,8 @@ struct StreamedMap {
 ///   invalid, for clips of different hierarchies (naming the first that differs), and as
 ///   embed::ProjectionStream; what io::load_clip() throws (the first clip that fails without
 ///   load.keep_going; in pass 2 always); io::no_clip_loaded() when every clip fails;
-///   Error naming the file when a clip gives other frames in pass 2 than in pass 1 (it changed
-///   in between); Cancelled.
+///   Error naming the file when a clip gives other frames in pass 2 than in pass 1, or with
+///   load.load.sha256 another SHA-256 (it changed in between); Cancelled.
 StreamedMap stream_map(std::span<const std::string> paths, const io::LoadClipsOptions& load,
                        const ClipMapOptions& options, const Control& control = {});
 

@@ -141,6 +141,9 @@ struct Clip {
   Motion motion;
   std::vector<std::string>
       warnings;  ///< non-fatal findings, formatted like "path:line: warning: …"
+  /// SHA-256 of the file bytes the clip was parsed from (an .amc's, not its .asf's), 64 hex
+  /// digits, when loaded with io::LoadOptions::sha256 (what a map file records); else empty.
+  std::string sha256;
 };
 
 // ---- Checking a skeleton and motion --------------------------------------------------------

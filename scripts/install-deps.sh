@@ -10,6 +10,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # The GP-LVM (embed/gplvm.cpp) optimises with the LBFGS++ headers.
   liblbfgspp-dev
+  # SHA-256 of clip files (core/sha256.cpp), by OpenSSL's libcrypto.
+  libssl-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev libgl-dev libglx-mesa0 libgl1-mesa-dri fonts-dejavu-core
   clang libclang-rt-14-dev
   python3 python3-numpy python3-scipy python3-sklearn python3-h5py python3-xxhash

@@ -8,10 +8,12 @@
 //   std::string hex = h.hex();                            // 64 lowercase hex digits
 //   std::string same = motionmap::sha256_file("64_08.bvh");  // what `sha256sum` prints
 //
-// Not a security boundary: a plain, portable implementation (no CPU extensions).
+// OpenSSL's libcrypto computes it (with the CPU's SHA extensions where it has them: ~1.6 GB/s
+// on this project's build machine, against ~0.2 GB/s for a portable implementation).
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -21,6 +23,9 @@ namespace motionmap {
 class Sha256 {
  public:
   Sha256();
+  ~Sha256();
+  Sha256(const Sha256&) = delete;
+  Sha256& operator=(const Sha256&) = delete;
 
   /// Appends `bytes` to the message.
   void update(std::string_view bytes);
@@ -33,12 +38,9 @@ class Sha256 {
   std::string hex();
 
  private:
-  void compress(const std::uint8_t* block);
-
-  std::array<std::uint32_t, 8> m_state;
-  std::array<std::uint8_t, 64> m_block{};
-  std::size_t m_used = 0;      ///< bytes waiting in m_block
-  std::uint64_t m_length = 0;  ///< message length so far, in bytes
+  struct Context;  // OpenSSL's digest context
+  std::unique_ptr<Context> m_context;
+  std::array<std::uint8_t, 32> m_digest{};
   bool m_finished = false;
 };
 

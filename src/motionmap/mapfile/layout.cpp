@@ -102,8 +102,7 @@ MapFile make_map_file(std::span<const Clip> clips, pipeline::ClipMap map,
                          std::to_string(e.coordinates.rows()) + " rows)");
   }
   MapFile file;
-  // Files not hashed when loaded are hashed a file per thread (10^6 frames: ~1 GB, 4 s on one
-  // core).
+  // Files not hashed when loaded are hashed a file per thread (10^6 frames: ~1 GB).
   std::vector<std::string> hashes(clips.size());
   parallel_for(static_cast<int>(clips.size()),
                [&](int c) { hashes[std::size_t(c)] = recorded_sha256(clips[std::size_t(c)]); });

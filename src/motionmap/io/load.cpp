@@ -54,8 +54,9 @@ Clip read_clip(const std::string& path, const LoadOptions& options) {
   if (ext != ".bvh" && ext != ".amc") {
     throw Error(path + ": error: unknown file type '" + ext + "', expected .bvh or .amc");
   }
+  // An .amc's skeleton is found before its motion is read (a missing .asf is the first error).
   const std::string asf =
-      ext == ".bvh" || !options.asf_path.empty() ? options.asf_path : find_asf_for(path);
+      ext == ".amc" && options.asf_path.empty() ? find_asf_for(path) : options.asf_path;
   const std::string text = read_text_file(path);
   Clip clip;
   if (ext == ".bvh") {

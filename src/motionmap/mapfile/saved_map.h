@@ -161,7 +161,7 @@ class SavedMap : public synth::ClipSource {
 /// constructor with clips_summary()): a pose reads only the clips of the samples it blends (and
 /// the first clip, for the skeleton), and blends exactly as a blender given every clip. The
 /// blender keeps the states of the samples it read, not their clips, and a synthesis reads each
-/// block of frames' samples one clip at a time, so the default cache is enough. @throws as
+/// block of frames' samples together, each clip once, so the default cache is enough. @throws as
 /// clips_summary() and synth::MapBlender (the kriging mode is refused: it blends every sample; use
 /// load_all_clips()). A gplvm map's blender gets its GP (SavedMap::gplvm()) unless `options` has
 /// one: the map's validity is then the GP's, and the gp mode blends with it.

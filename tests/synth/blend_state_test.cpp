@@ -195,5 +195,39 @@ TEST(SynthBlendState, RefusesWhatItCannotBlend) {
   EXPECT_THROW(sample_state(clip.motion, 0, 1, Axis::Y, {}, std::vector<int>{-2}), ParameterError);
 }
 
+// The clips are summarised on the pool's threads; of several clips it cannot use, the error
+// names the first, whichever thread read it.
+TEST(SynthBlendState, SummarisingClipsNamesTheFirstClipItCannotUse) {
+  std::vector<Clip> clips;
+  features::FeatureSet set;
+  for (int c = 0; c < 6; ++c) {
+    clips.push_back(test::walking_clip(20));
+    clips.back().path = "c" + std::to_string(c) + ".bvh";
+    for (int f = 0; f < 20; ++f) {
+      set.clip_of.push_back(c);
+      set.frame_of.push_back(f);
+    }
+  }
+  const auto message = [&] {
+    try {
+      summarize_clips(clips, set);
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NO_THROW(summarize_clips(clips, set));
+  // A sample past its clip's end in clips 3 and 5.
+  set.frame_of[3 * 20 + 7] = 25;
+  set.frame_of[5 * 20 + 1] = 30;
+  EXPECT_EQ(message(), "map: sample 67 is frame 25 of c3.bvh, which has 20 frames");
+  // Another skeleton in clips 2 and 4.
+  clips[2].skeleton.joints[2].name = "Neck";
+  clips[4].skeleton.joints[2].name = "Neck";
+  EXPECT_EQ(message(),
+            "c2.bvh: its joint hierarchy differs from c0.bvh's; clips blended together must share "
+            "one");
+}
+
 }  // namespace
 }  // namespace motionmap::synth

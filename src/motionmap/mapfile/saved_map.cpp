@@ -203,7 +203,7 @@ features::FeatureSet SavedMap::samples() const {
 
 synth::ClipsSummary SavedMap::clips_summary(const Control& control) const {
   if (!m_file.blend) {
-    // Not recorded: read every clip once, one at a time (not cached).
+    // Not recorded: read every clip once, on the pool's threads (not cached).
     return synth::summarize_clips(
         num_clips(),
         [this](int c) {

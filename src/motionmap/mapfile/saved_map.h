@@ -88,9 +88,9 @@ class SavedMap : public synth::ClipSource {
   /// What a blender reading the clips on demand needs of all of them (synth::summarize_clips):
   /// the frame counts and times the file records, and the motion root and moving joints it
   /// recorded when the map was made (MapFile::blend); a map without that record (made before
-  /// MotionMap recorded it, or a map of placed clips) has every clip read once for it, one at a
-  /// time and not cached. @throws as clip(); ParameterError for clips of different hierarchies;
-  /// Cancelled.
+  /// MotionMap recorded it, or a map of placed clips) has every clip read once for it, on the
+  /// pool's threads and not cached. @throws as clip() (the first clip's error); ParameterError
+  /// for clips of different hierarchies; Cancelled.
   synth::ClipsSummary clips_summary(const Control& control = {}) const;
 
   /// The median map distance between consecutive samples of a clip (non-zero ones; 0 if none),

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -225,7 +226,6 @@ ClipsSummary summarize_clips(int num_clips,
   const int J = skeleton.num_joints();
   std::vector<Eigen::Vector3d> t0(static_cast<std::size_t>(J));
   for (int j = 0; j < J; ++j) t0[j] = first->motion.translation(samples.frame_of[0], j);
-  std::vector<char> varies(static_cast<std::size_t>(J), 0);
   // The samples of each clip (counting sort by clip).
   std::vector<int> start(static_cast<std::size_t>(num_clips) + 1, 0);
   std::vector<int> order(static_cast<std::size_t>(n));
@@ -235,33 +235,64 @@ ClipsSummary summarize_clips(int num_clips,
     std::vector<int> next(start.begin(), start.end() - 1);
     for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(next[samples.clip_of[i]]++)] = i;
   }
-  int root = std::numeric_limits<int>::max();
+  // Per clip, on the pool's threads (a clip read each): its frames, frame time, motion root and
+  // the joints whose translation varies from the first sample's; combined in clip order, the
+  // first clip's error thrown.
+  struct Of {
+    int frames = 0, root = 0;
+    double frame_time = 0.0;
+    std::vector<char> varies;
+    std::exception_ptr error;
+  };
+  std::vector<Of> of(static_cast<std::size_t>(num_clips));
+  parallel_for(
+      num_clips,
+      [&](int c) {
+        Of& o = of[static_cast<std::size_t>(c)];
+        try {
+          const std::shared_ptr<const Clip> clip = c == 0 ? clip0 : clip_at(c);
+          if (!clip->skeleton.same_hierarchy(skeleton)) {
+            throw ParameterError(clip->path + ": its joint hierarchy differs from " + clip0->path +
+                                 "'s; clips blended together must share one");
+          }
+          o.frames = clip->motion.num_frames;
+          o.frame_time = clip->motion.frame_time;
+          o.root = motion_root(clip->skeleton, clip->motion);
+          o.varies.assign(static_cast<std::size_t>(J), 0);
+          for (int k = start[c]; k < start[c + 1]; ++k) {
+            const int i = order[k];
+            if (samples.frame_of[i] < 0 || samples.frame_of[i] >= clip->motion.num_frames) {
+              throw ParameterError("map: sample " + std::to_string(i) + " is frame " +
+                                   std::to_string(samples.frame_of[i]) + " of " + clip->path +
+                                   ", which has " + std::to_string(clip->motion.num_frames) +
+                                   " frames");
+            }
+            for (int j = 0; j < J; ++j) {
+              if (!o.varies[j]) {
+                o.varies[j] =
+                    !same_translation(clip->motion.translation(samples.frame_of[i], j), t0[j]);
+              }
+            }
+          }
+        } catch (const Cancelled&) {
+          throw;
+        } catch (...) {
+          o.error = std::current_exception();
+        }
+      },
+      control.stage("summarising clips", 0.0, 1.0));
+  // The deepest of the clips' motion roots: each clip's lies on the chain from the skeleton's
+  // root down to it, so folding its ancestors into it (blend_state.h) carries every clip's
+  // travel, whichever joint of the chain a clip moves.
+  int root = 0;
+  std::vector<char> varies(static_cast<std::size_t>(J), 0);
   for (int c = 0; c < num_clips; ++c) {
-    control.stage("summarising clips", double(c) / num_clips, double(c + 1) / num_clips).check();
-    const std::shared_ptr<const Clip> clip = c == 0 ? clip0 : clip_at(c);
-    if (!clip->skeleton.same_hierarchy(skeleton)) {
-      throw ParameterError(clip->path + ": its joint hierarchy differs from " + clip0->path +
-                           "'s; clips blended together must share one");
-    }
-    out.frames.push_back(clip->motion.num_frames);
-    out.frame_times.push_back(clip->motion.frame_time);
-    // The deepest of the clips' motion roots: each clip's lies on the chain from the skeleton's
-    // root down to it, so folding its ancestors into it (blend_state.h) carries every clip's
-    // travel, whichever joint of the chain a clip moves.
-    const int own = motion_root(clip->skeleton, clip->motion);
-    root = root == std::numeric_limits<int>::max() ? own : std::max(root, own);
-    for (int k = start[c]; k < start[c + 1]; ++k) {
-      const int i = order[k];
-      if (samples.frame_of[i] < 0 || samples.frame_of[i] >= clip->motion.num_frames) {
-        throw ParameterError("map: sample " + std::to_string(i) + " is frame " +
-                             std::to_string(samples.frame_of[i]) + " of " + clip->path +
-                             ", which has " + std::to_string(clip->motion.num_frames) + " frames");
-      }
-      for (int j = 0; j < J; ++j) {
-        if (!varies[j])
-          varies[j] = !same_translation(clip->motion.translation(samples.frame_of[i], j), t0[j]);
-      }
-    }
+    const Of& o = of[static_cast<std::size_t>(c)];
+    if (o.error) std::rethrow_exception(o.error);
+    out.frames.push_back(o.frames);
+    out.frame_times.push_back(o.frame_time);
+    root = c == 0 ? o.root : std::max(root, o.root);
+    for (int j = 0; j < J; ++j) varies[j] = varies[j] || o.varies[j];
   }
   out.motion_root = root;
   const std::vector<int> ancestors = root_ancestors(skeleton, root);

@@ -275,8 +275,9 @@ struct ClipsSummary {
 /// checked by the caller). @throws ParameterError for no clips or clips of different hierarchies.
 ClipsSummary summarize_clips(std::span<const Clip> clips, const features::FeatureSet& samples);
 /// The same, reading clip c as `clip_at(c)` (c = 0 … num_clips − 1, once each, plus the first
-/// sample's clip once more), so that only one clip need be in memory at a time. Polls `control`
-/// between clips. @throws as summarize_clips() and clip_at; Cancelled.
+/// sample's clip once more; on the pool's threads, thread-safe), so that only a clip per thread
+/// need be in memory at a time. Reports through `control`. @throws as summarize_clips() and
+/// clip_at (the first clip's error); Cancelled.
 ClipsSummary summarize_clips(int num_clips,
                              const std::function<std::shared_ptr<const Clip>(int)>& clip_at,
                              const features::FeatureSet& samples, const Control& control = {});

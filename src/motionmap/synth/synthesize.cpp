@@ -225,9 +225,8 @@ SynthResult synthesize_frames(
       });
     }
     // A blender reading its clips on demand reads the samples of this block's blends now, each
-    // clip once. Prefetching the raw weights instead, the samples the smoothing moved onto were
-    // read frame by frame on the pool's threads, each a whole clip and the clip cache too small
-    // for them: a 12-point sketch on a 10⁶-frame saved map read clips for over 10 minutes.
+    // clip once (of the raw weights only, the samples the smoothing moves onto would be read
+    // frame by frame, a whole clip each, from more clips than its cache keeps).
     if (blender.reads_on_demand()) {
       blender.prefetch(half > 0 ? smoothed_block
                                 : std::vector<MapWeights>(

@@ -555,7 +555,6 @@ TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
     so.smooth = 0.05;
     const synth::SynthResult r = synth::synthesize(lazy, between, so);
     const int blocks = (r.motion.num_frames + 255) / 256;
-    // (Before, 95 loads for these 119 frames.)
     EXPECT_LE(one->loads() - before, 3 * (1 + blocks)) << r.motion.num_frames << " frames";
   }
 

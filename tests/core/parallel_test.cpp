@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -70,6 +71,25 @@ TEST(ParallelFor, RethrowsTheBodysException) {
                             }),
                std::runtime_error);
   EXPECT_NO_THROW(parallel_for(0, [](int) { throw std::runtime_error("never"); }));
+}
+
+// Item 3 fails slowly while the other threads reach later failures first: the error is still
+// item 3's, as a serial loop's would be.
+TEST(ParallelFor, RethrowsTheLowestFailingItemsException) {
+  for (int round = 0; round < 5; ++round) {
+    try {
+      parallel_for(200, [](int i) {
+        if (i == 3) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(30));
+          throw std::runtime_error("item 3");
+        }
+        if (i % 10 == 7) throw std::runtime_error("item " + std::to_string(i));
+      });
+      FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "item 3") << "round " << round;
+    }
+  }
 }
 
 TEST(ParallelChunks, WorkerIndicesIndexPerThreadScratch) {

@@ -29,7 +29,10 @@ int configured_workers() {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
-// One loop in flight: its chunks, who claims the next one, and the first failure.
+// One loop in flight: its chunks, who claims the next one, and the failure of the lowest chunk
+// that failed. Chunks are claimed in increasing order and a claimed chunk runs to its end, so
+// every chunk below a failed one has run when the loop returns: the failure kept is the one a
+// serial loop would have met first, whichever thread met it.
 struct Job {
   int num_chunks = 0;
   int threads = 1;  // workers 0 … threads − 1 take part
@@ -39,10 +42,14 @@ struct Job {
   std::atomic<bool> stop{false};
   std::mutex error_mutex;
   std::exception_ptr error;
+  int error_chunk = 0;
 
-  void fail(std::exception_ptr e) {
+  void fail(int chunk, std::exception_ptr e) {
     std::lock_guard<std::mutex> lock(error_mutex);
-    if (!error) error = e;
+    if (!error || chunk < error_chunk) {
+      error = e;
+      error_chunk = chunk;
+    }
     stop = true;
   }
 
@@ -57,7 +64,7 @@ struct Job {
         done.fetch_add(1);
         if (tick && *tick) (*tick)(done.load());
       } catch (...) {
-        fail(std::current_exception());
+        fail(c, std::current_exception());
         break;
       }
     }

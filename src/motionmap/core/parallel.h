@@ -27,16 +27,17 @@ int worker_count(int num_chunks, bool serial = false);
 /// scratch space can be indexed by w < worker_count(num_chunks)). Between two of its chunks, and
 /// once at the end, the calling thread runs tick(chunks finished so far), which may throw
 /// (Cancelled): the other threads then stop claiming chunks, and the exception is rethrown once
-/// every chunk they claimed is over. An exception from body is rethrown the same way. Returns
-/// when no pool thread is inside body or tick any more. With `serial`, everything runs on the
-/// caller.
+/// every chunk they claimed is over. An exception from body is rethrown the same way. Of several,
+/// the lowest chunk's is rethrown (a tick's counts as the chunk before it): the one a serial loop
+/// meets first, whichever thread met it. Returns when no pool thread is inside body or tick any
+/// more. With `serial`, everything runs on the caller.
 void parallel_chunks(int num_chunks, const std::function<void(int chunk, int worker)>& body,
                      const std::function<void(int)>& tick = {}, bool serial = false);
 
 /// Calls body(i) for i in [0, n) on up to worker_count() threads; body must be thread-safe for
 /// distinct i. Reports the fraction of items done through `control` (throttled) and 1 at the end.
 /// @throws Cancelled if control is cancelled (items already started finish first); rethrows the
-///         first exception a body threw.
+///         exception of the lowest item that threw (as parallel_chunks()).
 void parallel_for(int n, const std::function<void(int)>& body, const Control& control = {});
 
 }  // namespace motionmap

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -236,48 +235,41 @@ ClipsSummary summarize_clips(int num_clips,
     for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(next[samples.clip_of[i]]++)] = i;
   }
   // Per clip, on the pool's threads (a clip read each): its frames, frame time, motion root and
-  // the joints whose translation varies from the first sample's; combined in clip order, the
-  // first clip's error thrown.
+  // the joints whose translation varies from the first sample's; combined in clip order (of
+  // several clips it cannot use, parallel_for throws the first one's error).
   struct Of {
     int frames = 0, root = 0;
     double frame_time = 0.0;
     std::vector<char> varies;
-    std::exception_ptr error;
   };
   std::vector<Of> of(static_cast<std::size_t>(num_clips));
   parallel_for(
       num_clips,
       [&](int c) {
+        const std::shared_ptr<const Clip> clip = c == 0 ? clip0 : clip_at(c);
+        if (!clip->skeleton.same_hierarchy(skeleton)) {
+          throw ParameterError(clip->path + ": its joint hierarchy differs from " + clip0->path +
+                               "'s; clips blended together must share one");
+        }
         Of& o = of[static_cast<std::size_t>(c)];
-        try {
-          const std::shared_ptr<const Clip> clip = c == 0 ? clip0 : clip_at(c);
-          if (!clip->skeleton.same_hierarchy(skeleton)) {
-            throw ParameterError(clip->path + ": its joint hierarchy differs from " + clip0->path +
-                                 "'s; clips blended together must share one");
+        o.frames = clip->motion.num_frames;
+        o.frame_time = clip->motion.frame_time;
+        o.root = motion_root(clip->skeleton, clip->motion);
+        o.varies.assign(static_cast<std::size_t>(J), 0);
+        for (int k = start[c]; k < start[c + 1]; ++k) {
+          const int i = order[k];
+          if (samples.frame_of[i] < 0 || samples.frame_of[i] >= clip->motion.num_frames) {
+            throw ParameterError("map: sample " + std::to_string(i) + " is frame " +
+                                 std::to_string(samples.frame_of[i]) + " of " + clip->path +
+                                 ", which has " + std::to_string(clip->motion.num_frames) +
+                                 " frames");
           }
-          o.frames = clip->motion.num_frames;
-          o.frame_time = clip->motion.frame_time;
-          o.root = motion_root(clip->skeleton, clip->motion);
-          o.varies.assign(static_cast<std::size_t>(J), 0);
-          for (int k = start[c]; k < start[c + 1]; ++k) {
-            const int i = order[k];
-            if (samples.frame_of[i] < 0 || samples.frame_of[i] >= clip->motion.num_frames) {
-              throw ParameterError("map: sample " + std::to_string(i) + " is frame " +
-                                   std::to_string(samples.frame_of[i]) + " of " + clip->path +
-                                   ", which has " + std::to_string(clip->motion.num_frames) +
-                                   " frames");
-            }
-            for (int j = 0; j < J; ++j) {
-              if (!o.varies[j]) {
-                o.varies[j] =
-                    !same_translation(clip->motion.translation(samples.frame_of[i], j), t0[j]);
-              }
+          for (int j = 0; j < J; ++j) {
+            if (!o.varies[j]) {
+              o.varies[j] =
+                  !same_translation(clip->motion.translation(samples.frame_of[i], j), t0[j]);
             }
           }
-        } catch (const Cancelled&) {
-          throw;
-        } catch (...) {
-          o.error = std::current_exception();
         }
       },
       control.stage("summarising clips", 0.0, 1.0));
@@ -288,7 +280,6 @@ ClipsSummary summarize_clips(int num_clips,
   std::vector<char> varies(static_cast<std::size_t>(J), 0);
   for (int c = 0; c < num_clips; ++c) {
     const Of& o = of[static_cast<std::size_t>(c)];
-    if (o.error) std::rethrow_exception(o.error);
     out.frames.push_back(o.frames);
     out.frame_times.push_back(o.frame_time);
     root = c == 0 ? o.root : std::max(root, o.root);

@@ -390,6 +390,12 @@ struct MapBlender::Impl {
   // registered (detail/gait_phase.h).
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, std::size_t first,
                                       std::size_t end, double dt) const;
+  // The contacts of a clip's feet (the skeleton has feet).
+  std::array<FootContacts, 2> feet_contacts(const Clip& clip) const {
+    ContactOptions co;
+    co.up = options.up;
+    return detect_contacts(clip.skeleton, clip.motion, *feet, co);
+  }
   // The gait phase of the run of samples starting at sample `run` (none without feet).
   const detail::GaitPhase& phase_of(int run) const;
   // Made from a ClipSource: the gait phases of these runs not known yet, each clip read once, the
@@ -436,13 +442,9 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips,
   // The samples' contacts, from their own clips (captured feet are found reliably there).
   feet = try_find_feet(clips.front().skeleton, options.up);
   if (feet) {
-    ContactOptions co;
-    co.up = options.up;
     std::vector<std::array<FootContacts, 2>> by_clip(clips.size());
     parallel_for(static_cast<int>(clips.size()), [&](int c) {
-      by_clip[static_cast<std::size_t>(c)] =
-          detect_contacts(clips[static_cast<std::size_t>(c)].skeleton,
-                          clips[static_cast<std::size_t>(c)].motion, *feet, co);
+      by_clip[static_cast<std::size_t>(c)] = feet_contacts(clips[static_cast<std::size_t>(c)]);
     });
     contacts.resize(un);
     clip_contacts = by_clip;
@@ -515,11 +517,7 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
                            std::to_string(clip_frames[static_cast<std::size_t>(c)]));
     }
     std::array<FootContacts, 2> clip_contacts;
-    if (feet) {
-      ContactOptions co;
-      co.up = options.up;
-      clip_contacts = detect_contacts(clip->skeleton, clip->motion, *feet, co);
-    }
+    if (feet) clip_contacts = feet_contacts(*clip);
     for (std::size_t b = group[static_cast<std::size_t>(g)];
          b < group[static_cast<std::size_t>(g) + 1]; ++b) {
       const std::size_t k = missing[b].second;
@@ -881,20 +879,16 @@ const detail::GaitPhase& MapBlender::Impl::phase_of(int run) const {
     const std::lock_guard lock(phase_mutex);
     if (const auto hit = phases.find(run); hit != phases.end()) return hit->second;
   }
-  const int c = clip_of[static_cast<std::size_t>(run)];
-  // A clip read outside the lock (other runs' phases stay available).
-  std::array<FootContacts, 2> clip_feet;
   if (source) {
-    const std::shared_ptr<const Clip> clip = source->clip(c);
-    ContactOptions co;
-    co.up = options.up;
-    clip_feet = detect_contacts(clip->skeleton, clip->motion, *feet, co);
+    read_phases({run});
+    const std::lock_guard lock(phase_mutex);
+    return phases.at(run);  // elements never move
   }
-  detail::GaitPhase phase =
-      detail::gait_phase(source ? clip_feet : clip_contacts[static_cast<std::size_t>(c)],
-                         index->frame_time(run), index->frame_of(run), index->run_seconds(run));
+  detail::GaitPhase phase = detail::gait_phase(
+      clip_contacts[static_cast<std::size_t>(clip_of[static_cast<std::size_t>(run)])],
+      index->frame_time(run), index->frame_of(run), index->run_seconds(run));
   const std::lock_guard lock(phase_mutex);
-  return phases.try_emplace(run, std::move(phase)).first->second;  // elements never move
+  return phases.try_emplace(run, std::move(phase)).first->second;
 }
 
 void MapBlender::Impl::read_phases(std::vector<int> runs) const {
@@ -916,10 +910,7 @@ void MapBlender::Impl::read_phases(std::vector<int> runs) const {
     const std::size_t first = group[static_cast<std::size_t>(g)];
     const std::shared_ptr<const Clip> clip =
         source->clip(clip_of[static_cast<std::size_t>(runs[first])]);
-    ContactOptions co;
-    co.up = options.up;
-    const std::array<FootContacts, 2> clip_feet =
-        detect_contacts(clip->skeleton, clip->motion, *feet, co);
+    const std::array<FootContacts, 2> clip_feet = feet_contacts(*clip);
     for (std::size_t r = first; r < group[static_cast<std::size_t>(g) + 1]; ++r) {
       read[r] = detail::gait_phase(clip_feet, index->frame_time(runs[r]), index->frame_of(runs[r]),
                                    index->run_seconds(runs[r]));

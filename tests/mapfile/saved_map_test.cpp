@@ -539,23 +539,27 @@ TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
     }
   }
 
-  // With one clip kept, a smoothed synthesis reads each clip once for the gait phases and once
-  // per block of frames blended (a block's samples, those the smoothing moves onto included, are
-  // read together before its frames are blended), not clip after clip frame by frame.
+  // With one clip kept, a smoothed synthesis of 720 frames (three blocks of 256 blended) reads
+  // each clip once for the gait phases and once for the samples it blends (those the smoothing
+  // moves onto included, read together before the frames are blended), not once per block, nor
+  // clip after clip frame by frame.
   {
     auto one = std::make_shared<const SavedMap>(file, 1);
     const synth::MapBlender lazy = make_blender(one, {});
-    // Halfway between the two swings' curves: each frame blends both.
+    // Halfway between the two swings' curves, over 6 s: each frame blends both.
     synth::MapPath between;
     const int second = file.clips[1].first_sample;
-    for (int i = 60; i < 200; i += 10)
+    for (int i = 60; i <= 340; i += 10) {
       between.points.push_back(0.5 * (xy.row(i) + xy.row(second + i)).head<2>().transpose());
+      between.times.push_back(6.0 * (i - 60) / 280.0);
+    }
     const int before = one->loads();
     synth::SynthOptions so;
     so.smooth = 0.05;
     const synth::SynthResult r = synth::synthesize(lazy, between, so);
-    const int blocks = (r.motion.num_frames + 255) / 256;
-    EXPECT_LE(one->loads() - before, 3 * (1 + blocks)) << r.motion.num_frames << " frames";
+    ASSERT_EQ(r.motion.num_frames, 721);
+    EXPECT_LE(one->loads() - before, 2 * static_cast<int>(file.clips.size()))
+        << one->loads() - before << " clips read";
   }
 
   // A map file without the blend record (an older one): every clip is read once for it, and the

@@ -421,8 +421,8 @@ class MapBlender {
   double gait_phase(int i, double* cadence = nullptr) const;
   /// Made from a ClipSource: reads the states of every sample these weights blend, each clip
   /// once (the clips on the pool's threads), so that blending them reads no clip; a synthesis
-  /// calls it for each block of frames' weights as blended (smoothed). Does nothing for a blender
-  /// given the clips. @throws as blend().
+  /// calls it for the weights of up to 2048 frames at a time, as blended (smoothed). Does nothing
+  /// for a blender given the clips. @throws as blend().
   void prefetch(std::span<const MapWeights> weights) const;
   /// Whether this blender was made from a ClipSource (reads clips on demand).
   bool reads_on_demand() const;

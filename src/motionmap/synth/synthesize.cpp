@@ -23,6 +23,10 @@ namespace {
 // Frames blended per block (between progress reports and cancel polls), and located at a time
 // in the local mode.
 constexpr int kBlockFrames = 256;
+// Blocks whose samples a blender reading its clips on demand reads together; no further block is
+// added once they hold over kMaxSpanWeights weights (dense kriging weights: after one or two).
+constexpr int kPrefetchBlocks = 8;
+constexpr std::size_t kMaxSpanWeights = 4'000'000;
 constexpr std::size_t kLocateFrames = 1024;
 // Most kriging weights the smoothing window may hold (each a dense vector over the samples).
 constexpr long long kMaxWindowWeights = 50'000'000;
@@ -199,9 +203,16 @@ SynthResult synthesize_frames(
   // Raw weights of frames [raw_first, raw_first + raw.size()), computed ahead as the window needs.
   std::deque<MapWeights> raw;
   long long raw_first = 0;
-  for (long long k0 = 0; k0 < frames; k0 += kBlockFrames) {
-    blending.check();
-    const long long k1 = std::min(frames, k0 + kBlockFrames);
+  // The weights blended at frames [span_first, span_first + blended.size()) and those frames'
+  // validity (of their own, raw weights): the smoothing moves each neighbour's weights along its
+  // clips, onto samples of its own. One block's, or on a blender reading its clips on demand up
+  // to kPrefetchBlocks blocks', whose samples are read together first, each clip once (a
+  // sketch's consecutive blocks blend mostly the same clips; of the raw weights only, the samples
+  // the smoothing moves onto would be read frame by frame, a whole clip each).
+  std::vector<MapWeights> blended;
+  std::vector<PointValidity> span_validity;
+  long long span_first = 0;
+  const auto add_block = [&](long long k0, long long k1) {
     const long long need_first = std::max(0LL, k0 - half), need_end = std::min(frames, k1 + half);
     while (raw_first < need_first && !raw.empty()) {
       raw.pop_front();
@@ -211,31 +222,44 @@ SynthResult synthesize_frames(
     if (have_end < need_end) {
       for (auto& w : weights_of(have_end, need_end - have_end)) raw.push_back(std::move(w));
     }
-    const auto own = [&](long long k) -> const MapWeights& {
-      return raw[static_cast<std::size_t>(k - raw_first)];
-    };
-    // The weights blended: the smoothing moves each neighbour's weights along its clips, onto
-    // samples of its own.
-    std::vector<MapWeights> smoothed_block;
+    const std::size_t at = blended.size();
+    blended.resize(at + static_cast<std::size_t>(k1 - k0));
+    for (long long k = k0; k < k1; ++k)
+      span_validity.push_back(raw[static_cast<std::size_t>(k - raw_first)].validity);
     if (half > 0) {
-      smoothed_block.resize(static_cast<std::size_t>(k1 - k0));
       parallel_for(static_cast<int>(k1 - k0), [&](int i) {
-        smoothed_block[static_cast<std::size_t>(i)] =
+        blended[at + static_cast<std::size_t>(i)] =
             detail::smoothed(raw, raw_first, k0 + i, frames, kernel, dt, blender);
       });
+    } else {
+      // No later block reads these (the window is the block itself).
+      std::move(raw.begin() + static_cast<std::ptrdiff_t>(k0 - raw_first),
+                raw.begin() + static_cast<std::ptrdiff_t>(k1 - raw_first), blended.begin() + at);
     }
-    // A blender reading its clips on demand reads the samples of this block's blends now, each
-    // clip once (of the raw weights only, the samples the smoothing moves onto would be read
-    // frame by frame, a whole clip each, from more clips than its cache keeps).
-    if (blender.reads_on_demand()) {
-      blender.prefetch(half > 0 ? smoothed_block
-                                : std::vector<MapWeights>(
-                                      raw.begin() + static_cast<std::ptrdiff_t>(k0 - raw_first),
-                                      raw.begin() + static_cast<std::ptrdiff_t>(k1 - raw_first)));
+  };
+  const long long span_frames =
+      static_cast<long long>(blender.reads_on_demand() ? kPrefetchBlocks : 1) * kBlockFrames;
+  for (long long k0 = 0; k0 < frames; k0 += kBlockFrames) {
+    blending.check();
+    const long long k1 = std::min(frames, k0 + kBlockFrames);
+    if (k0 >= span_first + static_cast<long long>(blended.size())) {
+      span_first = k0;
+      blended.clear();
+      span_validity.clear();
+      const long long span_end = std::min(frames, k0 + span_frames);
+      std::size_t held = 0;  // weights in `blended`
+      for (long long b0 = k0; b0 < span_end && held <= kMaxSpanWeights; b0 += kBlockFrames) {
+        if (b0 > k0) blending.check();
+        const std::size_t at = blended.size();
+        add_block(b0, std::min(span_end, b0 + kBlockFrames));
+        for (std::size_t i = at; i < blended.size(); ++i) held += blended[i].samples.size();
+      }
+      if (blender.reads_on_demand()) blender.prefetch(blended);
     }
     parallel_for(static_cast<int>(k1 - k0), [&](int i) {
       const long long k = k0 + i;
-      const MapWeights& weights = half == 0 ? own(k) : smoothed_block[static_cast<std::size_t>(i)];
+      const auto at = static_cast<std::size_t>(k - span_first);
+      const MapWeights& weights = blended[at];
       const BlendedFrame b = blender.blend(weights);
       if (const auto share = blender.contact_share(weights)) {
         shares[static_cast<std::size_t>(k)] = *share;
@@ -248,7 +272,7 @@ SynthResult synthesize_frames(
       }
       velocity[static_cast<std::size_t>(k)] = b.velocity;
       yaw_rate[static_cast<std::size_t>(k)] = b.yaw_rate;
-      result.validity[static_cast<std::size_t>(k)] = own(k).validity;
+      result.validity[static_cast<std::size_t>(k)] = span_validity[at];
     });
     blending.update(static_cast<double>(k1) / static_cast<double>(frames));
   }

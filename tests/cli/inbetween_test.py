@@ -267,12 +267,18 @@ def keys_name_clips_of_the_map():
     assert code == 0, err
     rows = motion_rows(by_name)
     assert close(rows[0], converted(RUN)[40]) and close(rows[11], converted(OLD)[101])
-    # A name of no clip of the map, or of several: usage errors that say which clips there are.
+    # A name of no clip of the map, or of several: usage errors that say which clips there are,
+    # or which ones the name is part of.
+    code, _, err = inbetween("--keys", "jog_001.bvh:20,dataset-1_walk_old_001.bvh:3",
+                             "-o", by_name)
+    assert code == 2, err
+    assert "no such clip file 'jog_001.bvh', and no clip of the map is named so" in err
+    assert "(its 3 clips: dataset-1_walk_angry_001.bvh, dataset-1_walk_old_001.bvh, " in err, err
     code, _, err = inbetween("--keys", "walk_angry_001.bvh:20,dataset-1_walk_old_001.bvh:3",
                              "-o", by_name)
     assert code == 2, err
-    assert "no such clip file 'walk_angry_001.bvh', and no clip of the map is named so" in err
-    assert "(its 3 clips: dataset-1_walk_angry_001.bvh, dataset-1_walk_old_001.bvh, " in err, err
+    assert ("no such clip file 'walk_angry_001.bvh', and no clip of the map is named so; did you "
+            "mean dataset-1_walk_angry_001.bvh?") in err, err
     for folder, rel in (("a", ANGRY), ("b", OLD)):
         os.makedirs(tmp(folder), exist_ok=True)
         link = tmp(folder, "walk.bvh")

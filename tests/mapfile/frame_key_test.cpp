@@ -138,8 +138,21 @@ TEST(FrameKey, AClipOfTheMapNamedByTheEndOfItsPath) {
   EXPECT_EQ(error("walk.bvh"),
             "'walk.bvh' names 2 clips of the map (/data/takes/walk.bvh, /data/old/walk.bvh): give "
             "more of its path");
+  EXPECT_EQ(error("jog.bvh"),
+            "no such clip file 'jog.bvh', and no clip of the map is named so (its 4 clips: "
+            "walk.bvh, walk.bvh, run.bvh, …)");
+  // A name that is part of clips' file names: those clips, each by the shortest path end that
+  // names it alone.
+  EXPECT_EQ(error("alk.bvh"),
+            "no such clip file 'alk.bvh', and no clip of the map is named so; did you mean "
+            "/data/takes/walk.bvh or /data/old/walk.bvh?");
+  EXPECT_EQ(error("RUN"),
+            "no such clip file 'RUN', and no clip of the map is named so; did you mean run.bvh?");
   EXPECT_EQ(error("un.bvh"),
-            "no such clip file 'un.bvh', and no clip of the map is named so (its 4 clips: "
+            "no such clip file 'un.bvh', and no clip of the map is named so; did you mean "
+            "run.bvh?");
+  EXPECT_EQ(error(".bvh"),
+            "no such clip file '.bvh', and no clip of the map is named so (its 4 clips: "
             "walk.bvh, walk.bvh, run.bvh, …)");
   EXPECT_EQ(map_clip_named({"/a/b.bvh"}, "b.bvh"), "/a/b.bvh");
   try {

@@ -1,6 +1,7 @@
 #include "motionmap/mapfile/frame_key.h"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <span>
 
@@ -24,6 +25,12 @@ bool ends_with_name(const std::filesystem::path& path, const std::filesystem::pa
   return !n.empty() && n.size() <= p.size() && std::equal(n.rbegin(), n.rend(), p.rbegin());
 }
 
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
 }  // namespace
 
 std::string map_clip_named(const std::vector<std::string>& clip_files, const std::string& name) {
@@ -36,6 +43,27 @@ std::string map_clip_named(const std::vector<std::string>& clip_files, const std
   }
   if (found.size() == 1) return found.front();
   if (found.empty()) {
+    // Clips whose file name holds the name given (walk_angry_001.bvh for
+    // dataset-1_walk_angry_001.bvh), each as the shortest path end that names it alone.
+    const std::string part = lower(wanted.filename().string());
+    std::vector<std::string> like;
+    for (const std::string& clip : clip_files) {
+      const std::filesystem::path path = std::filesystem::path(clip).lexically_normal();
+      if (part.empty() || lower(path.filename().string()).find(part) == std::string::npos) continue;
+      std::string named = path.filename().string();
+      if (std::count_if(clip_files.begin(), clip_files.end(), [&](const std::string& other) {
+            return ends_with_name(std::filesystem::path(other).lexically_normal(), named);
+          }) > 1)
+        named = clip;
+      if (std::find(like.begin(), like.end(), named) == like.end()) like.push_back(named);
+    }
+    if (!like.empty() && like.size() <= 3) {
+      std::string guess;
+      for (std::size_t c = 0; c < like.size(); ++c)
+        guess += (c == 0 ? "" : c + 1 == like.size() ? " or " : ", ") + like[c];
+      throw ParameterError("no such clip file '" + name +
+                           "', and no clip of the map is named so; did you mean " + guess + "?");
+    }
     std::string some;
     for (std::size_t c = 0; c < std::min<std::size_t>(clip_files.size(), 3); ++c)
       some += (c ? ", " : "") + std::filesystem::path(clip_files[c]).filename().string();

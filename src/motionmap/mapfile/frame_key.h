@@ -47,8 +47,9 @@ struct FrameKey {
 /// there: the one whose path ends with name's components (`walk.bvh` names takes/walk.bvh,
 /// `takes/walk.bvh` names /data/takes/walk.bvh). Returns its path.
 /// @throws ParameterError "no such clip file 'NAME', and no clip of the map is named so (its N
-///   clips: a.bvh, b.bvh, …)" ("its clip: a.bvh" for one) or "'NAME' names N clips of the map (A,
-///   B, …): give more of its path".
+///   clips: a.bvh, b.bvh, …)" ("its clip: a.bvh" for one) — or, where one to three clips' file
+///   names hold NAME's (case aside), "…; did you mean x_NAME or y_NAME?" — or "'NAME' names N
+///   clips of the map (A, B, …): give more of its path".
 std::string map_clip_named(const std::vector<std::string>& clip_files, const std::string& name);
 
 /// The key pose of frame `frame` (from 0) of `clip` on the map (see above).

@@ -562,6 +562,43 @@ TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
         << one->loads() - before << " clips read";
   }
 
+  // A blender that keeps fewer states than a synthesis reads: the samples a prefetch finds kept
+  // stay kept while states are dropped for the others, so its frames' blends read no clip again
+  // (once, every one dropped, each frame read its clips again, clip by clip).
+  {
+    auto one = std::make_shared<const SavedMap>(file, 1);
+    synth::BlendOptions few;
+    few.kept_states = 100;
+    const synth::MapBlender lazy = make_blender(one, few);
+    const int second = file.clips[1].first_sample;
+    synth::SynthOptions so;
+    so.smooth = 0.05;
+    synth::SynthResult first;
+    // Halfway between the two swings' curves, then a quarter of the way: the second path blends
+    // some samples the first kept and some it did not.
+    for (const double share : {0.5, 0.25}) {
+      synth::MapPath path_between;
+      for (int i = 60; i <= 340; i += 10) {
+        path_between.points.push_back(
+            ((1.0 - share) * xy.row(i) + share * xy.row(second + i)).head<2>().transpose());
+        path_between.times.push_back(6.0 * (i - 60) / 280.0);
+      }
+      const int before = one->loads();
+      const synth::SynthResult r = synth::synthesize(lazy, path_between, so);
+      EXPECT_LE(one->loads() - before, 2 * static_cast<int>(file.clips.size()))
+          << one->loads() - before << " clips read, " << share << " of the way";
+      if (share == 0.5) first = r;
+    }
+    // Keeping few states changes what is read, not what is blended.
+    synth::MapPath again;
+    for (int i = 60; i <= 340; i += 10) {
+      again.points.push_back(0.5 * (xy.row(i) + xy.row(second + i)).head<2>().transpose());
+      again.times.push_back(6.0 * (i - 60) / 280.0);
+    }
+    expect_same_motion(first.motion, synth::synthesize(make_blender(one, {}), again, so).motion,
+                       "kept_states 100");
+  }
+
   // A map file without the blend record (an older one): every clip is read once for it, and the
   // blender is the same.
   MapFile old = file;

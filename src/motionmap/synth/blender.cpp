@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "motionmap/core/error.h"
@@ -46,9 +47,6 @@ long long follow_half_window(double dt) {
 constexpr double kSeparationFraction = 0.25;
 // Kriging queries are solved in blocks of this many points (bounds the right-hand-side memory).
 constexpr int kKrigingBlock = 64;
-// Sample states a blender reading its clips on demand keeps (about 1 KB each for 30 joints);
-// beyond this it starts afresh.
-constexpr std::size_t kMaxKeptStates = 200000;
 
 // Where the runs of one clip start in `items` (sorted by clip), and items.size() last: items
 // [starts[g], starts[g + 1]) are one clip's.
@@ -201,6 +199,10 @@ void BlendOptions::validate(int num_samples) const {
                          " is out of range (must be a finite number > 0)");
   }
   if (up != Axis::X && up != Axis::Y && up != Axis::Z) throw ParameterError("up: not an axis");
+  if (kept_states < 1) {
+    throw ParameterError("kept_states: " + std::to_string(kept_states) +
+                         " is out of range (must be ≥ 1)");
+  }
 }
 
 ClipsSummary summarize_clips(int num_clips,
@@ -535,7 +537,12 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
   std::size_t count_read = 0;
   for (const auto& r : read) count_read += r.size();
   const std::lock_guard lock(state_mutex);
-  if (states.size() + count_read > kMaxKeptStates) states.clear();
+  if (states.size() + count_read > static_cast<std::size_t>(options.kept_states)) {
+    // Afresh, but for the samples asked for: a prefetch's, found kept, are blended next, and
+    // dropped, each frame's blend would read their clips again, frame by frame.
+    const std::unordered_set<int> asked(samples.begin(), samples.end());
+    std::erase_if(states, [&](const auto& kept) { return !asked.contains(kept.first); });
+  }
   for (auto& r : read)
     for (auto& [i, st] : r) states.emplace(i, std::move(st));
 }

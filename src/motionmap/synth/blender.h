@@ -181,9 +181,12 @@ struct BlendOptions {
   /// row i): with it the map's validity is the GP's (MapGp::inside) in every mode, and the gp mode
   /// blends with its predictive mean. Null for other maps (the gp mode then is an error).
   std::shared_ptr<const MapGp> gplvm;
+  /// Made from a ClipSource: the sample states read from the clips that the blender keeps (about
+  /// 1 KB each for 30 joints), ≥ 1; beyond it, it keeps only those of the samples being read.
+  int kept_states = 200000;
 
-  /// @throws ParameterError naming `neighbors` or `reach`, its value and the valid range
-  ///         (neighbors is only checked in the local and idw modes), for the gp mode without
+  /// @throws ParameterError naming `neighbors`, `reach` or `kept_states`, its value and the valid
+  ///         range (neighbors is only checked in the local and idw modes), for the gp mode without
   ///         `gplvm`, or for a `gplvm` of another number of frames than `num_samples`.
   void validate(int num_samples) const;
 };

@@ -167,7 +167,7 @@ inline std::string_view skip_utf8_bom(std::string_view text) {
   return text.substr(0, 3) == "\xEF\xBB\xBF" ? text.substr(3) : text;
 }
 
-/// ASCII lower case, for case-insensitive header names.
+/// ASCII lower case (other bytes as they are, whatever the locale), for case-insensitive names.
 std::string ascii_lower(std::string_view s);
 
 /// Whether `a` and `b` are equal ignoring ASCII case, for case-insensitive keywords (other bytes

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <exception>
 #include <filesystem>
 #include <optional>
@@ -11,18 +10,13 @@
 #include "motionmap/core/files.h"
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
+#include "motionmap/core/text_cursor.h"
 
 namespace motionmap::io {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 bool hidden(const fs::path& p) {
   const std::string name = p.filename().string();
@@ -32,7 +26,7 @@ bool hidden(const fs::path& p) {
 }  // namespace
 
 bool is_clip_file(std::string_view path) {
-  const std::string ext = lower(fs::path(path).extension().string());
+  const std::string ext = ascii_lower(fs::path(path).extension().string());
   return ext == ".bvh" || ext == ".amc";
 }
 

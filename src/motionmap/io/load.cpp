@@ -1,11 +1,13 @@
 #include "motionmap/io/load.h"
 
-#include <algorithm>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/files.h"
 #include "motionmap/core/sha256.h"
+#include "motionmap/core/text_cursor.h"
 #include "motionmap/io/amc.h"
 #include "motionmap/io/bvh.h"
 
@@ -16,10 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
+  return ascii_lower(fs::path(path).extension().string());
 }
 
 // CMU names takes SUBJECT_TRIAL.amc next to SUBJECT.asf; otherwise accept a lone .asf.

@@ -11,6 +11,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/text_cursor.h"
 
 namespace motionmap::sample {
 
@@ -507,9 +508,7 @@ std::string_view sample_kind_name(SampleKind kind) {
 }
 
 std::optional<SampleKind> parse_sample_kind(std::string_view name) {
-  std::string lower(name);
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  const std::string lower = ascii_lower(name);
   if (lower == "swing") return SampleKind::Swing;
   if (lower == "walk") return SampleKind::Walk;
   return std::nullopt;

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -17,6 +16,7 @@
 #include "motionmap/core/format.h"
 #include "motionmap/core/parallel.h"
 #include "motionmap/core/stats.h"
+#include "motionmap/core/text_cursor.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 
 namespace motionmap::synth {
@@ -30,12 +30,6 @@ constexpr int kSetupChunk = 2048;
 constexpr int kShortlist = 256;
 // A local optimum this close to the target (× height) ends the search: nothing can do better.
 constexpr double kExactFraction = 1e-9;
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 // "LeftHand", "Hand_L", "lHand" → the same key: joint_name_words(), left/right as l/r, sorted.
 std::string name_key(std::string_view name) {
@@ -66,7 +60,7 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 }
 
 bool near_match(std::string_view asked, std::string_view name) {
-  const std::string a = lower(asked), n = lower(name);
+  const std::string a = ascii_lower(asked), n = ascii_lower(name);
   if (name_key(asked) == name_key(name)) return true;
   if (edit_distance(a, n) <= 2) return true;
   const std::string& shorter = a.size() < n.size() ? a : n;
@@ -201,7 +195,7 @@ int find_joint(const Skeleton& skeleton, std::string_view name) {
   if (const int exact = skeleton.find(name); exact >= 0) return exact;
   int found = -1, count = 0;
   for (int j = 0; j < skeleton.num_joints(); ++j) {
-    if (lower(skeleton.joints[std::size_t(j)].name) == lower(name)) {
+    if (ascii_iequals(skeleton.joints[std::size_t(j)].name, name)) {
       found = j;
       ++count;
     }

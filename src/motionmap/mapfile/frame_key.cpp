@@ -1,11 +1,11 @@
 #include "motionmap/mapfile/frame_key.h"
 
 #include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <span>
 
 #include "motionmap/core/error.h"
+#include "motionmap/core/text_cursor.h"
 #include "motionmap/features/joint_match.h"
 
 namespace motionmap::mapfile {
@@ -25,36 +25,35 @@ bool ends_with_name(const std::filesystem::path& path, const std::filesystem::pa
   return !n.empty() && n.size() <= p.size() && std::equal(n.rbegin(), n.rend(), p.rbegin());
 }
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 }  // namespace
 
 std::string map_clip_named(const std::vector<std::string>& clip_files, const std::string& name) {
+  std::vector<std::filesystem::path> paths;
+  paths.reserve(clip_files.size());
+  for (const std::string& clip : clip_files)
+    paths.push_back(std::filesystem::path(clip).lexically_normal());
+  // The clips (each path once) whose path ends with the components of `n`.
+  const auto named_by = [&](const std::filesystem::path& n) {
+    std::vector<std::string> out;
+    for (std::size_t c = 0; c < paths.size(); ++c) {
+      if (ends_with_name(paths[c], n) &&
+          std::find(out.begin(), out.end(), clip_files[c]) == out.end())
+        out.push_back(clip_files[c]);
+    }
+    return out;
+  };
   const std::filesystem::path wanted = std::filesystem::path(name).lexically_normal();
-  std::vector<std::string> found;
-  for (const std::string& clip : clip_files) {
-    if (ends_with_name(std::filesystem::path(clip).lexically_normal(), wanted) &&
-        std::find(found.begin(), found.end(), clip) == found.end())
-      found.push_back(clip);
-  }
+  const std::vector<std::string> found = named_by(wanted);
   if (found.size() == 1) return found.front();
   if (found.empty()) {
-    // Clips whose file name holds the name given (walk_angry_001.bvh for
-    // dataset-1_walk_angry_001.bvh), each as the shortest path end that names it alone.
-    const std::string part = lower(wanted.filename().string());
+    // Up to three clips whose file name holds the name given (walk_angry_001.bvh for
+    // dataset-1_walk_angry_001.bvh), each by its file name where that names it alone.
+    const std::string part = ascii_lower(wanted.filename().string());
     std::vector<std::string> like;
-    for (const std::string& clip : clip_files) {
-      const std::filesystem::path path = std::filesystem::path(clip).lexically_normal();
-      if (part.empty() || lower(path.filename().string()).find(part) == std::string::npos) continue;
-      std::string named = path.filename().string();
-      if (std::count_if(clip_files.begin(), clip_files.end(), [&](const std::string& other) {
-            return ends_with_name(std::filesystem::path(other).lexically_normal(), named);
-          }) > 1)
-        named = clip;
+    for (std::size_t c = 0; c < paths.size() && !part.empty() && like.size() <= 3; ++c) {
+      const std::string file = paths[c].filename().string();
+      if (ascii_lower(file).find(part) == std::string::npos) continue;
+      const std::string named = named_by(file).size() == 1 ? file : clip_files[c];
       if (std::find(like.begin(), like.end(), named) == like.end()) like.push_back(named);
     }
     if (!like.empty() && like.size() <= 3) {

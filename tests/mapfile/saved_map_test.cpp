@@ -539,6 +539,18 @@ TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
     }
   }
 
+  // A path `share` of the way from the first swing's curve to the second's, over 6 s.
+  const int second = file.clips[1].first_sample;
+  const auto toward_second = [&](double share) {
+    synth::MapPath path;
+    for (int i = 60; i <= 340; i += 10) {
+      path.points.push_back(
+          ((1.0 - share) * xy.row(i) + share * xy.row(second + i)).head<2>().transpose());
+      path.times.push_back(6.0 * (i - 60) / 280.0);
+    }
+    return path;
+  };
+
   // With one clip kept, a smoothed synthesis of 720 frames (three blocks of 256 blended) reads
   // each clip once for the gait phases and once for the samples it blends (those the smoothing
   // moves onto included, read together before the frames are blended), not once per block, nor
@@ -546,17 +558,11 @@ TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
   {
     auto one = std::make_shared<const SavedMap>(file, 1);
     const synth::MapBlender lazy = make_blender(one, {});
-    // Halfway between the two swings' curves, over 6 s: each frame blends both.
-    synth::MapPath between;
-    const int second = file.clips[1].first_sample;
-    for (int i = 60; i <= 340; i += 10) {
-      between.points.push_back(0.5 * (xy.row(i) + xy.row(second + i)).head<2>().transpose());
-      between.times.push_back(6.0 * (i - 60) / 280.0);
-    }
     const int before = one->loads();
     synth::SynthOptions so;
     so.smooth = 0.05;
-    const synth::SynthResult r = synth::synthesize(lazy, between, so);
+    // Halfway between the two swings' curves: each frame blends both.
+    const synth::SynthResult r = synth::synthesize(lazy, toward_second(0.5), so);
     ASSERT_EQ(r.motion.num_frames, 721);
     EXPECT_LE(one->loads() - before, 2 * static_cast<int>(file.clips.size()))
         << one->loads() - before << " clips read";
@@ -570,32 +576,21 @@ TEST(SavedMapBlender, EqualsTheBlenderOfEveryClipAndReadsOnlyTheClipsItBlends) {
     synth::BlendOptions few;
     few.kept_states = 100;
     const synth::MapBlender lazy = make_blender(one, few);
-    const int second = file.clips[1].first_sample;
     synth::SynthOptions so;
     so.smooth = 0.05;
     synth::SynthResult first;
     // Halfway between the two swings' curves, then a quarter of the way: the second path blends
     // some samples the first kept and some it did not.
     for (const double share : {0.5, 0.25}) {
-      synth::MapPath path_between;
-      for (int i = 60; i <= 340; i += 10) {
-        path_between.points.push_back(
-            ((1.0 - share) * xy.row(i) + share * xy.row(second + i)).head<2>().transpose());
-        path_between.times.push_back(6.0 * (i - 60) / 280.0);
-      }
       const int before = one->loads();
-      const synth::SynthResult r = synth::synthesize(lazy, path_between, so);
+      const synth::SynthResult r = synth::synthesize(lazy, toward_second(share), so);
       EXPECT_LE(one->loads() - before, 2 * static_cast<int>(file.clips.size()))
           << one->loads() - before << " clips read, " << share << " of the way";
       if (share == 0.5) first = r;
     }
     // Keeping few states changes what is read, not what is blended.
-    synth::MapPath again;
-    for (int i = 60; i <= 340; i += 10) {
-      again.points.push_back(0.5 * (xy.row(i) + xy.row(second + i)).head<2>().transpose());
-      again.times.push_back(6.0 * (i - 60) / 280.0);
-    }
-    expect_same_motion(first.motion, synth::synthesize(make_blender(one, {}), again, so).motion,
+    expect_same_motion(first.motion,
+                       synth::synthesize(make_blender(one, {}), toward_second(0.5), so).motion,
                        "kept_states 100");
   }
 

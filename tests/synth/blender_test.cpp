@@ -820,6 +820,13 @@ TEST(SynthBlender, RejectsBadOptions) {
   EXPECT_NO_THROW(build(BlendMode::Kriging, 50, 3.0));  // K is not used by kriging
   EXPECT_NO_THROW(build(BlendMode::Local, 20, 3.0));
   EXPECT_NO_THROW(build(BlendMode::Idw, 1, 3.0));
+  for (const int kept : {0, -5}) {
+    BlendOptions opt;
+    opt.kept_states = kept;
+    EXPECT_EQ(motionmap::test::error_message<ParameterError>(
+                  [&] { MapBlender(std::span<const Clip>(&clip, 1), all_frames(20), map, opt); }),
+              "kept_states: " + std::to_string(kept) + " is out of range (must be ≥ 1)");
+  }
 }
 
 TEST(SynthBlender, RejectsAMapOfOtherClips) {

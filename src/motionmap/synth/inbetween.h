@@ -73,10 +73,6 @@ namespace motionmap::synth {
 
 /// Most frames between two keys that frames_between may ask for.
 inline constexpr int kMaxFramesBetween = 100000;
-/// Most samples of a map read on demand (a saved map's) whose clip routes' jumps are priced by
-/// their poses, as a map given its clips prices them (docs/synthesis.md, "The clip route").
-inline constexpr int kPricedJumpSamples = 20000;
-
 struct Key {
   /// Where the key lies on the map.
   Eigen::Vector2d point = Eigen::Vector2d::Zero();

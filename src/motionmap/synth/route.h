@@ -302,6 +302,13 @@ using PoseRotations = std::vector<Eigen::Quaterniond>;
 PoseRotations pose_rotations(const MapBlender& blender, const Motion& pose);
 double pose_distance(const PoseRotations& a, const PoseRotations& b);
 
+/// Most samples of a map read on demand (a saved map's) whose clip routes' jumps are priced by
+/// their poses, every sample's read first, as a map given its clips prices them: in-betweens'
+/// routes (InbetweenOptions::priced_jump_samples) and a path's routes outside the data
+/// (detail/outside_route.h). On a larger one they are priced by their map distance alone
+/// (docs/synthesis.md, "The clip route").
+inline constexpr int kPricedJumpSamples = 20000;
+
 /// Samples' own poses (their clips' frames) as routes compare them, each read once when first
 /// asked for: only its own clip, where the blend at its point, equal to it on maps whose blend
 /// is exact at samples, reads its neighbours' too (an in-between on a saved map of 100 000

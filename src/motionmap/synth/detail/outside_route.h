@@ -8,14 +8,14 @@
 // in contact, between two captured walks. Inside the data but farther than half the reach from
 // every sample, the kriging mixes the phases too (a sketch along the edge of two walks' data:
 // 1.26° of joint angles changed by cleaning its feet, against 0.42° routed). So a run of such
-// frames is played instead by a route
-// through the clips' own frames that tracks the path: find_clip_route over the run's frames, a
-// step per frame, each step paying kOutsideTrack × ((distance from the sample to the frame's
-// path point − the nearest sample's) / the reach)² besides the route's own costs (holds, skips,
-// jumps priced by their poses where the clips are in memory), played as in-betweens play their
-// routes (play_clip_route). (Measured from the nearest sample, a path far away pulls no harder
-// than one close by: by the plain distance, a path 7 reaches off a winding clip pulled the route
-// to its bends and made it jump.) Where a run meets the data the route starts one frame earlier
+// frames is played instead by a route through the clips' own frames that tracks the path:
+// find_clip_route over the run's frames, a step per frame, each step paying kOutsideTrack ×
+// ((distance from the sample to the frame's path point − the nearest sample's) / the reach)²
+// besides the route's own costs (holds, skips, jumps priced by their poses as in-betweens price
+// them: kPricedJumpSamples), played as in-betweens play their routes (play_clip_route).
+// (Measured from the nearest sample, a path far away pulls no harder than one close by: by the
+// plain distance, a path 7 reaches off a winding clip pulled the route to its bends and made it
+// jump.) Where a run meets the data the route starts one frame earlier
 // (ends one later) on the sample the blend of that frame is mostly on (towards it: its place and
 // pose), and its share rises from 0 to 1 (smoothstep) over kFollowSeconds of frames, so the
 // motion goes on from the blend in step and without a pop; at the path's own ends it plays from

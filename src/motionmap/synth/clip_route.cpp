@@ -501,6 +501,10 @@ double pose_distance(const PoseRotations& a, const PoseRotations& b) {
   return sum / static_cast<double>(a.size());
 }
 
+bool prices_jumps_by_poses(const MapBlender& blender, int priced_samples) {
+  return !blender.reads_on_demand() || blender.num_samples() <= priced_samples;
+}
+
 const PoseRotations& SamplePoses::operator()(int sample) {
   auto it = m_poses.find(sample);
   if (it == m_poses.end()) {

@@ -288,9 +288,7 @@ InbetweenResult inbetween(const MapBlender& blender, const features::FeatureSet&
   // Unpriced on the saved map of the 12 Bandai takes, the route from the tired walk's frame 178 to
   // the feminine walk's 223 jumped between their steps at two phases, and the swinging foot
   // dragged forward 0–6 cm above the floor.
-  const bool price_jumps =
-      !blender.reads_on_demand() ||
-      samples.clip_of.size() <= static_cast<std::size_t>(options.priced_jump_samples);
+  const bool price_jumps = prices_jumps_by_poses(blender, options.priced_jump_samples);
   if (clip_routes) {
     // The poses of the samples a route may start or end on, read together; on a blender reading
     // its clips on demand whose jumps are priced, every sample's (those among them).

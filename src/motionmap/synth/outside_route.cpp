@@ -125,15 +125,13 @@ OutsideRoutes::OutsideRoutes(const MapBlender& blender, std::span<const Eigen::V
   const double sample_step = median_sample_step(blender, next);
   const double r = field.reach_distance();
   const auto fade = static_cast<double>(blender.follow_neighbours(dt));
-  // Jumps are priced by their poses where the blender holds its clips, or reads them on demand
-  // from a map of at most kPricedJumpSamples samples, every sample's pose read first, each clip
-  // once (as in-betweens price theirs): so a saved map routes as the clips mapped directly do.
+  // Jumps are priced by their poses as in-betweens price theirs (prices_jumps_by_poses), on a
+  // saved map every sample's pose read first: so it routes as the clips mapped directly do.
   // Unpriced on the saved map of the 11 Bandai takes (the proud walk left out), the feminine
   // walk sketched with a point every third of a second (bench/traced_walks.py) took another
   // route into its stalled steps than on the same map given its clips: cleaned, 0.141 of its
   // transitions skated and a foot stayed up 1.00 s, against 0.275 and 0.73 s now.
-  const bool price_jumps =
-      !blender.reads_on_demand() || blender.num_samples() <= kPricedJumpSamples;
+  const bool price_jumps = prices_jumps_by_poses(blender);
   SamplePoses poses(blender);
   if (price_jumps && blender.reads_on_demand()) {
     std::vector<int> every(static_cast<std::size_t>(blender.num_samples()));

@@ -303,11 +303,17 @@ PoseRotations pose_rotations(const MapBlender& blender, const Motion& pose);
 double pose_distance(const PoseRotations& a, const PoseRotations& b);
 
 /// Most samples of a map read on demand (a saved map's) whose clip routes' jumps are priced by
-/// their poses, every sample's read first, as a map given its clips prices them: in-betweens'
-/// routes (InbetweenOptions::priced_jump_samples) and a path's routes outside the data
-/// (detail/outside_route.h). On a larger one they are priced by their map distance alone
-/// (docs/synthesis.md, "The clip route").
+/// their poses (prices_jumps_by_poses): in-betweens' routes (InbetweenOptions::priced_jump_samples)
+/// and a path's routes outside the data (detail/outside_route.h).
 inline constexpr int kPricedJumpSamples = 20000;
+
+/// Whether clip routes on `blender` price their jumps by the two samples' poses: always where it
+/// holds its clips; on one reading them on demand (a saved map's) where it has at most
+/// `priced_samples` samples, whose every pose the caller reads first (SamplePoses::prepare), each
+/// clip once, so that it routes as its clips mapped directly do. Beyond, pricing them would read a
+/// clip for nearly every sample the search reaches: they are priced by their map distance alone
+/// (docs/synthesis.md, "The clip route").
+bool prices_jumps_by_poses(const MapBlender& blender, int priced_samples = kPricedJumpSamples);
 
 /// Samples' own poses (their clips' frames) as routes compare them, each read once when first
 /// asked for: only its own clip, where the blend at its point, equal to it on maps whose blend

@@ -2,6 +2,9 @@
 // the samples' sample_state()s, bit for bit, and the functions refuse what they cannot blend.
 #include "motionmap/synth/blend_state.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <span>
 #include <string>
@@ -10,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "motionmap/core/error.h"
+#include "motionmap/features/point_cloud.h"
 #include "motionmap/io/load.h"
 #include "motionmap/skeleton/forward_kinematics.h"
 #include "motionmap/synth/blender.h"
@@ -67,6 +71,7 @@ TEST(SynthBlendState, BlendStatesIsTheBlendersArithmeticBitForBit) {
       EXPECT_TRUE(same_bytes(a.translations, b.translations)) << what;
       EXPECT_EQ(std::memcmp(a.velocity.data(), b.velocity.data(), sizeof(double) * 3), 0) << what;
       EXPECT_EQ(std::memcmp(&a.yaw_rate, &b.yaw_rate, sizeof(double)), 0) << what;
+      EXPECT_EQ(std::memcmp(&a.heading_offset, &b.heading_offset, sizeof(double)), 0) << what;
     }
   }
 }
@@ -92,6 +97,44 @@ TEST(SynthBlendState, AtOneSampleItIsThatSamplesState) {
   EXPECT_EQ(b.translations[0], Eigen::Vector3d(0.0, s.height, 0.0));
   EXPECT_EQ(b.velocity, s.velocity);
   EXPECT_EQ(b.yaw_rate, s.yaw_rate);
+  EXPECT_EQ(b.heading_offset, s.heading_offset);
+}
+
+TEST(SynthBlendState, AClipsHeadingIsItsTurningPlusItsSway) {
+  // A captured walk's pelvis swings either way with each step; a sample's yaw rate is the turning
+  // (its clip's heading averaged over a stride), the swing its heading offset. Integrated, the
+  // turning plus the sway gives the clip's heading back.
+  MOTIONMAP_REQUIRE_SHARED("bandai/dataset-1_walk_feminine_001.bvh");
+  const Clip clip =
+      io::load_clip(motionmap::test::shared_file("bandai/dataset-1_walk_feminine_001.bvh"));
+  const Motion& m = clip.motion;
+  const int root = motion_root(clip.skeleton, m);
+  const std::vector<int> ancestors = root_ancestors(clip.skeleton, root);
+  const double dt = m.frame_time;
+  double base = 0.0, heading = 0.0, turning2 = 0.0, raw2 = 0.0, worst = 0.0, widest = 0.0;
+  const auto heading_of = [&](int f) {
+    return features::heading_angle(root_transform(m, f, root, ancestors).rotation.normalized());
+  };
+  const SampleState first = sample_state(m, 0, root, Axis::Y, {}, ancestors);
+  for (int f = 0; f + 1 < m.num_frames; ++f) {
+    const SampleState s = sample_state(m, f, root, Axis::Y, {}, ancestors);
+    worst = std::max(worst, std::abs(base + s.heading_offset - first.heading_offset - heading));
+    widest = std::max(widest, std::abs(s.heading_offset));
+    const double step = wrap_angle(heading_of(f + 1) - heading_of(f));
+    raw2 += (step / dt) * (step / dt);
+    turning2 += s.yaw_rate * s.yaw_rate;
+    base += s.yaw_rate * dt;
+    heading += step;
+  }
+  EXPECT_LE(worst, 1e-9);
+  // The sway is a few degrees; the turning changes far less from frame to frame than the heading.
+  EXPECT_GT(widest, deg_to_rad(2.0));
+  EXPECT_LT(widest, deg_to_rad(15.0));
+  const double turning_rms = std::sqrt(turning2 / (m.num_frames - 1));
+  const double raw_rms = std::sqrt(raw2 / (m.num_frames - 1));
+  std::printf("feminine walk: heading rate RMS %.3f rad/s, turning %.3f; widest sway %.1f°\n",
+              raw_rms, turning_rms, rad_to_deg(widest));
+  EXPECT_LT(turning_rms, 0.3 * raw_rms);
 }
 
 TEST(SynthBlendState, ALibraryWhoseClipsMoveDifferentJointsBlendsTheBodysRoot) {

@@ -553,16 +553,21 @@ TEST(SynthCleanFeet, PlantedFeetLeadTheRoot) {
     const std::vector<FeetFrame> standing{now, next};
     std::vector<Eigen::Vector3d> positions(2);
     std::vector<double> headings(2);
+    // Each frame faces the turning integrated so far plus its own sway.
+    const std::vector<double> sway{0.05, -0.02};
     const detail::RootState start{Eigen::Vector3d(1.0, 0.0, 2.0), 0.3};
-    const detail::RootState end = detail::integrate_root(start, velocity, yaw_rate, dt, standing,
-                                                         Axis::Y, positions, headings);
+    const detail::RootState end = detail::integrate_root(start, velocity, yaw_rate, sway, dt,
+                                                         standing, Axis::Y, positions, headings);
+    const auto facing = [](double h) {
+      return Eigen::Quaterniond(Eigen::AngleAxisd(h, Eigen::Vector3d::UnitY()));
+    };
     EXPECT_EQ(positions[0], start.position);
-    EXPECT_EQ(headings[0], 0.3);
-    EXPECT_EQ(headings[1], 0.3 + 1.5 * dt);
-    EXPECT_EQ(positions[1], start.position + root_step(yaw * velocity[0] * dt, yaw,
-                                                       Eigen::Quaterniond(Eigen::AngleAxisd(
-                                                           headings[1], Eigen::Vector3d::UnitY())),
+    EXPECT_EQ(headings[0], 0.3 + 0.05);
+    EXPECT_EQ(headings[1], 0.3 + 1.5 * dt - 0.02);
+    EXPECT_EQ(positions[1], start.position + root_step(facing(headings[0]) * velocity[0] * dt,
+                                                       facing(headings[0]), facing(headings[1]),
                                                        now, next, Axis::Y));
+    // The state reached is the turning alone.
     EXPECT_NEAR(end.heading, 0.3 + 2.0 * 1.5 * dt, 1e-15);
     EXPECT_TRUE(end.position.isApprox(
         positions[1] + Eigen::AngleAxisd(headings[1], Eigen::Vector3d::UnitY()) * velocity[1] * dt,

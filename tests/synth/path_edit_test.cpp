@@ -253,13 +253,10 @@ void check_edit(const EditCase& c) {
         sr.ratio, sr.contact_speed_cm_s);
     EXPECT_LE(rms, c.max_rms_deg);
     // Feet in the window: no more skating than the blend there or the take it follows (the
-    // issue's target), within one transition of the window or 1 % of them. (The blend of the
-    // proud walk's trajectory, its phases registered, crosses the measure's 0.5 m/s line at
-    // 0.330 of the transitions in one window, the cleaned edit at 0.357, 42 cm/s in contact
-    // against the blend's 47; the capture at 0.418, 44 cm/s. The golf swing's point 5, its
-    // window played from 64_08's own frames, raw 0 of 304: the window turns 19.5° more than the
-    // blend to meet the previous motion, so the left foot, held through it, eases about 4 cm onto
-    // the turned stance as its heel rises, 2 transitions at 51–54 cm/s 2 cm up.)
+    // issue's target), within one transition of the window or 1 % of them. (The golf swing's
+    // windows, played from 64_08's own frames, turn to meet the previous motion, and a foot held
+    // through the turn eases onto the turned stance as its heel rises: smoothed, its point 3
+    // skates 1 transition of 323 where the raw blend skates none.)
     const int window_transitions = std::max(1, edit.end - edit.first - 1);
     EXPECT_LE(se.ratio, std::max(sr.ratio, captured.ratio) +
                             std::max(1.0 / window_transitions, 0.01) + 1e-12);

@@ -32,7 +32,9 @@ void check_joints(const char* what, int num_joints, int root, std::span<const in
 }  // namespace
 
 bool SampleState::finite() const {
-  if (!std::isfinite(height) || !std::isfinite(yaw_rate) || !velocity.allFinite()) return false;
+  if (!std::isfinite(height) || !std::isfinite(yaw_rate) || !std::isfinite(heading_offset) ||
+      !velocity.allFinite())
+    return false;
   for (const Eigen::Quaterniond& q : rotations) {
     if (!q.coeffs().allFinite()) return false;
   }
@@ -84,7 +86,7 @@ void fold_root(Motion& m, int f, int root, std::span<const int> ancestors) {
 void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int> moving,
                   std::span<const int> ancestors, Eigen::Quaterniond* rotations,
                   Eigen::Vector3d* translations, double& height, Eigen::Vector3d& velocity,
-                  double& yaw_rate) {
+                  double& yaw_rate, double& heading_offset) {
   const int J = m.num_joints;
   if (f < 0 || f >= m.num_frames) {
     throw ParameterError("sample_state: frame " + std::to_string(f) + " is out of range [0, " +
@@ -99,6 +101,7 @@ void sample_state(const Motion& m, int f, int root, Axis up, std::span<const int
   height = r.height;
   velocity = r.velocity;
   yaw_rate = r.yaw_rate;
+  heading_offset = r.heading_offset;
   for (std::size_t k = 0; k < moving.size(); ++k) translations[k] = m.translation(f, moving[k]);
 }
 
@@ -108,7 +111,7 @@ SampleState sample_state(const Motion& m, int f, int root, Axis up, std::span<co
   s.rotations.resize(static_cast<std::size_t>(std::max(m.num_joints, 0)));
   s.translations.resize(moving.size());
   sample_state(m, f, root, up, moving, ancestors, s.rotations.data(), s.translations.data(),
-               s.height, s.velocity, s.yaw_rate);
+               s.height, s.velocity, s.yaw_rate, s.heading_offset);
   return s;
 }
 
@@ -180,7 +183,7 @@ BlendedFrame blend_states(std::span<const SampleStateView> states, std::span<con
 
   // Translations, height and root motion: weighted sums.
   std::vector<Eigen::Vector3d> tsum(mv, Eigen::Vector3d::Zero());
-  double height = 0.0, yaw = 0.0;
+  double height = 0.0, yaw = 0.0, sway = 0.0;
   Eigen::Vector3d vel = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < count; ++k) {
     const SampleStateView& s = states[k];
@@ -188,6 +191,7 @@ BlendedFrame blend_states(std::span<const SampleStateView> states, std::span<con
     for (std::size_t k2 = 0; k2 < mv; ++k2) tsum[k2] += wk * s.translations[k2];
     height += wk * s.height;
     yaw += wk * s.yaw_rate;
+    sway += wk * s.heading_offset;
     vel += wk * s.velocity;
   }
   out.translations.assign(fixed_translations.begin(), fixed_translations.end());
@@ -197,6 +201,7 @@ BlendedFrame blend_states(std::span<const SampleStateView> states, std::span<con
   root[static_cast<int>(up)] = height / total;
   out.velocity = vel / total;
   out.yaw_rate = yaw / total;
+  out.heading_offset = sway / total;
   for (const int j : ancestors) {
     out.rotations[static_cast<std::size_t>(j)] = Eigen::Quaterniond::Identity();
     out.translations[static_cast<std::size_t>(j)] = Eigen::Vector3d::Zero();

@@ -60,7 +60,10 @@ struct BlendedFrame {
   std::vector<Eigen::Vector3d> translations;
   /// Blended root floor velocity in the heading frame (units per second, up component 0).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-  double yaw_rate = 0.0;  ///< blended heading change, radians per second about the up axis
+  /// Blended turning: the change of the heading averaged over a stride, radians per second about
+  /// the up axis (synth/detail/root_motion.h).
+  double yaw_rate = 0.0;
+  double heading_offset = 0.0;  ///< blended sway of the heading about the turning, radians
 };
 
 /// A sample's state where it is kept (a SampleState, or a blender's tables), as blend_states()
@@ -71,6 +74,7 @@ struct SampleStateView {
   double height = 0.0;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   double yaw_rate = 0.0;
+  double heading_offset = 0.0;
 };
 
 /// One sample (a frame of a clip) as a blend reads it.
@@ -83,12 +87,15 @@ struct SampleState {
   /// The motion root's floor velocity in the frame's heading frame, units per second (a forward
   /// difference to the next frame; see synth/detail/root_motion.h).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-  double yaw_rate = 0.0;  ///< heading change, radians per second about the up axis
+  /// The turning's change (the clip's heading averaged over a stride), radians per second about
+  /// the up axis (synth/detail/root_motion.h).
+  double yaw_rate = 0.0;
+  double heading_offset = 0.0;  ///< the heading's sway about the turning, radians
 
   /// Whether every value is finite.
   bool finite() const;
   SampleStateView view() const {
-    return {rotations.data(), translations.data(), height, velocity, yaw_rate};
+    return {rotations.data(), translations.data(), height, velocity, yaw_rate, heading_offset};
   }
 };
 
@@ -103,7 +110,7 @@ SampleState sample_state(const Motion& motion, int frame, int root, Axis up,
 void sample_state(const Motion& motion, int frame, int root, Axis up, std::span<const int> moving,
                   std::span<const int> ancestors, Eigen::Quaterniond* rotations,
                   Eigen::Vector3d* translations, double& height, Eigen::Vector3d& velocity,
-                  double& yaw_rate);
+                  double& yaw_rate, double& heading_offset);
 
 /// sample_state() of frame `frame` of a clip a blend has read (a blender from its ClipSource,
 /// SavedMap::pose_at), checked before it is blended.
@@ -127,7 +134,7 @@ void check_blend_joints(int motion_root, std::span<const int> moving, int joints
 ///  - translations: the moving joints' weighted sums over the weights' sum; every other joint's
 ///    is its entry of `fixed_translations`, the motion root's 0 on the floor and the blended
 ///    height along `up`;
-///  - velocity and yaw rate: weighted sums over the weights' sum;
+///  - velocity, yaw rate and heading offset: weighted sums over the weights' sum;
 ///  - the motion root's `ancestors` (folded into the states' root) at rest: identity rotation,
 ///    zero translation.
 /// The states are summed in the order given: the same states and weights in the same order give

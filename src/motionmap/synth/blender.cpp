@@ -341,6 +341,7 @@ struct MapBlender::Impl {
   std::vector<double> height;
   std::vector<Eigen::Vector3d> velocity;  // heading-local floor velocity, units/s
   std::vector<double> yaw_rate;           // rad/s
+  std::vector<double> heading_offset;     // rad
   // The skeleton's feet (none: no contacts are known). Per sample: bit 0 the left foot, bit 1 the
   // right foot in contact with the floor in its clip (detect_contacts); read on demand, in the
   // sample's state instead.
@@ -412,7 +413,8 @@ struct MapBlender::Impl {
   // their states.
   void read_samples(std::span<const int> samples, std::vector<Eigen::Quaterniond>& rotations,
                     std::vector<Eigen::Vector3d>& translations, std::vector<double>& heights,
-                    std::vector<Eigen::Vector3d>& velocities, std::vector<double>& yaw_rates) const;
+                    std::vector<Eigen::Vector3d>& velocities, std::vector<double>& yaw_rates,
+                    std::vector<double>& heading_offsets) const;
   // The index, and the local systems or the kriging system (`lazy`: local systems on demand).
   void build_systems(const Eigen::MatrixXd& coords, const features::FeatureSet& samples,
                      std::span<const double> frame_times, bool lazy, const Control& control);
@@ -434,13 +436,14 @@ void MapBlender::Impl::build_samples(std::span<const Clip> clips,
   height.resize(un);
   velocity.resize(un);
   yaw_rate.resize(un);
+  heading_offset.resize(un);
   moving_translations.resize(un * mv);
-  for (int i = 0; i < n; ++i) {
+  parallel_for(n, [&](int i) {
     const auto ui = static_cast<std::size_t>(i);
     sample_state(clips[samples.clip_of[i]].motion, samples.frame_of[i], r, options.up, moving,
                  ancestors, rotations.data() + ui * uJ, moving_translations.data() + ui * mv,
-                 height[ui], velocity[ui], yaw_rate[ui]);
-  }
+                 height[ui], velocity[ui], yaw_rate[ui], heading_offset[ui]);
+  });
   // The samples' contacts, from their own clips (captured feet are found reliably there).
   feet = try_find_feet(clips.front().skeleton, options.up);
   if (feet) {
@@ -469,7 +472,8 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
                                     std::vector<Eigen::Vector3d>& translations,
                                     std::vector<double>& heights,
                                     std::vector<Eigen::Vector3d>& velocities,
-                                    std::vector<double>& yaw_rates) const {
+                                    std::vector<double>& yaw_rates,
+                                    std::vector<double>& heading_offsets) const {
   const std::size_t count = samples.size(), uJ = static_cast<std::size_t>(joints),
                     mv = moving.size();
   rots.resize(count * uJ);
@@ -477,6 +481,7 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
   heights.resize(count);
   velocities.resize(count);
   yaw_rates.resize(count);
+  heading_offsets.resize(count);
   // Entry k of the outputs: `st`.
   const auto put = [&](std::size_t k, const SampleState& st) {
     std::copy(st.rotations.begin(), st.rotations.end(), rots.begin() + k * uJ);
@@ -484,6 +489,7 @@ void MapBlender::Impl::read_samples(std::span<const int> samples,
     heights[k] = st.height;
     velocities[k] = st.velocity;
     yaw_rates[k] = st.yaw_rate;
+    heading_offsets[k] = st.heading_offset;
   };
   // The states read before; the others, by clip.
   std::vector<std::pair<int, std::size_t>> missing;  // (clip, entry)
@@ -1128,20 +1134,28 @@ BlendedFrame MapBlender::blend(const MapWeights& w) const {
   // read from the clips now.
   std::vector<Eigen::Quaterniond> read_rotations;
   std::vector<Eigen::Vector3d> read_translations, read_velocity;
-  std::vector<double> read_height, read_yaw;
+  std::vector<double> read_height, read_yaw, read_sway;
   if (s.source)
     s.read_samples(w.samples, read_rotations, read_translations, read_height, read_velocity,
-                   read_yaw);
+                   read_yaw, read_sway);
   std::vector<SampleStateView> states(count);
   for (std::size_t k = 0; k < count; ++k) {
     SampleStateView& v = states[k];
     if (s.source) {
-      v = {read_rotations.data() + k * J, read_translations.data() + k * mv, read_height[k],
-           read_velocity[k], read_yaw[k]};
+      v = {read_rotations.data() + k * J,
+           read_translations.data() + k * mv,
+           read_height[k],
+           read_velocity[k],
+           read_yaw[k],
+           read_sway[k]};
     } else {
       const auto i = static_cast<std::size_t>(w.samples[k]);
-      v = {s.rotations.data() + i * J, s.moving_translations.data() + i * mv, s.height[i],
-           s.velocity[i], s.yaw_rate[i]};
+      v = {s.rotations.data() + i * J,
+           s.moving_translations.data() + i * mv,
+           s.height[i],
+           s.velocity[i],
+           s.yaw_rate[i],
+           s.heading_offset[i]};
     }
   }
   BlendedFrame out = blend_states(states, w.weights, s.fixed_translations, s.moving, s.motion_root,
@@ -1259,8 +1273,8 @@ void MapBlender::prefetch(std::span<const MapWeights> weights) const {
   samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
   std::vector<Eigen::Quaterniond> rotations;
   std::vector<Eigen::Vector3d> translations, velocities;
-  std::vector<double> heights, yaw_rates;
-  m->read_samples(samples, rotations, translations, heights, velocities, yaw_rates);
+  std::vector<double> heights, yaw_rates, sways;
+  m->read_samples(samples, rotations, translations, heights, velocities, yaw_rates, sways);
 }
 
 bool MapBlender::reads_on_demand() const {

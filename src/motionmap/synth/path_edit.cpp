@@ -89,7 +89,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   if (previous.motion.num_joints != J || previous.motion.frame_time != dt ||
       previous.validity.size() != static_cast<std::size_t>(F0) ||
       previous.root_positions.size() != static_cast<std::size_t>(F0) ||
-      previous.headings.size() != static_cast<std::size_t>(F0) || F0 == 0 ||
+      previous.headings.size() != static_cast<std::size_t>(F0) ||
+      previous.heading_offsets.size() != static_cast<std::size_t>(F0) || F0 == 0 ||
       (previous.feet_cleaned && previous.feet_changed.size() != static_cast<std::size_t>(F0)) ||
       (blender.options().mode == BlendMode::Local &&
        previous.stalled.size() != static_cast<std::size_t>(F0))) {
@@ -258,6 +259,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   raw_motion.resize(x1 - x0, J);
   std::vector<Eigen::Vector3d> velocity(static_cast<std::size_t>(x1 - x0));
   std::vector<double> yaw_rate(static_cast<std::size_t>(x1 - x0));
+  std::vector<double> sway(static_cast<std::size_t>(x1 - x0));
   std::vector<std::array<double, 2>> shares(static_cast<std::size_t>(x1 - x0));
   bool shares_known = true;
   for (int k = x0; k < x1; ++k) {
@@ -269,6 +271,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     }
     velocity[i] = bf.velocity;
     yaw_rate[i] = bf.yaw_rate;
+    sway[i] = bf.heading_offset;
     if (const auto share = blender.contact_share(weights[i])) {
       shares[i] = *share;
     } else {
@@ -282,10 +285,13 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
       clean ? std::optional<Feet>(find_feet(skeleton, blender.options().up)) : std::nullopt;
 
   // Root states: the previous ones outside [a, b); inside, integrated from the previous state at
-  // a (as synthesize() does: with clean feet, following the planted feet), the mismatch at b
-  // spread over the window where the root moves (spread_shares).
+  // a (as synthesize() does: with clean feet, following the planted feet; the turning from the
+  // previous heading less its sway), the mismatch at b spread over the window where the root
+  // moves (spread_shares).
   r.root_positions.resize(static_cast<std::size_t>(F));
   r.headings.resize(static_cast<std::size_t>(F));
+  r.heading_offsets.resize(static_cast<std::size_t>(F));
+  std::copy(sway.begin() + (a - x0), sway.begin() + (b - x0), r.heading_offsets.begin() + a);
   {
     const std::vector<detail::FeetFrame> standing =
         clean && shares_known
@@ -294,8 +300,10 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     const auto from = static_cast<std::size_t>(a - x0), count = static_cast<std::size_t>(b - a);
     const detail::RootState end = detail::integrate_root(
         {previous.root_positions[static_cast<std::size_t>(a)],
-         previous.headings[static_cast<std::size_t>(a)]},
-        std::span(velocity).subspan(from, count), std::span(yaw_rate).subspan(from, count), dt,
+         previous.headings[static_cast<std::size_t>(a)] -
+             previous.heading_offsets[static_cast<std::size_t>(a)]},
+        std::span(velocity).subspan(from, count), std::span(yaw_rate).subspan(from, count),
+        std::span(sway).subspan(from), dt,
         standing.empty() ? std::span<const detail::FeetFrame>() : std::span(standing).subspan(from),
         blender.options().up,
         std::span(r.root_positions).subspan(static_cast<std::size_t>(a), count),
@@ -303,13 +311,15 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     if (b < F) {
       const Eigen::Vector3d dx =
           previous.root_positions[static_cast<std::size_t>(b)] - end.position;
-      const double dh = wrap_angle(previous.headings[static_cast<std::size_t>(b)] - end.heading);
+      // The heading reached at b: the turning integrated and b's sway (as before the edit).
+      const double reached = end.heading + previous.heading_offsets[static_cast<std::size_t>(b)];
+      const double dh = wrap_angle(previous.headings[static_cast<std::size_t>(b)] - reached);
       const std::vector<double> travel = spread_shares(count, [&](std::size_t i) {
         const Eigen::Vector3d& to = i + 1 < count ? r.root_positions[a + i + 1] : end.position;
         return (to - r.root_positions[a + i]).norm();
       });
       const std::vector<double> turn = spread_shares(count, [&](std::size_t i) {
-        const double to = i + 1 < count ? r.headings[a + i + 1] : end.heading;
+        const double to = i + 1 < count ? r.headings[a + i + 1] : reached;
         return std::abs(wrap_angle(to - r.headings[a + i]));
       });
       for (int k = a + 1; k < b; ++k) {

@@ -1,6 +1,7 @@
 #include "motionmap/synth/detail/root_motion.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "motionmap/core/error.h"
 #include "motionmap/features/point_cloud.h"
@@ -11,6 +12,49 @@ namespace motionmap::synth::detail {
 Eigen::Quaterniond remove_heading(const Eigen::Quaterniond& q, Axis up) {
   return (axis_rotation(up, -features::heading_angle(q, up)) * q).normalized();
 }
+
+namespace {
+
+double heading_at(const Motion& motion, int frame, int root, Axis up,
+                  std::span<const int> ancestors) {
+  return features::heading_angle(
+      root_transform(motion, frame, root, ancestors).rotation.normalized(), up);
+}
+
+// The sway of frame f, whose heading is `at`: minus the mean of the headings (relative to `at`)
+// of the frames f + round(j·w/kTurnSamples), j = −kTurnSamples … kTurnSamples, in the motion,
+// with w = kTurnSeconds in frames. Each is unwrapped from its neighbour nearer f, so a spin faster
+// than half a turn over the window still averages what it turned.
+double sway(const Motion& motion, int f, double at, int root, Axis up,
+            std::span<const int> ancestors) {
+  const double wide = kTurnSeconds / motion.frame_time;  // frames
+  const double w = std::isfinite(wide) && wide > 0.0
+                       ? std::min(wide, static_cast<double>(motion.num_frames))
+                       : 0.0;
+  double sum = 0.0;
+  int count = 1;  // frame f itself, at 0
+  for (const int side : {-1, 1}) {
+    long last = f;
+    double heading = at, relative = 0.0;
+    for (int j = 1; j <= kTurnSamples; ++j) {
+      const long g = f + side * std::lround(j * w / kTurnSamples);
+      if (g < 0 || g >= motion.num_frames) break;
+      if (g == last) {
+        sum += relative;
+      } else {
+        const double h = heading_at(motion, static_cast<int>(g), root, up, ancestors);
+        relative += wrap_angle(h - heading);
+        heading = h;
+        last = g;
+        sum += relative;
+      }
+      ++count;
+    }
+  }
+  return -sum / count;
+}
+
+}  // namespace
 
 RootSample root_sample(const Motion& motion, int frame, int root, Axis up,
                        std::span<const int> ancestors) {
@@ -30,7 +74,11 @@ RootSample root_sample(const Motion& motion, int frame, int root, Axis up,
   Eigen::Vector3d floor = tb.translation - ta.translation;
   floor[static_cast<int>(up)] = 0.0;
   s.velocity = axis_rotation(up, -ha) * floor / dt;
-  s.yaw_rate = wrap_angle(hb - ha) / dt;
+  // The turning's change from a to b: the heading's less the sway's.
+  const double sway_a = sway(motion, a, ha, root, up, ancestors);
+  const double sway_b = b == a ? sway_a : sway(motion, b, hb, root, up, ancestors);
+  s.yaw_rate = (wrap_angle(hb - ha) - (sway_b - sway_a)) / dt;
+  s.heading_offset = f == a ? sway_a : sway_b;
   return s;
 }
 
@@ -83,20 +131,21 @@ Eigen::Vector3d root_step(const Eigen::Vector3d& blended, const Eigen::Quaternio
 }
 
 RootState integrate_root(RootState start, std::span<const Eigen::Vector3d> velocity,
-                         std::span<const double> yaw_rate, double dt,
-                         std::span<const FeetFrame> standing, Axis up,
+                         std::span<const double> yaw_rate, std::span<const double> heading_offset,
+                         double dt, std::span<const FeetFrame> standing, Axis up,
                          std::span<Eigen::Vector3d> positions, std::span<double> headings) {
   RootState at = start;
   for (std::size_t i = 0; i < velocity.size(); ++i) {
     positions[i] = at.position;
-    headings[i] = at.heading;
-    const Eigen::Quaterniond yaw = axis_rotation(up, at.heading);
+    headings[i] = at.heading + heading_offset[i];
+    const Eigen::Quaterniond yaw = axis_rotation(up, headings[i]);
     const double next_heading = at.heading + yaw_rate[i] * dt;
     const Eigen::Vector3d blended = yaw * velocity[i] * dt;
-    at.position += i + 1 >= standing.size()
-                       ? blended
-                       : root_step(blended, yaw, axis_rotation(up, next_heading), standing[i],
-                                   standing[i + 1], up);
+    at.position +=
+        i + 1 >= standing.size()
+            ? blended
+            : root_step(blended, yaw, axis_rotation(up, next_heading + heading_offset[i + 1]),
+                        standing[i], standing[i + 1], up);
     at.heading = next_heading;
   }
   return at;

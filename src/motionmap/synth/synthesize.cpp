@@ -197,6 +197,7 @@ SynthResult synthesize_frames(
   result.validity.resize(static_cast<std::size_t>(frames));
   std::vector<Eigen::Vector3d> velocity(static_cast<std::size_t>(frames));
   std::vector<double> yaw_rate(static_cast<std::size_t>(frames));
+  result.heading_offsets.resize(static_cast<std::size_t>(frames));
   std::vector<std::array<double, 2>> shares(static_cast<std::size_t>(frames));
   std::atomic<bool> shares_known = true;
 
@@ -272,12 +273,14 @@ SynthResult synthesize_frames(
       }
       velocity[static_cast<std::size_t>(k)] = b.velocity;
       yaw_rate[static_cast<std::size_t>(k)] = b.yaw_rate;
+      result.heading_offsets[static_cast<std::size_t>(k)] = b.heading_offset;
       result.validity[static_cast<std::size_t>(k)] = span_validity[at];
     });
     blending.update(static_cast<double>(k1) / static_cast<double>(frames));
   }
 
-  // Root motion: integrate the heading-local velocity and yaw rate from the origin, heading 0.
+  // Root motion: integrate the heading-local velocity and yaw rate from the origin, facing
+  // heading 0 (the turning starts at minus frame 0's sway).
   const int root = blender.motion_root();
   const Axis up = blender.options().up;
   // With clean feet, a planted foot stays where it stands and the root moves with it (the blend
@@ -288,8 +291,10 @@ SynthResult synthesize_frames(
   result.options = options;
   result.root_positions.resize(static_cast<std::size_t>(frames));
   result.headings.resize(static_cast<std::size_t>(frames));
-  detail::integrate_root({}, velocity, yaw_rate, dt, standing, up, result.root_positions,
-                         result.headings);
+  const detail::RootState start{Eigen::Vector3d::Zero(),
+                                frames > 0 ? -result.heading_offsets.front() : 0.0};
+  detail::integrate_root(start, velocity, yaw_rate, result.heading_offsets, dt, standing, up,
+                         result.root_positions, result.headings);
   for (long long k = 0; k < frames; ++k) {
     const auto ks = static_cast<std::size_t>(k);
     Eigen::Quaterniond& q = result.motion.rotation(static_cast<int>(k), root);

@@ -109,6 +109,9 @@ struct SynthResult {
   /// held — where edit_path() starts and rejoins the root motion.
   std::vector<Eigen::Vector3d> root_positions;
   std::vector<double> headings;
+  /// Per frame: the blend's sway of the heading about its turning (BlendedFrame::heading_offset),
+  /// part of `headings`; edit_path() integrates the turning from a frame's heading less it.
+  std::vector<double> heading_offsets;
 };
 
 /// How a result's frames outside the data were played, in words for the user (the CLI's and

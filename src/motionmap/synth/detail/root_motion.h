@@ -4,6 +4,13 @@
 // the heading-local floor velocity and the yaw rate; its height along the up axis and its tilt
 // (the rotation with the heading removed) are blended like the other joints.
 //
+// The heading is split in two: its turning, the clip's heading averaged over ±kTurnSeconds, whose
+// rate (yaw_rate) is integrated; and the sway about it (heading_offset), blended like a pose. A
+// walk's pelvis swings a few degrees either way with each step; integrated, the swings of blended
+// sources whose weights rise and fall with the steps do not cancel, and a sketch along a straight
+// walk turned 21° (bench/traced_walks.py). A single sample still retraces its clip exactly: the
+// turning plus the sway is its heading.
+//
 //   const RootSample r = root_sample(clip.motion, f, blender_root, Axis::Y);
 //   // r.tilt: no heading; r.velocity: units/s in the heading frame (up component 0)
 #include <array>
@@ -27,9 +34,18 @@ struct RootSample {
   double height = 0.0;
   /// Floor velocity in the frame's own heading frame, units per second (up component 0).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-  /// Heading change per second about the up axis, radians (the change wrapped to (−π, π]).
+  /// The turning's change per second about the up axis, radians: the heading's change (wrapped
+  /// to (−π, π]) less the sway's.
   double yaw_rate = 0.0;
+  /// The sway: the heading less the clip's heading averaged over ±kTurnSeconds, radians.
+  double heading_offset = 0.0;
 };
+
+/// Half the window over which a clip's heading is averaged into its turning (RootSample): a
+/// whole stride of a walk (two steps, about a second) is averaged out.
+inline constexpr double kTurnSeconds = 0.5;
+/// Frames read either side of a sample to average its clip's heading (RootSample).
+inline constexpr int kTurnSamples = 8;
 
 /// `q` with its heading about `up` removed: yaw(−heading_angle(q, up))·q, normalised.
 Eigen::Quaterniond remove_heading(const Eigen::Quaterniond& q, Axis up);
@@ -37,7 +53,8 @@ Eigen::Quaterniond remove_heading(const Eigen::Quaterniond& q, Axis up);
 /// Root motion of frame f of `motion` at joint `root`, its `ancestors` folded in (root_transform
 /// in blend_state.h). Velocity and yaw rate are forward differences to the next frame (the last
 /// frame repeats its predecessor's; a one-frame motion stands still), so integrating a clip's own
-/// samples retraces the clip exactly.
+/// samples (and adding the sway) retraces the clip exactly. The heading's average over the
+/// window (cut to the clip) is read at 2·kTurnSamples + 1 frames evenly spread over it.
 RootSample root_sample(const Motion& motion, int frame, int root, Axis up,
                        std::span<const int> ancestors = {});
 
@@ -89,12 +106,14 @@ struct RootState {
 };
 
 /// Integrates the root from `start` over velocity.size() frames: frame i stands at the state
-/// reached so far (written to positions[i] and headings[i]), then steps by its heading-local
-/// velocity and yaw rate times dt — led by its planted feet (root_step) where `standing` has
-/// frames i and i + 1 (empty: never). Returns the state after the last frame.
+/// reached so far, facing the state's heading (the turning) plus its sway `heading_offset[i]`
+/// (written to positions[i] and headings[i]), then steps by its heading-local velocity and yaw
+/// rate times dt — led by its planted feet (root_step) where `standing` has frames i and i + 1
+/// (empty: never). `heading_offset` has an entry for each frame of `velocity` and of `standing`.
+/// Returns the state after the last frame (its heading the turning, no sway).
 RootState integrate_root(RootState start, std::span<const Eigen::Vector3d> velocity,
-                         std::span<const double> yaw_rate, double dt,
-                         std::span<const FeetFrame> standing, Axis up,
+                         std::span<const double> yaw_rate, std::span<const double> heading_offset,
+                         double dt, std::span<const FeetFrame> standing, Axis up,
                          std::span<Eigen::Vector3d> positions, std::span<double> headings);
 
 }  // namespace motionmap::synth::detail

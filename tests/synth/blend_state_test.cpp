@@ -137,6 +137,21 @@ TEST(SynthBlendState, AClipsHeadingIsItsTurningPlusItsSway) {
   EXPECT_LT(turning_rms, 0.3 * raw_rms);
 }
 
+TEST(SynthBlendState, TheSwayReadsNoFramesBeyondTheClipWhateverItsFrameTime) {
+  // The turning's window is kTurnSeconds of frames, cut to the clip: a frame time so short that
+  // the window would span 5e299 frames (past any integer) reads the clip's own 20 (no overflow, a
+  // finite sway), and one so long that it spans none leaves the heading all turning (no sway).
+  Clip clip = test::walking_clip(20);
+  const std::vector<int> moving;
+  clip.motion.frame_time = 1e-300;
+  const SampleState fast = sample_state(clip.motion, 10, 0, Axis::Y, moving);
+  EXPECT_TRUE(std::isfinite(fast.heading_offset));
+  EXPECT_NE(fast.heading_offset, 0.0);  // the walk turns: its frames either side differ
+  clip.motion.frame_time = 1e300;
+  const SampleState slow = sample_state(clip.motion, 10, 0, Axis::Y, moving);
+  EXPECT_EQ(slow.heading_offset, 0.0);
+}
+
 TEST(SynthBlendState, ALibraryWhoseClipsMoveDifferentJointsBlendsTheBodysRoot) {
   // Bandai Namco's run_normal carries its travel in joint_Root above the hips, walk_angry in the
   // hips (joint_Root at the origin): the blend folds joint_Root into the hips, so it blends the

@@ -408,6 +408,8 @@ TEST(SavedMap, PoseIsTheSavedMapBlendersPoseBitForBit) {
 // poses on both. Unpriced on the saved map, the feminine walk sketched with a point every third
 // of a second through the 11 Bandai takes' isomap took another route into its stalled steps and
 // skated 0.141 of its transitions cleaned against 0.275 from the clips (bench/traced_walks.py).
+// (Its strokes now follow the walk's curve, detail/strokes.h; drawn at 0.35 of the walk's timing,
+// slower than a clip is followed, they keep their chords and stall as that sketch did.)
 TEST(SavedMapBlender, RoutesAPathAsTheClipsMappedDirectlyDo) {
   std::vector<std::string> names;
   for (const char* take :
@@ -421,14 +423,15 @@ TEST(SavedMapBlender, RoutesAPathAsTheClipsMappedDirectlyDo) {
   const SavedLibrary lib = save_library(dir, names, embed::Method::Isomap);
   const Eigen::MatrixXd& xy = lib.map.embedding.coordinates;
   const features::FeatureSet& set = *lib.map.features;
-  // The feminine walk's own map points, one every 10 frames (a third of a second), at its timing.
+  // The feminine walk's own map points, one every 10 frames (a third of a second), at 0.35 of
+  // its timing.
   constexpr int kFeminine = 8;
   const double dt = lib.clips[kFeminine].motion.frame_time;
   synth::MapPath path;
   for (int i = 0; i < set.num_samples(); ++i) {
     if (set.clip_of[i] != kFeminine || set.frame_of[i] % 10 != 0) continue;
     path.points.push_back(xy.row(i).head<2>().transpose());
-    path.times.push_back(set.frame_of[i] * dt);
+    path.times.push_back(set.frame_of[i] * dt / 0.35);
   }
   const synth::MapBlender full(lib.clips, set, xy);
   auto saved = std::make_shared<const SavedMap>(read_map_file(lib.file, {.model = false}));

@@ -14,6 +14,7 @@
 #include "motionmap/features/point_cloud.h"
 #include "motionmap/io/bvh.h"
 #include "motionmap/io/load.h"
+#include "motionmap/skeleton/contacts.h"
 #include "motionmap/synth/synthesize.h"
 #include "support/test_data.h"
 
@@ -153,13 +154,29 @@ double turn_degrees(const std::vector<Eigen::Vector3d>& positions) {
       rad_to_deg(std::atan2(a.x() * b.z() - a.z() * b.x(), a.x() * b.x() + a.z() * b.z())));
 }
 
-// A walk sketched through a library's walks, a point every third of a second of its curve (a
-// stroke through its region, not round each loop: bench/traced_walks.py), goes as straight as
-// its capture. The blend moves its weights between the takes in step with the gait; their
-// pelvises swing a few degrees either way with each step, and integrated, those swings did not
-// cancel: the feminine walk turned 21° (its capture 1°). Blended as a sway about each clip's
-// turning, they turn nothing.
-TEST(SynthAcceptance, AWalkSketchedThroughALibraryGoesStraight) {
+// How far `positions` travel over the floor (Y up).
+double travelled(const std::vector<Eigen::Vector3d>& positions) {
+  double sum = 0.0;
+  for (std::size_t k = 1; k < positions.size(); ++k) {
+    Eigen::Vector3d d = positions[k] - positions[k - 1];
+    d.y() = 0.0;
+    sum += d.norm();
+  }
+  return sum;
+}
+
+// Takes sketched through a library, a point every third of a second of their curves (a stroke
+// through the take's region, not round each loop: bench/traced_walks.py), play their takes.
+// - The walks go as straight as captured. The blend moves its weights between the takes in step
+//   with the gait; their pelvises swing a few degrees either way with each step, and integrated,
+//   those swings did not cancel: the feminine walk turned 21° (its capture 1°). Blended as a sway
+//   about each clip's turning, they turn nothing.
+// - No foot stays up longer than a captured step's swing, and the run covers its capture's
+//   distance. Along the straight lines between the points, which cut across each loop of the
+//   curve, the old walk followed the tired walk at a third of its pace with a foot held up 0.83 s
+//   (the capture 0.33 s), and the run became a walk in the middle and covered 1.0 m of the
+//   capture's 2.0; each stroke now follows the curve it joins (detail/strokes.h).
+TEST(SynthAcceptance, TakesSketchedThroughALibraryPlayTheirTakes) {
   std::vector<Clip> clips;
   for (const char* take :
        {"bow_normal", "bow_old", "dash_normal", "punch_normal", "run_angry", "run_normal",
@@ -168,30 +185,44 @@ TEST(SynthAcceptance, AWalkSketchedThroughALibraryGoesStraight) {
     MOTIONMAP_REQUIRE_SHARED(name);
     clips.push_back(io::load_clip(test::shared_file(name)));
   }
-  constexpr int kFeminine = 8;
   const features::FeatureSet set = features::build_features(clips, {});
   embed::EmbedOptions eo;
   eo.method = embed::Method::Isomap;
   const embed::Embedding map = embed::embed({&set.X, &set.D}, eo);
-  const Motion& capture = clips[kFeminine].motion;
-  MapPath path;
-  std::vector<Eigen::Vector3d> captured;
-  for (int i = 0; i < set.num_samples(); ++i) {
-    if (set.clip_of[i] != kFeminine) continue;
-    const int f = set.frame_of[i];
-    captured.push_back(capture.translation(f, 1));  // the hips (joint_Root stands still)
-    if (f % 10 != 0) continue;
-    path.points.emplace_back(map.coordinates(i, 0), map.coordinates(i, 1));
-    path.times.push_back(f * capture.frame_time);
-  }
   const MapBlender blender(clips, set, map.coordinates);
-  const SynthResult r = synthesize(blender, path);
-  const double turned = turn_degrees(r.root_positions), as_captured = turn_degrees(captured);
-  std::printf(
-      "[ figures  ] the feminine walk sketched through 11 Bandai takes turns %.1f° (its "
-      "capture %.1f°)\n",
-      turned, as_captured);
-  EXPECT_LT(turned, as_captured + 5.0);
+  const Skeleton& skeleton = blender.skeleton();
+  const Feet feet = find_feet(skeleton);
+  for (const auto& [name, c] : {std::pair{"run_normal", 5}, std::pair{"walk_feminine", 8},
+                                std::pair{"walk_old", 9}, std::pair{"walk_tired", 10}}) {
+    SCOPED_TRACE(name);
+    const Motion& capture = clips[static_cast<std::size_t>(c)].motion;
+    MapPath path;
+    int last = 0;
+    for (int i = 0; i < set.num_samples(); ++i) {
+      if (set.clip_of[i] != c) continue;
+      last = set.frame_of[i];
+      if (last % 10 != 0 && last != capture.num_frames - 1) continue;
+      path.points.emplace_back(map.coordinates(i, 0), map.coordinates(i, 1));
+      path.times.push_back(last * capture.frame_time);
+    }
+    ASSERT_EQ(last, capture.num_frames - 1);
+    const SynthResult r = synthesize(blender, path);
+    // The hips (joint 1, below Bandai's joint_Root) in the world.
+    const std::vector<Eigen::Vector3d> captured = joint_trajectory(skeleton, capture, 1),
+                                       made = joint_trajectory(skeleton, r.motion, 1);
+    const LengthUnits units = detect_length_units(skeleton, capture);
+    const Skating sc = measure_skating(skeleton, capture, feet, units);
+    const Skating sr = measure_skating(skeleton, r.motion, feet, units);
+    std::printf(
+        "[ figures  ] the %s sketched through 11 Bandai takes: turns %.1f° (its capture %.1f°), "
+        "travels %.0f (%.0f), a foot up %.2f s at most (%.2f), skates %.3f cleaned (%.3f)\n",
+        name, turn_degrees(made), turn_degrees(captured), travelled(made), travelled(captured),
+        sr.longest_raised_s, sc.longest_raised_s, sr.ratio, sc.ratio);
+    EXPECT_LT(turn_degrees(made), turn_degrees(captured) + 5.0);
+    EXPECT_NEAR(travelled(made), travelled(captured), 0.1 * travelled(captured));
+    EXPECT_LE(sr.longest_raised_s, sc.longest_raised_s + 0.1);
+    EXPECT_LE(sr.ratio, sc.ratio + 1.0 / sc.transitions + 1e-12);
+  }
 }
 
 TEST(SynthAcceptance, SynthesizedMotionExportsAsBvh) {

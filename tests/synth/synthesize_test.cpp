@@ -382,9 +382,79 @@ TEST(SynthSynthesize, RunsToRouteAreOutsideOrBeyondHalfTheReach) {
   EXPECT_EQ(detail::outside_runs(blender, path_of("iffooffiiffi")), (Runs{{1, 7}, {9, 11}}));
   EXPECT_EQ(detail::outside_runs(blender, path_of("innnoonnfni")), (Runs{{4, 6}}));
   EXPECT_EQ(detail::outside_runs(blender, path_of("ooonooo")), (Runs{{0, 3}, {4, 7}}));
+  // A run with frames outside the data is widened by `pad` frames each side, and runs that then
+  // meet are joined; one only beyond the line is not widened.
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iiiiooiiiiii"), {}, 0, 2), (Runs{{2, 8}}));
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iooiiiooii"), {}, 0, 2), (Runs{{0, 10}}));
+  EXPECT_EQ(detail::outside_runs(blender, path_of("iffiiiiiiii"), {}, 0, 2), (Runs{{1, 3}}));
   // Other modes have none.
   EXPECT_EQ(detail::outside_runs(make_blender(clip, map, BlendMode::Idw), path_of("ioooffi")),
             Runs{});
+}
+
+// A stroke between two points on a clip's curve, drawn at about the clip's timing, follows the
+// curve, not the chord across its loop (detail/strokes.h): the frames between its ends are the
+// curve's points at the clip's times, the ends' offsets from the curve shared linearly.
+TEST(SynthSynthesize, AStrokeBetweenTwoPointsOfACurveAtItsTimingFollowsTheCurve) {
+  const Clip clip = walking_clip(80);
+  const double dt = clip.motion.frame_time;
+  // Most of a circle of radius 1: its chords pass far inside it (step 0.07, kFollowFar 0.21).
+  Eigen::MatrixXd map(80, 2);
+  for (int f = 0; f < 80; ++f) map.row(f) << std::cos(0.07 * f), std::sin(0.07 * f);
+  const MapBlender blender = make_blender(clip, map);
+  const double step = blender.median_step();
+  const auto curve = [&](double frame) {
+    const int f = static_cast<int>(std::floor(frame));
+    const double u = frame - f;
+    return Eigen::Vector2d((1.0 - u) * map.row(f).transpose() + u * map.row(f + 1).transpose());
+  };
+  const auto stroke = [&](int from, int to, double seconds, Eigen::Vector2d off_from = {0, 0},
+                          Eigen::Vector2d off_to = {0, 0}) {
+    MapPath path;
+    path.points = {curve(from) + off_from, curve(to) + off_to};
+    path.times = {1.0, 1.0 + seconds};
+    return path;
+  };
+  const auto expect_points = [&](const MapPath& path, const auto& expected) {
+    const std::vector<Eigen::Vector2d> points = blender.path_points(path, dt, 0.0, 1000);
+    ASSERT_EQ(points.size(), resample_path(path, dt).size());
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      EXPECT_LT((points[k] - expected(k)).norm(), 1e-9 * step) << "frame " << k;
+    }
+  };
+  // At the clip's timing: its own points (20 frames from frame 10 to 30).
+  expect_points(stroke(10, 30, 20 * dt), [&](std::size_t k) { return curve(10.0 + k); });
+  // Drawn slower (0.6 of the pace) and off the curve by a step at one end (outwards, where frame
+  // 10 stays its nearest point): the curve at that rate, the offset fading out along the stroke.
+  const Eigen::Vector2d off = step * curve(10);
+  const MapPath slower = stroke(10, 30, 20 * dt / 0.6, off);
+  const std::size_t frames = resample_path(slower, dt).size();
+  expect_points(slower, [&](std::size_t k) {
+    const double u = static_cast<double>(k) * dt / (slower.times[1] - slower.times[0]);
+    return Eigen::Vector2d(curve(10.0 + 0.6 * static_cast<double>(k)) + (1.0 - u) * off);
+  });
+  EXPECT_EQ(frames, 34u);
+  // The chord, as drawn: at a quarter or four times the pace (the follow plays a clip at
+  // 0.5–2), an end farther than kFollowFar steps off the curve (at the circle's centre), in the
+  // other modes.
+  for (const MapPath& path : {stroke(10, 30, 80 * dt), stroke(10, 30, 5 * dt),
+                              stroke(10, 30, 20 * dt, {0, 0}, -curve(30))}) {
+    const std::vector<Eigen::Vector2d> chord = resample_path(path, dt);
+    expect_points(path, [&](std::size_t k) { return chord[k]; });
+  }
+  const MapBlender idw = make_blender(clip, map, BlendMode::Idw);
+  EXPECT_EQ(idw.path_points(stroke(10, 30, 20 * dt), dt, 0.0, 1000),
+            resample_path(stroke(10, 30, 20 * dt), dt));
+  // An end 3 steps inside the curve (the two ends' RMS 2.1 steps, between kFollowNear and
+  // kFollowFar): partly, between the chord and the curve.
+  const MapPath between = stroke(10, 30, 20 * dt, {0, 0}, -3.0 * step * curve(30));
+  const std::vector<Eigen::Vector2d> chord = resample_path(between, dt);
+  const std::vector<Eigen::Vector2d> points = blender.path_points(between, dt, 0.0, 1000);
+  const Eigen::Vector2d full = curve(20.0) + 0.5 * (-3.0 * step * curve(30));
+  const double share =
+      (points[10] - chord[10]).dot(full - chord[10]) / (full - chord[10]).squaredNorm();
+  EXPECT_GT(share, 0.05) << share;
+  EXPECT_LT(share, 0.95) << share;
 }
 
 TEST(SynthSynthesize, ReportsProgressAndCancels) {

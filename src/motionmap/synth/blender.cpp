@@ -24,6 +24,7 @@
 #include "motionmap/synth/detail/kriging.h"
 #include "motionmap/synth/detail/map_index.h"
 #include "motionmap/synth/detail/smoothing.h"
+#include "motionmap/synth/detail/strokes.h"
 
 namespace motionmap::synth {
 
@@ -805,6 +806,16 @@ int MapBlender::path_neighbours(double frame_time) const {
   return static_cast<int>(std::min<long long>(
       follow_half_window(frame_time) + (m->gait ? detail::pace_window(frame_time) : 0),
       std::numeric_limits<int>::max()));
+}
+
+std::vector<Eigen::Vector2d> MapBlender::path_points(const MapPath& path, double frame_time,
+                                                     double speed, long long max_frames) const {
+  const MapPath timed = timed_path(path, speed);
+  std::vector<Eigen::Vector2d> points = resample_path(timed, frame_time, 0.0, max_frames);
+  if (m->options.mode == BlendMode::Local) {
+    detail::follow_strokes(*m->index, timed, frame_time, points);
+  }
+  return points;
 }
 
 std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d> points,

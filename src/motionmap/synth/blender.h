@@ -95,6 +95,7 @@
 #include "motionmap/features/features.h"
 #include "motionmap/skeleton/skeleton.h"
 #include "motionmap/synth/blend_state.h"
+#include "motionmap/synth/path.h"
 
 namespace motionmap::synth {
 
@@ -336,6 +337,13 @@ class MapBlender {
   ///         finite, or as locate().
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, double frame_time,
                                       std::size_t first, std::size_t end) const;
+  /// The map point of every frame of `path` sampled every `frame_time` seconds, as synthesize()
+  /// and edit_path() follow it: resample_path()'s, an untimed path drawn at `speed`; in the local
+  /// mode, a stroke between two of its points on a clip's curve at about that clip's timing
+  /// follows the curve (detail/strokes.h).
+  /// @throws ParameterError as resample_path().
+  std::vector<Eigen::Vector2d> path_points(const MapPath& path, double frame_time, double speed,
+                                           long long max_frames) const;
   /// How many frames either side of a frame locate_path() reads the points of, for a path sampled
   /// every `frame_time` seconds (0 but in the local mode): a point moved changes the weights of
   /// that many frames around it. The clip times a frame follows read follow_neighbours() of them,

@@ -142,6 +142,30 @@ MapPath read_path_csv(const std::string& path) {
   return parse_path_csv(read_text_file(path), path);
 }
 
+MapPath timed_path(const MapPath& path, double speed) {
+  path.validate();
+  if (path.timed()) return path;
+  if (!(speed > 0.0) || !std::isfinite(speed)) {
+    throw ParameterError("speed: " + format_number(speed) +
+                         " map units per second is out of range (must be > 0)");
+  }
+  MapPath out;
+  out.points.push_back(path.points.front());
+  out.times.push_back(0.0);
+  for (std::size_t i = 1; i < path.points.size(); ++i) {
+    const double step = (path.points[i] - out.points.back()).norm();
+    if (step == 0.0) continue;
+    out.points.push_back(path.points[i]);
+    out.times.push_back(out.times.back() + step / speed);
+  }
+  if (out.points.size() < 2) {
+    throw ParameterError(
+        "path: all " + std::to_string(path.points.size()) +
+        " points are the same map point; an untimed path must move (give times to hold a pose)");
+  }
+  return out;
+}
+
 std::vector<Eigen::Vector2d> resample_path(const MapPath& path, double frame_time, double speed,
                                            long long max_frames) {
   path.validate();
@@ -149,30 +173,9 @@ std::vector<Eigen::Vector2d> resample_path(const MapPath& path, double frame_tim
     throw ParameterError("fps: the frame time " + format_number(frame_time) +
                          " s is not a finite number > 0");
   }
-  std::vector<Eigen::Vector2d> pts;
-  std::vector<double> times;
-  if (path.timed()) {
-    pts = path.points;
-    times = path.times;
-  } else {
-    if (!(speed > 0.0) || !std::isfinite(speed)) {
-      throw ParameterError("speed: " + format_number(speed) +
-                           " map units per second is out of range (must be > 0)");
-    }
-    pts.push_back(path.points.front());
-    times.push_back(0.0);
-    for (std::size_t i = 1; i < path.points.size(); ++i) {
-      const double step = (path.points[i] - pts.back()).norm();
-      if (step == 0.0) continue;
-      pts.push_back(path.points[i]);
-      times.push_back(times.back() + step / speed);
-    }
-    if (pts.size() < 2) {
-      throw ParameterError(
-          "path: all " + std::to_string(path.points.size()) +
-          " points are the same map point; an untimed path must move (give times to hold a pose)");
-    }
-  }
+  const MapPath timed = timed_path(path, speed);
+  const std::vector<Eigen::Vector2d>& pts = timed.points;
+  const std::vector<double>& times = timed.times;
   const double duration = times.back() - times.front();
   const double steps = std::floor(duration / frame_time + 1e-9);
   if (!(steps + 1.0 <= static_cast<double>(max_frames))) {

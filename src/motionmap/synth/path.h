@@ -37,6 +37,12 @@ MapPath parse_path_csv(std::string_view text, const std::string& path = "<memory
 /// Reads and parses a path CSV file. @throws Error if unreadable, ParseError as above.
 MapPath read_path_csv(const std::string& path);
 
+/// The path with a time per point: a timed path as it is; an untimed one drawn at `speed` map
+/// units per second from t = 0, consecutive repeated points skipped.
+/// @throws ParameterError for an invalid path (see MapPath::validate), an untimed path whose
+///         points all coincide, or (untimed paths) speed not a finite number > 0.
+MapPath timed_path(const MapPath& path, double speed);
+
 /// The path's points at times t0, t0 + frame_time, … up to its end (t0: its first time, or 0),
 /// linearly interpolated between consecutive points: ⌊duration / frame_time + 1e-9⌋ + 1 points.
 /// An untimed path is drawn at `speed` map units per second from t = 0 (consecutive repeated

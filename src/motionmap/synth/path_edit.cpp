@@ -107,7 +107,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
           "second)");
     }
   }
-  const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
+  const std::vector<Eigen::Vector2d> points = blender.path_points(path, dt, speed, kMaxSynthFrames);
   const int F = static_cast<int>(points.size());
 
   PathEditResult out;

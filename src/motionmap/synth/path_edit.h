@@ -8,9 +8,10 @@
 //   // before.motion's, bit for bit
 //
 // Method (docs/synthesis.md, "Editing a path"):
-//  1. The edited path is resampled at the previous motion's frames; the frames whose path point
-//     differs from the one the previous motion followed (PointValidity::query, bit for bit) are
-//     the changed frames, and their neighbours (a frame's weights read the path's velocity
+//  1. The edited path is resampled at the previous motion's frames (MapBlender::path_points: a
+//     moved point moves the frames of the strokes on either side of it); the frames whose path
+//     point differs from the one the previous motion followed (PointValidity::query, bit for bit)
+//     are the changed frames, and their neighbours (a frame's weights read the path's velocity
 //     there: MapBlender::locate_path), and every run routed (outside the data or far inside it)
 //     of the previous path or the new one that a changed frame reaches (detail/outside_route.h: a
 //     run's route reads its points and the blends beside it), widened by the weight smoothing's

@@ -86,7 +86,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   }
   // 0 fps keeps the clip's exact frame time, so a path timed like the clip hits its samples.
   const double dt = options.fps > 0.0 ? 1.0 / options.fps : blender.frame_time();
-  const std::vector<Eigen::Vector2d> points = resample_path(path, dt, speed, kMaxSynthFrames);
+  const std::vector<Eigen::Vector2d> points = blender.path_points(path, dt, speed, kMaxSynthFrames);
   const auto frames = static_cast<long long>(points.size());
   if (blender.options().mode != BlendMode::Local) {
     // Every frame blended where it is (routes are the local mode's), located block by block: the

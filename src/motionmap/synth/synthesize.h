@@ -9,14 +9,14 @@
 //   motionmap::io::write_bvh(motionmap::io::from_motion(blender.skeleton(), result.motion),
 //   "new.bvh");
 //
-// Per output frame k (at t0 + k/fps along the path): weights at the path point
-// (MapBlender::locate_path: where the path around the frame follows a clip's trajectory, that
-// clip's own frames at the fitted time; where a run of frames lies outside the data or farther
-// than half the reach from it, or within half a second of a frame whose gait stalls (its legs
-// held while the path moves on), in the local mode, a route through the clips' own frames that
-// tracks the path there, faded in over
-// the blend where the run meets the data: detail/outside_route.h; optionally smoothed over
-// time with a Gaussian, each
+// Per output frame k (at t0 + k/fps along the path, MapBlender::path_points: in the local mode a
+// stroke between two points on a clip's curve at about its pace follows the curve,
+// detail/strokes.h): weights at the path point (MapBlender::locate_path: where the path around the
+// frame follows a clip's trajectory, that clip's own frames at the fitted time; where a run of
+// frames lies outside the data or farther than half the reach from it, or within half a second of a
+// frame whose gait stalls (its legs held while the path moves on), in the local mode, a route
+// through the clips' own frames that tracks the path there, faded in over the blend where the run
+// meets the data: detail/outside_route.h; optionally smoothed over time with a Gaussian, each
 // neighbouring frame's weights moved back in their clips by its distance in time:
 // MapBlender::later_in_clip), joint rotations and root height and tilt blended with them
 // (MapBlender::blend), and the blended heading-local root velocity v_k and yaw rate ω_k integrated
@@ -121,7 +121,7 @@ struct SynthResult {
 std::string outside_frames_note(const SynthResult& result);
 
 /// Synthesizes the motion along `path` (see above).
-/// @throws ParameterError for bad options or an invalid path (MapPath::validate, resample_path),
+/// @throws ParameterError for bad options or an invalid path (MapPath::validate, path_points),
 ///         an untimed path with speed 0 on a map without motion, more than kMaxSynthFrames
 ///         frames, or smoothing whose window would hold more than 5e7 kriging weights;
 ///         Cancelled if `control` says so (polled between blocks of frames). Reports "blending

@@ -1,6 +1,7 @@
 #include "motionmap/synth/path_edit.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iterator>
 #include <optional>
@@ -8,6 +9,7 @@
 
 #include "motionmap/core/error.h"
 #include "motionmap/core/format.h"
+#include "motionmap/core/parallel.h"
 #include "motionmap/synth/clean_feet.h"
 #include "motionmap/synth/detail/outside_route.h"
 #include "motionmap/synth/detail/root_motion.h"
@@ -246,11 +248,12 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     }
   }
   std::vector<MapWeights> weights(static_cast<std::size_t>(x1 - x0));
-  for (int k = x0; k < x1; ++k) {
-    weights[static_cast<std::size_t>(k - x0)] =
+  parallel_for(x1 - x0, [&](int i) {
+    const int k = x0 + i;
+    weights[static_cast<std::size_t>(i)] =
         half == 0 ? raw[static_cast<std::size_t>(k - w0)]
                   : detail::smoothed(raw, w0, k, F, kernel, dt, blender);
-  }
+  });
   if (blender.reads_on_demand()) blender.prefetch(weights);
 
   // Blend [x0, x1): the root's tilt and height only (its heading and floor position below).
@@ -261,13 +264,13 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   std::vector<double> yaw_rate(static_cast<std::size_t>(x1 - x0));
   std::vector<double> sway(static_cast<std::size_t>(x1 - x0));
   std::vector<std::array<double, 2>> shares(static_cast<std::size_t>(x1 - x0));
-  bool shares_known = true;
-  for (int k = x0; k < x1; ++k) {
-    const auto i = static_cast<std::size_t>(k - x0);
+  std::atomic<bool> shares_known = true;
+  parallel_for(x1 - x0, [&](int f) {
+    const auto i = static_cast<std::size_t>(f);
     const BlendedFrame bf = blender.blend(weights[i]);
     for (int j = 0; j < J; ++j) {
-      raw_motion.rotation(k - x0, j) = bf.rotations[static_cast<std::size_t>(j)];
-      raw_motion.translation(k - x0, j) = bf.translations[static_cast<std::size_t>(j)];
+      raw_motion.rotation(f, j) = bf.rotations[static_cast<std::size_t>(j)];
+      raw_motion.translation(f, j) = bf.translations[static_cast<std::size_t>(j)];
     }
     velocity[i] = bf.velocity;
     yaw_rate[i] = bf.yaw_rate;
@@ -277,7 +280,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
     } else {
       shares_known = false;
     }
-  }
+  });
   control.check();
 
   // The feet the clean-up holds (a previous result with clean feet: the skeleton has them).

@@ -1,6 +1,7 @@
 #include "motionmap/synth/detail/strokes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -96,9 +97,14 @@ void follow_strokes(const MapIndex& index, const MapPath& timed, double dt,
     const double tie = kFollowTie * least + kFollowTieSteps * kFollowTieSteps * step * step;
     std::vector<double> alpha(found.size());
     double total = 0.0;
+    // The ends' offsets from their points on each sharing candidate's curve.
+    std::vector<std::array<Eigen::Vector2d, 2>> offsets(found.size());
     for (std::size_t c = 0; c < found.size(); ++c) {
       alpha[c] = falloff((found[c].cost - least) / tie);
       total += alpha[c];
+      if (alpha[c] == 0.0) continue;
+      offsets[c] = {a - index.trajectory_at(found[c].a.run, found[c].a.seconds, v),
+                    b - index.trajectory_at(found[c].b.run, found[c].b.seconds, v)};
     }
     for (std::size_t k = k0; k < k1; ++k) {
       const double t = static_cast<double>(k) * dt;
@@ -107,10 +113,8 @@ void follow_strokes(const MapIndex& index, const MapPath& timed, double dt,
       for (std::size_t c = 0; c < found.size(); ++c) {
         if (alpha[c] == 0.0) continue;
         const Candidate& f = found[c];
-        const Eigen::Vector2d pa = index.trajectory_at(f.a.run, f.a.seconds, v);
-        const Eigen::Vector2d pb = index.trajectory_at(f.b.run, f.b.seconds, v);
         const Eigen::Vector2d on = index.trajectory_at(f.a.run, f.a.seconds + f.rate * (t - ta), v);
-        curve += (alpha[c] / total) * (on + (1.0 - u) * (a - pa) + u * (b - pb));
+        curve += (alpha[c] / total) * (on + (1.0 - u) * offsets[c][0] + u * offsets[c][1]);
       }
       points[k] = (1.0 - share) * points[k] + share * curve;
     }

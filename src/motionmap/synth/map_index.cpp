@@ -238,29 +238,46 @@ void MapIndex::trajectory_near(const Eigen::Vector2d& p, double radius, double m
   });
 }
 
-int MapIndex::later_in_clip(int sample, double seconds, int* samples, double* weights) const {
-  const auto s = static_cast<std::size_t>(sample);
-  double frame = m_frame_of[s] + seconds / m_frame_time[s];
-  if (std::abs(frame - std::round(frame)) < 1e-9) frame = std::round(frame);  // a whole frame
+namespace {
+
+// A whole number; the nearest one to x where x is within half of one (only the snap to a whole
+// frame below reads it). Inline, unlike std::round's library call: the fits of locate_path
+// evaluate clip times millions of times.
+double near_whole(double x) {
+  if (!(std::abs(x) < 0x1p51)) return x;  // whole already (or not finite)
+  return static_cast<double>(static_cast<long long>(x < 0.0 ? x - 0.5 : x + 0.5));
+}
+
+}  // namespace
+
+int MapIndex::time_in_run(std::size_t s, double seconds, double& frame, int* samples,
+                          double* weights) const {
+  const double raw = m_frame_of[s] + seconds / m_frame_time[s];
+  frame = raw;
+  const double whole = near_whole(raw);
+  const double snapped = std::abs(raw - whole) < 1e-9 ? whole : raw;  // a whole frame
   const int first = m_run_first[s], last = m_run_last[s];
   const auto frame_at = [&](int i) {
     return static_cast<double>(m_frame_of[static_cast<std::size_t>(i)]);
   };
-  samples[0] = frame <= frame_at(first) ? first : last;
+  samples[0] = snapped <= frame_at(first) ? first : last;
   weights[0] = 1.0;
-  if (frame <= frame_at(first) || frame >= frame_at(last)) return 1;
-  // The last sample of the run at or before `frame` (frames increase along the run): found
-  // directly in a run of evenly spaced frames.
+  if (snapped <= frame_at(first) || snapped >= frame_at(last)) return 1;
+  // The last sample of the run at or before `snapped` (frames increase along the run): found
+  // directly in a run of evenly spaced frames (the quotient is positive: truncation floors it).
   int a = 0;
-  if (const int stride = m_run_stride[s]; stride > 0) {
-    a = first + static_cast<int>(std::floor((frame - frame_at(first)) / stride));
+  if (const int stride = m_run_stride[s]; stride == 1) {
+    a = first + static_cast<int>(snapped - frame_at(first));
+  } else if (stride > 0) {
+    a = first + static_cast<int>((snapped - frame_at(first)) / stride);
   } else {
     const auto begin = m_frame_of.begin() + first, end = m_frame_of.begin() + last + 1;
     a = static_cast<int>(
-        std::upper_bound(begin, end, frame, [](double f, int g) { return f < g; }) - 1 -
+        std::upper_bound(begin, end, snapped, [](double f, int g) { return f < g; }) - 1 -
         m_frame_of.begin());
   }
-  const double u = (frame - frame_at(a)) / (frame_at(a + 1) - frame_at(a));
+  const double fa = frame_at(a), gap = frame_at(a + 1) - fa;
+  const double u = gap == 1.0 ? snapped - fa : (snapped - fa) / gap;
   samples[0] = a;
   if (u <= 0.0) return 1;
   samples[1] = a + 1;
@@ -269,13 +286,18 @@ int MapIndex::later_in_clip(int sample, double seconds, int* samples, double* we
   return 2;
 }
 
+int MapIndex::later_in_clip(int sample, double seconds, int* samples, double* weights) const {
+  double frame = 0.0;
+  return time_in_run(static_cast<std::size_t>(sample), seconds, frame, samples, weights);
+}
+
 Eigen::Vector2d MapIndex::trajectory_at(int sample, double seconds,
                                         Eigen::Vector2d& velocity) const {
   int at[2] = {0, 0};
   double w[2] = {1.0, 0.0};
-  const int count = later_in_clip(sample, seconds, at, w);
   const auto s = static_cast<std::size_t>(sample);
-  const double frame = m_frame_of[s] + seconds / m_frame_time[s];
+  double frame = 0.0;  // not snapped to a whole frame
+  const int count = time_in_run(s, seconds, frame, at, w);
   // The segment [a, a + 1] of the run whose velocity is taken (none beyond the run's ends).
   int a = at[0];
   if (count == 1 && a == m_run_last[s]) --a;

@@ -119,6 +119,10 @@ class MapIndex {
                        std::vector<TrajectoryHit>& out) const;
 
  private:
+  // later_in_clip() for sample index s; `frame`: the frame of s's clip `seconds` later (not
+  // snapped to a whole frame, as the samples found are).
+  int time_in_run(std::size_t s, double seconds, double& frame, int* samples,
+                  double* weights) const;
   // The point of the trajectory nearest p, moved back towards p (see validate());
   // `nearest_distance`: p's distance to its nearest map point.
   Eigen::Vector2d clamp(const Eigen::Vector2d& p, double nearest_distance) const;

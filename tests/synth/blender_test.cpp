@@ -470,6 +470,67 @@ TEST(SynthBlender, PathsTracedByHandAlongTheTrajectoryPlayTheClip) {
   EXPECT_GE(worst_plain, 3.0);
 }
 
+TEST(SynthBlender, PathFitsAreReusedOnlyWhereTheyHold) {
+  // A hand-traced path's fits (PathFits) given back to locate_path: with the same points, another
+  // path whose middle moved, another frame time or another blender, the weights are those found
+  // without them, bit for bit; they then hold the frames located, and only frames whose points
+  // around them are unchanged are kept from the other path.
+  const Clip clip = walking_clip();
+  const Eigen::MatrixXd map = curve_map(clip.motion.num_frames);
+  const MapBlender local = make_blender(clip, map, BlendMode::Local);
+  const MapBlender other = make_blender(clip, map, BlendMode::Local);
+  const double dt = clip.motion.frame_time;
+  std::mt19937 random(4);
+  std::normal_distribution<double> noise(0.0, 0.025);
+  std::vector<Eigen::Vector2d> path;
+  for (int f = 0; f < clip.motion.num_frames; ++f)
+    path.push_back(map.row(f).transpose() + Eigen::Vector2d(noise(random), noise(random)));
+  const auto same = [](const std::vector<MapWeights>& a, const std::vector<MapWeights>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      EXPECT_EQ(a[k].samples, b[k].samples) << k;
+      EXPECT_EQ(a[k].weights, b[k].weights) << k;
+      EXPECT_EQ(a[k].pace, b[k].pace) << k;
+      EXPECT_EQ(a[k].validity.point, b[k].validity.point) << k;
+    }
+  };
+  const std::size_t F = path.size(), mid = F / 2;
+  PathFits fits;
+  EXPECT_EQ(fits.size(), 0u);
+  const std::vector<MapWeights> plain = local.locate_path(path, dt, 0, F);
+  same(local.locate_path(path, dt, 0, mid, &fits), local.locate_path(path, dt, 0, mid));
+  const std::size_t first_half = fits.size();
+  EXPECT_GE(first_half, mid);
+  EXPECT_LT(first_half, F);
+  same(local.locate_path(path, dt, 0, F, &fits), plain);
+  EXPECT_EQ(fits.size(), F);
+  same(local.locate_path(path, dt, 0, F, &fits), plain);  // every frame taken from them
+
+  // The middle point moved: the frames whose fit reads it are fitted again.
+  std::vector<Eigen::Vector2d> moved = path;
+  moved[mid] += Eigen::Vector2d(0.05, -0.03);
+  PathFits kept = fits;
+  same(local.locate_path(moved, dt, mid, mid + 1, &kept),
+       local.locate_path(moved, dt, mid, mid + 1));
+  const auto h = static_cast<std::size_t>(local.follow_neighbours(dt));
+  EXPECT_LT(kept.size(), F);
+  EXPECT_GE(kept.size(), F - 2 * h - 1);
+  same(local.locate_path(moved, dt, 0, F, &kept), local.locate_path(moved, dt, 0, F));
+  EXPECT_EQ(fits.size(), F);  // the copy it was made from is unchanged
+
+  // Another frame time, a shorter path, another blender: nothing is taken from them.
+  for (const double time : {dt / 2.0, dt}) {
+    PathFits copy = fits;
+    same(local.locate_path(path, time, 0, F, &copy), local.locate_path(path, time, 0, F));
+  }
+  const std::vector<Eigen::Vector2d> shorter(path.begin(), path.begin() + static_cast<long>(mid));
+  PathFits copy = fits;
+  same(local.locate_path(shorter, dt, 0, mid, &copy), local.locate_path(shorter, dt, 0, mid));
+  EXPECT_EQ(copy.size(), mid);
+  copy = fits;
+  same(other.locate_path(path, dt, 0, F, &copy), plain);
+}
+
 TEST(SynthBlender, PathsAlongTheTrajectoryAtItsPacePlayTheClip) {
   // A path along the clip's map curve at 4× its frame rate: between samples f and f + 1 the
   // local mode blends just those two, (1 − t, t), where the path keeps the clip's pace. Run at

@@ -85,6 +85,16 @@ void expect_unchanged_outside(const Motion& m, const Motion& before, int first, 
   }
 }
 
+// Two motions, bit for bit.
+void expect_same_motion(const Motion& a, const Motion& b) {
+  ASSERT_EQ(a.num_frames, b.num_frames);
+  ASSERT_EQ(a.num_joints, b.num_joints);
+  const std::size_t n = static_cast<std::size_t>(a.num_frames) * a.num_joints;
+  EXPECT_EQ(std::memcmp(a.rotations.data(), b.rotations.data(), n * sizeof(Eigen::Quaterniond)), 0);
+  EXPECT_EQ(std::memcmp(a.translations.data(), b.translations.data(), n * sizeof(Eigen::Vector3d)),
+            0);
+}
+
 // An edit's blend of frames [first, end) is the full synthesis' (off the legs, which the clean-up
 // holds from the window's own contacts, and the root).
 void expect_blend_as_full(const MapBlender& blender, const Motion& m, const Motion& full, int first,
@@ -169,6 +179,17 @@ void check_edit(const EditCase& c) {
     const PathEditResult edit = edit_path(blender, before, edited);
     const Motion& m = edit.result.motion;
     ASSERT_EQ(m.num_frames, before.motion.num_frames);
+    // The previous take's fits (SynthResult::fits) spare the edit re-fitting the frames whose
+    // points around them did not move: the same edit, bit for bit, as one that fits every frame
+    // again; it holds every frame's fit for the edited path.
+    ASSERT_EQ(before.fits.size(), static_cast<std::size_t>(m.num_frames));
+    EXPECT_EQ(edit.result.fits.size(), static_cast<std::size_t>(m.num_frames));
+    SynthResult unfitted = before;
+    unfitted.fits = {};
+    const PathEditResult refitted = edit_path(blender, unfitted, edited);
+    EXPECT_EQ(refitted.first, edit.first);
+    EXPECT_EQ(refitted.end, edit.end);
+    expect_same_motion(m, refitted.result.motion);
     // The window: the frames between the moved point's neighbours, widened by the smoothing and
     // the clean-up's margins; never the whole motion.
     const double dt = m.frame_time;
@@ -263,6 +284,7 @@ void check_edit(const EditCase& c) {
     // Editing back re-blends the same frames as before the edit; the legs' clean-up differs
     // (held from the window's contacts), so the way back is close, not identical.
     const PathEditResult back = edit_path(blender, edit.result, path);
+    expect_same_motion(back.result.motion, edit_path(blender, refitted.result, path).result.motion);
     EXPECT_EQ(back.blend_first, edit.blend_first);
     EXPECT_EQ(back.blend_end, edit.blend_end);
     double back_sum = 0.0;

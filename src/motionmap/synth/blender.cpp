@@ -4,8 +4,10 @@
 #include "motionmap/synth/blender.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -322,9 +324,47 @@ struct Follow {
   std::vector<FollowFit> fits;
 };
 
+std::uint64_t next_blender_id() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
+bool same_points(std::span<const Eigen::Vector2d> a, std::span<const Eigen::Vector2d> b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Eigen::Vector2d)) == 0);
+}
+
 }  // namespace
 
+namespace detail {
+
+struct PathFitsData {
+  std::uint64_t blender = 0;
+  double dt = 0.0;
+  std::vector<Eigen::Vector2d> points;
+  // Per frame: whether it was fitted, and if so where it was evaluated and its blend's sources
+  // (not registered).
+  std::vector<char> known;
+  std::vector<PointValidity> validity;
+  std::vector<std::vector<PhaseSource>> sources;
+  std::size_t count = 0;
+};
+
+}  // namespace detail
+
+PathFits::PathFits() = default;
+PathFits::~PathFits() = default;
+PathFits::PathFits(const PathFits&) = default;
+PathFits::PathFits(PathFits&&) noexcept = default;
+PathFits& PathFits::operator=(const PathFits&) = default;
+PathFits& PathFits::operator=(PathFits&&) noexcept = default;
+std::size_t PathFits::size() const {
+  return m ? m->count : 0;
+}
+
 struct MapBlender::Impl {
+  // Which blender made a PathFits (ids are never reused).
+  std::uint64_t id = next_blender_id();
   BlendOptions options;
   Skeleton skeleton;
   double frame_time = 0.0;
@@ -391,9 +431,16 @@ struct MapBlender::Impl {
   PointValidity path_frame(std::span<const Eigen::Vector2d> points, std::size_t k, double dt,
                            detail::PhaseFrame& sources) const;
   // locate_path() in the local mode: frames [first, end) of a path located, their gait phases
-  // registered (detail/gait_phase.h).
+  // registered (detail/gait_phase.h); with `fits` (for these points), the frames it knows taken
+  // from it and the others added to it.
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, std::size_t first,
-                                      std::size_t end, double dt) const;
+                                      std::size_t end, double dt, detail::PathFitsData* fits) const;
+  // The fits of `held` that hold for the path `points` (frame time dt, this blender), in data the
+  // caller alone holds: all of them where held describes this path; else those of the frames
+  // whose points within follow_half_window(dt) are the same in both paths.
+  std::shared_ptr<detail::PathFitsData> fits_for(
+      const std::shared_ptr<const detail::PathFitsData>& held,
+      std::span<const Eigen::Vector2d> points, double dt) const;
   // The contacts of a clip's feet (the skeleton has feet).
   std::array<FootContacts, 2> feet_contacts(const Clip& clip) const {
     ContactOptions co;
@@ -820,7 +867,7 @@ std::vector<Eigen::Vector2d> MapBlender::path_points(const MapPath& path, double
 
 std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d> points,
                                                 double frame_time, std::size_t first,
-                                                std::size_t end) const {
+                                                std::size_t end, PathFits* fits) const {
   if (!(first <= end && end <= points.size())) {
     throw ParameterError("locate_path: frames [" + std::to_string(first) + ", " +
                          std::to_string(end) + ") of a path of " + std::to_string(points.size()));
@@ -828,7 +875,51 @@ std::vector<MapWeights> MapBlender::locate_path(std::span<const Eigen::Vector2d>
   check_frame_time("locate_path", frame_time);
   if (m->options.mode != BlendMode::Local || points.size() < 2)
     return locate(points.subspan(first, end - first));
-  return m->locate_path(points, first, end, frame_time);
+  if (fits == nullptr) return m->locate_path(points, first, end, frame_time, nullptr);
+  std::shared_ptr<detail::PathFitsData> held = m->fits_for(fits->m, points, frame_time);
+  std::vector<MapWeights> out = m->locate_path(points, first, end, frame_time, held.get());
+  fits->m = std::move(held);
+  return out;
+}
+
+std::shared_ptr<detail::PathFitsData> MapBlender::Impl::fits_for(
+    const std::shared_ptr<const detail::PathFitsData>& held,
+    std::span<const Eigen::Vector2d> points, double dt) const {
+  const bool ours = held && held->blender == id && std::memcmp(&held->dt, &dt, sizeof dt) == 0;
+  if (ours && same_points(held->points, points)) {
+    // Copied unless the caller holds the only reference (then no one else sees the change).
+    if (held.use_count() == 1) return std::const_pointer_cast<detail::PathFitsData>(held);
+    return std::make_shared<detail::PathFitsData>(*held);
+  }
+  auto out = std::make_shared<detail::PathFitsData>();
+  const std::size_t F = points.size();
+  out->blender = id;
+  out->dt = dt;
+  out->points.assign(points.begin(), points.end());
+  out->known.assign(F, 0);
+  out->validity.resize(F);
+  out->sources.resize(F);
+  if (!ours) return out;
+  // Frame k's fit reads the points [k − h, k + h] within the path (follow_clips): kept where they
+  // are the same points, up to the same last frame, in both paths.
+  const auto h = static_cast<std::size_t>(follow_half_window(dt));
+  const std::size_t F0 = held->points.size(), common = std::min(F, F0);
+  std::vector<std::size_t> changed(common + 1, 0);  // changed points among the first i
+  for (std::size_t i = 0; i < common; ++i) {
+    changed[i + 1] =
+        changed[i] +
+        (std::memcmp(&held->points[i], &points[i], sizeof(Eigen::Vector2d)) != 0 ? 1 : 0);
+  }
+  for (std::size_t k = 0; k < common; ++k) {
+    if (!held->known[k]) continue;
+    const std::size_t lo = k > h ? k - h : 0, hi = std::min(F - 1, k + h);
+    if (hi != std::min(F0 - 1, k + h) || changed[hi + 1] != changed[lo]) continue;
+    out->known[k] = 1;
+    out->validity[k] = held->validity[k];
+    out->sources[k] = held->sources[k];
+    ++out->count;
+  }
+  return out;
 }
 
 PointValidity MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> points, std::size_t k,
@@ -850,8 +941,8 @@ PointValidity MapBlender::Impl::path_frame(std::span<const Eigen::Vector2d> poin
 }
 
 std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vector2d> points,
-                                                      std::size_t first, std::size_t end,
-                                                      double dt) const {
+                                                      std::size_t first, std::size_t end, double dt,
+                                                      detail::PathFitsData* fits) const {
   // The frames the registration and the pace read around [first, end) too.
   const auto window = static_cast<std::size_t>(gait ? detail::pace_window(dt) : 0);
   const std::size_t a = first > window ? first - window : 0;
@@ -860,8 +951,22 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
   std::vector<detail::PhaseFrame> sources(b - a);
   parallel_for(static_cast<int>(b - a), [&](int i) {
     const auto f = static_cast<std::size_t>(i);
+    if (fits && fits->known[a + f]) {
+      validity[f] = fits->validity[a + f];
+      sources[f].sources = fits->sources[a + f];
+      return;
+    }
     validity[f] = path_frame(points, a + f, dt, sources[f]);
   });
+  if (fits) {
+    for (std::size_t f = 0; f < b - a; ++f) {
+      if (fits->known[a + f]) continue;
+      fits->known[a + f] = 1;
+      fits->validity[a + f] = validity[f];
+      fits->sources[a + f] = sources[f].sources;
+      ++fits->count;
+    }
+  }
   if (gait) {
     std::vector<int> runs;
     for (const detail::PhaseFrame& f : sources)

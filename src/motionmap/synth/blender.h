@@ -286,6 +286,34 @@ ClipsSummary summarize_clips(int num_clips,
                              const std::function<std::shared_ptr<const Clip>(int)>& clip_at,
                              const features::FeatureSet& samples, const Control& control = {});
 
+namespace detail {
+struct PathFitsData;
+}
+
+/// What MapBlender::locate_path() fitted at the frames of one path in the local mode, before it
+/// registered their gait phases: each frame's validity and blend (the clip times it follows and
+/// the kriging's samples), with the path's points, frame time and blender. Given to a later
+/// locate_path() on the same blender and frame time, a frame whose points around it (the
+/// follow_neighbours() that its fit reads) are the same takes its fit from it rather than fitting
+/// again, bit for bit, and the frames fitted then are added. synthesize() keeps its path's in
+/// SynthResult, so that edit_path() fits again only the frames around a moved point. Copies share
+/// what they hold; a change makes its own copy.
+class PathFits {
+ public:
+  PathFits();
+  ~PathFits();
+  PathFits(const PathFits&);
+  PathFits(PathFits&&) noexcept;
+  PathFits& operator=(const PathFits&);
+  PathFits& operator=(PathFits&&) noexcept;
+  /// The frames it holds a fit for.
+  std::size_t size() const;
+
+ private:
+  friend class MapBlender;
+  std::shared_ptr<const detail::PathFitsData> m;
+};
+
 class MapBlender {
  public:
   /// Prepares blending for a map of `samples` (the features the map was built from: their
@@ -332,11 +360,13 @@ class MapBlender {
   /// follows a clip's trajectory, that clip's samples at the fitted time (top of the file); in the
   /// local mode, the times blended registered to one gait phase (detail/gait_phase.h).
   /// synthesize() and edit_path() locate their paths with it. The frames are located in
-  /// parallel.
+  /// parallel. With `fits` (local mode): the frames it holds for these points are not fitted
+  /// again, and it is made to hold this path's fits of every frame located (see PathFits).
   /// @throws ParameterError if [first, end) is not within points, frame_time is not positive and
   ///         finite, or as locate().
   std::vector<MapWeights> locate_path(std::span<const Eigen::Vector2d> points, double frame_time,
-                                      std::size_t first, std::size_t end) const;
+                                      std::size_t first, std::size_t end,
+                                      PathFits* fits = nullptr) const;
   /// The map point of every frame of `path` sampled every `frame_time` seconds, as synthesize()
   /// and edit_path() follow it: resample_path()'s, an untimed path drawn at `speed`; in the local
   /// mode, a stroke between two of its points on a clip's curve at about that clip's timing

@@ -189,8 +189,8 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   if (blender.options().mode == BlendMode::Local) {
     stalled = previous.stalled;
     stalled.resize(static_cast<std::size_t>(F), 0);
-    around =
-        blender.locate_path(points, dt, static_cast<std::size_t>(l0), static_cast<std::size_t>(l1));
+    around = blender.locate_path(points, dt, static_cast<std::size_t>(l0),
+                                 static_cast<std::size_t>(l1), &r.fits);
     const std::vector<char> again = detail::stalled_frames(
         blender, points, dt, std::span<const MapWeights>(around).subspan(s0 - l0, s1 - s0),
         static_cast<std::size_t>(s0));
@@ -225,7 +225,7 @@ PathEditResult edit_path(const MapBlender& blender, const SynthResult& previous,
   {
     const auto locate = [&](int from, int to) {
       return blender.locate_path(points, dt, static_cast<std::size_t>(from),
-                                 static_cast<std::size_t>(to));
+                                 static_cast<std::size_t>(to), &r.fits);
     };
     std::vector<MapWeights> located;
     const int k0 = std::clamp(l0, w0, w1), k1 = std::clamp(l1, k0, w1);

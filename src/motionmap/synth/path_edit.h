@@ -16,7 +16,8 @@
 //     of the previous path or the new one that a changed frame reaches (detail/outside_route.h: a
 //     run's route reads its points and the blends beside it), widened by the weight smoothing's
 //     half-width (3σ): the blend window [blend_first, blend_end). Its frames are blended anew
-//     (weights smoothed over the new path).
+//     (weights smoothed over the new path); of the frames located for it, those whose clip-time
+//     fits read no changed point take them from previous.fits (PathFits).
 //  2. Root: the new velocities are integrated from the previous root's floor position and
 //     heading at blend_first; the position and heading mismatch at blend_end (where the previous
 //     motion goes on) is spread over the window where the root moves (turns) — in proportion to

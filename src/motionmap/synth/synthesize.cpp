@@ -104,10 +104,11 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   const Control locating = control.part(0.0, 0.1);
   std::vector<MapWeights> located;
   located.reserve(points.size());
+  PathFits fits;
   for (std::size_t first = 0; first < points.size(); first += kLocateFrames) {
     locating.check();
     const std::size_t end = std::min(points.size(), first + kLocateFrames);
-    for (MapWeights& w : blender.locate_path(points, dt, first, end))
+    for (MapWeights& w : blender.locate_path(points, dt, first, end, &fits))
       located.push_back(std::move(w));
     locating.update(static_cast<double>(end) / static_cast<double>(points.size()));
   }
@@ -130,6 +131,7 @@ SynthResult synthesize(const MapBlender& blender, const MapPath& path, const Syn
   if (std::string note = detail::stalled_note(stalled, result.validity); !note.empty())
     result.notes.insert(result.notes.begin(), std::move(note));
   result.stalled = std::move(stalled);
+  result.fits = std::move(fits);
   return result;
 }
 

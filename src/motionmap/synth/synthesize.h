@@ -112,6 +112,9 @@ struct SynthResult {
   /// Per frame: the blend's sway of the heading about its turning (BlendedFrame::heading_offset),
   /// part of `headings`; edit_path() integrates the turning from a frame's heading less it.
   std::vector<double> heading_offsets;
+  /// The local mode's fits of the path's frames (MapBlender::locate_path), which edit_path()
+  /// reuses where the path around a frame is unchanged; empty in the other modes.
+  PathFits fits;
 };
 
 /// How a result's frames outside the data were played, in words for the user (the CLI's and

@@ -113,7 +113,9 @@ struct SynthResult {
   /// part of `headings`; edit_path() integrates the turning from a frame's heading less it.
   std::vector<double> heading_offsets;
   /// The local mode's fits of the path's frames (MapBlender::locate_path), which edit_path()
-  /// reuses where the path around a frame is unchanged; empty in the other modes.
+  /// reuses where the path around a frame is unchanged; empty in the other modes. 0.1–0.8 KB a
+  /// frame (the Bandai sketch and the 10 000-sample benchmark map), against 1.7 KB for the
+  /// motion of a 31-joint skeleton.
   PathFits fits;
 };
 

@@ -12,6 +12,7 @@
 #include <limits>
 #include <mutex>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -1126,8 +1127,7 @@ Follow MapBlender::Impl::follow_clips(std::span<const Eigen::Vector2d> points, s
   for (const auto& hit : hits) {
     if (found.size() >= static_cast<std::size_t>(kFollowTimelines)) break;
     Timeline c;
-    c.run = index->run_of(hit.first);
-    c.seconds = index->seconds_in_run(hit.first) + hit.t * hit.seconds;
+    std::tie(c.run, c.seconds) = index->clip_time(hit);
     const auto same = [&](const Timeline& t) {
       return std::any_of(found.begin(), found.end(), [&](const Timeline& f) {
         return f.run == t.run && std::abs(f.seconds - t.seconds) < kFollowSameSeconds;

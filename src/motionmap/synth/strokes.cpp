@@ -28,8 +28,8 @@ std::vector<Near> clip_times_near(const MapIndex& index, const Eigen::Vector2d& 
   std::vector<Near> out;
   for (const auto& hit : hits) {  // nearest first: keep the nearest of each place in a clip
     if (out.size() >= static_cast<std::size_t>(kFollowTimelines)) break;
-    const Near n{index.run_of(hit.first), index.seconds_in_run(hit.first) + hit.t * hit.seconds,
-                 hit.distance * hit.distance};
+    const auto [run, seconds] = index.clip_time(hit);
+    const Near n{run, seconds, hit.distance * hit.distance};
     const bool seen = std::any_of(out.begin(), out.end(), [&](const Near& o) {
       return o.run == n.run && std::abs(o.seconds - n.seconds) < kFollowSameSeconds;
     });

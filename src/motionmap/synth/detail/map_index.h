@@ -117,6 +117,10 @@ class MapIndex {
   /// pass within `radius` (exclusive) of p, nearest first (ties in the order of the samples).
   void trajectory_near(const Eigen::Vector2d& p, double radius, double max_seconds,
                        std::vector<TrajectoryHit>& out) const;
+  /// Where a hit's point is in its clip: the run (its first sample) and the seconds into it.
+  std::pair<int, double> clip_time(const TrajectoryHit& hit) const {
+    return {run_of(hit.first), seconds_in_run(hit.first) + hit.t * hit.seconds};
+  }
 
  private:
   // later_in_clip() for sample index s; `frame`: the frame of s's clip `seconds` later (not

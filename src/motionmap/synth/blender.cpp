@@ -353,12 +353,6 @@ struct PathFitsData {
 
 }  // namespace detail
 
-PathFits::PathFits() = default;
-PathFits::~PathFits() = default;
-PathFits::PathFits(const PathFits&) = default;
-PathFits::PathFits(PathFits&&) noexcept = default;
-PathFits& PathFits::operator=(const PathFits&) = default;
-PathFits& PathFits::operator=(PathFits&&) noexcept = default;
 std::size_t PathFits::size() const {
   return m ? m->count : 0;
 }

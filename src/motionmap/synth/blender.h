@@ -300,12 +300,6 @@ struct PathFitsData;
 /// what they hold; a change makes its own copy.
 class PathFits {
  public:
-  PathFits();
-  ~PathFits();
-  PathFits(const PathFits&);
-  PathFits(PathFits&&) noexcept;
-  PathFits& operator=(const PathFits&);
-  PathFits& operator=(PathFits&&) noexcept;
   /// The frames it holds a fit for.
   std::size_t size() const;
 

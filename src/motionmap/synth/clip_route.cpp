@@ -1,7 +1,9 @@
 // Routes through the clips' own frames: a shortest path over (step, sample) by dynamic
 // programming, one step at a time (route.h, find_clip_route).
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -154,6 +156,23 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   // Per sample, its best cost at the step being built and where from (−1: not reached).
   std::vector<double> best(static_cast<std::size_t>(n), kInf);
   std::vector<int> best_from(static_cast<std::size_t>(n), -1);
+  std::vector<double> rank(static_cast<std::size_t>(n));  // of the samples reached, when ranked
+  // The samples reached in increasing order, the same whatever the hash of the jumps: read off
+  // a bitmap of them where they are many for the map's size, else sorted.
+  std::vector<std::uint64_t> marks((static_cast<std::size_t>(n) + 63) / 64, 0);
+  const auto in_order = [&](std::vector<int>& samples) {
+    if (4 * samples.size() < marks.size()) {
+      std::sort(samples.begin(), samples.end());
+      return;
+    }
+    for (const int s : samples) marks[static_cast<std::size_t>(s) / 64] |= 1ULL << (s % 64);
+    samples.clear();
+    for (std::size_t w = 0; w < marks.size(); ++w) {
+      for (std::uint64_t bits = marks[w]; bits != 0; bits &= bits - 1)
+        samples.push_back(static_cast<int>(64 * w) + std::countr_zero(bits));
+      marks[w] = 0;
+    }
+  };
   std::vector<int> reached;
   for (int t = 1; t <= steps; ++t) {
     const Step& prev = path[static_cast<std::size_t>(t) - 1];
@@ -184,19 +203,23 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     // Keep the cheapest when too many were reached, ranked with how far they are from b.
     if (static_cast<int>(reached.size()) > kClipRouteBeam) {
       const double left = static_cast<double>(steps - t) / steps;
-      const auto rank = [&](int s) {
-        return best[static_cast<std::size_t>(s)] +
-               (1.0 - left) * costs.ends * sq((field.sample(s) - b).norm());
-      };
-      std::nth_element(reached.begin(), reached.begin() + kClipRouteBeam, reached.end(),
-                       [&](int x, int y) { return rank(x) < rank(y); });
+      // Each one's rank computed once: the selection compares each sample a few times.
+      for (const int s : reached) {
+        rank[static_cast<std::size_t>(s)] =
+            best[static_cast<std::size_t>(s)] +
+            (1.0 - left) * costs.ends * sq((field.sample(s) - b).norm());
+      }
+      std::nth_element(
+          reached.begin(), reached.begin() + kClipRouteBeam, reached.end(), [&](int x, int y) {
+            return rank[static_cast<std::size_t>(x)] < rank[static_cast<std::size_t>(y)];
+          });
       for (std::size_t i = kClipRouteBeam; i < reached.size(); ++i) {
         best[static_cast<std::size_t>(reached[i])] = kInf;
         best_from[static_cast<std::size_t>(reached[i])] = -1;
       }
       reached.resize(kClipRouteBeam);
     }
-    std::sort(reached.begin(), reached.end());  // the same order whatever the hash of the jumps
+    in_order(reached);
     Step& step = path[static_cast<std::size_t>(t)];
     for (int s : reached) {
       step.samples.push_back(s);

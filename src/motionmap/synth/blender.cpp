@@ -348,13 +348,12 @@ struct PathFitsData {
   std::vector<char> known;
   std::vector<PointValidity> validity;
   std::vector<std::vector<PhaseSource>> sources;
-  std::size_t count = 0;
 };
 
 }  // namespace detail
 
 std::size_t PathFits::size() const {
-  return m ? m->count : 0;
+  return m ? static_cast<std::size_t>(std::count(m->known.begin(), m->known.end(), 1)) : 0;
 }
 
 struct MapBlender::Impl {
@@ -912,7 +911,6 @@ std::shared_ptr<detail::PathFitsData> MapBlender::Impl::fits_for(
     out->known[k] = 1;
     out->validity[k] = held->validity[k];
     out->sources[k] = held->sources[k];
-    ++out->count;
   }
   return out;
 }
@@ -959,7 +957,6 @@ std::vector<MapWeights> MapBlender::Impl::locate_path(std::span<const Eigen::Vec
       fits->known[a + f] = 1;
       fits->validity[a + f] = validity[f];
       fits->sources[a + f] = sources[f].sources;
-      ++fits->count;
     }
   }
   if (gait) {

@@ -156,7 +156,7 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
   // Per sample, its best cost at the step being built and where from (−1: not reached).
   std::vector<double> best(static_cast<std::size_t>(n), kInf);
   std::vector<int> best_from(static_cast<std::size_t>(n), -1);
-  std::vector<double> rank(static_cast<std::size_t>(n));  // of the samples reached, when ranked
+  std::vector<double> rank;  // of the samples reached, when too many are (made then)
   // The samples reached in increasing order, the same whatever the hash of the jumps: read off
   // a bitmap of them where they are many for the map's size, else sorted.
   std::vector<std::uint64_t> marks((static_cast<std::size_t>(n) + 63) / 64, 0);
@@ -204,6 +204,7 @@ ClipRoute find_clip_route(const MapField& field, std::span<const int> next,
     if (static_cast<int>(reached.size()) > kClipRouteBeam) {
       const double left = static_cast<double>(steps - t) / steps;
       // Each one's rank computed once: the selection compares each sample a few times.
+      rank.resize(static_cast<std::size_t>(n));
       for (const int s : reached) {
         rank[static_cast<std::size_t>(s)] =
             best[static_cast<std::size_t>(s)] +
